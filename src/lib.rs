@@ -1,0 +1,25 @@
+//! # realist
+//!
+//! A glTF 2.0 / OBJ scene viewer and material toolkit whose renderer is a tiled CPU rasterizer.
+//!
+//! Data flows one way:
+//!
+//! ```text
+//! file --load--> Scene --prepare--> draw list --raster--> Framebuffer --> PNG
+//! ```
+//!
+//! | module | owns |
+//! |---|---|
+//! | [`mesh`] | the vertex/edge/facet model, averaged normals, topology report, primitives |
+//! | [`load`] | OBJ/MTL and glTF/GLB loaders producing a [`scene::Scene`] |
+//! | [`scene`] | scene, instances, materials, lights, camera |
+//! | [`texture`] | decoded images and samplers |
+//! | [`raster`] | clip-space transform, culling, clipping, fixed-point setup, binning, tile fill |
+//! | [`shade`] | shading modes (flat, Gouraud, Phong, Blinn, textured, debug views) and the renderer |
+
+pub mod load;
+pub mod mesh;
+pub mod raster;
+pub mod scene;
+pub mod shade;
+pub mod texture;

@@ -1,0 +1,154 @@
+//! The pinhole camera of seed 003: position and orientation, vertical field of view (or the
+//! seed's zoom = 1/tan(fov/2)), aspect ratio from the output window, near and far planes.
+
+use glam::{Mat4, Vec3, Vec4};
+
+/// A perspective camera looking from `eye` at `target`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub name: String,
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view in radians.
+    pub yfov: f32,
+    /// Distance to the near plane (> 0).
+    pub near: f32,
+    /// Distance to the far plane (> near).
+    pub far: f32,
+    /// Fixed aspect ratio (width / height) from the file; `None` = from the image size.
+    pub aspect: Option<f32>,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self {
+            name: "default".into(),
+            eye: Vec3::new(0.0, 0.0, 3.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            yfov: 45f32.to_radians(),
+            near: 0.1,
+            far: 100.0,
+            aspect: None,
+        }
+    }
+}
+
+impl Camera {
+    /// The seed's zoom factor, 1/tan(fov/2).
+    #[must_use]
+    pub fn zoom(&self) -> f32 {
+        1.0 / (self.yfov * 0.5).tan()
+    }
+
+    /// Sets the field of view from a zoom factor (zoom = 1/tan(fov/2)); zoom must be > 0.
+    pub fn set_zoom(&mut self, zoom: f32) {
+        self.yfov = 2.0 * (1.0 / zoom).atan();
+    }
+
+    /// A camera orbiting `center` at `distance`, from `azimuth` degrees around +Y (0 = looking
+    /// down -Z from +Z, positive turns towards +X) and `elevation` degrees above the horizon.
+    #[must_use]
+    pub fn orbit(center: Vec3, azimuth: f32, elevation: f32, distance: f32, yfov: f32) -> Self {
+        let (sa, ca) = azimuth.to_radians().sin_cos();
+        let (se, ce) = elevation.clamp(-89.9, 89.9).to_radians().sin_cos();
+        let dir = Vec3::new(sa * ce, se, ca * ce);
+        Self {
+            name: "orbit".into(),
+            eye: center + dir * distance,
+            target: center,
+            up: Vec3::Y,
+            yfov,
+            near: distance * 0.01,
+            far: distance * 100.0,
+            aspect: None,
+        }
+    }
+
+    /// The default view of a bounding sphere: from a fixed three-quarter direction
+    /// (azimuth 35, elevation 25 degrees), far enough that the sphere fits the vertical and
+    /// horizontal field of view, with near/far fitted to the sphere.
+    #[must_use]
+    pub fn frame(center: Vec3, radius: f32, aspect: f32) -> Self {
+        Self::frame_from(center, radius, aspect, 35.0, 25.0)
+    }
+
+    /// Like [`Camera::frame`] from a given azimuth and elevation (degrees).
+    #[must_use]
+    pub fn frame_from(center: Vec3, radius: f32, aspect: f32, azimuth: f32, elevation: f32) -> Self {
+        let yfov = 45f32.to_radians();
+        let radius = if radius.is_finite() && radius > 0.0 { radius } else { 1.0 };
+        let half_v = yfov * 0.5;
+        let half_h = ((half_v.tan()) * aspect.max(1e-3)).atan();
+        let half = half_v.min(half_h);
+        let distance = radius / half.sin() * 1.05;
+        let mut cam = Self::orbit(center, azimuth, elevation, distance, yfov);
+        cam.fit(center, radius);
+        cam
+    }
+
+    /// Fits near and far to a bounding sphere: near just in front of it (never closer than
+    /// 1/1000 of its radius), far just behind it.
+    pub fn fit(&mut self, center: Vec3, radius: f32) {
+        let d = (center - self.eye).length();
+        let radius = radius.max(1e-6);
+        self.far = (d + radius) * 1.01;
+        self.near = (d - radius).max(radius * 1e-3).max(self.far * 1e-6) * 0.99;
+    }
+
+    /// World -> camera (right-handed, looking down -Z).
+    #[must_use]
+    pub fn view(&self) -> Mat4 {
+        let fwd = self.target - self.eye;
+        let up = if fwd.cross(self.up).length_squared() < 1e-12 * fwd.length_squared() {
+            // Looking straight along `up`: any perpendicular will do.
+            fwd.any_orthonormal_vector()
+        } else {
+            self.up
+        };
+        Mat4::look_at_rh(self.eye, self.target, up)
+    }
+
+    /// Camera -> clip with reversed depth in the Direct3D convention: after the divide,
+    /// z = 1 on the near plane and z = 0 on the far plane, and clip w = distance in front of
+    /// the camera. Reversed-Z spreads f32 depth precision evenly over distance.
+    #[must_use]
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        let aspect = self.aspect.unwrap_or(aspect);
+        let f = self.zoom();
+        let (n, fa) = (self.near, self.far);
+        // z_clip = a + b * w with w = -z_view; z_clip / w = 1 at w = n and 0 at w = far.
+        let a = n * fa / (fa - n);
+        let b = -n / (fa - n);
+        Mat4::from_cols(
+            Vec4::new(f / aspect, 0.0, 0.0, 0.0),
+            Vec4::new(0.0, f, 0.0, 0.0),
+            Vec4::new(0.0, 0.0, -b, -1.0),
+            Vec4::new(0.0, 0.0, a, 0.0),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reversed_depth_maps_near_to_one_far_to_zero() {
+        let cam = Camera { near: 0.5, far: 10.0, ..Camera::default() };
+        let p = cam.projection(1.0);
+        let near = p * Vec4::new(0.0, 0.0, -0.5, 1.0);
+        let far = p * Vec4::new(0.0, 0.0, -10.0, 1.0);
+        assert!((near.z / near.w - 1.0).abs() < 1e-6, "{near}");
+        assert!((far.z / far.w).abs() < 1e-6, "{far}");
+        assert!((near.w - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn zoom_round_trips() {
+        let mut cam = Camera::default();
+        cam.set_zoom(2.0);
+        assert!((cam.zoom() - 2.0).abs() < 1e-5);
+    }
+}
