@@ -1,1 +1,55 @@
-//! Rasterizer.
+//! The tiled rasterizer: clip-space transform, frustum and back-face culling, near/far and
+//! guard-band clipping in homogeneous space, fixed-point triangle setup, binning into 64x64
+//! tiles, and per-tile fill with a depth test, run in parallel over tiles.
+//!
+//! The rasterizer knows no materials, lights or UI. It is generic over a
+//! [`FragmentShader`] whose associated [`Varying`] type is what gets interpolated, so each
+//! shading mode interpolates only what it reads and the per-pixel path has no `dyn`.
+//!
+//! Phases of one pass ([`draw`]):
+//! 1. *setup* (parallel over chunks of triangles, results concatenated in submission order):
+//!    trivial frustum reject, clipping where a vertex is outside the near or far plane or the
+//!    guard band, perspective divide, snapping to 1/256 pixel, culling, edge equations;
+//! 2. *binning* (serial, submission order): each set-up triangle is appended to the bin of
+//!    every 64x64 tile its bounding box touches and its edges do not exclude;
+//! 3. *fill* (parallel over tiles, each task owns its tile's colour and depth): triangles in
+//!    bin order, so 1 and N threads produce bit-identical images.
+//!
+//! Triangles are processed in batches so memory stays bounded on multi-million-triangle meshes.
+//!
+//! Rejected designs: a scanline rasterizer (not tile-parallel, fill rule harder to make exact);
+//! float edge functions (shared edges can crack or double-cover); binning in parallel with
+//! per-thread bins merged later (ordering costs more than the serial append it saves).
+
+mod clip;
+mod fill;
+mod framebuffer;
+mod line;
+mod pipeline;
+mod setup;
+mod varying;
+
+pub use framebuffer::{Framebuffer, Target, TILE};
+pub use line::{draw_lines, LineStyle};
+pub use pipeline::{draw, transform_positions, Blend, Cull, DepthTest, Draw, DrawState, Stats};
+pub use setup::{GUARD_BAND_PX, SUBPIXEL_BITS};
+pub use varying::Varying;
+
+/// What the fill loop tells the shader about the triangle being filled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriInfo {
+    /// The `Draw::id` the triangle came from.
+    pub draw: u32,
+    /// True if the triangle faces the camera (counter-clockwise in normalised device space,
+    /// after accounting for `DrawState::flip_winding`).
+    pub front: bool,
+}
+
+/// The per-fragment half of a shading mode.
+pub trait FragmentShader: Sync {
+    /// What is interpolated across the triangle (perspective-correct).
+    type Varying: Varying;
+
+    /// Linear-light RGBA of a fragment, or `None` to discard it (alpha test).
+    fn fragment(&self, tri: TriInfo, v: &Self::Varying) -> Option<glam::Vec4>;
+}

@@ -9,9 +9,11 @@ use crate::mesh::Mesh;
 use crate::texture::Texture;
 
 mod camera;
+mod demo;
 mod light;
 
 pub use camera::Camera;
+pub use demo::{demo, DEMO_SLICES, DEMO_STACKS};
 pub use light::Light;
 
 /// How a material's alpha is used (glTF `alphaMode`; OBJ `d` < 1 maps to `Blend`).

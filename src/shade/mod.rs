@@ -1,1 +1,85 @@
-//! Shading.
+//! Shading: the lighting equation, one fragment shader per shading mode, and the renderer
+//! that turns a [`Scene`](crate::scene::Scene) into draws for the rasterizer.
+//!
+//! Modes (seed 000 §9.2.2, 001, 003 §5.2):
+//! - `wireframe`: mesh edges (not triangulation diagonals) with hidden lines removed;
+//! - `flat`: one lighting evaluation per facet, at its centroid with its plane normal;
+//! - `gouraud`: lighting at the vertices, colour interpolated;
+//! - `phong`: normal interpolated and renormalised, lighting per pixel (R·V highlight);
+//! - `blinn`: as `phong` with the half vector (N·H);
+//! - `textured`: per-pixel Blinn-Phong whose diffuse colour is modulated by the base-colour
+//!   texture (bilinear, linear light);
+//! - `normals`, `depth`, `uv`: debug views.
+//!
+//! Shading happens in linear light; the framebuffer is sRGB-encoded on output.
+//! This module never loops over tiles or pixels itself: the rasterizer calls the shaders.
+
+mod lighting;
+mod render;
+mod vertex;
+mod shaders;
+
+pub use lighting::{illuminate, LightSet, Surface};
+pub use render::{default_camera, render, Frame, Prepared, RenderOptions};
+pub use shaders::{ColorShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying};
+
+/// A shading mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Shading {
+    Wireframe,
+    Flat,
+    Gouraud,
+    Phong,
+    Blinn,
+    Textured,
+    Normals,
+    Depth,
+    Uv,
+}
+
+impl Shading {
+    /// Every mode, in the order the CLI lists them.
+    pub const ALL: [Shading; 9] = [
+        Shading::Wireframe,
+        Shading::Flat,
+        Shading::Gouraud,
+        Shading::Phong,
+        Shading::Blinn,
+        Shading::Textured,
+        Shading::Normals,
+        Shading::Depth,
+        Shading::Uv,
+    ];
+
+    /// The mode's command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Shading::Wireframe => "wireframe",
+            Shading::Flat => "flat",
+            Shading::Gouraud => "gouraud",
+            Shading::Phong => "phong",
+            Shading::Blinn => "blinn",
+            Shading::Textured => "textured",
+            Shading::Normals => "normals",
+            Shading::Depth => "depth",
+            Shading::Uv => "uv",
+        }
+    }
+}
+
+impl std::str::FromStr for Shading {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Shading::ALL.into_iter().find(|m| m.name().eq_ignore_ascii_case(s)).ok_or_else(|| {
+            let names: Vec<_> = Shading::ALL.iter().map(|m| m.name()).collect();
+            format!("unknown shading mode '{s}' (expected one of: {})", names.join(", "))
+        })
+    }
+}
+
+impl std::fmt::Display for Shading {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}

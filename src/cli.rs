@@ -1,0 +1,301 @@
+//! Subcommands: `render`, `info`. Without a subcommand, renders the demo scene to a PNG.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Parser, Subcommand};
+use glam::Vec3;
+
+use realist::load::{self, LoadOptions};
+use realist::mesh::NormalOptions;
+use realist::scene::{self, Camera, Scene};
+use realist::shade::{self, Prepared, RenderOptions, Shading};
+
+#[derive(Parser)]
+#[command(name = "realist", version, about = "glTF 2.0 / OBJ viewer and material toolkit with a tiled CPU rasterizer")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a model (or the built-in demo) headless to a PNG.
+    Render(RenderArgs),
+    /// Print the load report and the topology of every mesh.
+    Info(InfoArgs),
+}
+
+#[derive(Args)]
+struct RenderArgs {
+    /// Model file (.obj, .gltf, .glb).
+    #[arg(required_unless_present = "demo", conflicts_with = "demo")]
+    model: Option<PathBuf>,
+    /// Render the built-in demo scene (the seed's three spheres).
+    #[arg(long)]
+    demo: bool,
+    /// Output PNG.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Image size WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    size: (u32, u32),
+    /// wireframe, flat, gouraud, phong, blinn, textured, normals, depth or uv (default: phong;
+    /// the demo keeps its per-sphere styles unless a mode is given).
+    #[arg(long)]
+    shading: Option<Shading>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Orbit camera: azimuth,elevation in degrees, optionally ,distance in scene units
+    /// (default distance frames the scene).
+    #[arg(long, value_parser = parse_camera)]
+    camera: Option<(f32, f32, Option<f32>)>,
+    /// Texture applied to meshes that have UVs but no material texture (e.g. spot.obj).
+    #[arg(long)]
+    texture: Option<PathBuf>,
+    /// Print one JSON object with counters and per-stage milliseconds.
+    #[arg(long)]
+    stats: bool,
+    #[command(flatten)]
+    normals: NormalArgs,
+}
+
+#[derive(Args)]
+struct NormalArgs {
+    /// Crease angle in degrees for averaged normals, or "off" to average across every edge.
+    #[arg(long, default_value = "60")]
+    crease: String,
+    /// Weighting of averaged normals: angle, area or uniform (the seed's plain average).
+    #[arg(long, default_value = "angle")]
+    weighting: String,
+}
+
+#[derive(Args)]
+struct InfoArgs {
+    /// Model file (.obj, .gltf, .glb).
+    model: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    normals: NormalArgs,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or("expected WIDTHxHEIGHT, e.g. 1280x720")?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("bad width '{w}'"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("bad height '{h}'"))?;
+    if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
+        return Err("width and height must be between 1 and 16384".into());
+    }
+    Ok((w, h))
+}
+
+fn parse_camera(s: &str) -> Result<(f32, f32, Option<f32>), String> {
+    let parts: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>().map_err(|_| format!("bad number '{p}' in --camera")))
+        .collect::<Result<_, _>>()?;
+    if parts.iter().any(|p| !p.is_finite()) {
+        return Err("--camera values must be finite".into());
+    }
+    match parts[..] {
+        [a, e] => Ok((a, e, None)),
+        [a, e, d] if d > 0.0 => Ok((a, e, Some(d))),
+        [_, _, _] => Err("--camera distance must be positive".into()),
+        _ => Err("expected --camera azimuth,elevation[,distance]".into()),
+    }
+}
+
+impl NormalArgs {
+    fn options(&self) -> Result<NormalOptions> {
+        let crease_degrees = if self.crease.eq_ignore_ascii_case("off") {
+            None
+        } else {
+            let d: f32 = self.crease.parse().with_context(|| format!("bad --crease '{}'", self.crease))?;
+            if !(0.0..=180.0).contains(&d) {
+                bail!("--crease must be between 0 and 180 degrees, or off");
+            }
+            Some(d)
+        };
+        let weighting = match self.weighting.to_ascii_lowercase().as_str() {
+            "angle" => realist::mesh::Weighting::Angle,
+            "area" => realist::mesh::Weighting::Area,
+            "uniform" => realist::mesh::Weighting::Uniform,
+            w => bail!("unknown --weighting '{w}' (expected angle, area or uniform)"),
+        };
+        Ok(NormalOptions { weighting, crease_degrees })
+    }
+}
+
+pub fn run() -> Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        Some(Command::Render(args)) => render(&args),
+        Some(Command::Info(args)) => info(&args),
+        None => {
+            let out = PathBuf::from("realist-demo.png");
+            let args = RenderArgs {
+                model: None,
+                demo: true,
+                output: out.clone(),
+                size: (1280, 720),
+                shading: None,
+                threads: None,
+                camera: None,
+                texture: None,
+                stats: false,
+                normals: NormalArgs { crease: "60".into(), weighting: "angle".into() },
+            };
+            println!("No display viewer yet: rendering the demo scene headless.");
+            render(&args)?;
+            println!("Wrote {}", std::fs::canonicalize(&out).unwrap_or(out).display());
+            Ok(())
+        }
+    }
+}
+
+fn load_model(path: &Path, normals: &NormalArgs) -> Result<Scene> {
+    let opts = LoadOptions { normals: normals.options()?, ..LoadOptions::default() };
+    Ok(load::load(path, &opts)?)
+}
+
+fn render(args: &RenderArgs) -> Result<()> {
+    let t0 = Instant::now();
+    let scene = match &args.model {
+        Some(path) => load_model(path, &args.normals)?,
+        None => scene::demo(),
+    };
+    for w in &scene.report.warnings {
+        eprintln!("warning: {w}");
+    }
+    let texture = match &args.texture {
+        Some(p) => Some(Arc::new(load::load_texture(p)?)),
+        None => None,
+    };
+    let t_load = t0.elapsed();
+    let (w, h) = args.size;
+    let aspect = w as f32 / h as f32;
+    let camera = match args.camera {
+        Some((az, el, dist)) => Some(orbit_camera(&scene, aspect, az, el, dist)),
+        None if args.demo => scene.cameras.first().cloned(),
+        None => None,
+    };
+    let opts = RenderOptions { width: w, height: h, shading: args.shading, camera, texture, ..RenderOptions::default() };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("could not start worker threads")?;
+    let (prepared, t_prepare, frame, t_raster) = pool.install(|| {
+        let t = Instant::now();
+        let prepared = Prepared::new(&scene);
+        let t_prepare = t.elapsed();
+        let t = Instant::now();
+        let frame = shade::render(&scene, &prepared, &opts);
+        (prepared, t_prepare, frame, t.elapsed())
+    });
+    drop(prepared);
+    let t = Instant::now();
+    let img = image::RgbImage::from_raw(frame.image.width, frame.image.height, frame.image.to_srgb8())
+        .context("framebuffer size mismatch")?;
+    img.save(&args.output).with_context(|| format!("could not write {}", args.output.display()))?;
+    let t_encode = t.elapsed();
+    if args.stats {
+        let s = &frame.stats;
+        let ms = |d: std::time::Duration| (d.as_secs_f64() * 1e6).round() / 1e3;
+        let json = serde_json::json!({
+            "triangles_in": s.triangles_in,
+            "culled": s.culled_frustum + s.culled_backface + s.culled_degenerate,
+            "clipped": s.clipped,
+            "drawn": s.drawn,
+            "tiles": s.tiles,
+            "pixels_shaded": s.pixels_shaded,
+            "counters": s,
+            "ms": {
+                "load": ms(t_load),
+                "prepare": ms(t_prepare),
+                "raster_shade": ms(t_raster),
+                "encode": ms(t_encode),
+            },
+        });
+        println!("{json}");
+    }
+    Ok(())
+}
+
+/// An orbit camera around the scene's bounding sphere.
+fn orbit_camera(scene: &Scene, aspect: f32, az: f32, el: f32, dist: Option<f32>) -> Camera {
+    let (center, radius) = match scene.bounds() {
+        Some((lo, hi)) => ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6)),
+        None => (Vec3::ZERO, 1.0),
+    };
+    let framed = Camera::frame_from(center, radius, aspect, az, el);
+    match dist {
+        None => framed,
+        Some(d) => {
+            let mut cam = Camera::orbit(center, az, el, d, framed.yfov);
+            cam.fit(center, radius);
+            cam
+        }
+    }
+}
+
+fn info(args: &InfoArgs) -> Result<()> {
+    let scene = load_model(&args.model, &args.normals)?;
+    let meshes: Vec<_> = scene
+        .meshes
+        .iter()
+        .map(|m| {
+            serde_json::json!({
+                "name": m.name,
+                "normals": format!("{:?}", m.normal_source),
+                "uvs": m.uvs.is_some(),
+                "colors": m.colors.is_some(),
+                "topology": m.topology(),
+            })
+        })
+        .collect();
+    let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
+        scene.meshes.iter().map(|m| f(&m.topology())).sum()
+    };
+    if args.json {
+        let json = serde_json::json!({
+            "report": scene.report,
+            "instances": scene.instances.len(),
+            "materials": scene.materials.len(),
+            "textures": scene.textures.len(),
+            "cameras": scene.cameras.len(),
+            "meshes": meshes,
+        });
+        println!("{}", serde_json::to_string_pretty(&json)?);
+        return Ok(());
+    }
+    println!("{} ({})", args.model.display(), scene.report.format);
+    println!(
+        "  {} meshes, {} instances, {} materials, {} textures, {} cameras",
+        scene.meshes.len(),
+        scene.instances.len(),
+        scene.materials.len(),
+        scene.textures.len(),
+        scene.cameras.len()
+    );
+    println!("  {} vertices, {} edges, {} facets in total", total(|t| t.vertices), total(|t| t.edges), total(|t| t.facets));
+    for m in &scene.meshes {
+        let t = m.topology();
+        println!(
+            "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {}, non-manifold edges {}, degenerate facets {}, components {}, V-E+F={}, normals {:?}",
+            m.name, t.vertices, t.edges, t.facets, t.triangles, t.boundary_edges, t.non_manifold_edges,
+            t.degenerate_facets, t.components, t.euler_characteristic, m.normal_source
+        );
+    }
+    for w in &scene.report.warnings {
+        println!("  warning: {w}");
+    }
+    for s in &scene.report.skipped {
+        println!("  skipped: {s}");
+    }
+    Ok(())
+}

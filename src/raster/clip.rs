@@ -1,0 +1,135 @@
+//! Clipping in homogeneous clip space, before the perspective divide.
+//!
+//! A triangle is clipped only against the planes one of its vertices violates: the near plane
+//! (so nothing behind the eye is divided by w <= 0 and nothing wraps around), the far plane,
+//! and the four guard-band planes that keep snapped coordinates inside the fixed-point range.
+//! Sutherland-Hodgman keeps inside vertices bit-exact; an intersection is always computed from
+//! the inside vertex towards the outside one, so two triangles sharing a clipped edge get the
+//! identical new vertex and stay watertight.
+//!
+//! Clip space (see `scene::Camera::projection`): visible points have -w <= x, y <= w and
+//! 0 <= z <= w (reversed depth, z = w on the near plane).
+
+use glam::{Vec2, Vec4};
+
+use super::Varying;
+
+pub(crate) const NEAR: u8 = 1;
+pub(crate) const FAR: u8 = 2;
+pub(crate) const LEFT: u8 = 4;
+pub(crate) const RIGHT: u8 = 8;
+pub(crate) const BOTTOM: u8 = 16;
+pub(crate) const TOP: u8 = 32;
+const PLANES: [u8; 6] = [NEAR, FAR, LEFT, RIGHT, BOTTOM, TOP];
+
+/// Signed distance-like value of `p` to a plane: >= 0 inside. `g` scales the x/y planes
+/// (1 = the view frustum, > 1 = the guard band).
+#[inline]
+fn distance(p: Vec4, plane: u8, g: Vec2) -> f32 {
+    match plane {
+        NEAR => p.w - p.z,
+        FAR => p.z,
+        LEFT => p.x + g.x * p.w,
+        RIGHT => g.x * p.w - p.x,
+        BOTTOM => p.y + g.y * p.w,
+        _ => g.y * p.w - p.y,
+    }
+}
+
+/// Bit set of the planes `p` is outside of.
+#[inline]
+pub(crate) fn outcode(p: Vec4, g: Vec2) -> u8 {
+    let mut code = 0;
+    for plane in PLANES {
+        if distance(p, plane, g) < 0.0 {
+            code |= plane;
+        }
+    }
+    code
+}
+
+/// A vertex being clipped: clip-space position and its varying.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ClipVertex<V> {
+    pub pos: Vec4,
+    pub var: V,
+}
+
+/// Clips a convex polygon against every plane in `planes`; returns the clipped polygon
+/// (possibly empty) in the same winding.
+pub(crate) fn clip_polygon<V: Varying>(mut poly: Vec<ClipVertex<V>>, planes: u8, g: Vec2) -> Vec<ClipVertex<V>> {
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    for plane in PLANES {
+        if planes & plane == 0 {
+            continue;
+        }
+        out.clear();
+        let n = poly.len();
+        for i in 0..n {
+            let a = poly[i];
+            let b = poly[(i + 1) % n];
+            let da = distance(a.pos, plane, g);
+            let db = distance(b.pos, plane, g);
+            let a_in = da >= 0.0;
+            let b_in = db >= 0.0;
+            if a_in {
+                out.push(a);
+            }
+            if a_in != b_in {
+                out.push(if a_in { intersect(&a, da, &b, db) } else { intersect(&b, db, &a, da) });
+            }
+        }
+        std::mem::swap(&mut poly, &mut out);
+        if poly.len() < 3 {
+            poly.clear();
+            return poly;
+        }
+    }
+    poly
+}
+
+/// The point where the segment from inside vertex `i` to outside vertex `o` meets the plane.
+#[inline]
+fn intersect<V: Varying>(i: &ClipVertex<V>, di: f32, o: &ClipVertex<V>, d_o: f32) -> ClipVertex<V> {
+    let t = (di / (di - d_o)).clamp(0.0, 1.0);
+    ClipVertex { pos: i.pos + (o.pos - i.pos) * t, var: i.var.lerp(&o.var, t) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex<f32> {
+        ClipVertex { pos: Vec4::new(x, y, z, w), var: w }
+    }
+
+    #[test]
+    fn near_clip_of_triangle_through_eye_plane() {
+        // One vertex behind the eye (w < 0): the result must have all w > 0.
+        let tri = vec![v(0.0, 0.0, 0.5, 1.0), v(1.0, 0.0, 0.5, 1.0), v(0.0, 1.0, -2.0, -1.0)];
+        let out = clip_polygon(tri, NEAR, Vec2::ONE);
+        assert_eq!(out.len(), 4);
+        for p in &out {
+            assert!(p.pos.w > 0.0 && p.pos.z <= p.pos.w + 1e-6, "{:?}", p.pos);
+        }
+        // Inside vertices kept bit-exact.
+        assert_eq!(out[0].pos, Vec4::new(0.0, 0.0, 0.5, 1.0));
+    }
+
+    #[test]
+    fn shared_edge_intersection_is_identical() {
+        let a = v(0.3, 0.1, 0.2, 1.0);
+        let b = v(-0.7, 0.4, 3.0, -2.0);
+        let t1 = clip_polygon(vec![a, b, v(0.5, 0.5, 0.1, 1.0)], NEAR, Vec2::ONE);
+        let t2 = clip_polygon(vec![b, a, v(-0.5, 0.5, 0.1, 1.0)], NEAR, Vec2::ONE);
+        let new1: Vec<_> = t1.iter().map(|p| p.pos).filter(|p| *p != a.pos && p.w != 1.0).collect();
+        let new2: Vec<_> = t2.iter().map(|p| p.pos).filter(|p| *p != a.pos && p.w != 1.0).collect();
+        assert!(new1.iter().any(|p| new2.contains(p)), "{new1:?} {new2:?}");
+    }
+
+    #[test]
+    fn fully_outside_is_empty() {
+        let tri = vec![v(0.0, 0.0, 2.0, 1.0), v(1.0, 0.0, 2.0, 1.0), v(0.0, 1.0, 2.0, 1.0)];
+        assert!(clip_polygon(tri, NEAR, Vec2::ONE).is_empty());
+    }
+}

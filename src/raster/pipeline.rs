@@ -1,0 +1,303 @@
+//! One raster pass: transform, cull, clip, set up, bin, fill (see the module docs of
+//! [`crate::raster`] for the phases).
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::clip::{clip_polygon, outcode, ClipVertex};
+use super::fill::{fill, FillCounters};
+use super::framebuffer::{Target, TILE};
+use super::setup::{setup, Reject, SetupTri, GUARD_BAND_PX};
+use super::FragmentShader;
+
+/// Which faces are discarded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Cull {
+    None,
+    #[default]
+    Back,
+    Front,
+}
+
+/// How a fragment's colour combines with the target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Blend {
+    #[default]
+    Replace,
+    /// Source over destination with the fragment's alpha (straight alpha).
+    Alpha,
+    /// Component-wise sum (used by coverage counting).
+    Add,
+}
+
+/// Depth comparison (reversed-Z: larger is nearer).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DepthTest {
+    #[default]
+    Greater,
+    GreaterEqual,
+    Always,
+}
+
+/// Fixed-function state of a draw. The default is [`DrawState::opaque`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DrawState {
+    pub cull: Cull,
+    pub depth_test: DepthTest,
+    pub depth_write: bool,
+    pub blend: Blend,
+    /// Write colour (false for depth-only passes).
+    pub color_write: bool,
+    /// Treat clockwise triangles as front-facing (a mirroring model matrix, det < 0).
+    pub flip_winding: bool,
+}
+
+impl Default for DrawState {
+    fn default() -> Self {
+        Self::opaque()
+    }
+}
+
+impl DrawState {
+    /// Opaque geometry: back faces culled, depth tested and written, colour replaced.
+    #[must_use]
+    pub fn opaque() -> Self {
+        Self {
+            cull: Cull::Back,
+            depth_test: DepthTest::Greater,
+            depth_write: true,
+            blend: Blend::Replace,
+            color_write: true,
+            flip_winding: false,
+        }
+    }
+}
+
+/// A batch of triangles sharing state, with clip-space positions and varyings per vertex.
+#[derive(Clone, Copy, Debug)]
+pub struct Draw<'a, V> {
+    /// Passed to the shader in [`super::TriInfo::draw`].
+    pub id: u32,
+    pub clip: &'a [Vec4],
+    pub varyings: &'a [V],
+    /// Vertex indices; triangles with an index out of range are dropped as degenerate.
+    pub triangles: &'a [[u32; 3]],
+    pub state: DrawState,
+}
+
+/// Counters of what the pipeline did and skipped (`--stats`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Stats {
+    pub triangles_in: u64,
+    /// Whole objects skipped by their bounding sphere (counted by the caller).
+    pub objects_culled: u64,
+    /// Triangles inside culled objects or entirely outside one frustum plane.
+    pub culled_frustum: u64,
+    pub culled_backface: u64,
+    /// Zero area after snapping, non-finite coordinates, bad indices, or no pixel centre.
+    pub culled_degenerate: u64,
+    /// Triangles that needed clipping (near/far plane or guard band).
+    pub clipped: u64,
+    /// Set-up triangles binned (a clipped triangle can yield several).
+    pub drawn: u64,
+    /// Non-empty tile bins filled.
+    pub tiles: u64,
+    pub pixels_shaded: u64,
+    pub depth_rejected: u64,
+    pub lines_drawn: u64,
+}
+
+impl Stats {
+    /// Adds another pass's counters.
+    pub fn add(&mut self, o: &Stats) {
+        self.triangles_in += o.triangles_in;
+        self.objects_culled += o.objects_culled;
+        self.culled_frustum += o.culled_frustum;
+        self.culled_backface += o.culled_backface;
+        self.culled_degenerate += o.culled_degenerate;
+        self.clipped += o.clipped;
+        self.drawn += o.drawn;
+        self.tiles += o.tiles;
+        self.pixels_shaded += o.pixels_shaded;
+        self.depth_rejected += o.depth_rejected;
+        self.lines_drawn += o.lines_drawn;
+    }
+}
+
+/// Model-view-projection transform of positions, in parallel.
+#[must_use]
+pub fn transform_positions(mvp: Mat4, positions: &[Vec3]) -> Vec<Vec4> {
+    positions.par_iter().with_min_len(4096).map(|p| mvp * p.extend(1.0)).collect()
+}
+
+/// Triangles set up per parallel chunk.
+const CHUNK: usize = 2048;
+/// Set-up triangles held before the tiles are filled (bounds memory on huge meshes).
+const BATCH: usize = 64 * 1024;
+
+/// Guard-band scale of the x/y clip planes for a target size.
+pub(crate) fn guard(width: u32, height: u32) -> Vec2 {
+    Vec2::new(1.0 + 2.0 * GUARD_BAND_PX / width as f32, 1.0 + 2.0 * GUARD_BAND_PX / height as f32)
+}
+
+/// Rasterizes `draws` in order into `target` with `shader`. Runs on the current rayon pool;
+/// the image does not depend on its thread count.
+pub fn draw<S: FragmentShader>(target: &mut Target, draws: &[Draw<'_, S::Varying>], shader: &S, stats: &mut Stats) {
+    let g = guard(target.width, target.height);
+    let (w, h) = (target.width, target.height);
+    let mut pending: Vec<SetupTri<S::Varying>> = Vec::new();
+    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); target.tiles.len()];
+    for d in draws {
+        stats.triangles_in += d.triangles.len() as u64;
+        for chunk in d.triangles.chunks(BATCH) {
+            let results: Vec<(Vec<SetupTri<S::Varying>>, Stats)> = chunk
+                .par_chunks(CHUNK)
+                .map(|tris| {
+                    let mut out = Vec::with_capacity(tris.len());
+                    let mut st = Stats::default();
+                    for t in tris {
+                        assemble(d, t, g, w, h, &mut out, &mut st);
+                    }
+                    (out, st)
+                })
+                .collect();
+            for (tris, st) in results {
+                stats.add(&st);
+                for t in tris {
+                    if pending.len() >= BATCH {
+                        flush(target, &mut pending, &mut bins, shader, stats);
+                    }
+                    bin(target, &t, pending.len() as u32, &mut bins);
+                    pending.push(t);
+                }
+            }
+        }
+    }
+    flush(target, &mut pending, &mut bins, shader, stats);
+}
+
+/// Culls, clips and sets up one input triangle, appending the results to `out`.
+fn assemble<V: super::Varying>(
+    d: &Draw<'_, V>,
+    t: &[u32; 3],
+    g: Vec2,
+    w: u32,
+    h: u32,
+    out: &mut Vec<SetupTri<V>>,
+    st: &mut Stats,
+) {
+    let fetch = |i: u32| -> Option<ClipVertex<V>> {
+        let (p, v) = (d.clip.get(i as usize)?, d.varyings.get(i as usize)?);
+        p.is_finite().then_some(ClipVertex { pos: *p, var: *v })
+    };
+    let (Some(a), Some(b), Some(c)) = (fetch(t[0]), fetch(t[1]), fetch(t[2])) else {
+        st.culled_degenerate += 1;
+        return;
+    };
+    // Trivial reject against the real frustum; clipping needs against near/far and guard band.
+    let (fa, fb, fc) = (outcode(a.pos, Vec2::ONE), outcode(b.pos, Vec2::ONE), outcode(c.pos, Vec2::ONE));
+    if fa & fb & fc != 0 {
+        st.culled_frustum += 1;
+        return;
+    }
+    let (ga, gb, gc) = (outcode(a.pos, g), outcode(b.pos, g), outcode(c.pos, g));
+    let need = ga | gb | gc;
+    let mut push = |tri: [&ClipVertex<V>; 3], st: &mut Stats| match setup(tri, w, h, d.id, d.state) {
+        Ok(s) => {
+            out.push(s);
+            true
+        }
+        Err(Reject::Backface) => {
+            st.culled_backface += 1;
+            false
+        }
+        Err(Reject::Degenerate) => {
+            st.culled_degenerate += 1;
+            false
+        }
+    };
+    if need == 0 {
+        let _ = push([&a, &b, &c], st);
+        return;
+    }
+    st.clipped += 1;
+    // Clip against every violated plane (near first: it guarantees w > 0 afterwards).
+    let poly = clip_polygon(vec![a, b, c], need, g);
+    if poly.len() < 3 {
+        st.culled_frustum += 1;
+        return;
+    }
+    let mut rejected = Stats::default();
+    let mut any = false;
+    for i in 1..poly.len() - 1 {
+        any |= push([&poly[0], &poly[i], &poly[i + 1]], &mut rejected);
+    }
+    // Count the input triangle once: as drawn if any piece survived, else by the first reason.
+    if !any {
+        if rejected.culled_backface > 0 {
+            st.culled_backface += 1;
+        } else {
+            st.culled_degenerate += 1;
+        }
+    }
+}
+
+/// Appends triangle `index` to the bin of every tile its bounds touch and its edges do not
+/// exclude (a tile is excluded when one edge is negative at all four of its corners).
+fn bin<V>(target: &Target, t: &SetupTri<V>, index: u32, bins: &mut [Vec<u32>]) {
+    let (tx0, ty0, tx1, ty1) = (t.x0 / TILE, t.y0 / TILE, t.x1 / TILE, t.y1 / TILE);
+    let single = tx0 == tx1 && ty0 == ty1;
+    for ty in ty0..=ty1 {
+        for tx in tx0..=tx1 {
+            if !single && tile_outside(t, tx * TILE, ty * TILE) {
+                continue;
+            }
+            bins[(ty * target.tiles_x + tx) as usize].push(index);
+        }
+    }
+}
+
+fn tile_outside<V>(t: &SetupTri<V>, x: u32, y: u32) -> bool {
+    use super::setup::ONE;
+    let (px, py) = (i64::from(x) * ONE + ONE / 2, i64::from(y) * ONE + ONE / 2);
+    let span = i64::from(TILE - 1) * ONE;
+    (0..3).any(|k| {
+        let e = t.a[k] * px + t.b[k] * py + t.c[k] + t.bias[k];
+        e + (t.a[k] * span).max(0) + (t.b[k] * span).max(0) < 0
+    })
+}
+
+/// Fills every tile with its binned triangles (in parallel over tiles), then empties the bins.
+fn flush<S: FragmentShader>(
+    target: &mut Target,
+    pending: &mut Vec<SetupTri<S::Varying>>,
+    bins: &mut [Vec<u32>],
+    shader: &S,
+    stats: &mut Stats,
+) {
+    if pending.is_empty() {
+        return;
+    }
+    stats.drawn += pending.len() as u64;
+    let tris = &*pending;
+    let counters: Vec<(u64, FillCounters)> = target
+        .tiles
+        .par_iter_mut()
+        .zip(bins.par_iter_mut())
+        .filter(|(_, b)| !b.is_empty())
+        .map(|(tile, bin)| {
+            let mut n = FillCounters::default();
+            for &i in bin.iter() {
+                fill(tile, &tris[i as usize], shader, &mut n);
+            }
+            bin.clear();
+            (1, n)
+        })
+        .collect();
+    for (tiles, n) in counters {
+        stats.tiles += tiles;
+        stats.pixels_shaded += n.shaded;
+        stats.depth_rejected += n.depth_rejected;
+    }
+    pending.clear();
+}

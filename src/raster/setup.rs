@@ -1,0 +1,202 @@
+//! Fixed-point triangle setup.
+//!
+//! Screen coordinates are snapped to 1/256 pixel ([`SUBPIXEL_BITS`] = 8) with round-half-to-even
+//! and the three edge functions are evaluated exactly in i64:
+//!
+//! `E_k(P) = a_k * P.x + b_k * P.y + c_k`, for the edge from vertex k+1 to vertex k+2,
+//!
+//! which is twice the signed area of the triangle (edge, P): positive on the inside once the
+//! triangle is oriented with positive area. `E_0 + E_1 + E_2` = twice the triangle's area for
+//! every P, so `E_k / area` are the screen-space barycentric coordinates.
+//!
+//! Fill rule (top-left, as Direct3D and OpenGL): a sample exactly on an edge belongs to the
+//! triangle only if the edge is a *left* edge (the inside lies towards +x: `a > 0`) or a *top*
+//! edge (horizontal with the inside below, y pointing down: `a == 0 && b > 0`). This is a bias
+//! of -1 on the other edges' integer functions, so shared edges are covered exactly once.
+//!
+//! Magnitudes: after guard-band clipping, |coordinate| < 2^23 fixed units, so `a`, `b` < 2^24
+//! and `E` < 2^49: i64 never overflows.
+
+use glam::Vec4;
+
+use super::clip::ClipVertex;
+use super::pipeline::{Cull, DrawState};
+use super::{TriInfo, Varying};
+
+/// Sub-pixel precision of snapped vertices: 1/256 pixel.
+pub const SUBPIXEL_BITS: u32 = 8;
+pub(crate) const ONE: i64 = 1 << SUBPIXEL_BITS;
+const HALF: i64 = ONE / 2;
+/// How far (pixels) outside the viewport a vertex may lie before the triangle is clipped.
+pub const GUARD_BAND_PX: f32 = 8192.0;
+/// Largest absolute fixed-point coordinate accepted (clamp after clipping's rounding).
+const MAX_COORD: f32 = (1u32 << 23) as f32;
+
+/// A triangle ready to fill. Vertices are ordered so the area is positive.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SetupTri<V> {
+    /// Edge function coefficients (unbiased).
+    pub a: [i64; 3],
+    pub b: [i64; 3],
+    pub c: [i64; 3],
+    /// 0 for top-left edges, -1 otherwise: inside iff `E_k + bias_k >= 0` for all k.
+    pub bias: [i64; 3],
+    /// Inclusive pixel bounds, clamped to the target.
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+    /// 1 / (twice the area), in fixed units.
+    pub inv_area: f32,
+    /// Depth (z/w) at vertex 0, and its differences to vertices 1 and 2.
+    pub z: [f32; 3],
+    /// 1/w at the three vertices.
+    pub iw: [f32; 3],
+    /// Varying at vertex 0, and its differences to vertices 1 and 2.
+    pub var: [V; 3],
+    pub info: TriInfo,
+    pub state: DrawState,
+}
+
+/// Why a triangle produced nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Reject {
+    Backface,
+    /// Zero area after snapping, or no pixel centre inside its bounds.
+    Degenerate,
+}
+
+/// Sets up one (clipped) triangle for a `width` x `height` target.
+pub(crate) fn setup<V: Varying>(
+    v: [&ClipVertex<V>; 3],
+    width: u32,
+    height: u32,
+    draw: u32,
+    state: DrawState,
+) -> Result<SetupTri<V>, Reject> {
+    let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
+    let mut x = [0i64; 3];
+    let mut y = [0i64; 3];
+    let mut z = [0f32; 3];
+    let mut iw = [0f32; 3];
+    for k in 0..3 {
+        let p: Vec4 = v[k].pos;
+        // Clipping leaves w >= near > 0; w = 0 can only come from a caller bypassing it.
+        if !(p.w > 0.0) {
+            return Err(Reject::Degenerate);
+        }
+        let inv_w = 1.0 / p.w;
+        let sx = (p.x * inv_w + 1.0) * hw;
+        let sy = (1.0 - p.y * inv_w) * hh;
+        x[k] = snap(sx);
+        y[k] = snap(sy);
+        z[k] = p.z * inv_w;
+        iw[k] = inv_w;
+    }
+    let mut order = [0usize, 1, 2];
+    let area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+    if area == 0 {
+        return Err(Reject::Degenerate);
+    }
+    // Counter-clockwise in NDC (y up) is clockwise on screen (y down): negative area here.
+    let front = (area < 0) != state.flip_winding;
+    match state.cull {
+        Cull::Back if !front => return Err(Reject::Backface),
+        Cull::Front if front => return Err(Reject::Backface),
+        _ => {}
+    }
+    if area < 0 {
+        order = [0, 2, 1];
+    }
+    let [i0, i1, i2] = order;
+    let (xs, ys) = ([x[i0], x[i1], x[i2]], [y[i0], y[i1], y[i2]]);
+
+    let min_x = xs[0].min(xs[1]).min(xs[2]);
+    let max_x = xs[0].max(xs[1]).max(xs[2]);
+    let min_y = ys[0].min(ys[1]).min(ys[2]);
+    let max_y = ys[0].max(ys[1]).max(ys[2]);
+    // Pixel p is a candidate if its centre p * ONE + HALF lies within [min, max].
+    let px0 = ceil_div(min_x - HALF, ONE).max(0);
+    let py0 = ceil_div(min_y - HALF, ONE).max(0);
+    let px1 = (max_x - HALF).div_euclid(ONE).min(i64::from(width) - 1);
+    let py1 = (max_y - HALF).div_euclid(ONE).min(i64::from(height) - 1);
+    if px0 > px1 || py0 > py1 {
+        return Err(Reject::Degenerate);
+    }
+
+    let mut a = [0i64; 3];
+    let mut b = [0i64; 3];
+    let mut c = [0i64; 3];
+    let mut bias = [0i64; 3];
+    for k in 0..3 {
+        // Edge k runs from vertex k+1 to vertex k+2 (opposite vertex k).
+        let (s, e) = ((k + 1) % 3, (k + 2) % 3);
+        a[k] = ys[s] - ys[e];
+        b[k] = xs[e] - xs[s];
+        c[k] = -(a[k] * xs[s] + b[k] * ys[s]);
+        let top_left = a[k] > 0 || (a[k] == 0 && b[k] > 0);
+        bias[k] = if top_left { 0 } else { -1 };
+    }
+    let var0 = v[i0].var;
+    Ok(SetupTri {
+        a,
+        b,
+        c,
+        bias,
+        x0: px0 as u32,
+        y0: py0 as u32,
+        x1: px1 as u32,
+        y1: py1 as u32,
+        inv_area: 1.0 / area.abs() as f32,
+        z: [z[i0], z[i1] - z[i0], z[i2] - z[i0]],
+        iw: [iw[i0], iw[i1], iw[i2]],
+        var: [var0, v[i1].var.sub(&var0), v[i2].var.sub(&var0)],
+        info: TriInfo { draw, front },
+        state,
+    })
+}
+
+/// Screen coordinate (pixels) -> fixed point, round half to even.
+#[inline]
+fn snap(s: f32) -> i64 {
+    (s * ONE as f32).clamp(-MAX_COORD, MAX_COORD).round_ties_even() as i64
+}
+
+#[inline]
+fn ceil_div(n: i64, d: i64) -> i64 {
+    -((-n).div_euclid(d))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cv(x: f32, y: f32) -> ClipVertex<()> {
+        ClipVertex { pos: Vec4::new(x, y, 0.5, 1.0), var: () }
+    }
+
+    fn state(cull: Cull) -> DrawState {
+        DrawState { cull, ..DrawState::opaque() }
+    }
+
+    #[test]
+    fn ccw_is_front_and_edges_positive_inside() {
+        let (a, b, c) = (cv(-0.5, -0.5), cv(0.5, -0.5), cv(0.0, 0.5));
+        let t = setup([&a, &b, &c], 64, 64, 0, state(Cull::Back)).unwrap();
+        assert!(t.info.front);
+        let (px, py) = (32 * ONE + HALF, 32 * ONE + HALF);
+        for k in 0..3 {
+            assert!(t.a[k] * px + t.b[k] * py + t.c[k] > 0);
+        }
+        assert_eq!(setup([&a, &c, &b], 64, 64, 0, state(Cull::Back)).unwrap_err(), Reject::Backface);
+    }
+
+    #[test]
+    fn bounds_are_pixel_centres_inside_the_box() {
+        // Box from x = 1.5 px to 3.5 px covers centres of pixels 1, 2, 3.
+        let s = |p: f32| p / 4.0 - 1.0;
+        let (a, b, c) = (cv(s(1.5), -s(1.5)), cv(s(3.5), -s(1.5)), cv(s(1.5), -s(3.5)));
+        let t = setup([&a, &b, &c], 8, 8, 0, state(Cull::None)).unwrap();
+        assert_eq!((t.x0, t.x1, t.y0, t.y1), (1, 3, 1, 3));
+    }
+}

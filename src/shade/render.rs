@@ -1,0 +1,289 @@
+//! The renderer: camera and lights for a scene, object culling, per-instance vertex stage,
+//! and the passes (opaque by mode, wireframe, then blended back to front).
+
+use std::sync::Arc;
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::lighting::{LightSet, Surface};
+use super::shaders::{ColorShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying};
+use super::vertex;
+use super::Shading;
+use crate::mesh::TriMesh;
+use crate::raster::{self, Blend, Cull, Draw, DrawState, Framebuffer, LineStyle, Stats, Target};
+use crate::scene::{AlphaMode, Camera, Light, Scene, Style};
+use crate::texture::Texture;
+
+/// Per-mesh render data, built once per scene and reused for every frame.
+#[derive(Clone, Debug, Default)]
+pub struct Prepared {
+    pub meshes: Vec<TriMesh>,
+}
+
+impl Prepared {
+    /// Triangulates every mesh (in parallel).
+    #[must_use]
+    pub fn new(scene: &Scene) -> Self {
+        Self { meshes: scene.meshes.par_iter().map(|m| m.triangulate()).collect() }
+    }
+}
+
+/// What to render.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    pub width: u32,
+    pub height: u32,
+    /// Forces one mode on every instance; `None` = each instance's style, else Phong.
+    pub shading: Option<Shading>,
+    /// `None` = [`default_camera`].
+    pub camera: Option<Camera>,
+    /// Applied to meshes that have UVs but no base-colour texture.
+    pub texture: Option<Arc<Texture>>,
+    /// Linear RGBA.
+    pub background: Vec4,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            shading: None,
+            camera: None,
+            texture: None,
+            background: Vec4::new(0.018, 0.02, 0.026, 1.0),
+        }
+    }
+}
+
+/// A rendered frame.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub image: Framebuffer,
+    pub stats: Stats,
+    /// The camera actually used.
+    pub camera: Camera,
+}
+
+/// The default camera: the scene's bounding sphere framed from a three-quarter view.
+#[must_use]
+pub fn default_camera(scene: &Scene, aspect: f32) -> Camera {
+    match scene.bounds() {
+        Some((lo, hi)) => Camera::frame((lo + hi) * 0.5, ((hi - lo) * 0.5).length(), aspect),
+        None => Camera::default(),
+    }
+}
+
+/// One visible instance, ready for the vertex stage.
+pub(super) struct Inst<'a> {
+    pub tri: &'a TriMesh,
+    pub world: Mat4,
+    pub normal: Mat3,
+    pub mvp: Mat4,
+    pub view: Mat4,
+    pub state: DrawState,
+    pub id: u32,
+    pub mode: Shading,
+    pub textured: bool,
+    pub blend: bool,
+    /// Distance from the eye to the bounding-sphere centre (for back-to-front sorting).
+    pub distance: f32,
+}
+
+/// Renders `scene` (whose meshes were prepared into `prepared`) on the current rayon pool.
+#[must_use]
+pub fn render(scene: &Scene, prepared: &Prepared, opts: &RenderOptions) -> Frame {
+    let (w, h) = (opts.width.max(1), opts.height.max(1));
+    let camera = opts.camera.clone().unwrap_or_else(|| default_camera(scene, w as f32 / h as f32));
+    let view = camera.view();
+    let vp = camera.projection(w as f32 / h as f32) * view;
+    let lights = if scene.lights.is_empty() { LightSet::new(&Light::default_rig()) } else { LightSet::new(&scene.lights) };
+    let mut stats = Stats::default();
+    let mut params = Vec::new();
+    let mut insts = Vec::new();
+    let planes = frustum_planes(vp);
+    for inst in &scene.instances {
+        let Some(tri) = prepared.meshes.get(inst.mesh) else { continue };
+        let Some(mesh) = scene.meshes.get(inst.mesh) else { continue };
+        if tri.triangles.is_empty() || !inst.world.is_finite() {
+            continue;
+        }
+        let scale = inst.world.x_axis.length().max(inst.world.y_axis.length()).max(inst.world.z_axis.length());
+        let center = inst.world.transform_point3(tri.center);
+        if tri.radius < 0.0 || planes.iter().any(|p| p.truncate().dot(center) + p.w < -tri.radius * scale) {
+            stats.objects_culled += 1;
+            stats.culled_frustum += tri.triangles.len() as u64;
+            stats.triangles_in += tri.triangles.len() as u64;
+            continue;
+        }
+        let material = scene.material_of(mesh);
+        let mode = match (opts.shading, inst.style) {
+            (Some(m), _) => m,
+            (None, Style::Wireframe) => Shading::Wireframe,
+            (None, Style::Flat) => Shading::Flat,
+            (None, Style::Inherit) => Shading::Phong,
+        };
+        let texture = material
+            .base_color_texture
+            .and_then(|t| scene.textures.get(t.texture).cloned())
+            .or_else(|| opts.texture.clone());
+        let debug = matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv);
+        let blend = material.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
+        let state = DrawState {
+            cull: if material.double_sided { Cull::None } else { Cull::Back },
+            depth_write: !blend,
+            blend: if blend { Blend::Alpha } else { Blend::Replace },
+            flip_winding: inst.world.determinant() < 0.0,
+            ..DrawState::opaque()
+        };
+        let m = &*material;
+        params.push(DrawParams {
+            base: if m.base_color.is_finite() { m.base_color } else { Vec4::ONE },
+            surface: Surface {
+                diffuse: Vec3::ONE,
+                specular: m.specular,
+                ambient: m.ambient,
+                shininess: if m.shininess.is_finite() { m.shininess.clamp(1.0, 2000.0) } else { 1.0 },
+            },
+            texture: texture.clone(),
+            alpha: if debug { AlphaMode::Opaque } else { m.alpha_mode },
+            double_sided: m.double_sided,
+        });
+        let textured = mode == Shading::Textured && texture.is_some() && tri.uvs.is_some();
+        insts.push(Inst {
+            tri,
+            world: inst.world,
+            normal: Mat3::from_mat4(inst.world).inverse().transpose(),
+            mvp: vp * inst.world,
+            view: view * inst.world,
+            state,
+            id: (params.len() - 1) as u32,
+            mode,
+            textured,
+            blend,
+            distance: (center - camera.eye).length(),
+        });
+    }
+
+    let mut target = Target::new(w, h, opts.background);
+    let ctx = Ctx { params: &params, lights: &lights, eye: camera.eye, camera: &camera };
+    let (blended, opaque): (Vec<&Inst>, Vec<&Inst>) = insts.iter().partition(|i| i.blend);
+    let solid: Vec<&Inst> = opaque.iter().copied().filter(|i| i.mode != Shading::Wireframe).collect();
+    draw_group(&mut target, &solid, &ctx, &mut stats);
+    let wire: Vec<&Inst> = opaque.iter().copied().filter(|i| i.mode == Shading::Wireframe).collect();
+    draw_wireframe(&mut target, &wire, &ctx, &mut stats);
+    let mut blended = blended;
+    blended.sort_by(|a, b| b.distance.total_cmp(&a.distance));
+    for inst in blended {
+        draw_group(&mut target, &[inst], &ctx, &mut stats);
+    }
+    Frame { image: target.resolve(), stats, camera }
+}
+
+/// Frame-wide data the passes share.
+struct Ctx<'a> {
+    params: &'a [DrawParams],
+    lights: &'a LightSet,
+    eye: Vec3,
+    camera: &'a Camera,
+}
+
+/// The six frustum planes (a, b, c, d) with a·x + d >= 0 inside, normalised, from a
+/// view-projection matrix in this crate's clip convention (0 <= z <= w).
+fn frustum_planes(vp: Mat4) -> [Vec4; 6] {
+    let (r0, r1, r2, r3) = (vp.row(0), vp.row(1), vp.row(2), vp.row(3));
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 - r2, r2].map(|p| {
+        let l = p.truncate().length();
+        if l > 0.0 && l.is_finite() {
+            p / l
+        } else {
+            Vec4::new(0.0, 0.0, 0.0, 1.0)
+        }
+    })
+}
+
+/// Draws solid instances grouped by the shader they need.
+fn draw_group(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut Stats) {
+    let pick = |f: &dyn Fn(&Inst) -> bool| -> Vec<&Inst> { insts.iter().copied().filter(|i| f(i)).collect() };
+    let colour = pick(&|i| matches!(i.mode, Shading::Flat | Shading::Gouraud));
+    if !colour.is_empty() {
+        let data: Vec<_> = colour.iter().map(|i| vertex::colour(i, ctx.params, ctx.lights, ctx.eye)).collect();
+        let draws: Vec<_> = colour.iter().zip(&data).map(|(i, (c, v, t))| draw_of(i, c, v, t)).collect();
+        raster::draw(target, &draws, &ColorShader { draws: ctx.params }, stats);
+    }
+    for (mode, blinn) in [(Shading::Phong, false), (Shading::Blinn, true), (Shading::Textured, true)] {
+        let of_mode = pick(&|i| i.mode == mode);
+        for tex in [false, true] {
+            for col in [false, true] {
+                let group: Vec<&Inst> = of_mode
+                    .iter()
+                    .copied()
+                    .filter(|i| i.textured == tex && i.tri.colors.is_some() == col)
+                    .collect();
+                match (tex, col, blinn) {
+                    (false, false, false) => lit::<(Vec3, Vec3), false>(target, &group, ctx, stats),
+                    (false, false, true) => lit::<(Vec3, Vec3), true>(target, &group, ctx, stats),
+                    (false, true, false) => lit::<(Vec3, Vec3, Vec4), false>(target, &group, ctx, stats),
+                    (false, true, true) => lit::<(Vec3, Vec3, Vec4), true>(target, &group, ctx, stats),
+                    (true, false, _) => lit::<(Vec3, Vec3, Vec2), true>(target, &group, ctx, stats),
+                    (true, true, _) => lit::<(Vec3, Vec3, Vec2, Vec4), true>(target, &group, ctx, stats),
+                }
+            }
+        }
+    }
+    for (mode, debug) in [(Shading::Normals, Debug::Normals), (Shading::Depth, Debug::Depth), (Shading::Uv, Debug::Uv)] {
+        let group = pick(&|i| i.mode == mode);
+        if group.is_empty() {
+            continue;
+        }
+        let data: Vec<_> = group.iter().map(|i| vertex::debug(i, debug)).collect();
+        let draws: Vec<_> = group.iter().zip(&data).map(|(i, (c, v))| draw_of(i, c, v, &i.tri.triangles)).collect();
+        let shader = DebugShader { mode: debug, near: ctx.camera.near, far: ctx.camera.far };
+        raster::draw(target, &draws, &shader, stats);
+    }
+}
+
+fn draw_of<'a, V>(i: &Inst, clip: &'a [Vec4], var: &'a [V], tris: &'a [[u32; 3]]) -> Draw<'a, V> {
+    Draw { id: i.id, clip, varyings: var, triangles: tris, state: i.state }
+}
+
+fn lit<V: LitVarying, const BLINN: bool>(target: &mut Target, group: &[&Inst], ctx: &Ctx, stats: &mut Stats) {
+    if group.is_empty() {
+        return;
+    }
+    let data: Vec<(Vec<Vec4>, Vec<V>)> = group.iter().map(|i| vertex::lit::<V>(i)).collect();
+    let draws: Vec<_> = group.iter().zip(&data).map(|(i, (c, v))| draw_of(i, c, v, &i.tri.triangles)).collect();
+    let shader = LitShader::<V, BLINN> { draws: ctx.params, lights: ctx.lights, eye: ctx.eye, _v: std::marker::PhantomData };
+    raster::draw(target, &draws, &shader, stats);
+}
+
+/// Wireframe with hidden lines removed: the instances' surfaces go into a scratch copy of the
+/// depth buffer only, then their edges are drawn testing against it.
+fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut Stats) {
+    if insts.is_empty() {
+        return;
+    }
+    let saved = target.depths();
+    let clips: Vec<Vec<Vec4>> = insts.iter().map(|i| raster::transform_positions(i.mvp, &i.tri.positions)).collect();
+    let units: Vec<Vec<()>> = insts.iter().map(|i| vec![(); i.tri.positions.len()]).collect();
+    let state = |i: &Inst| DrawState { color_write: false, cull: Cull::None, ..i.state };
+    let draws: Vec<Draw<()>> = insts
+        .iter()
+        .zip(clips.iter().zip(&units))
+        .map(|(i, (c, u))| Draw { state: state(i), ..draw_of(i, c, u, &i.tri.triangles) })
+        .collect();
+    let mut depth_stats = Stats::default();
+    raster::draw(target, &draws, &DepthOnly, &mut depth_stats);
+    let scratch = target.depths();
+    for (tile, d) in target.tiles.iter_mut().zip(saved) {
+        tile.depth = d;
+    }
+    for (i, clip) in insts.iter().zip(&clips) {
+        let base = ctx.params[i.id as usize].base;
+        let color = (base.truncate() * 0.85 + Vec3::splat(0.15)).extend(1.0);
+        let style = LineStyle { color, depth_test: true, depth_tolerance: 2e-3, depth_write: true };
+        stats.triangles_in += i.tri.triangles.len() as u64;
+        raster::draw_lines(target, Some(&scratch), clip, &i.tri.edges, &style, stats);
+    }
+}

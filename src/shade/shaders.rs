@@ -1,0 +1,199 @@
+//! Fragment shaders, one type per shading mode, each with the smallest varying it needs.
+//! Per-draw material parameters are looked up by `TriInfo::draw`.
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::lighting::{illuminate, LightSet, Surface};
+use crate::raster::{FragmentShader, TriInfo, Varying};
+use crate::scene::AlphaMode;
+use crate::texture::{srgb_to_linear, Texture};
+
+/// Material parameters of one draw.
+#[derive(Clone, Debug)]
+pub struct DrawParams {
+    pub base: Vec4,
+    pub surface: Surface,
+    pub texture: Option<Arc<Texture>>,
+    pub alpha: AlphaMode,
+    pub double_sided: bool,
+}
+
+impl DrawParams {
+    /// Applies the alpha mode: `None` discards.
+    #[inline]
+    fn alpha(&self, c: Vec4) -> Option<Vec4> {
+        match self.alpha {
+            AlphaMode::Opaque => Some(c.truncate().extend(1.0)),
+            AlphaMode::Mask(cutoff) => (c.w >= cutoff).then(|| c.truncate().extend(1.0)),
+            AlphaMode::Blend => Some(c),
+        }
+    }
+}
+
+/// Flat and Gouraud: the colour was computed per facet or per vertex and is interpolated.
+pub struct ColorShader<'a> {
+    pub draws: &'a [DrawParams],
+}
+
+impl FragmentShader for ColorShader<'_> {
+    type Varying = Vec4;
+    #[inline]
+    fn fragment(&self, tri: TriInfo, v: &Vec4) -> Option<Vec4> {
+        self.draws[tri.draw as usize].alpha(*v)
+    }
+}
+
+/// Per-pixel lighting varyings: world position and normal, plus UV and/or colour.
+pub trait LitVarying: Varying {
+    fn new(p: Vec3, n: Vec3, uv: Vec2, color: Vec4) -> Self;
+    fn position(&self) -> Vec3;
+    fn normal(&self) -> Vec3;
+    fn uv(&self) -> Option<Vec2> {
+        None
+    }
+    fn color(&self) -> Option<Vec4> {
+        None
+    }
+}
+
+impl LitVarying for (Vec3, Vec3) {
+    fn new(p: Vec3, n: Vec3, _: Vec2, _: Vec4) -> Self {
+        (p, n)
+    }
+    fn position(&self) -> Vec3 {
+        self.0
+    }
+    fn normal(&self) -> Vec3 {
+        self.1
+    }
+}
+
+impl LitVarying for (Vec3, Vec3, Vec4) {
+    fn new(p: Vec3, n: Vec3, _: Vec2, c: Vec4) -> Self {
+        (p, n, c)
+    }
+    fn position(&self) -> Vec3 {
+        self.0
+    }
+    fn normal(&self) -> Vec3 {
+        self.1
+    }
+    fn color(&self) -> Option<Vec4> {
+        Some(self.2)
+    }
+}
+
+impl LitVarying for (Vec3, Vec3, Vec2) {
+    fn new(p: Vec3, n: Vec3, uv: Vec2, _: Vec4) -> Self {
+        (p, n, uv)
+    }
+    fn position(&self) -> Vec3 {
+        self.0
+    }
+    fn normal(&self) -> Vec3 {
+        self.1
+    }
+    fn uv(&self) -> Option<Vec2> {
+        Some(self.2)
+    }
+}
+
+impl LitVarying for (Vec3, Vec3, Vec2, Vec4) {
+    fn new(p: Vec3, n: Vec3, uv: Vec2, c: Vec4) -> Self {
+        (p, n, uv, c)
+    }
+    fn position(&self) -> Vec3 {
+        self.0
+    }
+    fn normal(&self) -> Vec3 {
+        self.1
+    }
+    fn uv(&self) -> Option<Vec2> {
+        Some(self.2)
+    }
+    fn color(&self) -> Option<Vec4> {
+        Some(self.3)
+    }
+}
+
+/// Phong (`BLINN = false`) or Blinn-Phong per-pixel lighting; with a UV varying, the
+/// base-colour texture modulates the diffuse colour (bilinear, linear light).
+pub struct LitShader<'a, V, const BLINN: bool> {
+    pub draws: &'a [DrawParams],
+    pub lights: &'a LightSet,
+    pub eye: Vec3,
+    pub _v: std::marker::PhantomData<V>,
+}
+
+impl<V: LitVarying, const BLINN: bool> FragmentShader for LitShader<'_, V, BLINN> {
+    type Varying = V;
+    #[inline]
+    fn fragment(&self, tri: TriInfo, v: &V) -> Option<Vec4> {
+        let d = &self.draws[tri.draw as usize];
+        let mut base = d.base;
+        if let Some(c) = v.color() {
+            base *= c;
+        }
+        if let (Some(uv), Some(t)) = (v.uv(), &d.texture) {
+            base *= t.sample(uv);
+        }
+        let mut n = v.normal().normalize_or_zero();
+        if !tri.front {
+            n = -n;
+        }
+        let s = Surface { diffuse: base.truncate(), ..d.surface };
+        let c = illuminate::<BLINN>(self.lights, &s, v.position(), n, self.eye);
+        d.alpha(c.extend(base.w))
+    }
+}
+
+/// Which debug quantity to show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Debug {
+    /// World-space normal, mapped from [-1, 1] to [0, 1] per channel.
+    Normals,
+    /// Linear view distance, white at the near plane to black at the far plane.
+    Depth,
+    /// (fract(u), fract(v), 0).
+    Uv,
+}
+
+/// Debug views; the varying is the quantity itself (normal, view distance, or UV in a Vec3).
+pub struct DebugShader {
+    pub mode: Debug,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl FragmentShader for DebugShader {
+    type Varying = Vec3;
+    #[inline]
+    fn fragment(&self, tri: TriInfo, v: &Vec3) -> Option<Vec4> {
+        // Debug colours are display values: decode so the PNG shows them as computed.
+        let display = match self.mode {
+            Debug::Normals => {
+                let n = v.normalize_or_zero() * if tri.front { 1.0 } else { -1.0 };
+                n * 0.5 + 0.5
+            }
+            Debug::Depth => Vec3::splat(1.0 - ((v.x - self.near) / (self.far - self.near)).clamp(0.0, 1.0)),
+            Debug::Uv => {
+                let f = |x: f32| if x.is_finite() { x - x.floor() } else { 0.0 };
+                Vec3::new(f(v.x), f(v.y), 0.0)
+            }
+        };
+        Some(Vec4::new(srgb_to_linear(display.x), srgb_to_linear(display.y), srgb_to_linear(display.z), 1.0))
+    }
+}
+
+/// Writes depth only (hidden-line pass of wireframe).
+pub struct DepthOnly;
+
+impl FragmentShader for DepthOnly {
+    type Varying = ();
+    #[inline]
+    fn fragment(&self, _: TriInfo, _: &()) -> Option<Vec4> {
+        Some(Vec4::ZERO)
+    }
+}
