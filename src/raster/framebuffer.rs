@@ -6,6 +6,7 @@
 //! plane, cleared to 0, nearer wins with `>`).
 
 use glam::Vec4;
+use rayon::prelude::*;
 
 /// Tile edge in pixels.
 pub const TILE: u32 = 64;
@@ -13,14 +14,51 @@ const TILE_PIXELS: usize = (TILE * TILE) as usize;
 
 /// One tile: pixels `x0..x0 + w` by `y0..y0 + h` of the image (w, h <= 64 at the right and
 /// bottom borders). Storage is always 64x64, row stride 64.
+///
+/// Clearing is lazy: a cleared tile only records its clear colour, and its storage is filled
+/// the first time something is drawn into it ([`Tile::materialize`]), so tiles no geometry
+/// touches cost nothing per frame.
 #[derive(Clone, Debug)]
 pub struct Tile {
     pub x0: u32,
     pub y0: u32,
     pub w: u32,
     pub h: u32,
+    /// Linear RGBA; stale while `pending_clear` is set.
     pub color: Vec<Vec4>,
+    /// Reversed-Z depth; stale while `pending_clear` is set.
     pub depth: Vec<f32>,
+    /// `Some(c)`: the tile is logically cleared to colour `c` and depth 0.
+    pub pending_clear: Option<Vec4>,
+}
+
+impl Tile {
+    /// Applies a pending clear, so `color` and `depth` hold the tile's contents.
+    #[inline]
+    pub fn materialize(&mut self) {
+        if let Some(c) = self.pending_clear.take() {
+            self.color.fill(c);
+            self.depth.fill(0.0);
+        }
+    }
+
+    /// Colour of the pixel at storage offset `o`.
+    #[inline]
+    #[must_use]
+    pub fn color_at(&self, o: usize) -> Vec4 {
+        self.pending_clear.unwrap_or(self.color[o])
+    }
+
+    /// Depth of the pixel at storage offset `o`.
+    #[inline]
+    #[must_use]
+    pub fn depth_at(&self, o: usize) -> f32 {
+        if self.pending_clear.is_some() {
+            0.0
+        } else {
+            self.depth[o]
+        }
+    }
 }
 
 /// The tiled render target.
@@ -41,6 +79,7 @@ impl Target {
         let tiles_x = width.div_ceil(TILE);
         let tiles_y = height.div_ceil(TILE);
         let tiles = (0..tiles_x * tiles_y)
+            .into_par_iter()
             .map(|i| {
                 let (tx, ty) = (i % tiles_x, i / tiles_x);
                 let (x0, y0) = (tx * TILE, ty * TILE);
@@ -51,10 +90,47 @@ impl Target {
                     h: TILE.min(height - y0),
                     color: vec![clear; TILE_PIXELS],
                     depth: vec![0.0; TILE_PIXELS],
+                    pending_clear: None,
                 }
             })
             .collect();
         Self { width, height, tiles_x, tiles_y, tiles }
+    }
+
+    /// Clears colour to `clear` and depth to 0 (far). Lazy: see [`Tile`].
+    pub fn clear(&mut self, clear: Vec4) {
+        for t in &mut self.tiles {
+            t.pending_clear = Some(clear);
+        }
+    }
+
+    /// 8-bit sRGB-encoded RGB, row-major, straight from the tiles (in parallel over tile
+    /// rows); out-of-range values are clamped and NaN becomes 0.
+    #[must_use]
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        let lut = encode_table();
+        let row_bytes = self.width as usize * 3;
+        let mut out = vec![0u8; row_bytes * self.height as usize];
+        out.par_chunks_mut(row_bytes * TILE as usize).enumerate().for_each(|(ty, band)| {
+            for t in &self.tiles[ty * self.tiles_x as usize..(ty + 1) * self.tiles_x as usize] {
+                let clear = t.pending_clear.map(|c| [encode(lut, c.x), encode(lut, c.y), encode(lut, c.z)]);
+                for y in 0..t.h as usize {
+                    let dst = &mut band[y * row_bytes + t.x0 as usize * 3..][..t.w as usize * 3];
+                    match clear {
+                        Some(rgb) => dst.chunks_exact_mut(3).for_each(|px| px.copy_from_slice(&rgb)),
+                        None => {
+                            let src = &t.color[y * TILE as usize..][..t.w as usize];
+                            for (px, c) in dst.chunks_exact_mut(3).zip(src) {
+                                px[0] = encode(lut, c.x);
+                                px[1] = encode(lut, c.y);
+                                px[2] = encode(lut, c.z);
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        out
     }
 
     /// Index of the tile holding pixel (x, y), and the pixel's offset inside it.
@@ -69,7 +145,20 @@ impl Target {
     /// Copies the depth of every tile (for passes that test against a scratch depth).
     #[must_use]
     pub fn depths(&self) -> Vec<Vec<f32>> {
-        self.tiles.iter().map(|t| t.depth.clone()).collect()
+        self.tiles
+            .par_iter()
+            .map(|t| if t.pending_clear.is_some() { vec![0.0; TILE_PIXELS] } else { t.depth.clone() })
+            .collect()
+    }
+
+    /// Replaces the depth of every tile (the inverse of [`Target::depths`]).
+    pub fn set_depths(&mut self, depths: Vec<Vec<f32>>) {
+        for (t, d) in self.tiles.iter_mut().zip(depths) {
+            t.materialize();
+            if d.len() == TILE_PIXELS {
+                t.depth = d;
+            }
+        }
     }
 
     /// Resolves the tiles into a row-major framebuffer.
@@ -82,8 +171,16 @@ impl Target {
                 let src = (y * TILE) as usize;
                 let dst = ((t.y0 + y) * self.width + t.x0) as usize;
                 let w = t.w as usize;
-                fb.color[dst..dst + w].copy_from_slice(&t.color[src..src + w]);
-                fb.depth[dst..dst + w].copy_from_slice(&t.depth[src..src + w]);
+                match t.pending_clear {
+                    Some(c) => {
+                        fb.color[dst..dst + w].fill(c);
+                        fb.depth[dst..dst + w].fill(0.0);
+                    }
+                    None => {
+                        fb.color[dst..dst + w].copy_from_slice(&t.color[src..src + w]);
+                        fb.depth[dst..dst + w].copy_from_slice(&t.depth[src..src + w]);
+                    }
+                }
             }
         }
         fb
@@ -125,10 +222,11 @@ impl Framebuffer {
     }
 }
 
-const ENCODE_STEPS: usize = 4096;
+const ENCODE_STEPS: usize = 16384;
 
-/// Linear -> sRGB byte through a 4096-entry table indexed by the linear value (exact to
-/// within one code value; sRGB's steep toe below 1/4096 is computed exactly).
+/// Linear -> sRGB byte through a 16384-entry table indexed by the rounded linear value:
+/// within one code value of the exact transfer everywhere (the table step is 1/16384, and
+/// sRGB's steepest slope, 12.92 * 255 codes per unit at 0, moves 0.2 codes per step).
 fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
     static TABLE: std::sync::OnceLock<[u8; ENCODE_STEPS + 1]> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
@@ -136,17 +234,10 @@ fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
     })
 }
 
-#[inline]
+#[inline(always)]
 fn encode(lut: &[u8; ENCODE_STEPS + 1], v: f32) -> u8 {
-    if v.is_nan() || v <= 0.0 {
-        0
-    } else if v >= 1.0 {
-        255
-    } else if v < 16.0 / ENCODE_STEPS as f32 {
-        (crate::texture::linear_to_srgb(v) * 255.0 + 0.5) as u8
-    } else {
-        lut[(v * ENCODE_STEPS as f32 + 0.5) as usize]
-    }
+    // `as usize` saturates and maps NaN to 0; the clamp bounds the index.
+    lut[((v * ENCODE_STEPS as f32 + 0.5) as usize).min(ENCODE_STEPS)]
 }
 
 #[cfg(test)]
@@ -169,9 +260,13 @@ mod tests {
     fn resolve_odd_size() {
         let mut t = Target::new(70, 65, Vec4::ONE);
         let (ti, o) = t.locate(69, 64);
+        t.tiles[ti].materialize();
         t.tiles[ti].color[o] = Vec4::ZERO;
         let fb = t.resolve();
         assert_eq!(fb.pixel(69, 64), Vec4::ZERO);
         assert_eq!(fb.pixel(68, 64), Vec4::ONE);
+        t.clear(Vec4::splat(0.5));
+        assert_eq!(t.resolve().pixel(69, 64), Vec4::splat(0.5));
+        assert_eq!(t.to_srgb8()[(64 * 70 + 69) * 3], 188);
     }
 }

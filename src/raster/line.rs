@@ -120,9 +120,10 @@ fn bresenham(target: &mut Target, depth: Option<&[Vec<f32>]>, a: Vec4, b: Vec4, 
     loop {
         let z = a.z + (b.z - a.z) * (i / steps);
         let (t, o) = target.locate(x as u32, y as u32);
-        let d = depth.map_or(target.tiles[t].depth[o], |d| d[t][o]);
+        let d = depth.map_or(target.tiles[t].depth_at(o), |d| d[t][o]);
         if !style.depth_test || z >= d * (1.0 - style.depth_tolerance) {
             let tile = &mut target.tiles[t];
+            tile.materialize();
             tile.color[o] = style.color;
             if style.depth_write {
                 tile.depth[o] = tile.depth[o].max(z);

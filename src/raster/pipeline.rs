@@ -287,6 +287,7 @@ fn flush<S: FragmentShader>(
         .filter(|(_, b)| !b.is_empty())
         .map(|(tile, bin)| {
             let mut n = FillCounters::default();
+            tile.materialize();
             for &i in bin.iter() {
                 fill(tile, &tris[i as usize], shader, &mut n);
             }

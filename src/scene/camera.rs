@@ -88,6 +88,42 @@ impl Camera {
         cam
     }
 
+    /// The default view of an axis-aligned box: from `azimuth`/`elevation` degrees, at the
+    /// smallest distance where all eight corners project inside 90% of the view, with
+    /// near/far fitted to the box's bounding sphere. Tighter than framing the bounding sphere
+    /// for elongated models.
+    #[must_use]
+    pub fn frame_box(lo: Vec3, hi: Vec3, aspect: f32, azimuth: f32, elevation: f32) -> Self {
+        let center = (lo + hi) * 0.5;
+        let radius = ((hi - lo) * 0.5).length();
+        let mut cam = Self::frame_from(center, radius, aspect, azimuth, elevation);
+        if !(radius.is_finite() && radius > 0.0) {
+            return cam;
+        }
+        let dir = (cam.eye - center).normalize();
+        let right = cam.up.cross(dir).normalize_or_zero();
+        let up = dir.cross(right);
+        let tan_v = (cam.yfov * 0.5).tan() * 0.9;
+        let tan_h = tan_v * aspect.max(1e-3);
+        // Corner c at lateral offsets (x, y) and depth offset z along dir is inside the view
+        // when |x| <= tan_h * (d - z) and |y| <= tan_v * (d - z).
+        let mut d = 0.0f32;
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            ) - center;
+            let z = c.dot(dir);
+            d = d.max(z + c.dot(right).abs() / tan_h).max(z + c.dot(up).abs() / tan_v);
+        }
+        if d.is_finite() && d > 0.0 {
+            cam.eye = center + dir * d;
+            cam.fit(center, radius);
+        }
+        cam
+    }
+
     /// Fits near and far to a bounding sphere: near just in front of it (never closer than
     /// 1/1000 of its radius), far just behind it.
     pub fn fit(&mut self, center: Vec3, radius: f32) {

@@ -20,7 +20,7 @@ mod vertex;
 mod shaders;
 
 pub use lighting::{illuminate, LightSet, Surface};
-pub use render::{default_camera, render, Frame, Prepared, RenderOptions};
+pub use render::{default_camera, render, render_into, Frame, Prepared, RenderOptions};
 pub use shaders::{ColorShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying};
 
 /// A shading mode.

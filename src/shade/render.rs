@@ -57,10 +57,10 @@ impl Default for RenderOptions {
     }
 }
 
-/// A rendered frame.
+/// A rendered frame, still in the rasterizer's tiled form.
 #[derive(Clone, Debug)]
 pub struct Frame {
-    pub image: Framebuffer,
+    pub target: Target,
     pub stats: Stats,
     /// The camera actually used.
     pub camera: Camera,
@@ -70,7 +70,7 @@ pub struct Frame {
 #[must_use]
 pub fn default_camera(scene: &Scene, aspect: f32) -> Camera {
     match scene.bounds() {
-        Some((lo, hi)) => Camera::frame((lo + hi) * 0.5, ((hi - lo) * 0.5).length(), aspect),
+        Some((lo, hi)) => Camera::frame_box(lo, hi, aspect, 35.0, 25.0),
         None => Camera::default(),
     }
 }
@@ -91,10 +91,37 @@ pub(super) struct Inst<'a> {
     pub distance: f32,
 }
 
+impl Frame {
+    /// The row-major linear-light image.
+    #[must_use]
+    pub fn image(&self) -> Framebuffer {
+        self.target.resolve()
+    }
+
+    /// 8-bit sRGB RGB, row-major, ready for a PNG.
+    #[must_use]
+    pub fn srgb8(&self) -> Vec<u8> {
+        self.target.to_srgb8()
+    }
+}
+
 /// Renders `scene` (whose meshes were prepared into `prepared`) on the current rayon pool.
 #[must_use]
 pub fn render(scene: &Scene, prepared: &Prepared, opts: &RenderOptions) -> Frame {
+    let mut target = Target::new(opts.width, opts.height, opts.background);
+    let (stats, camera) = render_into(&mut target, scene, prepared, opts);
+    Frame { target, stats, camera }
+}
+
+/// Renders into an existing target (cleared first, resized if needed), so an interactive
+/// viewer or a benchmark reuses its tile memory from frame to frame.
+pub fn render_into(target: &mut Target, scene: &Scene, prepared: &Prepared, opts: &RenderOptions) -> (Stats, Camera) {
     let (w, h) = (opts.width.max(1), opts.height.max(1));
+    if (target.width, target.height) != (w, h) {
+        *target = Target::new(w, h, opts.background);
+    } else {
+        target.clear(opts.background);
+    }
     let camera = opts.camera.clone().unwrap_or_else(|| default_camera(scene, w as f32 / h as f32));
     let view = camera.view();
     let vp = camera.projection(w as f32 / h as f32) * view;
@@ -166,19 +193,18 @@ pub fn render(scene: &Scene, prepared: &Prepared, opts: &RenderOptions) -> Frame
         });
     }
 
-    let mut target = Target::new(w, h, opts.background);
     let ctx = Ctx { params: &params, lights: &lights, eye: camera.eye, camera: &camera };
     let (blended, opaque): (Vec<&Inst>, Vec<&Inst>) = insts.iter().partition(|i| i.blend);
     let solid: Vec<&Inst> = opaque.iter().copied().filter(|i| i.mode != Shading::Wireframe).collect();
-    draw_group(&mut target, &solid, &ctx, &mut stats);
+    draw_group(target, &solid, &ctx, &mut stats);
     let wire: Vec<&Inst> = opaque.iter().copied().filter(|i| i.mode == Shading::Wireframe).collect();
-    draw_wireframe(&mut target, &wire, &ctx, &mut stats);
+    draw_wireframe(target, &wire, &ctx, &mut stats);
     let mut blended = blended;
     blended.sort_by(|a, b| b.distance.total_cmp(&a.distance));
     for inst in blended {
-        draw_group(&mut target, &[inst], &ctx, &mut stats);
+        draw_group(target, &[inst], &ctx, &mut stats);
     }
-    Frame { image: target.resolve(), stats, camera }
+    (stats, camera)
 }
 
 /// Frame-wide data the passes share.
@@ -276,9 +302,7 @@ fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut S
     let mut depth_stats = Stats::default();
     raster::draw(target, &draws, &DepthOnly, &mut depth_stats);
     let scratch = target.depths();
-    for (tile, d) in target.tiles.iter_mut().zip(saved) {
-        tile.depth = d;
-    }
+    target.set_depths(saved);
     for (i, clip) in insts.iter().zip(&clips) {
         let base = ctx.params[i.id as usize].base;
         let color = (base.truncate() * 0.85 + Vec3::splat(0.15)).extend(1.0);
