@@ -1,0 +1,136 @@
+//! Helpers shared by the integration tests: small scenes, rendering, golden-image comparison
+//! with named tolerances and a diff image on failure (`REPLACE=1` rewrites the goldens).
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3, Vec4};
+use realist::mesh::{Mesh, MeshData, NormalPolicy};
+use realist::raster::Framebuffer;
+use realist::scene::{Camera, Instance, Material, Scene, Style, TextureRef};
+use realist::shade::{self, Prepared, RenderOptions, Shading};
+use realist::texture::Texture;
+
+/// How far a rendered image may be from its golden.
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerance {
+    /// Largest per-channel difference (8-bit sRGB codes) that does not count as differing.
+    pub max_channel: u8,
+    /// Fraction of pixels allowed to differ by more than `max_channel`.
+    pub max_fraction: f64,
+}
+
+/// Shaded images: deterministic here, but `powf` and friends may differ in the last bit
+/// between platforms' libm, which moves a code value on rare pixels.
+pub const SHADED: Tolerance = Tolerance { max_channel: 2, max_fraction: 0.002 };
+/// Coverage-only images (wireframe, flat colours): exact.
+pub const EXACT: Tolerance = Tolerance { max_channel: 0, max_fraction: 0.0 };
+
+/// A scene with one instance of `mesh` using `material`.
+pub fn scene_of(mut mesh: Mesh, material: Material) -> Scene {
+    let mut scene = Scene::default();
+    mesh.material = Some(0);
+    scene.materials.push(material);
+    scene.meshes.push(mesh);
+    scene.instances.push(Instance { mesh: 0, world: Mat4::IDENTITY, name: "test".into(), style: Style::Inherit });
+    scene
+}
+
+/// A mesh from raw triangles (positions, triangle corners), averaged normals.
+pub fn triangles(positions: Vec<Vec3>, corners: Vec<u32>) -> Mesh {
+    let data = MeshData { name: "tris".into(), positions, corners, ..MeshData::default() };
+    Mesh::new(data, NormalPolicy::default()).expect("valid test mesh")
+}
+
+/// The chequered cube: a unit cube with an 8x8 chequer texture as base colour.
+pub fn checker_cube() -> Scene {
+    let mut scene = scene_of(
+        Mesh::cube(1.6).expect("cube"),
+        Material { base_color: Vec4::ONE, base_color_texture: Some(TextureRef { texture: 0, tex_coord: 0 }), ..Material::default() },
+    );
+    scene.textures.push(Arc::new(Texture::checker(64, 8, [230, 230, 230, 255], [40, 90, 200, 255])));
+    scene
+}
+
+/// Renders with explicit options on a pool of `threads` threads.
+pub fn render_with(scene: &Scene, opts: &RenderOptions, threads: usize) -> (Framebuffer, realist::raster::Stats) {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+    pool.install(|| {
+        let prepared = Prepared::new(scene);
+        let frame = shade::render(scene, &prepared, opts);
+        (frame.image(), frame.stats)
+    })
+}
+
+/// Renders `scene` at `w` x `h` with a mode (None = the scene's styles) and optional camera.
+pub fn render(scene: &Scene, w: u32, h: u32, shading: Option<Shading>, camera: Option<Camera>) -> Framebuffer {
+    let opts = RenderOptions { width: w, height: h, shading, camera, ..RenderOptions::default() };
+    render_with(scene, &opts, 2).0
+}
+
+/// Asserts that no pixel of colour or depth is NaN or infinite.
+pub fn assert_finite(fb: &Framebuffer, what: &str) {
+    let bad = fb.color.iter().filter(|c| !c.is_finite()).count();
+    assert_eq!(bad, 0, "{what}: {bad} non-finite colour pixels");
+    let bad = fb.depth.iter().filter(|d| !d.is_finite()).count();
+    assert_eq!(bad, 0, "{what}: {bad} non-finite depth pixels");
+}
+
+/// Number of pixels whose colour differs from the background.
+pub fn covered(fb: &Framebuffer) -> usize {
+    let bg = RenderOptions::default().background;
+    fb.color.iter().filter(|c| **c != bg).count()
+}
+
+fn golden_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").join("golden")
+}
+
+/// Compares `fb` (sRGB-encoded) with `tests/golden/NAME.png`. On failure writes the image and
+/// a diff (differences scaled x16, red where above tolerance) to `target/golden-diff/` and
+/// panics with the figures. With `REPLACE=1` (or when the golden is missing and `REPLACE`
+/// is set), writes the golden instead.
+pub fn check_golden(name: &str, fb: &Framebuffer, tol: Tolerance) {
+    let path = golden_dir().join(format!("{name}.png"));
+    let got = fb.to_srgb8();
+    let (w, h) = (fb.width, fb.height);
+    if std::env::var_os("REPLACE").is_some() {
+        std::fs::create_dir_all(golden_dir()).expect("golden dir");
+        image::RgbImage::from_raw(w, h, got).expect("size").save(&path).expect("write golden");
+        eprintln!("wrote golden {}", path.display());
+        return;
+    }
+    let want = image::open(&path)
+        .unwrap_or_else(|e| panic!("golden {} unreadable ({e}); run with REPLACE=1 to create it", path.display()))
+        .to_rgb8();
+    assert_eq!((want.width(), want.height()), (w, h), "golden {name} has a different size");
+    let mut diff = vec![0u8; got.len()];
+    let mut over = 0usize;
+    let mut worst = 0u8;
+    for (p, (a, b)) in got.chunks(3).zip(want.as_raw().chunks(3)).enumerate() {
+        let d = a.iter().zip(b).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0);
+        worst = worst.max(d);
+        if d > tol.max_channel {
+            over += 1;
+            diff[p * 3] = 255;
+        } else {
+            diff[p * 3 + 1] = d.saturating_mul(16);
+        }
+    }
+    let fraction = over as f64 / (w * h) as f64;
+    if fraction > tol.max_fraction {
+        let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("target").join("golden-diff");
+        std::fs::create_dir_all(&out).expect("diff dir");
+        let _ = image::RgbImage::from_raw(w, h, got).map(|i| i.save(out.join(format!("{name}.png"))));
+        let _ = image::RgbImage::from_raw(w, h, diff).map(|i| i.save(out.join(format!("{name}-diff.png"))));
+        panic!(
+            "golden {name}: {over} pixels ({:.4}%) differ by more than {} (worst {worst}); allowed {:.4}%. See {}",
+            fraction * 100.0,
+            tol.max_channel,
+            tol.max_fraction * 100.0,
+            out.display()
+        );
+    }
+}
