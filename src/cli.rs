@@ -5,6 +5,14 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+
+/// `println!` that returns an error instead of panicking when stdout is closed (e.g. `| head`).
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*)?
+    }};
+}
 use clap::{Args, Parser, Subcommand};
 use glam::Vec3;
 
@@ -171,9 +179,9 @@ pub fn run() -> Result<()> {
                 stats: false,
                 normals: NormalArgs { crease: "60".into(), weighting: "angle".into() },
             };
-            println!("No display viewer yet: rendering the demo scene headless.");
+            say!("No display viewer yet: rendering the demo scene headless.");
             render(&args)?;
-            println!("Wrote {}", std::fs::canonicalize(&out).unwrap_or(out).display());
+            say!("Wrote {}", std::fs::canonicalize(&out).unwrap_or(out).display());
             Ok(())
         }
     }
@@ -242,7 +250,7 @@ fn render(args: &RenderArgs) -> Result<()> {
                 "encode": ms(t_encode),
             },
         });
-        println!("{json}");
+        say!("{json}");
     }
     Ok(())
 }
@@ -289,11 +297,11 @@ fn info(args: &InfoArgs) -> Result<()> {
             "cameras": scene.cameras.len(),
             "meshes": meshes,
         });
-        println!("{}", serde_json::to_string_pretty(&json)?);
+        say!("{}", serde_json::to_string_pretty(&json)?);
         return Ok(());
     }
-    println!("{} ({})", args.model.display(), scene.report.format);
-    println!(
+    say!("{} ({})", args.model.display(), scene.report.format);
+    say!(
         "  {} meshes, {} instances, {} materials, {} textures, {} cameras",
         scene.meshes.len(),
         scene.instances.len(),
@@ -301,20 +309,35 @@ fn info(args: &InfoArgs) -> Result<()> {
         scene.textures.len(),
         scene.cameras.len()
     );
-    println!("  {} vertices, {} edges, {} facets in total", total(|t| t.vertices), total(|t| t.edges), total(|t| t.facets));
+    say!("  {} vertices, {} edges, {} facets in total", total(|t| t.vertices), total(|t| t.edges), total(|t| t.facets));
     for m in &scene.meshes {
         let t = m.topology();
-        println!(
-            "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {}, non-manifold edges {}, degenerate facets {}, components {}, V-E+F={}, normals {:?}",
-            m.name, t.vertices, t.edges, t.facets, t.triangles, t.boundary_edges, t.non_manifold_edges,
-            t.degenerate_facets, t.components, t.euler_characteristic, m.normal_source
+        say!(
+            "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {} in {} loops, non-manifold edges {}, \
+             degenerate facets {}, isolated vertices {}, components {}, V-E+F={} ({} without isolated vertices), \
+             genus {}, normals {:?}",
+            m.name,
+            t.vertices,
+            t.edges,
+            t.facets,
+            t.triangles,
+            t.boundary_edges,
+            t.boundary_loops,
+            t.non_manifold_edges,
+            t.degenerate_facets,
+            t.isolated_vertices,
+            t.components,
+            t.euler_characteristic,
+            t.euler_characteristic_used,
+            t.genus.map_or("n/a".to_string(), |g| g.to_string()),
+            m.normal_source
         );
     }
     for w in &scene.report.warnings {
-        println!("  warning: {w}");
+        say!("  warning: {w}");
     }
     for s in &scene.report.skipped {
-        println!("  skipped: {s}");
+        say!("  skipped: {s}");
     }
     Ok(())
 }
@@ -392,7 +415,7 @@ fn bench(args: &BenchArgs) -> Result<()> {
                 "ms_read_median": (median(&mut reads.clone()) * 1e3).round() / 1e3,
                 "ms_rounds": rounds.iter().map(|x| (x * 1e3).round() / 1e3).collect::<Vec<_>>(),
             });
-            println!("{json}");
+            say!("{json}");
         }
     }
     Ok(())

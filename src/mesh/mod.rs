@@ -8,15 +8,57 @@
 //! true neighbourhood of a vertex.
 //!
 //! This module knows nothing of file formats, cameras or pixels.
+//!
+//! # Invariants of a [`Mesh`] (established by [`Mesh::new`])
+//!
+//! - every corner index is `< positions.len()`; every facet has at least 3 corners and the
+//!   facets cover `corners` contiguously, in order;
+//! - `corners.len() + positions.len() < u32::MAX`, so every derived index (edges, render
+//!   vertices) fits in a `u32`;
+//! - a facet normal is unit length or exactly `Vec3::ZERO` (degenerate: zero area, non-finite
+//!   corners); its area is finite and `>= 0`; nothing derived is ever NaN;
+//! - `edges` holds each undirected vertex pair used by consecutive corners exactly once, sorted
+//!   by `vertices`; `corner_edges[c]` is the edge from corner `c` to the next corner of its facet;
+//! - every value of `normals` is a finite unit vector, whatever the input; generated
+//!   per-vertex normals keep value `v` for vertex `v`, crease-split ones are appended;
+//! - channel indices (per corner, parallel to `corners`) are in range.
+//!
+//! The fields are public for reading. Code that mutates them must restore these invariants,
+//! most simply by rebuilding through [`Mesh::new`].
+//!
+//! # Files
+//!
+//! | file | owns |
+//! |---|---|
+//! | `build.rs` | validation of [`MeshData`], facet normals and areas (Newell) |
+//! | `adjacency.rs` | corner/facet/vertex navigation, the edge table |
+//! | `normals.rs` | file, flat and averaged vertex normals, crease splitting |
+//! | `weld.rs` | [`MeshData::weld_positions`] |
+//! | `topology.rs` | [`TopologyReport`], connected components |
+//! | `triangulate.rs` | [`TriMesh`]: render vertices, edges, bounding sphere |
+//! | `polygon.rs` | triangulation of one facet: quads, fans, ear clipping |
+//! | `primitives.rs` | sphere, cylinder, cone, torus, cube with analytic normals and UVs |
 
 use glam::{Vec2, Vec3, Vec4};
 
+use adjacency::{Ring, VertexCorners};
+
+mod adjacency;
+mod build;
 mod normals;
+mod polygon;
 mod primitives;
 mod topology;
 mod triangulate;
+mod weld;
 
-pub use normals::{NormalOptions, Weighting};
+#[cfg(test)]
+mod tests;
+
+pub use build::DEGENERATE_ASPECT;
+pub use normals::{NormalOptions, Weighting, FALLBACK_NORMAL, MAX_CREASE_VALENCE};
+pub use polygon::MAX_EAR_CLIP;
+pub use primitives::{MAX_SEGMENTS, MIN_SEGMENTS};
 pub use topology::TopologyReport;
 pub use triangulate::TriMesh;
 
@@ -56,9 +98,10 @@ impl Facet {
 pub struct Edge {
     /// The two vertex indices, smaller first.
     pub vertices: [u32; 2],
-    /// The first two facets that use this edge ([`NO_FACET`] where absent).
+    /// The first two facets that use this edge, in facet order ([`NO_FACET`] where absent).
+    /// Uses are facet sides: a facet that runs along the edge twice is listed twice.
     pub facets: [u32; 2],
-    /// How many facets use the edge: 1 = boundary, 2 = manifold, more = non-manifold.
+    /// How many facet sides use the edge: 1 = boundary, 2 = manifold, more = non-manifold.
     pub facet_count: u32,
 }
 
@@ -76,7 +119,10 @@ impl<T: Copy> Channel<T> {
     /// A channel with one value per vertex.
     #[must_use]
     pub fn per_vertex(values: Vec<T>) -> Self {
-        Self { values, indices: None }
+        Self {
+            values,
+            indices: None,
+        }
     }
 
     /// The value at facet corner `corner` whose vertex is `vertex`.
@@ -124,11 +170,24 @@ pub struct MeshData {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
     #[error("corner {corner} refers to vertex {index}, but there are only {count} vertices")]
-    VertexIndex { corner: usize, index: u32, count: usize },
+    VertexIndex {
+        corner: usize,
+        index: u32,
+        count: usize,
+    },
     #[error("{channel} index {index} at corner {corner} is out of range (only {count} values)")]
-    ChannelIndex { channel: &'static str, corner: usize, index: u32, count: usize },
+    ChannelIndex {
+        channel: &'static str,
+        corner: usize,
+        index: u32,
+        count: usize,
+    },
     #[error("{channel} has {got} entries, expected {expected}")]
-    ChannelLength { channel: &'static str, got: usize, expected: usize },
+    ChannelLength {
+        channel: &'static str,
+        got: usize,
+        expected: usize,
+    },
     #[error("facet sizes add up to {sum} corners, but there are {corners}")]
     FacetSizes { sum: u64, corners: usize },
     #[error("facet {facet} has {len} corners; a facet needs at least 3")]
@@ -137,6 +196,21 @@ pub enum MeshError {
     NotTriangles(usize),
     #[error("mesh is too large: {0}")]
     TooLarge(&'static str),
+    /// A primitive builder got a negative or non-finite dimension.
+    #[error("{primitive}: {parameter} = {value} is not a finite number >= 0")]
+    Dimension {
+        primitive: &'static str,
+        parameter: &'static str,
+        value: f32,
+    },
+    /// A primitive builder was asked for more than [`MAX_SEGMENTS`] segments.
+    #[error("{primitive}: {parameter} = {count} is above the limit of {max} segments")]
+    Segments {
+        primitive: &'static str,
+        parameter: &'static str,
+        count: u32,
+        max: u32,
+    },
 }
 
 /// The vertex/edge/facet mesh.
@@ -174,30 +248,105 @@ impl Default for NormalPolicy {
     }
 }
 
-// --- API to be implemented (bodies filled in by the mesh work) ---
 impl Mesh {
     /// Builds topology (edges, facet normals and areas) and, where `data` has no normals,
     /// normals according to `policy`. Fails on out-of-range indices or inconsistent sizes.
+    ///
+    /// Normals read from `data` are renormalised; a zero or non-finite one is replaced, at the
+    /// corners that use it, by the facet normal (the channel becomes per corner if needed).
+    ///
+    /// # Errors
+    ///
+    /// [`MeshError`] names the first corner, facet or channel that is inconsistent.
     pub fn new(data: MeshData, policy: NormalPolicy) -> Result<Mesh, MeshError> {
-        let _ = (data, policy);
-        todo!()
+        build::validate(&data)?;
+        Ok(Mesh::from_valid(data, policy))
     }
 
-    /// Axis-aligned bounds of the finite positions, or `None` if there are none.
+    /// [`Mesh::new`] for data already checked by `build::validate` (or built correct by
+    /// construction, as the primitives are).
+    fn from_valid(data: MeshData, policy: NormalPolicy) -> Mesh {
+        let MeshData {
+            name,
+            positions,
+            corners,
+            facet_sizes,
+            normals,
+            uvs,
+            colors,
+            material,
+        } = data;
+        let facets = build::facets(&positions, &corners, facet_sizes.as_deref());
+        let ring = Ring::new(&facets, corners.len());
+        let around = VertexCorners::new(positions.len(), &corners, &ring);
+        let (edges, corner_edges) = adjacency::edges(corners.len(), &ring, &around);
+        let (normals, normal_source) = match normals {
+            Some(read) => (
+                normals::from_file(read, &corners, &ring),
+                NormalSource::File,
+            ),
+            None => normals::generate(&positions, &corners, &ring, &around, policy),
+        };
+        Mesh {
+            name,
+            positions,
+            corners,
+            facets,
+            edges,
+            corner_edges,
+            normals,
+            normal_source,
+            uvs,
+            colors,
+            material,
+        }
+    }
+
+    /// Replaces the normals (read or generated) by ones generated with `policy`.
+    pub fn recompute_normals(&mut self, policy: NormalPolicy) {
+        let ring = Ring::new(&self.facets, self.corners.len());
+        let around = VertexCorners::new(self.positions.len(), &self.corners, &ring);
+        let (normals, source) =
+            normals::generate(&self.positions, &self.corners, &ring, &around, policy);
+        self.normals = normals;
+        self.normal_source = source;
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the finite positions (all three coordinates
+    /// finite), or `None` if there are none.
     #[must_use]
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        todo!()
+        let mut finite = self.positions.iter().filter(|p| p.is_finite());
+        let first = *finite.next()?;
+        Some(finite.fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))))
     }
 
-    /// Triangulates facets and flattens attributes for rendering.
+    /// A bounding sphere `(centre, radius)` of the finite positions: the centre of
+    /// [`Mesh::bounds`] and the largest distance from it. `None` if no position is finite.
+    /// Not the minimal sphere, but never more than `sqrt(3)` times its radius.
+    #[must_use]
+    pub fn bounding_sphere(&self) -> Option<(Vec3, f32)> {
+        let (lo, hi) = self.bounds()?;
+        let centre = (lo + hi) * 0.5;
+        let radius2 = self
+            .positions
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|&p| p.distance_squared(centre))
+            .fold(0.0f32, f32::max);
+        // +inf when coordinates come near f32::MAX: still not NaN.
+        Some((centre, radius2.sqrt()))
+    }
+
+    /// Triangulates facets and flattens attributes for rendering (see [`TriMesh`]).
     #[must_use]
     pub fn triangulate(&self) -> TriMesh {
-        todo!()
+        triangulate::triangulate(self)
     }
 
     /// Counts for `realist info`.
     #[must_use]
     pub fn topology(&self) -> TopologyReport {
-        todo!()
+        topology::report(self)
     }
 }

@@ -1,7 +1,22 @@
 //! The render form of a mesh: facets split into triangles, attributes flattened so every
 //! triangle corner indexes one render vertex.
+//!
+//! A render vertex is a distinct tuple (vertex, normal index, uv index, colour index) over the
+//! facet corners. Render vertex `v` is the first tuple seen at mesh vertex `v` (so, when every
+//! channel is per vertex, render vertices *are* the mesh vertices and nothing is hashed or
+//! searched); further tuples of a vertex are appended and found again through a short chain
+//! per vertex, in corner order, so the result depends on the data only.
+//!
+//! Facets: triangles as they are; quads split along the diagonal that keeps both triangles
+//! facing the facet normal (the shorter one when both do, i.e. when convex); larger polygons
+//! fanned from their first corner when convex, otherwise ear-clipped in the facet's plane
+//! (see `polygon.rs`). Every facet of `n` corners gives exactly `n - 2` triangles, so the
+//! count matches [`TopologyReport::triangles`](super::TopologyReport::triangles).
 
 use glam::{Vec2, Vec3, Vec4};
+
+use super::normals::{unit, FALLBACK_NORMAL};
+use super::{polygon, Channel, Mesh};
 
 /// Triangles with flattened attributes, ready for the rasterizer.
 #[derive(Clone, Debug, Default)]
@@ -17,9 +32,162 @@ pub struct TriMesh {
     pub triangle_facets: Vec<u32>,
     /// Unit facet normals (zero for degenerate facets), indexed by facet.
     pub facet_normals: Vec<Vec3>,
-    /// Edges as render-vertex index pairs (for wireframe), one per mesh edge.
+    /// Edges as render-vertex index pairs (for wireframe), one per mesh edge, in the order of
+    /// [`Mesh::edges`]; the render vertices are those of the first facet using the edge.
     pub edges: Vec<[u32; 2]>,
     /// Bounding sphere of the finite positions (centre, radius); radius < 0 if none.
     pub center: Vec3,
     pub radius: f32,
+}
+
+/// Marks an unset slot.
+const UNSET: u32 = u32::MAX;
+
+/// The key of a channel at a corner: its index if per corner, `UNSET` if per vertex (then the
+/// vertex decides) or absent.
+fn key<T>(ch: Option<&Channel<T>>, corner: usize) -> u32 {
+    ch.and_then(|ch| ch.indices.as_ref())
+        .map_or(UNSET, |ix| ix[corner])
+}
+
+/// Render vertices: for every corner its render vertex, and for every render vertex its mesh
+/// vertex and its channel keys (`[UNSET; 3]` for a vertex no corner uses).
+struct RenderVertices {
+    of_corner: Vec<u32>,
+    vertex: Vec<u32>,
+    keys: Vec<[u32; 3]>,
+}
+
+fn render_vertices(mesh: &Mesh) -> RenderVertices {
+    let vertex_count = mesh.positions.len();
+    let all_per_vertex = mesh.normals.indices.is_none()
+        && mesh.uvs.as_ref().map_or(true, |c| c.indices.is_none())
+        && mesh.colors.as_ref().map_or(true, |c| c.indices.is_none());
+    let identity: Vec<u32> = (0..vertex_count as u32).collect();
+    if all_per_vertex {
+        return RenderVertices {
+            of_corner: mesh.corners.clone(),
+            vertex: identity,
+            keys: vec![[UNSET; 3]; vertex_count],
+        };
+    }
+    let mut vertex = identity;
+    let mut keys = vec![[UNSET; 3]; vertex_count];
+    let mut used = vec![false; vertex_count];
+    let mut chain = vec![UNSET; vertex_count];
+    let mut of_corner = Vec::with_capacity(mesh.corners.len());
+    for (c, &v) in mesh.corners.iter().enumerate() {
+        let k = [
+            key(Some(&mesh.normals), c),
+            key(mesh.uvs.as_ref(), c),
+            key(mesh.colors.as_ref(), c),
+        ];
+        if !used[v as usize] {
+            (used[v as usize], keys[v as usize]) = (true, k);
+            of_corner.push(v);
+            continue;
+        }
+        let mut r = v;
+        while keys[r as usize] != k {
+            if chain[r as usize] == UNSET {
+                // Validation keeps vertices + corners below u32::MAX.
+                chain[r as usize] = keys.len() as u32;
+                keys.push(k);
+                vertex.push(v);
+                chain.push(UNSET);
+            }
+            r = chain[r as usize];
+        }
+        of_corner.push(r);
+    }
+    RenderVertices {
+        of_corner,
+        vertex,
+        keys,
+    }
+}
+
+/// Values of a channel per render vertex; `default` where a per-corner channel has no
+/// corner at an unused vertex.
+fn flatten<T: Copy>(ch: &Channel<T>, rv: &RenderVertices, slot: usize, default: T) -> Vec<T> {
+    (0..rv.vertex.len())
+        .map(|r| match (&ch.indices, rv.keys[r][slot]) {
+            (None, _) => ch.values[rv.vertex[r] as usize],
+            (Some(_), UNSET) => default,
+            (Some(_), i) => ch.values[i as usize],
+        })
+        .collect()
+}
+
+pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
+    let rv = render_vertices(mesh);
+    let positions = rv
+        .vertex
+        .iter()
+        .map(|&v| mesh.positions[v as usize])
+        .collect();
+    let normals = flatten(&mesh.normals, &rv, 0, FALLBACK_NORMAL)
+        .into_iter()
+        .map(|n| unit(n).unwrap_or(FALLBACK_NORMAL))
+        .collect();
+    let uvs = mesh.uvs.as_ref().map(|ch| flatten(ch, &rv, 1, Vec2::ZERO));
+    let colors = mesh
+        .colors
+        .as_ref()
+        .map(|ch| flatten(ch, &rv, 2, Vec4::ONE));
+
+    let triangle_count = mesh.facets.iter().map(|f| f.len as usize - 2).sum();
+    let mut triangles = Vec::with_capacity(triangle_count);
+    let mut triangle_facets = Vec::with_capacity(triangle_count);
+    let mut local = Vec::new();
+    let mut scratch = polygon::Scratch::default();
+    for (f, facet) in mesh.facets.iter().enumerate() {
+        let corners = facet.corners();
+        let ring = &mesh.corners[corners.clone()];
+        let render = &rv.of_corner[corners];
+        local.clear();
+        polygon::triangulate(
+            &mesh.positions,
+            ring,
+            facet.normal,
+            &mut local,
+            &mut scratch,
+        );
+        for t in &local {
+            triangles.push(t.map(|i| render[i as usize]));
+            triangle_facets.push(f as u32);
+        }
+    }
+
+    let mut edges = vec![[UNSET; 2]; mesh.edges.len()];
+    for facet in &mesh.facets {
+        let corners = facet.corners();
+        for c in corners.clone() {
+            let e = mesh.corner_edges[c] as usize;
+            if edges[e][0] == UNSET {
+                let n = if c + 1 == corners.end {
+                    corners.start
+                } else {
+                    c + 1
+                };
+                let (a, b) = (rv.of_corner[c], rv.of_corner[n]);
+                let forward = mesh.corners[c] == mesh.edges[e].vertices[0];
+                edges[e] = if forward { [a, b] } else { [b, a] };
+            }
+        }
+    }
+
+    let (center, radius) = mesh.bounding_sphere().unwrap_or((Vec3::ZERO, -1.0));
+    TriMesh {
+        positions,
+        normals,
+        uvs,
+        colors,
+        triangles,
+        triangle_facets,
+        facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),
+        edges,
+        center,
+        radius,
+    }
 }
