@@ -22,7 +22,11 @@ use realist::scene::{self, Camera, Scene};
 use realist::shade::{self, Prepared, RenderOptions, Shading};
 
 #[derive(Parser)]
-#[command(name = "realist", version, about = "glTF 2.0 / OBJ viewer and material toolkit with a tiled CPU rasterizer")]
+#[command(
+    name = "realist",
+    version,
+    about = "glTF 2.0 / OBJ viewer and material toolkit with a tiled CPU rasterizer"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -113,7 +117,9 @@ struct InfoArgs {
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or("expected WIDTHxHEIGHT, e.g. 1280x720")?;
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or("expected WIDTHxHEIGHT, e.g. 1280x720")?;
     let w: u32 = w.trim().parse().map_err(|_| format!("bad width '{w}'"))?;
     let h: u32 = h.trim().parse().map_err(|_| format!("bad height '{h}'"))?;
     if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
@@ -125,7 +131,11 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 fn parse_camera(s: &str) -> Result<(f32, f32, Option<f32>), String> {
     let parts: Vec<f32> = s
         .split(',')
-        .map(|p| p.trim().parse::<f32>().map_err(|_| format!("bad number '{p}' in --camera")))
+        .map(|p| {
+            p.trim()
+                .parse::<f32>()
+                .map_err(|_| format!("bad number '{p}' in --camera"))
+        })
         .collect::<Result<_, _>>()?;
     if parts.iter().any(|p| !p.is_finite()) {
         return Err("--camera values must be finite".into());
@@ -143,7 +153,10 @@ impl NormalArgs {
         let crease_degrees = if self.crease.eq_ignore_ascii_case("off") {
             None
         } else {
-            let d: f32 = self.crease.parse().with_context(|| format!("bad --crease '{}'", self.crease))?;
+            let d: f32 = self
+                .crease
+                .parse()
+                .with_context(|| format!("bad --crease '{}'", self.crease))?;
             if !(0.0..=180.0).contains(&d) {
                 bail!("--crease must be between 0 and 180 degrees, or off");
             }
@@ -155,7 +168,10 @@ impl NormalArgs {
             "uniform" => realist::mesh::Weighting::Uniform,
             w => bail!("unknown --weighting '{w}' (expected angle, area or uniform)"),
         };
-        Ok(NormalOptions { weighting, crease_degrees })
+        Ok(NormalOptions {
+            weighting,
+            crease_degrees,
+        })
     }
 }
 
@@ -177,18 +193,27 @@ pub fn run() -> Result<()> {
                 camera: None,
                 texture: None,
                 stats: false,
-                normals: NormalArgs { crease: "60".into(), weighting: "angle".into() },
+                normals: NormalArgs {
+                    crease: "60".into(),
+                    weighting: "angle".into(),
+                },
             };
             say!("No display viewer yet: rendering the demo scene headless.");
             render(&args)?;
-            say!("Wrote {}", std::fs::canonicalize(&out).unwrap_or(out).display());
+            say!(
+                "Wrote {}",
+                std::fs::canonicalize(&out).unwrap_or(out).display()
+            );
             Ok(())
         }
     }
 }
 
 fn load_model(path: &Path, normals: &NormalArgs) -> Result<Scene> {
-    let opts = LoadOptions { normals: normals.options()?, ..LoadOptions::default() };
+    let opts = LoadOptions {
+        normals: normals.options()?,
+        ..LoadOptions::default()
+    };
     Ok(load::load(path, &opts)?)
 }
 
@@ -213,7 +238,14 @@ fn render(args: &RenderArgs) -> Result<()> {
         None if args.demo => scene.cameras.first().cloned(),
         None => None,
     };
-    let opts = RenderOptions { width: w, height: h, shading: args.shading, camera, texture, ..RenderOptions::default() };
+    let opts = RenderOptions {
+        width: w,
+        height: h,
+        shading: args.shading,
+        camera,
+        texture,
+        ..RenderOptions::default()
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()
@@ -230,7 +262,8 @@ fn render(args: &RenderArgs) -> Result<()> {
     let t = Instant::now();
     let img = image::RgbImage::from_raw(frame.target.width, frame.target.height, frame.srgb8())
         .context("framebuffer size mismatch")?;
-    img.save(&args.output).with_context(|| format!("could not write {}", args.output.display()))?;
+    img.save(&args.output)
+        .with_context(|| format!("could not write {}", args.output.display()))?;
     let t_encode = t.elapsed();
     if args.stats {
         let s = &frame.stats;
@@ -309,7 +342,12 @@ fn info(args: &InfoArgs) -> Result<()> {
         scene.textures.len(),
         scene.cameras.len()
     );
-    say!("  {} vertices, {} edges, {} facets in total", total(|t| t.vertices), total(|t| t.edges), total(|t| t.facets));
+    say!(
+        "  {} vertices, {} edges, {} facets in total",
+        total(|t| t.vertices),
+        total(|t| t.edges),
+        total(|t| t.facets)
+    );
     for m in &scene.meshes {
         let t = m.topology();
         say!(
@@ -370,20 +408,39 @@ fn peer_camera(scene: &Scene) -> Camera {
 }
 
 fn bench(args: &BenchArgs) -> Result<()> {
-    let mut scene = load_model(&args.model, &NormalArgs { crease: "off".into(), weighting: "area".into() })?;
+    let mut scene = load_model(
+        &args.model,
+        &NormalArgs {
+            crease: "off".into(),
+            weighting: "area".into(),
+        },
+    )?;
     scene.lights = vec![
-        realist::scene::Light::Ambient { color: Vec3::splat(0.1) },
-        realist::scene::Light::Directional { direction: -Vec3::new(0.5, 1.0, 0.8).normalize(), color: Vec3::splat(0.9) },
+        realist::scene::Light::Ambient {
+            color: Vec3::splat(0.1),
+        },
+        realist::scene::Light::Directional {
+            direction: -Vec3::new(0.5, 1.0, 0.8).normalize(),
+            color: Vec3::splat(0.9),
+        },
     ];
     let camera = peer_camera(&scene);
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads.unwrap_or(0)).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()?;
     let prepared = pool.install(|| Prepared::new(&scene));
     let triangles: usize = prepared.meshes.iter().map(|m| m.triangles.len()).sum();
     for res in args.res.split(',') {
         let (w, h) = parse_size(res).map_err(anyhow::Error::msg)?;
         for mode in args.shading.split(',') {
             let shading: Shading = mode.parse().map_err(anyhow::Error::msg)?;
-            let opts = RenderOptions { width: w, height: h, shading: Some(shading), camera: Some(camera.clone()), ..RenderOptions::default() };
+            let opts = RenderOptions {
+                width: w,
+                height: h,
+                shading: Some(shading),
+                camera: Some(camera.clone()),
+                ..RenderOptions::default()
+            };
             // A reused target, as in an interactive viewer; "read" adds the sRGB encode, like
             // the peer's read-back of the RGBA8 frame.
             let mut target = realist::raster::Target::new(w, h, opts.background);
@@ -395,7 +452,12 @@ fn bench(args: &BenchArgs) -> Result<()> {
                         let (mut times, mut read) = (Vec::new(), Vec::new());
                         while start.elapsed().as_secs_f64() < 0.5 || times.len() < 3 {
                             let t = Instant::now();
-                            std::hint::black_box(shade::render_into(&mut target, &scene, &prepared, &opts));
+                            std::hint::black_box(shade::render_into(
+                                &mut target,
+                                &scene,
+                                &prepared,
+                                &opts,
+                            ));
                             times.push(t.elapsed().as_secs_f64() * 1e3);
                             std::hint::black_box(target.to_srgb8());
                             read.push(t.elapsed().as_secs_f64() * 1e3);

@@ -4,7 +4,9 @@
 
 use glam::{Vec2, Vec4};
 use proptest::prelude::*;
-use realist::raster::{self, Blend, Cull, DepthTest, Draw, DrawState, FragmentShader, Stats, Target, TriInfo};
+use realist::raster::{
+    self, Blend, Cull, DepthTest, Draw, DrawState, FragmentShader, Stats, Target, TriInfo,
+};
 
 /// Adds 1 to the red channel of every covered pixel.
 struct Count;
@@ -17,16 +19,32 @@ impl FragmentShader for Count {
 }
 
 fn counting() -> DrawState {
-    DrawState { cull: Cull::None, depth_test: DepthTest::Always, depth_write: false, blend: Blend::Add, ..DrawState::opaque() }
+    DrawState {
+        cull: Cull::None,
+        depth_test: DepthTest::Always,
+        depth_write: false,
+        blend: Blend::Add,
+        ..DrawState::opaque()
+    }
 }
 
 /// Rasterizes NDC triangles (given as 2D points plus a per-vertex w scale) and returns the
 /// per-pixel count.
 fn count(width: u32, height: u32, points: &[Vec2], w: &[f32], tris: &[[u32; 3]]) -> Vec<u32> {
-    let clip: Vec<Vec4> = points.iter().zip(w).map(|(p, &w)| Vec4::new(p.x * w, p.y * w, 0.5 * w, w)).collect();
+    let clip: Vec<Vec4> = points
+        .iter()
+        .zip(w)
+        .map(|(p, &w)| Vec4::new(p.x * w, p.y * w, 0.5 * w, w))
+        .collect();
     let units = vec![(); clip.len()];
     let mut target = Target::new(width, height, Vec4::ZERO);
-    let draw = Draw { id: 0, clip: &clip, varyings: &units, triangles: tris, state: counting() };
+    let draw = Draw {
+        id: 0,
+        clip: &clip,
+        varyings: &units,
+        triangles: tris,
+        state: counting(),
+    };
     let mut stats = Stats::default();
     raster::draw(&mut target, &[draw], &Count, &mut stats);
     target.resolve().color.iter().map(|c| c.x as u32).collect()
@@ -34,11 +52,20 @@ fn count(width: u32, height: u32, points: &[Vec2], w: &[f32], tris: &[[u32; 3]])
 
 /// An (n+1) x (m+1) grid of points spanning beyond the viewport, interior points jittered by
 /// up to 0.45 of a cell, two triangles per cell with the given diagonal and windings.
-fn grid(n: usize, m: usize, jitter: &[(f32, f32)], offset: Vec2, flips: &[bool]) -> (Vec<Vec2>, Vec<[u32; 3]>) {
+fn grid(
+    n: usize,
+    m: usize,
+    jitter: &[(f32, f32)],
+    offset: Vec2,
+    flips: &[bool],
+) -> (Vec<Vec2>, Vec<[u32; 3]>) {
     let mut pts = Vec::new();
     for j in 0..=m {
         for i in 0..=n {
-            let mut p = Vec2::new(-1.3 + 2.6 * i as f32 / n as f32, -1.3 + 2.6 * j as f32 / m as f32);
+            let mut p = Vec2::new(
+                -1.3 + 2.6 * i as f32 / n as f32,
+                -1.3 + 2.6 * j as f32 / m as f32,
+            );
             if i > 0 && i < n && j > 0 && j < m {
                 let (jx, jy) = jitter[(j * (n + 1) + i) % jitter.len()];
                 p += Vec2::new(jx * 2.6 / n as f32, jy * 2.6 / m as f32) * 0.45;
@@ -129,8 +156,14 @@ fn edges_through_pixel_centres_are_covered_once() {
     // Grid lines at pixel centres: NDC x = (2 * (px + 0.5) / w) - 1.
     let ndc = |p: f32, n: u32| 2.0 * (p + 0.5) / n as f32 - 1.0;
     let mut pts = Vec::new();
-    let xs: Vec<f32> = [-10.0, 3.0, 7.0, 15.0, 16.0, 31.0, 50.0].iter().map(|&p| ndc(p, w)).collect();
-    let ys: Vec<f32> = [-10.0, 0.0, 5.0, 9.0, 20.0, 50.0].iter().map(|&p| -ndc(p, h)).collect();
+    let xs: Vec<f32> = [-10.0, 3.0, 7.0, 15.0, 16.0, 31.0, 50.0]
+        .iter()
+        .map(|&p| ndc(p, w))
+        .collect();
+    let ys: Vec<f32> = [-10.0, 0.0, 5.0, 9.0, 20.0, 50.0]
+        .iter()
+        .map(|&p| -ndc(p, h))
+        .collect();
     for y in &ys {
         for x in &xs {
             pts.push(Vec2::new(*x, *y));
@@ -146,7 +179,11 @@ fn edges_through_pixel_centres_are_covered_once() {
         }
     }
     let counts = count(w, h, &pts, &vec![1.0; pts.len()], &tris);
-    assert!(counts.iter().all(|&c| c == 1), "{} pixels not covered exactly once", counts.iter().filter(|&&c| c != 1).count());
+    assert!(
+        counts.iter().all(|&c| c == 1),
+        "{} pixels not covered exactly once",
+        counts.iter().filter(|&&c| c != 1).count()
+    );
 }
 
 /// Translating a triangle by whole pixels translates its coverage exactly.
@@ -155,14 +192,22 @@ fn integer_translation_moves_coverage_exactly() {
     let (w, h) = (96u32, 80u32);
     let to_ndc = |x: f32, y: f32| Vec2::new(2.0 * x / w as f32 - 1.0, 1.0 - 2.0 * y / h as f32);
     let base = [(10.3f32, 7.7f32), (40.1, 12.5), (22.9, 35.0)];
-    let at = |dx: f32, dy: f32| base.iter().map(|&(x, y)| to_ndc(x + dx, y + dy)).collect::<Vec<_>>();
+    let at = |dx: f32, dy: f32| {
+        base.iter()
+            .map(|&(x, y)| to_ndc(x + dx, y + dy))
+            .collect::<Vec<_>>()
+    };
     let a = count(w, h, &at(0.0, 0.0), &[1.0; 3], &[[0, 1, 2]]);
     let b = count(w, h, &at(17.0, 29.0), &[1.0; 3], &[[0, 1, 2]]);
     let covered: usize = a.iter().map(|&c| c as usize).sum();
     assert!(covered > 100);
     for y in 0..h - 29 {
         for x in 0..w - 17 {
-            assert_eq!(a[(y * w + x) as usize], b[((y + 29) * w + x + 17) as usize], "pixel ({x}, {y})");
+            assert_eq!(
+                a[(y * w + x) as usize],
+                b[((y + 29) * w + x + 17) as usize],
+                "pixel ({x}, {y})"
+            );
         }
     }
 }

@@ -20,7 +20,10 @@ fn sphere_scene() -> scene::Scene {
 }
 
 fn camera() -> Camera {
-    let mut cam = Camera { eye: Vec3::new(1.5, 1.2, 3.2), ..Camera::default() };
+    let mut cam = Camera {
+        eye: Vec3::new(1.5, 1.2, 3.2),
+        ..Camera::default()
+    };
     cam.fit(Vec3::ZERO, 1.8);
     cam
 }
@@ -31,14 +34,24 @@ fn sphere_in_every_mode() {
     for mode in Shading::ALL {
         let fb = render(&scene, 128, 96, Some(mode), Some(camera()));
         common::assert_finite(&fb, mode.name());
-        let tol = if mode == Shading::Wireframe { EXACT } else { SHADED };
+        let tol = if mode == Shading::Wireframe {
+            EXACT
+        } else {
+            SHADED
+        };
         check_golden(&format!("sphere-{}", mode.name()), &fb, tol);
     }
 }
 
 #[test]
 fn textured_checker_cube() {
-    let fb = render(&checker_cube(), 128, 96, Some(Shading::Textured), Some(camera()));
+    let fb = render(
+        &checker_cube(),
+        128,
+        96,
+        Some(Shading::Textured),
+        Some(camera()),
+    );
     check_golden("cube-textured", &fb, SHADED);
     let fb = render(&checker_cube(), 128, 96, Some(Shading::Uv), Some(camera()));
     check_golden("cube-uv", &fb, SHADED);

@@ -22,11 +22,28 @@ fn one_and_two_threads_are_bit_identical() {
         name: "torus".into(),
         style: realist::scene::Style::Inherit,
     });
-    for mode in [None, Some(Shading::Phong), Some(Shading::Gouraud), Some(Shading::Flat), Some(Shading::Wireframe)] {
-        let opts = RenderOptions { width: 333, height: 201, shading: mode, camera: demo.cameras.first().cloned(), ..RenderOptions::default() };
+    for mode in [
+        None,
+        Some(Shading::Phong),
+        Some(Shading::Gouraud),
+        Some(Shading::Flat),
+        Some(Shading::Wireframe),
+    ] {
+        let opts = RenderOptions {
+            width: 333,
+            height: 201,
+            shading: mode,
+            camera: demo.cameras.first().cloned(),
+            ..RenderOptions::default()
+        };
         let (a, sa) = render_with(&demo, &opts, 1);
         let (b, sb) = render_with(&demo, &opts, 2);
-        let bits = |fb: &realist::raster::Framebuffer| fb.color.iter().flat_map(|c| c.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        let bits = |fb: &realist::raster::Framebuffer| {
+            fb.color
+                .iter()
+                .flat_map(|c| c.to_array().map(f32::to_bits))
+                .collect::<Vec<_>>()
+        };
         assert!(bits(&a) == bits(&b), "{mode:?}: 1 and 2 threads differ");
         assert_eq!(sa, sb, "{mode:?}: counters differ");
         assert!(covered(&a) > 1000, "{mode:?}: nothing drawn");
@@ -40,12 +57,29 @@ fn one_and_two_threads_are_bit_identical() {
 fn floor_crossing_the_near_plane_renders_below_the_horizon() {
     let s = 100.0;
     let floor = triangles(
-        vec![Vec3::new(-s, -1.0, -s), Vec3::new(s, -1.0, -s), Vec3::new(s, -1.0, s), Vec3::new(-s, -1.0, s)],
+        vec![
+            Vec3::new(-s, -1.0, -s),
+            Vec3::new(s, -1.0, -s),
+            Vec3::new(s, -1.0, s),
+            Vec3::new(-s, -1.0, s),
+        ],
         vec![0, 2, 1, 0, 3, 2],
     );
-    let mut scene = scene_of(floor, Material { double_sided: true, ..Material::default() });
+    let mut scene = scene_of(
+        floor,
+        Material {
+            double_sided: true,
+            ..Material::default()
+        },
+    );
     scene.lights = vec![realist::scene::Light::Ambient { color: Vec3::ONE }];
-    let cam = Camera { eye: Vec3::ZERO, target: Vec3::new(0.0, 0.0, -1.0), near: 0.05, far: 500.0, ..Camera::default() };
+    let cam = Camera {
+        eye: Vec3::ZERO,
+        target: Vec3::new(0.0, 0.0, -1.0),
+        near: 0.05,
+        far: 500.0,
+        ..Camera::default()
+    };
     let (w, h) = (160u32, 120u32);
     let fb = render(&scene, w, h, Some(Shading::Flat), Some(cam));
     assert_finite(&fb, "floor");
@@ -55,48 +89,109 @@ fn floor_crossing_the_near_plane_renders_below_the_horizon() {
         // The horizon is at the image centre; the floor recedes to it, so rows just below the
         // centre may be partly empty where the finite floor ends (100 units away).
         if y >= h / 2 + 2 {
-            assert!(row.iter().all(|&c| c), "row {y} below the horizon not fully covered");
+            assert!(
+                row.iter().all(|&c| c),
+                "row {y} below the horizon not fully covered"
+            );
         }
         if y < h / 2 {
-            assert!(row.iter().all(|&c| !c), "row {y} above the horizon covered: wrap-around");
+            assert!(
+                row.iter().all(|&c| !c),
+                "row {y} above the horizon covered: wrap-around"
+            );
         }
     }
 }
 
 #[test]
 fn triangle_behind_the_eye_draws_nothing() {
-    let tri = triangles(vec![Vec3::new(-1.0, -1.0, 5.0), Vec3::new(1.0, -1.0, 5.0), Vec3::new(0.0, 1.0, 5.0)], vec![0, 1, 2]);
-    let scene = scene_of(tri, Material { double_sided: true, ..Material::default() });
-    let cam = Camera { eye: Vec3::ZERO, target: Vec3::new(0.0, 0.0, -1.0), near: 0.1, far: 100.0, ..Camera::default() };
+    let tri = triangles(
+        vec![
+            Vec3::new(-1.0, -1.0, 5.0),
+            Vec3::new(1.0, -1.0, 5.0),
+            Vec3::new(0.0, 1.0, 5.0),
+        ],
+        vec![0, 1, 2],
+    );
+    let scene = scene_of(
+        tri,
+        Material {
+            double_sided: true,
+            ..Material::default()
+        },
+    );
+    let cam = Camera {
+        eye: Vec3::ZERO,
+        target: Vec3::new(0.0, 0.0, -1.0),
+        near: 0.1,
+        far: 100.0,
+        ..Camera::default()
+    };
     for mode in Shading::ALL {
         let fb = render(&scene, 64, 48, Some(mode), Some(cam.clone()));
-        assert_eq!(covered(&fb), 0, "{mode}: a triangle behind the eye was drawn");
+        assert_eq!(
+            covered(&fb),
+            0,
+            "{mode}: a triangle behind the eye was drawn"
+        );
     }
 }
 
 /// Triangles with NaN, Inf and 1e30 coordinates, and zero-area facets, next to a good one.
 #[test]
 fn hostile_coordinates_do_not_panic_or_poison_pixels() {
-    let bad = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, 1e6, 3e38];
-    let mut positions = vec![Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+    let bad = [
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        1e30,
+        -1e30,
+        1e6,
+        3e38,
+    ];
+    let mut positions = vec![
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ];
     let mut corners = vec![0, 1, 2];
     for (k, &b) in bad.iter().enumerate() {
         let base = positions.len() as u32;
-        positions.extend([Vec3::new(b, 0.0, 0.0), Vec3::new(0.5, b, 0.2), Vec3::new(0.1, 0.3, b)]);
+        positions.extend([
+            Vec3::new(b, 0.0, 0.0),
+            Vec3::new(0.5, b, 0.2),
+            Vec3::new(0.1, 0.3, b),
+        ]);
         corners.extend([base, base + 1, base + 2]);
         // Mixed: one hostile vertex shared with the good triangle's vertices.
         corners.extend([0, base + k as u32 % 3, 1]);
     }
     // Zero-area facets: repeated vertex, collinear vertices.
     let base = positions.len() as u32;
-    positions.extend([Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.5, 0.5, 0.0), Vec3::new(1.0, 1.0, 0.0)]);
+    positions.extend([
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.5, 0.5, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+    ]);
     corners.extend([base, base, base + 1, base, base + 1, base + 2]);
     let mesh = triangles(positions, corners);
     for n in mesh.normals.values.iter() {
         assert!(n.is_finite(), "non-finite normal {n}");
     }
-    let scene = scene_of(mesh, Material { double_sided: true, base_color: Vec4::ONE, ..Material::default() });
-    let cam = Camera { eye: Vec3::new(0.0, 0.0, 4.0), near: 0.1, far: 100.0, ..Camera::default() };
+    let scene = scene_of(
+        mesh,
+        Material {
+            double_sided: true,
+            base_color: Vec4::ONE,
+            ..Material::default()
+        },
+    );
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 4.0),
+        near: 0.1,
+        far: 100.0,
+        ..Camera::default()
+    };
     for mode in Shading::ALL {
         for size in [(64, 48), (1, 1), (3, 200)] {
             let fb = render(&scene, size.0, size.1, Some(mode), Some(cam.clone()));

@@ -1,10 +1,43 @@
-//! Loaders: OBJ/MTL (through `tobj`) and glTF 2.0 / GLB (through `gltf`) into one
-//! [`Scene`]. No `tobj` or `gltf` type escapes this module.
+//! Loaders: OBJ/MTL (through `tobj`) and glTF 2.0 / GLB (through `gltf`'s JSON types) into
+//! one [`Scene`]. No `tobj` or `gltf` type escapes this module.
+//!
+//! Everything a loader reads comes from a file that may be hostile, so the module keeps
+//! these invariants:
+//!
+//! - **Bounded memory.** Every file is read by `files::read_capped` (regular files only),
+//!   and every large allocation (file bytes, buffers, decoded texels, estimated geometry) is
+//!   charged to one `Budget` of [`LoadOptions::max_bytes`] *before* it is made. No length
+//!   field of a file is trusted to size an allocation.
+//! - **No escape from the model's folder.** `mtllib`, `map_Kd` and glTF URIs are resolved
+//!   relative to the model, canonicalised, and must stay inside the model's folder; glTF
+//!   also accepts `data:` URIs. Nothing else (`file://`, `http://`, absolute paths).
+//! - **No panics on file data, no recursion on file-controlled depth.** The node graph is
+//!   walked with an explicit stack; indices are checked with `get`. [`load`] still runs the
+//!   loader under `catch_unwind` as a last line of defence: a panic becomes
+//!   [`LoadError::Panic`] naming the file.
+//! - **Errors are one line and start with the file path**; they say which accessor,
+//!   primitive, mesh or line was wrong and what was expected. What does not stop a load
+//!   (a missing texture or MTL file, dropped faces, skipped line primitives) goes to
+//!   [`LoadReport`](crate::scene::LoadReport) instead.
+//!
+//! Faces with fewer than three corners and faces touching a non-finite position are
+//! dropped (and counted in the report) by both loaders, so the renderer never sees them.
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 
-use crate::mesh::NormalOptions;
+use crate::mesh::{MeshData, NormalOptions};
 use crate::scene::Scene;
+use crate::texture::Texture;
+
+mod files;
+mod gltf;
+mod images;
+mod obj;
+
+pub use self::gltf::GltfError;
+pub use self::images::MAX_SIDE as MAX_TEXTURE_SIDE;
+pub use self::obj::ObjError;
 
 /// Options shared by the loaders.
 #[derive(Clone, Debug)]
@@ -17,23 +50,241 @@ pub struct LoadOptions {
 
 impl Default for LoadOptions {
     fn default() -> Self {
-        Self { normals: NormalOptions::default(), max_bytes: 2 << 30 }
+        Self {
+            normals: NormalOptions::default(),
+            max_bytes: 2 << 30,
+        }
     }
 }
 
-/// Why a file could not be loaded. Every variant names the file.
+/// Why a file could not be loaded. Every variant's message is one line that starts with
+/// the file's path.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     #[error("{path}: unknown model format (expected .obj, .gltf or .glb)")]
     UnknownFormat { path: PathBuf },
     #[error("{path}: loader panicked: {message}")]
     Panic { path: PathBuf, message: String },
+    #[error("{path}: {what} needs {bytes} bytes, over the memory budget ({used} of {limit} bytes already in use)")]
+    TooLarge {
+        path: PathBuf,
+        what: String,
+        bytes: u64,
+        used: u64,
+        limit: u64,
+    },
+    #[error("{path}: cannot use image: {reason}")]
+    Image { path: PathBuf, reason: String },
+    #[error(transparent)]
+    Obj(#[from] ObjError),
+    #[error(transparent)]
+    Gltf(#[from] GltfError),
 }
 
-/// Loads a model file, choosing the loader by extension.
+/// Loads a model file, choosing the loader by extension (`.obj`, `.gltf`, `.glb`, any case).
+///
+/// A panic inside a loader is caught and returned as [`LoadError::Panic`].
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
-    let _ = opts;
-    Err(LoadError::UnknownFormat { path: path.to_owned() })
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let loader: fn(&Path, &LoadOptions) -> Result<Scene, LoadError> = match ext.as_deref() {
+        Some("obj") => obj::load_obj,
+        Some("gltf" | "glb") => gltf::load_gltf,
+        _ => {
+            return Err(LoadError::UnknownFormat {
+                path: path.to_owned(),
+            })
+        }
+    };
+    guarded(path, || loader(path, opts))
 }
+
+/// Loads an image file (PNG or JPEG) as an sRGB colour texture, e.g. for `--texture IMG`.
+/// The file and the decoded texels must fit [`LoadOptions::default`]'s memory budget, and
+/// the image may be at most [`MAX_TEXTURE_SIDE`] texels wide and high.
+pub fn load_texture(path: &Path) -> Result<Texture, LoadError> {
+    guarded(path, || {
+        let budget = Budget::new(path, LoadOptions::default().max_bytes);
+        let bytes = files::read_capped(path, &budget, "image file")?;
+        let name = path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        images::decode(&bytes, &name, &budget).map_err(|e| e.into_load_error(path))
+    })
+}
+
+/// Runs `f`, turning a panic into [`LoadError::Panic`].
+fn guarded<T>(path: &Path, f: impl FnOnce() -> Result<T, LoadError>) -> Result<T, LoadError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
+        let message = payload
+            .downcast_ref::<&str>()
+            .map(|s| (*s).to_owned())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        Err(LoadError::Panic {
+            path: path.to_owned(),
+            message,
+        })
+    })
+}
+
+/// Memory accounting for one load: every large allocation is charged here before it is
+/// made, and the load fails with [`LoadError::TooLarge`] once `max_bytes` would be passed.
+pub(crate) struct Budget {
+    path: PathBuf,
+    limit: u64,
+    used: Cell<u64>,
+}
+
+impl Budget {
+    pub(crate) fn new(path: &Path, limit: u64) -> Self {
+        Self {
+            path: path.to_owned(),
+            limit,
+            used: Cell::new(0),
+        }
+    }
+
+    /// Charges `bytes` for `what` (evaluated only on failure).
+    pub(crate) fn charge(
+        &self,
+        bytes: u64,
+        what: impl FnOnce() -> String,
+    ) -> Result<(), LoadError> {
+        let used = self.used.get();
+        match used.checked_add(bytes) {
+            Some(total) if total <= self.limit => {
+                self.used.set(total);
+                Ok(())
+            }
+            _ => Err(LoadError::TooLarge {
+                path: self.path.clone(),
+                what: what(),
+                bytes,
+                used,
+                limit: self.limit,
+            }),
+        }
+    }
+
+    /// Bytes still available.
+    pub(crate) fn remaining(&self) -> u64 {
+        self.limit.saturating_sub(self.used.get())
+    }
+}
+
+/// Rough bytes a mesh of this size occupies once built (positions, attributes, corners,
+/// facets, edges and the temporaries of building them); used to charge the [`Budget`].
+pub(crate) fn mesh_bytes(vertices: u64, corners: u64, facets: u64) -> u64 {
+    vertices
+        .saturating_mul(64)
+        .saturating_add(corners.saturating_mul(48))
+        .saturating_add(facets.saturating_mul(96))
+        .saturating_add(1024)
+}
+
+/// How many facets [`retain_facets`] removed, by reason.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Dropped {
+    /// Facets with fewer than 3 corners.
+    pub too_small: usize,
+    /// Facets with a corner at a NaN or infinite position (or an out-of-range vertex).
+    pub non_finite: usize,
+}
+
+impl Dropped {
+    /// Report lines for the warnings list, prefixed with `what` (e.g. "object 'x'").
+    pub(crate) fn warnings(&self, what: &str) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.too_small > 0 {
+            out.push(format!(
+                "{what}: dropped {} face(s) with fewer than 3 vertices",
+                self.too_small
+            ));
+        }
+        if self.non_finite > 0 {
+            out.push(format!(
+                "{what}: dropped {} face(s) with NaN or infinite positions",
+                self.non_finite
+            ));
+        }
+        out
+    }
+}
+
+/// Removes facets with fewer than 3 corners or with a corner at a non-finite position,
+/// keeping `facet_sizes` and per-corner channel indices in step with `corners`.
+pub(crate) fn retain_facets(data: &mut MeshData) -> Dropped {
+    let mut dropped = Dropped::default();
+    let sizes: Vec<u32> = match &data.facet_sizes {
+        Some(s) => s.clone(),
+        None => vec![3; data.corners.len() / 3],
+    };
+    let bad = |corners: &[u32]| {
+        corners.iter().any(|&v| {
+            data.positions
+                .get(v as usize)
+                .map_or(true, |p| !p.is_finite())
+        })
+    };
+    let mut keep = Vec::with_capacity(sizes.len());
+    let mut start = 0usize;
+    for &n in &sizes {
+        let end = start.saturating_add(n as usize).min(data.corners.len());
+        let ok = if n < 3 {
+            dropped.too_small += 1;
+            false
+        } else if bad(data.corners.get(start..end).unwrap_or(&[])) {
+            dropped.non_finite += 1;
+            false
+        } else {
+            true
+        };
+        keep.push(ok);
+        start = end;
+    }
+    if dropped == Dropped::default() {
+        return dropped;
+    }
+    let corner_keep: Vec<bool> = sizes
+        .iter()
+        .zip(&keep)
+        .flat_map(|(&n, &k)| std::iter::repeat(k).take(n as usize))
+        .collect();
+    let filter = |v: &mut Vec<u32>| {
+        let mut it = corner_keep.iter();
+        v.retain(|_| it.next().copied().unwrap_or(false));
+    };
+    filter(&mut data.corners);
+    if let Some(ix) = data.normals.as_mut().and_then(|c| c.indices.as_mut()) {
+        filter(ix);
+    }
+    if let Some(ix) = data.uvs.as_mut().and_then(|c| c.indices.as_mut()) {
+        filter(ix);
+    }
+    if let Some(ix) = data.colors.as_mut().and_then(|c| c.indices.as_mut()) {
+        filter(ix);
+    }
+    let kept: Vec<u32> = sizes
+        .iter()
+        .zip(&keep)
+        .filter(|(_, &k)| k)
+        .map(|(&n, _)| n)
+        .collect();
+    data.facet_sizes = if kept.iter().all(|&n| n == 3) {
+        None
+    } else {
+        Some(kept)
+    };
+    dropped
+}
+
+#[cfg(test)]
+mod tests;

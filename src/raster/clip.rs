@@ -57,7 +57,11 @@ pub(crate) struct ClipVertex<V> {
 
 /// Clips a convex polygon against every plane in `planes`; returns the clipped polygon
 /// (possibly empty) in the same winding.
-pub(crate) fn clip_polygon<V: Varying>(mut poly: Vec<ClipVertex<V>>, planes: u8, g: Vec2) -> Vec<ClipVertex<V>> {
+pub(crate) fn clip_polygon<V: Varying>(
+    mut poly: Vec<ClipVertex<V>>,
+    planes: u8,
+    g: Vec2,
+) -> Vec<ClipVertex<V>> {
     let mut out = Vec::with_capacity(poly.len() + 2);
     for plane in PLANES {
         if planes & plane == 0 {
@@ -76,7 +80,11 @@ pub(crate) fn clip_polygon<V: Varying>(mut poly: Vec<ClipVertex<V>>, planes: u8,
                 out.push(a);
             }
             if a_in != b_in {
-                out.push(if a_in { intersect(&a, da, &b, db) } else { intersect(&b, db, &a, da) });
+                out.push(if a_in {
+                    intersect(&a, da, &b, db)
+                } else {
+                    intersect(&b, db, &a, da)
+                });
             }
         }
         std::mem::swap(&mut poly, &mut out);
@@ -92,7 +100,10 @@ pub(crate) fn clip_polygon<V: Varying>(mut poly: Vec<ClipVertex<V>>, planes: u8,
 #[inline]
 fn intersect<V: Varying>(i: &ClipVertex<V>, di: f32, o: &ClipVertex<V>, d_o: f32) -> ClipVertex<V> {
     let t = (di / (di - d_o)).clamp(0.0, 1.0);
-    ClipVertex { pos: i.pos + (o.pos - i.pos) * t, var: i.var.lerp(&o.var, t) }
+    ClipVertex {
+        pos: i.pos + (o.pos - i.pos) * t,
+        var: i.var.lerp(&o.var, t),
+    }
 }
 
 #[cfg(test)]
@@ -100,13 +111,20 @@ mod tests {
     use super::*;
 
     fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex<f32> {
-        ClipVertex { pos: Vec4::new(x, y, z, w), var: w }
+        ClipVertex {
+            pos: Vec4::new(x, y, z, w),
+            var: w,
+        }
     }
 
     #[test]
     fn near_clip_of_triangle_through_eye_plane() {
         // One vertex behind the eye (w < 0): the result must have all w > 0.
-        let tri = vec![v(0.0, 0.0, 0.5, 1.0), v(1.0, 0.0, 0.5, 1.0), v(0.0, 1.0, -2.0, -1.0)];
+        let tri = vec![
+            v(0.0, 0.0, 0.5, 1.0),
+            v(1.0, 0.0, 0.5, 1.0),
+            v(0.0, 1.0, 2.0, -1.0),
+        ];
         let out = clip_polygon(tri, NEAR, Vec2::ONE);
         assert_eq!(out.len(), 4);
         for p in &out {
@@ -122,14 +140,26 @@ mod tests {
         let b = v(-0.7, 0.4, 3.0, -2.0);
         let t1 = clip_polygon(vec![a, b, v(0.5, 0.5, 0.1, 1.0)], NEAR, Vec2::ONE);
         let t2 = clip_polygon(vec![b, a, v(-0.5, 0.5, 0.1, 1.0)], NEAR, Vec2::ONE);
-        let new1: Vec<_> = t1.iter().map(|p| p.pos).filter(|p| *p != a.pos && p.w != 1.0).collect();
-        let new2: Vec<_> = t2.iter().map(|p| p.pos).filter(|p| *p != a.pos && p.w != 1.0).collect();
+        let new1: Vec<_> = t1
+            .iter()
+            .map(|p| p.pos)
+            .filter(|p| *p != a.pos && p.w != 1.0)
+            .collect();
+        let new2: Vec<_> = t2
+            .iter()
+            .map(|p| p.pos)
+            .filter(|p| *p != a.pos && p.w != 1.0)
+            .collect();
         assert!(new1.iter().any(|p| new2.contains(p)), "{new1:?} {new2:?}");
     }
 
     #[test]
     fn fully_outside_is_empty() {
-        let tri = vec![v(0.0, 0.0, 2.0, 1.0), v(1.0, 0.0, 2.0, 1.0), v(0.0, 1.0, 2.0, 1.0)];
+        let tri = vec![
+            v(0.0, 0.0, 2.0, 1.0),
+            v(1.0, 0.0, 2.0, 1.0),
+            v(0.0, 1.0, 2.0, 1.0),
+        ];
         assert!(clip_polygon(tri, NEAR, Vec2::ONE).is_empty());
     }
 }

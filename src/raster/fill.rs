@@ -69,7 +69,10 @@ enum Coverage {
 /// Edge function (biased) at the centre of pixel (x, y).
 #[inline(always)]
 fn edge_at<V>(tri: &SetupTri<V>, k: usize, x: u32, y: u32) -> i64 {
-    tri.a[k] * (i64::from(x) * ONE + HALF) + tri.b[k] * (i64::from(y) * ONE + HALF) + tri.c[k] + tri.bias[k]
+    tri.a[k] * (i64::from(x) * ONE + HALF)
+        + tri.b[k] * (i64::from(y) * ONE + HALF)
+        + tri.c[k]
+        + tri.bias[k]
 }
 
 fn classify<V>(tri: &SetupTri<V>, x0: u32, y0: u32, x1: u32, y1: u32) -> Coverage {
@@ -106,7 +109,11 @@ fn span<S: FragmentShader, const TEST: bool>(
 ) {
     let step_x = [tri.a[0] * ONE, tri.a[1] * ONE, tri.a[2] * ONE];
     let step_y = [tri.b[0] * ONE, tri.b[1] * ONE, tri.b[2] * ONE];
-    let mut row = [edge_at(tri, 0, x0, y0), edge_at(tri, 1, x0, y0), edge_at(tri, 2, x0, y0)];
+    let mut row = [
+        edge_at(tri, 0, x0, y0),
+        edge_at(tri, 1, x0, y0),
+        edge_at(tri, 2, x0, y0),
+    ];
     let st = tri.state;
     for y in y0..=y1 {
         let mut e = row;
@@ -157,7 +164,9 @@ fn blend(mode: Blend, src: Vec4, dst: Vec4) -> Vec4 {
         Blend::Replace => src,
         Blend::Alpha => {
             let a = src.w.clamp(0.0, 1.0);
-            (src * a + dst * (1.0 - a)).truncate().extend(a + dst.w * (1.0 - a))
+            (src * a + dst * (1.0 - a))
+                .truncate()
+                .extend(a + dst.w * (1.0 - a))
         }
         Blend::Add => src + dst,
     }

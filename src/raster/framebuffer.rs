@@ -94,7 +94,13 @@ impl Target {
                 }
             })
             .collect();
-        Self { width, height, tiles_x, tiles_y, tiles }
+        Self {
+            width,
+            height,
+            tiles_x,
+            tiles_y,
+            tiles,
+        }
     }
 
     /// Clears colour to `clear` and depth to 0 (far). Lazy: see [`Tile`].
@@ -111,25 +117,32 @@ impl Target {
         let lut = encode_table();
         let row_bytes = self.width as usize * 3;
         let mut out = vec![0u8; row_bytes * self.height as usize];
-        out.par_chunks_mut(row_bytes * TILE as usize).enumerate().for_each(|(ty, band)| {
-            for t in &self.tiles[ty * self.tiles_x as usize..(ty + 1) * self.tiles_x as usize] {
-                let clear = t.pending_clear.map(|c| [encode(lut, c.x), encode(lut, c.y), encode(lut, c.z)]);
-                for y in 0..t.h as usize {
-                    let dst = &mut band[y * row_bytes + t.x0 as usize * 3..][..t.w as usize * 3];
-                    match clear {
-                        Some(rgb) => dst.chunks_exact_mut(3).for_each(|px| px.copy_from_slice(&rgb)),
-                        None => {
-                            let src = &t.color[y * TILE as usize..][..t.w as usize];
-                            for (px, c) in dst.chunks_exact_mut(3).zip(src) {
-                                px[0] = encode(lut, c.x);
-                                px[1] = encode(lut, c.y);
-                                px[2] = encode(lut, c.z);
+        out.par_chunks_mut(row_bytes * TILE as usize)
+            .enumerate()
+            .for_each(|(ty, band)| {
+                for t in &self.tiles[ty * self.tiles_x as usize..(ty + 1) * self.tiles_x as usize] {
+                    let clear = t
+                        .pending_clear
+                        .map(|c| [encode(lut, c.x), encode(lut, c.y), encode(lut, c.z)]);
+                    for y in 0..t.h as usize {
+                        let dst =
+                            &mut band[y * row_bytes + t.x0 as usize * 3..][..t.w as usize * 3];
+                        match clear {
+                            Some(rgb) => dst
+                                .chunks_exact_mut(3)
+                                .for_each(|px| px.copy_from_slice(&rgb)),
+                            None => {
+                                let src = &t.color[y * TILE as usize..][..t.w as usize];
+                                for (px, c) in dst.chunks_exact_mut(3).zip(src) {
+                                    px[0] = encode(lut, c.x);
+                                    px[1] = encode(lut, c.y);
+                                    px[2] = encode(lut, c.z);
+                                }
                             }
                         }
                     }
                 }
-            }
-        });
+            });
         out
     }
 
@@ -147,7 +160,13 @@ impl Target {
     pub fn depths(&self) -> Vec<Vec<f32>> {
         self.tiles
             .par_iter()
-            .map(|t| if t.pending_clear.is_some() { vec![0.0; TILE_PIXELS] } else { t.depth.clone() })
+            .map(|t| {
+                if t.pending_clear.is_some() {
+                    vec![0.0; TILE_PIXELS]
+                } else {
+                    t.depth.clone()
+                }
+            })
             .collect()
     }
 
@@ -165,7 +184,12 @@ impl Target {
     #[must_use]
     pub fn resolve(&self) -> Framebuffer {
         let n = self.width as usize * self.height as usize;
-        let mut fb = Framebuffer { width: self.width, height: self.height, color: vec![Vec4::ZERO; n], depth: vec![0.0; n] };
+        let mut fb = Framebuffer {
+            width: self.width,
+            height: self.height,
+            color: vec![Vec4::ZERO; n],
+            depth: vec![0.0; n],
+        };
         for t in &self.tiles {
             for y in 0..t.h {
                 let src = (y * TILE) as usize;
@@ -230,7 +254,9 @@ const ENCODE_STEPS: usize = 16384;
 fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
     static TABLE: std::sync::OnceLock<[u8; ENCODE_STEPS + 1]> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
-        std::array::from_fn(|i| (crate::texture::linear_to_srgb(i as f32 / ENCODE_STEPS as f32) * 255.0 + 0.5) as u8)
+        std::array::from_fn(|i| {
+            (crate::texture::linear_to_srgb(i as f32 / ENCODE_STEPS as f32) * 255.0 + 0.5) as u8
+        })
     })
 }
 

@@ -38,7 +38,9 @@ pub fn draw_lines(
 ) {
     let (w, h) = (target.width as f32, target.height as f32);
     for l in lines {
-        let (Some(&a), Some(&b)) = (clip.get(l[0] as usize), clip.get(l[1] as usize)) else { continue };
+        let (Some(&a), Some(&b)) = (clip.get(l[0] as usize), clip.get(l[1] as usize)) else {
+            continue;
+        };
         if !a.is_finite() || !b.is_finite() {
             continue;
         }
@@ -74,10 +76,17 @@ pub fn draw_lines(
         }
         let screen = |p: Vec4| {
             let iw = 1.0 / p.w;
-            Vec4::new((p.x * iw + 1.0) * 0.5 * w, (1.0 - p.y * iw) * 0.5 * h, p.z * iw, 0.0)
+            Vec4::new(
+                (p.x * iw + 1.0) * 0.5 * w,
+                (1.0 - p.y * iw) * 0.5 * h,
+                p.z * iw,
+                0.0,
+            )
         };
         let (sa, sb) = (screen(a), screen(b));
-        let Some((sa, sb)) = clip_to_rect(sa, sb, w, h) else { continue };
+        let Some((sa, sb)) = clip_to_rect(sa, sb, w, h) else {
+            continue;
+        };
         stats.lines_drawn += 1;
         bresenham(target, depth, sa, sb, style);
     }
@@ -89,7 +98,12 @@ fn clip_to_rect(a: Vec4, b: Vec4, w: f32, h: f32) -> Option<(Vec4, Vec4)> {
     let (mut t0, mut t1) = (0.0f32, 1.0f32);
     let lim_x = w - 1e-3;
     let lim_y = h - 1e-3;
-    for (p, q) in [(-d.x, a.x), (d.x, lim_x - a.x), (-d.y, a.y), (d.y, lim_y - a.y)] {
+    for (p, q) in [
+        (-d.x, a.x),
+        (d.x, lim_x - a.x),
+        (-d.y, a.y),
+        (d.y, lim_y - a.y),
+    ] {
         if p == 0.0 {
             if q < 0.0 {
                 return None;

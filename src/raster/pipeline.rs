@@ -127,7 +127,11 @@ impl Stats {
 /// Model-view-projection transform of positions, in parallel.
 #[must_use]
 pub fn transform_positions(mvp: Mat4, positions: &[Vec3]) -> Vec<Vec4> {
-    positions.par_iter().with_min_len(4096).map(|p| mvp * p.extend(1.0)).collect()
+    positions
+        .par_iter()
+        .with_min_len(4096)
+        .map(|p| mvp * p.extend(1.0))
+        .collect()
 }
 
 /// Triangles set up per parallel chunk.
@@ -137,12 +141,20 @@ const BATCH: usize = 64 * 1024;
 
 /// Guard-band scale of the x/y clip planes for a target size.
 pub(crate) fn guard(width: u32, height: u32) -> Vec2 {
-    Vec2::new(1.0 + 2.0 * GUARD_BAND_PX / width as f32, 1.0 + 2.0 * GUARD_BAND_PX / height as f32)
+    Vec2::new(
+        1.0 + 2.0 * GUARD_BAND_PX / width as f32,
+        1.0 + 2.0 * GUARD_BAND_PX / height as f32,
+    )
 }
 
 /// Rasterizes `draws` in order into `target` with `shader`. Runs on the current rayon pool;
 /// the image does not depend on its thread count.
-pub fn draw<S: FragmentShader>(target: &mut Target, draws: &[Draw<'_, S::Varying>], shader: &S, stats: &mut Stats) {
+pub fn draw<S: FragmentShader>(
+    target: &mut Target,
+    draws: &[Draw<'_, S::Varying>],
+    shader: &S,
+    stats: &mut Stats,
+) {
     let g = guard(target.width, target.height);
     let (w, h) = (target.width, target.height);
     let mut pending: Vec<SetupTri<S::Varying>> = Vec::new();
@@ -195,14 +207,19 @@ fn assemble<V: super::Varying>(
         return;
     };
     // Trivial reject against the real frustum; clipping needs against near/far and guard band.
-    let (fa, fb, fc) = (outcode(a.pos, Vec2::ONE), outcode(b.pos, Vec2::ONE), outcode(c.pos, Vec2::ONE));
+    let (fa, fb, fc) = (
+        outcode(a.pos, Vec2::ONE),
+        outcode(b.pos, Vec2::ONE),
+        outcode(c.pos, Vec2::ONE),
+    );
     if fa & fb & fc != 0 {
         st.culled_frustum += 1;
         return;
     }
     let (ga, gb, gc) = (outcode(a.pos, g), outcode(b.pos, g), outcode(c.pos, g));
     let need = ga | gb | gc;
-    let mut push = |tri: [&ClipVertex<V>; 3], st: &mut Stats| match setup(tri, w, h, d.id, d.state) {
+    let mut push = |tri: [&ClipVertex<V>; 3], st: &mut Stats| match setup(tri, w, h, d.id, d.state)
+    {
         Ok(s) => {
             out.push(s);
             true

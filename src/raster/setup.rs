@@ -82,7 +82,7 @@ pub(crate) fn setup<V: Varying>(
     for k in 0..3 {
         let p: Vec4 = v[k].pos;
         // Clipping leaves w >= near > 0; w = 0 can only come from a caller bypassing it.
-        if !(p.w > 0.0) {
+        if p.w.is_nan() || p.w <= 0.0 {
             return Err(Reject::Degenerate);
         }
         let inv_w = 1.0 / p.w;
@@ -159,7 +159,9 @@ pub(crate) fn setup<V: Varying>(
 /// Screen coordinate (pixels) -> fixed point, round half to even.
 #[inline]
 fn snap(s: f32) -> i64 {
-    (s * ONE as f32).clamp(-MAX_COORD, MAX_COORD).round_ties_even() as i64
+    (s * ONE as f32)
+        .clamp(-MAX_COORD, MAX_COORD)
+        .round_ties_even() as i64
 }
 
 #[inline]
@@ -172,11 +174,17 @@ mod tests {
     use super::*;
 
     fn cv(x: f32, y: f32) -> ClipVertex<()> {
-        ClipVertex { pos: Vec4::new(x, y, 0.5, 1.0), var: () }
+        ClipVertex {
+            pos: Vec4::new(x, y, 0.5, 1.0),
+            var: (),
+        }
     }
 
     fn state(cull: Cull) -> DrawState {
-        DrawState { cull, ..DrawState::opaque() }
+        DrawState {
+            cull,
+            ..DrawState::opaque()
+        }
     }
 
     #[test]
@@ -188,14 +196,21 @@ mod tests {
         for k in 0..3 {
             assert!(t.a[k] * px + t.b[k] * py + t.c[k] > 0);
         }
-        assert_eq!(setup([&a, &c, &b], 64, 64, 0, state(Cull::Back)).unwrap_err(), Reject::Backface);
+        assert_eq!(
+            setup([&a, &c, &b], 64, 64, 0, state(Cull::Back)).unwrap_err(),
+            Reject::Backface
+        );
     }
 
     #[test]
     fn bounds_are_pixel_centres_inside_the_box() {
         // Box from x = 1.5 px to 3.5 px covers centres of pixels 1, 2, 3.
         let s = |p: f32| p / 4.0 - 1.0;
-        let (a, b, c) = (cv(s(1.5), -s(1.5)), cv(s(3.5), -s(1.5)), cv(s(1.5), -s(3.5)));
+        let (a, b, c) = (
+            cv(s(1.5), -s(1.5)),
+            cv(s(3.5), -s(1.5)),
+            cv(s(1.5), -s(3.5)),
+        );
         let t = setup([&a, &b, &c], 8, 8, 0, state(Cull::None)).unwrap();
         assert_eq!((t.x0, t.x1, t.y0, t.y1), (1, 3, 1, 3));
     }

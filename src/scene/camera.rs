@@ -76,9 +76,19 @@ impl Camera {
 
     /// Like [`Camera::frame`] from a given azimuth and elevation (degrees).
     #[must_use]
-    pub fn frame_from(center: Vec3, radius: f32, aspect: f32, azimuth: f32, elevation: f32) -> Self {
+    pub fn frame_from(
+        center: Vec3,
+        radius: f32,
+        aspect: f32,
+        azimuth: f32,
+        elevation: f32,
+    ) -> Self {
         let yfov = 45f32.to_radians();
-        let radius = if radius.is_finite() && radius > 0.0 { radius } else { 1.0 };
+        let radius = if radius.is_finite() && radius > 0.0 {
+            radius
+        } else {
+            1.0
+        };
         let half_v = yfov * 0.5;
         let half_h = ((half_v.tan()) * aspect.max(1e-3)).atan();
         let half = half_v.min(half_h);
@@ -115,7 +125,9 @@ impl Camera {
                 if i & 4 == 0 { lo.z } else { hi.z },
             ) - center;
             let z = c.dot(dir);
-            d = d.max(z + c.dot(right).abs() / tan_h).max(z + c.dot(up).abs() / tan_v);
+            d = d
+                .max(z + c.dot(right).abs() / tan_h)
+                .max(z + c.dot(up).abs() / tan_v);
         }
         if d.is_finite() && d > 0.0 {
             cam.eye = center + dir * d;
@@ -172,7 +184,11 @@ mod tests {
 
     #[test]
     fn reversed_depth_maps_near_to_one_far_to_zero() {
-        let cam = Camera { near: 0.5, far: 10.0, ..Camera::default() };
+        let cam = Camera {
+            near: 0.5,
+            far: 10.0,
+            ..Camera::default()
+        };
         let p = cam.projection(1.0);
         let near = p * Vec4::new(0.0, 0.0, -0.5, 1.0);
         let far = p * Vec4::new(0.0, 0.0, -10.0, 1.0);

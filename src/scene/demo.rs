@@ -20,12 +20,28 @@ pub const DEMO_STACKS: u32 = 16;
 pub fn demo() -> Scene {
     let mut scene = Scene::default();
     let looks = [
-        ("wireframe", Style::Wireframe, Vec4::new(0.35, 0.65, 1.0, 1.0), 0.0),
-        ("faceted", Style::Flat, Vec4::new(0.9, 0.45, 0.12, 1.0), 0.35),
-        ("smooth", Style::Inherit, Vec4::new(0.75, 0.1, 0.1, 1.0), 0.6),
+        (
+            "wireframe",
+            Style::Wireframe,
+            Vec4::new(0.35, 0.65, 1.0, 1.0),
+            0.0,
+        ),
+        (
+            "faceted",
+            Style::Flat,
+            Vec4::new(0.9, 0.45, 0.12, 1.0),
+            0.35,
+        ),
+        (
+            "smooth",
+            Style::Inherit,
+            Vec4::new(0.75, 0.1, 0.1, 1.0),
+            0.6,
+        ),
     ];
     for (k, (name, style, color, spec)) in looks.into_iter().enumerate() {
-        let mut mesh = Mesh::sphere(1.0, DEMO_SLICES, DEMO_STACKS).expect("demo sphere parameters are valid");
+        let mut mesh =
+            Mesh::sphere(1.0, DEMO_SLICES, DEMO_STACKS).expect("demo sphere parameters are valid");
         mesh.name = format!("{name} sphere");
         mesh.material = Some(scene.materials.len());
         scene.materials.push(Material {
@@ -44,13 +60,25 @@ pub fn demo() -> Scene {
         scene.meshes.push(mesh);
     }
     scene.lights = vec![
-        Light::Ambient { color: Vec3::splat(0.08) },
+        Light::Ambient {
+            color: Vec3::splat(0.08),
+        },
         // The floodlight: a bright omni light above, left and in front.
-        Light::Point { position: Vec3::new(-4.0, 6.0, 7.0), color: Vec3::splat(0.95) },
+        Light::Point {
+            position: Vec3::new(-4.0, 6.0, 7.0),
+            color: Vec3::splat(0.95),
+        },
         // Stand-in for the spotlight: a warmer, dimmer light from the right.
-        Light::Point { position: Vec3::new(6.0, 2.0, 3.0), color: Vec3::new(0.5, 0.42, 0.3) },
+        Light::Point {
+            position: Vec3::new(6.0, 2.0, 3.0),
+            color: Vec3::new(0.5, 0.42, 0.3),
+        },
     ];
-    let mut camera = Camera { name: "demo".into(), eye: Vec3::new(0.0, 1.3, 6.6), ..Camera::default() };
+    let mut camera = Camera {
+        name: "demo".into(),
+        eye: Vec3::new(0.0, 1.3, 6.6),
+        ..Camera::default()
+    };
     camera.fit(Vec3::ZERO, 3.6);
     scene.cameras.push(camera);
     scene.report.file = "<demo>".into();

@@ -19,10 +19,12 @@ impl Light {
     #[must_use]
     pub fn default_rig() -> Vec<Light> {
         vec![
-            Light::Ambient { color: Vec3::splat(0.12) },
+            Light::Ambient {
+                color: Vec3::splat(0.1),
+            },
             Light::Directional {
                 direction: -Vec3::new(0.5, 1.0, 0.8).normalize(),
-                color: Vec3::splat(1.0),
+                color: Vec3::splat(0.9),
             },
             Light::Directional {
                 direction: -Vec3::new(-0.6, 0.2, -0.5).normalize(),

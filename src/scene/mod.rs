@@ -61,10 +61,10 @@ impl Default for Material {
     fn default() -> Self {
         Self {
             name: "default".into(),
-            base_color: Vec4::new(0.8, 0.8, 0.8, 1.0),
+            base_color: Vec4::new(0.6, 0.6, 0.6, 1.0),
             base_color_texture: None,
             ambient: Vec3::splat(1.0),
-            specular: Vec3::splat(0.25),
+            specular: Vec3::splat(0.2),
             shininess: 32.0,
             emissive: Vec3::ZERO,
             metallic: 0.0,
@@ -138,8 +138,12 @@ impl Scene {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         for inst in &self.instances {
-            let Some(mesh) = self.meshes.get(inst.mesh) else { continue };
-            let Some((mlo, mhi)) = mesh.bounds() else { continue };
+            let Some(mesh) = self.meshes.get(inst.mesh) else {
+                continue;
+            };
+            let Some((mlo, mhi)) = mesh.bounds() else {
+                continue;
+            };
             for i in 0..8 {
                 let c = Vec3::new(
                     if i & 1 == 0 { mlo.x } else { mhi.x },

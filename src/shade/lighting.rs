@@ -61,7 +61,13 @@ pub struct Surface {
 /// Evaluates the lighting equation at `p` with unit normal `n`, eye at `eye`.
 #[must_use]
 #[inline]
-pub fn illuminate<const BLINN: bool>(lights: &LightSet, s: &Surface, p: Vec3, n: Vec3, eye: Vec3) -> Vec3 {
+pub fn illuminate<const BLINN: bool>(
+    lights: &LightSet,
+    s: &Surface,
+    p: Vec3,
+    n: Vec3,
+    eye: Vec3,
+) -> Vec3 {
     let v = (eye - p).normalize_or_zero();
     let spec = s.specular != Vec3::ZERO;
     let mut c = lights.ambient * s.ambient * s.diffuse;
@@ -97,18 +103,29 @@ mod tests {
     use super::*;
 
     fn white() -> Surface {
-        Surface { diffuse: Vec3::ONE, specular: Vec3::ONE, ambient: Vec3::ONE, shininess: 10.0 }
+        Surface {
+            diffuse: Vec3::ONE,
+            specular: Vec3::ONE,
+            ambient: Vec3::ONE,
+            shininess: 10.0,
+        }
     }
 
     #[test]
     fn lambert_and_mirror_highlight() {
-        let lights = LightSet::new(&[Light::Directional { direction: -Vec3::Z, color: Vec3::ONE }]);
+        let lights = LightSet::new(&[Light::Directional {
+            direction: -Vec3::Z,
+            color: Vec3::ONE,
+        }]);
         // Light and eye straight above the surface: N.L = 1, R.V = 1.
         let c = illuminate::<false>(&lights, &white(), Vec3::ZERO, Vec3::Z, Vec3::Z * 5.0);
         assert!((c - Vec3::splat(2.0)).abs().max_element() < 1e-6, "{c}");
         // Light at 60 degrees: diffuse 0.5; eye on the mirror direction: specular 1.
         let l = Vec3::new(3f32.sqrt() / 2.0, 0.0, 0.5);
-        let lights = LightSet::new(&[Light::Directional { direction: -l, color: Vec3::ONE }]);
+        let lights = LightSet::new(&[Light::Directional {
+            direction: -l,
+            color: Vec3::ONE,
+        }]);
         let eye = Vec3::new(-l.x, 0.0, l.z) * 4.0;
         let c = illuminate::<false>(&lights, &white(), Vec3::ZERO, Vec3::Z, eye);
         assert!((c.x - 1.5).abs() < 1e-5, "{c}");
@@ -119,8 +136,13 @@ mod tests {
     #[test]
     fn back_lit_gets_only_ambient() {
         let lights = LightSet::new(&[
-            Light::Ambient { color: Vec3::splat(0.1) },
-            Light::Directional { direction: Vec3::Z, color: Vec3::ONE },
+            Light::Ambient {
+                color: Vec3::splat(0.1),
+            },
+            Light::Directional {
+                direction: Vec3::Z,
+                color: Vec3::ONE,
+            },
         ]);
         let c = illuminate::<true>(&lights, &white(), Vec3::ZERO, Vec3::Z, Vec3::Z);
         assert!((c - Vec3::splat(0.1)).abs().max_element() < 1e-7);

@@ -16,8 +16,8 @@
 
 mod lighting;
 mod render;
-mod vertex;
 mod shaders;
+mod vertex;
 
 pub use lighting::{illuminate, LightSet, Surface};
 pub use render::{default_camera, render, render_into, Frame, Prepared, RenderOptions};
@@ -71,10 +71,16 @@ impl Shading {
 impl std::str::FromStr for Shading {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        Shading::ALL.into_iter().find(|m| m.name().eq_ignore_ascii_case(s)).ok_or_else(|| {
-            let names: Vec<_> = Shading::ALL.iter().map(|m| m.name()).collect();
-            format!("unknown shading mode '{s}' (expected one of: {})", names.join(", "))
-        })
+        Shading::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| {
+                let names: Vec<_> = Shading::ALL.iter().map(|m| m.name()).collect();
+                format!(
+                    "unknown shading mode '{s}' (expected one of: {})",
+                    names.join(", ")
+                )
+            })
     }
 }
 

@@ -7,7 +7,9 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::lighting::{LightSet, Surface};
-use super::shaders::{ColorShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying};
+use super::shaders::{
+    ColorShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying,
+};
 use super::vertex;
 use super::Shading;
 use crate::mesh::TriMesh;
@@ -25,7 +27,9 @@ impl Prepared {
     /// Triangulates every mesh (in parallel).
     #[must_use]
     pub fn new(scene: &Scene) -> Self {
-        Self { meshes: scene.meshes.par_iter().map(|m| m.triangulate()).collect() }
+        Self {
+            meshes: scene.meshes.par_iter().map(|m| m.triangulate()).collect(),
+        }
     }
 }
 
@@ -110,35 +114,64 @@ impl Frame {
 pub fn render(scene: &Scene, prepared: &Prepared, opts: &RenderOptions) -> Frame {
     let mut target = Target::new(opts.width, opts.height, opts.background);
     let (stats, camera) = render_into(&mut target, scene, prepared, opts);
-    Frame { target, stats, camera }
+    Frame {
+        target,
+        stats,
+        camera,
+    }
 }
 
 /// Renders into an existing target (cleared first, resized if needed), so an interactive
 /// viewer or a benchmark reuses its tile memory from frame to frame.
-pub fn render_into(target: &mut Target, scene: &Scene, prepared: &Prepared, opts: &RenderOptions) -> (Stats, Camera) {
+pub fn render_into(
+    target: &mut Target,
+    scene: &Scene,
+    prepared: &Prepared,
+    opts: &RenderOptions,
+) -> (Stats, Camera) {
     let (w, h) = (opts.width.max(1), opts.height.max(1));
     if (target.width, target.height) != (w, h) {
         *target = Target::new(w, h, opts.background);
     } else {
         target.clear(opts.background);
     }
-    let camera = opts.camera.clone().unwrap_or_else(|| default_camera(scene, w as f32 / h as f32));
+    let camera = opts
+        .camera
+        .clone()
+        .unwrap_or_else(|| default_camera(scene, w as f32 / h as f32));
     let view = camera.view();
     let vp = camera.projection(w as f32 / h as f32) * view;
-    let lights = if scene.lights.is_empty() { LightSet::new(&Light::default_rig()) } else { LightSet::new(&scene.lights) };
+    let lights = if scene.lights.is_empty() {
+        LightSet::new(&Light::default_rig())
+    } else {
+        LightSet::new(&scene.lights)
+    };
     let mut stats = Stats::default();
     let mut params = Vec::new();
     let mut insts = Vec::new();
     let planes = frustum_planes(vp);
     for inst in &scene.instances {
-        let Some(tri) = prepared.meshes.get(inst.mesh) else { continue };
-        let Some(mesh) = scene.meshes.get(inst.mesh) else { continue };
+        let Some(tri) = prepared.meshes.get(inst.mesh) else {
+            continue;
+        };
+        let Some(mesh) = scene.meshes.get(inst.mesh) else {
+            continue;
+        };
         if tri.triangles.is_empty() || !inst.world.is_finite() {
             continue;
         }
-        let scale = inst.world.x_axis.length().max(inst.world.y_axis.length()).max(inst.world.z_axis.length());
+        let scale = inst
+            .world
+            .x_axis
+            .length()
+            .max(inst.world.y_axis.length())
+            .max(inst.world.z_axis.length());
         let center = inst.world.transform_point3(tri.center);
-        if tri.radius < 0.0 || planes.iter().any(|p| p.truncate().dot(center) + p.w < -tri.radius * scale) {
+        if tri.radius < 0.0
+            || planes
+                .iter()
+                .any(|p| p.truncate().dot(center) + p.w < -tri.radius * scale)
+        {
             stats.objects_culled += 1;
             stats.culled_frustum += tri.triangles.len() as u64;
             stats.triangles_in += tri.triangles.len() as u64;
@@ -158,7 +191,11 @@ pub fn render_into(target: &mut Target, scene: &Scene, prepared: &Prepared, opts
         let debug = matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv);
         let blend = material.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
         let state = DrawState {
-            cull: if material.double_sided { Cull::None } else { Cull::Back },
+            cull: if material.double_sided {
+                Cull::None
+            } else {
+                Cull::Back
+            },
             depth_write: !blend,
             blend: if blend { Blend::Alpha } else { Blend::Replace },
             flip_winding: inst.world.determinant() < 0.0,
@@ -166,15 +203,27 @@ pub fn render_into(target: &mut Target, scene: &Scene, prepared: &Prepared, opts
         };
         let m = &*material;
         params.push(DrawParams {
-            base: if m.base_color.is_finite() { m.base_color } else { Vec4::ONE },
+            base: if m.base_color.is_finite() {
+                m.base_color
+            } else {
+                Vec4::ONE
+            },
             surface: Surface {
                 diffuse: Vec3::ONE,
                 specular: m.specular,
                 ambient: m.ambient,
-                shininess: if m.shininess.is_finite() { m.shininess.clamp(1.0, 2000.0) } else { 1.0 },
+                shininess: if m.shininess.is_finite() {
+                    m.shininess.clamp(1.0, 2000.0)
+                } else {
+                    1.0
+                },
             },
             texture: texture.clone(),
-            alpha: if debug { AlphaMode::Opaque } else { m.alpha_mode },
+            alpha: if debug {
+                AlphaMode::Opaque
+            } else {
+                m.alpha_mode
+            },
             double_sided: m.double_sided,
         });
         let textured = mode == Shading::Textured && texture.is_some() && tri.uvs.is_some();
@@ -193,11 +242,24 @@ pub fn render_into(target: &mut Target, scene: &Scene, prepared: &Prepared, opts
         });
     }
 
-    let ctx = Ctx { params: &params, lights: &lights, eye: camera.eye, camera: &camera };
+    let ctx = Ctx {
+        params: &params,
+        lights: &lights,
+        eye: camera.eye,
+        camera: &camera,
+    };
     let (blended, opaque): (Vec<&Inst>, Vec<&Inst>) = insts.iter().partition(|i| i.blend);
-    let solid: Vec<&Inst> = opaque.iter().copied().filter(|i| i.mode != Shading::Wireframe).collect();
+    let solid: Vec<&Inst> = opaque
+        .iter()
+        .copied()
+        .filter(|i| i.mode != Shading::Wireframe)
+        .collect();
     draw_group(target, &solid, &ctx, &mut stats);
-    let wire: Vec<&Inst> = opaque.iter().copied().filter(|i| i.mode == Shading::Wireframe).collect();
+    let wire: Vec<&Inst> = opaque
+        .iter()
+        .copied()
+        .filter(|i| i.mode == Shading::Wireframe)
+        .collect();
     draw_wireframe(target, &wire, &ctx, &mut stats);
     let mut blended = blended;
     blended.sort_by(|a, b| b.distance.total_cmp(&a.distance));
@@ -231,14 +293,27 @@ fn frustum_planes(vp: Mat4) -> [Vec4; 6] {
 
 /// Draws solid instances grouped by the shader they need.
 fn draw_group(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut Stats) {
-    let pick = |f: &dyn Fn(&Inst) -> bool| -> Vec<&Inst> { insts.iter().copied().filter(|i| f(i)).collect() };
+    let pick = |f: &dyn Fn(&Inst) -> bool| -> Vec<&Inst> {
+        insts.iter().copied().filter(|i| f(i)).collect()
+    };
     let colour = pick(&|i| matches!(i.mode, Shading::Flat | Shading::Gouraud));
     if !colour.is_empty() {
-        let data: Vec<_> = colour.iter().map(|i| vertex::colour(i, ctx.params, ctx.lights, ctx.eye)).collect();
-        let draws: Vec<_> = colour.iter().zip(&data).map(|(i, (c, v, t))| draw_of(i, c, v, t)).collect();
+        let data: Vec<_> = colour
+            .iter()
+            .map(|i| vertex::colour(i, ctx.params, ctx.lights, ctx.eye))
+            .collect();
+        let draws: Vec<_> = colour
+            .iter()
+            .zip(&data)
+            .map(|(i, (c, v, t))| draw_of(i, c, v, t))
+            .collect();
         raster::draw(target, &draws, &ColorShader { draws: ctx.params }, stats);
     }
-    for (mode, blinn) in [(Shading::Phong, false), (Shading::Blinn, true), (Shading::Textured, true)] {
+    for (mode, blinn) in [
+        (Shading::Phong, false),
+        (Shading::Blinn, true),
+        (Shading::Textured, true),
+    ] {
         let of_mode = pick(&|i| i.mode == mode);
         for tex in [false, true] {
             for col in [false, true] {
@@ -250,37 +325,75 @@ fn draw_group(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut Stats
                 match (tex, col, blinn) {
                     (false, false, false) => lit::<(Vec3, Vec3), false>(target, &group, ctx, stats),
                     (false, false, true) => lit::<(Vec3, Vec3), true>(target, &group, ctx, stats),
-                    (false, true, false) => lit::<(Vec3, Vec3, Vec4), false>(target, &group, ctx, stats),
-                    (false, true, true) => lit::<(Vec3, Vec3, Vec4), true>(target, &group, ctx, stats),
+                    (false, true, false) => {
+                        lit::<(Vec3, Vec3, Vec4), false>(target, &group, ctx, stats)
+                    }
+                    (false, true, true) => {
+                        lit::<(Vec3, Vec3, Vec4), true>(target, &group, ctx, stats)
+                    }
                     (true, false, _) => lit::<(Vec3, Vec3, Vec2), true>(target, &group, ctx, stats),
-                    (true, true, _) => lit::<(Vec3, Vec3, Vec2, Vec4), true>(target, &group, ctx, stats),
+                    (true, true, _) => {
+                        lit::<(Vec3, Vec3, Vec2, Vec4), true>(target, &group, ctx, stats)
+                    }
                 }
             }
         }
     }
-    for (mode, debug) in [(Shading::Normals, Debug::Normals), (Shading::Depth, Debug::Depth), (Shading::Uv, Debug::Uv)] {
+    for (mode, debug) in [
+        (Shading::Normals, Debug::Normals),
+        (Shading::Depth, Debug::Depth),
+        (Shading::Uv, Debug::Uv),
+    ] {
         let group = pick(&|i| i.mode == mode);
         if group.is_empty() {
             continue;
         }
         let data: Vec<_> = group.iter().map(|i| vertex::debug(i, debug)).collect();
-        let draws: Vec<_> = group.iter().zip(&data).map(|(i, (c, v))| draw_of(i, c, v, &i.tri.triangles)).collect();
-        let shader = DebugShader { mode: debug, near: ctx.camera.near, far: ctx.camera.far };
+        let draws: Vec<_> = group
+            .iter()
+            .zip(&data)
+            .map(|(i, (c, v))| draw_of(i, c, v, &i.tri.triangles))
+            .collect();
+        let shader = DebugShader {
+            mode: debug,
+            near: ctx.camera.near,
+            far: ctx.camera.far,
+        };
         raster::draw(target, &draws, &shader, stats);
     }
 }
 
 fn draw_of<'a, V>(i: &Inst, clip: &'a [Vec4], var: &'a [V], tris: &'a [[u32; 3]]) -> Draw<'a, V> {
-    Draw { id: i.id, clip, varyings: var, triangles: tris, state: i.state }
+    Draw {
+        id: i.id,
+        clip,
+        varyings: var,
+        triangles: tris,
+        state: i.state,
+    }
 }
 
-fn lit<V: LitVarying, const BLINN: bool>(target: &mut Target, group: &[&Inst], ctx: &Ctx, stats: &mut Stats) {
+fn lit<V: LitVarying, const BLINN: bool>(
+    target: &mut Target,
+    group: &[&Inst],
+    ctx: &Ctx,
+    stats: &mut Stats,
+) {
     if group.is_empty() {
         return;
     }
     let data: Vec<(Vec<Vec4>, Vec<V>)> = group.iter().map(|i| vertex::lit::<V>(i)).collect();
-    let draws: Vec<_> = group.iter().zip(&data).map(|(i, (c, v))| draw_of(i, c, v, &i.tri.triangles)).collect();
-    let shader = LitShader::<V, BLINN> { draws: ctx.params, lights: ctx.lights, eye: ctx.eye, _v: std::marker::PhantomData };
+    let draws: Vec<_> = group
+        .iter()
+        .zip(&data)
+        .map(|(i, (c, v))| draw_of(i, c, v, &i.tri.triangles))
+        .collect();
+    let shader = LitShader::<V, BLINN> {
+        draws: ctx.params,
+        lights: ctx.lights,
+        eye: ctx.eye,
+        _v: std::marker::PhantomData,
+    };
     raster::draw(target, &draws, &shader, stats);
 }
 
@@ -291,13 +404,26 @@ fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut S
         return;
     }
     let saved = target.depths();
-    let clips: Vec<Vec<Vec4>> = insts.iter().map(|i| raster::transform_positions(i.mvp, &i.tri.positions)).collect();
-    let units: Vec<Vec<()>> = insts.iter().map(|i| vec![(); i.tri.positions.len()]).collect();
-    let state = |i: &Inst| DrawState { color_write: false, cull: Cull::None, ..i.state };
+    let clips: Vec<Vec<Vec4>> = insts
+        .iter()
+        .map(|i| raster::transform_positions(i.mvp, &i.tri.positions))
+        .collect();
+    let units: Vec<Vec<()>> = insts
+        .iter()
+        .map(|i| vec![(); i.tri.positions.len()])
+        .collect();
+    let state = |i: &Inst| DrawState {
+        color_write: false,
+        cull: Cull::None,
+        ..i.state
+    };
     let draws: Vec<Draw<()>> = insts
         .iter()
         .zip(clips.iter().zip(&units))
-        .map(|(i, (c, u))| Draw { state: state(i), ..draw_of(i, c, u, &i.tri.triangles) })
+        .map(|(i, (c, u))| Draw {
+            state: state(i),
+            ..draw_of(i, c, u, &i.tri.triangles)
+        })
         .collect();
     let mut depth_stats = Stats::default();
     raster::draw(target, &draws, &DepthOnly, &mut depth_stats);
@@ -306,7 +432,12 @@ fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut S
     for (i, clip) in insts.iter().zip(&clips) {
         let base = ctx.params[i.id as usize].base;
         let color = (base.truncate() * 0.85 + Vec3::splat(0.15)).extend(1.0);
-        let style = LineStyle { color, depth_test: true, depth_tolerance: 2e-3, depth_write: true };
+        let style = LineStyle {
+            color,
+            depth_test: true,
+            depth_tolerance: 2e-3,
+            depth_write: true,
+        };
         stats.triangles_in += i.tri.triangles.len() as u64;
         raster::draw_lines(target, Some(&scratch), clip, &i.tri.edges, &style, stats);
     }

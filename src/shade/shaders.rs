@@ -143,7 +143,10 @@ impl<V: LitVarying, const BLINN: bool> FragmentShader for LitShader<'_, V, BLINN
         if !tri.front {
             n = -n;
         }
-        let s = Surface { diffuse: base.truncate(), ..d.surface };
+        let s = Surface {
+            diffuse: base.truncate(),
+            ..d.surface
+        };
         let c = illuminate::<BLINN>(self.lights, &s, v.position(), n, self.eye);
         d.alpha(c.extend(base.w))
     }
@@ -177,13 +180,20 @@ impl FragmentShader for DebugShader {
                 let n = v.normalize_or_zero() * if tri.front { 1.0 } else { -1.0 };
                 n * 0.5 + 0.5
             }
-            Debug::Depth => Vec3::splat(1.0 - ((v.x - self.near) / (self.far - self.near)).clamp(0.0, 1.0)),
+            Debug::Depth => {
+                Vec3::splat(1.0 - ((v.x - self.near) / (self.far - self.near)).clamp(0.0, 1.0))
+            }
             Debug::Uv => {
                 let f = |x: f32| if x.is_finite() { x - x.floor() } else { 0.0 };
                 Vec3::new(f(v.x), f(v.y), 0.0)
             }
         };
-        Some(Vec4::new(srgb_to_linear(display.x), srgb_to_linear(display.y), srgb_to_linear(display.z), 1.0))
+        Some(Vec4::new(
+            srgb_to_linear(display.x),
+            srgb_to_linear(display.y),
+            srgb_to_linear(display.z),
+            1.0,
+        ))
     }
 }
 

@@ -52,7 +52,10 @@ pub(super) fn colour<'a>(
             n = -n;
         }
         let base = d.base * c;
-        let s = Surface { diffuse: base.truncate(), ..d.surface };
+        let s = Surface {
+            diffuse: base.truncate(),
+            ..d.surface
+        };
         illuminate::<false>(lights, &s, p, n, eye).extend(base.w)
     };
     let tri = i.tri;
@@ -83,7 +86,12 @@ pub(super) fn colour<'a>(
     let first_color: Vec<Vec4> = match &tri.colors {
         Some(c) => {
             let mut fc = vec![Vec4::ONE; nf];
-            for (t, f) in tri.triangles.iter().rev().zip(tri.triangle_facets.iter().rev()) {
+            for (t, f) in tri
+                .triangles
+                .iter()
+                .rev()
+                .zip(tri.triangle_facets.iter().rev())
+            {
                 if let Some(slot) = fc.get_mut(*f as usize) {
                     *slot = c[t[0] as usize];
                 }
@@ -96,20 +104,30 @@ pub(super) fn colour<'a>(
         .into_par_iter()
         .with_min_len(MIN_LEN)
         .map(|f| {
-            let c = if area[f] > 0.0 { centroid[f] / area[f] } else { Vec3::ZERO };
+            let c = if area[f] > 0.0 {
+                centroid[f] / area[f]
+            } else {
+                Vec3::ZERO
+            };
             let p = i.world.transform_point3(c);
             let n = (i.normal * tri.facet_normals[f]).normalize_or_zero();
             shade(p, n, first_color[f])
         })
         .collect();
-    let corners: Vec<Vec3> = tri.triangles.iter().flat_map(|t| t.map(|k| tri.positions[k as usize])).collect();
+    let corners: Vec<Vec3> = tri
+        .triangles
+        .iter()
+        .flat_map(|t| t.map(|k| tri.positions[k as usize]))
+        .collect();
     let clip = transform_positions(i.mvp, &corners);
     let var = tri
         .triangle_facets
         .iter()
         .flat_map(|&f| [facet_colour.get(f as usize).copied().unwrap_or(Vec4::ZERO); 3])
         .collect();
-    let tris = (0..tri.triangles.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+    let tris = (0..tri.triangles.len() as u32)
+        .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+        .collect();
     (clip, var, Cow::Owned(tris))
 }
 

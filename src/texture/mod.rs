@@ -32,6 +32,9 @@ pub struct Sampler {
     pub filter: Filter,
 }
 
+/// Largest procedural chequerboard edge, in texels.
+pub const MAX_CHECKER: u32 = 8192;
+
 /// An RGBA8 image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
@@ -82,33 +85,58 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 
 impl Texture {
     /// A texture from RGBA8 texels (row-major, top row first).
-    pub fn new(name: impl Into<String>, width: u32, height: u32, texels: Vec<[u8; 4]>, srgb: bool) -> Result<Self, TextureError> {
+    pub fn new(
+        name: impl Into<String>,
+        width: u32,
+        height: u32,
+        texels: Vec<[u8; 4]>,
+        srgb: bool,
+    ) -> Result<Self, TextureError> {
         if width == 0 || height == 0 {
             return Err(TextureError::Empty);
         }
         if texels.len() as u64 != u64::from(width) * u64::from(height) {
-            return Err(TextureError::Size { width, height, got: texels.len() });
+            return Err(TextureError::Size {
+                width,
+                height,
+                got: texels.len(),
+            });
         }
-        Ok(Self { name: name.into(), width, height, texels, srgb, sampler: Sampler::default() })
+        Ok(Self {
+            name: name.into(),
+            width,
+            height,
+            texels,
+            srgb,
+            sampler: Sampler::default(),
+        })
     }
 
     /// A procedural chequerboard of `n` x `n` squares, `size` texels square (function texture
-    /// of seed 000 §9.5).
+    /// of seed 000 §9.5). `size` is clamped to 1..=[`MAX_CHECKER`], `n` to 1..=`size`.
     #[must_use]
     pub fn checker(size: u32, n: u32, a: [u8; 4], b: [u8; 4]) -> Self {
-        let size = size.max(1);
-        let n = n.max(1);
-        let texels = (0..size * size)
+        let size = size.clamp(1, MAX_CHECKER);
+        let n = u64::from(n.clamp(1, size));
+        let s = u64::from(size);
+        let texels = (0..s * s)
             .map(|i| {
-                let (x, y) = (i % size, i / size);
-                if ((x * n / size) + (y * n / size)) % 2 == 0 {
+                let (x, y) = (i % s, i / s);
+                if ((x * n / s) + (y * n / s)) % 2 == 0 {
                     a
                 } else {
                     b
                 }
             })
             .collect();
-        Self { name: format!("checker{n}"), width: size, height: size, texels, srgb: true, sampler: Sampler::default() }
+        Self {
+            name: format!("checker{n}"),
+            width: size,
+            height: size,
+            texels,
+            srgb: true,
+            sampler: Sampler::default(),
+        }
     }
 
     /// Texel (x, y) in linear light (RGB decoded from sRGB when `srgb`; alpha is linear).
@@ -118,9 +146,19 @@ impl Texture {
         let t = self.texels[(y * self.width + x) as usize];
         if self.srgb {
             let tab = srgb_table();
-            Vec4::new(tab[t[0] as usize], tab[t[1] as usize], tab[t[2] as usize], f32::from(t[3]) / 255.0)
+            Vec4::new(
+                tab[t[0] as usize],
+                tab[t[1] as usize],
+                tab[t[2] as usize],
+                f32::from(t[3]) / 255.0,
+            )
         } else {
-            Vec4::new(f32::from(t[0]), f32::from(t[1]), f32::from(t[2]), f32::from(t[3])) / 255.0
+            Vec4::new(
+                f32::from(t[0]),
+                f32::from(t[1]),
+                f32::from(t[2]),
+                f32::from(t[3]),
+            ) / 255.0
         }
     }
 
@@ -198,7 +236,11 @@ mod tests {
     #[test]
     fn bilinear_between_texels() {
         let t = Texture::new("t", 2, 1, vec![[0, 0, 0, 255], [255, 255, 255, 255]], false).unwrap();
-        let s = Sampler { wrap_u: Wrap::ClampToEdge, wrap_v: Wrap::ClampToEdge, filter: Filter::Bilinear };
+        let s = Sampler {
+            wrap_u: Wrap::ClampToEdge,
+            wrap_v: Wrap::ClampToEdge,
+            filter: Filter::Bilinear,
+        };
         let mid = t.sample_with(Vec2::new(0.5, 0.5), s);
         assert!((mid.x - 0.5).abs() < 1e-6, "{mid}");
     }

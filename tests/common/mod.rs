@@ -24,9 +24,15 @@ pub struct Tolerance {
 
 /// Shaded images: deterministic here, but `powf` and friends may differ in the last bit
 /// between platforms' libm, which moves a code value on rare pixels.
-pub const SHADED: Tolerance = Tolerance { max_channel: 2, max_fraction: 0.002 };
+pub const SHADED: Tolerance = Tolerance {
+    max_channel: 2,
+    max_fraction: 0.002,
+};
 /// Coverage-only images (wireframe, flat colours): exact.
-pub const EXACT: Tolerance = Tolerance { max_channel: 0, max_fraction: 0.0 };
+pub const EXACT: Tolerance = Tolerance {
+    max_channel: 0,
+    max_fraction: 0.0,
+};
 
 /// A scene with one instance of `mesh` using `material`.
 pub fn scene_of(mut mesh: Mesh, material: Material) -> Scene {
@@ -34,13 +40,23 @@ pub fn scene_of(mut mesh: Mesh, material: Material) -> Scene {
     mesh.material = Some(0);
     scene.materials.push(material);
     scene.meshes.push(mesh);
-    scene.instances.push(Instance { mesh: 0, world: Mat4::IDENTITY, name: "test".into(), style: Style::Inherit });
+    scene.instances.push(Instance {
+        mesh: 0,
+        world: Mat4::IDENTITY,
+        name: "test".into(),
+        style: Style::Inherit,
+    });
     scene
 }
 
 /// A mesh from raw triangles (positions, triangle corners), averaged normals.
 pub fn triangles(positions: Vec<Vec3>, corners: Vec<u32>) -> Mesh {
-    let data = MeshData { name: "tris".into(), positions, corners, ..MeshData::default() };
+    let data = MeshData {
+        name: "tris".into(),
+        positions,
+        corners,
+        ..MeshData::default()
+    };
     Mesh::new(data, NormalPolicy::default()).expect("valid test mesh")
 }
 
@@ -48,15 +64,34 @@ pub fn triangles(positions: Vec<Vec3>, corners: Vec<u32>) -> Mesh {
 pub fn checker_cube() -> Scene {
     let mut scene = scene_of(
         Mesh::cube(1.6).expect("cube"),
-        Material { base_color: Vec4::ONE, base_color_texture: Some(TextureRef { texture: 0, tex_coord: 0 }), ..Material::default() },
+        Material {
+            base_color: Vec4::ONE,
+            base_color_texture: Some(TextureRef {
+                texture: 0,
+                tex_coord: 0,
+            }),
+            ..Material::default()
+        },
     );
-    scene.textures.push(Arc::new(Texture::checker(64, 8, [230, 230, 230, 255], [40, 90, 200, 255])));
+    scene.textures.push(Arc::new(Texture::checker(
+        64,
+        8,
+        [230, 230, 230, 255],
+        [40, 90, 200, 255],
+    )));
     scene
 }
 
 /// Renders with explicit options on a pool of `threads` threads.
-pub fn render_with(scene: &Scene, opts: &RenderOptions, threads: usize) -> (Framebuffer, realist::raster::Stats) {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+pub fn render_with(
+    scene: &Scene,
+    opts: &RenderOptions,
+    threads: usize,
+) -> (Framebuffer, realist::raster::Stats) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool");
     pool.install(|| {
         let prepared = Prepared::new(scene);
         let frame = shade::render(scene, &prepared, opts);
@@ -65,8 +100,20 @@ pub fn render_with(scene: &Scene, opts: &RenderOptions, threads: usize) -> (Fram
 }
 
 /// Renders `scene` at `w` x `h` with a mode (None = the scene's styles) and optional camera.
-pub fn render(scene: &Scene, w: u32, h: u32, shading: Option<Shading>, camera: Option<Camera>) -> Framebuffer {
-    let opts = RenderOptions { width: w, height: h, shading, camera, ..RenderOptions::default() };
+pub fn render(
+    scene: &Scene,
+    w: u32,
+    h: u32,
+    shading: Option<Shading>,
+    camera: Option<Camera>,
+) -> Framebuffer {
+    let opts = RenderOptions {
+        width: w,
+        height: h,
+        shading,
+        camera,
+        ..RenderOptions::default()
+    };
     render_with(scene, &opts, 2).0
 }
 
@@ -85,7 +132,9 @@ pub fn covered(fb: &Framebuffer) -> usize {
 }
 
 fn golden_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").join("golden")
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join("golden")
 }
 
 /// Compares `fb` (sRGB-encoded) with `tests/golden/NAME.png`. On failure writes the image and
@@ -98,19 +147,36 @@ pub fn check_golden(name: &str, fb: &Framebuffer, tol: Tolerance) {
     let (w, h) = (fb.width, fb.height);
     if std::env::var_os("REPLACE").is_some() {
         std::fs::create_dir_all(golden_dir()).expect("golden dir");
-        image::RgbImage::from_raw(w, h, got).expect("size").save(&path).expect("write golden");
+        image::RgbImage::from_raw(w, h, got)
+            .expect("size")
+            .save(&path)
+            .expect("write golden");
         eprintln!("wrote golden {}", path.display());
         return;
     }
     let want = image::open(&path)
-        .unwrap_or_else(|e| panic!("golden {} unreadable ({e}); run with REPLACE=1 to create it", path.display()))
+        .unwrap_or_else(|e| {
+            panic!(
+                "golden {} unreadable ({e}); run with REPLACE=1 to create it",
+                path.display()
+            )
+        })
         .to_rgb8();
-    assert_eq!((want.width(), want.height()), (w, h), "golden {name} has a different size");
+    assert_eq!(
+        (want.width(), want.height()),
+        (w, h),
+        "golden {name} has a different size"
+    );
     let mut diff = vec![0u8; got.len()];
     let mut over = 0usize;
     let mut worst = 0u8;
     for (p, (a, b)) in got.chunks(3).zip(want.as_raw().chunks(3)).enumerate() {
-        let d = a.iter().zip(b).map(|(x, y)| x.abs_diff(*y)).max().unwrap_or(0);
+        let d = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
         worst = worst.max(d);
         if d > tol.max_channel {
             over += 1;
@@ -121,10 +187,14 @@ pub fn check_golden(name: &str, fb: &Framebuffer, tol: Tolerance) {
     }
     let fraction = over as f64 / (w * h) as f64;
     if fraction > tol.max_fraction {
-        let out = Path::new(env!("CARGO_MANIFEST_DIR")).join("target").join("golden-diff");
+        let out = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("target")
+            .join("golden-diff");
         std::fs::create_dir_all(&out).expect("diff dir");
-        let _ = image::RgbImage::from_raw(w, h, got).map(|i| i.save(out.join(format!("{name}.png"))));
-        let _ = image::RgbImage::from_raw(w, h, diff).map(|i| i.save(out.join(format!("{name}-diff.png"))));
+        let _ =
+            image::RgbImage::from_raw(w, h, got).map(|i| i.save(out.join(format!("{name}.png"))));
+        let _ = image::RgbImage::from_raw(w, h, diff)
+            .map(|i| i.save(out.join(format!("{name}-diff.png"))));
         panic!(
             "golden {name}: {over} pixels ({:.4}%) differ by more than {} (worst {worst}); allowed {:.4}%. See {}",
             fraction * 100.0,

@@ -1,0 +1,346 @@
+//! glTF 2.0 (`.gltf` with external or `data:` buffers, and `.glb`) into a [`Scene`].
+//!
+//! The file is parsed into the `gltf` crate's JSON types only, and only the parts that are
+//! drawn ([`Json`]: animations and skins are merely counted, so their quirks cannot reject
+//! a file); the crate's `Document` wrapper and its validation are not used, because they
+//! index without checks and panic on unresolved references. Instead every index is looked up with `get`,
+//! buffers and images are resolved here ([`uri`], GLB chunks by [`glb`]), and accessors are
+//! read by [`accessor`] with checked byte ranges (including sparse accessors and accessors
+//! without a bufferView, which read as zeros).
+//!
+//! What is drawn: the default scene (else scene 0, else every root node), walked
+//! iteratively by [`nodes`]; every triangle, strip and fan primitive of every node with a
+//! mesh becomes one [`Mesh`] (built once, shared by all nodes that use it) and one
+//! [`Instance`] with the node's world matrix. Meshes without NORMAL get flat normals, as the
+//! spec requires; positions are welded so topology reports mean something.
+//!
+//! **Mirroring transforms:** a node whose world matrix has a negative determinant turns its
+//! triangles' winding around. The loader leaves the mesh as it is; the renderer checks
+//! `instance.world.determinant() < 0` and flips its back-face test for that instance.
+//!
+//! Not loaded (each noted in the report): points and lines primitives, skins (drawn in the
+//! bind pose), morph targets (base shape), animations (rest pose), orthographic cameras,
+//! `KHR_lights_punctual` lights (not yet), textures other than the base colour. The only
+//! extension supported is `KHR_mesh_quantization`; a file that *requires* any other is
+//! refused, naming it.
+
+use std::borrow::Cow;
+use std::cell::OnceCell;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use super::{files, Budget, LoadError, LoadOptions};
+use crate::mesh::MeshError;
+use crate::scene::{LoadReport, Scene};
+use crate::texture::Texture;
+
+mod accessor;
+mod glb;
+mod material;
+mod nodes;
+mod primitive;
+mod schema;
+mod uri;
+
+use schema::Json;
+
+#[cfg(test)]
+mod tests;
+
+/// Why a glTF file could not be loaded. Messages are one line starting with the path.
+#[derive(Debug, thiserror::Error)]
+pub enum GltfError {
+    #[error("{path}: malformed GLB: {reason}")]
+    Glb { path: PathBuf, reason: String },
+    #[error("{path}: invalid glTF JSON: {message}")]
+    Json { path: PathBuf, message: String },
+    #[error("{path}: asset version {version} is not glTF 2.x")]
+    Version { path: PathBuf, version: String },
+    #[error("{path}: requires extension {name}, which realist does not support")]
+    Extension { path: PathBuf, name: String },
+    /// `from` (e.g. "mesh 0 primitive 1 POSITION") names a `kind` index that does not exist.
+    #[error("{path}: {from} refers to {kind} {index}, but there are only {count}")]
+    Reference {
+        path: PathBuf,
+        from: String,
+        kind: &'static str,
+        index: usize,
+        count: usize,
+    },
+    #[error("{path}: buffer {buffer}: {reason}")]
+    Buffer {
+        path: PathBuf,
+        buffer: usize,
+        reason: String,
+    },
+    #[error("{path}: bufferView {view}: {reason}")]
+    View {
+        path: PathBuf,
+        view: usize,
+        reason: String,
+    },
+    /// An accessor is malformed or of the wrong type for its use (`used_by`).
+    #[error("{path}: accessor {accessor} ({used_by}): {reason}")]
+    Accessor {
+        path: PathBuf,
+        accessor: usize,
+        used_by: String,
+        reason: String,
+    },
+    #[error("{path}: mesh {mesh} primitive {primitive}: {reason}")]
+    Primitive {
+        path: PathBuf,
+        mesh: usize,
+        primitive: usize,
+        reason: String,
+    },
+    #[error("{path}: mesh {mesh} primitive {primitive}: {source}")]
+    Mesh {
+        path: PathBuf,
+        mesh: usize,
+        primitive: usize,
+        source: MeshError,
+    },
+}
+
+/// The parsed file and its lazily loaded buffers.
+pub(super) struct Doc<'a> {
+    pub path: &'a Path,
+    /// Canonical model folder: URIs may not leave it.
+    pub root: PathBuf,
+    pub json: Json,
+    /// The GLB `BIN\0` chunk.
+    pub bin: Option<&'a [u8]>,
+    pub budget: &'a Budget,
+    buffers: Vec<OnceCell<Cow<'a, [u8]>>>,
+}
+
+impl<'a> Doc<'a> {
+    /// A `Reference` error.
+    pub fn missing(
+        &self,
+        from: impl Into<String>,
+        kind: &'static str,
+        index: usize,
+        count: usize,
+    ) -> LoadError {
+        GltfError::Reference {
+            path: self.path.to_owned(),
+            from: from.into(),
+            kind,
+            index,
+            count,
+        }
+        .into()
+    }
+
+    /// The bytes of buffer `i` (at most its `byteLength`), loaded on first use.
+    pub fn buffer(&self, i: usize, from: &str) -> Result<&[u8], LoadError> {
+        let cell = self
+            .buffers
+            .get(i)
+            .ok_or_else(|| self.missing(from, "buffer", i, self.buffers.len()))?;
+        if let Some(bytes) = cell.get() {
+            return Ok(bytes);
+        }
+        let err = |reason: String| {
+            LoadError::from(GltfError::Buffer {
+                path: self.path.to_owned(),
+                buffer: i,
+                reason,
+            })
+        };
+        let buffer = self
+            .json
+            .buffers
+            .get(i)
+            .ok_or_else(|| self.missing(from, "buffer", i, 0))?;
+        let bytes: Cow<'a, [u8]> = match (&buffer.uri, self.bin) {
+            (Some(uri), _) => Cow::Owned(
+                uri::load(uri, &self.root, self.budget, &format!("buffer {i}"))?.map_err(err)?,
+            ),
+            (None, Some(bin)) if i == 0 => Cow::Borrowed(bin),
+            (None, _) => return Err(err("has no uri and the file has no GLB binary chunk".into())),
+        };
+        let declared = buffer.byte_length.0;
+        if (bytes.len() as u64) < declared {
+            return Err(err(format!(
+                "byteLength is {declared}, but the data has only {} bytes",
+                bytes.len()
+            )));
+        }
+        let bytes = match bytes {
+            Cow::Borrowed(b) => Cow::Borrowed(b.get(..declared as usize).unwrap_or(b)),
+            Cow::Owned(mut v) => {
+                v.truncate(declared as usize);
+                Cow::Owned(v)
+            }
+        };
+        Ok(cell.get_or_init(|| bytes))
+    }
+
+    /// The bytes of bufferView `i` and its byteStride.
+    pub fn view(&self, i: usize, from: &str) -> Result<(&[u8], Option<usize>), LoadError> {
+        let count = self.json.buffer_views.len();
+        let view = self
+            .json
+            .buffer_views
+            .get(i)
+            .ok_or_else(|| self.missing(from, "bufferView", i, count))?;
+        let buffer = self.buffer(view.buffer.value(), &format!("bufferView {i}"))?;
+        let start = view.byte_offset.map_or(0, |o| o.0);
+        let len = view.byte_length.0;
+        let bytes = start
+            .checked_add(len)
+            .and_then(|end| buffer.get(usize::try_from(start).ok()?..usize::try_from(end).ok()?))
+            .ok_or_else(|| {
+                let reason = format!(
+                    "bytes {start}..{} do not fit buffer {} of {} bytes",
+                    start.saturating_add(len),
+                    view.buffer.value(),
+                    buffer.len()
+                );
+                LoadError::from(GltfError::View {
+                    path: self.path.to_owned(),
+                    view: i,
+                    reason,
+                })
+            })?;
+        Ok((bytes, view.byte_stride.map(|s| s.0)))
+    }
+}
+
+/// Scene under construction, with the caches that make every glTF mesh, material and
+/// image be converted once.
+pub(super) struct Builder<'a> {
+    pub doc: Doc<'a>,
+    pub scene: Scene,
+    /// (mesh, primitive) -> scene mesh (`None`: skipped).
+    pub meshes: HashMap<(usize, usize), Option<usize>>,
+    /// glTF material -> scene material (`None`: unusable, default used).
+    pub materials: HashMap<usize, Option<usize>>,
+    /// (image, sampler) -> scene texture.
+    pub textures: HashMap<(usize, Option<usize>), Option<usize>>,
+    /// Decoded images (`None`: failed, already reported).
+    pub images: HashMap<usize, Option<std::sync::Arc<Texture>>>,
+}
+
+/// Loads a `.gltf` or `.glb` file.
+pub(crate) fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
+    let budget = Budget::new(path, opts.max_bytes);
+    let root = files::model_folder(path)?;
+    let bytes = files::read_capped(path, &budget, "glTF file")?;
+    let is_glb = bytes.starts_with(b"glTF");
+    let glb_err = |reason: String| {
+        LoadError::from(GltfError::Glb {
+            path: path.to_owned(),
+            reason,
+        })
+    };
+    let (json_bytes, bin) = if is_glb {
+        let chunks = glb::split(&bytes).map_err(glb_err)?;
+        (chunks.json, chunks.bin)
+    } else if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"))
+    {
+        return Err(glb_err("missing the `glTF` magic".into()));
+    } else {
+        (bytes.as_slice(), None)
+    };
+    let json_bytes = json_bytes
+        .strip_prefix(b"\xEF\xBB\xBF")
+        .unwrap_or(json_bytes);
+    let json = schema::parse(json_bytes, &budget)?.map_err(|e| GltfError::Json {
+        path: path.to_owned(),
+        message: e.to_string(),
+    })?;
+    check_header(path, &json)?;
+
+    let mut report = LoadReport {
+        file: path.display().to_string(),
+        format: if is_glb { "GLB" } else { "glTF" }.into(),
+        ..LoadReport::default()
+    };
+    note_unsupported(&json, &mut report);
+    let buffers = json.buffers.iter().map(|_| OnceCell::new()).collect();
+    let doc = Doc {
+        path,
+        root,
+        json,
+        bin,
+        budget: &budget,
+        buffers,
+    };
+    let mut b = Builder {
+        doc,
+        scene: Scene {
+            report,
+            ..Scene::default()
+        },
+        meshes: HashMap::new(),
+        materials: HashMap::new(),
+        textures: HashMap::new(),
+        images: HashMap::new(),
+    };
+    b.walk()?;
+    if b.scene.instances.is_empty() {
+        b.scene
+            .report
+            .warnings
+            .push("the scene has nothing to draw".into());
+    }
+    Ok(b.scene)
+}
+
+/// The one extension supported: integer vertex attributes (read and converted to floats).
+const QUANTIZATION: &str = "KHR_mesh_quantization";
+
+/// Refuses files that are not glTF 2.x or that require an extension other than
+/// [`QUANTIZATION`].
+fn check_header(path: &Path, json: &Json) -> Result<(), LoadError> {
+    let version = &json.asset.version;
+    if version.split('.').next() != Some("2") {
+        return Err(GltfError::Version {
+            path: path.to_owned(),
+            version: version.clone(),
+        }
+        .into());
+    }
+    if let Some(name) = json.extensions_required.iter().find(|e| *e != QUANTIZATION) {
+        return Err(GltfError::Extension {
+            path: path.to_owned(),
+            name: name.clone(),
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// Notes file-wide features that are not loaded.
+fn note_unsupported(json: &Json, report: &mut LoadReport) {
+    if !json.animations.is_empty() {
+        report.skipped.push(format!(
+            "{} animation(s): the scene is drawn at rest",
+            json.animations.len()
+        ));
+    }
+    if !json.skins.is_empty() {
+        report.skipped.push(format!(
+            "{} skin(s): skinned meshes are drawn in the bind pose",
+            json.skins.len()
+        ));
+    }
+    let ignored: Vec<&str> = json
+        .extensions_used
+        .iter()
+        .map(String::as_str)
+        .filter(|e| *e != QUANTIZATION)
+        .collect();
+    if !ignored.is_empty() {
+        report.skipped.push(format!(
+            "extensions used but not supported (ignored): {}",
+            ignored.join(", ")
+        ));
+    }
+}

@@ -1,0 +1,226 @@
+//! The node graph: which scene is drawn, the iterative walk that composes world matrices
+//! (TRS or matrix, parent * local), instances for nodes with meshes and cameras for nodes
+//! with (perspective) cameras.
+//!
+//! The walk uses an explicit stack and visits every node at most once, so a cycle or a
+//! node listed under two parents (both invalid glTF) cannot loop or blow up the instance
+//! count; such a node is reported and skipped the second time. Nodes deeper than
+//! [`MAX_DEPTH`] and subtrees under a non-finite transform are skipped with a warning.
+
+use glam::{Mat4, Quat, Vec3};
+use gltf::json;
+
+use super::Builder;
+use crate::load::LoadError;
+use crate::scene::{Camera, Instance, Style};
+
+/// Deepest node level walked (the root nodes of a scene are at depth 0).
+pub const MAX_DEPTH: usize = 1024;
+
+impl Builder<'_> {
+    /// Walks the chosen scene, filling instances and cameras.
+    pub fn walk(&mut self) -> Result<(), LoadError> {
+        let roots = self.roots()?;
+        let count = self.doc.json.nodes.len();
+        let mut visited = vec![false; count];
+        let mut stack: Vec<(usize, Mat4, usize)> = roots
+            .into_iter()
+            .rev()
+            .map(|n| (n, Mat4::IDENTITY, 0))
+            .collect();
+        while let Some((n, parent, depth)) = stack.pop() {
+            let Some(node) = self.doc.json.nodes.get(n) else {
+                continue;
+            };
+            let Some(seen) = visited.get_mut(n) else {
+                continue;
+            };
+            if std::mem::replace(seen, true) {
+                self.scene.report.warnings.push(format!("node {n} is reached twice (a cycle or a shared child); ignored the second time"));
+                continue;
+            }
+            if depth > MAX_DEPTH {
+                self.scene.report.warnings.push(format!(
+                    "node {n} is deeper than {MAX_DEPTH} levels; skipped with its children"
+                ));
+                continue;
+            }
+            let world = parent * local(node);
+            if !world.is_finite() {
+                self.scene.report.warnings.push(format!(
+                    "node {n} has a non-finite transform; skipped with its children"
+                ));
+                continue;
+            }
+            let children = node.children.clone().unwrap_or_default();
+            for &c in children.iter().rev() {
+                if c.value() >= count {
+                    return Err(self.doc.missing(
+                        format!("node {n} children"),
+                        "node",
+                        c.value(),
+                        count,
+                    ));
+                }
+                stack.push((c.value(), world, depth + 1));
+            }
+            self.node_contents(n, world)?;
+        }
+        self.fit_camera_far_planes();
+        Ok(())
+    }
+
+    /// Root nodes of the default scene, else scene 0, else every node that is nobody's child.
+    fn roots(&mut self) -> Result<Vec<usize>, LoadError> {
+        let json = &self.doc.json;
+        let count = json.nodes.len();
+        let chosen = match json.scene {
+            Some(s) => Some(json.scenes.get(s.value()).ok_or_else(|| {
+                self.doc
+                    .missing("the default scene", "scene", s.value(), json.scenes.len())
+            })?),
+            None => json.scenes.first(),
+        };
+        let roots: Vec<usize> = match chosen {
+            Some(scene) => scene.nodes.iter().map(|n| n.value()).collect(),
+            None => {
+                let mut child = vec![false; count];
+                for c in json.nodes.iter().flat_map(|n| n.children.iter().flatten()) {
+                    if let Some(flag) = child.get_mut(c.value()) {
+                        *flag = true;
+                    }
+                }
+                (0..count)
+                    .filter(|&i| !child.get(i).copied().unwrap_or(true))
+                    .collect()
+            }
+        };
+        if let Some(&bad) = roots.iter().find(|&&n| n >= count) {
+            return Err(self.doc.missing("scene nodes", "node", bad, count));
+        }
+        if json.scenes.len() > 1 {
+            let which = json.scene.map_or(0, |s| s.value());
+            self.scene.report.skipped.push(format!(
+                "{} scenes in the file; scene {which} is drawn",
+                json.scenes.len()
+            ));
+        }
+        Ok(roots)
+    }
+
+    /// Instances for node `n`'s mesh primitives and a camera for its camera.
+    fn node_contents(&mut self, n: usize, world: Mat4) -> Result<(), LoadError> {
+        let Some(node) = self.doc.json.nodes.get(n) else {
+            return Ok(());
+        };
+        let name = node.name.clone().unwrap_or_else(|| format!("node {n}"));
+        let (mesh, camera, skin) = (
+            node.mesh.map(|m| m.value()),
+            node.camera.map(|c| c.value()),
+            node.skin.is_some(),
+        );
+        if let Some(m) = mesh {
+            let meshes = self.doc.json.meshes.len();
+            let primitives = self
+                .doc
+                .json
+                .meshes
+                .get(m)
+                .ok_or_else(|| self.doc.missing(format!("node {n}"), "mesh", m, meshes))?
+                .primitives
+                .len();
+            if skin {
+                self.scene
+                    .report
+                    .skipped
+                    .push(format!("node '{name}': skin ignored (bind pose drawn)"));
+            }
+            for p in 0..primitives {
+                if let Some(mesh) = self.primitive_mesh(m, p)? {
+                    self.scene.instances.push(Instance {
+                        mesh,
+                        world,
+                        name: name.clone(),
+                        style: Style::Inherit,
+                    });
+                }
+            }
+        }
+        if let Some(c) = camera {
+            self.camera(c, world, &name);
+        }
+        Ok(())
+    }
+
+    /// A scene camera for glTF camera `c` placed by `world` (looking down its local -Z,
+    /// +Y up; the target is one unit ahead). `zfar` absent (infinite) is marked with
+    /// `far = INFINITY` until [`Self::fit_camera_far_planes`].
+    fn camera(&mut self, c: usize, world: Mat4, node: &str) {
+        let warn = |this: &mut Self, why: String| {
+            this.scene
+                .report
+                .skipped
+                .push(format!("camera {c} (node '{node}'): {why}"))
+        };
+        let Some(cam) = self.doc.json.cameras.get(c) else {
+            return warn(self, "does not exist".into());
+        };
+        let Some(p) = &cam.perspective else {
+            return warn(self, "only perspective cameras are supported".into());
+        };
+        let (yfov, znear, zfar, aspect) = (p.yfov, p.znear, p.zfar, p.aspect_ratio);
+        let name = cam.name.clone().unwrap_or_else(|| node.to_owned());
+        let valid = yfov > 0.0 && yfov < std::f32::consts::PI && znear > 0.0 && znear.is_finite();
+        if !valid {
+            return warn(self, format!("invalid yfov {yfov} or znear {znear}"));
+        }
+        let eye = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+        let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
+        if forward == Vec3::ZERO || up == Vec3::ZERO {
+            return warn(self, "degenerate node transform".into());
+        }
+        let far = zfar
+            .filter(|f| f.is_finite() && *f > znear)
+            .unwrap_or(f32::INFINITY);
+        let aspect = aspect.filter(|a| a.is_finite() && *a > 0.0);
+        self.scene.cameras.push(Camera {
+            name,
+            eye,
+            target: eye + forward,
+            up,
+            yfov,
+            near: znear,
+            far,
+            aspect,
+        });
+    }
+
+    /// Gives cameras without a finite far plane one just behind the scene's bounds (or
+    /// 10^4 times their near plane when the scene has no bounds).
+    fn fit_camera_far_planes(&mut self) {
+        let bounds = self.scene.bounds();
+        for cam in self.scene.cameras.iter_mut().filter(|c| !c.far.is_finite()) {
+            let reach = bounds.map(|(lo, hi)| {
+                let centre = (lo + hi) * 0.5;
+                (centre - cam.eye).length() + (hi - lo).length() * 0.5
+            });
+            cam.far = reach
+                .filter(|r| r.is_finite())
+                .map_or(cam.near * 1e4, |r| r * 1.01)
+                .max(cam.near * 2.0);
+        }
+    }
+}
+
+/// A node's local matrix: `matrix` if given, else T * R * S.
+fn local(node: &json::scene::Node) -> Mat4 {
+    if let Some(m) = node.matrix {
+        return Mat4::from_cols_array(&m);
+    }
+    let t = Vec3::from_array(node.translation.unwrap_or([0.0; 3]));
+    let r =
+        Quat::from_array(node.rotation.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |q| q.0)).normalize();
+    let s = Vec3::from_array(node.scale.unwrap_or([1.0; 3]));
+    Mat4::from_scale_rotation_translation(s, r, t)
+}

@@ -1,0 +1,296 @@
+//! One glTF primitive into one scene [`Mesh`]: attributes (POSITION, NORMAL, TEXCOORD_0,
+//! COLOR_0), indices (checked against the vertex count), and triangle strips and fans
+//! turned into triangle lists with the winding the spec defines:
+//!
+//! - strip: triangle i is (v_i, v_i+1, v_i+2) for even i and (v_i, v_i+2, v_i+1) for odd i;
+//! - fan: triangle i is (v_0, v_i+1, v_i+2).
+//!
+//! Triangles that repeat a vertex index (strip restarts, degenerate input) are dropped.
+
+use glam::{Vec2, Vec3, Vec4};
+use gltf::json::mesh::{Mode, Primitive, Semantic};
+use gltf::json::validation::Checked;
+
+use super::accessor::Format;
+use super::{Builder, Doc, GltfError, QUANTIZATION};
+use crate::load::{mesh_bytes, retain_facets, LoadError};
+use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};
+
+/// The vertex attributes of a primitive, read and checked to have one value per vertex.
+struct Attributes {
+    positions: Vec<Vec3>,
+    normals: Option<Vec<Vec3>>,
+    uvs: Option<Vec<Vec2>>,
+    colors: Option<Vec<Vec4>>,
+}
+
+/// Which primitive is being read, for messages.
+struct Site<'a> {
+    mesh: usize,
+    primitive: usize,
+    /// "mesh 0 ('name') primitive 1".
+    label: &'a str,
+}
+
+impl Doc<'_> {
+    fn primitive_error(&self, at: &Site, reason: String) -> LoadError {
+        let (path, mesh, primitive) = (self.path.to_owned(), at.mesh, at.primitive);
+        GltfError::Primitive {
+            path,
+            mesh,
+            primitive,
+            reason,
+        }
+        .into()
+    }
+
+    /// Reads POSITION (accessor `position`), NORMAL, TEXCOORD_0 and COLOR_0.
+    fn attributes(
+        &self,
+        prim: &Primitive,
+        position: usize,
+        at: &Site,
+    ) -> Result<Attributes, LoadError> {
+        let attr = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
+        let used = |what: &str| format!("mesh {} primitive {} {what}", at.mesh, at.primitive);
+        let quantized = self.json.extensions_used.iter().any(|e| e == QUANTIZATION);
+        let (exact, unorm) = match quantized {
+            true => (Format::Quantized, Format::Quantized),
+            false => (Format::Float, Format::FloatOrUnorm),
+        };
+        let read = |name: &str, accessor: Option<usize>, sizes: &[usize], format| match accessor {
+            Some(a) => self.read_floats(a, &used(name), sizes, format).map(Some),
+            None => Ok(None),
+        };
+        let (_, pos) = self.read_floats(position, &used("POSITION"), &[3], exact)?;
+        let n = pos.len() / 3;
+        let normals = read("NORMAL", attr(Semantic::Normals), &[3], exact)?;
+        let uvs = read("TEXCOORD_0", attr(Semantic::TexCoords(0)), &[2], unorm)?;
+        let colors = read(
+            "COLOR_0",
+            attr(Semantic::Colors(0)),
+            &[3, 4],
+            Format::FloatOrUnorm,
+        )?;
+        for (name, found) in [
+            ("NORMAL", &normals),
+            ("TEXCOORD_0", &uvs),
+            ("COLOR_0", &colors),
+        ] {
+            if let Some((size, values)) = found {
+                let len = values.len() / size;
+                if len != n {
+                    let reason = format!("{name} has {len} elements but POSITION has {n}");
+                    return Err(self.primitive_error(at, reason));
+                }
+            }
+        }
+        let rgba = |(size, v): (usize, Vec<f32>)| -> Vec<Vec4> {
+            let one = |x: &[f32]| match x {
+                &[r, g, b] => Vec4::new(r, g, b, 1.0),
+                _ => Vec4::from_slice(x),
+            };
+            v.chunks_exact(size).map(one).collect()
+        };
+        Ok(Attributes {
+            positions: pos.chunks_exact(3).map(Vec3::from_slice).collect(),
+            normals: normals.map(|(_, v)| v.chunks_exact(3).map(Vec3::from_slice).collect()),
+            uvs: uvs.map(|(_, v)| v.chunks_exact(2).map(Vec2::from_slice).collect()),
+            colors: colors.map(rgba),
+        })
+    }
+
+    /// The primitive's vertex indices (every one checked < `n`), or 0..n without indices.
+    fn indices(&self, prim: &Primitive, n: usize, at: &Site) -> Result<Vec<u32>, LoadError> {
+        let Some(a) = prim.indices else {
+            let n32 = u32::try_from(n)
+                .map_err(|_| self.primitive_error(at, format!("{n} vertices are too many")))?;
+            return Ok((0..n32).collect());
+        };
+        let used = format!("mesh {} primitive {} indices", at.mesh, at.primitive);
+        let ix = self.read_indices(a.value(), &used)?;
+        if let Some((i, &v)) = ix.iter().enumerate().find(|(_, &v)| v as usize >= n) {
+            let reason =
+                format!("index {v} at position {i} is out of range: there are {n} vertices");
+            return Err(self.primitive_error(at, reason));
+        }
+        Ok(ix)
+    }
+}
+
+impl Builder<'_> {
+    /// The scene mesh for primitive `p` of glTF mesh `m` (which must exist), built on first
+    /// use; `None` when the primitive is not drawn (reason in the report).
+    pub fn primitive_mesh(&mut self, m: usize, p: usize) -> Result<Option<usize>, LoadError> {
+        if let Some(&cached) = self.meshes.get(&(m, p)) {
+            return Ok(cached);
+        }
+        let built = self.build_primitive(m, p)?;
+        self.meshes.insert((m, p), built);
+        Ok(built)
+    }
+
+    fn build_primitive(&mut self, m: usize, p: usize) -> Result<Option<usize>, LoadError> {
+        let doc = &self.doc;
+        let mesh = doc.json.meshes.get(m);
+        let Some(prim) = mesh.and_then(|mesh| mesh.primitives.get(p)) else {
+            return Ok(None);
+        };
+        let name = mesh.and_then(|x| x.name.clone());
+        let label = match &name {
+            Some(n) => format!("mesh {m} ('{n}') primitive {p}"),
+            None => format!("mesh {m} primitive {p}"),
+        };
+        let report = &mut self.scene.report;
+        let mode = match prim.mode {
+            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => {
+                mode
+            }
+            Checked::Valid(other) => {
+                report
+                    .skipped
+                    .push(format!("{label}: mode {other:?} is not rendered"));
+                return Ok(None);
+            }
+            Checked::Invalid => {
+                report
+                    .skipped
+                    .push(format!("{label}: unknown primitive mode"));
+                return Ok(None);
+            }
+        };
+        let Some(position) = prim.attributes.get(&Checked::Valid(Semantic::Positions)) else {
+            report
+                .skipped
+                .push(format!("{label}: no POSITION attribute"));
+            return Ok(None);
+        };
+        let at = Site {
+            mesh: m,
+            primitive: p,
+            label: &label,
+        };
+        let attrs = doc.attributes(prim, position.value(), &at)?;
+        let n = attrs.positions.len();
+        let indices = doc.indices(prim, n, &at)?;
+        let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
+        if prim.targets.as_ref().is_some_and(|t| !t.is_empty()) {
+            report
+                .skipped
+                .push(format!("{label}: morph targets ignored (base shape drawn)"));
+        }
+        let facets = corners.len() as u64 / 3;
+        doc.budget
+            .charge(mesh_bytes(n as u64, corners.len() as u64, facets), || {
+                format!("{label} ({n} vertices, {facets} triangles)")
+            })?;
+        let material = match prim.material {
+            Some(i) => self.material(i.value(), &label)?,
+            None => None,
+        };
+        let has_normals = attrs.normals.is_some();
+        let mut data = MeshData {
+            name: name.unwrap_or_else(|| format!("mesh {m}")),
+            positions: attrs.positions,
+            corners,
+            facet_sizes: None,
+            normals: attrs.normals.map(Channel::per_vertex),
+            uvs: attrs.uvs.map(Channel::per_vertex),
+            colors: attrs.colors.map(Channel::per_vertex),
+            material,
+        };
+        let report = &mut self.scene.report;
+        report
+            .warnings
+            .extend(retain_facets(&mut data).warnings(&label));
+        if data.corners.is_empty() {
+            report.skipped.push(format!("{label}: no triangles"));
+            return Ok(None);
+        }
+        if !has_normals {
+            report
+                .generated
+                .push(format!("{label}: flat normals (no NORMAL attribute)"));
+        }
+        let mesh = Mesh::new(data.weld_positions(), NormalPolicy::Flat).map_err(|source| {
+            let path = self.doc.path.to_owned();
+            GltfError::Mesh {
+                path,
+                mesh: m,
+                primitive: p,
+                source,
+            }
+        })?;
+        self.scene.meshes.push(mesh);
+        Ok(Some(self.scene.meshes.len() - 1))
+    }
+}
+
+/// [`triangles`] for a primitive, with warnings for what a triangle list should not have.
+fn triangle_list(mode: Mode, indices: &[u32], at: &Site, warnings: &mut Vec<String>) -> Vec<u32> {
+    let (corners, degenerate) = triangles(mode, indices);
+    let label = at.label;
+    if mode == Mode::Triangles && indices.len() % 3 != 0 {
+        let extra = indices.len() % 3;
+        warnings.push(format!(
+            "{label}: {extra} trailing indices ignored (not a whole triangle)"
+        ));
+    }
+    if mode == Mode::Triangles && degenerate > 0 {
+        warnings.push(format!(
+            "{label}: dropped {degenerate} triangle(s) that repeat a vertex"
+        ));
+    }
+    corners
+}
+
+/// Triangle-list corners for `indices` drawn in `mode`, and how many triangles were
+/// dropped because they repeat a vertex.
+fn triangles(mode: Mode, indices: &[u32]) -> (Vec<u32>, usize) {
+    let tris: Vec<[u32; 3]> = match mode {
+        Mode::TriangleStrip => indices
+            .windows(3)
+            .enumerate()
+            .map(|(i, w)| {
+                if i % 2 == 0 {
+                    [w[0], w[1], w[2]]
+                } else {
+                    [w[0], w[2], w[1]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => match indices.split_first() {
+            Some((&first, rest)) => rest.windows(2).map(|w| [first, w[0], w[1]]).collect(),
+            None => Vec::new(),
+        },
+        _ => indices
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect(),
+    };
+    let total = tris.len();
+    let corners: Vec<u32> = tris
+        .into_iter()
+        .filter(|[a, b, c]| a != b && b != c && a != c)
+        .flatten()
+        .collect();
+    let dropped = total - corners.len() / 3;
+    (corners, dropped)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strips_and_fans_keep_the_winding() {
+        let (s, d) = triangles(Mode::TriangleStrip, &[0, 1, 2, 3, 4]);
+        assert_eq!((s, d), (vec![0, 1, 2, 1, 3, 2, 2, 3, 4], 0));
+        let (f, _) = triangles(Mode::TriangleFan, &[0, 1, 2, 3]);
+        assert_eq!(f, vec![0, 1, 2, 0, 2, 3]);
+        let (t, d) = triangles(Mode::Triangles, &[0, 1, 2, 3, 3, 4, 5]);
+        assert_eq!((t, d), (vec![0, 1, 2], 1));
+        assert_eq!(triangles(Mode::TriangleFan, &[]).0, Vec::<u32>::new());
+        assert_eq!(triangles(Mode::TriangleStrip, &[0, 1]).0, Vec::<u32>::new());
+    }
+}

@@ -1,0 +1,305 @@
+//! Wavefront OBJ + MTL through `tobj`, into a [`Scene`].
+//!
+//! Polygons are kept as facets (no triangulation): position indices are the topology, and
+//! normals and texture coordinates become per-corner-indexed [`Channel`]s, so a UV seam or
+//! a crease in the file does not cut the mesh. Every `o`/`g` group (and every material
+//! change inside one, as `tobj` splits them) becomes one mesh, placed by one instance with
+//! an identity world matrix. Texture `v` is flipped (v' = 1 - v) into the crate's top-left
+//! UV convention. Files without normals get averaged normals ([`NormalPolicy::Average`]).
+//!
+//! Before `tobj` runs, [`scan`] checks every line (so errors carry line numbers) and
+//! rewrites what `tobj` would misread; [`mtl`] does the same for material libraries.
+
+use std::borrow::Cow;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use super::{files, mesh_bytes, retain_facets, Budget, Dropped, LoadError, LoadOptions};
+use crate::mesh::{Channel, Mesh, MeshData, MeshError, NormalPolicy};
+use crate::scene::{Instance, LoadReport, Scene, Style};
+
+mod mtl;
+mod scan;
+
+/// Why an OBJ file could not be loaded. Messages are one line starting with the path.
+#[derive(Debug, thiserror::Error)]
+pub enum ObjError {
+    /// A line that cannot be read (`line` is 1-based).
+    #[error("{path}:{line}: {message}")]
+    Syntax {
+        path: PathBuf,
+        line: usize,
+        message: String,
+    },
+    /// A face corner refers to a `kind` ("vertex", "texture coordinate", "normal") that is
+    /// not defined before the face; `count` were.
+    #[error("{path}:{line}: face refers to {kind} {index}, but only {count} are defined before this line")]
+    Index {
+        path: PathBuf,
+        line: usize,
+        kind: &'static str,
+        index: i64,
+        count: u64,
+    },
+    /// `tobj` rejected the (pre-checked) text.
+    #[error("{path}: {message}")]
+    Parse { path: PathBuf, message: String },
+    /// A group's data could not become a mesh.
+    #[error("{path}: object '{object}': {source}")]
+    Mesh {
+        path: PathBuf,
+        object: String,
+        source: MeshError,
+    },
+}
+
+/// Loads an OBJ file (and its MTL libraries and `map_Kd` textures).
+pub(crate) fn load_obj(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
+    let budget = Budget::new(path, opts.max_bytes);
+    let root = files::model_folder(path)?;
+    let bytes = files::read_capped(path, &budget, "OBJ file")?;
+    let report = LoadReport {
+        file: path.display().to_string(),
+        format: "OBJ".into(),
+        ..LoadReport::default()
+    };
+    let mut scene = Scene {
+        report,
+        ..Scene::default()
+    };
+    let text = String::from_utf8_lossy(&bytes);
+    if let Cow::Owned(t) = &text {
+        budget.charge(t.len() as u64, || "UTF-8 copy of the OBJ text".into())?;
+        let note = "file is not valid UTF-8: invalid bytes replaced";
+        scene.report.warnings.push(note.into());
+    }
+    let mut scan = scan::scan(path, &text)?;
+    charge_and_note(&mut scan, &budget, &mut scene.report)?;
+
+    let libs = mtl::MtlLibs {
+        root: &root,
+        budget: &budget,
+        warnings: Default::default(),
+        dirs: Default::default(),
+        fatal: Default::default(),
+    };
+    let tobj_opts = tobj::LoadOptions {
+        single_index: false,
+        triangulate: false,
+        ..Default::default()
+    };
+    let (models, materials) =
+        tobj::load_obj_buf(&mut scan.text.as_bytes(), &tobj_opts, |p| libs.load(p)).map_err(
+            |e| ObjError::Parse {
+                path: path.to_owned(),
+                message: format!("tobj: {e}"),
+            },
+        )?;
+    if let Some(e) = libs.fatal.take() {
+        return Err(e);
+    }
+    scene.report.warnings.extend(libs.warnings.take());
+    let materials = materials.unwrap_or_default();
+    add_materials(
+        &materials,
+        &libs.dirs.take(),
+        &root,
+        &budget,
+        &scan,
+        &mut scene,
+    )?;
+    add_meshes(path, models, opts, scan.positions, &mut scene)?;
+    Ok(scene)
+}
+
+/// Charges what parsing and building will need, and reports what the scan found.
+fn charge_and_note(
+    scan: &mut scan::Scan,
+    budget: &Budget,
+    report: &mut LoadReport,
+) -> Result<(), LoadError> {
+    if let Cow::Owned(t) = &scan.text {
+        budget.charge(t.len() as u64, || "rewritten OBJ text".into())?;
+    }
+    let (v, f) = (scan.positions, scan.faces);
+    budget.charge(parse_bytes(scan), || {
+        format!("parsing {v} vertices and {f} faces")
+    })?;
+    budget.charge(mesh_bytes(v, scan.corners, f), || {
+        format!("meshes of {v} vertices and {f} faces")
+    })?;
+    report.warnings.append(&mut scan.warnings);
+    if scan.line_elements > 0 {
+        report.skipped.push(format!(
+            "{} line element(s) (`l`): lines are not rendered",
+            scan.line_elements
+        ));
+    }
+    if scan.point_elements > 0 {
+        report.skipped.push(format!(
+            "{} point element(s) (`p`): points are not rendered",
+            scan.point_elements
+        ));
+    }
+    Ok(())
+}
+
+/// Converts the `tobj` materials (read from folders `dirs`) into scene materials, in
+/// order, and warns about `usemtl` names that none of them has.
+fn add_materials(
+    materials: &[tobj::Material],
+    dirs: &[PathBuf],
+    root: &Path,
+    budget: &Budget,
+    scan: &scan::Scan,
+    scene: &mut Scene,
+) -> Result<(), LoadError> {
+    let mut converter = mtl::Converter::new(root, budget);
+    for (i, m) in materials.iter().enumerate() {
+        let dir = dirs.get(i).map_or(root, PathBuf::as_path);
+        scene.materials.push(converter.convert(m, dir)?);
+    }
+    scene.textures = converter.textures;
+    scene.report.warnings.append(&mut converter.warnings);
+    let defined: HashSet<&str> = materials.iter().map(|m| m.name.as_str()).collect();
+    for (line, name) in &scan.materials_used {
+        if !defined.contains(name.as_str()) {
+            scene.report.warnings.push(format!(
+                "line {line}: `usemtl {name}`: no such material, default used"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// One mesh and one identity-placed instance per `tobj` model with faces left after
+/// dropping bad ones; `file_vertices` is the number of `v` lines, for the report.
+fn add_meshes(
+    path: &Path,
+    models: Vec<tobj::Model>,
+    opts: &LoadOptions,
+    file_vertices: u64,
+    scene: &mut Scene,
+) -> Result<(), LoadError> {
+    let mut dropped = Dropped::default();
+    let mut averaged = Vec::new();
+    for model in models {
+        let name = model.name.clone();
+        let mut data = mesh_data(model, scene.materials.len());
+        let d = retain_facets(&mut data);
+        dropped.too_small += d.too_small;
+        dropped.non_finite += d.non_finite;
+        if data.corners.is_empty() {
+            continue;
+        }
+        if data.normals.is_none() {
+            averaged.push(name.clone());
+        }
+        let mesh = Mesh::new(data, NormalPolicy::Average(opts.normals)).map_err(|source| {
+            ObjError::Mesh {
+                path: path.to_owned(),
+                object: name.clone(),
+                source,
+            }
+        })?;
+        scene.instances.push(Instance {
+            mesh: scene.meshes.len(),
+            world: Mat4::IDENTITY,
+            name,
+            style: Style::Inherit,
+        });
+        scene.meshes.push(mesh);
+    }
+    let report = &mut scene.report;
+    report.warnings.extend(dropped.warnings("OBJ"));
+    let kept: u64 = scene.meshes.iter().map(|m| m.positions.len() as u64).sum();
+    if kept < file_vertices {
+        report.warnings.push(format!(
+            "at least {} of the file's {file_vertices} vertices are used by no face (not loaded)",
+            file_vertices - kept
+        ));
+    }
+    if !averaged.is_empty() {
+        let crease = opts.normals.crease_degrees;
+        report.generated.push(format!(
+            "normals averaged ({:?} weighting, {}) for {} object(s): {}",
+            opts.normals.weighting,
+            crease.map_or("no crease split".into(), |c| format!("crease {c} degrees")),
+            averaged.len(),
+            name_list(&averaged)
+        ));
+    }
+    if scene.meshes.is_empty() {
+        report.warnings.push("no faces to draw".into());
+    }
+    Ok(())
+}
+
+/// Bytes `tobj` needs while parsing what `scan` counted (its face list, the per-group
+/// copies and index maps), generously rounded.
+fn parse_bytes(scan: &scan::Scan) -> u64 {
+    let elements = scan.positions.saturating_mul(12)
+        + scan.texcoords.saturating_mul(8)
+        + scan.normals.saturating_mul(12);
+    elements
+        .saturating_mul(3)
+        .saturating_add(scan.faces.saturating_mul(112))
+        .saturating_add(scan.corners.saturating_mul(96))
+        .saturating_add(scan.objects.saturating_mul(256))
+}
+
+/// Up to eight names, then "and N more".
+fn name_list(names: &[String]) -> String {
+    let shown: Vec<&str> = names.iter().take(8).map(String::as_str).collect();
+    match names.len().saturating_sub(shown.len()) {
+        0 => shown.join(", "),
+        more => format!("{} and {more} more", shown.join(", ")),
+    }
+}
+
+/// One `tobj` model as mesh data; `materials` is how many scene materials exist.
+fn mesh_data(model: tobj::Model, materials: usize) -> MeshData {
+    let m = model.mesh;
+    let corners = m.indices.len();
+    let vec3s = |v: &[f32]| {
+        v.chunks_exact(3)
+            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .collect::<Vec<_>>()
+    };
+    let positions = vec3s(&m.positions);
+    let normals = (!m.normals.is_empty() && m.normal_indices.len() == corners).then(|| Channel {
+        values: vec3s(&m.normals),
+        indices: Some(m.normal_indices),
+    });
+    let uvs = (!m.texcoords.is_empty() && m.texcoord_indices.len() == corners).then(|| Channel {
+        values: m
+            .texcoords
+            .chunks_exact(2)
+            .map(|c| Vec2::new(c[0], 1.0 - c[1]))
+            .collect(),
+        indices: Some(m.texcoord_indices),
+    });
+    let colors = (m.vertex_color.len() == m.positions.len() && !positions.is_empty()).then(|| {
+        Channel::per_vertex(
+            m.vertex_color
+                .chunks_exact(3)
+                .map(|c| Vec4::new(c[0], c[1], c[2], 1.0))
+                .collect(),
+        )
+    });
+    MeshData {
+        name: model.name,
+        positions,
+        corners: m.indices,
+        facet_sizes: (!m.face_arities.is_empty()).then_some(m.face_arities),
+        normals,
+        uvs,
+        colors,
+        material: m.material_id.filter(|&i| i < materials),
+    }
+}
+
+#[cfg(test)]
+mod tests;
