@@ -40,7 +40,7 @@ pub enum DepthTest {
 }
 
 /// Fixed-function state of a draw. The default is [`DrawState::opaque`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DrawState {
     pub cull: Cull,
     pub depth_test: DepthTest,
@@ -50,6 +50,10 @@ pub struct DrawState {
     pub color_write: bool,
     /// Treat clockwise triangles as front-facing (a mirroring model matrix, det < 0).
     pub flip_winding: bool,
+    /// Slope-scaled depth offset (as `glPolygonOffset(factor, 0)`): depth is moved away from
+    /// the eye by this many times the triangle's largest depth change per pixel. Used so
+    /// lines drawn on a surface win against the surface itself.
+    pub depth_offset: f32,
 }
 
 impl Default for DrawState {
@@ -69,6 +73,7 @@ impl DrawState {
             blend: Blend::Replace,
             color_write: true,
             flip_winding: false,
+            depth_offset: 0.0,
         }
     }
 }

@@ -138,6 +138,17 @@ pub(crate) fn setup<V: Varying>(
         bias[k] = if top_left { 0 } else { -1 };
     }
     let var0 = v[i0].var;
+    let inv_area = 1.0 / area.abs() as f32;
+    let dz = [z[i1] - z[i0], z[i2] - z[i0]];
+    let mut z0 = z[i0];
+    if state.depth_offset != 0.0 {
+        // dλ_k/dx = a_k * ONE / area (per pixel), so dz/dx = Σ dz_k a_k ONE / area.
+        let scale = ONE as f32 * inv_area;
+        let dzdx = (a[1] as f32 * dz[0] + a[2] as f32 * dz[1]) * scale;
+        let dzdy = (b[1] as f32 * dz[0] + b[2] as f32 * dz[1]) * scale;
+        // Reversed-Z: away from the eye is smaller.
+        z0 -= state.depth_offset * dzdx.abs().max(dzdy.abs());
+    }
     Ok(SetupTri {
         a,
         b,
@@ -147,8 +158,8 @@ pub(crate) fn setup<V: Varying>(
         y0: py0 as u32,
         x1: px1 as u32,
         y1: py1 as u32,
-        inv_area: 1.0 / area.abs() as f32,
-        z: [z[i0], z[i1] - z[i0], z[i2] - z[i0]],
+        inv_area,
+        z: [z0, dz[0], dz[1]],
         iw: [iw[i0], iw[i1], iw[i2]],
         var: [var0, v[i1].var.sub(&var0), v[i2].var.sub(&var0)],
         info: TriInfo { draw, front },

@@ -14,20 +14,24 @@ pub enum Light {
 }
 
 impl Light {
-    /// The default rig for any model: a white key light from above-left-front of the default
-    /// camera plus a dim ambient, so every model is readable.
+    /// The default rig for any model, attached to the camera so a model stays readable from
+    /// every side: a dim ambient, a white key light from above and to the right of the
+    /// viewer, and a weak fill from the left. `camera_to_world` rotates camera-space
+    /// directions (x right, y up, z towards the viewer) into the world.
     #[must_use]
-    pub fn default_rig() -> Vec<Light> {
+    pub fn default_rig(camera_to_world: glam::Mat3) -> Vec<Light> {
+        let towards =
+            |x: f32, y: f32, z: f32| -(camera_to_world * Vec3::new(x, y, z)).normalize_or(Vec3::Y);
         vec![
             Light::Ambient {
                 color: Vec3::splat(0.1),
             },
             Light::Directional {
-                direction: -Vec3::new(0.5, 1.0, 0.8).normalize(),
+                direction: towards(0.45, 0.8, 0.55),
                 color: Vec3::splat(0.9),
             },
             Light::Directional {
-                direction: -Vec3::new(-0.6, 0.2, -0.5).normalize(),
+                direction: towards(-0.7, -0.1, 0.4),
                 color: Vec3::splat(0.25),
             },
         ]

@@ -142,7 +142,7 @@ pub fn render_into(
     let view = camera.view();
     let vp = camera.projection(w as f32 / h as f32) * view;
     let lights = if scene.lights.is_empty() {
-        LightSet::new(&Light::default_rig())
+        LightSet::new(&Light::default_rig(glam::Mat3::from_mat4(view.inverse())))
     } else {
         LightSet::new(&scene.lights)
     };
@@ -397,6 +397,14 @@ fn lit<V: LitVarying, const BLINN: bool>(
     raster::draw(target, &draws, &shader, stats);
 }
 
+/// Slope-scaled offset of the hidden-line depth pass, in pixels of depth slope: a line pixel
+/// is at most half a pixel from its edge, so 1.5 covers it with margin on edges where two
+/// steep facets meet.
+const WIRE_DEPTH_OFFSET: f32 = 1.5;
+/// Relative depth tolerance of wireframe lines against the hidden-line depth (0.01% of the
+/// distance), for rounding along nearly edge-on facets.
+const WIRE_DEPTH_TOLERANCE: f32 = 1e-4;
+
 /// Wireframe with hidden lines removed: the instances' surfaces go into a scratch copy of the
 /// depth buffer only, then their edges are drawn testing against it.
 fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut Stats) {
@@ -415,6 +423,7 @@ fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut S
     let state = |i: &Inst| DrawState {
         color_write: false,
         cull: Cull::None,
+        depth_offset: WIRE_DEPTH_OFFSET,
         ..i.state
     };
     let draws: Vec<Draw<()>> = insts
@@ -435,7 +444,7 @@ fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut S
         let style = LineStyle {
             color,
             depth_test: true,
-            depth_tolerance: 2e-3,
+            depth_tolerance: WIRE_DEPTH_TOLERANCE,
             depth_write: true,
         };
         stats.triangles_in += i.tri.triangles.len() as u64;
