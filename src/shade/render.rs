@@ -46,6 +46,8 @@ pub struct RenderOptions {
     pub texture: Option<Arc<Texture>>,
     /// Linear RGBA.
     pub background: Vec4,
+    /// Draw every material double-sided: no back-face culling, back faces lit from behind.
+    pub double_sided: bool,
 }
 
 impl Default for RenderOptions {
@@ -57,6 +59,7 @@ impl Default for RenderOptions {
             camera: None,
             texture: None,
             background: Vec4::new(0.018, 0.02, 0.026, 1.0),
+            double_sided: false,
         }
     }
 }
@@ -191,7 +194,7 @@ pub fn render_into(
         let debug = matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv);
         let blend = material.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
         let state = DrawState {
-            cull: if material.double_sided {
+            cull: if material.double_sided || opts.double_sided {
                 Cull::None
             } else {
                 Cull::Back
@@ -202,6 +205,7 @@ pub fn render_into(
             ..DrawState::opaque()
         };
         let m = &*material;
+        let double_sided = m.double_sided || opts.double_sided;
         params.push(DrawParams {
             base: if m.base_color.is_finite() {
                 m.base_color
@@ -224,7 +228,7 @@ pub fn render_into(
             } else {
                 m.alpha_mode
             },
-            double_sided: m.double_sided,
+            double_sided,
         });
         let textured = mode == Shading::Textured && texture.is_some() && tri.uvs.is_some();
         insts.push(Inst {

@@ -1,4 +1,5 @@
-//! Subcommands: `render`, `info`. Without a subcommand, renders the demo scene to a PNG.
+//! Subcommands: `render`, `info`, `bench`. Without a subcommand, renders the demo scene to
+//! a PNG.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -20,6 +21,12 @@ use realist::load::{self, LoadOptions};
 use realist::mesh::NormalOptions;
 use realist::scene::{self, Camera, Scene};
 use realist::shade::{self, Prepared, RenderOptions, Shading};
+
+mod bench;
+mod info;
+
+use bench::bench;
+use info::info;
 
 #[derive(Parser)]
 #[command(
@@ -44,7 +51,7 @@ enum Command {
 }
 
 #[derive(Args)]
-struct BenchArgs {
+pub(crate) struct BenchArgs {
     /// Model file (.obj, .gltf, .glb).
     model: PathBuf,
     /// Comma-separated sizes, e.g. 1920x1080,640x480.
@@ -58,6 +65,9 @@ struct BenchArgs {
     rounds: usize,
     #[arg(long)]
     threads: Option<usize>,
+    /// Draw without back-face culling, as the peer harness does (the same work as llvmpipe).
+    #[arg(long)]
+    no_cull: bool,
 }
 
 #[derive(Args)]
@@ -91,12 +101,15 @@ struct RenderArgs {
     /// Print one JSON object with counters and per-stage milliseconds.
     #[arg(long)]
     stats: bool,
+    /// Draw every material double-sided (no back-face culling).
+    #[arg(long)]
+    double_sided: bool,
     #[command(flatten)]
     normals: NormalArgs,
 }
 
 #[derive(Args)]
-struct NormalArgs {
+pub(crate) struct NormalArgs {
     /// Crease angle in degrees for averaged normals, or "off" to average across every edge.
     #[arg(long, default_value = "60")]
     crease: String,
@@ -106,7 +119,7 @@ struct NormalArgs {
 }
 
 #[derive(Args)]
-struct InfoArgs {
+pub(crate) struct InfoArgs {
     /// Model file (.obj, .gltf, .glb).
     model: PathBuf,
     /// Print JSON instead of text.
@@ -116,7 +129,7 @@ struct InfoArgs {
     normals: NormalArgs,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or("expected WIDTHxHEIGHT, e.g. 1280x720")?;
@@ -193,6 +206,7 @@ pub fn run() -> Result<()> {
                 camera: None,
                 texture: None,
                 stats: false,
+                double_sided: false,
                 normals: NormalArgs {
                     crease: "60".into(),
                     weighting: "angle".into(),
@@ -209,7 +223,7 @@ pub fn run() -> Result<()> {
     }
 }
 
-fn load_model(path: &Path, normals: &NormalArgs) -> Result<Scene> {
+pub(crate) fn load_model(path: &Path, normals: &NormalArgs) -> Result<Scene> {
     let opts = LoadOptions {
         normals: normals.options()?,
         ..LoadOptions::default()
@@ -244,6 +258,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         shading: args.shading,
         camera,
         texture,
+        double_sided: args.double_sided,
         ..RenderOptions::default()
     };
     let pool = rayon::ThreadPoolBuilder::new()
@@ -300,198 +315,5 @@ fn orbit_camera(scene: &Scene, aspect: f32, az: f32, el: f32, dist: Option<f32>)
             cam.fit(center, radius);
             cam
         }
-    }
-}
-
-fn info(args: &InfoArgs) -> Result<()> {
-    let scene = load_model(&args.model, &args.normals)?;
-    let meshes: Vec<_> = scene
-        .meshes
-        .iter()
-        .map(|m| {
-            serde_json::json!({
-                "name": m.name,
-                "normals": format!("{:?}", m.normal_source),
-                "uvs": m.uvs.is_some(),
-                "colors": m.colors.is_some(),
-                "topology": m.topology(),
-            })
-        })
-        .collect();
-    let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
-        scene.meshes.iter().map(|m| f(&m.topology())).sum()
-    };
-    if args.json {
-        let json = serde_json::json!({
-            "report": scene.report,
-            "instances": scene.instances.len(),
-            "materials": scene.materials.len(),
-            "textures": scene.textures.len(),
-            "cameras": scene.cameras.len(),
-            "meshes": meshes,
-        });
-        say!("{}", serde_json::to_string_pretty(&json)?);
-        return Ok(());
-    }
-    say!("{} ({})", args.model.display(), scene.report.format);
-    say!(
-        "  {} meshes, {} instances, {} materials, {} textures, {} cameras",
-        scene.meshes.len(),
-        scene.instances.len(),
-        scene.materials.len(),
-        scene.textures.len(),
-        scene.cameras.len()
-    );
-    say!(
-        "  {} vertices, {} edges, {} facets in total",
-        total(|t| t.vertices),
-        total(|t| t.edges),
-        total(|t| t.facets)
-    );
-    for m in &scene.meshes {
-        let t = m.topology();
-        say!(
-            "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {} in {} loops, non-manifold edges {}, \
-             degenerate facets {}, isolated vertices {}, components {}, V-E+F={} ({} without isolated vertices), \
-             genus {}, normals {:?}",
-            m.name,
-            t.vertices,
-            t.edges,
-            t.facets,
-            t.triangles,
-            t.boundary_edges,
-            t.boundary_loops,
-            t.non_manifold_edges,
-            t.degenerate_facets,
-            t.isolated_vertices,
-            t.components,
-            t.euler_characteristic,
-            t.euler_characteristic_used,
-            t.genus.map_or("n/a".to_string(), |g| g.to_string()),
-            m.normal_source
-        );
-    }
-    for w in &scene.report.warnings {
-        say!("  warning: {w}");
-    }
-    for s in &scene.report.skipped {
-        say!("  skipped: {s}");
-    }
-    Ok(())
-}
-
-/// The peer harness's view: eye = normalize(1.6, 1.2, 2.0) * 2.8 for a mesh scaled so its
-/// farthest vertex from the box centre is at distance 1; FOV 45 degrees, near 0.5, far 10.
-fn peer_camera(scene: &Scene) -> Camera {
-    let (lo, hi) = scene.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-    let center = (lo + hi) * 0.5;
-    let mut r: f32 = 0.0;
-    for inst in &scene.instances {
-        if let Some(m) = scene.meshes.get(inst.mesh) {
-            for p in &m.positions {
-                let d = inst.world.transform_point3(*p).distance(center);
-                if d.is_finite() {
-                    r = r.max(d);
-                }
-            }
-        }
-    }
-    let r = if r > 0.0 { r } else { 1.0 };
-    Camera {
-        name: "peer".into(),
-        eye: center + Vec3::new(1.6, 1.2, 2.0).normalize() * 2.8 * r,
-        target: center,
-        near: 0.5 * r,
-        far: 10.0 * r,
-        ..Camera::default()
-    }
-}
-
-fn bench(args: &BenchArgs) -> Result<()> {
-    let mut scene = load_model(
-        &args.model,
-        &NormalArgs {
-            crease: "off".into(),
-            weighting: "area".into(),
-        },
-    )?;
-    scene.lights = vec![
-        realist::scene::Light::Ambient {
-            color: Vec3::splat(0.1),
-        },
-        realist::scene::Light::Directional {
-            direction: -Vec3::new(0.5, 1.0, 0.8).normalize(),
-            color: Vec3::splat(0.9),
-        },
-    ];
-    let camera = peer_camera(&scene);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()?;
-    let prepared = pool.install(|| Prepared::new(&scene));
-    let triangles: usize = prepared.meshes.iter().map(|m| m.triangles.len()).sum();
-    for res in args.res.split(',') {
-        let (w, h) = parse_size(res).map_err(anyhow::Error::msg)?;
-        for mode in args.shading.split(',') {
-            let shading: Shading = mode.parse().map_err(anyhow::Error::msg)?;
-            let opts = RenderOptions {
-                width: w,
-                height: h,
-                shading: Some(shading),
-                camera: Some(camera.clone()),
-                ..RenderOptions::default()
-            };
-            // A reused target, as in an interactive viewer; "read" adds the sRGB encode, like
-            // the peer's read-back of the RGBA8 frame.
-            let mut target = realist::raster::Target::new(w, h, opts.background);
-            let (rounds, reads): (Vec<f64>, Vec<f64>) = pool.install(|| {
-                let _warm = shade::render_into(&mut target, &scene, &prepared, &opts);
-                (0..args.rounds.max(1))
-                    .map(|_| {
-                        let start = Instant::now();
-                        let (mut times, mut read) = (Vec::new(), Vec::new());
-                        while start.elapsed().as_secs_f64() < 0.5 || times.len() < 3 {
-                            let t = Instant::now();
-                            std::hint::black_box(shade::render_into(
-                                &mut target,
-                                &scene,
-                                &prepared,
-                                &opts,
-                            ));
-                            times.push(t.elapsed().as_secs_f64() * 1e3);
-                            std::hint::black_box(target.to_srgb8());
-                            read.push(t.elapsed().as_secs_f64() * 1e3);
-                        }
-                        (median(&mut times), median(&mut read))
-                    })
-                    .unzip()
-            });
-            let mut r = rounds.clone();
-            let json = serde_json::json!({
-                "mesh": args.model.file_name().map(|f| f.to_string_lossy().into_owned()),
-                "triangles": triangles,
-                "res": format!("{w}x{h}"),
-                "shading": shading.name(),
-                "threads": pool.current_num_threads(),
-                "ms_median": (median(&mut r) * 1e3).round() / 1e3,
-                "ms_read_median": (median(&mut reads.clone()) * 1e3).round() / 1e3,
-                "ms_rounds": rounds.iter().map(|x| (x * 1e3).round() / 1e3).collect::<Vec<_>>(),
-            });
-            say!("{json}");
-        }
-    }
-    Ok(())
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
 }

@@ -1,0 +1,82 @@
+//! `realist info`: the load report and the topology of every mesh.
+
+use anyhow::Result;
+
+use super::{load_model, InfoArgs};
+
+pub(super) fn info(args: &InfoArgs) -> Result<()> {
+    let scene = load_model(&args.model, &args.normals)?;
+    let meshes: Vec<_> = scene
+        .meshes
+        .iter()
+        .map(|m| {
+            serde_json::json!({
+                "name": m.name,
+                "normals": format!("{:?}", m.normal_source),
+                "uvs": m.uvs.is_some(),
+                "colors": m.colors.is_some(),
+                "topology": m.topology(),
+            })
+        })
+        .collect();
+    let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
+        scene.meshes.iter().map(|m| f(&m.topology())).sum()
+    };
+    if args.json {
+        let json = serde_json::json!({
+            "report": scene.report,
+            "instances": scene.instances.len(),
+            "materials": scene.materials.len(),
+            "textures": scene.textures.len(),
+            "cameras": scene.cameras.len(),
+            "meshes": meshes,
+        });
+        say!("{}", serde_json::to_string_pretty(&json)?);
+        return Ok(());
+    }
+    say!("{} ({})", args.model.display(), scene.report.format);
+    say!(
+        "  {} meshes, {} instances, {} materials, {} textures, {} cameras",
+        scene.meshes.len(),
+        scene.instances.len(),
+        scene.materials.len(),
+        scene.textures.len(),
+        scene.cameras.len()
+    );
+    say!(
+        "  {} vertices, {} edges, {} facets in total",
+        total(|t| t.vertices),
+        total(|t| t.edges),
+        total(|t| t.facets)
+    );
+    for m in &scene.meshes {
+        let t = m.topology();
+        say!(
+            "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {} in {} loops, non-manifold edges {}, \
+             degenerate facets {}, isolated vertices {}, components {}, V-E+F={} ({} without isolated vertices), \
+             genus {}, normals {:?}",
+            m.name,
+            t.vertices,
+            t.edges,
+            t.facets,
+            t.triangles,
+            t.boundary_edges,
+            t.boundary_loops,
+            t.non_manifold_edges,
+            t.degenerate_facets,
+            t.isolated_vertices,
+            t.components,
+            t.euler_characteristic,
+            t.euler_characteristic_used,
+            t.genus.map_or("n/a".to_string(), |g| g.to_string()),
+            m.normal_source
+        );
+    }
+    for w in &scene.report.warnings {
+        say!("  warning: {w}");
+    }
+    for s in &scene.report.skipped {
+        say!("  skipped: {s}");
+    }
+    Ok(())
+}
