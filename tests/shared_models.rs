@@ -12,7 +12,15 @@ use realist::shade::{Prepared, RenderOptions, Shading};
 
 fn shared() -> Option<PathBuf> {
     match std::env::var_os("REALIST_SHARED") {
-        Some(dir) => Some(PathBuf::from(dir).join("models")),
+        Some(dir) => {
+            let models = PathBuf::from(dir).join("models");
+            assert!(
+                models.is_dir(),
+                "REALIST_SHARED is set but {} is not a folder",
+                models.display()
+            );
+            Some(models)
+        }
         None => {
             eprintln!("REALIST_SHARED is not set: skipping the shared-model tests");
             None

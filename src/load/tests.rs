@@ -38,7 +38,15 @@ impl Drop for TempDir {
 /// `$REALIST_SHARED`, or `None` after printing why the test is skipped.
 pub(crate) fn shared(test: &str) -> Option<PathBuf> {
     match std::env::var_os("REALIST_SHARED") {
-        Some(dir) => Some(PathBuf::from(dir)),
+        Some(dir) => {
+            let dir = PathBuf::from(dir);
+            assert!(
+                dir.join("models").is_dir(),
+                "REALIST_SHARED={} has no models/ folder",
+                dir.display()
+            );
+            Some(dir)
+        }
         None => {
             eprintln!("{test}: REALIST_SHARED is not set; skipped");
             None

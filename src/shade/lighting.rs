@@ -60,7 +60,7 @@ pub struct Surface {
 
 /// Evaluates the lighting equation at `p` with unit normal `n`, eye at `eye`.
 #[must_use]
-#[inline]
+#[inline(always)]
 pub fn illuminate<const BLINN: bool>(
     lights: &LightSet,
     s: &Surface,
@@ -68,34 +68,42 @@ pub fn illuminate<const BLINN: bool>(
     n: Vec3,
     eye: Vec3,
 ) -> Vec3 {
-    let v = (eye - p).normalize_or_zero();
     let spec = s.specular != Vec3::ZERO;
-    let mut c = lights.ambient * s.ambient * s.diffuse;
-    let mut add = |l: Vec3, color: Vec3| {
-        let ndl = n.dot(l);
-        if ndl <= 0.0 {
-            return;
-        }
-        let mut term = s.diffuse * ndl;
-        if spec {
-            let base = if BLINN {
-                n.dot((l + v).normalize_or_zero())
-            } else {
-                (2.0 * ndl * n - l).dot(v)
-            };
-            if base > 0.0 {
-                term += s.specular * base.powf(s.shininess);
-            }
-        }
-        c += color * term;
+    // The view vector is only needed for highlights.
+    let v = if spec {
+        (eye - p).normalize_or_zero()
+    } else {
+        Vec3::ZERO
     };
+    let mut c = lights.ambient * s.ambient * s.diffuse;
     for &(l, color) in &lights.directional {
-        add(l, color);
+        c += color * term::<BLINN>(s, n, l, v, spec);
     }
     for &(pos, color) in &lights.point {
-        add((pos - p).normalize_or_zero(), color);
+        c += color * term::<BLINN>(s, n, (pos - p).normalize_or_zero(), v, spec);
     }
     c
+}
+
+/// Diffuse plus specular reflection of one light arriving from unit direction `l`.
+#[inline(always)]
+fn term<const BLINN: bool>(s: &Surface, n: Vec3, l: Vec3, v: Vec3, spec: bool) -> Vec3 {
+    let ndl = n.dot(l);
+    if ndl <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let mut t = s.diffuse * ndl;
+    if spec {
+        let base = if BLINN {
+            n.dot((l + v).normalize_or_zero())
+        } else {
+            (2.0 * ndl * n - l).dot(v)
+        };
+        if base > 0.0 {
+            t += s.specular * base.powf(s.shininess);
+        }
+    }
+    t
 }
 
 #[cfg(test)]
