@@ -204,3 +204,94 @@ fn hostile_coordinates_do_not_panic_or_poison_pixels() {
     let fb = render(&scene, 64, 48, Some(Shading::Phong), None);
     assert_finite(&fb, "default camera");
 }
+
+/// On a closed mesh only front faces are visible, so drawing it double-sided must not change
+/// a pixel in any lit mode (Gouraud used to flip vertex normals near the silhouette).
+#[test]
+fn double_sided_closed_mesh_looks_single_sided() {
+    let sphere = Mesh::sphere(1.0, 12, 6).expect("sphere");
+    let single = scene_of(
+        sphere.clone(),
+        Material {
+            specular: Vec3::splat(0.4),
+            ..Material::default()
+        },
+    );
+    let double = scene_of(
+        sphere,
+        Material {
+            double_sided: true,
+            specular: Vec3::splat(0.4),
+            ..Material::default()
+        },
+    );
+    let mut cam = Camera {
+        eye: Vec3::new(0.8, 1.0, 2.6),
+        ..Camera::default()
+    };
+    cam.fit(Vec3::ZERO, 1.0);
+    for mode in [
+        Shading::Gouraud,
+        Shading::Phong,
+        Shading::Blinn,
+        Shading::Flat,
+        Shading::Normals,
+    ] {
+        let a = render(&single, 128, 128, Some(mode), Some(cam.clone()));
+        let b = render(&double, 128, 128, Some(mode), Some(cam.clone()));
+        let differ = a
+            .color
+            .iter()
+            .zip(&b.color)
+            .filter(|(x, y)| (**x - **y).abs().max_element() > 1e-6)
+            .count();
+        assert_eq!(differ, 0, "{mode}: double-sided changed {differ} pixels");
+    }
+}
+
+/// A sheared / non-uniformly scaled instance near the edge of the view is still drawn: the
+/// object culling test must not use a bounding sphere that is too small.
+#[test]
+fn sheared_instance_at_the_view_edge_is_not_culled() {
+    let mut scene = scene_of(Mesh::cube(1.0).expect("cube"), Material::default());
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 20.0),
+        near: 1.0,
+        far: 100.0,
+        ..Camera::default()
+    };
+    let tan = (cam.yfov * 0.5).tan(); // square image
+    let mut drawn_all = true;
+    let mut visible_cases = 0;
+    for k in 0..100 {
+        // Long along x after a 45 degree rotation: world = T * S(10, 1, 1) * R(45).
+        let x = 20.0 * tan + 4.0 + k as f32 * 0.05;
+        scene.instances[0].world = glam::Mat4::from_translation(Vec3::new(x, 0.0, 0.0))
+            * glam::Mat4::from_scale(Vec3::new(10.0, 1.0, 1.0))
+            * glam::Mat4::from_rotation_z(std::f32::consts::FRAC_PI_4);
+        let opts = RenderOptions {
+            width: 64,
+            height: 64,
+            shading: Some(Shading::Flat),
+            camera: Some(cam.clone()),
+            ..RenderOptions::default()
+        };
+        let (_, stats) = common::render_with(&scene, &opts, 2);
+        // Exact visibility: does any transformed corner project inside the view?
+        let inside = (0..8).any(|i| {
+            let c = Vec3::new(
+                if i & 1 == 0 { -0.5 } else { 0.5 },
+                if i & 2 == 0 { -0.5 } else { 0.5 },
+                if i & 4 == 0 { -0.5 } else { 0.5 },
+            );
+            let w = scene.instances[0].world.transform_point3(c);
+            w.x < (20.0 - w.z) * tan
+        });
+        visible_cases += usize::from(inside);
+        if inside && stats.objects_culled > 0 {
+            drawn_all = false;
+        }
+    }
+    assert!(visible_cases > 10, "the sweep never reached the view edge");
+    assert!(drawn_all, "a visible sheared instance was culled");
+}

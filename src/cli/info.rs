@@ -6,21 +6,23 @@ use super::{load_model, InfoArgs};
 
 pub(super) fn info(args: &InfoArgs) -> Result<()> {
     let scene = load_model(&args.model, &args.normals)?;
+    let topologies: Vec<_> = scene.meshes.iter().map(|m| m.topology()).collect();
     let meshes: Vec<_> = scene
         .meshes
         .iter()
-        .map(|m| {
+        .zip(&topologies)
+        .map(|(m, t)| {
             serde_json::json!({
                 "name": m.name,
                 "normals": format!("{:?}", m.normal_source),
                 "uvs": m.uvs.is_some(),
                 "colors": m.colors.is_some(),
-                "topology": m.topology(),
+                "topology": t,
             })
         })
         .collect();
     let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
-        scene.meshes.iter().map(|m| f(&m.topology())).sum()
+        topologies.iter().map(f).sum()
     };
     if args.json {
         let json = serde_json::json!({
@@ -49,8 +51,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
         total(|t| t.edges),
         total(|t| t.facets)
     );
-    for m in &scene.meshes {
-        let t = m.topology();
+    for (m, t) in scene.meshes.iter().zip(&topologies) {
         say!(
             "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {} in {} loops, non-manifold edges {}, \
              degenerate facets {}, isolated vertices {}, components {}, V-E+F={} ({} without isolated vertices), \

@@ -240,6 +240,11 @@ fn render(args: &RenderArgs) -> Result<()> {
     for w in &scene.report.warnings {
         eprintln!("warning: {w}");
     }
+    if args.texture.is_some() && args.shading.is_some_and(|m| m != Shading::Textured) {
+        eprintln!(
+            "warning: --texture is only drawn in textured mode (the default for models with UVs)"
+        );
+    }
     let texture = match &args.texture {
         Some(p) => Some(Arc::new(load::load_texture(p)?)),
         None => None,

@@ -155,29 +155,42 @@ impl Target {
         (t as usize, o as usize)
     }
 
-    /// Copies the depth of every tile (for passes that test against a scratch depth).
+    /// Takes a copy of the depth plane, for a pass that must test against a depth buffer it
+    /// may not change (wireframe's hidden-line pass). Lazily cleared tiles are not copied.
     #[must_use]
-    pub fn depths(&self) -> Vec<Vec<f32>> {
-        self.tiles
-            .par_iter()
-            .map(|t| {
-                if t.pending_clear.is_some() {
-                    vec![0.0; TILE_PIXELS]
-                } else {
-                    t.depth.clone()
-                }
-            })
-            .collect()
+    pub fn save_depth(&self) -> DepthCopy {
+        DepthCopy(
+            self.tiles
+                .par_iter()
+                .map(|t| match t.pending_clear {
+                    Some(c) => SavedTile::Cleared(c),
+                    None => SavedTile::Depth(t.depth.clone()),
+                })
+                .collect(),
+        )
     }
 
-    /// Replaces the depth of every tile (the inverse of [`Target::depths`]).
-    pub fn set_depths(&mut self, depths: Vec<Vec<f32>>) {
-        for (t, d) in self.tiles.iter_mut().zip(depths) {
-            t.materialize();
-            if d.len() == TILE_PIXELS {
-                t.depth = d;
-            }
-        }
+    /// Puts a saved depth plane back and returns the depth the target had (the scratch depth
+    /// drawn since [`Target::save_depth`]). Tiles cleared before and untouched since stay lazy;
+    /// tiles cleared before and touched since must not have had colour written.
+    pub fn restore_depth(&mut self, saved: DepthCopy) -> DepthCopy {
+        let scratch = self
+            .tiles
+            .iter_mut()
+            .zip(saved.0)
+            .map(|(t, saved)| match (saved, t.pending_clear) {
+                (SavedTile::Depth(d), _) => {
+                    t.materialize();
+                    SavedTile::Depth(std::mem::replace(&mut t.depth, d))
+                }
+                (SavedTile::Cleared(c), Some(_)) => SavedTile::Cleared(c),
+                (SavedTile::Cleared(c), None) => {
+                    t.pending_clear = Some(c);
+                    SavedTile::Depth(std::mem::replace(&mut t.depth, vec![0.0; TILE_PIXELS]))
+                }
+            })
+            .collect();
+        DepthCopy(scratch)
     }
 
     /// Resolves the tiles into a row-major framebuffer.
@@ -208,6 +221,30 @@ impl Target {
             }
         }
         fb
+    }
+}
+
+/// One tile of a [`DepthCopy`].
+#[derive(Clone, Debug)]
+enum SavedTile {
+    /// The tile was lazily cleared (depth 0 everywhere) to this colour.
+    Cleared(Vec4),
+    Depth(Vec<f32>),
+}
+
+/// A copy of a target's depth plane, tile by tile.
+#[derive(Clone, Debug)]
+pub struct DepthCopy(Vec<SavedTile>);
+
+impl DepthCopy {
+    /// Depth at storage offset `o` of tile `t` (0 in a cleared tile).
+    #[inline]
+    #[must_use]
+    pub fn at(&self, t: usize, o: usize) -> f32 {
+        match &self.0[t] {
+            SavedTile::Cleared(_) => 0.0,
+            SavedTile::Depth(d) => d[o],
+        }
     }
 }
 

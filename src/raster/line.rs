@@ -9,7 +9,7 @@
 use glam::{Vec2, Vec4};
 
 use super::clip::{clip_polygon, outcode, ClipVertex, FAR, NEAR};
-use super::framebuffer::Target;
+use super::framebuffer::{DepthCopy, Target};
 use super::pipeline::Stats;
 
 /// How lines are drawn.
@@ -25,12 +25,11 @@ pub struct LineStyle {
     pub depth_write: bool,
 }
 
-/// Draws `lines` (pairs of indices into `clip`) into `target`. When `depth` is given (one
-/// 64x64 depth array per tile, as from [`Target::depths`]) lines test against it instead of
-/// the target's own depth.
+/// Draws `lines` (pairs of indices into `clip`) into `target`. When `depth` is given (as from
+/// [`Target::restore_depth`]) lines test against it instead of the target's own depth.
 pub fn draw_lines(
     target: &mut Target,
-    depth: Option<&[Vec<f32>]>,
+    depth: Option<&DepthCopy>,
     clip: &[Vec4],
     lines: &[[u32; 2]],
     style: &LineStyle,
@@ -120,7 +119,7 @@ fn clip_to_rect(a: Vec4, b: Vec4, w: f32, h: f32) -> Option<(Vec4, Vec4)> {
     (t0 <= t1).then(|| (a + d * t0, a + d * t1))
 }
 
-fn bresenham(target: &mut Target, depth: Option<&[Vec<f32>]>, a: Vec4, b: Vec4, style: &LineStyle) {
+fn bresenham(target: &mut Target, depth: Option<&DepthCopy>, a: Vec4, b: Vec4, style: &LineStyle) {
     let clamp_x = |v: f32| (v.floor() as i64).clamp(0, i64::from(target.width) - 1);
     let clamp_y = |v: f32| (v.floor() as i64).clamp(0, i64::from(target.height) - 1);
     let (mut x, mut y) = (clamp_x(a.x), clamp_y(a.y));
@@ -134,7 +133,7 @@ fn bresenham(target: &mut Target, depth: Option<&[Vec<f32>]>, a: Vec4, b: Vec4, 
     loop {
         let z = a.z + (b.z - a.z) * (i / steps);
         let (t, o) = target.locate(x as u32, y as u32);
-        let d = depth.map_or(target.tiles[t].depth_at(o), |d| d[t][o]);
+        let d = depth.map_or(target.tiles[t].depth_at(o), |d| d.at(t, o));
         if !style.depth_test || z >= d * (1.0 - style.depth_tolerance) {
             let tile = &mut target.tiles[t];
             tile.materialize();

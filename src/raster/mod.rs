@@ -29,7 +29,7 @@ mod pipeline;
 mod setup;
 mod varying;
 
-pub use framebuffer::{Framebuffer, Target, TILE};
+pub use framebuffer::{DepthCopy, Framebuffer, Target, TILE};
 pub use line::{draw_lines, LineStyle};
 pub use pipeline::{draw, transform_positions, Blend, Cull, DepthTest, Draw, DrawState, Stats};
 pub use setup::{GUARD_BAND_PX, SUBPIXEL_BITS};

@@ -199,6 +199,25 @@ mod tests {
     }
 
     #[test]
+    fn snap_rounds_half_to_even() {
+        for (s, want) in [
+            (0.5 / 256.0, 0),
+            (1.5 / 256.0, 2),
+            (2.5 / 256.0, 2),
+            (-0.5 / 256.0, 0),
+            (-1.5 / 256.0, -2),
+        ] {
+            assert_eq!(snap(s), want, "{s}");
+        }
+        for k in -100_000..100_000 {
+            let s = k as f32 * 0.013_7;
+            assert_eq!(snap(s), (s * 256.0).round_ties_even() as i64, "{s}");
+        }
+        assert_eq!(snap(f32::NAN), 0);
+        assert_eq!(snap(1e30), 1 << 23);
+    }
+
+    #[test]
     fn ccw_is_front_and_edges_positive_inside() {
         let (a, b, c) = (cv(-0.5, -0.5), cv(0.5, -0.5), cv(0.0, 0.5));
         let t = setup([&a, &b, &c], 64, 64, 0, state(Cull::Back)).unwrap();

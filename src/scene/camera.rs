@@ -16,7 +16,9 @@ pub struct Camera {
     pub near: f32,
     /// Distance to the far plane (> near).
     pub far: f32,
-    /// Fixed aspect ratio (width / height) from the file; `None` = from the image size.
+    /// Aspect ratio (width / height) the file's author framed for, if any. Informational:
+    /// the projection always uses the output image's aspect with this camera's vertical
+    /// field of view, so a file camera never stretches the image.
     pub aspect: Option<f32>,
 }
 
@@ -163,7 +165,11 @@ impl Camera {
     /// the camera. Reversed-Z spreads f32 depth precision evenly over distance.
     #[must_use]
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let aspect = self.aspect.unwrap_or(aspect);
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        };
         let f = self.zoom();
         let (n, fa) = (self.near, self.far);
         // z_clip = a + b * w with w = -z_view; z_clip / w = 1 at w = n and 0 at w = far.

@@ -163,49 +163,37 @@ pub fn render_into(
         if tri.triangles.is_empty() || !inst.world.is_finite() {
             continue;
         }
-        let scale = inst
-            .world
-            .x_axis
-            .length()
-            .max(inst.world.y_axis.length())
-            .max(inst.world.z_axis.length());
-        let center = inst.world.transform_point3(tri.center);
-        if tri.radius < 0.0
-            || planes
-                .iter()
-                .any(|p| p.truncate().dot(center) + p.w < -tri.radius * scale)
-        {
+        if tri.radius < 0.0 || !sphere_visible(&planes, inst.world, tri.center, tri.radius) {
             stats.objects_culled += 1;
             stats.culled_frustum += tri.triangles.len() as u64;
             stats.triangles_in += tri.triangles.len() as u64;
             continue;
         }
         let material = scene.material_of(mesh);
+        let texture = material
+            .base_color_texture
+            .and_then(|t| scene.textures.get(t.texture).cloned())
+            .or_else(|| opts.texture.clone())
+            .filter(|_| tri.uvs.is_some());
         let mode = match (opts.shading, inst.style) {
             (Some(m), _) => m,
             (None, Style::Wireframe) => Shading::Wireframe,
             (None, Style::Flat) => Shading::Flat,
+            // A model with a texture is shown with it unless a mode is forced.
+            (None, Style::Inherit) if texture.is_some() => Shading::Textured,
             (None, Style::Inherit) => Shading::Phong,
         };
-        let texture = material
-            .base_color_texture
-            .and_then(|t| scene.textures.get(t.texture).cloned())
-            .or_else(|| opts.texture.clone());
         let debug = matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv);
         let blend = material.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
+        let double_sided = material.double_sided || opts.double_sided;
         let state = DrawState {
-            cull: if material.double_sided || opts.double_sided {
-                Cull::None
-            } else {
-                Cull::Back
-            },
+            cull: if double_sided { Cull::None } else { Cull::Back },
             depth_write: !blend,
             blend: if blend { Blend::Alpha } else { Blend::Replace },
             flip_winding: inst.world.determinant() < 0.0,
             ..DrawState::opaque()
         };
         let m = &*material;
-        let double_sided = m.double_sided || opts.double_sided;
         params.push(DrawParams {
             base: if m.base_color.is_finite() {
                 m.base_color
@@ -230,17 +218,17 @@ pub fn render_into(
             },
             double_sided,
         });
-        let textured = mode == Shading::Textured && texture.is_some() && tri.uvs.is_some();
+        let center = inst.world.transform_point3(tri.center);
         insts.push(Inst {
             tri,
             world: inst.world,
-            normal: Mat3::from_mat4(inst.world).inverse().transpose(),
+            normal: normal_matrix(inst.world),
             mvp: vp * inst.world,
             view: view * inst.world,
             state,
             id: (params.len() - 1) as u32,
             mode,
-            textured,
+            textured: mode == Shading::Textured && texture.is_some(),
             blend,
             distance: (center - camera.eye).length(),
         });
@@ -281,6 +269,34 @@ struct Ctx<'a> {
     camera: &'a Camera,
 }
 
+/// Transforms normals of a model -> world matrix: the cofactor matrix of its 3x3 part, which
+/// equals det * (M^-1)^T and stays defined for singular matrices (a flattened mesh keeps the
+/// normal of its plane); the sign of the determinant keeps mirrored normals outward.
+fn normal_matrix(world: Mat4) -> Mat3 {
+    let m = Mat3::from_mat4(world);
+    let cof = Mat3::from_cols(
+        m.y_axis.cross(m.z_axis),
+        m.z_axis.cross(m.x_axis),
+        m.x_axis.cross(m.y_axis),
+    );
+    if m.determinant() < 0.0 {
+        -cof
+    } else {
+        cof
+    }
+}
+
+/// Whether a model-space bounding sphere may be inside the frustum. The planes are taken to
+/// model space (p' = M^T p), where the sphere is exact, so shear and non-uniform scale in the
+/// world matrix cannot make a visible object disappear.
+fn sphere_visible(planes: &[Vec4; 6], world: Mat4, center: Vec3, radius: f32) -> bool {
+    let mt = world.transpose();
+    planes.iter().all(|p| {
+        let q = mt * *p;
+        q.truncate().dot(center) + q.w >= -radius * q.truncate().length()
+    })
+}
+
 /// The six frustum planes (a, b, c, d) with a·x + d >= 0 inside, normalised, from a
 /// view-projection matrix in this crate's clip convention (0 <= z <= w).
 fn frustum_planes(vp: Mat4) -> [Vec4; 6] {
@@ -300,18 +316,39 @@ fn draw_group(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut Stats
     let pick = |f: &dyn Fn(&Inst) -> bool| -> Vec<&Inst> {
         insts.iter().copied().filter(|i| f(i)).collect()
     };
-    let colour = pick(&|i| matches!(i.mode, Shading::Flat | Shading::Gouraud));
-    if !colour.is_empty() {
-        let data: Vec<_> = colour
+    let flat = pick(&|i| i.mode == Shading::Flat);
+    if !flat.is_empty() {
+        let data: Vec<_> = flat
             .iter()
-            .map(|i| vertex::colour(i, ctx.params, ctx.lights, ctx.eye))
+            .map(|i| vertex::flat(i, ctx.params, ctx.lights, ctx.eye))
             .collect();
-        let draws: Vec<_> = colour
+        let draws: Vec<_> = flat
             .iter()
             .zip(&data)
             .map(|(i, (c, v, t))| draw_of(i, c, v, t))
             .collect();
-        raster::draw(target, &draws, &ColorShader { draws: ctx.params }, stats);
+        let shader = ColorShader::<Vec4> {
+            draws: ctx.params,
+            _v: std::marker::PhantomData,
+        };
+        raster::draw(target, &draws, &shader, stats);
+    }
+    let gouraud = pick(&|i| i.mode == Shading::Gouraud);
+    if !gouraud.is_empty() {
+        let data: Vec<_> = gouraud
+            .iter()
+            .map(|i| vertex::gouraud(i, ctx.params, ctx.lights, ctx.eye))
+            .collect();
+        let draws: Vec<_> = gouraud
+            .iter()
+            .zip(&data)
+            .map(|(i, (c, v))| draw_of(i, c, v, &i.tri.triangles))
+            .collect();
+        let shader = ColorShader::<(Vec4, Vec4)> {
+            draws: ctx.params,
+            _v: std::marker::PhantomData,
+        };
+        raster::draw(target, &draws, &shader, stats);
     }
     for (mode, blinn) in [
         (Shading::Phong, false),
@@ -415,7 +452,7 @@ fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut S
     if insts.is_empty() {
         return;
     }
-    let saved = target.depths();
+    let saved = target.save_depth();
     let clips: Vec<Vec<Vec4>> = insts
         .iter()
         .map(|i| raster::transform_positions(i.mvp, &i.tri.positions))
@@ -440,8 +477,7 @@ fn draw_wireframe(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats: &mut S
         .collect();
     let mut depth_stats = Stats::default();
     raster::draw(target, &draws, &DepthOnly, &mut depth_stats);
-    let scratch = target.depths();
-    target.set_depths(saved);
+    let scratch = target.restore_depth(saved);
     for (i, clip) in insts.iter().zip(&clips) {
         let base = ctx.params[i.id as usize].base;
         let color = (base.truncate() * 0.85 + Vec3::splat(0.15)).extend(1.0);

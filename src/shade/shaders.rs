@@ -33,15 +33,41 @@ impl DrawParams {
 }
 
 /// Flat and Gouraud: the colour was computed per facet or per vertex and is interpolated.
-pub struct ColorShader<'a> {
+pub struct ColorShader<'a, V> {
     pub draws: &'a [DrawParams],
+    pub _v: std::marker::PhantomData<V>,
 }
 
-impl FragmentShader for ColorShader<'_> {
-    type Varying = Vec4;
+/// A precomputed colour: one (flat: the facet's side is known per facet) or a front and a
+/// back colour (Gouraud on double-sided materials: which side is seen is known only per
+/// triangle, not per vertex).
+pub trait ColorVarying: Varying {
+    fn color(&self, front: bool) -> Vec4;
+}
+
+impl ColorVarying for Vec4 {
+    #[inline(always)]
+    fn color(&self, _: bool) -> Vec4 {
+        *self
+    }
+}
+
+impl ColorVarying for (Vec4, Vec4) {
+    #[inline(always)]
+    fn color(&self, front: bool) -> Vec4 {
+        if front {
+            self.0
+        } else {
+            self.1
+        }
+    }
+}
+
+impl<V: ColorVarying> FragmentShader for ColorShader<'_, V> {
+    type Varying = V;
     #[inline]
-    fn fragment(&self, tri: TriInfo, v: &Vec4) -> Option<Vec4> {
-        self.draws[tri.draw as usize].alpha(*v)
+    fn fragment(&self, tri: TriInfo, v: &V) -> Option<Vec4> {
+        self.draws[tri.draw as usize].alpha(v.color(tri.front))
     }
 }
 
@@ -173,13 +199,12 @@ pub struct DebugShader {
 impl FragmentShader for DebugShader {
     type Varying = Vec3;
     #[inline]
-    fn fragment(&self, tri: TriInfo, v: &Vec3) -> Option<Vec4> {
+    fn fragment(&self, _: TriInfo, v: &Vec3) -> Option<Vec4> {
         // Debug colours are display values: decode so the PNG shows them as computed.
         let display = match self.mode {
-            Debug::Normals => {
-                let n = v.normalize_or_zero() * if tri.front { 1.0 } else { -1.0 };
-                n * 0.5 + 0.5
-            }
+            // Raw interpolated normals, not flipped on back faces: this view is for finding
+            // inverted normals.
+            Debug::Normals => v.normalize_or_zero() * 0.5 + 0.5,
             Debug::Depth => {
                 Vec3::splat(1.0 - ((v.x - self.near) / (self.far - self.near)).clamp(0.0, 1.0))
             }

@@ -9,7 +9,6 @@ use rayon::prelude::*;
 use super::lighting::{illuminate, LightSet, Surface};
 use super::render::Inst;
 use super::shaders::{Debug, DrawParams, LitVarying};
-use super::Shading;
 use crate::raster::transform_positions;
 
 const MIN_LEN: usize = 4096;
@@ -38,40 +37,57 @@ pub(super) fn lit<V: LitVarying>(i: &Inst) -> (Vec<Vec4>, Vec<V>) {
     (clip, var)
 }
 
-/// Gouraud (lighting per vertex) or flat (lighting per facet, triangles unindexed so every
-/// corner carries its facet's colour).
-pub(super) fn colour<'a>(
+/// The lighting equation at a vertex or facet centroid, seen from the side `n` points to.
+fn lit_colour(d: &DrawParams, lights: &LightSet, eye: Vec3, p: Vec3, n: Vec3, c: Vec4) -> Vec4 {
+    let base = d.base * c;
+    let s = Surface {
+        diffuse: base.truncate(),
+        ..d.surface
+    };
+    illuminate::<false>(lights, &s, p, n, eye).extend(base.w)
+}
+
+/// Gouraud: lighting per vertex, colours interpolated. Double-sided materials also get the
+/// colour of the back side (normal flipped), chosen per triangle by the shader.
+pub(super) fn gouraud(
+    i: &Inst,
+    params: &[DrawParams],
+    lights: &LightSet,
+    eye: Vec3,
+) -> (Vec<Vec4>, Vec<(Vec4, Vec4)>) {
+    let d = &params[i.id as usize];
+    let tri = i.tri;
+    let clip = transform_positions(i.mvp, &tri.positions);
+    let var = (0..tri.positions.len())
+        .into_par_iter()
+        .with_min_len(MIN_LEN)
+        .map(|k| {
+            let (p, n) = world(i, k);
+            let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
+            let front = lit_colour(d, lights, eye, p, n, c);
+            let back = if d.double_sided {
+                lit_colour(d, lights, eye, p, -n, c)
+            } else {
+                front
+            };
+            (front, back)
+        })
+        .collect();
+    (clip, var)
+}
+
+/// Flat: one lighting evaluation per facet, at its area-weighted centroid with its plane
+/// normal turned towards the eye on double-sided materials; triangles are unindexed so every
+/// corner carries its facet's colour.
+pub(super) fn flat<'a>(
     i: &'a Inst,
     params: &[DrawParams],
     lights: &LightSet,
     eye: Vec3,
 ) -> (Vec<Vec4>, Vec<Vec4>, Cow<'a, [[u32; 3]]>) {
     let d = &params[i.id as usize];
-    let shade = |p: Vec3, mut n: Vec3, c: Vec4| {
-        if d.double_sided && n.dot(eye - p) < 0.0 {
-            n = -n;
-        }
-        let base = d.base * c;
-        let s = Surface {
-            diffuse: base.truncate(),
-            ..d.surface
-        };
-        illuminate::<false>(lights, &s, p, n, eye).extend(base.w)
-    };
     let tri = i.tri;
-    if i.mode == Shading::Gouraud {
-        let clip = transform_positions(i.mvp, &tri.positions);
-        let var = (0..tri.positions.len())
-            .into_par_iter()
-            .with_min_len(MIN_LEN)
-            .map(|k| {
-                let (p, n) = world(i, k);
-                shade(p, n, tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]))
-            })
-            .collect();
-        return (clip, var, Cow::Borrowed(&tri.triangles));
-    }
-    // Flat: area-weighted centroid of each facet (its triangles' centroids weighted by area).
+    // Area-weighted centroid of each facet (its triangles' centroids weighted by area).
     let nf = tri.facet_normals.len();
     let mut centroid = vec![Vec3::ZERO; nf];
     let mut area = vec![0.0f32; nf];
@@ -83,23 +99,20 @@ pub(super) fn colour<'a>(
             area[f] += ar;
         }
     }
-    let first_color: Vec<Vec4> = match &tri.colors {
-        Some(c) => {
-            let mut fc = vec![Vec4::ONE; nf];
-            for (t, f) in tri
-                .triangles
-                .iter()
-                .rev()
-                .zip(tri.triangle_facets.iter().rev())
-            {
-                if let Some(slot) = fc.get_mut(*f as usize) {
-                    *slot = c[t[0] as usize];
-                }
+    // Seed 000: the facet takes the colour of its first vertex.
+    let mut first_color = vec![Vec4::ONE; nf];
+    if let Some(c) = &tri.colors {
+        for (t, f) in tri
+            .triangles
+            .iter()
+            .rev()
+            .zip(tri.triangle_facets.iter().rev())
+        {
+            if let Some(slot) = first_color.get_mut(*f as usize) {
+                *slot = c[t[0] as usize];
             }
-            fc
         }
-        None => vec![Vec4::ONE; nf],
-    };
+    }
     let facet_colour: Vec<Vec4> = (0..nf)
         .into_par_iter()
         .with_min_len(MIN_LEN)
@@ -110,8 +123,11 @@ pub(super) fn colour<'a>(
                 Vec3::ZERO
             };
             let p = i.world.transform_point3(c);
-            let n = (i.normal * tri.facet_normals[f]).normalize_or_zero();
-            shade(p, n, first_color[f])
+            let mut n = (i.normal * tri.facet_normals[f]).normalize_or_zero();
+            if d.double_sided && n.dot(eye - p) < 0.0 {
+                n = -n;
+            }
+            lit_colour(d, lights, eye, p, n, first_color[f])
         })
         .collect();
     let corners: Vec<Vec3> = tri
