@@ -15,6 +15,7 @@
 //! This module never loops over tiles or pixels itself: the rasterizer calls the shaders.
 
 mod lighting;
+mod passes;
 mod render;
 mod shaders;
 mod vertex;
