@@ -95,6 +95,12 @@ struct RenderArgs {
     /// (default distance frames the scene).
     #[arg(long, value_parser = parse_camera)]
     camera: Option<(f32, f32, Option<f32>)>,
+    /// Vertical field of view in degrees (default 45).
+    #[arg(long, conflicts_with = "zoom")]
+    fov: Option<f32>,
+    /// The seed's zoom factor, zoom = 1/tan(fov/2) (1 = 90 degrees, 2.414 = 45 degrees).
+    #[arg(long)]
+    zoom: Option<f32>,
     /// Texture applied to meshes that have UVs but no material texture (e.g. spot.obj).
     #[arg(long)]
     texture: Option<PathBuf>,
@@ -204,6 +210,8 @@ pub fn run() -> Result<()> {
                 shading: None,
                 threads: None,
                 camera: None,
+                fov: None,
+                zoom: None,
                 texture: None,
                 stats: false,
                 double_sided: false,
@@ -252,10 +260,21 @@ fn render(args: &RenderArgs) -> Result<()> {
     let t_load = t0.elapsed();
     let (w, h) = args.size;
     let aspect = w as f32 / h as f32;
-    let camera = match args.camera {
-        Some((az, el, dist)) => Some(orbit_camera(&scene, aspect, az, el, dist)),
-        None if args.demo => scene.cameras.first().cloned(),
-        None => None,
+    let yfov = match (args.fov, args.zoom) {
+        (Some(f), _) if f.is_finite() && f > 0.0 && f < 180.0 => Some(f.to_radians()),
+        (Some(f), _) => bail!("--fov {f}: expected degrees between 0 and 180"),
+        (None, Some(z)) if z.is_finite() && z > 0.0 => Some(2.0 * (1.0 / z).atan()),
+        (None, Some(z)) => bail!("--zoom {z}: expected a positive number"),
+        (None, None) => None,
+    };
+    let camera = match (args.camera, yfov) {
+        (Some((az, el, dist)), _) => Some(orbit_camera(&scene, aspect, az, el, dist, yfov)),
+        (None, _) if args.demo => scene.cameras.first().cloned().map(|mut c| {
+            c.yfov = yfov.unwrap_or(c.yfov);
+            c
+        }),
+        (None, Some(_)) => Some(orbit_camera(&scene, aspect, 35.0, 25.0, None, yfov)),
+        (None, None) => None,
     };
     let opts = RenderOptions {
         width: w,
@@ -309,10 +328,18 @@ fn render(args: &RenderArgs) -> Result<()> {
 }
 
 /// An orbit camera around the scene's bounding sphere.
-fn orbit_camera(scene: &Scene, aspect: f32, az: f32, el: f32, dist: Option<f32>) -> Camera {
+fn orbit_camera(
+    scene: &Scene,
+    aspect: f32,
+    az: f32,
+    el: f32,
+    dist: Option<f32>,
+    yfov: Option<f32>,
+) -> Camera {
     let (lo, hi) = scene.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
     let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6));
-    let framed = Camera::frame_box(lo, hi, aspect, az, el);
+    let yfov = yfov.unwrap_or(realist::scene::DEFAULT_YFOV);
+    let framed = Camera::frame_box_fov(lo, hi, aspect, az, el, yfov);
     match dist {
         None => framed,
         Some(d) => {

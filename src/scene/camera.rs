@@ -3,6 +3,19 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
+/// The default vertical field of view: 45 degrees.
+pub const DEFAULT_YFOV: f32 = std::f32::consts::FRAC_PI_4;
+
+/// Keeps a vertical field of view (radians) within 0.1..179 degrees; NaN becomes the default.
+#[must_use]
+pub fn clamp_fov(yfov: f32) -> f32 {
+    if yfov.is_nan() {
+        DEFAULT_YFOV
+    } else {
+        yfov.clamp(0.1f32.to_radians(), 179f32.to_radians())
+    }
+}
+
 /// A perspective camera looking from `eye` at `target`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
@@ -85,7 +98,21 @@ impl Camera {
         azimuth: f32,
         elevation: f32,
     ) -> Self {
-        let yfov = 45f32.to_radians();
+        Self::frame_sphere_fov(center, radius, aspect, azimuth, elevation, DEFAULT_YFOV)
+    }
+
+    /// Frames a bounding sphere with a vertical field of view `yfov` (radians, clamped to
+    /// 0.1..179 degrees).
+    #[must_use]
+    pub fn frame_sphere_fov(
+        center: Vec3,
+        radius: f32,
+        aspect: f32,
+        azimuth: f32,
+        elevation: f32,
+        yfov: f32,
+    ) -> Self {
+        let yfov = clamp_fov(yfov);
         let radius = if radius.is_finite() && radius > 0.0 {
             radius
         } else {
@@ -106,9 +133,22 @@ impl Camera {
     /// for elongated models.
     #[must_use]
     pub fn frame_box(lo: Vec3, hi: Vec3, aspect: f32, azimuth: f32, elevation: f32) -> Self {
+        Self::frame_box_fov(lo, hi, aspect, azimuth, elevation, DEFAULT_YFOV)
+    }
+
+    /// [`Camera::frame_box`] with a vertical field of view `yfov` in radians.
+    #[must_use]
+    pub fn frame_box_fov(
+        lo: Vec3,
+        hi: Vec3,
+        aspect: f32,
+        azimuth: f32,
+        elevation: f32,
+        yfov: f32,
+    ) -> Self {
         let center = (lo + hi) * 0.5;
         let radius = ((hi - lo) * 0.5).length();
-        let mut cam = Self::frame_from(center, radius, aspect, azimuth, elevation);
+        let mut cam = Self::frame_sphere_fov(center, radius, aspect, azimuth, elevation, yfov);
         if !(radius.is_finite() && radius > 0.0) {
             return cam;
         }

@@ -12,7 +12,7 @@ mod camera;
 mod demo;
 mod light;
 
-pub use camera::Camera;
+pub use camera::{clamp_fov, Camera, DEFAULT_YFOV};
 pub use demo::{demo, DEMO_SLICES, DEMO_STACKS};
 pub use light::Light;
 
