@@ -75,8 +75,12 @@ pub(super) fn draw_group(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats:
                     .filter(|i| i.textured == tex && i.tri.colors.is_some() == col)
                     .collect();
                 match (tex, col, blinn) {
-                    (false, false, false) => lit::<(Vec3, Vec3), false>(target, &group, ctx, stats),
-                    (false, false, true) => lit::<(Vec3, Vec3), true>(target, &group, ctx, stats),
+                    (false, false, false) => {
+                        lit::<(Vec3, Vec3, ()), false>(target, &group, ctx, stats)
+                    }
+                    (false, false, true) => {
+                        lit::<(Vec3, Vec3, ()), true>(target, &group, ctx, stats)
+                    }
                     (false, true, false) => {
                         lit::<(Vec3, Vec3, Vec4), false>(target, &group, ctx, stats)
                     }
@@ -85,7 +89,7 @@ pub(super) fn draw_group(target: &mut Target, insts: &[&Inst], ctx: &Ctx, stats:
                     }
                     (true, false, _) => lit::<(Vec3, Vec3, Vec2), true>(target, &group, ctx, stats),
                     (true, true, _) => {
-                        lit::<(Vec3, Vec3, Vec2, Vec4), true>(target, &group, ctx, stats)
+                        lit::<(Vec3, Vec3, (Vec2, Vec4)), true>(target, &group, ctx, stats)
                     }
                 }
             }

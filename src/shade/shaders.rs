@@ -76,6 +76,14 @@ pub trait LitVarying: Varying {
     fn new(p: Vec3, n: Vec3, uv: Vec2, color: Vec4) -> Self;
     fn position(&self) -> Vec3;
     fn normal(&self) -> Vec3;
+    fn uv(&self) -> Option<Vec2>;
+    fn color(&self) -> Option<Vec4>;
+}
+
+/// What a lit varying carries besides position and normal: nothing (`()`), a UV (`Vec2`), a
+/// vertex colour (`Vec4`) or both.
+pub trait Extra: Varying {
+    fn new(uv: Vec2, color: Vec4) -> Self;
     fn uv(&self) -> Option<Vec2> {
         None
     }
@@ -84,63 +92,60 @@ pub trait LitVarying: Varying {
     }
 }
 
-impl LitVarying for (Vec3, Vec3) {
-    fn new(p: Vec3, n: Vec3, _: Vec2, _: Vec4) -> Self {
-        (p, n)
-    }
-    fn position(&self) -> Vec3 {
-        self.0
-    }
-    fn normal(&self) -> Vec3 {
-        self.1
-    }
+impl Extra for () {
+    fn new(_: Vec2, _: Vec4) -> Self {}
 }
 
-impl LitVarying for (Vec3, Vec3, Vec4) {
-    fn new(p: Vec3, n: Vec3, _: Vec2, c: Vec4) -> Self {
-        (p, n, c)
-    }
-    fn position(&self) -> Vec3 {
-        self.0
-    }
-    fn normal(&self) -> Vec3 {
-        self.1
-    }
-    fn color(&self) -> Option<Vec4> {
-        Some(self.2)
-    }
-}
-
-impl LitVarying for (Vec3, Vec3, Vec2) {
-    fn new(p: Vec3, n: Vec3, uv: Vec2, _: Vec4) -> Self {
-        (p, n, uv)
-    }
-    fn position(&self) -> Vec3 {
-        self.0
-    }
-    fn normal(&self) -> Vec3 {
-        self.1
+impl Extra for Vec2 {
+    fn new(uv: Vec2, _: Vec4) -> Self {
+        uv
     }
     fn uv(&self) -> Option<Vec2> {
-        Some(self.2)
+        Some(*self)
     }
 }
 
-impl LitVarying for (Vec3, Vec3, Vec2, Vec4) {
-    fn new(p: Vec3, n: Vec3, uv: Vec2, c: Vec4) -> Self {
-        (p, n, uv, c)
+impl Extra for Vec4 {
+    fn new(_: Vec2, color: Vec4) -> Self {
+        color
     }
+    fn color(&self) -> Option<Vec4> {
+        Some(*self)
+    }
+}
+
+impl Extra for (Vec2, Vec4) {
+    fn new(uv: Vec2, color: Vec4) -> Self {
+        (uv, color)
+    }
+    fn uv(&self) -> Option<Vec2> {
+        Some(self.0)
+    }
+    fn color(&self) -> Option<Vec4> {
+        Some(self.1)
+    }
+}
+
+impl<E: Extra> LitVarying for (Vec3, Vec3, E) {
+    #[inline(always)]
+    fn new(p: Vec3, n: Vec3, uv: Vec2, color: Vec4) -> Self {
+        (p, n, E::new(uv, color))
+    }
+    #[inline(always)]
     fn position(&self) -> Vec3 {
         self.0
     }
+    #[inline(always)]
     fn normal(&self) -> Vec3 {
         self.1
     }
+    #[inline(always)]
     fn uv(&self) -> Option<Vec2> {
-        Some(self.2)
+        self.2.uv()
     }
+    #[inline(always)]
     fn color(&self) -> Option<Vec4> {
-        Some(self.3)
+        self.2.color()
     }
 }
 
