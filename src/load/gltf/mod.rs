@@ -73,6 +73,10 @@ pub enum GltfError {
         buffer: usize,
         reason: String,
     },
+    /// A buffer with neither a `uri` nor the GLB binary chunk: valid glTF, but there are no
+    /// bytes. Primitives that need it are skipped (with a note) rather than failing the file.
+    #[error("{path}: buffer {buffer} has no uri and the file has no GLB binary chunk: no data")]
+    NoData { path: PathBuf, buffer: usize },
     #[error("{path}: bufferView {view}: {reason}")]
     View {
         path: PathBuf,
@@ -160,7 +164,13 @@ impl<'a> Doc<'a> {
                 uri::load(uri, &self.root, self.budget, &format!("buffer {i}"))?.map_err(err)?,
             ),
             (None, Some(bin)) if i == 0 => Cow::Borrowed(bin),
-            (None, _) => return Err(err("has no uri and the file has no GLB binary chunk".into())),
+            (None, _) => {
+                return Err(GltfError::NoData {
+                    path: self.path.to_owned(),
+                    buffer: i,
+                }
+                .into())
+            }
         };
         let declared = buffer.byte_length.0;
         if (bytes.len() as u64) < declared {

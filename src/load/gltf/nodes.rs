@@ -10,7 +10,7 @@
 use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 
-use super::Builder;
+use super::{Builder, GltfError};
 use crate::load::LoadError;
 use crate::scene::{Camera, Instance, Style};
 
@@ -136,7 +136,16 @@ impl Builder<'_> {
                     .push(format!("node '{name}': skin ignored (bind pose drawn)"));
             }
             for p in 0..primitives {
-                if let Some(mesh) = self.primitive_mesh(m, p)? {
+                let mesh = match self.primitive_mesh(m, p) {
+                    Err(LoadError::Gltf(GltfError::NoData { buffer, .. })) => {
+                        self.scene.report.skipped.push(format!(
+                            "mesh {m} primitive {p}: buffer {buffer} has no data (no uri, no GLB chunk)"
+                        ));
+                        None
+                    }
+                    other => other?,
+                };
+                if let Some(mesh) = mesh {
                     self.scene.instances.push(Instance {
                         mesh,
                         world,
