@@ -26,13 +26,19 @@ pub fn write(name: &str, bytes: &[u8]) -> PathBuf {
 /// Loads a model with a budget small enough that fuzzing never swaps; panics on a loader
 /// panic (the finding), returns the scene or `None` on an ordinary error.
 pub fn load_model(path: &Path) -> Option<Scene> {
-    let opts = LoadOptions { max_bytes: 256 << 20, ..LoadOptions::default() };
+    let opts = LoadOptions {
+        max_bytes: 256 << 20,
+        ..LoadOptions::default()
+    };
     match load(path, &opts) {
         Ok(scene) => Some(scene),
         Err(LoadError::Panic { message, .. }) => panic!("loader panicked: {message}"),
         Err(e) => {
             let msg = e.to_string();
-            assert!(!msg.contains('\n'), "error message is not one line: {msg:?}");
+            assert!(
+                !msg.contains('\n'),
+                "error message is not one line: {msg:?}"
+            );
             None
         }
     }

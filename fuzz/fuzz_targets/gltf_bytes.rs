@@ -4,7 +4,11 @@
 mod common;
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let name = if data.starts_with(b"glTF") { "case.glb" } else { "case.gltf" };
+    let name = if data.starts_with(b"glTF") {
+        "case.glb"
+    } else {
+        "case.gltf"
+    };
     let path = common::write(name, data);
     let _ = common::load_model(&path);
 });

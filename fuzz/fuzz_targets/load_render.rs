@@ -7,20 +7,35 @@ mod common;
 use realist::shade::{self, Prepared, RenderOptions, Shading};
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let Some((&selector, body)) = data.split_first() else { return };
+    let Some((&selector, body)) = data.split_first() else {
+        return;
+    };
     let name = match selector % 3 {
         0 => "case.gltf",
         1 => "case.glb",
         _ => "case.obj",
     };
     let path = common::write(name, body);
-    let Some(scene) = common::load_model(&path) else { return };
+    let Some(scene) = common::load_model(&path) else {
+        return;
+    };
     let prepared = Prepared::new(&scene);
     for mode in Shading::ALL {
-        let opts = RenderOptions { width: 64, height: 64, shading: Some(mode), ..RenderOptions::default() };
+        let opts = RenderOptions {
+            width: 64,
+            height: 64,
+            shading: Some(mode),
+            ..RenderOptions::default()
+        };
         let frame = shade::render(&scene, &prepared, &opts);
         let image = frame.image();
-        assert!(image.color.iter().all(|c| c.is_finite()), "{mode}: non-finite pixel");
-        assert!(image.depth.iter().all(|d| d.is_finite()), "{mode}: non-finite depth");
+        assert!(
+            image.color.iter().all(|c| c.is_finite()),
+            "{mode}: non-finite pixel"
+        );
+        assert!(
+            image.depth.iter().all(|d| d.is_finite()),
+            "{mode}: non-finite depth"
+        );
     }
 });
