@@ -173,6 +173,9 @@ impl Texture {
     pub fn sample_with(&self, uv: Vec2, s: Sampler) -> Vec4 {
         let (w, h) = (self.width, self.height);
         let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+        // Fold the coordinates into a small range first: scaling a huge UV by the texture
+        // size would overflow to infinity and turn the filter weights into NaN.
+        let uv = Vec2::new(reduce(uv.x, s.wrap_u), reduce(uv.y, s.wrap_v));
         match s.filter {
             Filter::Nearest => {
                 let x = wrap_index((uv.x * w as f32).floor(), w, s.wrap_u);
@@ -193,6 +196,18 @@ impl Texture {
                 top.lerp(bottom, ty)
             }
         }
+    }
+}
+
+/// Folds a texture coordinate into [-1, 2) without changing what any wrap mode samples:
+/// whole periods (1 for repeat, 2 for mirrored repeat) are removed; clamping only needs a
+/// margin around [0, 1].
+#[inline]
+fn reduce(t: f32, wrap: Wrap) -> f32 {
+    match wrap {
+        Wrap::Repeat => t - t.floor(),
+        Wrap::MirroredRepeat => t.rem_euclid(2.0),
+        Wrap::ClampToEdge => t.clamp(-1.0, 2.0),
     }
 }
 
@@ -231,6 +246,38 @@ mod tests {
         assert_eq!(wrap_index(4.0, 4, Wrap::MirroredRepeat), 3);
         assert_eq!(wrap_index(-1.0, 4, Wrap::MirroredRepeat), 0);
         assert_eq!(wrap_index(1e30, 4, Wrap::Repeat), 0);
+    }
+
+    #[test]
+    fn huge_uvs_sample_finite_colours() {
+        let t = Texture::checker(256, 8, [255, 0, 0, 255], [0, 0, 255, 255]);
+        for wrap in [Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge] {
+            for filter in [Filter::Nearest, Filter::Bilinear] {
+                let s = Sampler {
+                    wrap_u: wrap,
+                    wrap_v: wrap,
+                    filter,
+                };
+                for uv in [
+                    Vec2::new(1.0, -1.7e38),
+                    Vec2::new(3e38, 0.5),
+                    Vec2::new(-1e20, 1e20),
+                    Vec2::new(f32::NAN, 0.0),
+                ] {
+                    assert!(t.sample_with(uv, s).is_finite(), "{wrap:?} {filter:?} {uv}");
+                }
+            }
+        }
+        // Reduction keeps what a wrap mode samples.
+        let s = Sampler {
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Nearest,
+        };
+        assert_eq!(
+            t.sample_with(Vec2::new(0.3, 0.7), s),
+            t.sample_with(Vec2::new(5.3, -2.3), s)
+        );
     }
 
     #[test]
