@@ -92,6 +92,58 @@ mod tests {
         out
     }
 
+    /// A PNG whose header claims `width` x `height` but which holds 1x1 pixel of data.
+    fn lying_png(width: u32, height: u32) -> Vec<u8> {
+        let mut bytes = png(1, 1);
+        // Signature (8), IHDR length (4), "IHDR" (4), width, height, ..., CRC at 29.
+        bytes[16..20].copy_from_slice(&width.to_be_bytes());
+        bytes[20..24].copy_from_slice(&height.to_be_bytes());
+        let crc = crc32(&bytes[12..29]);
+        bytes[29..33].copy_from_slice(&crc.to_be_bytes());
+        bytes
+    }
+
+    fn crc32(data: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &b in data {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 == 1 {
+                    (crc >> 1) ^ 0xEDB8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        !crc
+    }
+
+    #[test]
+    fn header_sizes_are_refused_before_any_texel_is_allocated() {
+        let budget = Budget::new(Path::new("t"), 2 << 30);
+        match decode(&lying_png(20_000, 16), "wide.png", &budget) {
+            Err(DecodeError::Invalid(reason)) => {
+                assert_eq!(reason, "20000x16 texels, more than 16384 a side");
+            }
+            other => panic!("{:?}", other.map(|t| (t.width, t.height))),
+        }
+        // 16384^2 RGBA is 1 GiB: over a 256 MiB budget, refused from the header alone.
+        let small = Budget::new(Path::new("t"), 256 << 20);
+        match decode(&lying_png(16384, 16384), "big.png", &small) {
+            Err(DecodeError::Budget(e)) => assert!(
+                e.to_string()
+                    .contains("image 'big.png' (16384x16384 texels) needs 1073741824 bytes"),
+                "{e}"
+            ),
+            other => panic!("{:?}", other.map(|t| (t.width, t.height))),
+        }
+        // Within the limits the header lie is caught by the decoder: an error, not a panic.
+        assert!(matches!(
+            decode(&lying_png(64, 64), "short.png", &budget),
+            Err(DecodeError::Invalid(_))
+        ));
+    }
+
     #[test]
     fn decodes_png_and_enforces_budget() {
         let bytes = png(4, 2);

@@ -20,8 +20,9 @@
 //!   (a missing texture or MTL file, dropped faces, skipped line primitives) goes to
 //!   [`LoadReport`](crate::scene::LoadReport) instead.
 //!
-//! Faces with fewer than three corners and faces touching a non-finite position are
-//! dropped (and counted in the report) by both loaders, so the renderer never sees them.
+//! Faces with fewer than three corners or three distinct vertices, and faces touching a
+//! non-finite position, are dropped (and counted in the report) by both loaders, so the
+//! renderer never sees them.
 
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
@@ -197,6 +198,8 @@ pub(crate) struct Dropped {
     pub too_small: usize,
     /// Facets with a corner at a NaN or infinite position (or an out-of-range vertex).
     pub non_finite: usize,
+    /// Facets with at least 3 corners but fewer than 3 distinct vertices (e.g. `f 1 1 2`).
+    pub degenerate: usize,
 }
 
 impl Dropped {
@@ -215,12 +218,18 @@ impl Dropped {
                 self.non_finite
             ));
         }
+        if self.degenerate > 0 {
+            out.push(format!(
+                "{what}: dropped {} degenerate face(s) (fewer than 3 distinct vertices)",
+                self.degenerate
+            ));
+        }
         out
     }
 }
 
-/// Removes facets with fewer than 3 corners or with a corner at a non-finite position,
-/// keeping `facet_sizes` and per-corner channel indices in step with `corners`.
+/// Removes facets with fewer than 3 corners, with a corner at a non-finite position, or
+/// with fewer than 3 distinct vertices, keeping `facet_sizes` and per-corner channel indices in step with `corners`.
 pub(crate) fn retain_facets(data: &mut MeshData) -> Dropped {
     let mut dropped = Dropped::default();
     let sizes: Vec<u32> = match &data.facet_sizes {
@@ -243,6 +252,9 @@ pub(crate) fn retain_facets(data: &mut MeshData) -> Dropped {
             false
         } else if bad(data.corners.get(start..end).unwrap_or(&[])) {
             dropped.non_finite += 1;
+            false
+        } else if distinct_below_3(data.corners.get(start..end).unwrap_or(&[])) {
+            dropped.degenerate += 1;
             false
         } else {
             true
@@ -284,6 +296,17 @@ pub(crate) fn retain_facets(data: &mut MeshData) -> Dropped {
         Some(kept)
     };
     dropped
+}
+
+/// Whether `corners` name fewer than 3 distinct vertices (linear time: stops at the third).
+fn distinct_below_3(corners: &[u32]) -> bool {
+    let Some(&a) = corners.first() else {
+        return true;
+    };
+    let Some(&b) = corners.iter().find(|&&v| v != a) else {
+        return true;
+    };
+    !corners.iter().any(|&v| v != a && v != b)
 }
 
 #[cfg(test)]

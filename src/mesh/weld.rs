@@ -7,6 +7,7 @@
 //! looked up, never iterated). Attributes lose nothing: a per-vertex channel whose merged
 //! vertices all carried the same value stays per vertex; otherwise it becomes per corner, its
 //! indices pointing at the old per-vertex values. Per-corner channels are untouched.
+//! Vertices no corner uses (e.g. those of faces dropped for NaN positions) are dropped.
 
 use std::collections::HashMap;
 
@@ -28,7 +29,11 @@ impl MeshData {
         if malformed || old_count > u32::MAX as usize {
             return self;
         }
-        let (remap, positions) = distinct_positions(&self.positions);
+        let mut used = vec![false; old_count];
+        for &v in &self.corners {
+            used[v as usize] = true;
+        }
+        let (remap, positions) = distinct_positions(&self.positions, &used);
         if positions.len() == old_count {
             return self;
         }
@@ -55,14 +60,18 @@ fn per_vertex_fits<T>(ch: Option<&Channel<T>>, vertices: usize) -> bool {
     })
 }
 
-/// The new index of every old vertex, and the distinct positions in order of first
-/// occurrence.
-fn distinct_positions(old: &[Vec3]) -> (Vec<u32>, Vec<Vec3>) {
+/// The new index of every old vertex ([`UNUSED`] for vertices no corner uses), and the
+/// distinct used positions in order of first occurrence.
+fn distinct_positions(old: &[Vec3], used: &[bool]) -> (Vec<u32>, Vec<Vec3>) {
     let mut seen: HashMap<[u32; 3], u32> = HashMap::with_capacity(old.len());
     let mut positions = Vec::with_capacity(old.len());
     let remap = old
         .iter()
-        .map(|p| {
+        .zip(used)
+        .map(|(p, &used)| {
+            if !used {
+                return UNUSED;
+            }
             let key = [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
             *seen.entry(key).or_insert_with(|| {
                 positions.push(*p);
@@ -72,6 +81,9 @@ fn distinct_positions(old: &[Vec3]) -> (Vec<u32>, Vec<Vec3>) {
         .collect();
     (remap, positions)
 }
+
+/// The remap entry of a vertex no corner uses: it is dropped.
+const UNUSED: u32 = u32::MAX;
 
 /// A channel re-keyed for the welded vertices (see the module docs).
 fn weld_channel<T: Copy + PartialEq>(
@@ -85,7 +97,7 @@ fn weld_channel<T: Copy + PartialEq>(
     }
     // The first old vertex of every new vertex.
     let mut first = vec![u32::MAX; new_count];
-    for (old, &new) in remap.iter().enumerate() {
+    for (old, &new) in remap.iter().enumerate().filter(|(_, &new)| new != UNUSED) {
         if first[new as usize] == u32::MAX {
             first[new as usize] = old as u32;
         }
@@ -93,6 +105,7 @@ fn weld_channel<T: Copy + PartialEq>(
     let consistent = remap
         .iter()
         .enumerate()
+        .filter(|(_, &new)| new != UNUSED)
         .all(|(old, &new)| ch.values[old] == ch.values[first[new as usize] as usize]);
     if consistent {
         Channel::per_vertex(first.iter().map(|&old| ch.values[old as usize]).collect())

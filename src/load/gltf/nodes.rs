@@ -189,9 +189,16 @@ impl Builder<'_> {
         if forward == Vec3::ZERO || up == Vec3::ZERO {
             return warn(self, "degenerate node transform".into());
         }
-        let far = zfar
-            .filter(|f| f.is_finite() && *f > znear)
-            .unwrap_or(f32::INFINITY);
+        let far = match zfar {
+            Some(f) if f.is_finite() && f > znear => f,
+            Some(f) => {
+                self.scene.report.warnings.push(format!(
+                    "camera {c} (node '{node}'): zfar {f} is not beyond znear {znear}; far plane fitted to the scene"
+                ));
+                f32::INFINITY
+            }
+            None => f32::INFINITY,
+        };
         let aspect = aspect.filter(|a| a.is_finite() && *a > 0.0);
         self.scene.cameras.push(Camera {
             name,

@@ -191,6 +191,7 @@ fn add_meshes(
         let d = retain_facets(&mut data);
         dropped.too_small += d.too_small;
         dropped.non_finite += d.non_finite;
+        dropped.degenerate += d.degenerate;
         if data.corners.is_empty() {
             continue;
         }

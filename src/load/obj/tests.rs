@@ -171,6 +171,27 @@ fn non_finite_positions_drop_their_faces() {
 }
 
 #[test]
+fn degenerate_faces_are_dropped_and_reported() {
+    let dir = TempDir::new("obj-degenerate");
+    let scene = load_obj_text(
+        &dir,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 1 1 2\nf 2 2 2 2\nf 1 2 1 2\nf 2 4 3 3\n",
+    )
+    .unwrap();
+    // `f 2 4 3 3` has three distinct vertices: kept (a triangle with a repeated corner).
+    assert_eq!(scene.meshes[0].facets.len(), 2);
+    assert!(
+        scene
+            .report
+            .warnings
+            .iter()
+            .any(|w| w == "OBJ: dropped 3 degenerate face(s) (fewer than 3 distinct vertices)"),
+        "{:?}",
+        scene.report.warnings
+    );
+}
+
+#[test]
 fn errors_name_file_and_line() {
     let dir = TempDir::new("obj-errors");
     let err = load_obj_text(&dir, "v 0 0 0\nv 1 0 0\nf 1 2 99\n")

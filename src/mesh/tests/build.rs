@@ -195,6 +195,29 @@ fn weld_keeps_consistent_channels_per_vertex() {
 }
 
 #[test]
+fn weld_drops_vertices_no_corner_uses() {
+    let p = vec![Vec3::ZERO, Vec3::splat(1e30), Vec3::X, Vec3::Y];
+    let mut data = triangles(p, vec![0, 2, 3]);
+    data.uvs = Some(Channel::per_vertex(vec![
+        glam::Vec2::ZERO,
+        glam::Vec2::ONE,
+        glam::Vec2::X,
+        glam::Vec2::Y,
+    ]));
+    let welded = data.weld_positions();
+    assert_eq!(welded.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
+    assert_eq!(welded.corners, vec![0, 1, 2]);
+    assert_eq!(
+        welded.uvs,
+        Some(Channel::per_vertex(vec![
+            glam::Vec2::ZERO,
+            glam::Vec2::X,
+            glam::Vec2::Y
+        ]))
+    );
+}
+
+#[test]
 fn nan_and_inf_positions_do_not_panic() {
     let p = vec![
         Vec3::ZERO,

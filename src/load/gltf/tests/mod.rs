@@ -302,3 +302,4 @@ fn cameras_come_from_their_nodes() {
 }
 
 mod hostile;
+mod rules;
