@@ -10,15 +10,19 @@
 //!
 //! | module | owns |
 //! |---|---|
+//! | [`color`] | colour types and models, colorimetry (CIE tables, XYZ, Lab, Delta E, Planckian locus) |
 //! | [`mesh`] | the vertex/edge/facet model, averaged normals, topology report, primitives |
 //! | [`load`] | OBJ/MTL and glTF/GLB loaders producing a [`scene::Scene`] |
 //! | [`scene`] | scene, instances, materials, lights, camera |
 //! | [`texture`] | decoded images and samplers |
 //! | [`raster`] | clip-space transform, culling, clipping, fixed-point setup, binning, tile fill |
 //! | [`shade`] | shading modes (flat, Gouraud, Phong, Blinn, textured, debug views) and the renderer |
+//! | [`overlay`] | 2D drawings with tiny-skia: the chromaticity diagram, plots |
 
+pub mod color;
 pub mod load;
 pub mod mesh;
+pub mod overlay;
 pub mod raster;
 pub mod scene;
 pub mod shade;
