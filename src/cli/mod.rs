@@ -1,4 +1,4 @@
-//! Subcommands: `render`, `info`, `bench`. Without a subcommand, renders the demo scene to
+//! Subcommands: `render`, `info`, `bench`, `color`. Without a subcommand, renders the demo scene to
 //! a PNG.
 
 use std::path::{Path, PathBuf};
@@ -23,9 +23,11 @@ use realist::scene::{self, Camera, Scene};
 use realist::shade::{self, Prepared, RenderOptions, Shading};
 
 mod bench;
+mod color;
 mod info;
 
 use bench::bench;
+use color::{color, ColorArgs};
 use info::info;
 
 #[derive(Parser)]
@@ -48,6 +50,8 @@ enum Command {
     /// Time warm frames of a model (median of rounds), with the camera and light of the
     /// llvmpipe peer harness (../shared/peer) so the two can be compared as ratios.
     Bench(BenchArgs),
+    /// Convert one colour (#rrggbb or r,g,b in [0,1], encoded sRGB) to other colour models.
+    Color(ColorArgs),
 }
 
 #[derive(Args)]
@@ -200,6 +204,7 @@ pub fn run() -> Result<()> {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Info(args)) => info(&args),
         Some(Command::Bench(args)) => bench(&args),
+        Some(Command::Color(args)) => color(&args),
         None => {
             let out = PathBuf::from("realist-demo.png");
             let args = RenderArgs {
