@@ -1,4 +1,4 @@
-//! Subcommands: `render`, `info`, `bench`, `color`. Without a subcommand, renders the demo scene to
+//! Subcommands: `render`, `info`, `bench`, `color`, `chroma`. Without a subcommand, renders the demo scene to
 //! a PNG.
 
 use std::path::{Path, PathBuf};
@@ -23,10 +23,12 @@ use realist::scene::{self, Camera, Scene};
 use realist::shade::{self, Prepared, RenderOptions, Shading};
 
 mod bench;
+mod chroma;
 mod color;
 mod info;
 
 use bench::bench;
+use chroma::{chroma, ChromaArgs};
 use color::{color, ColorArgs};
 use info::info;
 
@@ -52,6 +54,8 @@ enum Command {
     Bench(BenchArgs),
     /// Convert one colour (#rrggbb or r,g,b in [0,1], encoded sRGB) to other colour models.
     Color(ColorArgs),
+    /// Draw the CIE chromaticity diagram (gamuts, Planckian locus, an image's pixels).
+    Chroma(ChromaArgs),
 }
 
 #[derive(Args)]
@@ -205,6 +209,7 @@ pub fn run() -> Result<()> {
         Some(Command::Info(args)) => info(&args),
         Some(Command::Bench(args)) => bench(&args),
         Some(Command::Color(args)) => color(&args),
+        Some(Command::Chroma(args)) => chroma(&args),
         None => {
             let out = PathBuf::from("realist-demo.png");
             let args = RenderArgs {

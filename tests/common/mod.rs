@@ -143,9 +143,12 @@ fn golden_dir() -> PathBuf {
 /// panics with the figures. With `REPLACE=1` (or when the golden is missing and `REPLACE`
 /// is set), writes the golden instead.
 pub fn check_golden(name: &str, fb: &Framebuffer, tol: Tolerance) {
+    check_golden_rgb(name, fb.width, fb.height, fb.to_srgb8(), tol);
+}
+
+/// [`check_golden`] for any `w` x `h` RGB8 image.
+pub fn check_golden_rgb(name: &str, w: u32, h: u32, got: Vec<u8>, tol: Tolerance) {
     let path = golden_dir().join(format!("{name}.png"));
-    let got = fb.to_srgb8();
-    let (w, h) = (fb.width, fb.height);
     if std::env::var_os("REPLACE").is_some() {
         std::fs::create_dir_all(golden_dir()).expect("golden dir");
         image::RgbImage::from_raw(w, h, got)
