@@ -2,7 +2,11 @@
 
 use rayon::prelude::*;
 
-use super::fill::fill;
+use super::fill::{fill, smooth_fill_linear, FillStyle};
+
+/// Entries of the linear -> 8-bit sRGB table of the fill (one code value at worst, as
+/// the framebuffer's table).
+const ENCODE_LUT: usize = 1 << 14;
 use super::gamut::locus_polygon;
 use super::pixels::PixelStyle;
 use super::{ChromaOptions, Plane, PLANCKIAN_LABELS_K};
@@ -202,6 +206,13 @@ fn fill_image(opts: &ChromaOptions, f: &Frame) -> RgbaImage {
             hi[k] = hi[k].max(p[k]);
         }
     }
+    let lut: Vec<u8> = (0..ENCODE_LUT)
+        .map(|i| {
+            (crate::texture::linear_to_srgb(i as f32 / (ENCODE_LUT - 1) as f32) * 255.0).round()
+                as u8
+        })
+        .collect();
+    let lut = &lut;
     let pixels: Vec<[u8; 4]> = (0..n)
         .into_par_iter()
         .flat_map_iter(|j| {
@@ -218,7 +229,16 @@ fn fill_image(opts: &ChromaOptions, f: &Frame) -> RgbaImage {
                 {
                     return [0, 0, 0, 0];
                 }
-                let rgb = fill(opts.fill, space, opts.plane.to_xy(p));
+                let xy = opts.plane.to_xy(p);
+                if opts.fill == FillStyle::Smooth {
+                    // Linear values through the encoding table.
+                    let rgb = smooth_fill_linear(space, xy);
+                    let e = |v: f64| {
+                        lut[(v.clamp(0.0, 1.0) * (ENCODE_LUT - 1) as f64).round() as usize]
+                    };
+                    return [e(rgb[0]), e(rgb[1]), e(rgb[2]), 255];
+                }
+                let rgb = fill(opts.fill, space, xy);
                 let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
                 [q(rgb[0]), q(rgb[1]), q(rgb[2]), 255]
             })

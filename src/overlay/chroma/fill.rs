@@ -59,6 +59,12 @@ fn linear_srgb(space: &RgbSpace, xy: [f64; 2]) -> [f64; 3] {
 /// The smooth fill of `xy` as encoded sRGB in (0, 1] (see the module docs); black for `y <= 0`.
 #[must_use]
 pub fn smooth_fill(space: &RgbSpace, xy: [f64; 2]) -> [f64; 3] {
+    smooth_fill_linear(space, xy).map(srgb_encode)
+}
+
+/// [`smooth_fill`] before the transfer curve: linear sRGB in [0, 1].
+#[must_use]
+pub fn smooth_fill_linear(space: &RgbSpace, xy: [f64; 2]) -> [f64; 3] {
     if xy[1].is_nan() || xy[1] <= 0.0 || !xy[0].is_finite() {
         return [0.0; 3];
     }
@@ -74,7 +80,7 @@ pub fn smooth_fill(space: &RgbSpace, xy: [f64; 2]) -> [f64; 3] {
     let w = (t + (t * t + SOFTPLUS_EPS * SOFTPLUS_EPS).sqrt()) / 2.0;
     let lifted = c.map(|v| v + w);
     let m = p_norm(lifted);
-    lifted.map(|v| srgb_encode(v / m))
+    lifted.map(|v| v / m)
 }
 
 /// colour-science's fill of `xy`: encode the unclipped linear sRGB, divide by the largest
