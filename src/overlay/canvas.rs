@@ -1,5 +1,23 @@
 //! [`Canvas`]: a display list of 2D drawing commands, rendered by tiny-skia to a `Pixmap`
-//! (anti-aliased) or written as a standalone SVG document.
+//! (anti-aliased) or written as a standalone SVG document (`svg.rs`).
+//!
+//! Invariants, which are what keep the two backends drawing the same picture:
+//! - Coordinates are pixels, y down, origin at the top-left corner, pixel centres at +0.5:
+//!   a rectangle from (3, 2) to (8, 6) covers exactly the pixels 3..8 x 2..6.
+//! - Items paint in the order they were added, source-over, on the background (or on
+//!   transparency). Fills and clips use the non-zero winding rule.
+//! - Normalisation happens when an item is recorded, never in a backend: an item that would
+//!   draw nothing (an empty or non-finite path, a stroke whose width is not positive, a
+//!   malformed image) is not recorded at all, and a stroke's dash list is made valid. So
+//!   tiny-skia never draws a zero-width stroke as a hairline while SVG draws nothing, and
+//!   the SVG never contains a NaN.
+//! - Clips nest: [`Canvas::clip_push`] intersects with the clip in force, and
+//!   [`Canvas::clip_pop`] restores the previous one. A pop without a push does nothing and
+//!   clips still open at the end are closed. A clip path that is empty or not finite hides
+//!   everything until popped.
+//! - An image is drawn 1:1 at its position rounded to whole pixels, without resampling.
+//!
+//! Sizes are clamped to `1..=`[`Canvas::MAX_SIDE`], so rendering cannot fail.
 //!
 //! ```
 //! use realist::overlay::{Canvas, Color, HAlign, Path2, VAlign};
@@ -9,8 +27,11 @@
 //! c.fill(&tri, Color::rgb(200, 30, 30));
 //! c.text("Hi", 40.0, 16.0, 14.0, Color::rgb(0, 0, 0), HAlign::Left, VAlign::Middle);
 //! let pixmap = c.to_pixmap();
-//! assert_eq!(pixmap.width(), 64);
-//! assert!(c.to_svg().starts_with("<?xml"));
+//! assert_eq!((pixmap.width(), pixmap.height()), (64, 32));
+//! // The triangle's centre is red, the corner keeps the background.
+//! assert_eq!(pixmap.pixel(20, 20).map(|p| p.red()), Some(200));
+//! assert_eq!(pixmap.pixel(0, 0).map(|p| p.green()), Some(255));
+//! assert!(c.to_svg().contains("aria-label=\"Hi\""));
 //! ```
 
 use tiny_skia::{FillRule, Mask, Paint, Pixmap, PixmapPaint, Transform};
@@ -21,11 +42,14 @@ use super::text::{text_path, HAlign, VAlign};
 /// How a path's outline is drawn.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stroke {
-    /// Line width in pixels.
+    /// Line width in pixels; a stroke whose width is not positive and finite is not drawn.
     pub width: f32,
-    /// Dash pattern (on, off, ...) in pixels.
+    /// Dash pattern (on, off, ...) in pixels, starting at the path's start. An odd list is
+    /// repeated once (SVG's rule); one with a negative or non-finite entry or a zero total
+    /// draws a solid line.
     pub dash: Option<Vec<f32>>,
-    /// Round caps and joins (else butt caps and miter joins).
+    /// Round caps and joins (else butt caps and miter joins with miter limit 4, the SVG
+    /// defaults).
     pub round: bool,
 }
 
@@ -39,47 +63,78 @@ impl Stroke {
             round: false,
         }
     }
+
+    /// The stroke as both backends draw it, or `None` if it draws nothing.
+    fn normalised(&self) -> Option<Self> {
+        if !(self.width > 0.0 && self.width.is_finite()) {
+            return None;
+        }
+        let dash = self.dash.as_ref().and_then(|d| {
+            let total: f32 = d.iter().sum();
+            let valid = d.iter().all(|v| *v >= 0.0 && v.is_finite()) && total > 0.0;
+            let valid = valid && total.is_finite();
+            match (valid, d.len() % 2) {
+                (false, _) => None,
+                (true, 0) => Some(d.clone()),
+                (true, _) => Some(d.iter().chain(d).copied().collect()),
+            }
+        });
+        Some(Self {
+            width: self.width,
+            dash,
+            round: self.round,
+        })
+    }
 }
 
 /// A straight-alpha sRGB RGBA8 raster, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RgbaImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width * height` pixels, `[r, g, b, a]` each.
     pub pixels: Vec<[u8; 4]>,
 }
 
 impl RgbaImage {
-    /// As a premultiplied tiny-skia pixmap; `None` if empty or the sizes disagree.
+    /// As a premultiplied tiny-skia pixmap; `None` if empty, too large for tiny-skia, or
+    /// the sizes disagree with the pixel count.
     #[must_use]
     pub fn to_pixmap(&self) -> Option<Pixmap> {
-        if self.pixels.len() != self.width as usize * self.height as usize {
+        let count = (self.width as usize).checked_mul(self.height as usize)?;
+        if self.pixels.len() != count {
             return None;
         }
         let mut pm = Pixmap::new(self.width, self.height)?;
         for (dst, src) in pm.pixels_mut().iter_mut().zip(&self.pixels) {
-            let c = tiny_skia::ColorU8::from_rgba(src[0], src[1], src[2], src[3]);
-            *dst = c.premultiply();
+            *dst = tiny_skia::ColorU8::from_rgba(src[0], src[1], src[2], src[3]).premultiply();
         }
         Some(pm)
     }
 }
 
-/// One drawing command.
+/// One recorded drawing command, already normalised (see the module doc).
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Item {
+    /// A finite path with at least one drawable segment.
     Fill(Path2, Color),
+    /// As `Fill`, and the stroke is [`Stroke::normalised`].
     Stroke(Path2, Color, Stroke),
-    /// Text already turned into outlines; the string is kept for the SVG.
+    /// Text already turned into outlines (non-empty); the string is kept for the SVG.
     Text(Path2, Color, String),
-    Image(f32, f32, RgbaImage),
+    /// Top-left corner in whole pixels, and the image premultiplied (as tiny-skia draws
+    /// it; the SVG encodes it back to straight alpha).
+    Image(i32, i32, Pixmap),
+    /// The clip path, or an empty path to hide everything.
     ClipPush(Path2),
     ClipPop,
 }
 
 /// A 2D drawing: pixel units, y down, origin at the top-left corner, pixel centres at
 /// +0.5. Items are painted in the order they are added; clips nest (their intersection
-/// applies) until popped.
+/// applies) until popped. See the module doc for the invariants.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Canvas {
     width: u32,
@@ -89,44 +144,60 @@ pub struct Canvas {
 }
 
 impl Canvas {
-    /// An empty, transparent canvas (sizes below 1 become 1).
+    /// The largest width or height, in pixels (a 1 GiB pixmap at most).
+    pub const MAX_SIDE: u32 = 16_384;
+
+    /// An empty, transparent canvas; each side is clamped to `1..=MAX_SIDE`.
     #[must_use]
     pub fn new(width: u32, height: u32) -> Self {
         Self {
-            width: width.max(1),
-            height: height.max(1),
+            width: width.clamp(1, Self::MAX_SIDE),
+            height: height.clamp(1, Self::MAX_SIDE),
             background: None,
             items: Vec::new(),
         }
     }
 
+    /// Width in pixels.
     #[must_use]
     pub fn width(&self) -> u32 {
         self.width
     }
 
+    /// Height in pixels.
     #[must_use]
     pub fn height(&self) -> u32 {
         self.height
     }
 
+    /// Paints the whole canvas with `c` before any item (the last call wins).
     pub fn background(&mut self, c: Color) {
         self.background = Some(c);
     }
 
+    /// Fills the inside of `path` (non-zero winding).
     pub fn fill(&mut self, path: &Path2, color: Color) {
-        self.items.push(Item::Fill(path.clone(), color));
+        if drawable(path) {
+            self.items.push(Item::Fill(path.clone(), color));
+        }
     }
 
+    /// Strokes the outline of `path`.
     pub fn stroke(&mut self, path: &Path2, color: Color, stroke: &Stroke) {
-        self.items
-            .push(Item::Stroke(path.clone(), color, stroke.clone()));
+        if let (true, Some(s)) = (drawable(path), stroke.normalised()) {
+            self.items.push(Item::Stroke(path.clone(), color, s));
+        }
     }
 
     /// Restricts what follows to the inside of `path` (non-zero winding), intersected with
-    /// any clip already in force.
+    /// any clip already in force, until the matching [`Canvas::clip_pop`].
     pub fn clip_push(&mut self, path: &Path2) {
-        self.items.push(Item::ClipPush(path.clone()));
+        let path = if drawable(path) {
+            path.clone()
+        } else {
+            Path2::new()
+        };
+        self.items.push(Item::ClipPush(path));
     }
 
     /// Ends the innermost clip (no-op without one).
@@ -134,12 +205,19 @@ impl Canvas {
         self.items.push(Item::ClipPop);
     }
 
-    /// Draws `img` 1:1 with its top-left corner at `(x, y)`.
+    /// Draws `img` 1:1 with its top-left corner at `(x, y)` rounded to whole pixels. An
+    /// image whose pixel count disagrees with its size, or at a non-finite position, is
+    /// skipped.
     pub fn image(&mut self, x: f32, y: f32, img: RgbaImage) {
-        self.items.push(Item::Image(x, y, img));
+        if let (true, Some(pm)) = (x.is_finite() && y.is_finite(), img.to_pixmap()) {
+            // `as` saturates: a position beyond i32 is off the canvas either way.
+            self.items
+                .push(Item::Image(x.round() as i32, y.round() as i32, pm));
+        }
     }
 
-    /// Text of em size `size_px` anchored at `(x, y)`.
+    /// One line of text of em size `size_px` (the CSS `font-size`) anchored at `(x, y)`.
+    // The anchor, size, colour and alignment are independent; a struct would only add noise.
     #[allow(clippy::too_many_arguments)]
     pub fn text(
         &mut self,
@@ -154,9 +232,9 @@ impl Canvas {
         self.text_rotated(text, x, y, size_px, color, h, v, 0.0);
     }
 
-    /// Text rotated by `degrees` (clockwise on screen; -90 reads bottom to top) about its
-    /// anchor.
-    #[allow(clippy::too_many_arguments)]
+    /// As [`Canvas::text`], rotated by `degrees` about the anchor, clockwise on screen (y
+    /// points down): -90 reads bottom to top, as a vertical axis label does.
+    #[allow(clippy::too_many_arguments)] // as for `text`
     pub fn text_rotated(
         &mut self,
         text: &str,
@@ -169,68 +247,52 @@ impl Canvas {
         degrees: f32,
     ) {
         let path = text_path(text, x, y, size_px, h, v, degrees);
-        self.items.push(Item::Text(path, color, text.to_owned()));
+        if drawable(&path) {
+            self.items.push(Item::Text(path, color, text.to_owned()));
+        }
     }
 
-    /// Renders every item, anti-aliased.
+    /// Renders every item, anti-aliased, on a premultiplied pixmap of the canvas's size.
     #[must_use]
     pub fn to_pixmap(&self) -> Pixmap {
-        // `new` keeps both sizes >= 1, and callers bound them, so this cannot fail.
-        let mut pm = Pixmap::new(self.width, self.height).unwrap_or_else(|| unreachable!());
+        let mut pm = Pixmap::new(self.width, self.height)
+            .expect("Canvas::new keeps both sides in 1..=MAX_SIDE");
         if let Some(bg) = self.background {
             pm.fill(tiny_skia::Color::from_rgba8(bg.r, bg.g, bg.b, bg.a));
         }
-        let mut masks: Vec<Option<Mask>> = Vec::new();
+        let id = Transform::identity();
+        let mut masks: Vec<Mask> = Vec::new();
         for item in &self.items {
-            let mask = masks.last().and_then(Option::as_ref);
+            let mask = masks.last();
             match item {
                 Item::Fill(path, color) | Item::Text(path, color, _) => {
                     if let Some(p) = path.to_skia() {
-                        pm.fill_path(
-                            &p,
-                            &paint(*color),
-                            FillRule::Winding,
-                            Transform::identity(),
-                            mask,
-                        );
+                        pm.fill_path(&p, &paint(*color), FillRule::Winding, id, mask);
                     }
                 }
                 Item::Stroke(path, color, stroke) => {
                     if let Some(p) = path.to_skia() {
-                        pm.stroke_path(
-                            &p,
-                            &paint(*color),
-                            &skia_stroke(stroke),
-                            Transform::identity(),
-                            mask,
-                        );
+                        pm.stroke_path(&p, &paint(*color), &skia_stroke(stroke), id, mask);
                     }
                 }
-                Item::Image(x, y, img) => {
-                    if let Some(src) = img.to_pixmap() {
-                        pm.draw_pixmap(
-                            x.round() as i32,
-                            y.round() as i32,
-                            src.as_ref(),
-                            &PixmapPaint::default(),
-                            Transform::identity(),
-                            mask,
-                        );
-                    }
+                Item::Image(x, y, src) => {
+                    let paint = PixmapPaint::default(); // source-over, nearest: 1:1 copy
+                    pm.draw_pixmap(*x, *y, src.as_ref(), &paint, id, mask);
                 }
                 Item::ClipPush(path) => {
-                    let next = match (masks.last(), path.to_skia()) {
-                        // An empty or degenerate clip hides everything.
-                        (_, None) => Mask::new(self.width, self.height),
-                        (Some(Some(outer)), Some(p)) => {
+                    let next = match (mask, path.to_skia()) {
+                        (Some(outer), Some(p)) => {
                             let mut m = outer.clone();
-                            m.intersect_path(&p, FillRule::Winding, true, Transform::identity());
-                            Some(m)
-                        }
-                        (_, Some(p)) => Mask::new(self.width, self.height).map(|mut m| {
-                            m.fill_path(&p, FillRule::Winding, true, Transform::identity());
+                            m.intersect_path(&p, FillRule::Winding, true, id);
                             m
-                        }),
+                        }
+                        (None, Some(p)) => {
+                            let mut m = self.empty_mask();
+                            m.fill_path(&p, FillRule::Winding, true, id);
+                            m
+                        }
+                        // The recorded empty path: hide everything.
+                        (_, None) => self.empty_mask(),
                     };
                     masks.push(next);
                 }
@@ -242,7 +304,12 @@ impl Canvas {
         pm
     }
 
-    /// PNG bytes of [`Canvas::to_pixmap`].
+    /// A mask of the canvas's size that lets nothing through.
+    fn empty_mask(&self) -> Mask {
+        Mask::new(self.width, self.height).expect("Canvas::new keeps both sides in 1..=MAX_SIDE")
+    }
+
+    /// PNG bytes of [`Canvas::to_pixmap`] (tiny-skia's encoder; straight alpha, sRGB).
     pub fn to_png(&self) -> Result<Vec<u8>, String> {
         self.to_pixmap().encode_png().map_err(|e| e.to_string())
     }
@@ -254,6 +321,11 @@ impl Canvas {
     }
 }
 
+/// Whether `path` has a drawable segment and only finite coordinates.
+fn drawable(path: &Path2) -> bool {
+    !path.is_empty() && path.is_finite()
+}
+
 fn paint(c: Color) -> Paint<'static> {
     let mut p = Paint::default();
     p.set_color_rgba8(c.r, c.g, c.b, c.a);
@@ -261,9 +333,10 @@ fn paint(c: Color) -> Paint<'static> {
     p
 }
 
+/// The tiny-skia stroke of a [`Stroke::normalised`] stroke.
 fn skia_stroke(s: &Stroke) -> tiny_skia::Stroke {
     let mut st = tiny_skia::Stroke {
-        width: s.width.max(0.0),
+        width: s.width,
         ..tiny_skia::Stroke::default()
     };
     if s.round {

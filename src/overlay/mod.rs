@@ -1,19 +1,31 @@
 //! 2D drawings with tiny-skia: the CIE chromaticity diagram, HUD and plots.
 //!
-//! Everything is first described as a [`Canvas`], a display list of fills, strokes, text,
-//! raster images and nested clips in pixel units (y down, origin top-left, pixel centres at
-//! +0.5), then rendered by one of two backends: tiny-skia (an anti-aliased `Pixmap`, for
-//! PNG files and the viewer) or SVG (vector output for papers). One description with two
-//! backends keeps the two outputs identical in content; text is drawn as outlines of the
-//! embedded DejaVu Sans in both, so it needs no font on the reader's machine and clips
-//! like any other shape.
+//! This module owns the 2D drawing layer: a [`Canvas`] is a display list of fills,
+//! strokes, text, raster images and nested clips, which one of two backends renders:
+//! tiny-skia (an anti-aliased `Pixmap`, for PNG files and the viewer) or SVG (a standalone
+//! vector document, for papers). One description with two backends keeps the outputs
+//! identical in content, and lets callers such as the chromaticity diagram draw once for
+//! both.
+//!
+//! Conventions shared by everything here:
+//! - Coordinates are `f32` pixels, y down, origin at the top-left corner of the canvas,
+//!   pixel centres at +0.5: an integer-aligned rectangle covers whole pixels exactly.
+//! - Colours are straight (non-premultiplied) sRGB with 8-bit alpha ([`Color`]); images are
+//!   straight-alpha RGBA8 ([`RgbaImage`]). Premultiplication happens inside the raster
+//!   backend only.
+//! - Fills and clips use the non-zero winding rule; nested clips intersect.
+//! - Input is normalised when recorded, not when rendered: items that would draw nothing
+//!   are dropped and dash lists made valid, so the backends cannot disagree on edge cases.
+//! - Text is drawn as outlines of the embedded DejaVu Sans in both backends, so the SVG
+//!   needs no font on the reader's machine and text clips like any other shape.
 //!
 //! | file | owns |
 //! |---|---|
-//! | `canvas.rs` | [`Canvas`], [`Stroke`], [`RgbaImage`], the tiny-skia backend |
-//! | `path.rs` | [`Path2`], [`Color`] |
-//! | `text.rs` | the embedded font, text layout and outlines |
+//! | `canvas.rs` | [`Canvas`], [`Stroke`], [`RgbaImage`], recording, the tiny-skia backend |
+//! | `path.rs` | [`Path2`] and its [`Seg`]s, [`Color`] |
+//! | `text.rs` | the embedded font, one-line layout ([`text_extent`]) and outlines |
 //! | `svg.rs` | the SVG backend |
+//! | `tests.rs` | raster coverage tests of the canvas |
 //! | `chroma/` | the chromaticity diagram |
 
 mod canvas;

@@ -277,7 +277,9 @@ mod tests {
             Color::hex("#f4433680"),
             Some(Color::rgba(0xf4, 0x43, 0x36, 0x80))
         );
-        for bad in ["F44336", "#F4433", "#F443361", "#+1+2+3", "#12345g", "#ééé", ""] {
+        for bad in [
+            "F44336", "#F4433", "#F443361", "#+1+2+3", "#12345g", "#ééé", "",
+        ] {
             assert_eq!(Color::hex(bad), None, "{bad:?}");
         }
         assert_eq!(Color::rgb(1, 2, 3).with_alpha(4), Color::rgba(1, 2, 3, 4));
@@ -298,8 +300,12 @@ mod tests {
         );
         assert_eq!(svg_number(-0.001), "0");
         assert_eq!(svg_number(120.0), "120");
-        assert!(!Path2::new().move_to(f32::NAN, 0.0).line_to(1.0, 1.0).is_finite());
+        assert!(!Path2::new()
+            .move_to(f32::NAN, 0.0)
+            .line_to(1.0, 1.0)
+            .is_finite());
         assert!(Path2::new().rect(0.0, 0.0, 1.0, 1.0).is_finite());
-        assert!(Path2::new().move_to(3.0, 3.0).close().to_skia().is_none());
+        assert!(Path2::new().move_to(3.0, 3.0).close().is_empty());
+        assert!(Path2::new().to_skia().is_none());
     }
 }

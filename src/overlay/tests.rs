@@ -1,10 +1,15 @@
-//! Canvas tests: exact coverage of aligned shapes, clips, strokes, text boxes, images, and
-//! the SVG's structure.
+//! Canvas tests: exact coverage of aligned shapes, clips, strokes, text boxes and images
+//! in the raster, and that degenerate input is dropped alike by both backends. The SVG's
+//! structure is tested in `svg.rs`, font coverage and metrics in `text.rs`.
 
+use super::svg::tests::check_xml;
 use super::*;
 
-const RED: Color = Color::rgb(255, 0, 0);
-const BLUE: Color = Color::rgb(0, 0, 255);
+pub(super) const RED: Color = Color::rgb(255, 0, 0);
+pub(super) const BLUE: Color = Color::rgb(0, 0, 255);
+
+/// Pixels that anti-aliasing may add around a shape's exact outline.
+const AA_SLOP: f32 = 1.0;
 
 fn px(pm: &tiny_skia::Pixmap, x: u32, y: u32) -> [u8; 4] {
     let c = pm.pixel(x, y).unwrap().demultiply();
@@ -93,54 +98,115 @@ fn text_ink_stays_in_its_predicted_box() {
     c.text("Hg", x, y, size, RED, HAlign::Left, VAlign::Baseline);
     let (w, ascent, descent) = text_extent("Hg", size);
     let (x0, y0, x1, y1) = ink(&c.to_pixmap(), 0).expect("text draws ink");
-    assert!(
-        x0 as f32 >= x - 1.0 && x1 as f32 <= x + w + 1.0,
-        "{x0}..{x1} vs {w}"
-    );
-    assert!(
-        y0 as f32 >= y - ascent - 1.0 && y1 as f32 <= y + descent + 1.0,
-        "{y0}..{y1}"
-    );
-    // H reaches the cap height and g descends below the baseline.
+    // Ink pixel (i, j) covers [i, i + 1) x [j, j + 1): allow AA_SLOP on each side.
+    assert!(x0 as f32 >= x - AA_SLOP, "{x0} left of {x}");
+    assert!(x1 as f32 <= x + w + AA_SLOP, "{x1} right of {x} + {w}");
+    assert!(y0 as f32 >= y - ascent - AA_SLOP, "{y0} above the ascent");
+    assert!(y1 as f32 <= y + descent + AA_SLOP, "{y1} below the descent");
+    // ... and the box is not vacuous: H reaches the cap height, g descends, the ink spans
+    // most of the advance.
     assert!(
         (y0 as f32) < y - 0.6 * size && y1 as f32 > y + 0.1 * size,
         "{y0}..{y1}"
     );
+    assert!((x1 - x0) as f32 > 0.8 * w, "{x0}..{x1} of {w}");
     assert!(text_extent("ii", 20.0).0 < text_extent("WW", 20.0).0);
+}
 
-    let mut c = Canvas::new(100, 40);
-    c.text(
-        "centre",
-        50.0,
-        20.0,
-        16.0,
-        RED,
-        HAlign::Center,
-        VAlign::Middle,
-    );
-    let (x0, y0, x1, y1) = ink(&c.to_pixmap(), 0).unwrap();
-    assert!((((x0 + x1) as f32 / 2.0) - 50.0).abs() <= 2.0, "{x0}..{x1}");
-    assert!((((y0 + y1) as f32 / 2.0) - 20.0).abs() <= 3.0, "{y0}..{y1}");
-
-    let mut c = Canvas::new(60, 120);
-    c.text_rotated(
-        "rotated",
-        30.0,
-        60.0,
-        14.0,
-        RED,
-        HAlign::Center,
-        VAlign::Middle,
-        -90.0,
-    );
-    let (x0, y0, x1, y1) = ink(&c.to_pixmap(), 0).unwrap();
+#[test]
+fn text_alignment_places_the_ink() {
+    /// Side bearings and AA: how far ink may sit from an alignment line, in pixels.
+    const BEARING: f32 = 2.0;
+    let ink_box = |h, v| {
+        let mut c = Canvas::new(100, 40);
+        c.text("centre", 50.0, 20.0, 16.0, RED, h, v);
+        let (x0, y0, x1, y1) = ink(&c.to_pixmap(), 0).expect("text draws ink");
+        // Edges of the ink in continuous coordinates.
+        [x0 as f32, y0 as f32, (x1 + 1) as f32, (y1 + 1) as f32]
+    };
+    let [x0, y0, x1, y1] = ink_box(HAlign::Center, VAlign::Middle);
     assert!(
-        y1 - y0 > 2 * (x1 - x0),
-        "tall after rotation: {x0}..{x1} x {y0}..{y1}"
+        ((x0 + x1) / 2.0 - 50.0).abs() <= BEARING / 2.0,
+        "{x0}..{x1}"
     );
+    // Middle is halfway between ascent and descent, not the ink's centre: lower-case
+    // ink sits between the baseline and the x-height, a little below the anchor.
+    assert!(((y0 + y1) / 2.0 - 20.0).abs() <= 3.0, "{y0}..{y1}");
+    let [left, ..] = ink_box(HAlign::Left, VAlign::Middle);
+    let [_, _, right, _] = ink_box(HAlign::Right, VAlign::Middle);
+    assert!((left - 50.0).abs() <= BEARING && (right - 50.0).abs() <= BEARING);
+    // Top: ink starts below the anchor (ascent line); Bottom: ink ends above it.
+    let [_, top, ..] = ink_box(HAlign::Center, VAlign::Top);
+    let [.., bottom] = ink_box(HAlign::Center, VAlign::Bottom);
+    assert!(
+        (20.0..=24.0).contains(&top) && (16.0..=20.0).contains(&bottom),
+        "{top} {bottom}"
+    );
+}
 
-    // Characters beyond ASCII exist in the font.
-    for s in ["\u{2212}0.1", "u\u{2032}v\u{2032}", "\u{0394}E \u{00b0}"] {
+#[test]
+fn rotated_text_swaps_the_ink_box() {
+    let boxed = |degrees| {
+        let mut c = Canvas::new(120, 120);
+        c.text_rotated(
+            "rotated",
+            60.0,
+            60.0,
+            14.0,
+            RED,
+            HAlign::Center,
+            VAlign::Middle,
+            degrees,
+        );
+        let (x0, y0, x1, y1) = ink(&c.to_pixmap(), 0).expect("text draws ink");
+        (x1 - x0 + 1, y1 - y0 + 1, y0)
+    };
+    let (w, h, _) = boxed(0.0);
+    assert!(w > 2 * h, "{w} x {h}");
+    for deg in [90.0, -90.0] {
+        let (rw, rh, _) = boxed(deg);
+        assert!(
+            rw.abs_diff(h) <= 1 && rh.abs_diff(w) <= 1,
+            "{deg}: {rw} x {rh} vs {w} x {h}"
+        );
+    }
+    // -90 reads bottom to top: the "M" of "M   " (centred on its advance, so the ink is
+    // ~0.48 em before the anchor) ends up below the anchor; +90 reads top to bottom.
+    let centroid_y = |degrees| {
+        let mut c = Canvas::new(60, 120);
+        c.text_rotated(
+            "M   ",
+            30.0,
+            60.0,
+            20.0,
+            RED,
+            HAlign::Center,
+            VAlign::Middle,
+            degrees,
+        );
+        let pm = c.to_pixmap();
+        let (mut sum, mut weight) = (0.0, 0.0);
+        for y in 0..120 {
+            for x in 0..60 {
+                let a = f32::from(px(&pm, x, y)[3]);
+                sum += a * (y as f32 + 0.5);
+                weight += a;
+            }
+        }
+        sum / weight
+    };
+    let (up, down) = (centroid_y(-90.0), centroid_y(90.0));
+    assert!(up > 66.0 && down < 54.0, "{up} {down}");
+}
+
+#[test]
+fn greek_and_symbols_draw() {
+    for s in [
+        "\u{2212}0.1",
+        "u\u{2032}v\u{2032}",
+        "\u{0394}E \u{00b0}",
+        "\u{03bb}",
+    ] {
         let mut c = Canvas::new(80, 30);
         c.text(s, 2.0, 15.0, 14.0, RED, HAlign::Left, VAlign::Middle);
         assert!(ink(&c.to_pixmap(), 0).is_some(), "{s}");
@@ -167,114 +233,129 @@ fn images_land_where_placed() {
         }
     }
     assert_eq!(ink(&pm, 0), Some((3, 5, 6, 8)));
-    // A malformed image is skipped, not a panic.
+    // Malformed images and positions are not recorded at all, so neither backend sees them.
+    let bad = |w, h, n| RgbaImage {
+        width: w,
+        height: h,
+        pixels: vec![[9; 4]; n],
+    };
+    c.image(0.0, 0.0, bad(3, 3, 2));
+    c.image(0.0, 0.0, bad(0, 0, 0));
+    c.image(f32::NAN, 0.0, bad(1, 1, 1));
+    assert_eq!(c.items.len(), 1);
+    // Straight alpha in, premultiplied draw: half-transparent white over black is grey.
+    let mut c = Canvas::new(2, 1);
+    c.background(Color::rgb(0, 0, 0));
     c.image(
-        0.0,
+        0.4,
         0.0,
         RgbaImage {
-            width: 3,
-            height: 3,
-            pixels: vec![[0; 4]; 2],
+            width: 1,
+            height: 1,
+            pixels: vec![[10, 20, 30, 255]],
         },
     );
-    let _ = c.to_pixmap();
-    let _ = c.to_svg();
+    c.image(
+        1.0,
+        0.0,
+        RgbaImage {
+            width: 1,
+            height: 1,
+            pixels: vec![[255, 255, 255, 128]],
+        },
+    );
+    let pm = c.to_pixmap();
+    assert_eq!(px(&pm, 0, 0), [10, 20, 30, 255], "x = 0.4 rounds to 0");
+    assert_eq!(px(&pm, 1, 0), [128, 128, 128, 255]);
 }
 
-/// A minimal XML well-formedness check: tags balance, attributes are quoted, no stray `<`
-/// or `&`.
-fn check_xml(s: &str) -> Result<usize, String> {
-    let body = s
-        .strip_prefix("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n")
-        .ok_or("no XML declaration")?;
-    let mut stack: Vec<String> = Vec::new();
-    let mut elements = 0;
-    let mut rest = body;
-    while let Some(start) = rest.find('<') {
-        let text = &rest[..start];
-        if text.contains('>') {
-            return Err(format!("stray '>' in {text:?}"));
-        }
-        let end = rest[start..].find('>').ok_or("unclosed tag")? + start;
-        let tag = &rest[start + 1..end];
-        if tag.matches('"').count() % 2 != 0 || tag.contains('<') {
-            return Err(format!("bad tag {tag:?}"));
-        }
-        if let Some(name) = tag.strip_prefix('/') {
-            if stack.pop().as_deref() != Some(name) {
-                return Err(format!("mismatched </{name}>"));
-            }
-        } else {
-            elements += 1;
-            let name: String = tag
-                .chars()
-                .take_while(|c| c.is_ascii_alphanumeric())
-                .collect();
-            if !tag.ends_with('/') {
-                stack.push(name);
-            }
-        }
-        rest = &rest[end + 1..];
-    }
-    if stack.is_empty() {
-        Ok(elements)
-    } else {
-        Err(format!("unclosed {stack:?}"))
+#[test]
+fn degenerate_items_are_dropped_in_both_backends() {
+    let mut c = Canvas::new(10, 10);
+    let nan = Path2::new()
+        .move_to(0.0, 0.0)
+        .line_to(f32::NAN, 5.0)
+        .line_to(5.0, 5.0);
+    c.fill(&nan, RED);
+    c.fill(&Path2::new().move_to(1.0, 1.0).close(), RED);
+    c.stroke(
+        &Path2::new().rect(1.0, 1.0, 5.0, 5.0),
+        RED,
+        &Stroke::solid(0.0),
+    );
+    c.stroke(
+        &Path2::new().rect(1.0, 1.0, 5.0, 5.0),
+        RED,
+        &Stroke::solid(f32::INFINITY),
+    );
+    c.text("x", 5.0, 5.0, -3.0, RED, HAlign::Left, VAlign::Top);
+    c.text("x", 5.0, 5.0, 12.0, RED, HAlign::Left, VAlign::Top);
+    c.items.pop(); // the only drawable one, to check the list before it
+    assert!(c.items.is_empty(), "{:?}", c.items);
+    // Zero width is a hairline to tiny-skia but nothing to SVG: neither draws it.
+    assert_eq!(ink(&c.to_pixmap(), 0), None);
+    assert!(!c.to_svg().contains("<path"));
+
+    // A clip that is not drawable hides everything until popped, in both backends.
+    c.clip_push(&nan);
+    c.fill(&Path2::new().rect(0.0, 0.0, 10.0, 5.0), RED);
+    c.clip_pop();
+    c.fill(&Path2::new().rect(0.0, 5.0, 10.0, 5.0), BLUE);
+    c.clip_pop(); // unbalanced: ignored
+    c.fill(&Path2::new().rect(0.0, 0.0, 1.0, 1.0), BLUE);
+    let pm = c.to_pixmap();
+    assert_eq!(px(&pm, 5, 2), [0; 4]);
+    assert_eq!(px(&pm, 5, 7), [0, 0, 255, 255]);
+    assert_eq!(px(&pm, 0, 0), [0, 0, 255, 255]);
+    let svg = c.to_svg();
+    check_xml(&svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
+    assert!(
+        svg.contains("<path d=\"\"/></clipPath>") && !svg.contains("NaN"),
+        "{svg}"
+    );
+}
+
+#[test]
+fn dashes_are_normalised_for_both_backends() {
+    let line = Path2::new().move_to(0.0, 2.0).line_to(16.0, 2.0);
+    let dashed = |dash: Vec<f32>| {
+        let mut c = Canvas::new(16, 4);
+        let stroke = Stroke {
+            width: 2.0,
+            dash: Some(dash),
+            round: false,
+        };
+        c.stroke(&line, RED, &stroke);
+        let pm = c.to_pixmap();
+        let row: Vec<bool> = (0..16).map(|x| px(&pm, x, 1)[3] > 128).collect();
+        (row, c.to_svg())
+    };
+    // An odd list repeats (SVG's rule): [3] is 3 on, 3 off.
+    let (row, svg) = dashed(vec![3.0]);
+    let expect: Vec<bool> = (0..16).map(|x| (x / 3) % 2 == 0).collect();
+    assert_eq!(row, expect);
+    assert!(svg.contains("stroke-dasharray=\"3 3\""), "{svg}");
+    // Invalid lists draw solid, and the SVG says nothing about dashes.
+    for bad in [vec![], vec![0.0, 0.0], vec![2.0, -1.0], vec![f32::NAN, 2.0]] {
+        let (row, svg) = dashed(bad.clone());
+        assert!(row.iter().all(|&on| on), "{bad:?}: {row:?}");
+        assert!(!svg.contains("dasharray"), "{bad:?}");
     }
 }
 
 #[test]
-fn svg_is_well_formed_and_complete() {
-    let mut c = Canvas::new(40, 30);
-    c.background(Color::rgb(250, 250, 250));
-    c.clip_push(&Path2::new().circle(20.0, 15.0, 10.0));
-    c.fill(
-        &Path2::new().rect(0.0, 0.0, 40.0, 30.0),
-        RED.with_alpha(128),
-    );
-    c.image(
-        1.0,
-        1.0,
-        RgbaImage {
-            width: 2,
-            height: 2,
-            pixels: vec![[1, 2, 3, 255]; 4],
-        },
-    );
-    c.clip_pop();
-    c.stroke(
-        &Path2::new().move_to(0.0, 0.0).line_to(40.0, 30.0),
-        BLUE,
-        &Stroke {
-            width: 1.5,
-            dash: Some(vec![4.0, 2.0]),
-            round: true,
-        },
-    );
-    c.text(
-        "a<b & \"c\"",
-        2.0,
-        28.0,
-        10.0,
-        BLUE,
-        HAlign::Left,
-        VAlign::Baseline,
-    );
-    c.clip_push(&Path2::new().rect(0.0, 0.0, 1.0, 1.0));
-    let svg = c.to_svg();
-    let elements = check_xml(&svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
-    assert!(elements >= 9, "{elements}");
-    assert_eq!(svg.matches("<clipPath").count(), 2);
-    assert_eq!(
-        svg.matches("<path").count(),
-        5,
-        "fill, stroke, text, two clips:\n{svg}"
-    );
-    assert!(svg.contains("href=\"data:image/png;base64,iVBORw0KGgo"));
-    assert!(svg.contains("aria-label=\"a&lt;b &amp; &quot;c&quot;\""));
-    assert!(svg.contains("stroke-dasharray=\"4 2\"") && svg.contains("fill-opacity=\"0.502\""));
-    assert!(
-        check_xml("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg><g></svg>").is_err(),
-        "the checker can fail"
-    );
+fn sizes_are_clamped_and_background_fills() {
+    let c = Canvas::new(0, u32::MAX);
+    assert_eq!((c.width(), c.height()), (1, Canvas::MAX_SIDE));
+    let mut c = Canvas::new(3, 2);
+    c.background(Color::hex("#F44336").expect("valid hex").with_alpha(128));
+    let pm = c.to_pixmap();
+    // Straight alpha 128 of (244, 67, 54) survives the premultiplied round trip to +-1.
+    let p = px(&pm, 2, 1);
+    assert_eq!(p[3], 128);
+    for (got, want) in p.iter().zip([244u8, 67, 54]) {
+        assert!(got.abs_diff(want) <= 1, "{p:?}");
+    }
+    let png = c.to_png().expect("PNG encodes");
+    assert_eq!(&png[1..4], b"PNG");
 }
