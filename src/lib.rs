@@ -17,12 +17,14 @@
 //! | [`texture`] | decoded images and samplers |
 //! | [`raster`] | clip-space transform, culling, clipping, fixed-point setup, binning, tile fill |
 //! | [`shade`] | shading modes (flat, Gouraud, Phong, Blinn, textured, debug views) and the renderer |
+//! | [`quality`] | analytic references, error metrics, the time-versus-error sweep |
 //! | [`overlay`] | 2D drawings with tiny-skia: the chromaticity diagram, plots |
 
 pub mod color;
 pub mod load;
 pub mod mesh;
 pub mod overlay;
+pub mod quality;
 pub mod raster;
 pub mod scene;
 pub mod shade;

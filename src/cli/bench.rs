@@ -39,8 +39,11 @@ fn peer_camera(scene: &Scene) -> Camera {
 }
 
 pub(super) fn bench(args: &BenchArgs) -> Result<()> {
+    let Some(model) = &args.model else {
+        anyhow::bail!("bench needs a MODEL (or the `accuracy` subcommand)");
+    };
     let mut scene = load_model(
-        &args.model,
+        model,
         &NormalArgs {
             crease: "off".into(),
             weighting: "area".into(),
@@ -100,7 +103,7 @@ pub(super) fn bench(args: &BenchArgs) -> Result<()> {
             });
             let mut r = rounds.clone();
             let json = serde_json::json!({
-                "mesh": args.model.file_name().map(|f| f.to_string_lossy().into_owned()),
+                "mesh": model.file_name().map(|f| f.to_string_lossy().into_owned()),
                 "triangles": triangles,
                 "res": format!("{w}x{h}"),
                 "shading": shading.name(),

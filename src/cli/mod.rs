@@ -22,6 +22,7 @@ use realist::mesh::NormalOptions;
 use realist::scene::{self, Camera, Scene};
 use realist::shade::{self, Prepared, RenderOptions, Shading};
 
+mod accuracy;
 mod bench;
 mod chroma;
 mod color;
@@ -59,9 +60,13 @@ enum Command {
 }
 
 #[derive(Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub(crate) struct BenchArgs {
+    #[command(subcommand)]
+    sub: Option<BenchCommand>,
     /// Model file (.obj, .gltf, .glb).
-    model: PathBuf,
+    #[arg(required = true)]
+    model: Option<PathBuf>,
     /// Comma-separated sizes, e.g. 1920x1080,640x480.
     #[arg(long, default_value = "1920x1080")]
     res: String,
@@ -76,6 +81,13 @@ pub(crate) struct BenchArgs {
     /// Draw without back-face culling, as the peer harness does (the same work as llvmpipe).
     #[arg(long)]
     no_cull: bool,
+}
+
+#[derive(Subcommand)]
+pub(crate) enum BenchCommand {
+    /// Time versus error: vary one knob at a time against an analytic reference, write
+    /// results.csv and pareto.png, print the Pareto-optimal settings.
+    Accuracy(accuracy::AccuracyArgs),
 }
 
 #[derive(Args)]
@@ -207,7 +219,10 @@ pub fn run() -> Result<()> {
     match cli.command {
         Some(Command::Render(args)) => render(&args),
         Some(Command::Info(args)) => info(&args),
-        Some(Command::Bench(args)) => bench(&args),
+        Some(Command::Bench(args)) => match &args.sub {
+            Some(BenchCommand::Accuracy(a)) => accuracy::accuracy(a),
+            None => bench(&args),
+        },
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
         None => {

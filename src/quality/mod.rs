@@ -1,0 +1,20 @@
+//! Accuracy, measured: analytic references that need no rasterizer, error metrics between
+//! images, and the time-versus-error sweep behind `realist bench accuracy`.
+//!
+//! | file | owns |
+//! |---|---|
+//! | `image.rs` | [`LinearImage`]: f64 linear RGB, supersampling resolve |
+//! | `metrics.rs` | RMSE, PSNR, max error, CIEDE2000 mean / p95 / count, heat map |
+//! | `sphere.rs` | the ray-cast sphere reference and its rasterizer scene |
+//! | `sweep.rs` | one knob at a time: settings, timings, metrics, Pareto front, plot |
+
+mod image;
+pub mod metrics;
+pub mod sphere;
+pub mod sweep;
+
+pub use image::LinearImage;
+pub use metrics::{compare, Metrics};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,378 @@
+//! The time-versus-error sweep: vary one knob at a time from a base setting, record the
+//! median warm render time and every metric against the reference, find the Pareto front
+//! (no other setting is both faster and more accurate), write `results.csv` and a log-log
+//! plot of time against mean ΔE00 with the front highlighted.
+//!
+//! Knobs of the sphere scene: tessellation (slices x stacks of the latitude/longitude
+//! sphere), shading mode (flat, Gouraud, Phong, Blinn; each against the reference of its
+//! own highlight model), and supersampling (1, 2x2, 4x4, resolved by a box filter in linear
+//! light).
+
+use std::time::Instant;
+
+use glam::Vec4;
+
+use super::sphere::SphereSetup;
+use super::{compare, metrics, LinearImage, Metrics};
+use crate::overlay::{Canvas, Color, HAlign, Path2, Stroke, VAlign};
+use crate::shade::{self, Prepared, RenderOptions, Shading};
+
+/// One setting of the knobs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Setting {
+    pub slices: u32,
+    pub stacks: u32,
+    pub shading: Shading,
+    /// Supersampling factor per axis.
+    pub ss: u32,
+}
+
+impl Setting {
+    /// A short label, e.g. "phong 64x32 ss2".
+    #[must_use]
+    pub fn label(&self) -> String {
+        format!(
+            "{} {}x{} ss{}",
+            self.shading, self.slices, self.stacks, self.ss
+        )
+    }
+}
+
+/// The result of one setting.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// Which knob this row varies ("tessellation", "shading", "supersampling").
+    pub knob: &'static str,
+    pub setting: Setting,
+    /// Median of the warm runs, milliseconds.
+    pub ms: f64,
+    pub metrics: Metrics,
+}
+
+/// The settings of the sweep: the base (Phong, 64x32, no supersampling) and one knob at a
+/// time around it.
+#[must_use]
+pub fn sphere_settings() -> Vec<(&'static str, Setting)> {
+    let base = Setting {
+        slices: 64,
+        stacks: 32,
+        shading: Shading::Phong,
+        ss: 1,
+    };
+    let mut out = Vec::new();
+    for (slices, stacks) in [
+        (8, 4),
+        (16, 8),
+        (32, 16),
+        (64, 32),
+        (128, 64),
+        (256, 128),
+        (512, 256),
+    ] {
+        out.push((
+            "tessellation",
+            Setting {
+                slices,
+                stacks,
+                ..base
+            },
+        ));
+    }
+    for shading in [
+        Shading::Flat,
+        Shading::Gouraud,
+        Shading::Phong,
+        Shading::Blinn,
+    ] {
+        out.push(("shading", Setting { shading, ..base }));
+        out.push((
+            "shading",
+            Setting {
+                shading,
+                slices: 256,
+                stacks: 128,
+                ..base
+            },
+        ));
+    }
+    for ss in [1, 2, 4] {
+        out.push(("supersampling", Setting { ss, ..base }));
+        out.push((
+            "supersampling",
+            Setting {
+                ss,
+                slices: 256,
+                stacks: 128,
+                ..base
+            },
+        ));
+    }
+    out
+}
+
+/// Renders `setting` `runs` times (after one warm-up) and returns the median time and the
+/// resolved image.
+///
+/// # Errors
+/// If the tessellation is invalid.
+pub fn run_setting(
+    setup: &SphereSetup,
+    s: Setting,
+    runs: usize,
+) -> Result<(f64, LinearImage), crate::mesh::MeshError> {
+    let scene = setup.scene(s.slices, s.stacks)?;
+    let prepared = Prepared::new(&scene);
+    let opts = RenderOptions {
+        width: setup.width * s.ss,
+        height: setup.height * s.ss,
+        shading: Some(s.shading),
+        camera: Some(setup.camera.clone()),
+        background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+        ..RenderOptions::default()
+    };
+    let mut frame = shade::render(&scene, &prepared, &opts);
+    let mut times = Vec::with_capacity(runs);
+    let mut image = LinearImage::from_framebuffer(&frame.image()).downsample(s.ss);
+    for _ in 0..runs.max(1) {
+        let start = Instant::now();
+        frame = shade::render(&scene, &prepared, &opts);
+        image = LinearImage::from_framebuffer(&frame.image()).downsample(s.ss);
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok((times[times.len() / 2], image))
+}
+
+/// Indices of the rows on the Pareto front of (time, mean ΔE00), fastest first.
+#[must_use]
+pub fn pareto(rows: &[Row]) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..rows.len()).collect();
+    idx.sort_by(|&a, &b| rows[a].ms.total_cmp(&rows[b].ms));
+    let mut best = f64::INFINITY;
+    let mut front = Vec::new();
+    for i in idx {
+        if rows[i].metrics.mean_de2000 < best {
+            best = rows[i].metrics.mean_de2000;
+            front.push(i);
+        }
+    }
+    front
+}
+
+/// `results.csv`: one line per row.
+#[must_use]
+pub fn csv(rows: &[Row], front: &[usize]) -> String {
+    let mut out = String::from(
+        "knob,shading,slices,stacks,supersampling,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
+    );
+    for (i, r) in rows.iter().enumerate() {
+        let (s, m) = (&r.setting, &r.metrics);
+        out.push_str(&format!(
+            "{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
+            r.knob,
+            s.shading,
+            s.slices,
+            s.stacks,
+            s.ss,
+            r.ms,
+            m.rmse,
+            m.psnr,
+            m.max_abs,
+            m.mean_de2000,
+            m.p95_de2000,
+            m.over_threshold,
+            front.contains(&i)
+        ));
+    }
+    out
+}
+
+/// Log-log plot of median time against mean ΔE00, the Pareto front joined and labelled.
+#[must_use]
+pub fn plot(rows: &[Row], front: &[usize], title: &str) -> Canvas {
+    let (w, h) = (1100u32, 760u32);
+    let (left, right, top, bottom) = (90.0f32, 30.0f32, 60.0f32, 70.0f32);
+    let (pw, ph) = (w as f32 - left - right, h as f32 - top - bottom);
+    let mut c = Canvas::new(w, h);
+    c.background(Color::rgb(255, 255, 255));
+    let ink = Color::rgb(0x33, 0x33, 0x33);
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    let xs: Vec<f64> = rows.iter().map(|r| r.ms).filter(|&v| positive(v)).collect();
+    let ys: Vec<f64> = rows
+        .iter()
+        .map(|r| r.metrics.mean_de2000)
+        .filter(|&v| positive(v))
+        .collect();
+    let range = |v: &[f64]| {
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(0.0, f64::max);
+        if lo.is_finite() && hi > 0.0 {
+            ((lo.log10() - 0.1).floor(), (hi.log10() + 0.1).ceil())
+        } else {
+            (-1.0, 1.0)
+        }
+    };
+    let ((x0, x1), (y0, y1)) = (range(&xs), range(&ys));
+    let px = |ms: f64, de: f64| {
+        let fx = (ms.max(1e-12).log10() - x0) / (x1 - x0);
+        let fy = (de.max(1e-12).log10() - y0) / (y1 - y0);
+        (left + fx as f32 * pw, top + (1.0 - fy as f32) * ph)
+    };
+    // Grid and decade labels.
+    let mut grid = Path2::new();
+    for d in x0 as i32..=x1 as i32 {
+        let (x, _) = px(10f64.powi(d), 1.0);
+        grid = grid.move_to(x, top).line_to(x, top + ph);
+        c.text(
+            &decade(d),
+            x,
+            top + ph + 8.0,
+            14.0,
+            ink,
+            HAlign::Center,
+            VAlign::Top,
+        );
+    }
+    for d in y0 as i32..=y1 as i32 {
+        let (_, y) = px(1.0, 10f64.powi(d));
+        grid = grid.move_to(left, y).line_to(left + pw, y);
+        c.text(
+            &decade(d),
+            left - 8.0,
+            y,
+            14.0,
+            ink,
+            HAlign::Right,
+            VAlign::Middle,
+        );
+    }
+    c.stroke(&grid, Color::rgb(0xE4, 0xE4, 0xE4), &Stroke::solid(1.0));
+    c.stroke(
+        &Path2::new().rect(left, top, pw, ph),
+        ink,
+        &Stroke::solid(1.2),
+    );
+    c.text(
+        "median render time (ms, log)",
+        left + pw / 2.0,
+        h as f32 - 24.0,
+        16.0,
+        ink,
+        HAlign::Center,
+        VAlign::Middle,
+    );
+    c.text_rotated(
+        "mean \u{0394}E00 vs reference (log)",
+        24.0,
+        top + ph / 2.0,
+        16.0,
+        ink,
+        HAlign::Center,
+        VAlign::Middle,
+        -90.0,
+    );
+    c.text(
+        title,
+        left + pw / 2.0,
+        28.0,
+        19.0,
+        ink,
+        HAlign::Center,
+        VAlign::Middle,
+    );
+    let knob_colour = |k: &str| match k {
+        "tessellation" => Color::rgb(0x3F, 0x51, 0xB5),
+        "shading" => Color::rgb(0x00, 0x96, 0x88),
+        _ => Color::rgb(0xFF, 0x98, 0x00),
+    };
+    let pts: Vec<(f32, f32)> = front
+        .iter()
+        .map(|&i| px(rows[i].ms, rows[i].metrics.mean_de2000))
+        .collect();
+    c.stroke(
+        &Path2::polyline(&pts, false),
+        Color::rgb(0xF4, 0x43, 0x36),
+        &Stroke {
+            width: 2.5,
+            dash: None,
+            round: true,
+        },
+    );
+    for (i, r) in rows.iter().enumerate() {
+        let (x, y) = px(r.ms, r.metrics.mean_de2000);
+        let on = front.contains(&i);
+        let dot = Path2::new().circle(x, y, if on { 6.0 } else { 4.5 });
+        c.fill(&dot, knob_colour(r.knob));
+        if on {
+            c.stroke(&dot, Color::rgb(0xF4, 0x43, 0x36), &Stroke::solid(2.0));
+            c.text(
+                &r.setting.label(),
+                x + 9.0,
+                y - 4.0,
+                12.0,
+                ink,
+                HAlign::Left,
+                VAlign::Bottom,
+            );
+        }
+    }
+    for (k, knob) in ["tessellation", "shading", "supersampling"]
+        .iter()
+        .enumerate()
+    {
+        let y = top + 20.0 + 22.0 * k as f32;
+        c.fill(
+            &Path2::new().circle(left + pw - 150.0, y, 5.0),
+            knob_colour(knob),
+        );
+        c.text(
+            knob,
+            left + pw - 138.0,
+            y,
+            14.0,
+            ink,
+            HAlign::Left,
+            VAlign::Middle,
+        );
+    }
+    c
+}
+
+fn decade(d: i32) -> String {
+    match d {
+        0 => "1".into(),
+        1 => "10".into(),
+        2 => "100".into(),
+        3 => "1000".into(),
+        -1 => "0.1".into(),
+        -2 => "0.01".into(),
+        -3 => "0.001".into(),
+        _ => format!("1e{d}"),
+    }
+}
+
+/// Runs the sphere sweep at `setup`'s size with `runs` timed renders per setting; also
+/// returns the two references (Phong, Blinn).
+///
+/// # Errors
+/// Never for the built-in settings (kept for custom ones).
+pub fn sphere_sweep(setup: &SphereSetup, runs: usize) -> Result<Vec<Row>, crate::mesh::MeshError> {
+    let phong = setup.reference(false);
+    let blinn = setup.reference(true);
+    let mut rows = Vec::new();
+    for (knob, s) in sphere_settings() {
+        let (ms, image) = run_setting(setup, s, runs)?;
+        let reference = if s.shading == Shading::Blinn {
+            &blinn
+        } else {
+            &phong
+        };
+        rows.push(Row {
+            knob,
+            setting: s,
+            ms,
+            metrics: compare(&image, reference, metrics::DEFAULT_DE_THRESHOLD),
+        });
+    }
+    Ok(rows)
+}
