@@ -223,8 +223,10 @@ fn assemble<V: super::Varying>(
     }
     let (ga, gb, gc) = (outcode(a.pos, g), outcode(b.pos, g), outcode(c.pos, g));
     let need = ga | gb | gc;
-    let mut push = |tri: [&ClipVertex<V>; 3], st: &mut Stats| match setup(tri, w, h, d.id, d.state)
-    {
+    let mut ccw = None;
+    let mut push = |tri: [&ClipVertex<V>; 3], ccw: Option<bool>, st: &mut Stats| match setup(
+        tri, w, h, d.id, d.state, ccw,
+    ) {
         Ok(s) => {
             out.push(s);
             true
@@ -239,10 +241,18 @@ fn assemble<V: super::Varying>(
         }
     };
     if need == 0 {
-        let _ = push([&a, &b, &c], st);
+        let _ = push([&a, &b, &c], ccw, st);
         return;
     }
     st.clipped += 1;
+    // The orientation every piece must keep: the sign of det[X; Y; W] of the whole triangle
+    // (homogeneous rasterization: positive = counter-clockwise in NDC where w > 0).
+    let det = homogeneous_orientation(a.pos, b.pos, c.pos);
+    if det == 0.0 || !det.is_finite() {
+        st.culled_degenerate += 1;
+        return;
+    }
+    ccw = Some(det > 0.0);
     // Clip against every violated plane (near first: it guarantees w > 0 afterwards).
     let poly = clip_polygon(vec![a, b, c], need, g);
     if poly.len() < 3 {
@@ -252,7 +262,7 @@ fn assemble<V: super::Varying>(
     let mut rejected = Stats::default();
     let mut any = false;
     for i in 1..poly.len() - 1 {
-        any |= push([&poly[0], &poly[i], &poly[i + 1]], &mut rejected);
+        any |= push([&poly[0], &poly[i], &poly[i + 1]], ccw, &mut rejected);
     }
     // Count the input triangle once: as drawn if any piece survived, else by the first reason.
     if !any {
@@ -262,6 +272,14 @@ fn assemble<V: super::Varying>(
             st.culled_degenerate += 1;
         }
     }
+}
+
+/// det[X; Y; W] of a clip-space triangle, in f64: its sign is the orientation of the
+/// triangle's visible (w > 0) part in NDC, positive for counter-clockwise.
+fn homogeneous_orientation(a: Vec4, b: Vec4, c: Vec4) -> f64 {
+    let [a, b, c] = [a, b, c].map(|p| [f64::from(p.x), f64::from(p.y), f64::from(p.w)]);
+    a[0] * (b[1] * c[2] - c[1] * b[2]) - b[0] * (a[1] * c[2] - c[1] * a[2])
+        + c[0] * (a[1] * b[2] - b[1] * a[2])
 }
 
 /// Appends triangle `index` to the bin of every tile its bounds touch and its edges do not

@@ -73,6 +73,7 @@ pub(crate) fn setup<V: Varying>(
     height: u32,
     draw: u32,
     state: DrawState,
+    ccw: Option<bool>,
 ) -> Result<SetupTri<V>, Reject> {
     let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
     let mut x = [0i64; 3];
@@ -99,6 +100,12 @@ pub(crate) fn setup<V: Varying>(
         return Err(Reject::Degenerate);
     }
     // Counter-clockwise in NDC (y up) is clockwise on screen (y down): negative area here.
+    // A piece of a clipped triangle must keep the triangle's orientation: an inverted piece
+    // is an f32 rounding artefact of a vertex near w = 0 (a sliver folded over its
+    // neighbour), and drawing it would cover pixels twice.
+    if ccw.is_some_and(|ccw| (area < 0) != ccw) {
+        return Err(Reject::Degenerate);
+    }
     let front = (area < 0) != state.flip_winding;
     match state.cull {
         Cull::Back if !front => return Err(Reject::Backface),
@@ -220,14 +227,14 @@ mod tests {
     #[test]
     fn ccw_is_front_and_edges_positive_inside() {
         let (a, b, c) = (cv(-0.5, -0.5), cv(0.5, -0.5), cv(0.0, 0.5));
-        let t = setup([&a, &b, &c], 64, 64, 0, state(Cull::Back)).unwrap();
+        let t = setup([&a, &b, &c], 64, 64, 0, state(Cull::Back), None).unwrap();
         assert!(t.info.front);
         let (px, py) = (32 * ONE + HALF, 32 * ONE + HALF);
         for k in 0..3 {
             assert!(t.a[k] * px + t.b[k] * py + t.c[k] > 0);
         }
         assert_eq!(
-            setup([&a, &c, &b], 64, 64, 0, state(Cull::Back)).unwrap_err(),
+            setup([&a, &c, &b], 64, 64, 0, state(Cull::Back), None).unwrap_err(),
             Reject::Backface
         );
     }
@@ -241,7 +248,7 @@ mod tests {
             cv(s(3.5), -s(1.5)),
             cv(s(1.5), -s(3.5)),
         );
-        let t = setup([&a, &b, &c], 8, 8, 0, state(Cull::None)).unwrap();
+        let t = setup([&a, &b, &c], 8, 8, 0, state(Cull::None), None).unwrap();
         assert_eq!((t.x0, t.x1, t.y0, t.y1), (1, 3, 1, 3));
     }
 }
