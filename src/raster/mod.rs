@@ -27,6 +27,7 @@ mod framebuffer;
 mod line;
 mod pipeline;
 mod setup;
+pub mod stages;
 mod varying;
 
 pub use framebuffer::{DepthCopy, Framebuffer, Target, TILE};

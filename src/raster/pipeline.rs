@@ -194,7 +194,7 @@ pub fn draw<S: FragmentShader>(
 }
 
 /// Culls, clips and sets up one input triangle, appending the results to `out`.
-fn assemble<V: super::Varying>(
+pub(crate) fn assemble<V: super::Varying>(
     d: &Draw<'_, V>,
     t: &[u32; 3],
     g: Vec2,
@@ -284,7 +284,7 @@ fn homogeneous_orientation(a: Vec4, b: Vec4, c: Vec4) -> f64 {
 
 /// Appends triangle `index` to the bin of every tile its bounds touch and its edges do not
 /// exclude (a tile is excluded when one edge is negative at all four of its corners).
-fn bin<V>(target: &Target, t: &SetupTri<V>, index: u32, bins: &mut [Vec<u32>]) {
+pub(crate) fn bin<V>(target: &Target, t: &SetupTri<V>, index: u32, bins: &mut [Vec<u32>]) {
     let (tx0, ty0, tx1, ty1) = (t.x0 / TILE, t.y0 / TILE, t.x1 / TILE, t.y1 / TILE);
     let single = tx0 == tx1 && ty0 == ty1;
     for ty in ty0..=ty1 {
@@ -308,7 +308,7 @@ fn tile_outside<V>(t: &SetupTri<V>, x: u32, y: u32) -> bool {
 }
 
 /// Fills every tile with its binned triangles (in parallel over tiles), then empties the bins.
-fn flush<S: FragmentShader>(
+pub(crate) fn flush<S: FragmentShader>(
     target: &mut Target,
     pending: &mut Vec<SetupTri<S::Varying>>,
     bins: &mut [Vec<u32>],
