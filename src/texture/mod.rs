@@ -281,6 +281,36 @@ mod tests {
     }
 
     #[test]
+    fn uvs_near_1e5_keep_their_texel() {
+        // f32 spacing at 1e5 is 1/128, so a UV there is known to 1/256; a texel centre of a
+        // 100-texel map (texels 1/100 wide) is still resolved. Nearest sampling at
+        // u = 1e5 + centre must give the texel of the centre itself: folding the UV before
+        // scaling keeps it (scaling first puts u * 100 = 1e7 where f32 spacing is 1).
+        let n = 100;
+        let texels: Vec<[u8; 4]> = (0..n * n)
+            .map(|i| [(i % n) as u8, (i / n) as u8, 0, 255])
+            .collect();
+        let t = Texture::new("ramp", n, n, texels, false).unwrap();
+        let mut tried = 0;
+        for wrap in [Wrap::Repeat, Wrap::MirroredRepeat] {
+            let s = Sampler {
+                wrap_u: wrap,
+                wrap_v: wrap,
+                filter: Filter::Nearest,
+            };
+            for k in 0..n {
+                let f = (k as f32 + 0.5) / n as f32;
+                let near = t.sample_with(Vec2::new(f, f), s);
+                // 1e5 is even, so mirrored repeat also maps it back onto [0, 1).
+                let far = t.sample_with(Vec2::new(1e5 + f, 1e5 + f), s);
+                assert_eq!(near, far, "{wrap:?} texel {k}");
+                tried += 1;
+            }
+        }
+        assert_eq!(tried, 200);
+    }
+
+    #[test]
     fn bilinear_between_texels() {
         let t = Texture::new("t", 2, 1, vec![[0, 0, 0, 255], [255, 255, 255, 255]], false).unwrap();
         let s = Sampler {
