@@ -4,6 +4,9 @@ use rayon::prelude::*;
 
 use super::fill::{fill, smooth_fill_linear, FillStyle};
 
+/// Spacing in pixels of the grid on which the smooth fill is evaluated.
+const COARSE: u32 = 2;
+
 /// Entries of the linear -> 8-bit sRGB table of the fill (one code value at worst, as
 /// the framebuffer's table).
 const ENCODE_LUT: usize = 1 << 14;
@@ -213,6 +216,35 @@ fn fill_image(opts: &ChromaOptions, f: &Frame) -> RgbaImage {
         })
         .collect();
     let lut = &lut;
+    let margin = 2.0 * (f.bounds[1] - f.bounds[0]) / f64::from(f.side);
+    let outside = |p: [f64; 2]| {
+        p[0] < lo[0] - margin
+            || p[0] > hi[0] + margin
+            || p[1] < lo[1] - margin
+            || p[1] > hi[1] + margin
+    };
+    // The smooth fill is evaluated every COARSE pixels and interpolated bilinearly in
+    // linear light (it is smooth by construction, so the interpolation error is far below
+    // one 8-bit step); chromaticities with y <= 0 are nudged to y = 1e-9 so the field stays
+    // continuous up to the purple line.
+    let coarse = COARSE;
+    let m = if opts.fill == FillStyle::Smooth {
+        n / coarse + 2
+    } else {
+        0
+    };
+    let nodes: Vec<[f64; 3]> = (0..m)
+        .into_par_iter()
+        .flat_map_iter(|b| {
+            let space = &space;
+            (0..m).map(move |a| {
+                let p = f.unpx(a * coarse, b * coarse);
+                let xy = opts.plane.to_xy(p);
+                smooth_fill_linear(space, [xy[0], xy[1].max(1e-9)])
+            })
+        })
+        .collect();
+    let nodes = &nodes;
     let pixels: Vec<[u8; 4]> = (0..n)
         .into_par_iter()
         .flat_map_iter(|j| {
@@ -221,24 +253,26 @@ fn fill_image(opts: &ChromaOptions, f: &Frame) -> RgbaImage {
                 let p = f.unpx(i, j);
                 // Outside the locus's bounding box (plus a pixel for anti-aliasing) nothing
                 // shows through the clip: skip the work.
-                let margin = 2.0 * (f.bounds[1] - f.bounds[0]) / f64::from(f.side);
-                if p[0] < lo[0] - margin
-                    || p[0] > hi[0] + margin
-                    || p[1] < lo[1] - margin
-                    || p[1] > hi[1] + margin
-                {
+                if outside(p) {
                     return [0, 0, 0, 0];
                 }
-                let xy = opts.plane.to_xy(p);
                 if opts.fill == FillStyle::Smooth {
-                    // Linear values through the encoding table.
-                    let rgb = smooth_fill_linear(space, xy);
-                    let e = |v: f64| {
+                    let (a, b) = ((i / coarse) as usize, (j / coarse) as usize);
+                    let (fx, fy) = (
+                        f64::from(i % coarse) / f64::from(coarse),
+                        f64::from(j % coarse) / f64::from(coarse),
+                    );
+                    let at = |a: usize, b: usize| nodes[b * m as usize + a];
+                    let (c00, c10, c01, c11) =
+                        (at(a, b), at(a + 1, b), at(a, b + 1), at(a + 1, b + 1));
+                    let e = |k: usize| {
+                        let v = (c00[k] * (1.0 - fx) + c10[k] * fx) * (1.0 - fy)
+                            + (c01[k] * (1.0 - fx) + c11[k] * fx) * fy;
                         lut[(v.clamp(0.0, 1.0) * (ENCODE_LUT - 1) as f64).round() as usize]
                     };
-                    return [e(rgb[0]), e(rgb[1]), e(rgb[2]), 255];
+                    return [e(0), e(1), e(2), 255];
                 }
-                let rgb = fill(opts.fill, space, xy);
+                let rgb = fill(opts.fill, space, opts.plane.to_xy(p));
                 let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
                 [q(rgb[0]), q(rgb[1]), q(rgb[2]), 255]
             })
@@ -344,14 +378,25 @@ fn planckian(c: &mut Canvas, opts: &ChromaOptions, f: &Frame, locus: &Path2) {
             .into_iter()
             .all(within)
         };
-        let mut hi = 0.05;
-        while hi > 0.0 && !fits(at(hi)) {
-            hi -= 0.001;
-        }
-        let mut lo = -0.05;
-        while lo < 0.0 && !within(at(lo)) {
-            lo += 0.001;
-        }
+        // The largest |Duv| <= 0.05 on each side that still fits, by bisection (the
+        // horseshoe is convex around the locus, so fitting is monotonic in |Duv|).
+        let reach = |sign: f64, ok: &dyn Fn((f32, f32)) -> bool| {
+            if ok(at(sign * 0.05)) {
+                return sign * 0.05;
+            }
+            let (mut good, mut bad) = (0.0, 0.05);
+            for _ in 0..14 {
+                let mid = (good + bad) / 2.0;
+                if ok(at(sign * mid)) {
+                    good = mid;
+                } else {
+                    bad = mid;
+                }
+            }
+            sign * good
+        };
+        let hi = reach(1.0, &fits);
+        let lo = reach(-1.0, &within);
         if hi <= lo {
             continue;
         }
