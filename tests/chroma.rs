@@ -11,12 +11,7 @@ use realist::overlay::chroma::{self, fill, ChromaOptions, Plane, PLANCKIAN_LABEL
 use serde_json::Value;
 
 fn reference() -> Option<Value> {
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        println!("REALIST_SHARED is not set: skipping the colour-science diagram reference");
-        return None;
-    };
-    let path = std::path::Path::new(&root).join("color/reference.json");
-    Some(serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap())
+    common::colour_reference("the colour-science diagram reference")
 }
 
 fn floats(v: &Value) -> Vec<f64> {

@@ -1,18 +1,17 @@
 //! `realist color VALUE --json` against every colour of colour-science's reference
 //! (`$REALIST_SHARED/color/reference.json`; skipped with a notice when unset).
 
+mod common;
+
 use std::process::Command;
 
 use serde_json::Value;
 
 #[test]
 fn color_json_matches_colour_science() {
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        println!("REALIST_SHARED is not set: skipping the `realist color` reference test");
+    let Some(reference) = common::colour_reference("the `realist color` reference test") else {
         return;
     };
-    let path = std::path::Path::new(&root).join("color/reference.json");
-    let reference: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     let colours = reference["colour_models"]["colours"].as_object().unwrap();
     let keys = [
         ("linear", "srgb_linear"),

@@ -4,6 +4,8 @@
 //!
 //! Tolerances are absolute and named; each says why it is not 1e-12.
 
+mod common;
+
 use realist::color::*;
 use serde_json::Value;
 
@@ -16,13 +18,7 @@ const CHAIN: f64 = 1e-9;
 const BAR: f64 = 1e-6;
 
 fn reference() -> Option<Value> {
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        println!("REALIST_SHARED is not set: skipping the colour-science reference tests");
-        return None;
-    };
-    let path = std::path::Path::new(&root).join("color/reference.json");
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    Some(serde_json::from_str(&text).unwrap())
+    common::colour_reference("the colour-science reference tests")
 }
 
 fn f(v: &Value) -> f64 {

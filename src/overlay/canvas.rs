@@ -64,6 +64,15 @@ impl Stroke {
         }
     }
 
+    /// A solid line of `width` pixels with round caps and joins.
+    #[must_use]
+    pub fn rounded(width: f32) -> Self {
+        Self {
+            round: true,
+            ..Self::solid(width)
+        }
+    }
+
     /// The stroke as both backends draw it, or `None` if it draws nothing.
     fn normalised(&self) -> Option<Self> {
         if !(self.width > 0.0 && self.width.is_finite()) {

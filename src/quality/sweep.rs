@@ -293,11 +293,7 @@ pub fn plot(rows: &[Row], front: &[usize], title: &str) -> Canvas {
     c.stroke(
         &Path2::polyline(&pts, false),
         Color::rgb(0xF4, 0x43, 0x36),
-        &Stroke {
-            width: 2.5,
-            dash: None,
-            round: true,
-        },
+        &Stroke::rounded(2.5),
     );
     for (i, r) in rows.iter().enumerate() {
         let (x, y) = px(r.ms, r.metrics.mean_de2000);

@@ -118,15 +118,7 @@ pub fn diagram(opts: &ChromaOptions) -> Canvas {
     c.clip_push(&locus);
     c.image(frame.left, frame.top, fill_image(opts, &frame));
     c.clip_pop();
-    c.stroke(
-        &locus,
-        INK,
-        &Stroke {
-            width: 1.6 * s,
-            dash: None,
-            round: true,
-        },
-    );
+    c.stroke(&locus, INK, &Stroke::rounded(1.6 * s));
     wavelength_ticks(&mut c, opts, &frame);
     if opts.planckian {
         planckian(&mut c, opts, &frame, &locus);
@@ -179,15 +171,7 @@ fn grid(c: &mut Canvas, f: &Frame) {
         let (_, y) = f.px([u0, k]);
         path = path.move_to(f.left, y).line_to(f.left + f.side, y);
     }
-    c.stroke(
-        &path,
-        GRID,
-        &Stroke {
-            width: 1.0 * f.s.max(0.5),
-            dash: None,
-            round: false,
-        },
-    );
+    c.stroke(&path, GRID, &Stroke::solid(1.0 * f.s.max(0.5)));
 }
 
 /// Multiples of 0.1 within [a, b].
@@ -326,15 +310,7 @@ fn wavelength_ticks(c: &mut Canvas, opts: &ChromaOptions, f: &Frame) {
         };
         c.text(&nm.to_string(), lx, ly, 13.0 * f.s, INK, h, v);
     }
-    c.stroke(
-        &ticks,
-        INK,
-        &Stroke {
-            width: 1.2 * f.s,
-            dash: None,
-            round: false,
-        },
-    );
+    c.stroke(&ticks, INK, &Stroke::solid(1.2 * f.s));
     c.fill(&dots, INK);
 }
 
@@ -345,15 +321,7 @@ fn planckian(c: &mut Canvas, opts: &ChromaOptions, f: &Frame, locus: &Path2) {
         .map(|mired| f.px_xy(color::planckian_xy(1e6 / f64::from(mired))))
         .collect();
     let curve = Path2::polyline(&pts, false);
-    c.stroke(
-        &curve,
-        INK,
-        &Stroke {
-            width: 1.6 * f.s,
-            dash: None,
-            round: true,
-        },
-    );
+    c.stroke(&curve, INK, &Stroke::rounded(1.6 * f.s));
     let inside = locus_polygon(opts.observer, f.plane);
     let within = |px: (f32, f32)| point_in_polygon(&inside, f.unpx_f(px.0, px.1));
     let size = 11.0 * f.s;
@@ -405,15 +373,7 @@ fn planckian(c: &mut Canvas, opts: &ChromaOptions, f: &Frame, locus: &Path2) {
         labels.push((label, b));
     }
     c.clip_push(locus);
-    c.stroke(
-        &ticks,
-        INK,
-        &Stroke {
-            width: 1.2 * f.s,
-            dash: None,
-            round: false,
-        },
-    );
+    c.stroke(&ticks, INK, &Stroke::solid(1.2 * f.s));
     c.clip_pop();
     for (label, (x, y)) in labels {
         c.text(
@@ -448,11 +408,7 @@ fn gamut(c: &mut Canvas, g: &RgbSpace, colour: Color, f: &Frame) {
     c.stroke(
         &Path2::polyline(&pts, true),
         colour,
-        &Stroke {
-            width: 2.0 * f.s,
-            dash: None,
-            round: true,
-        },
+        &Stroke::rounded(2.0 * f.s),
     );
     let mut dots = Path2::new();
     for &(x, y) in &pts {
@@ -467,15 +423,7 @@ fn marker(c: &mut Canvas, f: &Frame, xy: [f64; 2], label: &str, face: Color, edg
     let (x, y) = f.px_xy(xy);
     let dot = Path2::new().circle(x, y, 5.0 * f.s);
     c.fill(&dot, face);
-    c.stroke(
-        &dot,
-        edge,
-        &Stroke {
-            width: 1.5 * f.s,
-            dash: None,
-            round: true,
-        },
-    );
+    c.stroke(&dot, edge, &Stroke::rounded(1.5 * f.s));
     if !label.is_empty() {
         c.text(
             label,
@@ -579,15 +527,7 @@ fn inferno(t: f32) -> [u8; 3] {
 
 fn axes(c: &mut Canvas, f: &Frame) {
     let frame = Path2::new().rect(f.left, f.top, f.side, f.side);
-    c.stroke(
-        &frame,
-        INK,
-        &Stroke {
-            width: 1.2 * f.s,
-            dash: None,
-            round: false,
-        },
-    );
+    c.stroke(&frame, INK, &Stroke::solid(1.2 * f.s));
     let [u0, u1, v0, v1] = f.bounds;
     let mut marks = Path2::new();
     let len = 6.0 * f.s;
@@ -618,15 +558,7 @@ fn axes(c: &mut Canvas, f: &Frame) {
             VAlign::Middle,
         );
     }
-    c.stroke(
-        &marks,
-        INK,
-        &Stroke {
-            width: 1.2 * f.s,
-            dash: None,
-            round: false,
-        },
-    );
+    c.stroke(&marks, INK, &Stroke::solid(1.2 * f.s));
     let (xa, ya) = f.plane.axes();
     let label = 18.0 * f.s;
     c.text(
@@ -723,29 +655,13 @@ fn legend(c: &mut Canvas, opts: &ChromaOptions, f: &Frame) {
     let (x0, y0) = (f.left + f.side - width - 12.0 * f.s, f.top + 12.0 * f.s);
     let bg = Path2::new().rect(x0, y0, width, height);
     c.fill(&bg, Color::rgba(255, 255, 255, 230));
-    c.stroke(
-        &bg,
-        Color::rgb(0xCC, 0xCC, 0xCC),
-        &Stroke {
-            width: 1.0 * f.s,
-            dash: None,
-            round: false,
-        },
-    );
+    c.stroke(&bg, Color::rgb(0xCC, 0xCC, 0xCC), &Stroke::solid(1.0 * f.s));
     for (i, (text, colour)) in rows.iter().enumerate() {
         let y = y0 + 6.0 * f.s + row_h * (i as f32 + 0.5);
         let line = Path2::new()
             .move_to(x0 + 10.0 * f.s, y)
             .line_to(x0 + 38.0 * f.s, y);
-        c.stroke(
-            &line,
-            *colour,
-            &Stroke {
-                width: 2.0 * f.s,
-                dash: None,
-                round: true,
-            },
-        );
+        c.stroke(&line, *colour, &Stroke::rounded(2.0 * f.s));
         c.fill(&Path2::new().circle(x0 + 24.0 * f.s, y, 4.5 * f.s), *colour);
         c.text(
             text,
