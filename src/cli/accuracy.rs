@@ -5,14 +5,14 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
-use realist::quality::sphere::SphereSetup;
+use realist::quality::sphere::{Shape, SphereSetup};
 use realist::quality::sweep;
 
 use super::parse_size;
 
 #[derive(Args)]
 pub(crate) struct AccuracyArgs {
-    /// Scene: sphere (the analytic reference; cylinder, plane and models come next).
+    /// Scene with an analytic reference: sphere or cylinder (plane and models come next).
     #[arg(long, default_value = "sphere")]
     scene: String,
     /// Image size WIDTHxHEIGHT.
@@ -27,17 +27,16 @@ pub(crate) struct AccuracyArgs {
 }
 
 pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
-    if args.scene != "sphere" {
-        bail!(
-            "--scene {}: only the sphere has a reference so far (expected sphere)",
-            args.scene
-        );
-    }
+    let shape = match args.scene.as_str() {
+        "sphere" => Shape::Sphere,
+        "cylinder" => Shape::Cylinder,
+        s => bail!("--scene {s}: no reference for it yet (expected sphere or cylinder)"),
+    };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let (w, h) = args.size;
-    let setup = SphereSetup::standard(w, h);
-    let rows = sweep::sphere_sweep(&setup, args.runs.max(1))?;
+    let setup = SphereSetup::standard_shape(shape, w, h);
+    let rows = sweep::sweep(&setup, args.runs.max(1))?;
     let front = sweep::pareto(&rows);
     say!(
         "{:<14} {:<24} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9}",
@@ -78,7 +77,10 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
     let csv_path = args.out.join("results.csv");
     std::fs::write(&csv_path, sweep::csv(&rows, &front))
         .with_context(|| format!("writing {}", csv_path.display()))?;
-    let title = format!("sphere at {w}x{h}: time versus error (one knob at a time)");
+    let title = format!(
+        "{} at {w}x{h}: time versus error (one knob at a time)",
+        args.scene
+    );
     let png = sweep::plot(&rows, &front, &title)
         .to_png()
         .map_err(|e| anyhow::anyhow!("encoding plot: {e}"))?;

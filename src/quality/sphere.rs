@@ -1,9 +1,9 @@
-//! The analytic sphere: a ray-cast reference that needs no rasterizer, and the matching
-//! rasterizer scene at any tessellation.
+//! Analytic references (a sphere, a capped cylinder): ray-cast images that need no
+//! rasterizer, and the matching rasterizer scenes at any tessellation.
 //!
 //! The reference shades the exact sphere with the lighting equation of
-//! [`crate::shade::lighting`] (same lights, material, eye) in f64 per sample. Pixels the
-//! silhouette crosses (any of their four corners disagrees with a neighbour's, dilated by
+//! [`crate::shade::lighting`] (same lights, material, eye) in f64 per sample. Pixels a
+//! silhouette or a shading edge crosses (their four corners see different parts, dilated by
 //! one pixel) take 16 x 16 samples, so coverage is exact to 1/256; pixels fully inside take
 //! 4 x 4 samples of the smoothly varying shading (the box filter's midpoint error is below
 //! 1e-5 for the default material); pixels fully outside are the background.
@@ -20,9 +20,20 @@ pub const EDGE_SAMPLES: u32 = 16;
 /// Samples per side in interior pixels.
 pub const INTERIOR_SAMPLES: u32 = 4;
 
-/// A unit sphere at the origin under a fixed camera and the default light rig.
+/// The analytic shape of a reference scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Shape {
+    /// Unit sphere at the origin (the seed's latitude/longitude tessellation).
+    #[default]
+    Sphere,
+    /// Capped cylinder of radius 1 from y = -1 to 1 (side normals radial, caps flat).
+    Cylinder,
+}
+
+/// An analytic shape at the origin under a fixed camera and the default light rig.
 #[derive(Clone, Debug)]
 pub struct SphereSetup {
+    pub shape: Shape,
     pub width: u32,
     pub height: u32,
     pub camera: Camera,
@@ -43,6 +54,7 @@ impl SphereSetup {
             ..Material::default()
         };
         Self {
+            shape: Shape::Sphere,
             width,
             height,
             camera,
@@ -51,12 +63,25 @@ impl SphereSetup {
         }
     }
 
-    /// The rasterizer's scene: the seed's latitude/longitude sphere.
+    /// [`SphereSetup::standard`] for another shape.
+    #[must_use]
+    pub fn standard_shape(shape: Shape, width: u32, height: u32) -> Self {
+        Self {
+            shape,
+            ..Self::standard(width, height)
+        }
+    }
+
+    /// The rasterizer's scene: the seed's latitude/longitude sphere (`slices` x `stacks`),
+    /// or the capped cylinder with `slices` sides (`stacks` unused).
     ///
     /// # Errors
     /// If `slices` < 3 or `stacks` < 2 (or too many).
     pub fn scene(&self, slices: u32, stacks: u32) -> Result<Scene, crate::mesh::MeshError> {
-        let mut mesh = Mesh::sphere(1.0, slices, stacks)?;
+        let mut mesh = match self.shape {
+            Shape::Sphere => Mesh::sphere(1.0, slices, stacks)?,
+            Shape::Cylinder => Mesh::cylinder(1.0, 2.0, slices, true)?,
+        };
         mesh.material = Some(0);
         Ok(Scene {
             meshes: vec![mesh],
@@ -79,9 +104,12 @@ impl SphereSetup {
         let (w, h) = (self.width, self.height);
         let rays = Rays::new(&self.camera, w, h);
         // Hit status of every pixel corner, (w + 1) x (h + 1).
-        let corners: Vec<bool> = (0..=h)
+        let shape = self.shape;
+        let corners: Vec<u8> = (0..=h)
             .flat_map(|y| (0..=w).map(move |x| (x, y)))
-            .map(|(x, y)| hit(&rays, f64::from(x), f64::from(y)).is_some())
+            .map(|(x, y)| {
+                hit(shape, &rays, f64::from(x), f64::from(y)).map_or(0, |(_, _, part)| part)
+            })
             .collect();
         let cw = w as usize + 1;
         let mixed = |x: usize, y: usize| {
@@ -102,7 +130,7 @@ impl SphereSetup {
                     let edge = (y.saturating_sub(1)..=(y + 1).min(h as usize - 1)).any(|yy| {
                         (x.saturating_sub(1)..=(x + 1).min(w as usize - 1)).any(|xx| mixed(xx, yy))
                     });
-                    if !edge && !corners[y * cw + x] {
+                    if !edge && corners[y * cw + x] == 0 {
                         return [0.0; 3];
                     }
                     let n = if edge { EDGE_SAMPLES } else { INTERIOR_SAMPLES };
@@ -111,8 +139,8 @@ impl SphereSetup {
                         for i in 0..n {
                             let sx = x as f64 + (f64::from(i) + 0.5) / f64::from(n);
                             let sy = y as f64 + (f64::from(j) + 0.5) / f64::from(n);
-                            if let Some(p) = hit(rays, sx, sy) {
-                                let c = shade.at(p);
+                            if let Some((p, n, _)) = hit(shape, rays, sx, sy) {
+                                let c = shade.at(p, n);
                                 for k in 0..3 {
                                     sum[k] += c[k];
                                 }
@@ -201,16 +229,61 @@ impl Rays {
     }
 }
 
-/// The nearest hit of the ray through (x, y) with the unit sphere at the origin.
-fn hit(r: &Rays, x: f64, y: f64) -> Option<V3> {
+/// The nearest hit of the ray through (x, y) with `shape`: point, unit normal, and which
+/// part was hit (1 = sphere or cylinder side, 2 = top cap, 3 = bottom cap), so that pixels
+/// whose corners see different parts (shading edges) are supersampled like silhouettes.
+fn hit(shape: Shape, r: &Rays, x: f64, y: f64) -> Option<(V3, V3, u8)> {
     let d = r.dir(x, y);
-    let (a, b, c) = (dot(d, d), 2.0 * dot(r.eye, d), dot(r.eye, r.eye) - 1.0);
-    let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        return None;
+    match shape {
+        Shape::Sphere => {
+            let (a, b, c) = (dot(d, d), 2.0 * dot(r.eye, d), dot(r.eye, r.eye) - 1.0);
+            let disc = b * b - 4.0 * a * c;
+            if disc < 0.0 {
+                return None;
+            }
+            let t = (-b - disc.sqrt()) / (2.0 * a);
+            (t > 0.0).then(|| {
+                let p = add_scaled(r.eye, d, t);
+                (p, normalize(p), 1)
+            })
+        }
+        Shape::Cylinder => {
+            let mut best: Option<(f64, V3, u8)> = None;
+            let mut take = |t: f64, n: V3, part: u8| {
+                if t > 0.0 && best.map_or(true, |(bt, _, _)| t < bt) {
+                    best = Some((t, n, part));
+                }
+            };
+            // Side: x^2 + z^2 = 1 with |y| <= 1.
+            let (e, o) = (r.eye, d);
+            let a = o[0] * o[0] + o[2] * o[2];
+            let b = 2.0 * (e[0] * o[0] + e[2] * o[2]);
+            let c = e[0] * e[0] + e[2] * e[2] - 1.0;
+            let disc = b * b - 4.0 * a * c;
+            if a > 0.0 && disc >= 0.0 {
+                for t in [
+                    (-b - disc.sqrt()) / (2.0 * a),
+                    (-b + disc.sqrt()) / (2.0 * a),
+                ] {
+                    let p = add_scaled(e, o, t);
+                    if p[1].abs() <= 1.0 {
+                        take(t, normalize([p[0], 0.0, p[2]]), 1);
+                    }
+                }
+            }
+            // Caps: y = +-1 with x^2 + z^2 <= 1.
+            if o[1] != 0.0 {
+                for (cap, n, part) in [(1.0, [0.0, 1.0, 0.0], 2u8), (-1.0, [0.0, -1.0, 0.0], 3)] {
+                    let t = (cap - e[1]) / o[1];
+                    let p = add_scaled(e, o, t);
+                    if p[0] * p[0] + p[2] * p[2] <= 1.0 {
+                        take(t, n, part);
+                    }
+                }
+            }
+            best.map(|(t, n, part)| (add_scaled(e, o, t), n, part))
+        }
     }
-    let t = (-b - disc.sqrt()) / (2.0 * a);
-    (t > 0.0).then(|| add_scaled(r.eye, d, t))
 }
 
 /// The lighting equation in f64 (see [`crate::shade::lighting`]).
@@ -251,8 +324,7 @@ impl Shade {
         sh
     }
 
-    fn at(&self, p: V3) -> V3 {
-        let n = normalize(p);
+    fn at(&self, p: V3, n: V3) -> V3 {
         let v = normalize(sub(self.eye, p));
         let mut c = [0, 1, 2].map(|k| self.ambient[k] * self.ka[k] * self.kd[k]);
         let lights = self.directional.iter().map(|&(l, col)| (l, col)).chain(

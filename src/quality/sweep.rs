@@ -3,8 +3,8 @@
 //! (no other setting is both faster and more accurate), write `results.csv` and a log-log
 //! plot of time against mean ΔE00 with the front highlighted.
 //!
-//! Knobs of the sphere scene: tessellation (slices x stacks of the latitude/longitude
-//! sphere), shading mode (flat, Gouraud, Phong, Blinn; each against the reference of its
+//! Knobs: tessellation (slices x stacks of the latitude/longitude sphere, or the sides of
+//! the capped cylinder), shading mode (flat, Gouraud, Phong, Blinn; each against the reference of its
 //! own highlight model), and supersampling (1, 2x2, 4x4, resolved by a box filter in linear
 //! light).
 
@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use glam::Vec4;
 
-use super::sphere::SphereSetup;
+use super::sphere::{Shape, SphereSetup};
 use super::{compare, metrics, LinearImage, Metrics};
 use crate::overlay::{Canvas, Color, HAlign, Path2, Stroke, VAlign};
 use crate::shade::{self, Prepared, RenderOptions, Shading};
@@ -49,31 +49,35 @@ pub struct Row {
     pub metrics: Metrics,
 }
 
-/// The settings of the sweep: the base (Phong, 64x32, no supersampling) and one knob at a
-/// time around it.
+/// The settings of the sweep: the base (Phong, 64 slices, no supersampling) and one knob at
+/// a time around it. Stacks are half the slices for the sphere; the cylinder has none (1).
 #[must_use]
-pub fn sphere_settings() -> Vec<(&'static str, Setting)> {
+pub fn settings(shape: Shape) -> Vec<(&'static str, Setting)> {
+    let stacks = |slices: u32| {
+        if shape == Shape::Sphere {
+            slices / 2
+        } else {
+            1
+        }
+    };
     let base = Setting {
         slices: 64,
-        stacks: 32,
+        stacks: stacks(64),
         shading: Shading::Phong,
         ss: 1,
     };
+    let fine = Setting {
+        slices: 256,
+        stacks: stacks(256),
+        ..base
+    };
     let mut out = Vec::new();
-    for (slices, stacks) in [
-        (8, 4),
-        (16, 8),
-        (32, 16),
-        (64, 32),
-        (128, 64),
-        (256, 128),
-        (512, 256),
-    ] {
+    for slices in [8, 16, 32, 64, 128, 256, 512] {
         out.push((
             "tessellation",
             Setting {
                 slices,
-                stacks,
+                stacks: stacks(slices),
                 ..base
             },
         ));
@@ -85,27 +89,11 @@ pub fn sphere_settings() -> Vec<(&'static str, Setting)> {
         Shading::Blinn,
     ] {
         out.push(("shading", Setting { shading, ..base }));
-        out.push((
-            "shading",
-            Setting {
-                shading,
-                slices: 256,
-                stacks: 128,
-                ..base
-            },
-        ));
+        out.push(("shading", Setting { shading, ..fine }));
     }
     for ss in [1, 2, 4] {
         out.push(("supersampling", Setting { ss, ..base }));
-        out.push((
-            "supersampling",
-            Setting {
-                ss,
-                slices: 256,
-                stacks: 128,
-                ..base
-            },
-        ));
+        out.push(("supersampling", Setting { ss, ..fine }));
     }
     out
 }
@@ -348,16 +336,16 @@ fn decade(d: i32) -> String {
     }
 }
 
-/// Runs the sphere sweep at `setup`'s size with `runs` timed renders per setting; also
-/// returns the two references (Phong, Blinn).
+/// Runs the sweep of `setup`'s shape at its size with `runs` timed renders per setting,
+/// against the Phong and Blinn references.
 ///
 /// # Errors
 /// Never for the built-in settings (kept for custom ones).
-pub fn sphere_sweep(setup: &SphereSetup, runs: usize) -> Result<Vec<Row>, crate::mesh::MeshError> {
+pub fn sweep(setup: &SphereSetup, runs: usize) -> Result<Vec<Row>, crate::mesh::MeshError> {
     let phong = setup.reference(false);
     let blinn = setup.reference(true);
     let mut rows: Vec<Row> = Vec::new();
-    for (knob, s) in sphere_settings() {
+    for (knob, s) in settings(setup.shape) {
         // A setting shared by several knobs (the base) is measured once.
         if let Some(done) = rows.iter().find(|r| r.setting == s) {
             let metrics = done.metrics;

@@ -103,3 +103,32 @@ fn pareto_front_keeps_only_undominated_rows() {
             && csv.lines().nth(2).unwrap().ends_with(",false")
     );
 }
+
+#[test]
+fn rasterized_cylinder_converges_to_the_reference() {
+    let setup = SphereSetup::standard_shape(super::sphere::Shape::Cylinder, 160, 90);
+    let reference = setup.reference(false);
+    // The cylinder fills a fair part of the frame, caps included.
+    let covered = reference
+        .rgb
+        .iter()
+        .filter(|c| c.iter().any(|&v| v > 0.0))
+        .count();
+    assert!(covered > 160 * 90 / 8, "{covered}");
+    let error = |slices, ss| {
+        let s = sweep::Setting {
+            slices,
+            stacks: 1,
+            shading: Shading::Phong,
+            ss,
+        };
+        let (_, img) = sweep::run_setting(&setup, s, 1).unwrap();
+        compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).mean_de2000
+    };
+    let (coarse, fine, fine_ss) = (error(6, 1), error(256, 1), error(256, 4));
+    assert!(
+        coarse > 2.0 * fine && fine > 2.0 * fine_ss,
+        "{coarse} {fine} {fine_ss}"
+    );
+    assert!(fine_ss < 0.05, "{fine_ss}");
+}
