@@ -11,6 +11,7 @@
 //! | file | owns |
 //! |---|---|
 //! | `draw.rs` | layout and drawing |
+//! | `raster.rs` | the raster layers: the fill, an image's pixels |
 //! | `fill.rs` | the colours inside the horseshoe (smooth gamut mapping) |
 //! | `gamut.rs` | areas, intersections, coverage |
 //! | `pixels.rs` | an image's chromaticities: histogram and out-of-gamut fractions |
@@ -19,6 +20,7 @@ mod draw;
 pub mod fill;
 pub mod gamut;
 pub mod pixels;
+mod raster;
 
 pub use draw::diagram;
 pub use fill::FillStyle;
