@@ -139,6 +139,16 @@ fn golden_diagram_with_gamuts_and_planckian_locus() {
     }
 }
 
+/// The stdout of a run that must have succeeded (else its stderr is the failure).
+fn succeeded(out: &std::process::Output) -> String {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 fn realist(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_realist"))
         .args(args)
@@ -160,12 +170,7 @@ fn chroma_command_line() {
         "srgb,display-p3,rec2020",
         "--planckian",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = succeeded(&out);
     assert!(
         stdout.contains("ITU-R BT.2020") && stdout.contains("189.1%"),
         "{stdout}"
@@ -207,12 +212,7 @@ fn chroma_command_line() {
         "--white",
         "d50,3000K",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stdout = succeeded(&out);
     assert!(
         stdout.contains("outside sRGB: 0.0000% of 64 pixels"),
         "{stdout}"
