@@ -1,18 +1,21 @@
 //! `realist bench accuracy`: the time-versus-error sweep (see `realist::quality::sweep`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
+use realist::quality::metrics;
+use realist::quality::plane::PlaneSetup;
 use realist::quality::sphere::{Shape, SphereSetup};
-use realist::quality::sweep;
+use realist::quality::sweep::{self, Subject};
 
 use super::parse_size;
 
 #[derive(Args)]
 pub(crate) struct AccuracyArgs {
-    /// Scene with an analytic reference: sphere or cylinder (plane and models come next).
+    /// Scene with an exact reference: sphere, cylinder or plane (textured, at a grazing
+    /// angle).
     #[arg(long, default_value = "sphere")]
     scene: String,
     /// Image size WIDTHxHEIGHT.
@@ -27,17 +30,18 @@ pub(crate) struct AccuracyArgs {
 }
 
 pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
-    let shape = match args.scene.as_str() {
-        "sphere" => Shape::Sphere,
-        "cylinder" => Shape::Cylinder,
-        s => bail!("--scene {s}: no reference for it yet (expected sphere or cylinder)"),
+    let (w, h) = args.size;
+    let subject = match args.scene.as_str() {
+        "sphere" => Subject::Shape(SphereSetup::standard_shape(Shape::Sphere, w, h)),
+        "cylinder" => Subject::Shape(SphereSetup::standard_shape(Shape::Cylinder, w, h)),
+        "plane" => Subject::Plane(PlaneSetup::standard(w, h)),
+        s => bail!("--scene {s}: no reference for it (expected sphere, cylinder or plane)"),
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-    let (w, h) = args.size;
-    let setup = SphereSetup::standard_shape(shape, w, h);
-    let rows = sweep::sweep(&setup, args.runs.max(1))?;
-    let front = sweep::pareto(&rows);
+    let result = sweep::sweep(&subject, args.runs.max(1))?;
+    let rows = &result.rows;
+    let front = sweep::pareto(rows);
     say!(
         "{:<14} {:<24} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9}",
         "knob",
@@ -75,17 +79,58 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         );
     }
     let csv_path = args.out.join("results.csv");
-    std::fs::write(&csv_path, sweep::csv(&rows, &front))
+    std::fs::write(&csv_path, sweep::csv(rows, &front))
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let title = format!(
         "{} at {w}x{h}: time versus error (one knob at a time)",
         args.scene
     );
-    let png = sweep::plot(&rows, &front, &title)
+    let png = sweep::plot(rows, &front, &title)
         .to_png()
         .map_err(|e| anyhow::anyhow!("encoding plot: {e}"))?;
     let plot_path = args.out.join("pareto.png");
     std::fs::write(&plot_path, png).with_context(|| format!("writing {}", plot_path.display()))?;
     say!("wrote {} and {}", csv_path.display(), plot_path.display());
+    // The reference, and each Pareto-optimal setting's image and error heat map.
+    for (index, reference) in result.references.iter().enumerate() {
+        if let Some(r) = reference {
+            let name = if index == 1 {
+                "reference-blinn.png"
+            } else {
+                "reference.png"
+            };
+            write_png(&args.out.join(name), r.width, r.height, r.to_srgb8())?;
+        }
+    }
+    for &i in &front {
+        let s = rows[i].setting;
+        let (_, image) = sweep::run_setting(&subject, s, 1)?;
+        let slug = s.label().replace(' ', "-");
+        write_png(
+            &args.out.join(format!("render-{slug}.png")),
+            image.width,
+            image.height,
+            image.to_srgb8(),
+        )?;
+        if let Some(r) = &result.references[Subject::reference_index(&s)] {
+            write_png(
+                &args.out.join(format!("heat-{slug}.png")),
+                image.width,
+                image.height,
+                metrics::heat_map(&image, r),
+            )?;
+        }
+    }
+    say!(
+        "wrote the reference image(s) and render-*.png, heat-*.png (dE00 0 black .. {} white) for the Pareto-optimal settings",
+        metrics::HEAT_MAP_MAX_DE
+    );
     Ok(())
+}
+
+fn write_png(path: &Path, width: u32, height: u32, rgb: Vec<u8>) -> Result<()> {
+    image::RgbImage::from_raw(width, height, rgb)
+        .context("image size mismatch")?
+        .save(path)
+        .with_context(|| format!("writing {}", path.display()))
 }

@@ -6,10 +6,12 @@
 //! | `image.rs` | [`LinearImage`]: f64 linear RGB, supersampling resolve |
 //! | `metrics.rs` | RMSE, PSNR, max error, CIEDE2000 mean / p95 / count, heat map |
 //! | `sphere.rs` | the ray-cast sphere reference and its rasterizer scene |
+//! | `plane.rs` | the exactly box-filtered textured plane reference and its scene |
 //! | `sweep.rs` | one knob at a time: settings, timings, metrics, Pareto front, plot |
 
 mod image;
 pub mod metrics;
+pub mod plane;
 pub mod sphere;
 pub mod sweep;
 

@@ -12,36 +12,57 @@ use std::time::Instant;
 
 use glam::Vec4;
 
+use super::plane::PlaneSetup;
 use super::sphere::{Shape, SphereSetup};
 use super::{compare, metrics, LinearImage, Metrics};
 use crate::overlay::{Canvas, Color, HAlign, Path2, Stroke, VAlign};
+use crate::scene::{Camera, Scene};
 use crate::shade::{self, Prepared, RenderOptions, Shading};
+use crate::texture::Filter;
 
 /// One setting of the knobs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Setting {
+    /// Tessellation of an analytic shape (0 when the scene is fixed).
     pub slices: u32,
     pub stacks: u32,
     pub shading: Shading,
     /// Supersampling factor per axis.
     pub ss: u32,
+    /// Texture filter forced on every texture (`None`: each texture's own).
+    pub filter: Option<Filter>,
 }
 
 impl Setting {
-    /// A short label, e.g. "phong 64x32 ss2".
+    /// A short label, e.g. "phong 64x32 ss2" or "textured bilinear ss1".
     #[must_use]
     pub fn label(&self) -> String {
-        format!(
-            "{} {}x{} ss{}",
-            self.shading, self.slices, self.stacks, self.ss
-        )
+        let mut out = self.shading.to_string();
+        if self.slices > 0 {
+            out.push_str(&format!(" {}x{}", self.slices, self.stacks));
+        }
+        if let Some(f) = self.filter {
+            out.push(' ');
+            out.push_str(filter_name(f));
+        }
+        out.push_str(&format!(" ss{}", self.ss));
+        out
+    }
+}
+
+/// A texture filter's name in labels and `results.csv`.
+#[must_use]
+pub fn filter_name(f: Filter) -> &'static str {
+    match f {
+        Filter::Nearest => "nearest",
+        Filter::Bilinear => "bilinear",
     }
 }
 
 /// The result of one setting.
 #[derive(Clone, Debug)]
 pub struct Row {
-    /// Which knob this row varies ("tessellation", "shading", "supersampling").
+    /// Which knob this row varies ("tessellation", "shading", "filter", "supersampling").
     pub knob: &'static str,
     pub setting: Setting,
     /// Median of the warm runs, milliseconds.
@@ -49,10 +70,96 @@ pub struct Row {
     pub metrics: Metrics,
 }
 
-/// The settings of the sweep: the base (Phong, 64 slices, no supersampling) and one knob at
-/// a time around it. Stacks are half the slices for the sphere; the cylinder has none (1).
+/// What a sweep measures: a scene, its reference and the knobs that apply to it.
+#[derive(Clone, Debug)]
+pub enum Subject {
+    /// The ray-cast sphere or capped cylinder: tessellation, shading mode, supersampling.
+    Shape(SphereSetup),
+    /// The exactly filtered textured plane: texture filter, supersampling.
+    Plane(PlaneSetup),
+}
+
+impl Subject {
+    /// Output size in pixels.
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        match self {
+            Subject::Shape(s) => (s.width, s.height),
+            Subject::Plane(p) => (p.width, p.height),
+        }
+    }
+
+    fn camera(&self) -> &Camera {
+        match self {
+            Subject::Shape(s) => &s.camera,
+            Subject::Plane(p) => &p.camera,
+        }
+    }
+
+    /// The rasterizer's scene for `s`.
+    ///
+    /// # Errors
+    /// If the tessellation is invalid.
+    pub fn scene(&self, s: &Setting) -> Result<Scene, crate::mesh::MeshError> {
+        match self {
+            Subject::Shape(setup) => setup.scene(s.slices, s.stacks),
+            Subject::Plane(p) => Ok(p.scene(s.filter.unwrap_or_default())),
+        }
+    }
+
+    /// Which reference a setting is measured against: 0 = Phong (R·V), 1 = Blinn (N·H).
+    #[must_use]
+    pub fn reference_index(s: &Setting) -> usize {
+        usize::from(s.shading == Shading::Blinn)
+    }
+
+    /// Reference `index` (see [`Subject::reference_index`]).
+    #[must_use]
+    pub fn reference(&self, index: usize) -> LinearImage {
+        match self {
+            Subject::Shape(setup) => setup.reference(index == 1),
+            // No highlight on the plane: one reference for every setting.
+            Subject::Plane(p) => p.reference(),
+        }
+    }
+
+    /// The settings of the sweep: a base setting and one knob at a time around it.
+    #[must_use]
+    pub fn settings(&self) -> Vec<(&'static str, Setting)> {
+        match self {
+            Subject::Shape(s) => shape_settings(s.shape),
+            Subject::Plane(_) => plane_settings(),
+        }
+    }
+}
+
+/// The plane's settings: every texture filter, each without and with 2x2 and 4x4
+/// supersampling.
+fn plane_settings() -> Vec<(&'static str, Setting)> {
+    let mut out = Vec::new();
+    for filter in [Filter::Nearest, Filter::Bilinear] {
+        for ss in [1, 2, 4] {
+            let knob = if ss == 1 { "filter" } else { "supersampling" };
+            out.push((
+                knob,
+                Setting {
+                    slices: 0,
+                    stacks: 0,
+                    shading: Shading::Textured,
+                    ss,
+                    filter: Some(filter),
+                },
+            ));
+        }
+    }
+    out
+}
+
+/// The sphere's and cylinder's settings: the base (Phong, 64 slices, no supersampling) and
+/// one knob at a time around it, and around a fine base (256 slices). Stacks are half the
+/// slices for the sphere; the cylinder has none (1).
 #[must_use]
-pub fn settings(shape: Shape) -> Vec<(&'static str, Setting)> {
+pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
     let stacks = |slices: u32| {
         if shape == Shape::Sphere {
             slices / 2
@@ -65,6 +172,7 @@ pub fn settings(shape: Shape) -> Vec<(&'static str, Setting)> {
         stacks: stacks(64),
         shading: Shading::Phong,
         ss: 1,
+        filter: None,
     };
     let fine = Setting {
         slices: 256,
@@ -104,17 +212,18 @@ pub fn settings(shape: Shape) -> Vec<(&'static str, Setting)> {
 /// # Errors
 /// If the tessellation is invalid.
 pub fn run_setting(
-    setup: &SphereSetup,
+    subject: &Subject,
     s: Setting,
     runs: usize,
 ) -> Result<(f64, LinearImage), crate::mesh::MeshError> {
-    let scene = setup.scene(s.slices, s.stacks)?;
+    let scene = subject.scene(&s)?;
     let prepared = Prepared::new(&scene);
+    let (w, h) = subject.size();
     let opts = RenderOptions {
-        width: setup.width * s.ss,
-        height: setup.height * s.ss,
+        width: w * s.ss,
+        height: h * s.ss,
         shading: Some(s.shading),
-        camera: Some(setup.camera.clone()),
+        camera: Some(subject.camera().clone()),
         background: Vec4::new(0.0, 0.0, 0.0, 1.0),
         ..RenderOptions::default()
     };
@@ -152,16 +261,17 @@ pub fn pareto(rows: &[Row]) -> Vec<usize> {
 #[must_use]
 pub fn csv(rows: &[Row], front: &[usize]) -> String {
     let mut out = String::from(
-        "knob,shading,slices,stacks,supersampling,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
+        "knob,shading,slices,stacks,filter,supersampling,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
     );
     for (i, r) in rows.iter().enumerate() {
         let (s, m) = (&r.setting, &r.metrics);
         out.push_str(&format!(
-            "{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
+            "{},{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
             r.knob,
             s.shading,
             s.slices,
             s.stacks,
+            s.filter.map_or("", filter_name),
             s.ss,
             r.ms,
             m.rmse,
@@ -272,6 +382,7 @@ pub fn plot(rows: &[Row], front: &[usize], title: &str) -> Canvas {
     let knob_colour = |k: &str| match k {
         "tessellation" => Color::rgb(0x3F, 0x51, 0xB5),
         "shading" => Color::rgb(0x00, 0x96, 0x88),
+        "filter" => Color::rgb(0x9C, 0x27, 0xB0),
         _ => Color::rgb(0xFF, 0x98, 0x00),
     };
     let pts: Vec<(f32, f32)> = front
@@ -301,10 +412,13 @@ pub fn plot(rows: &[Row], front: &[usize], title: &str) -> Canvas {
             );
         }
     }
-    for (k, knob) in ["tessellation", "shading", "supersampling"]
-        .iter()
-        .enumerate()
-    {
+    let mut knobs: Vec<&str> = Vec::new();
+    for r in rows {
+        if !knobs.contains(&r.knob) {
+            knobs.push(r.knob);
+        }
+    }
+    for (k, knob) in knobs.iter().enumerate() {
         let y = top + 20.0 + 22.0 * k as f32;
         c.fill(
             &Path2::new().circle(left + pw - 150.0, y, 5.0),
@@ -336,16 +450,23 @@ fn decade(d: i32) -> String {
     }
 }
 
-/// Runs the sweep of `setup`'s shape at its size with `runs` timed renders per setting,
-/// against the Phong and Blinn references.
+/// The rows of a sweep and the references they were measured against.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    pub rows: Vec<Row>,
+    /// By [`Subject::reference_index`]; `None` where no setting needed it.
+    pub references: [Option<LinearImage>; 2],
+}
+
+/// Runs the sweep of `subject` with `runs` timed renders per setting, each measured
+/// against the reference of its highlight model.
 ///
 /// # Errors
 /// Never for the built-in settings (kept for custom ones).
-pub fn sweep(setup: &SphereSetup, runs: usize) -> Result<Vec<Row>, crate::mesh::MeshError> {
-    let phong = setup.reference(false);
-    let blinn = setup.reference(true);
+pub fn sweep(subject: &Subject, runs: usize) -> Result<Sweep, crate::mesh::MeshError> {
+    let mut references: [Option<LinearImage>; 2] = [None, None];
     let mut rows: Vec<Row> = Vec::new();
-    for (knob, s) in settings(setup.shape) {
+    for (knob, s) in subject.settings() {
         // A setting shared by several knobs (the base) is measured once.
         if let Some(done) = rows.iter().find(|r| r.setting == s) {
             let metrics = done.metrics;
@@ -358,12 +479,9 @@ pub fn sweep(setup: &SphereSetup, runs: usize) -> Result<Vec<Row>, crate::mesh::
             });
             continue;
         }
-        let (ms, image) = run_setting(setup, s, runs)?;
-        let reference = if s.shading == Shading::Blinn {
-            &blinn
-        } else {
-            &phong
-        };
+        let (ms, image) = run_setting(subject, s, runs)?;
+        let index = Subject::reference_index(&s);
+        let reference = references[index].get_or_insert_with(|| subject.reference(index));
         rows.push(Row {
             knob,
             setting: s,
@@ -371,5 +489,5 @@ pub fn sweep(setup: &SphereSetup, runs: usize) -> Result<Vec<Row>, crate::mesh::
             metrics: compare(&image, reference, metrics::DEFAULT_DE_THRESHOLD),
         });
     }
-    Ok(rows)
+    Ok(Sweep { rows, references })
 }

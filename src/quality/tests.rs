@@ -2,10 +2,12 @@
 
 use glam::Vec3;
 
+use super::plane::{self, PlaneSetup};
 use super::sphere::SphereSetup;
 use super::{compare, metrics, sweep};
 use crate::scene::{Camera, Light};
 use crate::shade::Shading;
+use crate::texture::Filter;
 
 #[test]
 fn sphere_reference_coverage_is_the_projected_disc() {
@@ -42,8 +44,9 @@ fn rasterized_sphere_converges_to_the_reference() {
             stacks,
             shading: Shading::Phong,
             ss,
+            filter: None,
         };
-        let (_, img) = sweep::run_setting(&setup, s, 1).unwrap();
+        let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).mean_de2000
     };
     let (coarse, mid, fine, fine_ss) = (
@@ -64,8 +67,9 @@ fn rasterized_sphere_converges_to_the_reference() {
         stacks: 128,
         shading: Shading::Blinn,
         ss: 4,
+        filter: None,
     };
-    let (_, img) = sweep::run_setting(&setup, s, 1).unwrap();
+    let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
     assert!(compare(&img, &blinn, 1.0).mean_de2000 < 0.05);
     assert!(compare(&img, &reference, 1.0).mean_de2000 > compare(&img, &blinn, 1.0).mean_de2000);
 }
@@ -85,6 +89,7 @@ fn pareto_front_keeps_only_undominated_rows() {
         stacks: 4,
         shading: Shading::Phong,
         ss: 1,
+        filter: None,
     };
     let rows: Vec<sweep::Row> = [(1.0, 3.0), (2.0, 4.0), (3.0, 1.0), (4.0, 1.5), (5.0, 0.5)]
         .iter()
@@ -121,8 +126,9 @@ fn rasterized_cylinder_converges_to_the_reference() {
             stacks: 1,
             shading: Shading::Phong,
             ss,
+            filter: None,
         };
-        let (_, img) = sweep::run_setting(&setup, s, 1).unwrap();
+        let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).mean_de2000
     };
     let (coarse, fine, fine_ss) = (error(6, 1), error(256, 1), error(256, 4));
@@ -131,4 +137,91 @@ fn rasterized_cylinder_converges_to_the_reference() {
         "{coarse} {fine} {fine_ss}"
     );
     assert!(fine_ss < 0.05, "{fine_ss}");
+}
+
+/// The plane with a uniform texture under ambient light 1: the reference is the coverage.
+fn uniform_plane(w: u32, h: u32, texel: [u8; 4]) -> PlaneSetup {
+    let mut setup = PlaneSetup::standard(w, h);
+    setup.lights = vec![Light::Ambient { color: Vec3::ONE }];
+    setup.texture = std::sync::Arc::new(
+        crate::texture::Texture::new("uniform", 4, 4, vec![texel; 16], true).unwrap(),
+    );
+    setup
+}
+
+#[test]
+fn plane_reference_coverage_is_the_projected_quad() {
+    let setup = uniform_plane(320, 180, [255; 4]);
+    let img = setup.reference();
+    let covered: f64 = img.rgb.iter().map(|c| c[0]).sum();
+    let area = plane::visible_area(&setup);
+    assert!(area > 320.0 * 180.0 * 0.4, "{area}");
+    assert!(
+        (covered / area - 1.0).abs() < 1e-9,
+        "covered {covered}, area {area}"
+    );
+    assert!(img
+        .rgb
+        .iter()
+        .all(|c| (0.0..=1.0 + 1e-9).contains(&c[0]) && c[0] == c[1] && c[1] == c[2]));
+    // Below the far edge's silhouette every pixel is wholly covered.
+    let bottom = &img.rgb[(170 * 320) as usize..];
+    assert!(bottom.iter().all(|c| (c[0] - 1.0).abs() < 1e-9));
+}
+
+#[test]
+fn plane_interior_of_a_uniform_texture_is_exact_in_the_rasterizer_too() {
+    // Grey 128: the rasterizer's texel decode and lighting agree with the f64 reference to
+    // f32 rounding wherever a pixel is wholly covered.
+    let setup = uniform_plane(160, 90, [128, 128, 128, 255]);
+    let reference = setup.reference();
+    let subject = sweep::Subject::Plane(setup);
+    for filter in [Filter::Nearest, Filter::Bilinear] {
+        let s = sweep::Setting {
+            slices: 0,
+            stacks: 0,
+            shading: Shading::Textured,
+            ss: 1,
+            filter: Some(filter),
+        };
+        let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
+        let expect = crate::color::srgb_decode(128.0 / 255.0);
+        let mut interior = 0;
+        for (a, r) in img.rgb.iter().zip(&reference.rgb) {
+            if (r[0] - expect).abs() < 1e-12 {
+                assert!((a[0] - expect).abs() < 1e-6, "{a:?} vs {expect}");
+                interior += 1;
+            }
+        }
+        assert!(interior > 160 * 90 / 3, "{interior}");
+    }
+}
+
+#[test]
+fn plane_supersampling_converges_to_the_exact_filter() {
+    let setup = PlaneSetup::standard(320, 180);
+    let reference = setup.reference();
+    let subject = sweep::Subject::Plane(setup);
+    let error = |filter, ss| {
+        let s = sweep::Setting {
+            slices: 0,
+            stacks: 0,
+            shading: Shading::Textured,
+            ss,
+            filter: Some(filter),
+        };
+        let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
+        compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD)
+    };
+    let (n1, n2, n4) = (
+        error(Filter::Nearest, 1),
+        error(Filter::Nearest, 2),
+        error(Filter::Nearest, 4),
+    );
+    // Point sampling of a picture: the error halves with each doubling of the samples.
+    assert!(
+        n1.mean_de2000 > 1.6 * n2.mean_de2000 && n2.mean_de2000 > 1.6 * n4.mean_de2000,
+        "{n1:?} {n2:?} {n4:?}"
+    );
+    assert!(n1.rmse > n2.rmse && n2.rmse > n4.rmse);
 }
