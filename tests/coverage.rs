@@ -31,6 +31,17 @@ fn counting() -> DrawState {
 /// Rasterizes NDC triangles (given as 2D points plus a per-vertex w scale) and returns the
 /// per-pixel count.
 fn count(width: u32, height: u32, points: &[Vec2], w: &[f32], tris: &[[u32; 3]]) -> Vec<u32> {
+    count_with(width, height, points, w, tris, counting())
+}
+
+fn count_with(
+    width: u32,
+    height: u32,
+    points: &[Vec2],
+    w: &[f32],
+    tris: &[[u32; 3]],
+    state: DrawState,
+) -> Vec<u32> {
     let clip: Vec<Vec4> = points
         .iter()
         .zip(w)
@@ -43,7 +54,7 @@ fn count(width: u32, height: u32, points: &[Vec2], w: &[f32], tris: &[[u32; 3]])
         clip: &clip,
         varyings: &units,
         triangles: tris,
-        state: counting(),
+        state,
     };
     let mut stats = Stats::default();
     raster::draw(&mut target, &[draw], &Count, &mut stats);
@@ -129,6 +140,7 @@ proptest! {
         width in 1u32..200,
         height in 1u32..200,
         reverse in any::<bool>(),
+        subpixel_bits in 0u8..=8,
     ) {
         // A fan around an interior point whose rim lies outside the viewport.
         let mut pts = vec![Vec2::new(center.0, center.1)];
@@ -144,7 +156,9 @@ proptest! {
             }
             tris.reverse();
         }
-        let counts = count(width, height, &pts, &vec![1.0; pts.len()], &tris);
+        // Watertight at every snap precision: shared vertices snap alike.
+        let state = DrawState { subpixel_bits, ..counting() };
+        let counts = count_with(width, height, &pts, &vec![1.0; pts.len()], &tris, state);
         prop_assert!(counts.iter().all(|&c| c == 1), "counts {:?}", counts.iter().filter(|&&c| c != 1).count());
     }
 }

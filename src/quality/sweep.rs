@@ -16,6 +16,7 @@ use super::plane::PlaneSetup;
 use super::sphere::{Shape, SphereSetup};
 use super::{compare, metrics, LinearImage, Metrics};
 use crate::overlay::{Canvas, Color, HAlign, Path2, Stroke, VAlign};
+use crate::raster::SUBPIXEL_BITS;
 use crate::scene::{Camera, Scene};
 use crate::shade::{self, Prepared, RenderOptions, Shading};
 use crate::texture::Filter;
@@ -31,6 +32,8 @@ pub struct Setting {
     pub ss: u32,
     /// Texture filter forced on every texture (`None`: each texture's own).
     pub filter: Option<Filter>,
+    /// Sub-pixel bits of the rasterizer's vertex snap.
+    pub bits: u8,
 }
 
 impl Setting {
@@ -46,6 +49,9 @@ impl Setting {
             out.push_str(filter_name(f));
         }
         out.push_str(&format!(" ss{}", self.ss));
+        if u32::from(self.bits) != SUBPIXEL_BITS {
+            out.push_str(&format!(" {}bit", self.bits));
+        }
         out
     }
 }
@@ -148,6 +154,7 @@ fn plane_settings() -> Vec<(&'static str, Setting)> {
                     shading: Shading::Textured,
                     ss,
                     filter: Some(filter),
+                    bits: SUBPIXEL_BITS as u8,
                 },
             ));
         }
@@ -173,6 +180,7 @@ pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
         shading: Shading::Phong,
         ss: 1,
         filter: None,
+        bits: SUBPIXEL_BITS as u8,
     };
     let fine = Setting {
         slices: 256,
@@ -203,6 +211,9 @@ pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
         out.push(("supersampling", Setting { ss, ..base }));
         out.push(("supersampling", Setting { ss, ..fine }));
     }
+    for bits in [0u8, 2, 4, 6, 8] {
+        out.push(("sub-pixel bits", Setting { bits, ..fine }));
+    }
     out
 }
 
@@ -225,6 +236,7 @@ pub fn run_setting(
         shading: Some(s.shading),
         camera: Some(subject.camera().clone()),
         background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+        subpixel_bits: s.bits,
         ..RenderOptions::default()
     };
     // Warm-up, then time the renders alone (resolving to f64 is the metric's cost, not the
@@ -261,18 +273,19 @@ pub fn pareto(rows: &[Row]) -> Vec<usize> {
 #[must_use]
 pub fn csv(rows: &[Row], front: &[usize]) -> String {
     let mut out = String::from(
-        "knob,shading,slices,stacks,filter,supersampling,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
+        "knob,shading,slices,stacks,filter,supersampling,subpixel_bits,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
     );
     for (i, r) in rows.iter().enumerate() {
         let (s, m) = (&r.setting, &r.metrics);
         out.push_str(&format!(
-            "{},{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
+            "{},{},{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
             r.knob,
             s.shading,
             s.slices,
             s.stacks,
             s.filter.map_or("", filter_name),
             s.ss,
+            s.bits,
             r.ms,
             m.rmse,
             m.psnr,
@@ -383,6 +396,7 @@ pub fn plot(rows: &[Row], front: &[usize], title: &str) -> Canvas {
         "tessellation" => Color::rgb(0x3F, 0x51, 0xB5),
         "shading" => Color::rgb(0x00, 0x96, 0x88),
         "filter" => Color::rgb(0x9C, 0x27, 0xB0),
+        "sub-pixel bits" => Color::rgb(0x79, 0x55, 0x48),
         _ => Color::rgb(0xFF, 0x98, 0x00),
     };
     let pts: Vec<(f32, f32)> = front

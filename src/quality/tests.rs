@@ -45,6 +45,7 @@ fn rasterized_sphere_converges_to_the_reference() {
             shading: Shading::Phong,
             ss,
             filter: None,
+            bits: 8,
         };
         let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).mean_de2000
@@ -68,6 +69,7 @@ fn rasterized_sphere_converges_to_the_reference() {
         shading: Shading::Blinn,
         ss: 4,
         filter: None,
+        bits: 8,
     };
     let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
     assert!(compare(&img, &blinn, 1.0).mean_de2000 < 0.05);
@@ -90,6 +92,7 @@ fn pareto_front_keeps_only_undominated_rows() {
         shading: Shading::Phong,
         ss: 1,
         filter: None,
+        bits: 8,
     };
     let rows: Vec<sweep::Row> = [(1.0, 3.0), (2.0, 4.0), (3.0, 1.0), (4.0, 1.5), (5.0, 0.5)]
         .iter()
@@ -127,6 +130,7 @@ fn rasterized_cylinder_converges_to_the_reference() {
             shading: Shading::Phong,
             ss,
             filter: None,
+            bits: 8,
         };
         let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).mean_de2000
@@ -183,6 +187,7 @@ fn plane_interior_of_a_uniform_texture_is_exact_in_the_rasterizer_too() {
             shading: Shading::Textured,
             ss: 1,
             filter: Some(filter),
+            bits: 8,
         };
         let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
         let expect = crate::color::srgb_decode(128.0 / 255.0);
@@ -209,6 +214,7 @@ fn plane_supersampling_converges_to_the_exact_filter() {
             shading: Shading::Textured,
             ss,
             filter: Some(filter),
+            bits: 8,
         };
         let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD)
@@ -224,4 +230,25 @@ fn plane_supersampling_converges_to_the_exact_filter() {
         "{n1:?} {n2:?} {n4:?}"
     );
     assert!(n1.rmse > n2.rmse && n2.rmse > n4.rmse);
+}
+
+#[test]
+fn coarser_subpixel_snap_costs_accuracy() {
+    let setup = SphereSetup::standard(320, 180);
+    let reference = setup.reference(false);
+    let subject = sweep::Subject::Shape(setup);
+    let rmse = |bits| {
+        let s = sweep::Setting {
+            slices: 256,
+            stacks: 128,
+            shading: Shading::Phong,
+            ss: 1,
+            filter: None,
+            bits,
+        };
+        let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
+        compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).rmse
+    };
+    let (b0, b4, b8) = (rmse(0), rmse(4), rmse(8));
+    assert!(b0 > 1.1 * b8 && b4 < 1.02 * b8, "{b0} {b4} {b8}");
 }

@@ -54,6 +54,10 @@ pub struct DrawState {
     /// the eye by this many times the triangle's largest depth change per pixel. Used so
     /// lines drawn on a surface win against the surface itself.
     pub depth_offset: f32,
+    /// Sub-pixel bits of the vertex snap, 0..=[`super::SUBPIXEL_BITS`] (larger values are
+    /// treated as the maximum). Fewer bits emulate a coarser fixed-point rasterizer exactly,
+    /// for accuracy sweeps; the edge functions keep their precision.
+    pub subpixel_bits: u8,
 }
 
 impl Default for DrawState {
@@ -74,6 +78,7 @@ impl DrawState {
             color_write: true,
             flip_winding: false,
             depth_offset: 0.0,
+            subpixel_bits: super::SUBPIXEL_BITS as u8,
         }
     }
 }

@@ -89,8 +89,8 @@ pub(crate) fn setup<V: Varying>(
         let inv_w = 1.0 / p.w;
         let sx = (p.x * inv_w + 1.0) * hw;
         let sy = (1.0 - p.y * inv_w) * hh;
-        x[k] = snap(sx);
-        y[k] = snap(sy);
+        x[k] = snap(sx, state.subpixel_bits);
+        y[k] = snap(sy, state.subpixel_bits);
         z[k] = p.z * inv_w;
         iw[k] = inv_w;
     }
@@ -174,12 +174,20 @@ pub(crate) fn setup<V: Varying>(
     })
 }
 
-/// Screen coordinate (pixels) -> fixed point, round half to even.
+/// Screen coordinate -> fixed point, rounded half to even on a grid of 2^-`bits` pixel
+/// (`bits` capped at [`SUBPIXEL_BITS`]), in units of 1/[`ONE`].
 #[inline]
-fn snap(s: f32) -> i64 {
-    (s * ONE as f32)
-        .clamp(-MAX_COORD, MAX_COORD)
-        .round_ties_even() as i64
+fn snap(s: f32, bits: u8) -> i64 {
+    let coarse = SUBPIXEL_BITS.saturating_sub(u32::from(bits));
+    if coarse == 0 {
+        return (s * ONE as f32)
+            .clamp(-MAX_COORD, MAX_COORD)
+            .round_ties_even() as i64;
+    }
+    // Scaling by a power of two is exact, so this rounds `s` itself to the coarser grid.
+    let scale = (1i64 << (SUBPIXEL_BITS - coarse)) as f32;
+    let limit = MAX_COORD / (1i64 << coarse) as f32;
+    ((s * scale).clamp(-limit, limit).round_ties_even() as i64) << coarse
 }
 
 #[inline]
@@ -214,14 +222,20 @@ mod tests {
             (-0.5 / 256.0, 0),
             (-1.5 / 256.0, -2),
         ] {
-            assert_eq!(snap(s), want, "{s}");
+            assert_eq!(snap(s, 8), want, "{s}");
         }
         for k in -100_000..100_000 {
             let s = k as f32 * 0.013_7;
-            assert_eq!(snap(s), (s * 256.0).round_ties_even() as i64, "{s}");
+            assert_eq!(snap(s, 8), (s * 256.0).round_ties_even() as i64, "{s}");
+            assert_eq!(snap(s, 12), snap(s, 8), "{s}");
+            assert_eq!(snap(s, 2), (s * 4.0).round_ties_even() as i64 * 64, "{s}");
+            assert_eq!(snap(s, 0), s.round_ties_even() as i64 * 256, "{s}");
         }
-        assert_eq!(snap(f32::NAN), 0);
-        assert_eq!(snap(1e30), 1 << 23);
+        assert_eq!(snap(f32::NAN, 8), 0);
+        assert_eq!(snap(1e30, 8), 1 << 23);
+        assert_eq!(snap(f32::NAN, 3), 0);
+        assert_eq!(snap(1e30, 3), 1 << 23);
+        assert_eq!(snap(-1e30, 0), -(1 << 23));
     }
 
     #[test]

@@ -46,6 +46,9 @@ pub struct RenderOptions {
     pub background: Vec4,
     /// Draw every material double-sided: no back-face culling, back faces lit from behind.
     pub double_sided: bool,
+    /// Sub-pixel bits of the vertex snap (see [`DrawState::subpixel_bits`]); the default is
+    /// the rasterizer's full [`crate::raster::SUBPIXEL_BITS`].
+    pub subpixel_bits: u8,
 }
 
 impl Default for RenderOptions {
@@ -58,6 +61,7 @@ impl Default for RenderOptions {
             texture: None,
             background: Vec4::new(0.018, 0.02, 0.026, 1.0),
             double_sided: false,
+            subpixel_bits: crate::raster::SUBPIXEL_BITS as u8,
         }
     }
 }
@@ -189,6 +193,7 @@ pub fn render_into(
             depth_write: !blend,
             blend: if blend { Blend::Alpha } else { Blend::Replace },
             flip_winding: inst.world.determinant() < 0.0,
+            subpixel_bits: opts.subpixel_bits,
             ..DrawState::opaque()
         };
         let m = &*material;
