@@ -1471,6 +1471,49 @@ mod tests {
     }
 
     #[test]
+    fn shared_edges_are_covered_exactly_once() {
+        // Two blended triangles of a square, alpha 0.5 over black, head-on into a square
+        // image: their shared diagonal projects to x = y exactly, through the samples with
+        // i = j of the diagonal pixels, where both edge functions are exactly 0. Covered
+        // once, every sample is 0.5; twice, 0.75; never, 0.
+        let r = 2.0;
+        let mut scene = Scene {
+            lights: vec![Light::Ambient { color: Vec3::ONE }],
+            materials: vec![flat_material(Vec3::ONE, 0.5, AlphaMode::Blend)],
+            ..Scene::default()
+        };
+        let mesh = Mesh::new(
+            MeshData {
+                name: "two triangles".into(),
+                positions: vec![
+                    Vec3::new(-r, -r, 0.0),
+                    Vec3::new(r, -r, 0.0),
+                    Vec3::new(r, r, 0.0),
+                    Vec3::new(-r, r, 0.0),
+                ],
+                corners: vec![0, 1, 3, 1, 2, 3],
+                material: Some(0),
+                ..MeshData::default()
+            },
+            NormalPolicy::default(),
+        )
+        .unwrap();
+        place(&mut scene, mesh, Mat4::IDENTITY);
+        let opts = black(24, 24, Some(Camera::default()));
+        let img = reference(&scene, &opts, 4, false).unwrap();
+        assert!(
+            img.rgb.iter().all(|&c| close(c, [0.5; 3])),
+            "{:?}",
+            img.rgb[0]
+        );
+        let ras = raster(&scene, &opts, 4);
+        assert!(
+            ras.rgb.iter().all(|&c| close(c, [0.5; 3])),
+            "the rasterizer too"
+        );
+    }
+
+    #[test]
     fn bands_and_threads_do_not_change_the_image() {
         let (mut scene, opts) = textured();
         // Add a masked and a blended square in front of everything.
