@@ -1216,18 +1216,20 @@ mod tests {
 
     #[test]
     fn floor_through_the_eye_plane_is_clipped_at_near_and_far() {
-        // A floor at y = -1 from 50 behind the eye to 500 in front: its triangles cross
-        // w = 0. Ambient light only, so covered samples are exactly 0.5 * 0.6 = 0.3.
+        // A floor at y = -1 from 50 behind the eye to 1000 in front: its triangles cross
+        // w = 0. Ambient light only, so covered samples are exactly 0.5 * 0.6 = 0.3. The
+        // camera is rolled by 20 degrees so that the near and far lines cross the image
+        // diagonally and the bounds of the clipped polygon alone cannot cut them.
         let mut scene = Scene::default();
         scene
             .materials
             .push(flat_material(Vec3::splat(0.6), 1.0, AlphaMode::Opaque));
         let floor = quad(
             [
-                Vec3::new(-50.0, -1.0, 50.0),
-                Vec3::new(50.0, -1.0, 50.0),
-                Vec3::new(50.0, -1.0, -500.0),
-                Vec3::new(-50.0, -1.0, -500.0),
+                Vec3::new(-1000.0, -1.0, 50.0),
+                Vec3::new(1000.0, -1.0, 50.0),
+                Vec3::new(1000.0, -1.0, -1000.0),
+                Vec3::new(-1000.0, -1.0, -1000.0),
             ],
             None,
             None,
@@ -1237,27 +1239,49 @@ mod tests {
         scene.lights = vec![Light::Ambient {
             color: Vec3::splat(0.5),
         }];
-        let (w, h, s) = (16u32, 90u32, 8u32);
+        let (w, h, s) = (64u32, 90u32, 8u32);
         let (near, far) = (5.0f32, 300.0f32);
-        let opts = black(w, h, Some(forward(near, far)));
+        let roll = 20f32.to_radians();
+        let camera = Camera {
+            up: Vec3::new(roll.sin(), roll.cos(), 0.0),
+            ..forward(near, far)
+        };
+        // Expected: the view distance where each sample's ray meets the floor.
+        let f = DVec3::NEG_Z;
+        let right = f.cross(camera.up.as_dvec3()).normalize();
+        let up = right.cross(f);
+        let t = (f64::from(camera.yfov) / 2.0).tan();
+        let opts = black(w, h, Some(camera));
         let img = reference(&scene, &opts, s, false).unwrap();
-        // The floor line at distance d is at y = h/2 (1 + 1 / (d tan 22.5 deg)) pixels:
-        // visible between the far line (just below the centre) and the near line (row 66).
-        let t = (std::f64::consts::PI / 8.0).tan();
-        let line = |d: f64| f64::from(h) / 2.0 * (1.0 + 1.0 / (d * t));
-        let (y_far, y_near) = (line(f64::from(far)), line(f64::from(near)));
+        let (mut near_cut, mut far_cut) = (0, 0);
         for y in 0..h {
-            let covered = (0..s)
-                .map(|j| f64::from(y) + (f64::from(j) + 0.5) / f64::from(s))
-                .filter(|&sy| sy > y_far && sy < y_near)
-                .count();
-            let want = 0.3 * covered as f64 / f64::from(s);
             for x in 0..w {
+                let mut covered = 0;
+                for j in 0..s {
+                    for i in 0..s {
+                        let px = f64::from(x) + (f64::from(i) + 0.5) / f64::from(s);
+                        let py = f64::from(y) + (f64::from(j) + 0.5) / f64::from(s);
+                        let nx = (2.0 * px / f64::from(w) - 1.0) * t * f64::from(w) / f64::from(h);
+                        let ny = (1.0 - 2.0 * py / f64::from(h)) * t;
+                        let dir = f + right * nx + up * ny;
+                        // Distance in front of the eye (w) of the floor point on this ray.
+                        let d = -1.0 / dir.y;
+                        if dir.y < 0.0 && d < f64::from(near) {
+                            near_cut += 1;
+                        } else if dir.y < 0.0 && d > f64::from(far) {
+                            far_cut += 1;
+                        } else if dir.y < 0.0 {
+                            covered += 1;
+                        }
+                    }
+                }
+                let want = 0.3 * f64::from(covered) / f64::from(s * s);
                 let got = img.rgb[(y * w + x) as usize];
-                assert!(close(got, [want; 3]), "row {y}: {got:?}, want {want}");
+                assert!(close(got, [want; 3]), "({x}, {y}): {got:?}, want {want}");
             }
         }
-        assert!(y_near > 66.0 && y_near < 67.0 && y_far < 46.0);
+        // Both planes cut something away.
+        assert!(near_cut > 1000 && far_cut > 1000, "{near_cut} {far_cut}");
         // The rasterizer draws the same thing.
         let m = de(
             &raster(&scene, &opts, 4),
