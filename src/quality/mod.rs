@@ -5,10 +5,12 @@
 //! |---|---|
 //! | `image.rs` | [`LinearImage`]: f64 linear RGB, supersampling resolve |
 //! | `metrics.rs` | RMSE, PSNR, max error, CIEDE2000 mean / p95 / count, heat map |
+//! | `general.rs` | the f64 reference of any scene: homogeneous visibility, heavy supersampling |
 //! | `sphere.rs` | the ray-cast sphere reference and its rasterizer scene |
 //! | `plane.rs` | the exactly box-filtered textured plane reference and its scene |
 //! | `sweep.rs` | one knob at a time: settings, timings, metrics, Pareto front, plot |
 
+pub mod general;
 mod image;
 pub mod metrics;
 pub mod plane;
