@@ -8,16 +8,22 @@ use clap::Args;
 use realist::quality::metrics;
 use realist::quality::plane::PlaneSetup;
 use realist::quality::sphere::{Shape, SphereSetup};
-use realist::quality::sweep::{self, Subject};
+use realist::quality::sweep::{self, ModelSetup, Subject};
 
-use super::parse_size;
+use super::{load_model, parse_size, NormalArgs};
 
 #[derive(Args)]
 pub(crate) struct AccuracyArgs {
-    /// Scene with an exact reference: sphere, cylinder or plane (textured, at a grazing
-    /// angle).
+    /// Scene: sphere, cylinder or plane (textured, at a grazing angle), each with an exact
+    /// reference; or a model file (glTF, GLB, OBJ), measured against the general f64
+    /// reference.
     #[arg(long, default_value = "sphere")]
     scene: String,
+    /// Samples per pixel side of a model's reference (8 = 64 samples per pixel).
+    #[arg(long, default_value_t = 8)]
+    samples: u32,
+    #[command(flatten)]
+    normals: NormalArgs,
     /// Image size WIDTHxHEIGHT.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     size: (u32, u32),
@@ -35,7 +41,17 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         "sphere" => Subject::Shape(SphereSetup::standard_shape(Shape::Sphere, w, h)),
         "cylinder" => Subject::Shape(SphereSetup::standard_shape(Shape::Cylinder, w, h)),
         "plane" => Subject::Plane(PlaneSetup::standard(w, h)),
-        s => bail!("--scene {s}: no reference for it (expected sphere, cylinder or plane)"),
+        path => {
+            let path = Path::new(path);
+            if !path.exists() {
+                bail!(
+                    "--scene {}: not sphere, cylinder or plane, and no such model file",
+                    path.display()
+                );
+            }
+            let scene = load_model(path, &args.normals)?;
+            Subject::Model(ModelSetup::new(scene, w, h, args.samples))
+        }
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
@@ -91,14 +107,16 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
     let plot_path = args.out.join("pareto.png");
     std::fs::write(&plot_path, png).with_context(|| format!("writing {}", plot_path.display()))?;
     say!("wrote {} and {}", csv_path.display(), plot_path.display());
-    // The reference, and each Pareto-optimal setting's image and error heat map.
+    // The reference, and each Pareto-optimal setting's image and error heat map; images a
+    // previous run left in the folder would read as part of this one.
+    remove_previous_images(&args.out)?;
     for (index, reference) in result.references.iter().enumerate() {
         if let Some(r) = reference {
-            let name = if index == 1 {
-                "reference-blinn.png"
-            } else {
-                "reference.png"
-            };
+            let name = [
+                "reference.png",
+                "reference-blinn.png",
+                "reference-textured.png",
+            ][index];
             write_png(&args.out.join(name), r.width, r.height, r.to_srgb8())?;
         }
     }
@@ -112,7 +130,7 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
             image.height,
             image.to_srgb8(),
         )?;
-        if let Some(r) = &result.references[Subject::reference_index(&s)] {
+        if let Some(r) = &result.references[subject.reference_index(&s)] {
             write_png(
                 &args.out.join(format!("heat-{slug}.png")),
                 image.width,
@@ -125,6 +143,24 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         "wrote the reference image(s) and render-*.png, heat-*.png (dE00 0 black .. {} white) for the Pareto-optimal settings",
         metrics::HEAT_MAP_MAX_DE
     );
+    Ok(())
+}
+
+/// Removes `reference*.png`, `render-*.png` and `heat-*.png` from `dir`.
+fn remove_previous_images(dir: &Path) -> Result<()> {
+    let entries = std::fs::read_dir(dir).with_context(|| format!("reading {}", dir.display()))?;
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let name = name.to_string_lossy();
+        let ours = name.ends_with(".png")
+            && ["reference", "render-", "heat-"]
+                .iter()
+                .any(|p| name.starts_with(p));
+        if ours && e.file_type().is_ok_and(|t| t.is_file()) {
+            std::fs::remove_file(e.path())
+                .with_context(|| format!("removing {}", e.path().display()))?;
+        }
+    }
     Ok(())
 }
 

@@ -12,6 +12,7 @@ use std::time::Instant;
 
 use glam::Vec4;
 
+use super::general;
 use super::plane::PlaneSetup;
 use super::sphere::{Shape, SphereSetup};
 use super::{compare, metrics, LinearImage, Metrics};
@@ -83,6 +84,70 @@ pub enum Subject {
     Shape(SphereSetup),
     /// The exactly filtered textured plane: texture filter, supersampling.
     Plane(PlaneSetup),
+    /// Any scene against the general f64 reference: shading mode, supersampling, texture
+    /// filter (if textured), sub-pixel bits.
+    Model(ModelSetup),
+}
+
+/// A loaded scene under a fixed camera, measured against [`general::reference`].
+#[derive(Clone, Debug)]
+pub struct ModelSetup {
+    pub scene: Scene,
+    pub width: u32,
+    pub height: u32,
+    pub camera: Camera,
+    /// Samples per pixel side of the reference.
+    pub samples: u32,
+}
+
+impl ModelSetup {
+    /// `scene` from the default three-quarter view, referenced with `samples` x `samples`
+    /// samples per pixel.
+    #[must_use]
+    pub fn new(scene: Scene, width: u32, height: u32, samples: u32) -> Self {
+        let camera = shade::default_camera(&scene, width as f32 / height.max(1) as f32);
+        Self {
+            scene,
+            width,
+            height,
+            camera,
+            samples,
+        }
+    }
+
+    /// True if some instance would be drawn with a texture.
+    #[must_use]
+    pub fn textured(&self) -> bool {
+        let s = &self.scene;
+        s.instances.iter().any(|i| {
+            s.meshes.get(i.mesh).is_some_and(|m| {
+                m.uvs.is_some()
+                    && s.material_of(m)
+                        .base_color_texture
+                        .is_some_and(|t| t.texture < s.textures.len())
+            })
+        })
+    }
+
+    fn options(&self, shading: Shading) -> RenderOptions {
+        RenderOptions {
+            width: self.width,
+            height: self.height,
+            shading: Some(shading),
+            camera: Some(self.camera.clone()),
+            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            ..RenderOptions::default()
+        }
+    }
+}
+
+/// Why a sweep could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    #[error(transparent)]
+    Mesh(#[from] crate::mesh::MeshError),
+    #[error("reference: {0}")]
+    Reference(#[from] general::ReferenceError),
 }
 
 impl Subject {
@@ -92,6 +157,7 @@ impl Subject {
         match self {
             Subject::Shape(s) => (s.width, s.height),
             Subject::Plane(p) => (p.width, p.height),
+            Subject::Model(m) => (m.width, m.height),
         }
     }
 
@@ -99,6 +165,7 @@ impl Subject {
         match self {
             Subject::Shape(s) => &s.camera,
             Subject::Plane(p) => &p.camera,
+            Subject::Model(m) => &m.camera,
         }
     }
 
@@ -110,23 +177,46 @@ impl Subject {
         match self {
             Subject::Shape(setup) => setup.scene(s.slices, s.stacks),
             Subject::Plane(p) => Ok(p.scene(s.filter.unwrap_or_default())),
+            Subject::Model(m) => {
+                let mut scene = m.scene.clone();
+                if let Some(filter) = s.filter {
+                    for t in &mut scene.textures {
+                        if t.sampler.filter != filter {
+                            std::sync::Arc::make_mut(t).sampler.filter = filter;
+                        }
+                    }
+                }
+                Ok(scene)
+            }
         }
     }
 
-    /// Which reference a setting is measured against: 0 = Phong (R·V), 1 = Blinn (N·H).
+    /// Which reference a setting is measured against: 0 = Phong (R·V), 1 = Blinn (N·H),
+    /// 2 = Blinn with textures (the textured mode). Flat and Gouraud approximate Phong.
     #[must_use]
-    pub fn reference_index(s: &Setting) -> usize {
-        usize::from(s.shading == Shading::Blinn)
+    pub fn reference_index(&self, s: &Setting) -> usize {
+        match (self, s.shading) {
+            (Subject::Plane(_), _) => 0,
+            (_, Shading::Blinn) => 1,
+            (_, Shading::Textured) => 2,
+            _ => 0,
+        }
     }
 
     /// Reference `index` (see [`Subject::reference_index`]).
-    #[must_use]
-    pub fn reference(&self, index: usize) -> LinearImage {
-        match self {
+    ///
+    /// # Errors
+    /// If the general reference refuses the model's request (see [`general::reference`]).
+    pub fn reference(&self, index: usize) -> Result<LinearImage, SweepError> {
+        Ok(match self {
             Subject::Shape(setup) => setup.reference(index == 1),
             // No highlight on the plane: one reference for every setting.
             Subject::Plane(p) => p.reference(),
-        }
+            Subject::Model(m) => {
+                let shading = [Shading::Phong, Shading::Blinn, Shading::Textured][index.min(2)];
+                general::reference(&m.scene, &m.options(shading), m.samples, index > 0)?
+            }
+        })
     }
 
     /// The settings of the sweep: a base setting and one knob at a time around it.
@@ -135,8 +225,56 @@ impl Subject {
         match self {
             Subject::Shape(s) => shape_settings(s.shape),
             Subject::Plane(_) => plane_settings(),
+            Subject::Model(m) => model_settings(m.textured()),
         }
     }
+}
+
+/// A model's settings around a base setting: on an untextured model every lit shading
+/// mode (Phong is the base); on a textured one the texture filters (the textured mode is
+/// the base: the other modes draw no texture, so they are not approximations of the same
+/// image); then supersampling and sub-pixel bits.
+fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
+    let base = Setting {
+        slices: 0,
+        stacks: 0,
+        shading: if textured {
+            Shading::Textured
+        } else {
+            Shading::Phong
+        },
+        ss: 1,
+        filter: None,
+        bits: SUBPIXEL_BITS as u8,
+    };
+    let mut out = Vec::new();
+    if textured {
+        for filter in [Filter::Nearest, Filter::Bilinear] {
+            out.push((
+                "filter",
+                Setting {
+                    filter: Some(filter),
+                    ..base
+                },
+            ));
+        }
+    } else {
+        for shading in [
+            Shading::Flat,
+            Shading::Gouraud,
+            Shading::Phong,
+            Shading::Blinn,
+        ] {
+            out.push(("shading", Setting { shading, ..base }));
+        }
+    }
+    for ss in [1, 2, 4] {
+        out.push(("supersampling", Setting { ss, ..base }));
+    }
+    for bits in [0u8, 2, 4, 8] {
+        out.push(("sub-pixel bits", Setting { bits, ..base }));
+    }
+    out
 }
 
 /// The plane's settings: every texture filter, each without and with 2x2 and 4x4
@@ -469,16 +607,17 @@ fn decade(d: i32) -> String {
 pub struct Sweep {
     pub rows: Vec<Row>,
     /// By [`Subject::reference_index`]; `None` where no setting needed it.
-    pub references: [Option<LinearImage>; 2],
+    pub references: [Option<LinearImage>; 3],
 }
 
 /// Runs the sweep of `subject` with `runs` timed renders per setting, each measured
 /// against the reference of its highlight model.
 ///
 /// # Errors
-/// Never for the built-in settings (kept for custom ones).
-pub fn sweep(subject: &Subject, runs: usize) -> Result<Sweep, crate::mesh::MeshError> {
-    let mut references: [Option<LinearImage>; 2] = [None, None];
+/// If the general reference refuses a model's request (size, samples, camera); never for
+/// the built-in analytic scenes.
+pub fn sweep(subject: &Subject, runs: usize) -> Result<Sweep, SweepError> {
+    let mut references: [Option<LinearImage>; 3] = [None, None, None];
     let mut rows: Vec<Row> = Vec::new();
     for (knob, s) in subject.settings() {
         // A setting shared by several knobs (the base) is measured once.
@@ -494,8 +633,12 @@ pub fn sweep(subject: &Subject, runs: usize) -> Result<Sweep, crate::mesh::MeshE
             continue;
         }
         let (ms, image) = run_setting(subject, s, runs)?;
-        let index = Subject::reference_index(&s);
-        let reference = references[index].get_or_insert_with(|| subject.reference(index));
+        let index = subject.reference_index(&s);
+        let slot = &mut references[index];
+        let reference: &LinearImage = match slot {
+            Some(r) => r,
+            None => slot.insert(subject.reference(index)?),
+        };
         rows.push(Row {
             knob,
             setting: s,

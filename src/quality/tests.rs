@@ -252,3 +252,41 @@ fn coarser_subpixel_snap_costs_accuracy() {
     let (b0, b4, b8) = (rmse(0), rmse(4), rmse(8));
     assert!(b0 > 1.1 * b8 && b4 < 1.02 * b8, "{b0} {b4} {b8}");
 }
+
+#[test]
+fn model_sweep_measures_each_mode_against_its_own_ideal() {
+    // An untextured scene: lit shading modes, Phong against the Phong ideal.
+    let demo = sweep::ModelSetup::new(crate::scene::demo(), 160, 90, 4);
+    assert!(!demo.textured());
+    let subject = sweep::Subject::Model(demo);
+    let knobs: Vec<_> = subject.settings().iter().map(|(k, _)| *k).collect();
+    assert!(knobs.contains(&"shading") && !knobs.contains(&"filter"));
+    let phong = sweep::Setting {
+        slices: 0,
+        stacks: 0,
+        shading: Shading::Phong,
+        ss: 4,
+        filter: None,
+        bits: 8,
+    };
+    let (_, img) = sweep::run_setting(&subject, phong, 1).unwrap();
+    let ideal = subject.reference(subject.reference_index(&phong)).unwrap();
+    let blinn = subject.reference(1).unwrap();
+    let good = compare(&img, &ideal, 1.0).mean_de2000;
+    assert!(good < 0.1, "{good}");
+    assert!(compare(&img, &blinn, 1.0).mean_de2000 > 2.0 * good);
+
+    // A textured scene: the textured mode and the filter knob.
+    let floor = PlaneSetup::standard(160, 90);
+    let mut model = sweep::ModelSetup::new(floor.scene(Filter::Bilinear), 160, 90, 4);
+    model.camera = floor.camera.clone();
+    assert!(model.textured());
+    let subject = sweep::Subject::Model(model);
+    let settings = subject.settings();
+    assert!(settings
+        .iter()
+        .all(|(_, s)| s.shading == Shading::Textured));
+    assert!(settings.iter().any(|(k, _)| *k == "filter"));
+    let s = settings[0].1;
+    assert_eq!(subject.reference_index(&s), 2);
+}
