@@ -283,9 +283,7 @@ fn model_sweep_measures_each_mode_against_its_own_ideal() {
     assert!(model.textured());
     let subject = sweep::Subject::Model(model);
     let settings = subject.settings();
-    assert!(settings
-        .iter()
-        .all(|(_, s)| s.shading == Shading::Textured));
+    assert!(settings.iter().all(|(_, s)| s.shading == Shading::Textured));
     assert!(settings.iter().any(|(k, _)| *k == "filter"));
     let s = settings[0].1;
     assert_eq!(subject.reference_index(&s), 2);
