@@ -1185,9 +1185,9 @@ mod tests {
             "{same:?}"
         );
         // Teeth: the reference without textures (measured 4.1), or with Phong highlights
-        // where the textured mode uses Blinn.
+        // where the textured mode uses Blinn (measured 0.35).
         assert!(untextured.mean_de2000 > 1.0, "{untextured:?}");
-        assert!(phong.mean_de2000 > 0.02, "{phong:?}");
+        assert!(phong.mean_de2000 > 0.1, "{phong:?}");
         // Measured 0.018 at 4x4 against 8 x 8: silhouettes and the chequer edges.
         assert!(dense.mean_de2000 < 0.05, "{dense:?}");
     }
