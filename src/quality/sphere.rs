@@ -2,7 +2,7 @@
 //! rasterizer, and the matching rasterizer scenes at any tessellation.
 //!
 //! The reference shades the exact sphere with the lighting equation of
-//! [`crate::shade::lighting`] (same lights, material, eye) in f64 per sample. Pixels a
+//! [`crate::shade::illuminate`] (same lights, material, eye) in f64 per sample. Pixels a
 //! silhouette or a shading edge crosses (their four corners see different parts, dilated by
 //! one pixel) take 16 x 16 samples, so coverage is exact to 1/256; pixels fully inside take
 //! 4 x 4 samples of the smoothly varying shading (the box filter's midpoint error is below
@@ -286,7 +286,7 @@ fn hit(shape: Shape, r: &Rays, x: f64, y: f64) -> Option<(V3, V3, u8)> {
     }
 }
 
-/// The lighting equation in f64 (see [`crate::shade::lighting`]).
+/// The lighting equation in f64 (see [`crate::shade::illuminate`]).
 struct Shade {
     ambient: V3,
     directional: Vec<(V3, V3)>,
