@@ -51,6 +51,27 @@ pub trait FragmentShader: Sync {
     /// What is interpolated across the triangle (perspective-correct).
     type Varying: Varying;
 
+    /// Whether the fill loop computes the varying's screen-space derivatives and calls
+    /// [`FragmentShader::fragment_grad`] instead of [`FragmentShader::fragment`]. A
+    /// compile-time constant, so shaders that leave it `false` pay nothing.
+    const DERIVATIVES: bool = false;
+
     /// Linear-light RGBA of a fragment, or `None` to discard it (alpha test).
     fn fragment(&self, tri: TriInfo, v: &Self::Varying) -> Option<glam::Vec4>;
+
+    /// [`FragmentShader::fragment`] with the exact derivatives of the perspective-correct
+    /// varying at the pixel centre, per pixel along +x (right) and +y (down); called
+    /// instead of `fragment` when [`FragmentShader::DERIVATIVES`] is true. The default
+    /// ignores them.
+    #[inline(always)]
+    fn fragment_grad(
+        &self,
+        tri: TriInfo,
+        v: &Self::Varying,
+        dvdx: &Self::Varying,
+        dvdy: &Self::Varying,
+    ) -> Option<glam::Vec4> {
+        let _ = (dvdx, dvdy);
+        self.fragment(tri, v)
+    }
 }

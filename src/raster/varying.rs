@@ -13,12 +13,17 @@ pub trait Varying: Copy + Send + Sync + 'static {
     fn mad2(&self, d1: &Self, p1: f32, d2: &Self, p2: f32) -> Self;
     /// `self + (other - self) * t`.
     fn lerp(&self, other: &Self, t: f32) -> Self;
+    /// `d1 * p1 + d2 * p2` (a derivative from the differences to vertex 0).
+    fn combine2(d1: &Self, p1: f32, d2: &Self, p2: f32) -> Self {
+        d1.sub(d1).mad2(d1, p1, d2, p2)
+    }
 }
 
 impl Varying for () {
     fn sub(&self, _: &Self) -> Self {}
     fn mad2(&self, _: &Self, _: f32, _: &Self, _: f32) -> Self {}
     fn lerp(&self, _: &Self, _: f32) -> Self {}
+    fn combine2(_: &Self, _: f32, _: &Self, _: f32) -> Self {}
 }
 
 macro_rules! vector_varying {
@@ -35,6 +40,10 @@ macro_rules! vector_varying {
             #[inline(always)]
             fn lerp(&self, other: &Self, t: f32) -> Self {
                 *self + (*other - *self) * t
+            }
+            #[inline(always)]
+            fn combine2(d1: &Self, p1: f32, d2: &Self, p2: f32) -> Self {
+                *d1 * p1 + *d2 * p2
             }
         }
     )*};
@@ -56,6 +65,10 @@ macro_rules! tuple_varying {
             fn lerp(&self, other: &Self, t: f32) -> Self {
                 ($(self.$n.lerp(&other.$n, t),)*)
             }
+            #[inline(always)]
+            fn combine2(d1: &Self, p1: f32, d2: &Self, p2: f32) -> Self {
+                ($($t::combine2(&d1.$n, p1, &d2.$n, p2),)*)
+            }
         }
     };
 }
@@ -76,5 +89,9 @@ mod tests {
         assert_eq!(d, (2.0, Vec2::new(4.0, 0.0)));
         assert_eq!(a.lerp(&b, 0.5), (2.0, Vec2::new(3.0, 2.0)));
         assert_eq!(a.mad2(&d, 0.5, &d, 0.0), (2.0, Vec2::new(3.0, 2.0)));
+        assert_eq!(
+            <(f32, Vec2)>::combine2(&a, 2.0, &d, 0.5),
+            (3.0, Vec2::new(4.0, 4.0))
+        );
     }
 }

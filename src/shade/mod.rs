@@ -8,7 +8,9 @@
 //! - `phong`: normal interpolated and renormalised, lighting per pixel (R·V highlight);
 //! - `blinn`: as `phong` with the half vector (N·H);
 //! - `textured`: per-pixel Blinn-Phong whose diffuse colour is modulated by the base-colour
-//!   texture (bilinear, linear light);
+//!   texture, filtered in linear light by its sampler: trilinear (mipmapped, level of detail
+//!   from the UV's exact screen-space derivatives) unless the model's sampler asks for
+//!   nearest or non-mipmapped bilinear;
 //! - `normals`, `depth`, `uv`: debug views.
 //!
 //! Shading happens in linear light; the framebuffer is sRGB-encoded on output.

@@ -13,7 +13,7 @@ use super::Shading;
 use crate::mesh::TriMesh;
 use crate::raster::{Blend, Cull, DrawState, Framebuffer, Stats, Target};
 use crate::scene::{AlphaMode, Camera, Light, Scene, Style};
-use crate::texture::Texture;
+use crate::texture::{Filter, Texture};
 
 /// Per-mesh render data, built once per scene and reused for every frame.
 #[derive(Clone, Debug, Default)]
@@ -237,6 +237,7 @@ pub fn render_into(
         });
     }
 
+    prepare_mips(&insts, &params);
     let ctx = Ctx {
         params: &params,
         lights: &lights,
@@ -262,6 +263,20 @@ pub fn render_into(
         draw_group(target, &[inst], &ctx, &mut stats);
     }
     (stats, camera)
+}
+
+/// Builds the mip chains of the mipmapped textures drawn by textured instances (each once;
+/// a no-op after the first frame), so that no tile of the fill waits for one.
+fn prepare_mips(insts: &[Inst], params: &[DrawParams]) {
+    let mut seen: Vec<&Arc<Texture>> = Vec::new();
+    for i in insts.iter().filter(|i| i.textured) {
+        if let Some(t) = &params[i.id as usize].texture {
+            if t.sampler.filter == Filter::Trilinear && !seen.iter().any(|s| Arc::ptr_eq(s, t)) {
+                seen.push(t);
+                t.prepare_mips();
+            }
+        }
+    }
 }
 
 /// Transforms normals of a model -> world matrix: the cofactor matrix of its 3x3 part, which

@@ -73,6 +73,8 @@ impl<V: ColorVarying> FragmentShader for ColorShader<'_, V> {
 
 /// Per-pixel lighting varyings: world position and normal, plus UV and/or colour.
 pub trait LitVarying: Varying {
+    /// Whether the varying carries a UV ([`LitVarying::uv`] is `Some`).
+    const UV: bool;
     fn new(p: Vec3, n: Vec3, uv: Vec2, color: Vec4) -> Self;
     fn position(&self) -> Vec3;
     fn normal(&self) -> Vec3;
@@ -83,6 +85,7 @@ pub trait LitVarying: Varying {
 /// What a lit varying carries besides position and normal: nothing (`()`), a UV (`Vec2`), a
 /// vertex colour (`Vec4`) or both.
 pub trait Extra: Varying {
+    const UV: bool = false;
     fn new(uv: Vec2, color: Vec4) -> Self;
     fn uv(&self) -> Option<Vec2> {
         None
@@ -97,6 +100,7 @@ impl Extra for () {
 }
 
 impl Extra for Vec2 {
+    const UV: bool = true;
     fn new(uv: Vec2, _: Vec4) -> Self {
         uv
     }
@@ -115,6 +119,7 @@ impl Extra for Vec4 {
 }
 
 impl Extra for (Vec2, Vec4) {
+    const UV: bool = true;
     fn new(uv: Vec2, color: Vec4) -> Self {
         (uv, color)
     }
@@ -127,6 +132,7 @@ impl Extra for (Vec2, Vec4) {
 }
 
 impl<E: Extra> LitVarying for (Vec3, Vec3, E) {
+    const UV: bool = E::UV;
     #[inline(always)]
     fn new(p: Vec3, n: Vec3, uv: Vec2, color: Vec4) -> Self {
         (p, n, E::new(uv, color))
@@ -150,7 +156,9 @@ impl<E: Extra> LitVarying for (Vec3, Vec3, E) {
 }
 
 /// Phong (`BLINN = false`) or Blinn-Phong per-pixel lighting; with a UV varying, the
-/// base-colour texture modulates the diffuse colour (bilinear, linear light).
+/// base-colour texture modulates the diffuse colour (filtered in linear light by the
+/// texture's sampler: trilinear by default, its level of detail from the UV's exact
+/// screen-space derivatives, which the rasterizer computes only for varyings with a UV).
 pub struct LitShader<'a, V, const BLINN: bool> {
     pub draws: &'a [DrawParams],
     pub lights: &'a LightSet,
@@ -158,17 +166,20 @@ pub struct LitShader<'a, V, const BLINN: bool> {
     pub _v: std::marker::PhantomData<V>,
 }
 
-impl<V: LitVarying, const BLINN: bool> FragmentShader for LitShader<'_, V, BLINN> {
-    type Varying = V;
-    #[inline]
-    fn fragment(&self, tri: TriInfo, v: &V) -> Option<Vec4> {
+impl<V: LitVarying, const BLINN: bool> LitShader<'_, V, BLINN> {
+    /// Shades with the UV's derivatives along x and y, if known.
+    #[inline(always)]
+    fn shade(&self, tri: TriInfo, v: &V, duv: Option<(Vec2, Vec2)>) -> Option<Vec4> {
         let d = &self.draws[tri.draw as usize];
         let mut base = d.base;
         if let Some(c) = v.color() {
             base *= c;
         }
         if let (Some(uv), Some(t)) = (v.uv(), &d.texture) {
-            base *= t.sample(uv);
+            base *= match duv {
+                Some((dx, dy)) => t.sample_grad(uv, dx, dy),
+                None => t.sample(uv),
+            };
         }
         let mut n = v.normal().normalize_or_zero();
         if !tri.front {
@@ -180,6 +191,20 @@ impl<V: LitVarying, const BLINN: bool> FragmentShader for LitShader<'_, V, BLINN
         };
         let c = illuminate::<BLINN>(self.lights, &s, v.position(), n, self.eye);
         d.alpha(c.extend(base.w))
+    }
+}
+
+impl<V: LitVarying, const BLINN: bool> FragmentShader for LitShader<'_, V, BLINN> {
+    type Varying = V;
+    const DERIVATIVES: bool = V::UV;
+    #[inline]
+    fn fragment(&self, tri: TriInfo, v: &V) -> Option<Vec4> {
+        self.shade(tri, v, None)
+    }
+    #[inline]
+    fn fragment_grad(&self, tri: TriInfo, v: &V, dvdx: &V, dvdy: &V) -> Option<Vec4> {
+        let duv = dvdx.uv().zip(dvdy.uv());
+        self.shade(tri, v, duv)
     }
 }
 

@@ -4,6 +4,17 @@
 //! sRGB-encoded and decoded to linear light through a 256-entry table at sampling time, so
 //! filtering happens in linear light. UV convention: glTF's, origin at the top-left texel
 //! corner, u to the right, v downwards (OBJ loaders flip v on the way in).
+//!
+//! Filters ([`Filter`]): nearest, bilinear on the base level, and trilinear (mipmapped, the
+//! default). The mip chain (see `mip.rs` for the box filter and the storage of the levels)
+//! is built once per texture, on the first sample that needs a level below the base, or
+//! ahead of time by [`Texture::prepare_mips`] (the renderer does this before filling tiles,
+//! so no tile waits for it). The level of detail comes from the screen-space UV derivatives
+//! ([`Texture::sample_grad`]) with OpenGL's isotropic formula.
+
+mod mip;
+
+use std::sync::OnceLock;
 
 use glam::{Vec2, Vec4};
 
@@ -17,11 +28,22 @@ pub enum Wrap {
 }
 
 /// Magnification / minification filter.
+///
+/// The default is [`Filter::Trilinear`]: a viewer is expected to show minified textures
+/// without aliasing (glTF leaves the filter of a sampler without `minFilter` to the
+/// implementation, and OBJ has none), and trilinear is identical to bilinear wherever the
+/// texture is magnified.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Filter {
+    /// The texel containing the sample point, on the base level.
     Nearest,
-    #[default]
+    /// The four nearest texels of the base level, bilinearly weighted (no mipmaps).
     Bilinear,
+    /// Mipmapped (GL's `LINEAR_MIPMAP_LINEAR`): bilinear within the two levels around the
+    /// level of detail, linear between them; bilinear on the base level when magnified.
+    /// Needs derivatives ([`Texture::sample_grad`]); [`Texture::sample`] reads the base level.
+    #[default]
+    Trilinear,
 }
 
 /// How a texture is read.
@@ -35,17 +57,47 @@ pub struct Sampler {
 /// Largest procedural chequerboard edge, in texels.
 pub const MAX_CHECKER: u32 = 8192;
 
-/// An RGBA8 image.
+/// An RGBA8 image, its sampler, and (built on demand) its mip chain.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     pub name: String,
     pub width: u32,
     pub height: u32,
-    /// Row-major, top row first.
+    /// Row-major, top row first. The mip chain is built from these (and `srgb`) the first
+    /// time it is needed: change them only on a texture that was never sampled with
+    /// [`Filter::Trilinear`], or on a clone (a clone starts without a chain).
     pub texels: Vec<[u8; 4]>,
     /// True if RGB is sRGB-encoded (colour data); false for linear data (normals, masks).
     pub srgb: bool,
     pub sampler: Sampler,
+    /// Levels 1.. (built lazily).
+    mips: MipCache,
+}
+
+/// The lazily built mip chain of a texture. Derived data: it takes no part in equality, and
+/// a clone starts empty (the clone's texels may be changed before it is sampled).
+#[derive(Default)]
+struct MipCache(OnceLock<Vec<mip::MipLevel>>);
+
+impl Clone for MipCache {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl PartialEq for MipCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for MipCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0.get() {
+            Some(levels) => write!(f, "MipCache({} levels below the base)", levels.len()),
+            None => f.write_str("MipCache(not built)"),
+        }
+    }
 }
 
 /// Why an image could not become a [`Texture`].
@@ -109,6 +161,7 @@ impl Texture {
             texels,
             srgb,
             sampler: Sampler::default(),
+            mips: MipCache::default(),
         })
     }
 
@@ -136,6 +189,7 @@ impl Texture {
             texels,
             srgb: true,
             sampler: Sampler::default(),
+            mips: MipCache::default(),
         }
     }
 
@@ -163,40 +217,175 @@ impl Texture {
     }
 
     /// Samples at `uv` with the texture's own sampler. Non-finite UVs read texel (0, 0).
+    /// Without derivatives, [`Filter::Trilinear`] reads the base level (as bilinear).
     #[must_use]
     pub fn sample(&self, uv: Vec2) -> Vec4 {
         self.sample_with(uv, self.sampler)
     }
 
     /// Samples at `uv` (texel centres at half-integers times the texel size).
+    /// [`Filter::Trilinear`] reads the base level, as [`Filter::Bilinear`].
     #[must_use]
     pub fn sample_with(&self, uv: Vec2, s: Sampler) -> Vec4 {
         let (w, h) = (self.width, self.height);
-        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
-        // Fold the coordinates into a small range first: scaling a huge UV by the texture
-        // size would overflow to infinity and turn the filter weights into NaN.
-        let uv = Vec2::new(reduce(uv.x, s.wrap_u), reduce(uv.y, s.wrap_v));
+        let uv = fold(uv, s);
         match s.filter {
             Filter::Nearest => {
                 let x = wrap_index((uv.x * w as f32).floor(), w, s.wrap_u);
                 let y = wrap_index((uv.y * h as f32).floor(), h, s.wrap_v);
                 self.fetch(x, y)
             }
-            Filter::Bilinear => {
-                let fx = uv.x * w as f32 - 0.5;
-                let fy = uv.y * h as f32 - 0.5;
-                let (x0f, y0f) = (fx.floor(), fy.floor());
-                let (tx, ty) = (fx - x0f, fy - y0f);
-                let x0 = wrap_index(x0f, w, s.wrap_u);
-                let x1 = wrap_index(x0f + 1.0, w, s.wrap_u);
-                let y0 = wrap_index(y0f, h, s.wrap_v);
-                let y1 = wrap_index(y0f + 1.0, h, s.wrap_v);
-                let top = self.fetch(x0, y0).lerp(self.fetch(x1, y0), tx);
-                let bottom = self.fetch(x0, y1).lerp(self.fetch(x1, y1), tx);
-                top.lerp(bottom, ty)
-            }
+            Filter::Bilinear | Filter::Trilinear => bilinear(uv, w, h, s, |x, y| self.fetch(x, y)),
         }
     }
+
+    /// Samples at `uv` with the texture's own sampler, given the UV's screen-space
+    /// derivatives (per pixel along x and along y), which choose the mip level of
+    /// [`Filter::Trilinear`]; the other filters ignore them.
+    #[must_use]
+    pub fn sample_grad(&self, uv: Vec2, duv_dx: Vec2, duv_dy: Vec2) -> Vec4 {
+        self.sample_grad_with(uv, duv_dx, duv_dy, self.sampler)
+    }
+
+    /// [`Texture::sample_grad`] with an explicit sampler.
+    #[must_use]
+    pub fn sample_grad_with(&self, uv: Vec2, duv_dx: Vec2, duv_dy: Vec2, s: Sampler) -> Vec4 {
+        match s.filter {
+            Filter::Nearest | Filter::Bilinear => self.sample_with(uv, s),
+            Filter::Trilinear => self.sample_lod_with(uv, self.lod(duv_dx, duv_dy), s),
+        }
+    }
+
+    /// Trilinear sample at an explicit level of detail `lod` (as GLSL's `textureLod`):
+    /// bilinear on levels floor(lod) and floor(lod) + 1, blended by the fraction. `lod` is
+    /// clamped to [0, levels - 1]; NaN reads the base level. The filter of `s` is not used.
+    #[must_use]
+    pub fn sample_lod_with(&self, uv: Vec2, lod: f32, s: Sampler) -> Vec4 {
+        let uv = fold(uv, s);
+        let top = (self.levels() - 1) as f32;
+        if lod.is_nan() || lod <= 0.0 || top == 0.0 {
+            return bilinear(uv, self.width, self.height, s, |x, y| self.fetch(x, y));
+        }
+        let lod = lod.min(top);
+        let d = lod.floor();
+        let t = lod - d;
+        let d = d as usize;
+        let a = self.bilinear_level(d, uv, s);
+        if t == 0.0 {
+            return a;
+        }
+        a.lerp(self.bilinear_level(d + 1, uv, s), t)
+    }
+
+    /// The level of detail λ = log2(ρ) for UV derivatives per pixel along x and y, where ρ
+    /// is the longer of the two derivative vectors measured in base-level texels (the
+    /// isotropic formula of the OpenGL specification, §8.14.1), clamped to
+    /// [0, levels - 1]. Non-finite derivatives give 0 (the base level); derivatives so
+    /// large that ρ overflows give the last level.
+    #[must_use]
+    pub fn lod(&self, duv_dx: Vec2, duv_dy: Vec2) -> f32 {
+        if !(duv_dx.is_finite() && duv_dy.is_finite()) {
+            return 0.0;
+        }
+        let size = Vec2::new(self.width as f32, self.height as f32);
+        let rho2 = (duv_dx * size)
+            .length_squared()
+            .max((duv_dy * size).length_squared());
+        // log2(ρ) = log2(ρ²) / 2; ρ² = 0 gives -inf and ρ² = inf gives inf, both clamped.
+        (0.5 * rho2.log2()).clamp(0.0, (self.levels() - 1) as f32)
+    }
+
+    /// Number of mip levels, the base included: floor(log2(max(width, height))) + 1.
+    #[must_use]
+    pub fn levels(&self) -> usize {
+        mip::level_count(self.width, self.height)
+    }
+
+    /// Size of mip level `level` (0 = the base): each level halves each side, rounding
+    /// down, to no less than 1.
+    #[must_use]
+    pub fn level_size(&self, level: usize) -> (u32, u32) {
+        (0..level).fold((self.width, self.height), |(w, h), _| {
+            (mip::half(w), mip::half(h))
+        })
+    }
+
+    /// Texel (x, y) of mip level `level` (0 = the base, as [`Texture::fetch`]) in linear
+    /// light. Builds the chain if needed. Panics if the level or texel does not exist.
+    #[must_use]
+    pub fn fetch_level(&self, level: usize, x: u32, y: u32) -> Vec4 {
+        if level == 0 {
+            return self.fetch(x, y);
+        }
+        let l = &self.mips()[level - 1];
+        assert!(
+            x < l.width && y < l.height,
+            "texel ({x}, {y}) of level {level}"
+        );
+        l.fetch(x, y)
+    }
+
+    /// Builds the mip chain now (rows in parallel on the current rayon pool) if it has not
+    /// been built yet. Sampling builds it on demand anyway, but serially and while other
+    /// threads wait: call this before drawing with a mipmapped texture.
+    pub fn prepare_mips(&self) {
+        if self.mips.0.get().is_none() && self.levels() > 1 {
+            // Built outside the cell: a rayon job must not run inside `get_or_init`, whose
+            // thread could steal a job that waits on the same cell. A racing builder's
+            // result is simply dropped (both are identical).
+            let _ = self.mips.0.set(self.build_mips(true));
+        }
+    }
+
+    /// Levels 1.., built on first use (serially: see [`Texture::prepare_mips`]).
+    fn mips(&self) -> &[mip::MipLevel] {
+        self.mips.0.get_or_init(|| self.build_mips(false))
+    }
+
+    fn build_mips(&self, parallel: bool) -> Vec<mip::MipLevel> {
+        let row = |y: u32, out: &mut [Vec4]| {
+            for (x, o) in out.iter_mut().enumerate() {
+                *o = self.fetch(x as u32, y);
+            }
+        };
+        mip::build(self.width, self.height, &row, parallel)
+    }
+
+    /// Bilinear sample of level `level` at a folded `uv`.
+    #[inline]
+    fn bilinear_level(&self, level: usize, uv: Vec2, s: Sampler) -> Vec4 {
+        if level == 0 {
+            bilinear(uv, self.width, self.height, s, |x, y| self.fetch(x, y))
+        } else {
+            let l = &self.mips()[level - 1];
+            bilinear(uv, l.width, l.height, s, |x, y| l.fetch(x, y))
+        }
+    }
+}
+
+/// A UV made safe to scale: non-finite -> (0, 0), then whole periods removed ([`reduce`]).
+#[inline]
+fn fold(uv: Vec2, s: Sampler) -> Vec2 {
+    let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+    // Fold the coordinates into a small range first: scaling a huge UV by the texture
+    // size would overflow to infinity and turn the filter weights into NaN.
+    Vec2::new(reduce(uv.x, s.wrap_u), reduce(uv.y, s.wrap_v))
+}
+
+/// Bilinear filter of a `w` x `h` image read by `fetch`, at a folded `uv`.
+#[inline(always)]
+fn bilinear(uv: Vec2, w: u32, h: u32, s: Sampler, fetch: impl Fn(u32, u32) -> Vec4) -> Vec4 {
+    let fx = uv.x * w as f32 - 0.5;
+    let fy = uv.y * h as f32 - 0.5;
+    let (x0f, y0f) = (fx.floor(), fy.floor());
+    let (tx, ty) = (fx - x0f, fy - y0f);
+    let x0 = wrap_index(x0f, w, s.wrap_u);
+    let x1 = wrap_index(x0f + 1.0, w, s.wrap_u);
+    let y0 = wrap_index(y0f, h, s.wrap_v);
+    let y1 = wrap_index(y0f + 1.0, h, s.wrap_v);
+    let top = fetch(x0, y0).lerp(fetch(x1, y0), tx);
+    let bottom = fetch(x0, y1).lerp(fetch(x1, y1), tx);
+    top.lerp(bottom, ty)
 }
 
 /// Folds a texture coordinate into [-1, 2) without changing what any wrap mode samples:
@@ -320,5 +509,278 @@ mod tests {
         };
         let mid = t.sample_with(Vec2::new(0.5, 0.5), s);
         assert!((mid.x - 0.5).abs() < 1e-6, "{mid}");
+    }
+
+    /// Deterministic pseudo-random texels (splitmix64).
+    fn noise(name: &str, w: u32, h: u32, srgb: bool, seed: u64) -> Texture {
+        let mut state = seed;
+        let mut next = move || {
+            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            (z ^ (z >> 31)) as u8
+        };
+        let texels = (0..w * h)
+            .map(|_| [next(), next(), next(), next()])
+            .collect();
+        Texture::new(name, w, h, texels, srgb).unwrap()
+    }
+
+    fn level_mean(t: &Texture, level: usize) -> glam::DVec4 {
+        let (w, h) = t.level_size(level);
+        let mut sum = glam::DVec4::ZERO;
+        for y in 0..h {
+            for x in 0..w {
+                sum += t.fetch_level(level, x, y).as_dvec4();
+            }
+        }
+        sum / f64::from(w * h)
+    }
+
+    #[test]
+    fn every_mip_level_keeps_the_mean_in_linear_light() {
+        let mut checked = 0;
+        for (w, h) in [
+            (64, 64),
+            (37, 20),
+            (20, 37),
+            (1, 37),
+            (37, 1),
+            (5, 3),
+            (2, 1),
+        ] {
+            for srgb in [true, false] {
+                let t = noise("noise", w, h, srgb, u64::from(w * 1000 + h));
+                let base = level_mean(&t, 0);
+                let (mut lw, mut lh) = (w, h);
+                for level in 1..t.levels() {
+                    (lw, lh) = ((lw / 2).max(1), (lh / 2).max(1));
+                    assert_eq!(t.level_size(level), (lw, lh), "{w}x{h} level {level}");
+                    let m = level_mean(&t, level);
+                    // 16-bit levels: a rounding of at most 2^-17 per level.
+                    let err = (m - base).abs().max_element();
+                    assert!(
+                        err < 2e-5,
+                        "{w}x{h} srgb {srgb} level {level}: {m} vs {base}"
+                    );
+                    checked += 1;
+                }
+                assert_eq!(t.level_size(t.levels() - 1), (1, 1), "{w}x{h}");
+            }
+        }
+        assert_eq!(checked, 2 * (6 + 5 + 5 + 5 + 5 + 2 + 1));
+    }
+
+    #[test]
+    fn odd_sizes_weigh_every_texel_by_its_area() {
+        // 3 -> 1: the mean of the three texels (a 2-tap filter would drop one).
+        let t = Texture::new(
+            "t",
+            3,
+            1,
+            vec![[0, 0, 0, 0], [30, 60, 90, 120], [255, 255, 255, 255]],
+            false,
+        )
+        .unwrap();
+        let want = Vec4::new(285.0, 315.0, 345.0, 375.0) / (3.0 * 255.0);
+        let got = t.fetch_level(1, 0, 0);
+        assert!((got - want).abs().max_element() < 1e-4, "{got} vs {want}");
+        // 5 -> 2: weights (2, 2, 1) / 5 and (1, 2, 2) / 5.
+        let v = [0u8, 50, 100, 150, 250];
+        let t = Texture::new(
+            "t",
+            5,
+            1,
+            v.iter().map(|&c| [c, c, c, 255]).collect(),
+            false,
+        )
+        .unwrap();
+        let l = |x| t.fetch_level(1, x, 0).x * 255.0;
+        assert!((l(0) - 40.0).abs() < 0.01, "{}", l(0));
+        assert!((l(1) - 180.0).abs() < 0.01, "{}", l(1));
+    }
+
+    #[test]
+    fn levels_are_filtered_in_linear_light() {
+        // Black and white sRGB texels average to 0.5 in linear light (sRGB 188, not 128).
+        let t = Texture::checker(2, 2, [0, 0, 0, 255], [255, 255, 255, 255]);
+        let m = t.fetch_level(1, 0, 0);
+        assert!(
+            (m - Vec4::new(0.5, 0.5, 0.5, 1.0)).abs().max_element() < 1e-4,
+            "{m}"
+        );
+        // sRGB 0 and 128: linear 0 and 0.2158, mean 0.1079 (averaging the codes would give
+        // 0.0513 decoded, or 0.251 taken as linear).
+        let t = Texture::checker(2, 2, [0, 0, 0, 255], [128, 128, 128, 255]);
+        let want = srgb_to_linear(128.0 / 255.0) / 2.0;
+        let m = t.fetch_level(1, 0, 0);
+        assert!(
+            (m.x - want).abs() < 1e-4 && (want - 0.1079).abs() < 1e-4,
+            "{m}"
+        );
+        // Linear data is averaged as stored.
+        let mut t = t;
+        t.srgb = false;
+        let t = t.clone(); // a clone starts without a chain
+        assert!((t.fetch_level(1, 0, 0).x - 64.0 / 255.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn lod_is_log2_of_the_longer_derivative_in_texels() {
+        let t = Texture::checker(64, 8, [0; 4], [255; 4]); // 7 levels
+        let texel = 1.0 / 64.0;
+        let lod = |dx: Vec2, dy: Vec2| t.lod(dx, dy);
+        assert_eq!(
+            lod(Vec2::new(2.0 * texel, 0.0), Vec2::new(0.0, 2.0 * texel)),
+            1.0
+        );
+        assert_eq!(
+            lod(Vec2::new(0.5 * texel, 0.0), Vec2::new(0.0, 4.0 * texel)),
+            2.0
+        );
+        assert!((lod(Vec2::new(3.0 * texel, 4.0 * texel), Vec2::ZERO) - 5f32.log2()).abs() < 1e-6);
+        // Magnification and zero derivatives: the base level; far minification: the last.
+        assert_eq!(lod(Vec2::new(0.25 * texel, 0.0), Vec2::ZERO), 0.0);
+        assert_eq!(lod(Vec2::ZERO, Vec2::ZERO), 0.0);
+        assert_eq!(lod(Vec2::new(1e3, 0.0), Vec2::ZERO), 6.0);
+        assert_eq!(lod(Vec2::new(f32::MAX, f32::MAX), Vec2::ZERO), 6.0);
+        // Non-finite derivatives: the base level.
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            assert_eq!(lod(Vec2::new(bad, 0.0), Vec2::new(1.0, 1.0)), 0.0);
+            assert_eq!(lod(Vec2::ZERO, Vec2::new(0.0, bad)), 0.0);
+        }
+        // Non-square: texels are counted per axis.
+        let t = noise("wide", 256, 4, true, 1);
+        assert_eq!(
+            t.lod(Vec2::new(4.0 / 256.0, 0.0), Vec2::new(0.0, 1.0 / 4.0)),
+            2.0
+        );
+    }
+
+    #[test]
+    fn integer_lod_reads_that_level_and_fractions_blend() {
+        let t = noise("n", 40, 24, true, 7);
+        let s = Sampler {
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Trilinear,
+        };
+        for level in 0..t.levels() {
+            let (w, h) = t.level_size(level);
+            for (x, y) in [(0, 0), (w - 1, h - 1), (w / 2, h / 3)] {
+                let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+                let got = t.sample_lod_with(uv, level as f32, s);
+                let want = t.fetch_level(level, x, y);
+                assert!(
+                    (got - want).abs().max_element() < 1e-5,
+                    "level {level} ({x}, {y})"
+                );
+            }
+        }
+        let uv = Vec2::new(0.3, 0.6);
+        let (a, b) = (t.sample_lod_with(uv, 1.0, s), t.sample_lod_with(uv, 2.0, s));
+        let mid = t.sample_lod_with(uv, 1.25, s);
+        assert!((mid - a.lerp(b, 0.25)).abs().max_element() < 1e-6);
+    }
+
+    #[test]
+    fn derivatives_change_only_trilinear() {
+        let t = noise("n", 32, 32, true, 3);
+        let (dx, dy) = (Vec2::new(0.3, 0.0), Vec2::new(0.0, 0.2));
+        for filter in [Filter::Nearest, Filter::Bilinear] {
+            let s = Sampler {
+                filter,
+                ..Sampler::default()
+            };
+            for uv in [Vec2::new(0.1, 0.7), Vec2::new(-3.3, 2.1)] {
+                // Bit-identical to sampling without derivatives.
+                assert_eq!(t.sample_grad_with(uv, dx, dy, s), t.sample_with(uv, s));
+            }
+        }
+        let tri = Sampler::default();
+        let bi = Sampler {
+            filter: Filter::Bilinear,
+            ..tri
+        };
+        assert_eq!(tri.filter, Filter::Trilinear, "the default");
+        let uv = Vec2::new(0.37, 0.61);
+        // Magnified: exactly the bilinear sample.
+        let small = Vec2::new(0.5 / 32.0, 0.0);
+        assert_eq!(
+            t.sample_grad_with(uv, small, small.perp(), tri),
+            t.sample_with(uv, bi)
+        );
+        assert_eq!(t.sample_with(uv, tri), t.sample_with(uv, bi));
+        // Minified: not the bilinear sample of the noise.
+        assert_ne!(t.sample_grad_with(uv, dx, dy, tri), t.sample_with(uv, bi));
+    }
+
+    #[test]
+    fn no_nan_from_degenerate_derivatives_or_uvs() {
+        let specials = [
+            0.0,
+            -0.0,
+            1e-30,
+            1.0,
+            -7.5,
+            1e30,
+            -1e30,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+        ];
+        let mut tried = 0;
+        for (w, h) in [(1, 1), (1, 9), (9, 1), (16, 16)] {
+            let t = noise("n", w, h, true, 11);
+            for wrap in [Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge] {
+                let s = Sampler {
+                    wrap_u: wrap,
+                    wrap_v: wrap,
+                    filter: Filter::Trilinear,
+                };
+                for &a in &specials {
+                    for &b in &specials {
+                        let d = Vec2::new(a, b);
+                        for uv in [Vec2::new(0.4, 0.6), Vec2::new(b, a), Vec2::new(a, 0.5)] {
+                            let c = t.sample_grad_with(uv, d, d.perp(), s);
+                            assert!(c.is_finite(), "{w}x{h} {wrap:?} uv {uv} d {d}: {c}");
+                            let lod = t.lod(d, Vec2::new(b, 0.1));
+                            assert!((0.0..=(t.levels() - 1) as f32).contains(&lod));
+                            tried += 1;
+                        }
+                    }
+                }
+                for lod in specials {
+                    assert!(t.sample_lod_with(Vec2::new(0.2, 0.9), lod, s).is_finite());
+                }
+            }
+        }
+        assert_eq!(tried, 4 * 3 * 12 * 12 * 3);
+    }
+
+    #[test]
+    fn clones_rebuild_and_prepared_chains_match_lazy_ones() {
+        let t = noise("n", 37, 20, true, 5);
+        let lazy = t.fetch_level(2, 3, 1);
+        let u = t.clone();
+        assert_eq!(u, t, "the chain takes no part in equality");
+        assert!(format!("{u:?}").contains("MipCache(not built)"));
+        u.prepare_mips();
+        assert_eq!(
+            u.fetch_level(2, 3, 1),
+            lazy,
+            "parallel and serial builds agree"
+        );
+        for level in 1..t.levels() {
+            let (w, h) = t.level_size(level);
+            for y in 0..h {
+                for x in 0..w {
+                    assert_eq!(u.fetch_level(level, x, y), t.fetch_level(level, x, y));
+                }
+            }
+        }
     }
 }

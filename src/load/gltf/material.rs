@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
 use gltf::json::material::AlphaMode as JsonAlpha;
-use gltf::json::texture::{MagFilter, WrappingMode};
+use gltf::json::texture::{MagFilter, MinFilter, WrappingMode};
 use gltf::json::validation::Checked;
 
 use super::{uri, Builder};
@@ -25,6 +25,18 @@ use crate::texture::{Filter, Sampler, Texture, Wrap};
 /// `v` if finite, else `default`; then clamped to `lo..=hi`.
 fn factor(v: f32, default: f32, lo: f32, hi: f32) -> f32 {
     if v.is_finite() { v } else { default }.clamp(lo, hi)
+}
+
+/// The [`Filter`] for a glTF sampler's `minFilter` and `magFilter` (see `Builder::sampler`).
+fn sampler_filter(min: Option<Checked<MinFilter>>, mag: Option<Checked<MagFilter>>) -> Filter {
+    match min {
+        Some(Checked::Valid(MinFilter::Nearest | MinFilter::Linear)) => match mag {
+            Some(Checked::Valid(MagFilter::Nearest)) => Filter::Nearest,
+            _ => Filter::Bilinear,
+        },
+        // The four *_MIPMAP_* filters, no minFilter, or an invalid one.
+        _ => Filter::Trilinear,
+    }
 }
 
 impl Builder<'_> {
@@ -152,10 +164,9 @@ impl Builder<'_> {
                     self.doc.budget.charge(bytes, || {
                         format!("texture {t} (a copy of image {} for its sampler)", key.0)
                     })?;
-                    Arc::new(Texture {
-                        sampler,
-                        ..(*decoded).clone()
-                    })
+                    let mut copy = (*decoded).clone();
+                    copy.sampler = sampler;
+                    Arc::new(copy)
                 };
                 self.scene.textures.push(texture);
                 Some(self.scene.textures.len() - 1)
@@ -165,7 +176,13 @@ impl Builder<'_> {
         Ok(index)
     }
 
-    /// glTF sampler `s` (`None`: the default, repeat with linear filtering).
+    /// glTF sampler `s` (`None`: the default, repeat with trilinear filtering).
+    ///
+    /// Filters: one [`Filter`] serves both minification and magnification, so the glTF
+    /// pair is mapped by what matters most. A mipmapped `minFilter` (any `*_MIPMAP_*`) or
+    /// none at all (glTF leaves that to the implementation; viewers mipmap) gives
+    /// [`Filter::Trilinear`]; a non-mipmapped `minFilter` (NEAREST or LINEAR) keeps the
+    /// base level only, nearest if `magFilter` is NEAREST, else bilinear.
     fn sampler(&mut self, s: Option<usize>) -> Sampler {
         let Some(s) = s else {
             return Sampler::default();
@@ -182,10 +199,7 @@ impl Builder<'_> {
             Checked::Valid(WrappingMode::MirroredRepeat) => Wrap::MirroredRepeat,
             _ => Wrap::Repeat,
         };
-        let filter = match js.mag_filter {
-            Some(Checked::Valid(MagFilter::Nearest)) => Filter::Nearest,
-            _ => Filter::Bilinear,
-        };
+        let filter = sampler_filter(js.min_filter, js.mag_filter);
         Sampler {
             wrap_u: wrap(js.wrap_s),
             wrap_v: wrap(js.wrap_t),

@@ -112,6 +112,15 @@ fn materials_textures_and_uv_flip() {
         1,
         "the shared texture is decoded once"
     );
+    // OBJ has no sampler: repeat, mipmapped.
+    assert_eq!(
+        scene.textures[0].sampler,
+        crate::texture::Sampler {
+            wrap_u: crate::texture::Wrap::Repeat,
+            wrap_v: crate::texture::Wrap::Repeat,
+            filter: crate::texture::Filter::Trilinear,
+        }
+    );
     let a = &scene.materials[0];
     assert_eq!(a.base_color, glam::Vec4::new(0.5, 0.25, 1.0, 1.0));
     assert_eq!(

@@ -231,7 +231,7 @@ fn materials_textures_and_samplers() {
             {"pbrMetallicRoughness": {"baseColorTexture": {"index": 2}}}
         ],
         "textures": [{"source": 0}, {"source": 0, "sampler": 0}, {"source": 1}],
-        "samplers": [{"magFilter": 9728, "wrapS": 33071, "wrapT": 33648}],
+        "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33648}],
         "images": [{"uri": png_uri}, {}]
     }));
     let scene = load_text(&TempDir::new("gltf-mat"), &text).unwrap();
@@ -245,6 +245,8 @@ fn materials_textures_and_samplers() {
         (s.filter, s.wrap_u, s.wrap_v),
         (Filter::Nearest, Wrap::ClampToEdge, Wrap::MirroredRepeat)
     );
+    // No sampler: the default, mipmapped.
+    assert_eq!(scene.textures[0].sampler.filter, Filter::Trilinear);
     let m = &scene.materials[0];
     assert_eq!(m.base_color, Vec4::new(1.0, 0.5, 0.25, 1.0));
     assert_eq!(
@@ -265,6 +267,76 @@ fn materials_textures_and_samplers() {
     );
 }
 
+#[test]
+fn sampler_filters_map_to_mipmapping() {
+    let mut png = Vec::new();
+    ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([0, 255, 0, 255]))
+        .write_to(
+            &mut std::io::Cursor::new(&mut png),
+            ::image::ImageFormat::Png,
+        )
+        .unwrap();
+    let png_uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    );
+    const NEAREST: u32 = 9728;
+    const LINEAR: u32 = 9729;
+    // (magFilter, minFilter) -> filter; None = absent.
+    let cases: [(Option<u32>, Option<u32>, Filter); 12] = [
+        (None, None, Filter::Trilinear),
+        (Some(NEAREST), None, Filter::Trilinear),
+        (Some(LINEAR), None, Filter::Trilinear),
+        (None, Some(9984), Filter::Trilinear),
+        (None, Some(9985), Filter::Trilinear),
+        (Some(NEAREST), Some(9986), Filter::Trilinear),
+        (Some(LINEAR), Some(9987), Filter::Trilinear),
+        (Some(NEAREST), Some(NEAREST), Filter::Nearest),
+        (Some(NEAREST), Some(LINEAR), Filter::Nearest),
+        (Some(LINEAR), Some(NEAREST), Filter::Bilinear),
+        (None, Some(NEAREST), Filter::Bilinear),
+        (Some(LINEAR), Some(LINEAR), Filter::Bilinear),
+    ];
+    let samplers: Vec<Value> = cases
+        .iter()
+        .map(|&(mag, min, _)| {
+            let mut s = serde_json::Map::new();
+            if let Some(m) = mag {
+                s.insert("magFilter".into(), json!(m));
+            }
+            if let Some(m) = min {
+                s.insert("minFilter".into(), json!(m));
+            }
+            Value::Object(s)
+        })
+        .collect();
+    let n = cases.len();
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let uv = d.u8s(&[0, 0, 255, 0, 0, 255], "VEC2", true);
+    let primitives: Vec<Value> = (0..n)
+        .map(|i| json!({"attributes": {"POSITION": tri, "TEXCOORD_0": uv}, "material": i}))
+        .collect();
+    let materials: Vec<Value> = (0..n)
+        .map(|i| json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": i}}}))
+        .collect();
+    let textures: Vec<Value> = (0..n).map(|i| json!({"source": 0, "sampler": i})).collect();
+    let text = d.finish(json!({
+        "meshes": [{"primitives": primitives}],
+        "nodes": [{"mesh": 0}],
+        "materials": materials,
+        "textures": textures,
+        "samplers": samplers,
+        "images": [{"uri": png_uri}]
+    }));
+    let scene = load_text(&TempDir::new("gltf-filters"), &text).unwrap();
+    assert_eq!(scene.textures.len(), n);
+    for (i, (mag, min, want)) in cases.iter().enumerate() {
+        let t = scene.materials[i].base_color_texture.unwrap().texture;
+        let got = scene.textures[t].sampler.filter;
+        assert_eq!(got, *want, "magFilter {mag:?} minFilter {min:?}");
+    }
+}
 #[test]
 fn cameras_come_from_their_nodes() {
     let mut d = Doc::default();
