@@ -25,8 +25,9 @@
 //!   `g_amb K_a K_d`, Lambert, Phong `R·V` or (with `blinn`) Blinn `N·H` highlights, no
 //!   specular term when `K_s = 0`, shininess clamped to 1..=2000;
 //! - `K_d` = material base colour (white if not finite) x interpolated vertex colour x the
-//!   base-colour texture, sampled in f64 with the texture's wrap modes and filter (bilinear
-//!   or nearest) and the exact sRGB decode: the heavy supersampling does the filtering;
+//!   base-colour texture, sampled in f64 with the texture's wrap modes and reconstruction
+//!   (nearest, or bilinear on the base level for bilinear and trilinear textures) and the
+//!   exact sRGB decode: the heavy supersampling does the filtering that mipmaps approximate;
 //! - *alpha*: `Opaque` forces alpha 1, `Mask` discards fragments below the cutoff (before
 //!   they can hide anything), `Blend` fragments in front of the opaque surface are sorted
 //!   by exact depth per sample and composited back to front. The renderer approximates this
@@ -788,7 +789,9 @@ fn sample_texture(t: &Texture, uv: DVec2) -> DVec4 {
             wrap_index((u * w).floor(), t.width, s.wrap_u),
             wrap_index((v * h).floor(), t.height, s.wrap_v),
         ),
-        Filter::Bilinear => {
+        // Mipmapping approximates the footprint filter that the supersampling computes
+        // here, so the ideal of a trilinear texture is its base level, read bilinearly.
+        Filter::Bilinear | Filter::Trilinear => {
             let (fx, fy) = (u * w - 0.5, v * h - 0.5);
             let (x0, y0) = (fx.floor(), fy.floor());
             let (tx, ty) = (fx - x0, fy - y0);

@@ -28,7 +28,7 @@ use crate::texture::{Filter, Texture};
 /// Texels per side of the standard texture.
 pub const TEXELS: u32 = 128;
 /// World size of one repeat of the texture.
-pub const REPEAT: f32 = 2.0;
+pub const REPEAT: f32 = 0.5;
 
 /// A textured plane y = 0 under a fixed camera, ambient and one directional light.
 #[derive(Clone, Debug)]
@@ -45,9 +45,10 @@ pub struct PlaneSetup {
 }
 
 impl PlaneSetup {
-    /// The standard floor: 16 x 42 world units, the texture repeated every 2 units (a texel
-    /// is 1/64 unit), seen from 1.2 units above at a distance of 1.9 to 43 units; the near
-    /// edge is below the image, the far edge and the sides are visible.
+    /// The standard floor: 8 x 32 world units, the texture repeated every half unit (a texel
+    /// is 1/256 unit, about one pixel at the bottom of a 1280x720 image and hundreds of
+    /// texels per pixel at the far edge), seen from 1.2 units above at a distance of 1.9 to
+    /// 33 units; the near edge is below the image, the far edge and the sides are visible.
     #[must_use]
     pub fn standard(width: u32, height: u32) -> Self {
         let camera = Camera {
@@ -75,8 +76,8 @@ impl PlaneSetup {
             camera,
             lights,
             texture: Arc::new(pattern(TEXELS)),
-            x: (-8.0, 8.0),
-            z: (-40.0, 2.0),
+            x: (-4.0, 4.0),
+            z: (-30.0, 2.0),
         }
     }
 
@@ -178,7 +179,8 @@ impl PlaneSetup {
             })
             .collect();
         // Texel grid lines over the whole plane: u columns, v rows (v grows away from the
-        // near edge), projected once.
+        // near edge). Texel rows in chunks, each projecting its grid rows and accumulating
+        // into its own image; the images are summed at the end.
         let nu =
             ((f64::from(self.x.1 - self.x.0) / f64::from(REPEAT)) * tw as f64).round() as usize;
         let nv =
@@ -186,33 +188,27 @@ impl PlaneSetup {
         let proj = Projector::new(&self.camera, self.width, self.height);
         let texel = f64::from(REPEAT) / tw as f64;
         let (x0, z1) = (f64::from(self.x.0), f64::from(self.z.1));
-        let grid: Vec<[f64; 2]> = (0..=nv)
-            .into_par_iter()
-            .flat_map_iter(|j| {
-                let proj = &proj;
-                (0..=nu)
-                    .map(move |i| proj.screen([x0 + i as f64 * texel, 0.0, z1 - j as f64 * texel]))
-            })
-            .collect();
-        // Texel rows in chunks, each accumulating into its own image; summed at the end.
+        let grid_row = |j: usize| -> Vec<[f64; 2]> {
+            (0..=nu)
+                .map(|i| proj.screen([x0 + i as f64 * texel, 0.0, z1 - j as f64 * texel]))
+                .collect()
+        };
         let chunks = rayon::current_num_threads().max(1) * 4;
         let rows_per = nv.div_ceil(chunks).max(1);
-        let row_len = nu + 1;
         let acc = (0..nv.div_ceil(rows_per))
             .into_par_iter()
             .map(|c| {
                 let mut img = vec![[0.0f64; 4]; w * h];
-                for j in c * rows_per..((c + 1) * rows_per).min(nv) {
+                let (j0, j1) = (c * rows_per, ((c + 1) * rows_per).min(nv));
+                let mut near = grid_row(j0);
+                for j in j0..j1 {
+                    let far = grid_row(j + 1);
                     for i in 0..nu {
-                        let q = [
-                            grid[j * row_len + i],
-                            grid[j * row_len + i + 1],
-                            grid[(j + 1) * row_len + i + 1],
-                            grid[(j + 1) * row_len + i],
-                        ];
+                        let q = [near[i], near[i + 1], far[i + 1], far[i]];
                         let col = albedo[(j % th) * tw + (i % tw)];
                         splat(&mut img, w, h, &q, col);
                     }
+                    near = far;
                 }
                 img
             })

@@ -63,6 +63,7 @@ pub fn filter_name(f: Filter) -> &'static str {
     match f {
         Filter::Nearest => "nearest",
         Filter::Bilinear => "bilinear",
+        Filter::Trilinear => "trilinear",
     }
 }
 
@@ -249,7 +250,7 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
     };
     let mut out = Vec::new();
     if textured {
-        for filter in [Filter::Nearest, Filter::Bilinear] {
+        for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
             out.push((
                 "filter",
                 Setting {
@@ -281,7 +282,7 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
 /// supersampling.
 fn plane_settings() -> Vec<(&'static str, Setting)> {
     let mut out = Vec::new();
-    for filter in [Filter::Nearest, Filter::Bilinear] {
+    for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
         for ss in [1, 2, 4] {
             let knob = if ss == 1 { "filter" } else { "supersampling" };
             out.push((
