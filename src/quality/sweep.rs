@@ -552,16 +552,22 @@ pub fn plot(rows: &[Row], front: &[usize], title: &str) -> Canvas {
         let on = front.contains(&i);
         let dot = Path2::new().circle(x, y, if on { 6.0 } else { 4.5 });
         c.fill(&dot, knob_colour(r.knob));
-        if on {
+        if let Some(k) = front.iter().position(|&f| f == i) {
             c.stroke(&dot, Color::rgb(0xF4, 0x43, 0x36), &Stroke::solid(2.0));
+            // Neighbours on the front are often close: labels alternate above and below.
+            let (dy, v) = if k % 2 == 0 {
+                (-4.0, VAlign::Bottom)
+            } else {
+                (5.0, VAlign::Top)
+            };
             c.text(
                 &r.setting.label(),
                 x + 9.0,
-                y - 4.0,
+                y + dy,
                 12.0,
                 ink,
                 HAlign::Left,
-                VAlign::Bottom,
+                v,
             );
         }
     }
