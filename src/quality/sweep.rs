@@ -260,12 +260,7 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
             ));
         }
     } else {
-        for shading in [
-            Shading::Flat,
-            Shading::Gouraud,
-            Shading::Phong,
-            Shading::Blinn,
-        ] {
+        for shading in LIT_MODES {
             out.push(("shading", Setting { shading, ..base }));
         }
     }
@@ -277,6 +272,14 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
     }
     out
 }
+
+/// The untextured lit modes the shading knob compares.
+const LIT_MODES: [Shading; 4] = [
+    Shading::Flat,
+    Shading::Gouraud,
+    Shading::Phong,
+    Shading::Blinn,
+];
 
 /// The plane's settings: every texture filter, each without and with 2x2 and 4x4
 /// supersampling.
@@ -337,12 +340,7 @@ pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
             },
         ));
     }
-    for shading in [
-        Shading::Flat,
-        Shading::Gouraud,
-        Shading::Phong,
-        Shading::Blinn,
-    ] {
+    for shading in LIT_MODES {
         out.push(("shading", Setting { shading, ..base }));
         out.push(("shading", Setting { shading, ..fine }));
     }

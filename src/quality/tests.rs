@@ -9,6 +9,18 @@ use crate::scene::{Camera, Light};
 use crate::shade::Shading;
 use crate::texture::Filter;
 
+/// An analytic-shape setting at full sub-pixel precision, textures untouched.
+fn shape_setting(slices: u32, stacks: u32, shading: Shading, ss: u32) -> sweep::Setting {
+    sweep::Setting {
+        slices,
+        stacks,
+        shading,
+        ss,
+        filter: None,
+        bits: 8,
+    }
+}
+
 #[test]
 fn sphere_reference_coverage_is_the_projected_disc() {
     // Head-on, ambient light only, white: every pixel's value is its coverage.
@@ -39,14 +51,7 @@ fn rasterized_sphere_converges_to_the_reference() {
     let setup = SphereSetup::standard(160, 90);
     let reference = setup.reference(false);
     let error = |slices, stacks, ss| {
-        let s = sweep::Setting {
-            slices,
-            stacks,
-            shading: Shading::Phong,
-            ss,
-            filter: None,
-            bits: 8,
-        };
+        let s = shape_setting(slices, stacks, Shading::Phong, ss);
         let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).mean_de2000
     };
@@ -63,14 +68,7 @@ fn rasterized_sphere_converges_to_the_reference() {
     assert!(fine_ss < 0.05, "{fine_ss}");
     // Blinn against the Blinn reference is as close as Phong against Phong.
     let blinn = setup.reference(true);
-    let s = sweep::Setting {
-        slices: 256,
-        stacks: 128,
-        shading: Shading::Blinn,
-        ss: 4,
-        filter: None,
-        bits: 8,
-    };
+    let s = shape_setting(256, 128, Shading::Blinn, 4);
     let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
     assert!(compare(&img, &blinn, 1.0).mean_de2000 < 0.05);
     assert!(compare(&img, &reference, 1.0).mean_de2000 > compare(&img, &blinn, 1.0).mean_de2000);
@@ -86,14 +84,7 @@ fn pareto_front_keeps_only_undominated_rows() {
         p95_de2000: 0.0,
         over_threshold: 0,
     };
-    let s = sweep::Setting {
-        slices: 8,
-        stacks: 4,
-        shading: Shading::Phong,
-        ss: 1,
-        filter: None,
-        bits: 8,
-    };
+    let s = shape_setting(8, 4, Shading::Phong, 1);
     let rows: Vec<sweep::Row> = [(1.0, 3.0), (2.0, 4.0), (3.0, 1.0), (4.0, 1.5), (5.0, 0.5)]
         .iter()
         .map(|&(ms, de)| sweep::Row {
@@ -124,14 +115,7 @@ fn rasterized_cylinder_converges_to_the_reference() {
         .count();
     assert!(covered > 160 * 90 / 8, "{covered}");
     let error = |slices, ss| {
-        let s = sweep::Setting {
-            slices,
-            stacks: 1,
-            shading: Shading::Phong,
-            ss,
-            filter: None,
-            bits: 8,
-        };
+        let s = shape_setting(slices, 1, Shading::Phong, ss);
         let (_, img) = sweep::run_setting(&sweep::Subject::Shape(setup.clone()), s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).mean_de2000
     };
@@ -264,14 +248,7 @@ fn model_sweep_measures_each_mode_against_its_own_ideal() {
     let subject = sweep::Subject::Model(demo);
     let knobs: Vec<_> = subject.settings().iter().map(|(k, _)| *k).collect();
     assert!(knobs.contains(&"shading") && !knobs.contains(&"filter"));
-    let phong = sweep::Setting {
-        slices: 0,
-        stacks: 0,
-        shading: Shading::Phong,
-        ss: 4,
-        filter: None,
-        bits: 8,
-    };
+    let phong = shape_setting(0, 0, Shading::Phong, 4);
     let (_, img) = sweep::run_setting(&subject, phong, 1).unwrap();
     let ideal = subject.reference(subject.reference_index(&phong)).unwrap();
     let blinn = subject.reference(1).unwrap();
