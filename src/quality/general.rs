@@ -257,6 +257,11 @@ impl View {
         if !(eye.is_finite() && target.is_finite() && up.is_finite()) {
             return Err(bad("non-finite eye, target or up"));
         }
+        if camera.ortho.is_some() {
+            return Err(bad(
+                "orthographic cameras are not supported by the reference",
+            ));
+        }
         if !(near > 0.0 && far > near && far.is_finite()) {
             return Err(bad("needs 0 < near < far < infinity"));
         }

@@ -60,6 +60,7 @@ impl PlaneSetup {
             near: 0.05,
             far: 200.0,
             aspect: None,
+            ortho: None,
         };
         let lights = vec![
             Light::Ambient {

@@ -33,6 +33,10 @@ pub struct Camera {
     /// the projection always uses the output image's aspect with this camera's vertical
     /// field of view, so a file camera never stretches the image.
     pub aspect: Option<f32>,
+    /// `Some(half_height)`: an orthographic (parallel) projection showing `half_height` world
+    /// units above and below the line of sight (glTF `ymag`); `yfov` is then unused by the
+    /// projection. `None`: perspective.
+    pub ortho: Option<f32>,
 }
 
 impl Default for Camera {
@@ -46,6 +50,7 @@ impl Default for Camera {
             near: 0.1,
             far: 100.0,
             aspect: None,
+            ortho: None,
         }
     }
 }
@@ -78,6 +83,7 @@ impl Camera {
             near: distance * 0.01,
             far: distance * 100.0,
             aspect: None,
+            ortho: None,
         }
     }
 
@@ -200,9 +206,30 @@ impl Camera {
         Mat4::look_at_rh(self.eye, self.target, up)
     }
 
+    /// Unit vector from the eye towards the target (`-Z` if they coincide).
+    #[must_use]
+    pub fn forward(&self) -> Vec3 {
+        (self.target - self.eye).normalize_or(Vec3::NEG_Z)
+    }
+
+    /// The point highlights are computed from: the eye for a perspective camera; for an
+    /// orthographic one, a point far back along the line of sight, so every surface point
+    /// sees (to f32 precision) the same view direction, as parallel projection implies.
+    #[must_use]
+    pub fn shading_eye(&self) -> Vec3 {
+        match self.ortho {
+            None => self.eye,
+            Some(_) => {
+                let reach = (self.far.abs() + (self.target - self.eye).length()).max(1.0);
+                self.eye - self.forward() * reach * 1e4
+            }
+        }
+    }
+
     /// Camera -> clip with reversed depth in the Direct3D convention: after the divide,
     /// z = 1 on the near plane and z = 0 on the far plane, and clip w = distance in front of
-    /// the camera. Reversed-Z spreads f32 depth precision evenly over distance.
+    /// the camera (perspective) or 1 (orthographic). Reversed-Z spreads f32 depth precision
+    /// evenly over distance.
     #[must_use]
     pub fn projection(&self, aspect: f32) -> Mat4 {
         let aspect = if aspect.is_finite() && aspect > 0.0 {
@@ -210,8 +237,23 @@ impl Camera {
         } else {
             1.0
         };
-        let f = self.zoom();
         let (n, fa) = (self.near, self.far);
+        if let Some(half) = self.ortho {
+            let half = if half.is_finite() && half > 0.0 {
+                half
+            } else {
+                1.0
+            };
+            // z_clip = (far + z_view) / (far - near): 1 at distance near, 0 at far; w = 1.
+            let depth = 1.0 / (fa - n);
+            return Mat4::from_cols(
+                Vec4::new(1.0 / (half * aspect), 0.0, 0.0, 0.0),
+                Vec4::new(0.0, 1.0 / half, 0.0, 0.0),
+                Vec4::new(0.0, 0.0, depth, 0.0),
+                Vec4::new(0.0, 0.0, fa * depth, 1.0),
+            );
+        }
+        let f = self.zoom();
         // z_clip = a + b * w with w = -z_view; z_clip / w = 1 at w = n and 0 at w = far.
         let a = n * fa / (fa - n);
         let b = -n / (fa - n);
@@ -241,6 +283,32 @@ mod tests {
         assert!((near.z / near.w - 1.0).abs() < 1e-6, "{near}");
         assert!((far.z / far.w).abs() < 1e-6, "{far}");
         assert!((near.w - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn orthographic_maps_depth_and_extent() {
+        let cam = Camera {
+            near: 0.5,
+            far: 10.0,
+            ortho: Some(2.0),
+            ..Camera::default()
+        };
+        let p = cam.projection(2.0);
+        let near = p * Vec4::new(4.0, 2.0, -0.5, 1.0);
+        let far = p * Vec4::new(-4.0, -2.0, -10.0, 1.0);
+        assert_eq!(near.w, 1.0);
+        assert!(
+            (near - Vec4::new(1.0, 1.0, 1.0, 1.0)).abs().max_element() < 1e-6,
+            "{near}"
+        );
+        assert!(
+            (far - Vec4::new(-1.0, -1.0, 0.0, 1.0)).abs().max_element() < 1e-6,
+            "{far}"
+        );
+        // Highlights see a parallel view direction.
+        let e = cam.shading_eye();
+        assert!((e - cam.eye).normalize().dot(Vec3::Z) > 0.999_999);
+        assert!((e - cam.eye).length() > 1e4);
     }
 
     #[test]

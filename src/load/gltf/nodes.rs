@@ -12,7 +12,7 @@ use gltf::json;
 
 use super::{Builder, GltfError};
 use crate::load::LoadError;
-use crate::scene::{Camera, Instance, Style};
+use crate::scene::{Camera, Instance, Style, DEFAULT_YFOV};
 
 /// Deepest node level walked (the root nodes of a scene are at depth 0).
 pub const MAX_DEPTH: usize = 1024;
@@ -174,15 +174,29 @@ impl Builder<'_> {
         let Some(cam) = self.doc.json.cameras.get(c) else {
             return warn(self, "does not exist".into());
         };
-        let Some(p) = &cam.perspective else {
-            return warn(self, "only perspective cameras are supported".into());
-        };
-        let (yfov, znear, zfar, aspect) = (p.yfov, p.znear, p.zfar, p.aspect_ratio);
         let name = cam.name.clone().unwrap_or_else(|| node.to_owned());
-        let valid = yfov > 0.0 && yfov < std::f32::consts::PI && znear > 0.0 && znear.is_finite();
-        if !valid {
-            return warn(self, format!("invalid yfov {yfov} or znear {znear}"));
-        }
+        // (vertical fov, half height if orthographic, znear, zfar, aspect)
+        let (yfov, ortho, znear, zfar, aspect) = match (&cam.perspective, &cam.orthographic) {
+            (Some(p), _) => {
+                let ok = p.yfov > 0.0 && p.yfov < std::f32::consts::PI;
+                if !(ok && p.znear > 0.0 && p.znear.is_finite()) {
+                    let why = format!("invalid yfov {} or znear {}", p.yfov, p.znear);
+                    return warn(self, why);
+                }
+                (p.yfov, None, p.znear, p.zfar, p.aspect_ratio)
+            }
+            (None, Some(o)) => {
+                let (x, y) = (o.xmag, o.ymag);
+                let mags = x.is_finite() && y.is_finite() && x != 0.0 && y != 0.0;
+                if !(mags && o.znear >= 0.0 && o.znear.is_finite()) {
+                    let why = format!("invalid xmag {x}, ymag {y} or znear {}", o.znear);
+                    return warn(self, why);
+                }
+                let aspect = Some(x.abs() / y.abs());
+                (DEFAULT_YFOV, Some(y.abs()), o.znear, Some(o.zfar), aspect)
+            }
+            (None, None) => return warn(self, "neither perspective nor orthographic".into()),
+        };
         let eye = world.transform_point3(Vec3::ZERO);
         let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
@@ -209,6 +223,7 @@ impl Builder<'_> {
             near: znear,
             far,
             aspect,
+            ortho,
         });
     }
 

@@ -353,24 +353,29 @@ fn cameras_come_from_their_nodes() {
         1,
         "all root nodes are drawn when there is no scene"
     );
-    let [cam] = &scene.cameras[..] else {
+    let [cam, ortho] = &scene.cameras[..] else {
         panic!("{:?}", scene.cameras)
     };
     assert_eq!(
-        (cam.eye, cam.target, cam.up, cam.yfov),
+        (cam.eye, cam.target, cam.up, cam.yfov, cam.ortho),
         (
             Vec3::new(0.0, 0.0, 5.0),
             Vec3::new(0.0, 0.0, 4.0),
             Vec3::Y,
-            0.8
+            0.8,
+            None
         )
     );
     assert!(cam.far.is_finite() && cam.far > 5.0, "{}", cam.far);
-    assert!(scene
-        .report
-        .skipped
-        .iter()
-        .any(|s| s.contains("only perspective")));
+    assert_eq!(
+        (ortho.ortho, ortho.near, ortho.far, ortho.aspect),
+        (Some(1.0), 0.1, 10.0, Some(1.0))
+    );
+    assert!(
+        scene.report.skipped.is_empty(),
+        "{:?}",
+        scene.report.skipped
+    );
 }
 
 mod hostile;
