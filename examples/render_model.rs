@@ -8,8 +8,9 @@
 use std::path::PathBuf;
 
 use realist::load::{self, LoadOptions};
+use realist::render::{self, PreparedScene, RenderOptions};
 use realist::scene;
-use realist::shade::{self, Prepared, RenderOptions, Shading};
+use realist::shade::Shading;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -20,7 +21,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = PathBuf::from(args.next().unwrap_or_else(|| "target/render_model".into()));
     std::fs::create_dir_all(&out)?;
     // Triangulate once, render many times.
-    let prepared = Prepared::new(&scene);
+    let prepared = PreparedScene::new(scene);
     for mode in Shading::ALL {
         let opts = RenderOptions {
             width: 640,
@@ -28,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             shading: Some(mode),
             ..RenderOptions::default()
         };
-        let frame = shade::render(&scene, &prepared, &opts);
+        let frame = render::render(&prepared, &opts);
         let path = out.join(format!("{mode}.png"));
         image::RgbImage::from_raw(opts.width, opts.height, frame.srgb8())
             .ok_or("size mismatch")?

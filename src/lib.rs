@@ -5,7 +5,7 @@
 //! Data flows one way:
 //!
 //! ```text
-//! file --load--> Scene --prepare--> draw list --raster--> Framebuffer --> PNG
+//! file --load--> Scene --prepare--> PreparedScene --Renderer(View)--> tiles --> sRGB8 --> PNG / viewer
 //! ```
 //!
 //! | module | owns |
@@ -16,7 +16,8 @@
 //! | [`scene`] | scene, instances, materials, lights, camera |
 //! | [`texture`] | decoded images and samplers |
 //! | [`raster`] | clip-space transform, culling, clipping, fixed-point setup, binning, tile fill |
-//! | [`shade`] | shading modes (flat, Gouraud, Phong, Blinn, textured, debug views) and the renderer |
+//! | [`render`] | the front end: prepared scenes, the reusable renderer (settings, views, passes, supersampling), the pixel probe |
+//! | [`shade`] | the lighting equation and the shaders of every mode (flat, Gouraud, Phong, Blinn, textured, debug views) |
 //! | [`quality`] | analytic references, error metrics, the time-versus-error sweep |
 //! | [`overlay`] | 2D drawings with tiny-skia: the chromaticity diagram, plots |
 
@@ -26,6 +27,7 @@ pub mod mesh;
 pub mod overlay;
 pub mod quality;
 pub mod raster;
+pub mod render;
 pub mod scene;
 pub mod shade;
 pub mod texture;

@@ -13,8 +13,9 @@ use glam::{Vec2, Vec3, Vec4};
 use realist::color::{delta_e_2000, xyz_to_lab, RgbSpace};
 use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 use realist::raster::Framebuffer;
+use realist::render::RenderOptions;
 use realist::scene::{Camera, Light, Material, Scene, TextureRef};
-use realist::shade::{RenderOptions, Shading};
+use realist::shade::Shading;
 use realist::texture::{Filter, Sampler, Texture, Wrap};
 
 /// A background no texture sample can produce, marking uncovered pixels.

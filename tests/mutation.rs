@@ -10,7 +10,8 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use realist::load::{load, LoadError, LoadOptions};
-use realist::shade::{Prepared, RenderOptions, Shading};
+use realist::render::{PreparedScene, RenderOptions};
+use realist::shade::Shading;
 
 /// xorshift64*: small, deterministic, good enough to pick mutations.
 struct Rng(u64);
@@ -115,7 +116,7 @@ fn run(path: &Path, tally: &mut Tally, what: &str) {
     let t = Instant::now();
     match load(path, &LoadOptions::default()) {
         Ok(scene) => {
-            let prepared = Prepared::new(&scene);
+            let prepared = PreparedScene::new(scene);
             for mode in [Shading::Phong, Shading::Wireframe] {
                 let opts = RenderOptions {
                     width: 24,
@@ -123,7 +124,7 @@ fn run(path: &Path, tally: &mut Tally, what: &str) {
                     shading: Some(mode),
                     ..RenderOptions::default()
                 };
-                let fb = realist::shade::render(&scene, &prepared, &opts).image();
+                let fb = realist::render::render(&prepared, &opts).image();
                 assert!(
                     fb.color.iter().all(|c| c.is_finite()),
                     "{what}: non-finite pixel"

@@ -6,8 +6,9 @@ mod common;
 use common::{assert_finite, covered, render, render_with, scene_of, triangles};
 use glam::{Vec3, Vec4};
 use realist::mesh::Mesh;
+use realist::render::RenderOptions;
 use realist::scene::{self, Camera, Material};
-use realist::shade::{RenderOptions, Shading};
+use realist::shade::Shading;
 
 #[test]
 fn one_and_two_threads_are_bit_identical() {

@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use realist::load::{load, load_texture, LoadOptions};
-use realist::shade::{Prepared, RenderOptions, Shading};
+use realist::render::{PreparedScene, RenderOptions};
+use realist::shade::Shading;
 
 fn shared() -> Option<PathBuf> {
     match std::env::var_os("REALIST_SHARED") {
@@ -64,7 +65,7 @@ fn every_model_renders_in_every_mode() {
     let mut renders = 0;
     for path in &files {
         let scene = load(path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-        let prepared = Prepared::new(&scene);
+        let prepared = PreparedScene::new(scene);
         for mode in Shading::ALL {
             let opts = RenderOptions {
                 width: 96,
@@ -72,7 +73,7 @@ fn every_model_renders_in_every_mode() {
                 shading: Some(mode),
                 ..RenderOptions::default()
             };
-            let fb = realist::shade::render(&scene, &prepared, &opts).image();
+            let fb = realist::render::render(&prepared, &opts).image();
             let what = format!("{} {mode}", path.display());
             common::assert_finite(&fb, &what);
             assert!(
@@ -119,7 +120,7 @@ fn spot_shows_its_texture() {
     let Some(root) = shared() else { return };
     let scene = load(&root.join("obj/spot.obj"), &LoadOptions::default()).expect("spot");
     let texture = Arc::new(load_texture(&root.join("obj/spot_texture.png")).expect("texture"));
-    let prepared = Prepared::new(&scene);
+    let prepared = PreparedScene::new(scene);
     let render = |texture| {
         let opts = RenderOptions {
             width: 160,
@@ -128,7 +129,7 @@ fn spot_shows_its_texture() {
             texture,
             ..RenderOptions::default()
         };
-        realist::shade::render(&scene, &prepared, &opts).image()
+        realist::render::render(&prepared, &opts).image()
     };
     let plain = render(None);
     let textured = render(Some(texture));

@@ -4,7 +4,8 @@
 
 mod common;
 
-use realist::shade::{self, Prepared, RenderOptions, Shading};
+use realist::render::{self, PreparedScene, RenderOptions};
+use realist::shade::Shading;
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let Some((&selector, body)) = data.split_first() else {
@@ -19,7 +20,7 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let Some(scene) = common::load_model(&path) else {
         return;
     };
-    let prepared = Prepared::new(&scene);
+    let prepared = PreparedScene::new(scene);
     for mode in Shading::ALL {
         let opts = RenderOptions {
             width: 64,
@@ -27,7 +28,7 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
             shading: Some(mode),
             ..RenderOptions::default()
         };
-        let frame = shade::render(&scene, &prepared, &opts);
+        let frame = render::render(&prepared, &opts);
         let image = frame.image();
         assert!(
             image.color.iter().all(|c| c.is_finite()),

@@ -6,8 +6,9 @@ use std::time::Instant;
 use anyhow::Result;
 use glam::Vec3;
 
+use realist::render::{PreparedScene, RenderOptions, Renderer};
 use realist::scene::{Camera, Scene};
-use realist::shade::{self, Prepared, RenderOptions, Shading};
+use realist::shade::Shading;
 
 use super::{load_model, parse_size, BenchArgs, NormalArgs};
 
@@ -62,8 +63,8 @@ pub(super) fn bench(args: &BenchArgs) -> Result<()> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
         .build()?;
-    let prepared = pool.install(|| Prepared::new(&scene));
-    let triangles: usize = prepared.meshes.iter().map(|m| m.triangles.len()).sum();
+    let prepared = pool.install(|| PreparedScene::new(scene));
+    let triangles = prepared.triangle_count();
     for res in args.res.split(',') {
         let (w, h) = parse_size(res).map_err(anyhow::Error::msg)?;
         for mode in args.shading.split(',') {
@@ -76,25 +77,23 @@ pub(super) fn bench(args: &BenchArgs) -> Result<()> {
                 double_sided: args.no_cull,
                 ..RenderOptions::default()
             };
-            // A reused target, as in an interactive viewer; "read" adds the sRGB encode, like
-            // the peer's read-back of the RGBA8 frame.
-            let mut target = realist::raster::Target::new(w, h, opts.background);
+            // A reused renderer, as in an interactive viewer; "read" adds the sRGB encode,
+            // like the peer's read-back of the RGBA8 frame.
+            let (settings, view) = (opts.settings(), opts.view(prepared.scene()));
+            let mut renderer = Renderer::new();
+            let mut pixels = vec![[0u8; 4]; (w * h) as usize];
             let (rounds, reads): (Vec<f64>, Vec<f64>) = pool.install(|| {
-                let _warm = shade::render_into(&mut target, &scene, &prepared, &opts);
+                renderer.render(&prepared, &settings, &view);
                 (0..args.rounds.max(1))
                     .map(|_| {
                         let start = Instant::now();
                         let (mut times, mut read) = (Vec::new(), Vec::new());
                         while start.elapsed().as_secs_f64() < 0.5 || times.len() < 3 {
                             let t = Instant::now();
-                            std::hint::black_box(shade::render_into(
-                                &mut target,
-                                &scene,
-                                &prepared,
-                                &opts,
-                            ));
+                            std::hint::black_box(renderer.render(&prepared, &settings, &view));
                             times.push(t.elapsed().as_secs_f64() * 1e3);
-                            std::hint::black_box(target.to_srgb8());
+                            renderer.write_rgba8(&mut pixels);
+                            std::hint::black_box(&pixels);
                             read.push(t.elapsed().as_secs_f64() * 1e3);
                         }
                         (median(&mut times), median(&mut read))

@@ -19,8 +19,9 @@ use glam::Vec3;
 
 use realist::load::{self, LoadOptions};
 use realist::mesh::NormalOptions;
+use realist::render::{self, PreparedScene, RenderOptions};
 use realist::scene::{self, Camera, Scene};
-use realist::shade::{self, Prepared, RenderOptions, Shading};
+use realist::shade::Shading;
 
 mod accuracy;
 mod bench;
@@ -316,10 +317,10 @@ fn render(args: &RenderArgs) -> Result<()> {
         .context("could not start worker threads")?;
     let (prepared, t_prepare, frame, t_raster) = pool.install(|| {
         let t = Instant::now();
-        let prepared = Prepared::new(&scene);
+        let prepared = PreparedScene::new(scene);
         let t_prepare = t.elapsed();
         let t = Instant::now();
-        let frame = shade::render(&scene, &prepared, &opts);
+        let frame = render::render(&prepared, &opts);
         (prepared, t_prepare, frame, t.elapsed())
     });
     drop(prepared);

@@ -69,8 +69,9 @@ use rayon::prelude::*;
 
 use super::LinearImage;
 use crate::mesh::TriMesh;
+use crate::render::{default_camera, RenderOptions};
 use crate::scene::{AlphaMode, Light, Scene, Style};
-use crate::shade::{default_camera, RenderOptions, Shading};
+use crate::shade::Shading;
 use crate::texture::{Filter, Texture, Wrap};
 
 /// Largest number of samples per pixel side.
@@ -101,7 +102,7 @@ pub enum ReferenceError {
     Camera { name: String, reason: &'static str },
 }
 
-/// The reference image of `scene` as [`crate::shade::render`] would draw it with `opts`
+/// The reference image of `scene` as [`crate::render::render`] would draw it with `opts`
 /// (camera, size, background, lights, materials, textures) in a lit mode, computed
 /// independently in f64 with `samples` x `samples` stratified samples per pixel,
 /// box-filtered in linear light; Blinn (`N·H`) highlights if `blinn`, else Phong (`R·V`).
@@ -934,8 +935,8 @@ mod tests {
     use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};
     use crate::quality::sphere::SphereSetup;
     use crate::quality::{compare, metrics::DEFAULT_DE_THRESHOLD, Metrics};
+    use crate::render::{self, PreparedScene};
     use crate::scene::{Camera, Instance, Material, TextureRef};
-    use crate::shade::{self, Prepared};
     use crate::texture::Sampler;
 
     /// The rasterizer at `ss` x `ss` supersampling, box-filtered: its samples sit exactly
@@ -946,7 +947,7 @@ mod tests {
             height: opts.height * ss,
             ..opts.clone()
         };
-        let frame = shade::render(scene, &Prepared::new(scene), &big);
+        let frame = render::render(&PreparedScene::new(scene.clone()), &big);
         LinearImage::from_framebuffer(&frame.image()).downsample(ss)
     }
 

@@ -18,8 +18,9 @@ use super::sphere::{Shape, SphereSetup};
 use super::{compare, metrics, LinearImage, Metrics};
 use crate::overlay::{Canvas, Color, HAlign, Path2, Stroke, VAlign};
 use crate::raster::SUBPIXEL_BITS;
+use crate::render::{self, PreparedScene, RenderOptions};
 use crate::scene::{Camera, Scene};
-use crate::shade::{self, Prepared, RenderOptions, Shading};
+use crate::shade::Shading;
 use crate::texture::Filter;
 
 /// One setting of the knobs.
@@ -106,7 +107,7 @@ impl ModelSetup {
     /// samples per pixel.
     #[must_use]
     pub fn new(scene: Scene, width: u32, height: u32, samples: u32) -> Self {
-        let camera = shade::default_camera(&scene, width as f32 / height.max(1) as f32);
+        let camera = render::default_camera(&scene, width as f32 / height.max(1) as f32);
         Self {
             scene,
             width,
@@ -365,7 +366,7 @@ pub fn run_setting(
     runs: usize,
 ) -> Result<(f64, LinearImage), crate::mesh::MeshError> {
     let scene = subject.scene(&s)?;
-    let prepared = Prepared::new(&scene);
+    let prepared = PreparedScene::new(scene);
     let (w, h) = subject.size();
     let opts = RenderOptions {
         width: w * s.ss,
@@ -378,11 +379,11 @@ pub fn run_setting(
     };
     // Warm-up, then time the renders alone (resolving to f64 is the metric's cost, not the
     // renderer's).
-    let mut frame = shade::render(&scene, &prepared, &opts);
+    let mut frame = render::render(&prepared, &opts);
     let mut times = Vec::with_capacity(runs);
     for _ in 0..runs.max(1) {
         let start = Instant::now();
-        frame = shade::render(&scene, &prepared, &opts);
+        frame = render::render(&prepared, &opts);
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
     let image = LinearImage::from_framebuffer(&frame.image()).downsample(s.ss);

@@ -55,23 +55,55 @@ pub(crate) struct ClipVertex<V> {
     pub var: V,
 }
 
+/// Most vertices a clipped triangle can have: each of the six planes adds at most one.
+pub(crate) const MAX_POLY: usize = 3 + 6;
+
+/// A convex polygon of at most [`MAX_POLY`] vertices, on the stack: clipping allocates
+/// nothing, so a frame that clips triangles allocates nothing either.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Poly<V> {
+    v: [ClipVertex<V>; MAX_POLY],
+    n: usize,
+}
+
+impl<V: Copy> Poly<V> {
+    /// A polygon with the vertices of `tri`.
+    pub fn triangle(tri: [ClipVertex<V>; 3]) -> Self {
+        let mut v = [tri[0]; MAX_POLY];
+        v[..3].copy_from_slice(&tri);
+        Self { v, n: 3 }
+    }
+
+    #[inline]
+    fn push(&mut self, p: ClipVertex<V>) {
+        // Cannot overflow: a plane adds at most one vertex to a convex polygon.
+        if self.n < MAX_POLY {
+            self.v[self.n] = p;
+            self.n += 1;
+        }
+    }
+
+    /// The vertices, in winding order.
+    #[must_use]
+    pub fn as_slice(&self) -> &[ClipVertex<V>] {
+        &self.v[..self.n]
+    }
+}
+
 /// Clips a convex polygon against every plane in `planes`; returns the clipped polygon
 /// (possibly empty) in the same winding.
-pub(crate) fn clip_polygon<V: Varying>(
-    mut poly: Vec<ClipVertex<V>>,
-    planes: u8,
-    g: Vec2,
-) -> Vec<ClipVertex<V>> {
-    let mut out = Vec::with_capacity(poly.len() + 2);
+pub(crate) fn clip_polygon<V: Varying>(poly: Poly<V>, planes: u8, g: Vec2) -> Poly<V> {
+    let mut poly = poly;
+    let mut out = poly;
     for plane in PLANES {
         if planes & plane == 0 {
             continue;
         }
-        out.clear();
-        let n = poly.len();
+        out.n = 0;
+        let n = poly.n;
         for i in 0..n {
-            let a = poly[i];
-            let b = poly[(i + 1) % n];
+            let a = poly.v[i];
+            let b = poly.v[(i + 1) % n];
             let da = distance(a.pos, plane, g);
             let db = distance(b.pos, plane, g);
             let a_in = da >= 0.0;
@@ -88,8 +120,8 @@ pub(crate) fn clip_polygon<V: Varying>(
             }
         }
         std::mem::swap(&mut poly, &mut out);
-        if poly.len() < 3 {
-            poly.clear();
+        if poly.n < 3 {
+            poly.n = 0;
             return poly;
         }
     }
@@ -148,14 +180,15 @@ mod tests {
     #[test]
     fn near_clip_of_triangle_through_eye_plane() {
         // One vertex behind the eye (w < 0): the result must have all w > 0.
-        let tri = vec![
+        let tri = Poly::triangle([
             v(0.0, 0.0, 0.5, 1.0),
             v(1.0, 0.0, 0.5, 1.0),
             v(0.0, 1.0, 2.0, -1.0),
-        ];
+        ]);
         let out = clip_polygon(tri, NEAR, Vec2::ONE);
+        let out = out.as_slice();
         assert_eq!(out.len(), 4);
-        for p in &out {
+        for p in out {
             assert!(p.pos.w > 0.0 && p.pos.z <= p.pos.w + 1e-6, "{:?}", p.pos);
         }
         // Inside vertices kept bit-exact.
@@ -166,14 +199,24 @@ mod tests {
     fn shared_edge_intersection_is_identical() {
         let a = v(0.3, 0.1, 0.2, 1.0);
         let b = v(-0.7, 0.4, 3.0, -2.0);
-        let t1 = clip_polygon(vec![a, b, v(0.5, 0.5, 0.1, 1.0)], NEAR, Vec2::ONE);
-        let t2 = clip_polygon(vec![b, a, v(-0.5, 0.5, 0.1, 1.0)], NEAR, Vec2::ONE);
+        let t1 = clip_polygon(
+            Poly::triangle([a, b, v(0.5, 0.5, 0.1, 1.0)]),
+            NEAR,
+            Vec2::ONE,
+        );
+        let t2 = clip_polygon(
+            Poly::triangle([b, a, v(-0.5, 0.5, 0.1, 1.0)]),
+            NEAR,
+            Vec2::ONE,
+        );
         let new1: Vec<_> = t1
+            .as_slice()
             .iter()
             .map(|p| p.pos)
             .filter(|p| *p != a.pos && p.w != 1.0)
             .collect();
         let new2: Vec<_> = t2
+            .as_slice()
             .iter()
             .map(|p| p.pos)
             .filter(|p| *p != a.pos && p.w != 1.0)
@@ -183,11 +226,11 @@ mod tests {
 
     #[test]
     fn fully_outside_is_empty() {
-        let tri = vec![
+        let tri = Poly::triangle([
             v(0.0, 0.0, 2.0, 1.0),
             v(1.0, 0.0, 2.0, 1.0),
             v(0.0, 1.0, 2.0, 1.0),
-        ];
-        assert!(clip_polygon(tri, NEAR, Vec2::ONE).is_empty());
+        ]);
+        assert!(clip_polygon(tri, NEAR, Vec2::ONE).as_slice().is_empty());
     }
 }

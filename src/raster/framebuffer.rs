@@ -33,6 +33,19 @@ pub struct Tile {
 }
 
 impl Tile {
+    /// A tile at the origin with zeroed storage (placed by [`Target::reshape`]).
+    fn blank() -> Self {
+        Self {
+            x0: 0,
+            y0: 0,
+            w: TILE,
+            h: TILE,
+            color: vec![Vec4::ZERO; TILE_PIXELS],
+            depth: vec![0.0; TILE_PIXELS],
+            pending_clear: None,
+        }
+    }
+
     /// Applies a pending clear, so `color` and `depth` hold the tile's contents.
     #[inline]
     pub fn materialize(&mut self) {
@@ -68,7 +81,10 @@ pub struct Target {
     pub height: u32,
     pub tiles_x: u32,
     pub tiles_y: u32,
+    /// Row-major, `tiles_x * tiles_y` tiles.
     pub tiles: Vec<Tile>,
+    /// Tiles kept from a larger size, reused when the target grows again.
+    spare: Vec<Tile>,
 }
 
 impl Target {
@@ -100,7 +116,37 @@ impl Target {
             tiles_x,
             tiles_y,
             tiles,
+            spare: Vec::new(),
         }
+    }
+
+    /// Makes this a `width` x `height` target (each at least 1) cleared to `clear`, keeping
+    /// its tile memory: switching between sizes it has had before allocates nothing.
+    pub fn reshape(&mut self, width: u32, height: u32, clear: Vec4) {
+        let (width, height) = (width.max(1), height.max(1));
+        if (self.width, self.height) != (width, height) {
+            let tiles_x = width.div_ceil(TILE);
+            let tiles_y = height.div_ceil(TILE);
+            let n = (tiles_x * tiles_y) as usize;
+            while self.tiles.len() > n {
+                if let Some(t) = self.tiles.pop() {
+                    self.spare.push(t);
+                }
+            }
+            while self.tiles.len() < n {
+                self.tiles
+                    .push(self.spare.pop().unwrap_or_else(Tile::blank));
+            }
+            for (i, t) in self.tiles.iter_mut().enumerate() {
+                let (tx, ty) = (i as u32 % tiles_x, i as u32 / tiles_x);
+                (t.x0, t.y0) = (tx * TILE, ty * TILE);
+                t.w = TILE.min(width - t.x0);
+                t.h = TILE.min(height - t.y0);
+            }
+            (self.width, self.height, self.tiles_x, self.tiles_y) =
+                (width, height, tiles_x, tiles_y);
+        }
+        self.clear(clear);
     }
 
     /// Clears colour to `clear` and depth to 0 (far). Lazy: see [`Tile`].
@@ -146,6 +192,61 @@ impl Target {
         out
     }
 
+    /// Encodes the image as 8-bit sRGB with alpha 255 into `out` (row-major, `width * height`
+    /// pixels; e.g. an egui `ColorImage`'s pixels), in parallel over tile rows, without any
+    /// intermediate buffer. Out-of-range values are clamped and NaN becomes 0.
+    ///
+    /// # Panics
+    /// If `out` does not hold exactly `width * height` pixels.
+    pub fn write_rgba8(&self, out: &mut [[u8; 4]]) {
+        self.write_rgba8_mapped(out, |c| c);
+    }
+
+    /// [`Target::write_rgba8`] with every linear colour passed through `map` first (e.g. a
+    /// false-colour ramp for a counting pass).
+    ///
+    /// # Panics
+    /// If `out` does not hold exactly `width * height` pixels.
+    pub fn write_rgba8_mapped(&self, out: &mut [[u8; 4]], map: impl Fn(Vec4) -> Vec4 + Sync) {
+        let w = self.width as usize;
+        assert_eq!(out.len(), w * self.height as usize, "output size");
+        let lut = encode_table();
+        let px = |c: Vec4| {
+            let c = map(c);
+            [encode(lut, c.x), encode(lut, c.y), encode(lut, c.z), 255]
+        };
+        out.par_chunks_mut(w * TILE as usize)
+            .enumerate()
+            .for_each(|(ty, band)| {
+                for t in &self.tiles[ty * self.tiles_x as usize..(ty + 1) * self.tiles_x as usize] {
+                    let clear = t.pending_clear.map(px);
+                    for y in 0..t.h as usize {
+                        let dst = &mut band[y * w + t.x0 as usize..][..t.w as usize];
+                        match clear {
+                            Some(rgba) => dst.fill(rgba),
+                            None => {
+                                let src = &t.color[y * TILE as usize..][..t.w as usize];
+                                for (d, c) in dst.iter_mut().zip(src) {
+                                    *d = px(*c);
+                                }
+                            }
+                        }
+                    }
+                }
+            });
+    }
+
+    /// Colour and depth at pixel (x, y), or `None` outside the image.
+    #[must_use]
+    pub fn pixel(&self, x: u32, y: u32) -> Option<(Vec4, f32)> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let (t, o) = self.locate(x, y);
+        let tile = &self.tiles[t];
+        Some((tile.color_at(o), tile.depth_at(o)))
+    }
+
     /// Index of the tile holding pixel (x, y), and the pixel's offset inside it.
     #[inline]
     #[must_use]
@@ -155,42 +256,56 @@ impl Target {
         (t as usize, o as usize)
     }
 
-    /// Takes a copy of the depth plane, for a pass that must test against a depth buffer it
-    /// may not change (wireframe's hidden-line pass). Lazily cleared tiles are not copied.
-    #[must_use]
-    pub fn save_depth(&self) -> DepthCopy {
-        DepthCopy(
-            self.tiles
-                .par_iter()
-                .map(|t| match t.pending_clear {
-                    Some(c) => SavedTile::Cleared(c),
-                    None => SavedTile::Depth(t.depth.clone()),
-                })
-                .collect(),
-        )
+    /// Clears depth to 0 (far), leaving colour as it is.
+    pub fn clear_depth(&mut self) {
+        self.tiles
+            .par_iter_mut()
+            .filter(|t| t.pending_clear.is_none())
+            .for_each(|t| t.depth.fill(0.0));
     }
 
-    /// Puts a saved depth plane back and returns the depth the target had (the scratch depth
-    /// drawn since [`Target::save_depth`]). Tiles cleared before and untouched since stay lazy;
-    /// tiles cleared before and touched since must not have had colour written.
-    pub fn restore_depth(&mut self, saved: DepthCopy) -> DepthCopy {
-        let scratch = self
-            .tiles
-            .iter_mut()
-            .zip(saved.0)
-            .map(|(t, saved)| match (saved, t.pending_clear) {
-                (SavedTile::Depth(d), _) => {
+    /// Copies the depth plane into `copy`, for a pass that must test against a depth buffer
+    /// it may not change (wireframe's hidden-line pass). Lazily cleared tiles are not copied.
+    /// Reuses `copy`'s memory.
+    pub fn save_depth(&self, copy: &mut DepthCopy) {
+        // Grown to the largest tile count seen, never shrunk: entries past this target's
+        // tiles are ignored (the zips below stop at the shorter side).
+        if copy.0.len() < self.tiles.len() {
+            copy.0.resize_with(self.tiles.len(), || SavedTile {
+                cleared: None,
+                depth: vec![0.0; TILE_PIXELS],
+            });
+        }
+        copy.0
+            .par_iter_mut()
+            .zip(self.tiles.par_iter())
+            .for_each(|(s, t)| {
+                s.cleared = t.pending_clear;
+                if t.pending_clear.is_none() {
+                    s.depth.copy_from_slice(&t.depth);
+                }
+            });
+    }
+
+    /// Puts the depth saved by [`Target::save_depth`] back, leaving in `copy` the depth the
+    /// target had (the scratch depth drawn since the save), by swapping buffers. Tiles
+    /// cleared before and untouched since stay lazy; tiles cleared before and touched since
+    /// must not have had colour written.
+    pub fn restore_depth(&mut self, copy: &mut DepthCopy) {
+        for (t, s) in self.tiles.iter_mut().zip(&mut copy.0) {
+            match (s.cleared, t.pending_clear) {
+                (None, _) => {
                     t.materialize();
-                    SavedTile::Depth(std::mem::replace(&mut t.depth, d))
+                    std::mem::swap(&mut t.depth, &mut s.depth);
                 }
-                (SavedTile::Cleared(c), Some(_)) => SavedTile::Cleared(c),
-                (SavedTile::Cleared(c), None) => {
+                (Some(_), Some(_)) => {}
+                (Some(c), None) => {
+                    std::mem::swap(&mut t.depth, &mut s.depth);
                     t.pending_clear = Some(c);
-                    SavedTile::Depth(std::mem::replace(&mut t.depth, vec![0.0; TILE_PIXELS]))
+                    s.cleared = None;
                 }
-            })
-            .collect();
-        DepthCopy(scratch)
+            }
+        }
     }
 
     /// Resolves the tiles into a row-major framebuffer.
@@ -226,14 +341,15 @@ impl Target {
 
 /// One tile of a [`DepthCopy`].
 #[derive(Clone, Debug)]
-enum SavedTile {
-    /// The tile was lazily cleared (depth 0 everywhere) to this colour.
-    Cleared(Vec4),
-    Depth(Vec<f32>),
+struct SavedTile {
+    /// `Some(c)`: the tile was lazily cleared (depth 0 everywhere) to colour `c`, and
+    /// `depth` is stale.
+    cleared: Option<Vec4>,
+    depth: Vec<f32>,
 }
 
-/// A copy of a target's depth plane, tile by tile.
-#[derive(Clone, Debug)]
+/// A copy of a target's depth plane, tile by tile, reused from frame to frame.
+#[derive(Clone, Debug, Default)]
 pub struct DepthCopy(Vec<SavedTile>);
 
 impl DepthCopy {
@@ -241,9 +357,11 @@ impl DepthCopy {
     #[inline]
     #[must_use]
     pub fn at(&self, t: usize, o: usize) -> f32 {
-        match &self.0[t] {
-            SavedTile::Cleared(_) => 0.0,
-            SavedTile::Depth(d) => d[o],
+        let s = &self.0[t];
+        if s.cleared.is_some() {
+            0.0
+        } else {
+            s.depth[o]
         }
     }
 }
@@ -283,12 +401,12 @@ impl Framebuffer {
     }
 }
 
-const ENCODE_STEPS: usize = 16384;
+pub(crate) const ENCODE_STEPS: usize = 16384;
 
 /// Linear -> sRGB byte through a 16384-entry table indexed by the rounded linear value:
 /// within one code value of the exact transfer everywhere (the table step is 1/16384, and
 /// sRGB's steepest slope, 12.92 * 255 codes per unit at 0, moves 0.2 codes per step).
-fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
+pub(crate) fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
     static TABLE: std::sync::OnceLock<[u8; ENCODE_STEPS + 1]> = std::sync::OnceLock::new();
     TABLE.get_or_init(|| {
         std::array::from_fn(|i| {
@@ -298,7 +416,7 @@ fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
 }
 
 #[inline(always)]
-fn encode(lut: &[u8; ENCODE_STEPS + 1], v: f32) -> u8 {
+pub(crate) fn encode(lut: &[u8; ENCODE_STEPS + 1], v: f32) -> u8 {
     // `as usize` saturates and maps NaN to 0; the clamp bounds the index.
     lut[((v * ENCODE_STEPS as f32 + 0.5) as usize).min(ENCODE_STEPS)]
 }
@@ -331,5 +449,49 @@ mod tests {
         t.clear(Vec4::splat(0.5));
         assert_eq!(t.resolve().pixel(69, 64), Vec4::splat(0.5));
         assert_eq!(t.to_srgb8()[(64 * 70 + 69) * 3], 188);
+    }
+
+    #[test]
+    fn reshape_reuses_tiles_and_places_them() {
+        let mut t = Target::new(200, 130, Vec4::ZERO);
+        t.reshape(70, 65, Vec4::ONE);
+        assert_eq!((t.tiles_x, t.tiles_y, t.tiles.len()), (2, 2, 4));
+        assert_eq!(
+            (t.tiles[3].x0, t.tiles[3].y0, t.tiles[3].w, t.tiles[3].h),
+            (64, 64, 6, 1)
+        );
+        let (ti, o) = t.locate(69, 64);
+        t.tiles[ti].materialize();
+        t.tiles[ti].color[o] = Vec4::new(0.5, 0.0, 1.0, 1.0);
+        let mut rgba = vec![[0u8; 4]; 70 * 65];
+        t.write_rgba8(&mut rgba);
+        assert_eq!(rgba[64 * 70 + 69], [188, 0, 255, 255]);
+        assert_eq!(rgba[0], [255, 255, 255, 255]);
+        let rgb = t.to_srgb8();
+        assert!(rgba.iter().zip(rgb.chunks(3)).all(|(a, b)| a[..3] == *b));
+        t.reshape(200, 130, Vec4::ZERO);
+        assert_eq!((t.tiles.len(), t.tiles[7].x0, t.tiles[7].w), (12, 192, 8));
+        assert!(t.resolve().color.iter().all(|c| *c == Vec4::ZERO));
+    }
+
+    #[test]
+    fn depth_save_restore_swaps() {
+        let mut t = Target::new(130, 10, Vec4::ZERO);
+        t.clear(Vec4::ZERO);
+        t.tiles[0].materialize();
+        t.tiles[0].depth[5] = 0.25;
+        let mut copy = DepthCopy::default();
+        t.save_depth(&mut copy);
+        // Scratch depth drawn into a stored tile and into a lazily cleared one.
+        t.tiles[0].depth[5] = 0.75;
+        t.tiles[1].materialize();
+        t.tiles[1].depth[3] = 0.5;
+        t.restore_depth(&mut copy);
+        assert_eq!(t.tiles[0].depth[5], 0.25);
+        assert!(t.tiles[1].pending_clear.is_some() && t.tiles[2].pending_clear.is_some());
+        assert_eq!(
+            (copy.at(0, 5), copy.at(1, 3), copy.at(2, 0)),
+            (0.75, 0.5, 0.0)
+        );
     }
 }

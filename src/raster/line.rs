@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec4};
 
-use super::clip::{clip_polygon, outcode, ClipVertex, FAR, NEAR};
+use super::clip::{clip_polygon, outcode, ClipVertex, Poly, FAR, NEAR};
 use super::framebuffer::{DepthCopy, Target};
 use super::pipeline::Stats;
 
@@ -50,15 +50,17 @@ pub fn draw_lines(
         let (a, b) = if (oa | ob) & (NEAR | FAR) != 0 {
             // A degenerate "polygon" a-b-a clips exactly like the segment.
             let v = |p: Vec4| ClipVertex { pos: p, var: () };
-            let poly = clip_polygon(vec![v(a), v(b), v(a)], (oa | ob) & (NEAR | FAR), Vec2::ONE);
+            let tri = Poly::triangle([v(a), v(b), v(a)]);
+            let poly = clip_polygon(tri, (oa | ob) & (NEAR | FAR), Vec2::ONE);
+            let poly = poly.as_slice();
             if poly.len() < 2 {
                 continue;
             }
             let (mut lo, mut hi) = (poly[0].pos, poly[0].pos);
             // The clipped segment's ends are the two points farthest apart.
             let mut best = -1.0;
-            for p in &poly {
-                for q in &poly {
+            for p in poly {
+                for q in poly {
                     let d = (p.pos - q.pos).length_squared();
                     if d > best {
                         best = d;

@@ -16,6 +16,10 @@
 //!    bin order, so 1 and N threads produce bit-identical images.
 //!
 //! Triangles are processed in batches so memory stays bounded on multi-million-triangle meshes.
+//! [`draw_list`] takes the pipeline's working memory ([`Bins`], [`RasterScratch`]) from the
+//! caller, so a renderer that keeps it allocates nothing per frame (clipping works on
+//! fixed-size polygons on the stack); it also records per-tile cost ([`TileCost`]) and
+//! can be stopped between tiles.
 //!
 //! Rejected designs: a scanline rasterizer (not tile-parallel, fill rule harder to make exact);
 //! float edge functions (shared edges can crack or double-cover); binning in parallel with
@@ -32,7 +36,10 @@ mod varying;
 
 pub use framebuffer::{DepthCopy, Framebuffer, Target, TILE};
 pub use line::{draw_lines, LineStyle};
-pub use pipeline::{draw, transform_positions, Blend, Cull, DepthTest, Draw, DrawState, Stats};
+pub use pipeline::{
+    draw, draw_list, transform_positions, transform_positions_into, Bins, Blend, Cull, DepthTest,
+    Draw, DrawList, DrawState, RasterScratch, Stats, TileCost,
+};
 pub use setup::{GUARD_BAND_PX, SUBPIXEL_BITS};
 pub use varying::Varying;
 

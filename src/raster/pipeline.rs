@@ -1,10 +1,12 @@
 //! One raster pass: transform, cull, clip, set up, bin, fill (see the module docs of
 //! [`crate::raster`] for the phases).
 
+use std::time::Instant;
+
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use super::clip::{clip_polygon, outcode, ClipVertex};
+use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
 use super::fill::{fill, FillCounters};
 use super::framebuffer::{Target, TILE};
 use super::setup::{setup, Reject, SetupTri, GUARD_BAND_PX};
@@ -137,11 +139,20 @@ impl Stats {
 /// Model-view-projection transform of positions, in parallel.
 #[must_use]
 pub fn transform_positions(mvp: Mat4, positions: &[Vec3]) -> Vec<Vec4> {
-    positions
-        .par_iter()
-        .with_min_len(4096)
-        .map(|p| mvp * p.extend(1.0))
-        .collect()
+    let mut out = Vec::new();
+    transform_positions_into(mvp, positions, &mut out);
+    out
+}
+
+/// [`transform_positions`] appended to `out` (in parallel; no allocation when `out` has the
+/// capacity).
+pub fn transform_positions_into(mvp: Mat4, positions: &[Vec3], out: &mut Vec<Vec4>) {
+    out.par_extend(
+        positions
+            .par_iter()
+            .with_min_len(4096)
+            .map(|p| mvp * p.extend(1.0)),
+    );
 }
 
 /// Triangles set up per parallel chunk.
@@ -157,45 +168,188 @@ pub(crate) fn guard(width: u32, height: u32) -> Vec2 {
     )
 }
 
+/// Draws read one at a time by [`draw_list`]: a slice of [`Draw`]s, or a renderer's own
+/// per-frame list that builds each draw from plain indices (so the list itself can live in
+/// memory kept from frame to frame).
+pub trait DrawList<V>: Sync {
+    /// Number of draws.
+    fn count(&self) -> usize;
+    /// Draw `i`, for `i < count()`.
+    fn draw(&self, i: usize) -> Draw<'_, V>;
+}
+
+impl<V: Sync> DrawList<V> for [Draw<'_, V>] {
+    fn count(&self) -> usize {
+        self.len()
+    }
+    fn draw(&self, i: usize) -> Draw<'_, V> {
+        let d = &self[i];
+        Draw {
+            id: d.id,
+            clip: d.clip,
+            varyings: d.varyings,
+            triangles: d.triangles,
+            state: d.state,
+        }
+    }
+}
+
+/// Cost of one tile in a frame, for the per-tile heat map: summed over the passes since the
+/// last [`Bins::reset_costs`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TileCost {
+    /// Wall-clock nanoseconds spent filling the tile (by whichever thread filled it).
+    pub nanos: u64,
+    /// Fragments shaded in the tile.
+    pub fragments: u64,
+}
+
+/// Per-tile memory of the pipeline that does not depend on the varying type: the bins and
+/// the per-tile costs. Kept between passes and frames; the lists of the largest tile count
+/// seen are kept, so switching between sizes allocates nothing.
+#[derive(Debug, Default)]
+pub struct Bins {
+    bins: Vec<Vec<u32>>,
+    costs: Vec<TileCost>,
+    /// Tiles of the current target (the first `active` entries are in use).
+    active: usize,
+    /// Wall-clock nanoseconds in clip / cull / setup / binning, and in filling, summed over
+    /// the passes since the last [`Bins::reset_costs`].
+    pub setup_nanos: u64,
+    pub fill_nanos: u64,
+}
+
+impl Bins {
+    /// Total entries over all tiles.
+    pub(crate) fn entries(&self) -> usize {
+        self.bins[..self.active].iter().map(Vec::len).sum()
+    }
+
+    /// The per-tile triangle lists.
+    pub(crate) fn lists(&mut self) -> &mut [Vec<u32>] {
+        &mut self.bins[..self.active]
+    }
+
+    /// Uses `tiles` tiles (allocates only beyond the largest count seen).
+    pub(crate) fn fit(&mut self, tiles: usize) {
+        if self.bins.len() < tiles {
+            self.bins.resize_with(tiles, Vec::new);
+            self.costs.resize(tiles, TileCost::default());
+        }
+        if self.active != tiles {
+            self.costs[..tiles].fill(TileCost::default());
+        }
+        self.active = tiles;
+    }
+
+    /// Zeroes the per-tile costs and the stage times (at the start of a frame).
+    pub fn reset_costs(&mut self) {
+        self.costs.fill(TileCost::default());
+        self.setup_nanos = 0;
+        self.fill_nanos = 0;
+    }
+
+    /// Costs per tile of the last target drawn, in the order of [`Target::tiles`].
+    #[must_use]
+    pub fn costs(&self) -> &[TileCost] {
+        &self.costs[..self.active]
+    }
+}
+
+/// Memory of the pipeline that depends on the varying type (set-up triangles), kept
+/// between passes and frames.
+#[derive(Debug)]
+pub struct RasterScratch<V> {
+    pending: Vec<SetupTri<V>>,
+    chunks: Vec<(Vec<SetupTri<V>>, Stats)>,
+}
+
+impl<V> Default for RasterScratch<V> {
+    fn default() -> Self {
+        Self {
+            pending: Vec::new(),
+            chunks: Vec::new(),
+        }
+    }
+}
+
 /// Rasterizes `draws` in order into `target` with `shader`. Runs on the current rayon pool;
-/// the image does not depend on its thread count.
+/// the image does not depend on its thread count. Allocates its working memory; a caller
+/// that draws every frame uses [`draw_list`] with memory it keeps.
 pub fn draw<S: FragmentShader>(
     target: &mut Target,
     draws: &[Draw<'_, S::Varying>],
     shader: &S,
     stats: &mut Stats,
 ) {
+    let mut bins = Bins::default();
+    let mut scratch = RasterScratch::default();
+    draw_list(
+        target,
+        draws,
+        shader,
+        stats,
+        &mut bins,
+        &mut scratch,
+        &|| false,
+    );
+}
+
+/// [`draw`] with kept memory and a stop signal: `stop` is asked before each tile is filled,
+/// and once it answers true the remaining tiles of the pass are skipped and `false` is
+/// returned (the target then holds a partial image). Returns `true` if the pass completed.
+/// Allocates nothing once `bins` and `scratch` have served a pass of this size.
+pub fn draw_list<S: FragmentShader, L: DrawList<S::Varying> + ?Sized>(
+    target: &mut Target,
+    draws: &L,
+    shader: &S,
+    stats: &mut Stats,
+    bins: &mut Bins,
+    scratch: &mut RasterScratch<S::Varying>,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> bool {
     let g = guard(target.width, target.height);
     let (w, h) = (target.width, target.height);
-    let mut pending: Vec<SetupTri<S::Varying>> = Vec::new();
-    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); target.tiles.len()];
-    for d in draws {
+    bins.fit(target.tiles.len());
+    let RasterScratch { pending, chunks } = scratch;
+    pending.clear();
+    let mut complete = true;
+    let start = Instant::now();
+    let fill_before = bins.fill_nanos;
+    for i in 0..draws.count() {
+        let d = draws.draw(i);
         stats.triangles_in += d.triangles.len() as u64;
-        for chunk in d.triangles.chunks(BATCH) {
-            let results: Vec<(Vec<SetupTri<S::Varying>>, Stats)> = chunk
-                .par_chunks(CHUNK)
-                .map(|tris| {
-                    let mut out = Vec::with_capacity(tris.len());
-                    let mut st = Stats::default();
+        for batch in d.triangles.chunks(BATCH) {
+            let n = batch.len().div_ceil(CHUNK);
+            if chunks.len() < n {
+                chunks.resize_with(n, || (Vec::new(), Stats::default()));
+            }
+            chunks[..n]
+                .par_iter_mut()
+                .zip(batch.par_chunks(CHUNK))
+                .for_each(|((out, st), tris)| {
+                    out.clear();
+                    *st = Stats::default();
                     for t in tris {
-                        assemble(d, t, g, w, h, &mut out, &mut st);
+                        assemble(&d, t, g, w, h, out, st);
                     }
-                    (out, st)
-                })
-                .collect();
-            for (tris, st) in results {
-                stats.add(&st);
+                });
+            for (tris, st) in &chunks[..n] {
+                stats.add(st);
                 for t in tris {
                     if pending.len() >= BATCH {
-                        flush(target, &mut pending, &mut bins, shader, stats);
+                        complete &= flush(target, pending, bins, shader, stats, stop);
                     }
-                    bin(target, &t, pending.len() as u32, &mut bins);
-                    pending.push(t);
+                    bin(target, t, pending.len() as u32, bins.lists());
+                    pending.push(*t);
                 }
             }
         }
     }
-    flush(target, &mut pending, &mut bins, shader, stats);
+    complete &= flush(target, pending, bins, shader, stats, stop);
+    let total = start.elapsed().as_nanos() as u64;
+    bins.setup_nanos += total.saturating_sub(bins.fill_nanos - fill_before);
+    complete
 }
 
 /// Culls, clips and sets up one input triangle, appending the results to `out`.
@@ -259,7 +413,8 @@ pub(crate) fn assemble<V: super::Varying>(
     }
     ccw = Some(det > 0.0);
     // Clip against every violated plane (near first: it guarantees w > 0 afterwards).
-    let poly = clip_polygon(vec![a, b, c], need, g);
+    let poly = clip_polygon(Poly::triangle([a, b, c]), need, g);
+    let poly = poly.as_slice();
     if poly.len() < 3 {
         st.culled_frustum += 1;
         return;
@@ -312,38 +467,52 @@ fn tile_outside<V>(t: &SetupTri<V>, x: u32, y: u32) -> bool {
     })
 }
 
-/// Fills every tile with its binned triangles (in parallel over tiles), then empties the bins.
+/// Fills every tile with its binned triangles (in parallel over tiles), then empties the bins
+/// and `pending`. Tiles are skipped once `stop` answers true; returns false if any was.
 pub(crate) fn flush<S: FragmentShader>(
     target: &mut Target,
     pending: &mut Vec<SetupTri<S::Varying>>,
-    bins: &mut [Vec<u32>],
+    bins: &mut Bins,
     shader: &S,
     stats: &mut Stats,
-) {
+    stop: &(dyn Fn() -> bool + Sync),
+) -> bool {
     if pending.is_empty() {
-        return;
+        return true;
     }
     stats.drawn += pending.len() as u64;
     let tris = &*pending;
-    let counters: Vec<(u64, FillCounters)> = target
+    let start = Instant::now();
+    let (tiles, shaded, rejected, skipped) = target
         .tiles
         .par_iter_mut()
-        .zip(bins.par_iter_mut())
-        .filter(|(_, b)| !b.is_empty())
-        .map(|(tile, bin)| {
+        .zip(bins.bins[..bins.active].par_iter_mut())
+        .zip(bins.costs[..bins.active].par_iter_mut())
+        .filter(|((_, b), _)| !b.is_empty())
+        .map(|((tile, bin), cost)| {
+            if stop() {
+                bin.clear();
+                return (0, 0, 0, 1);
+            }
+            let start = Instant::now();
             let mut n = FillCounters::default();
             tile.materialize();
             for &i in bin.iter() {
                 fill(tile, &tris[i as usize], shader, &mut n);
             }
             bin.clear();
-            (1, n)
+            cost.nanos += start.elapsed().as_nanos() as u64;
+            cost.fragments += n.shaded;
+            (1, n.shaded, n.depth_rejected, 0)
         })
-        .collect();
-    for (tiles, n) in counters {
-        stats.tiles += tiles;
-        stats.pixels_shaded += n.shaded;
-        stats.depth_rejected += n.depth_rejected;
-    }
+        .reduce(
+            || (0, 0, 0, 0),
+            |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3),
+        );
+    stats.tiles += tiles;
+    stats.pixels_shaded += shaded;
+    stats.depth_rejected += rejected;
     pending.clear();
+    bins.fill_nanos += start.elapsed().as_nanos() as u64;
+    skipped == 0
 }

@@ -13,7 +13,7 @@
 
 use glam::Vec2;
 
-use super::clip::{clip_polygon, outcode, ClipVertex};
+use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
 use super::pipeline::{assemble, bin, flush, guard};
 use super::setup::SetupTri;
 use super::{Draw, FragmentShader, Stats, Target, Varying};
@@ -39,13 +39,13 @@ impl<V> SetupBatch<V> {
 }
 
 /// Per-tile lists of triangle indices (opaque).
-pub struct Bins(Vec<Vec<u32>>);
+pub struct Binned(super::Bins);
 
-impl Bins {
+impl Binned {
     /// Total entries over all tiles.
     #[must_use]
     pub fn entries(&self) -> usize {
-        self.0.iter().map(Vec::len).sum()
+        self.0.entries()
     }
 }
 
@@ -74,7 +74,10 @@ pub fn clip_cull<V: Varying>(d: &Draw<'_, V>, width: u32, height: u32) -> usize 
         if need == 0 {
             pieces += 1;
         } else {
-            pieces += clip_polygon(vec![a, b, c], need, g).len().saturating_sub(2);
+            pieces += clip_polygon(Poly::triangle([a, b, c]), need, g)
+                .as_slice()
+                .len()
+                .saturating_sub(2);
         }
     }
     pieces
@@ -94,21 +97,24 @@ pub fn setup_all<V: Varying>(d: &Draw<'_, V>, width: u32, height: u32) -> SetupB
 
 /// Bins every triangle of `batch` into `target`'s tiles.
 #[must_use]
-pub fn bin_all<V>(target: &Target, batch: &SetupBatch<V>) -> Bins {
-    let mut bins = vec![Vec::new(); target.tiles.len()];
+pub fn bin_all<V>(target: &Target, batch: &SetupBatch<V>) -> Binned {
+    let mut bins = super::Bins::default();
+    bins.fit(target.tiles.len());
     for (i, t) in batch.tris.iter().enumerate() {
-        bin(target, t, i as u32, &mut bins);
+        bin(target, t, i as u32, bins.lists());
     }
-    Bins(bins)
+    Binned(bins)
 }
 
 /// Fills and shades every binned triangle (in parallel over tiles); consumes the bins.
 pub fn fill_all<S: FragmentShader>(
     target: &mut Target,
     batch: &mut SetupBatch<S::Varying>,
-    mut bins: Bins,
+    mut bins: Binned,
     shader: &S,
     stats: &mut Stats,
 ) {
-    flush(target, &mut batch.tris, &mut bins.0, shader, stats);
+    flush(target, &mut batch.tris, &mut bins.0, shader, stats, &|| {
+        false
+    });
 }

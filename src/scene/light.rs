@@ -20,9 +20,15 @@ impl Light {
     /// directions (x right, y up, z towards the viewer) into the world.
     #[must_use]
     pub fn default_rig(camera_to_world: glam::Mat3) -> Vec<Light> {
+        Self::default_rig_array(camera_to_world).to_vec()
+    }
+
+    /// [`Light::default_rig`] without allocating.
+    #[must_use]
+    pub fn default_rig_array(camera_to_world: glam::Mat3) -> [Light; 3] {
         let towards =
             |x: f32, y: f32, z: f32| -(camera_to_world * Vec3::new(x, y, z)).normalize_or(Vec3::Y);
-        vec![
+        [
             Light::Ambient {
                 color: Vec3::splat(0.1),
             },
@@ -35,5 +41,32 @@ impl Light {
                 color: Vec3::splat(0.25),
             },
         ]
+    }
+
+    /// The light moved by `m` (a rigid transform): positions as points, directions as
+    /// vectors; ambient light is unchanged.
+    #[must_use]
+    pub fn transformed(&self, m: glam::Mat4) -> Light {
+        match *self {
+            Light::Ambient { color } => Light::Ambient { color },
+            Light::Directional { direction, color } => Light::Directional {
+                direction: m.transform_vector3(direction),
+                color,
+            },
+            Light::Point { position, color } => Light::Point {
+                position: m.transform_point3(position),
+                color,
+            },
+        }
+    }
+
+    /// A short name of the light's kind ("ambient", "directional", "point").
+    #[must_use]
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Light::Ambient { .. } => "ambient",
+            Light::Directional { .. } => "directional",
+            Light::Point { .. } => "point",
+        }
     }
 }

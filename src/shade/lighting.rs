@@ -29,21 +29,34 @@ impl LightSet {
     pub fn new(lights: &[Light]) -> Self {
         let mut set = Self::default();
         for l in lights {
-            match *l {
-                Light::Ambient { color } if color.is_finite() => set.ambient += color,
-                Light::Directional { direction, color } => {
-                    let d = -direction.normalize_or_zero();
-                    if d != Vec3::ZERO && color.is_finite() {
-                        set.directional.push((d, color));
-                    }
-                }
-                Light::Point { position, color } if position.is_finite() && color.is_finite() => {
-                    set.point.push((position, color));
-                }
-                _ => {}
-            }
+            set.push(l);
         }
         set
+    }
+
+    /// Empties the set, keeping its memory (a renderer refills it every frame).
+    pub fn clear(&mut self) {
+        self.ambient = Vec3::ZERO;
+        self.directional.clear();
+        self.point.clear();
+    }
+
+    /// Adds one light; a non-finite one, or a directional light with a zero-length
+    /// direction, is dropped.
+    pub fn push(&mut self, light: &Light) {
+        match *light {
+            Light::Ambient { color } if color.is_finite() => self.ambient += color,
+            Light::Directional { direction, color } => {
+                let d = -direction.normalize_or_zero();
+                if d != Vec3::ZERO && color.is_finite() {
+                    self.directional.push((d, color));
+                }
+            }
+            Light::Point { position, color } if position.is_finite() && color.is_finite() => {
+                self.point.push((position, color));
+            }
+            _ => {}
+        }
     }
 }
 

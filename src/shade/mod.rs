@@ -1,5 +1,5 @@
-//! Shading: the lighting equation, one fragment shader per shading mode, and the renderer
-//! that turns a [`Scene`](crate::scene::Scene) into draws for the rasterizer.
+//! Shading: the lighting equation and one fragment shader per shading mode. The renderer
+//! that turns a scene into draws for the rasterizer is [`crate::render`].
 //!
 //! Modes (seed 000 §9.2.2, 001, 003 §5.2):
 //! - `wireframe`: mesh edges (not triangulation diagonals) with hidden lines removed;
@@ -17,14 +17,12 @@
 //! This module never loops over tiles or pixels itself: the rasterizer calls the shaders.
 
 mod lighting;
-mod passes;
-mod render;
 mod shaders;
-mod vertex;
 
 pub use lighting::{illuminate, LightSet, Surface};
-pub use render::{default_camera, render, render_into, Frame, Prepared, RenderOptions};
-pub use shaders::{ColorShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying};
+pub use shaders::{
+    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying,
+};
 
 /// A shading mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -163,6 +163,10 @@ pub struct LitShader<'a, V, const BLINN: bool> {
     pub draws: &'a [DrawParams],
     pub lights: &'a LightSet,
     pub eye: Vec3,
+    /// Scale of the UV derivatives before the texture's level of detail is chosen: 1 for
+    /// one sample per pixel, 1/n for a pass of an n x n supersampled frame (whose samples
+    /// are 1/n pixel apart, as if rendered n times larger).
+    pub lod_scale: f32,
     pub _v: std::marker::PhantomData<V>,
 }
 
@@ -177,7 +181,7 @@ impl<V: LitVarying, const BLINN: bool> LitShader<'_, V, BLINN> {
         }
         if let (Some(uv), Some(t)) = (v.uv(), &d.texture) {
             base *= match duv {
-                Some((dx, dy)) => t.sample_grad(uv, dx, dy),
+                Some((dx, dy)) => t.sample_grad(uv, dx * self.lod_scale, dy * self.lod_scale),
                 None => t.sample(uv),
             };
         }
@@ -249,6 +253,18 @@ impl FragmentShader for DebugShader {
             srgb_to_linear(display.z),
             1.0,
         ))
+    }
+}
+
+/// Counts fragments: red = 1 per fragment, for an additive pass with the depth test off
+/// (the overdraw view: how many fragments each pixel received).
+pub struct CountShader;
+
+impl FragmentShader for CountShader {
+    type Varying = ();
+    #[inline]
+    fn fragment(&self, _: TriInfo, _: &()) -> Option<Vec4> {
+        Some(Vec4::new(1.0, 0.0, 0.0, 0.0))
     }
 }
 

@@ -10,8 +10,9 @@ use base64::Engine as _;
 use glam::{Mat4, Vec3, Vec4};
 use realist::mesh::{Mesh, MeshData, NormalPolicy};
 use realist::raster::Framebuffer;
+use realist::render::{self, PreparedScene, RenderOptions};
 use realist::scene::{Camera, Instance, Material, Scene, Style, TextureRef};
-use realist::shade::{self, Prepared, RenderOptions, Shading};
+use realist::shade::Shading;
 use realist::texture::Texture;
 
 /// How far a rendered image may be from its golden.
@@ -94,8 +95,8 @@ pub fn render_with(
         .build()
         .expect("thread pool");
     pool.install(|| {
-        let prepared = Prepared::new(scene);
-        let frame = shade::render(scene, &prepared, opts);
+        let prepared = PreparedScene::new(scene.clone());
+        let frame = render::render(&prepared, opts);
         (frame.image(), frame.stats)
     })
 }

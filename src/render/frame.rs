@@ -1,0 +1,248 @@
+//! Per-frame set-up: the lights of the frame, and for every instance its visibility (bounding
+//! sphere against the frustum), shading mode, material parameters and raster state. Memory
+//! is kept in [`FrameData`] from frame to frame.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::prepare::{PreparedInstance, PreparedScene};
+use super::settings::{Lights, Output, Settings};
+use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
+use crate::scene::{AlphaMode, Light, Style};
+use crate::shade::{DrawParams, LightSet, Shading, Surface};
+
+/// One visible instance of this frame.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FrameInst {
+    /// Index into [`PreparedScene::instances`].
+    pub inst: u32,
+    pub mesh: u32,
+    /// Model -> clip (without the sub-pixel jitter of a supersampling pass).
+    pub mvp: Mat4,
+    pub world: Mat4,
+    /// Model -> camera.
+    pub model_view: Mat4,
+    pub state: DrawState,
+    /// Index into [`FrameData::params`] (the draw id the shaders see).
+    pub param: u32,
+    pub mode: Shading,
+    /// Textured mode with a texture to sample.
+    pub textured: bool,
+    pub colors: bool,
+    pub blend: bool,
+    /// Distance from the eye to the bounding-sphere centre (for back-to-front sorting).
+    pub distance: f32,
+}
+
+/// Per-frame memory, reused.
+#[derive(Debug, Default)]
+pub(super) struct FrameData {
+    pub insts: Vec<FrameInst>,
+    pub params: Vec<DrawParams>,
+    pub lights: LightSet,
+    /// Blended instances in drawing order.
+    pub order: Vec<u32>,
+    /// Wireframe's saved depth.
+    pub depth: DepthCopy,
+}
+
+/// Calls `f` with every light of the frame in world space.
+pub(crate) fn for_each_light(
+    scene: &PreparedScene,
+    settings: &Settings,
+    camera_to_world: Mat4,
+    mut f: impl FnMut(&Light),
+) {
+    match &settings.lights {
+        Lights::Auto if scene.scene().lights.is_empty() => {
+            let rig = Light::default_rig_array(glam::Mat3::from_mat4(camera_to_world));
+            rig.iter().for_each(f);
+        }
+        Lights::Auto => scene.scene().lights.iter().for_each(f),
+        Lights::Custom {
+            lights,
+            follow_camera,
+        } => {
+            for l in lights {
+                if *follow_camera {
+                    f(&l.transformed(camera_to_world));
+                } else {
+                    f(l);
+                }
+            }
+        }
+    }
+}
+
+/// How one instance is drawn under `settings`: its material parameters, mode and state.
+pub(crate) struct Resolved {
+    pub params: DrawParams,
+    pub mode: Shading,
+    pub textured: bool,
+    pub blend: bool,
+    pub state: DrawState,
+}
+
+/// Resolves an instance's material (with the settings' overrides) and mode.
+pub(crate) fn resolve(
+    scene: &PreparedScene,
+    settings: &Settings,
+    inst: &PreparedInstance,
+) -> Resolved {
+    let tri = &scene.meshes[inst.mesh].tri;
+    let m = settings
+        .materials
+        .as_ref()
+        .and_then(|ms| ms.get(inst.material))
+        .unwrap_or(&scene.materials[inst.material]);
+    let texture = m
+        .base_color_texture
+        .and_then(|t| scene.scene().textures.get(t.texture).cloned())
+        .or_else(|| settings.texture.clone())
+        .filter(|_| tri.uvs.is_some());
+    let mode = match (settings.shading, inst.style) {
+        (Some(m), _) => m,
+        (None, Style::Wireframe) => Shading::Wireframe,
+        (None, Style::Flat) => Shading::Flat,
+        // A model with a texture is shown with it unless a mode is forced.
+        (None, Style::Inherit) if texture.is_some() => Shading::Textured,
+        (None, Style::Inherit) => Shading::Phong,
+    };
+    let debug = matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv);
+    let blend = m.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
+    let double_sided = m.double_sided || settings.double_sided;
+    let mut state = DrawState {
+        cull: if double_sided { Cull::None } else { Cull::Back },
+        depth_write: !blend,
+        blend: if blend { Blend::Alpha } else { Blend::Replace },
+        flip_winding: inst.mirrored,
+        subpixel_bits: settings.subpixel_bits,
+        ..DrawState::opaque()
+    };
+    if settings.output == Output::Overdraw {
+        state = DrawState {
+            depth_test: DepthTest::Always,
+            depth_write: false,
+            blend: Blend::Add,
+            ..state
+        };
+    }
+    let textured = mode == Shading::Textured && texture.is_some();
+    let params = DrawParams {
+        base: if m.base_color.is_finite() {
+            m.base_color
+        } else {
+            Vec4::ONE
+        },
+        surface: Surface {
+            diffuse: Vec3::ONE,
+            specular: m.specular,
+            ambient: m.ambient,
+            shininess: if m.shininess.is_finite() {
+                m.shininess.clamp(1.0, 2000.0)
+            } else {
+                1.0
+            },
+        },
+        texture,
+        alpha: if debug {
+            AlphaMode::Opaque
+        } else {
+            m.alpha_mode
+        },
+        double_sided,
+    };
+    Resolved {
+        textured,
+        params,
+        mode,
+        blend,
+        state,
+    }
+}
+
+/// Fills `fd` for one frame: lights, visible instances and their parameters. Counts
+/// objects culled by their bounding sphere into `stats`.
+pub(super) fn set_up(
+    fd: &mut FrameData,
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: Mat4,
+    vp: Mat4,
+    eye: Vec3,
+    stats: &mut Stats,
+) {
+    fd.lights.clear();
+    let lights = &mut fd.lights;
+    for_each_light(scene, settings, view.inverse(), |l| lights.push(l));
+    fd.insts.clear();
+    fd.params.clear();
+    let planes = frustum_planes(vp);
+    for (k, inst) in scene.instances.iter().enumerate() {
+        let tri = &scene.meshes[inst.mesh].tri;
+        if !inst.drawable {
+            continue;
+        }
+        if tri.radius < 0.0 || !sphere_visible(&planes, inst.world, tri.center, tri.radius) {
+            stats.objects_culled += 1;
+            stats.culled_frustum += tri.triangles.len() as u64;
+            stats.triangles_in += tri.triangles.len() as u64;
+            continue;
+        }
+        let r = resolve(scene, settings, inst);
+        let center = inst.world.transform_point3(tri.center);
+        fd.insts.push(FrameInst {
+            inst: k as u32,
+            mesh: inst.mesh as u32,
+            mvp: vp * inst.world,
+            world: inst.world,
+            model_view: view * inst.world,
+            state: r.state,
+            param: fd.params.len() as u32,
+            mode: r.mode,
+            textured: r.textured,
+            colors: tri.colors.is_some(),
+            blend: r.blend,
+            distance: (center - eye).length(),
+        });
+        fd.params.push(r.params);
+    }
+    fd.order.clear();
+    fd.order.extend(
+        fd.insts
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| i.blend && settings.output == Output::Shaded)
+            .map(|(k, _)| k as u32),
+    );
+    let insts = &fd.insts;
+    // Back to front; unstable sort allocates nothing, ties broken by instance order.
+    fd.order.sort_unstable_by(|&a, &b| {
+        let (a, b) = (&insts[a as usize], &insts[b as usize]);
+        b.distance.total_cmp(&a.distance).then(a.inst.cmp(&b.inst))
+    });
+}
+
+/// Whether a model-space bounding sphere may be inside the frustum. The planes are taken to
+/// model space (p' = M^T p), where the sphere is exact, so shear and non-uniform scale in the
+/// world matrix cannot make a visible object disappear.
+fn sphere_visible(planes: &[Vec4; 6], world: Mat4, center: Vec3, radius: f32) -> bool {
+    let mt = world.transpose();
+    planes.iter().all(|p| {
+        let q = mt * *p;
+        q.truncate().dot(center) + q.w >= -radius * q.truncate().length()
+    })
+}
+
+/// The six frustum planes (a, b, c, d) with a·x + d >= 0 inside, normalised, from a
+/// view-projection matrix in this crate's clip convention (0 <= z <= w).
+fn frustum_planes(vp: Mat4) -> [Vec4; 6] {
+    let (r0, r1, r2, r3) = (vp.row(0), vp.row(1), vp.row(2), vp.row(3));
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 - r2, r2].map(|p| {
+        let l = p.truncate().length();
+        if l > 0.0 && l.is_finite() {
+            p / l
+        } else {
+            Vec4::new(0.0, 0.0, 0.0, 1.0)
+        }
+    })
+}

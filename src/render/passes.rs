@@ -1,0 +1,386 @@
+//! The passes of one frame: solid instances grouped by the shader they need (flat, Gouraud,
+//! Phong / Blinn / textured by varying type, debug views), wireframe with hidden lines
+//! removed, the wireframe overlay, blended instances back to front, or the overdraw count.
+//!
+//! Every group appends its instances' clip positions and varyings to buffers kept in the
+//! renderer's [`Pool`] and hands the rasterizer a [`DrawList`] that builds each draw from
+//! plain indices, so a frame allocates nothing once the buffers have grown.
+
+use std::time::Instant;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use super::frame::{FrameData, FrameInst};
+use super::pool::{GroupScratch, Item, Pool};
+use super::prepare::PreparedScene;
+use super::vertex::{self, Lit};
+use crate::raster::{
+    self, Bins, Cull, DepthCopy, Draw, DrawList, DrawState, LineStyle, Stats, Target, Varying,
+};
+use crate::scene::Camera;
+use crate::shade::{
+    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying,
+    Shading,
+};
+
+/// Everything a pass reads and writes.
+pub(super) struct Cx<'a> {
+    pub scene: &'a PreparedScene,
+    pub camera: &'a Camera,
+    /// Camera position for lighting ([`Camera::shading_eye`]).
+    pub eye: Vec3,
+    /// Sub-pixel shift of this supersampling pass, applied after the projection.
+    pub jitter: Mat4,
+    /// UV-derivative scale for the textures' level of detail (1 / samples per axis).
+    pub lod_scale: f32,
+    pub target: &'a mut Target,
+    pub bins: &'a mut Bins,
+    pub pool: &'a mut Pool,
+    pub stats: &'a mut Stats,
+    pub stop: &'a (dyn Fn() -> bool + Sync),
+    /// Nanoseconds spent in the vertex stage.
+    pub vertex_nanos: u64,
+}
+
+/// Which positions a group's draws use.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Geometry {
+    /// The mesh's render vertices and triangles.
+    Indexed,
+    /// Flat shading's unindexed corners.
+    Flat,
+}
+
+/// A group's draws, built on demand from plain indices.
+struct GroupDraws<'a, V> {
+    scene: &'a PreparedScene,
+    insts: &'a [FrameInst],
+    items: &'a [Item],
+    clip: &'a [Vec4],
+    var: &'a [V],
+    geometry: Geometry,
+    state: fn(DrawState) -> DrawState,
+}
+
+impl<V: Sync> DrawList<V> for GroupDraws<'_, V> {
+    fn count(&self) -> usize {
+        self.items.len()
+    }
+
+    fn draw(&self, i: usize) -> Draw<'_, V> {
+        let it = self.items[i];
+        let fi = &self.insts[it.inst as usize];
+        let mesh = &self.scene.meshes[fi.mesh as usize];
+        let range = it.start as usize..(it.start + it.len) as usize;
+        Draw {
+            id: fi.param,
+            clip: &self.clip[range.clone()],
+            varyings: &self.var[range],
+            triangles: match self.geometry {
+                Geometry::Indexed => &mesh.tri.triangles,
+                Geometry::Flat => &mesh.flat().triangles,
+            },
+            state: (self.state)(fi.state),
+        }
+    }
+}
+
+/// Draws the frame's instances for which `pick` holds as one group: the vertex stage
+/// (`vertex` appends one varying per position) then the rasterizer. Returns false if
+/// stopped.
+fn group<V, S>(
+    cx: &mut Cx,
+    fd: &FrameData,
+    pick: &dyn Fn(usize, &FrameInst) -> bool,
+    geometry: Geometry,
+    mut vertex: impl FnMut(&FrameInst, &mut Vec<V>),
+    shader: &S,
+) -> bool
+where
+    V: Varying,
+    S: raster::FragmentShader<Varying = V>,
+{
+    let (done, g) = group_with(cx, fd, pick, geometry, &mut vertex, shader, |s| s);
+    cx.pool.put(g);
+    done
+}
+
+/// [`group`] with a state override, also returning the group's buffers (to be put back in
+/// the pool) for a caller that needs the clip positions afterwards (wireframe).
+fn group_with<V, S>(
+    cx: &mut Cx,
+    fd: &FrameData,
+    pick: &dyn Fn(usize, &FrameInst) -> bool,
+    geometry: Geometry,
+    vertex: &mut dyn FnMut(&FrameInst, &mut Vec<V>),
+    shader: &S,
+    state: fn(DrawState) -> DrawState,
+) -> (bool, Box<GroupScratch<V>>)
+where
+    V: Varying,
+    S: raster::FragmentShader<Varying = V>,
+{
+    let mut g = cx.pool.take::<GroupScratch<V>>();
+    g.clear();
+    let start = Instant::now();
+    for (k, fi) in fd.insts.iter().enumerate() {
+        if !pick(k, fi) {
+            continue;
+        }
+        let mesh = &cx.scene.meshes[fi.mesh as usize];
+        let positions = match geometry {
+            Geometry::Indexed => &mesh.tri.positions,
+            Geometry::Flat => &mesh.flat().corners,
+        };
+        let first = g.clip.len();
+        raster::transform_positions_into(cx.jitter * fi.mvp, positions, &mut g.clip);
+        vertex(fi, &mut g.var);
+        debug_assert_eq!(g.var.len(), g.clip.len());
+        g.items.push(Item {
+            inst: k as u32,
+            start: first as u32,
+            len: (g.clip.len() - first) as u32,
+        });
+    }
+    cx.vertex_nanos += start.elapsed().as_nanos() as u64;
+    if g.items.is_empty() {
+        return (true, g);
+    }
+    let GroupScratch {
+        clip,
+        var,
+        items,
+        raster: scratch,
+    } = &mut *g;
+    let list = GroupDraws {
+        scene: cx.scene,
+        insts: &fd.insts,
+        items,
+        clip,
+        var,
+        geometry,
+        state,
+    };
+    let done = raster::draw_list(
+        cx.target, &list, shader, cx.stats, cx.bins, scratch, cx.stop,
+    );
+    (done, g)
+}
+
+/// Draws a whole frame; returns false if stopped.
+pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bool) -> bool {
+    if overdraw {
+        let (scene, all) = (cx.scene, &|_: usize, _: &FrameInst| true);
+        let vertex = |fi: &FrameInst, out: &mut Vec<()>| vertex::unit(scene, fi, out);
+        return group(cx, fd, all, Geometry::Indexed, vertex, &CountShader);
+    }
+    let fdr = &*fd;
+    if !solid(cx, fdr, &|_, fi| !fi.blend && fi.mode != Shading::Wireframe) {
+        return false;
+    }
+    let wire = |_: usize, fi: &FrameInst| !fi.blend && fi.mode == Shading::Wireframe;
+    let mut depth = std::mem::take(&mut fd.depth);
+    let mut done = wireframe(cx, fd, &wire, false, &mut depth);
+    if done && overlay {
+        let shaded = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;
+        done = wireframe(cx, fd, &shaded, true, &mut depth);
+    }
+    fd.depth = depth;
+    let fdr = &*fd;
+    for &k in &fdr.order {
+        if !done {
+            break;
+        }
+        done = solid(cx, fdr, &|j, _| j == k as usize);
+    }
+    done
+}
+
+/// Solid instances grouped by the shader they need.
+fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) -> bool {
+    let scene = cx.scene;
+    let lit = Lit {
+        scene,
+        params: &fd.params,
+        lights: &fd.lights,
+        eye: cx.eye,
+    };
+    let params: &[DrawParams] = &fd.params;
+    let of = |mode: Shading| move |k: usize, fi: &FrameInst| fi.mode == mode && pick(k, fi);
+
+    let flat_pick = of(Shading::Flat);
+    if fd.insts.iter().enumerate().any(|(k, fi)| flat_pick(k, fi)) {
+        let mut facets = cx.pool.take::<FacetScratch>();
+        let shader = ColorShader::<Vec4> {
+            draws: params,
+            _v: std::marker::PhantomData,
+        };
+        let vertex = |fi: &FrameInst, out: &mut Vec<Vec4>| lit.flat(fi, &mut facets.0, out);
+        let done = group(cx, fd, &flat_pick, Geometry::Flat, vertex, &shader);
+        cx.pool.put(facets);
+        if !done {
+            return false;
+        }
+    }
+    let shader = ColorShader::<(Vec4, Vec4)> {
+        draws: params,
+        _v: std::marker::PhantomData,
+    };
+    if !group(
+        cx,
+        fd,
+        &of(Shading::Gouraud),
+        Geometry::Indexed,
+        |fi, out| lit.gouraud(fi, out),
+        &shader,
+    ) {
+        return false;
+    }
+    for (mode, blinn) in [
+        (Shading::Phong, false),
+        (Shading::Blinn, true),
+        (Shading::Textured, true),
+    ] {
+        for tex in [false, true] {
+            for col in [false, true] {
+                let p = |k: usize, fi: &FrameInst| {
+                    fi.mode == mode && fi.textured == tex && fi.colors == col && pick(k, fi)
+                };
+                type P = Vec3;
+                let done = match (tex, col, blinn) {
+                    (false, false, false) => lit_group::<(P, P, ()), false>(cx, fd, &p),
+                    (false, false, true) => lit_group::<(P, P, ()), true>(cx, fd, &p),
+                    (false, true, false) => lit_group::<(P, P, Vec4), false>(cx, fd, &p),
+                    (false, true, true) => lit_group::<(P, P, Vec4), true>(cx, fd, &p),
+                    (true, false, _) => lit_group::<(P, P, Vec2), true>(cx, fd, &p),
+                    (true, true, _) => lit_group::<(P, P, (Vec2, Vec4)), true>(cx, fd, &p),
+                };
+                if !done {
+                    return false;
+                }
+            }
+        }
+    }
+    for (mode, debug) in [
+        (Shading::Normals, Debug::Normals),
+        (Shading::Depth, Debug::Depth),
+        (Shading::Uv, Debug::Uv),
+    ] {
+        let shader = DebugShader {
+            mode: debug,
+            near: cx.camera.near,
+            far: cx.camera.far,
+        };
+        let vertex = |fi: &FrameInst, out: &mut Vec<Vec3>| vertex::debug(scene, fi, debug, out);
+        if !group(cx, fd, &of(mode), Geometry::Indexed, vertex, &shader) {
+            return false;
+        }
+    }
+    true
+}
+
+/// Flat shading's per-facet colours, kept in the pool between frames.
+#[derive(Default)]
+struct FacetScratch(Vec<Vec4>);
+
+fn lit_group<V: LitVarying, const BLINN: bool>(
+    cx: &mut Cx,
+    fd: &FrameData,
+    pick: &dyn Fn(usize, &FrameInst) -> bool,
+) -> bool {
+    let shader = LitShader::<V, BLINN> {
+        draws: &fd.params,
+        lights: &fd.lights,
+        eye: cx.eye,
+        lod_scale: cx.lod_scale,
+        _v: std::marker::PhantomData,
+    };
+    let scene = cx.scene;
+    group(
+        cx,
+        fd,
+        pick,
+        Geometry::Indexed,
+        |fi, out| vertex::lit::<V>(scene, fi, out),
+        &shader,
+    )
+}
+
+/// Slope-scaled offset of the hidden-line depth pass, in pixels of depth slope: a line pixel
+/// is at most half a pixel from its edge, so 1.5 covers it with margin on edges where two
+/// steep facets meet.
+const WIRE_DEPTH_OFFSET: f32 = 1.5;
+/// Relative depth tolerance of wireframe lines against the hidden-line depth (0.01% of the
+/// distance), for rounding along nearly edge-on facets.
+const WIRE_DEPTH_TOLERANCE: f32 = 1e-4;
+/// Line colour of the wireframe overlay drawn over shaded surfaces (linear RGB).
+const OVERLAY_LINE: Vec3 = Vec3::splat(0.004);
+
+fn wire_depth_state(s: DrawState) -> DrawState {
+    DrawState {
+        color_write: false,
+        cull: Cull::None,
+        depth_offset: WIRE_DEPTH_OFFSET,
+        ..s
+    }
+}
+
+/// Wireframe with hidden lines removed: the instances' surfaces go into a scratch copy of the
+/// depth buffer only, then their edges are drawn testing against it. As an `overlay` the
+/// lines are dark (drawn over the shaded surfaces); otherwise they take the material colour.
+fn wireframe(
+    cx: &mut Cx,
+    fd: &FrameData,
+    pick: &dyn Fn(usize, &FrameInst) -> bool,
+    overlay: bool,
+    depth: &mut DepthCopy,
+) -> bool {
+    if !fd.insts.iter().enumerate().any(|(k, fi)| pick(k, fi)) {
+        return true;
+    }
+    cx.target.save_depth(depth);
+    if overlay {
+        // The overlay's hidden-line depth holds only the shaded surfaces, pushed back by the
+        // slope-scaled offset (their exact depth would hide half of each edge's pixels).
+        cx.target.clear_depth();
+    }
+    let scene = cx.scene;
+    // The hidden-line pass is not part of the frame's counters.
+    let saved = *cx.stats;
+    let (done, g) = group_with(
+        cx,
+        fd,
+        pick,
+        Geometry::Indexed,
+        &mut |fi, out| vertex::unit(scene, fi, out),
+        &DepthOnly,
+        wire_depth_state,
+    );
+    *cx.stats = saved;
+    cx.target.restore_depth(depth);
+    if done {
+        for it in &g.items {
+            let fi = &fd.insts[it.inst as usize];
+            let tri = &scene.meshes[fi.mesh as usize].tri;
+            let color = if overlay {
+                OVERLAY_LINE
+            } else {
+                let base = fd.params[fi.param as usize].base;
+                base.truncate() * 0.85 + Vec3::splat(0.15)
+            };
+            let style = LineStyle {
+                color: color.extend(1.0),
+                depth_test: true,
+                depth_tolerance: WIRE_DEPTH_TOLERANCE,
+                depth_write: true,
+            };
+            if !overlay {
+                cx.stats.triangles_in += tri.triangles.len() as u64;
+            }
+            let clip = &g.clip[it.start as usize..(it.start + it.len) as usize];
+            raster::draw_lines(cx.target, Some(depth), clip, &tri.edges, &style, cx.stats);
+        }
+    }
+    cx.pool.put(g);
+    done
+}

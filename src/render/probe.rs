@@ -1,0 +1,285 @@
+//! The pixel probe: what is seen at one pixel and how it is lit, recomputed for that pixel
+//! alone. A ray through the pixel centre (the rasterizer's sample point) is cast against
+//! every instance's triangles in f64 (back faces skipped where the rasterizer culls them,
+//! hits outside the near/far planes ignored); the nearest hit's barycentric coordinates
+//! give the interpolated normal, UV and vertex colour, which go through
+//! [`crate::shade::illuminate`], the function the shaders call, once per light, so each
+//! light's diffuse and specular share is exact and the shares add up to the shaded colour.
+
+use glam::{DVec3, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::frame::{for_each_light, resolve};
+use super::prepare::PreparedScene;
+use super::settings::{Settings, View};
+use crate::raster::Cull;
+use crate::scene::Light;
+use crate::shade::{illuminate, LightSet, Shading, Surface};
+
+/// One light's contribution at the probed point (linear RGB).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightShare {
+    /// Position in the frame's light list (scene, rig or custom lights).
+    pub index: usize,
+    pub light: Light,
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+}
+
+/// What the probe found at a pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Probe {
+    /// World-space point.
+    pub position: Vec3,
+    /// Distance from the camera plane (camera-space depth).
+    pub view_depth: f32,
+    /// The depth-buffer value the rasterizer stores there (reversed-Z z/w).
+    pub depth: f32,
+    /// Interpolated unit world normal as shaded (turned towards the viewer on a back face).
+    pub normal: Vec3,
+    /// Unit normal of the triangle's plane (world, counter-clockwise side).
+    pub face_normal: Vec3,
+    /// The ray hit the triangle's front side.
+    pub front: bool,
+    pub uv: Option<Vec2>,
+    /// Barycentric weights of the triangle's three render vertices.
+    pub barycentric: Vec3,
+    /// Index into [`Scene::instances`](crate::scene::Scene::instances).
+    pub instance: usize,
+    pub mesh: usize,
+    /// Index into the scene's materials, or `None` for the default material.
+    pub material: Option<usize>,
+    /// Triangle of the prepared mesh, and the mesh facet it belongs to.
+    pub triangle: usize,
+    pub facet: usize,
+    /// The instance's shading mode under the settings.
+    pub mode: Shading,
+    /// Diffuse colour and alpha at the point (material x vertex colour x texture).
+    pub base: Vec4,
+    /// Ambient term (never attenuated).
+    pub ambient: Vec3,
+    pub lights: Vec<LightShare>,
+    /// Ambient plus every light's share: the colour per-pixel lighting gives here (Blinn's
+    /// highlight for the Blinn and textured modes, Phong's otherwise).
+    pub color: Vec3,
+}
+
+/// Probes pixel (x, y) of `view` (pixel centre, y down). `None` if the ray meets nothing.
+#[must_use]
+pub fn probe(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    x: u32,
+    y: u32,
+) -> Option<Probe> {
+    let (w, h) = (view.width.max(1), view.height.max(1));
+    let cam = &view.camera;
+    let view_m = cam.view();
+    let vp = cam.projection(view.aspect()) * view_m;
+    let inv = vp.as_dmat4().inverse();
+    let ndc = glam::DVec2::new(
+        (f64::from(x) + 0.5) / f64::from(w) * 2.0 - 1.0,
+        1.0 - (f64::from(y) + 0.5) / f64::from(h) * 2.0,
+    );
+    // Reversed-Z: z = 1 on the near plane, 0 on the far plane.
+    let near = inv.project_point3(ndc.extend(1.0));
+    let far = inv.project_point3(ndc.extend(0.0));
+    let hit = cast(scene, settings, near, far)?;
+    let inst = &scene.instances[hit.instance];
+    let tri = &scene.meshes[inst.mesh].tri;
+    let r = resolve(scene, settings, inst);
+    let [a, b, c] = tri.triangles[hit.triangle].map(|k| k as usize);
+    let bary = hit.bary;
+    let mix3 = |v: &[Vec3]| v[a] * bary.x + v[b] * bary.y + v[c] * bary.z;
+    let position = near + (far - near) * hit.t;
+    let position = position.as_vec3();
+    let mut normal = (inst.normal * mix3(&tri.normals)).normalize_or_zero();
+    let face = (tri.positions[b] - tri.positions[a]).cross(tri.positions[c] - tri.positions[a]);
+    let face_normal = (inst.normal * face).normalize_or_zero();
+    if !hit.front {
+        normal = -normal;
+    }
+    let uv = tri
+        .uvs
+        .as_ref()
+        .map(|u| u[a] * bary.x + u[b] * bary.y + u[c] * bary.z);
+    let mut base = r.params.base;
+    if let Some(col) = &tri.colors {
+        base *= col[a] * bary.x + col[b] * bary.y + col[c] * bary.z;
+    }
+    if let (true, Some(uv), Some(t)) = (r.textured, uv, &r.params.texture) {
+        base *= t.sample(uv);
+    }
+    let blinn = matches!(r.mode, Shading::Blinn | Shading::Textured);
+    let eye = cam.shading_eye();
+    let surface = Surface {
+        diffuse: base.truncate(),
+        ..r.params.surface
+    };
+    let shade = |set: &LightSet, s: &Surface| {
+        if blinn {
+            illuminate::<true>(set, s, position, normal, eye)
+        } else {
+            illuminate::<false>(set, s, position, normal, eye)
+        }
+    };
+    let diffuse_only = Surface {
+        specular: Vec3::ZERO,
+        ..surface
+    };
+    let specular_only = Surface {
+        diffuse: Vec3::ZERO,
+        ambient: Vec3::ZERO,
+        ..surface
+    };
+    let mut ambient = Vec3::ZERO;
+    let mut lights = Vec::new();
+    let mut one = LightSet::default();
+    for_each_light(scene, settings, view_m.inverse(), |l| {
+        one.clear();
+        one.push(l);
+        if matches!(l, Light::Ambient { .. }) {
+            ambient += shade(&one, &diffuse_only);
+        } else {
+            lights.push(LightShare {
+                index: lights.len(),
+                light: l.clone(),
+                diffuse: shade(&one, &diffuse_only),
+                specular: shade(&one, &specular_only),
+            });
+        }
+    });
+    let color = lights
+        .iter()
+        .fold(ambient, |acc, s| acc + s.diffuse + s.specular);
+    let clip = vp * position.extend(1.0);
+    let mesh = &scene.scene().meshes[inst.mesh];
+    Some(Probe {
+        position,
+        view_depth: -view_m.transform_point3(position).z,
+        depth: clip.z / clip.w,
+        normal,
+        face_normal,
+        front: hit.front,
+        uv,
+        barycentric: bary,
+        instance: hit.instance,
+        mesh: inst.mesh,
+        material: mesh.material.filter(|&m| m < scene.scene().materials.len()),
+        triangle: hit.triangle,
+        facet: tri
+            .triangle_facets
+            .get(hit.triangle)
+            .map_or(0, |&f| f as usize),
+        mode: r.mode,
+        base,
+        ambient,
+        lights,
+        color,
+    })
+}
+
+/// The nearest hit of a ray.
+#[derive(Clone, Copy, Debug)]
+struct Hit {
+    /// Ray parameter: 0 at the near plane, 1 at the far plane.
+    t: f64,
+    instance: usize,
+    triangle: usize,
+    bary: Vec3,
+    front: bool,
+}
+
+/// Casts the segment `near -> far` (world space) against every instance.
+fn cast(scene: &PreparedScene, settings: &Settings, near: DVec3, far: DVec3) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    for (i, inst) in scene.instances.iter().enumerate() {
+        if !inst.drawable {
+            continue;
+        }
+        let world = inst.world.as_dmat4();
+        if world.determinant().abs() < 1e-300 {
+            continue;
+        }
+        let inv = world.inverse();
+        let (o, e) = (inv.transform_point3(near), inv.transform_point3(far));
+        let d = e - o;
+        let tri = &scene.meshes[inst.mesh].tri;
+        // The segment must pass within the bounding sphere.
+        let cen = tri.center.as_dvec3();
+        let t_closest = ((cen - o).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+        if (o + d * t_closest - cen).length() > f64::from(tri.radius) * (1.0 + 1e-6) + 1e-9 {
+            continue;
+        }
+        let cull_back = resolve(scene, settings, inst).state.cull == Cull::Back;
+        let limit = best.map_or(1.0, |b| b.t);
+        let found = tri
+            .triangles
+            .par_iter()
+            .enumerate()
+            .with_min_len(4096)
+            .filter_map(|(k, t)| {
+                let [a, b, c] = t.map(|v| tri.positions[v as usize].as_dvec3());
+                intersect(o, d, a, b, c, cull_back).map(|(t, bary, front)| (t, k, bary, front))
+            })
+            .filter(|h| h.0 <= limit)
+            .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        if let Some((t, k, bary, front)) = found {
+            if best.map_or(true, |b| t < b.t) {
+                best = Some(Hit {
+                    t,
+                    instance: i,
+                    triangle: k,
+                    bary,
+                    front,
+                });
+            }
+        }
+    }
+    best
+}
+
+/// Moller-Trumbore: the segment `o + t d`, t in [0, 1], against triangle (a, b, c).
+/// Returns (t, barycentric weights of a, b, c, whether the front (counter-clockwise) side
+/// was hit).
+fn intersect(
+    o: DVec3,
+    d: DVec3,
+    a: DVec3,
+    b: DVec3,
+    c: DVec3,
+    cull_back: bool,
+) -> Option<(f64, Vec3, bool)> {
+    let (e1, e2) = (b - a, c - a);
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    // det = e1 . (d x e2) = -d . (e1 x e2): positive when the ray runs against the face
+    // normal, i.e. it sees the front.
+    let front = det > 0.0;
+    if cull_back && !front {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - a;
+    let u = s.dot(p) * inv;
+    if !(0.0..=1.0).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = d.dot(q) * inv;
+    if v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    let t = e2.dot(q) * inv;
+    (0.0..=1.0).contains(&t).then(|| {
+        (
+            t,
+            Vec3::new((1.0 - u - v) as f32, u as f32, v as f32),
+            front,
+        )
+    })
+}

@@ -1,0 +1,296 @@
+//! [`Renderer`]: renders frames of a [`PreparedScene`] again and again, as a viewer does,
+//! keeping its target and every buffer between frames. After the first frame at a size
+//! (and with the shading modes in use), rendering a frame allocates nothing
+//! (`tests/alloc_free.rs` counts allocations to prove it).
+//!
+//! Supersampling renders `n x n` whole passes, each with the projection shifted by a
+//! fraction of a pixel so the samples of a pixel lie on a regular grid, and averages them
+//! in linear light: the same samples as rendering `n` times larger and box-filtering, with
+//! one `n x n`-th of the memory, lines one pixel wide, and a natural point between passes
+//! to stop or to show progress. Textures choose their mip level as for the larger image.
+
+use std::time::Instant;
+
+use glam::{Mat4, Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::frame::{self, FrameData};
+use super::passes::{self, Cx};
+use super::pool::Pool;
+use super::prepare::PreparedScene;
+use super::settings::{Output, Settings, View};
+use crate::raster::{Bins, Stats, Target, TileCost, TILE};
+
+/// Wall-clock milliseconds of a frame's stages (summed over supersampling passes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct StageTimes {
+    /// Lights, culling and material set-up.
+    pub setup: f64,
+    /// Vertex stage (transform and per-vertex lighting).
+    pub vertex: f64,
+    /// Clipping, culling, triangle set-up and binning.
+    pub raster: f64,
+    /// Tile fill and fragment shading.
+    pub fill: f64,
+    /// Summing supersampling passes.
+    pub resolve: f64,
+    /// The whole frame.
+    pub total: f64,
+}
+
+/// What the last frame did.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct FrameReport {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel along each axis (1, 2, 4...).
+    pub samples: u32,
+    /// Counters, summed over the `samples * samples` passes.
+    pub stats: Stats,
+    pub times: StageTimes,
+}
+
+/// The frame was abandoned because the stop signal answered true.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("frame interrupted")]
+pub struct Interrupted;
+
+/// A reusable renderer: owns its target and scratch memory.
+#[derive(Debug, Default)]
+pub struct Renderer {
+    target: Option<Target>,
+    bins: Bins,
+    pool: Pool,
+    frame: FrameData,
+    /// Sum of the passes of a supersampled frame, in the target's tile layout.
+    accum: Vec<Vec4>,
+    report: FrameReport,
+    /// Clip -> world of the last frame (without jitter), for picking.
+    inv_vp: Mat4,
+    output: Output,
+    /// The last frame completed (an interrupted frame leaves a partial target).
+    complete: bool,
+}
+
+impl Renderer {
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Renders a frame on the current rayon pool (call it from inside `pool.install` to keep
+    /// work off other pools; the image does not depend on the thread count).
+    pub fn render(
+        &mut self,
+        scene: &PreparedScene,
+        settings: &Settings,
+        view: &View,
+    ) -> &FrameReport {
+        match self.render_until(scene, settings, view, &|| false) {
+            Ok(_) | Err(Interrupted) => &self.report,
+        }
+    }
+
+    /// [`Renderer::render`] that asks `stop` before each tile and between passes, and
+    /// abandons the frame once it answers true (e.g. when a newer view is waiting).
+    ///
+    /// # Errors
+    /// [`Interrupted`] if stopped; the target then holds a partial frame.
+    pub fn render_until(
+        &mut self,
+        scene: &PreparedScene,
+        settings: &Settings,
+        view: &View,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<&FrameReport, Interrupted> {
+        let t0 = Instant::now();
+        self.complete = false;
+        let (w, h) = (view.width.max(1), view.height.max(1));
+        let n = settings.samples.clamp(1, 8);
+        // The overdraw view counts from zero.
+        let bg = match settings.output {
+            Output::Shaded => settings.background,
+            Output::Overdraw => Vec4::ZERO,
+        };
+        let target = match &mut self.target {
+            Some(t) => {
+                t.reshape(w, h, bg);
+                t
+            }
+            None => self.target.insert(Target::new(w, h, bg)),
+        };
+        self.bins.reset_costs();
+        self.output = settings.output;
+        let camera = &view.camera;
+        let view_m = camera.view();
+        let vp = camera.projection(view.aspect()) * view_m;
+        self.inv_vp = vp.inverse();
+        let eye = camera.shading_eye();
+        let mut stats = Stats::default();
+        frame::set_up(
+            &mut self.frame,
+            scene,
+            settings,
+            view_m,
+            vp,
+            eye,
+            &mut stats,
+        );
+        let t_setup = t0.elapsed();
+        let passes = n * n;
+        if passes > 1 {
+            self.accum.clear();
+            self.accum
+                .resize(target.tiles.len() * (TILE * TILE) as usize, Vec4::ZERO);
+        }
+        let mut vertex_nanos = 0;
+        let mut resolve = std::time::Duration::ZERO;
+        for k in 0..passes {
+            if stop() {
+                return Err(Interrupted);
+            }
+            if k > 0 {
+                target.clear(bg);
+            }
+            // Sample k of the n x n grid: offsets (i + 0.5) / n - 0.5 pixel, y down.
+            let (dx, dy) = (
+                ((k % n) as f32 + 0.5) / n as f32 - 0.5,
+                ((k / n) as f32 + 0.5) / n as f32 - 0.5,
+            );
+            let jitter =
+                Mat4::from_translation(Vec3::new(2.0 * dx / w as f32, -2.0 * dy / h as f32, 0.0));
+            let mut cx = Cx {
+                scene,
+                camera,
+                eye,
+                jitter,
+                lod_scale: 1.0 / n as f32,
+                target,
+                bins: &mut self.bins,
+                pool: &mut self.pool,
+                stats: &mut stats,
+                stop,
+                vertex_nanos: 0,
+            };
+            let done = passes::frame(
+                &mut cx,
+                &mut self.frame,
+                settings.output == Output::Overdraw,
+                settings.wireframe_overlay,
+            );
+            vertex_nanos += cx.vertex_nanos;
+            if !done {
+                return Err(Interrupted);
+            }
+            if passes > 1 {
+                let t = Instant::now();
+                accumulate(
+                    target,
+                    &mut self.accum,
+                    (k + 1 == passes).then_some(1.0 / passes as f32),
+                );
+                resolve += t.elapsed();
+            }
+        }
+        let ms = |nanos: u64| nanos as f64 * 1e-6;
+        self.report = FrameReport {
+            width: w,
+            height: h,
+            samples: n,
+            stats,
+            times: StageTimes {
+                setup: t_setup.as_secs_f64() * 1e3,
+                vertex: ms(vertex_nanos),
+                raster: ms(self.bins.setup_nanos),
+                fill: ms(self.bins.fill_nanos),
+                resolve: resolve.as_secs_f64() * 1e3,
+                total: t0.elapsed().as_secs_f64() * 1e3,
+            },
+        };
+        self.complete = true;
+        Ok(&self.report)
+    }
+
+    /// The last frame's report.
+    #[must_use]
+    pub fn report(&self) -> &FrameReport {
+        &self.report
+    }
+
+    /// The target of the last frame (linear light; for a supersampled frame, the average of
+    /// its passes; depth from its last pass). `None` before the first frame.
+    #[must_use]
+    pub fn target(&self) -> Option<&Target> {
+        self.target.as_ref()
+    }
+
+    /// Takes the target out (the next frame allocates a new one).
+    pub fn take_target(&mut self) -> Option<Target> {
+        self.target.take()
+    }
+
+    /// Per-tile cost of the last frame, in the order of [`Target::tiles`].
+    #[must_use]
+    pub fn tile_costs(&self) -> &[TileCost] {
+        self.bins.costs()
+    }
+
+    /// Whether the last frame completed.
+    #[must_use]
+    pub fn complete(&self) -> bool {
+        self.complete
+    }
+
+    /// Writes the last frame as 8-bit sRGB (alpha 255) into `out`, row-major, `width *
+    /// height` pixels, e.g. the pixels of an egui `ColorImage` (no intermediate copy). The
+    /// overdraw view is mapped through [`overdraw_color`](super::overdraw_color).
+    ///
+    /// # Panics
+    /// If there is no frame yet or `out` has the wrong size.
+    pub fn write_rgba8(&self, out: &mut [[u8; 4]]) {
+        let target = self.target.as_ref().expect("a frame was rendered");
+        match self.output {
+            Output::Shaded => target.write_rgba8(out),
+            Output::Overdraw => target.write_rgba8_mapped(out, |c| super::overdraw_color(c.x)),
+        }
+    }
+
+    /// The world-space point seen at pixel (x, y) of the last frame, from its depth buffer,
+    /// or `None` where nothing was drawn.
+    #[must_use]
+    pub fn pick(&self, x: u32, y: u32) -> Option<Vec3> {
+        let target = self.target.as_ref()?;
+        let (_, depth) = target.pixel(x, y)?;
+        if !(depth > 0.0 && depth.is_finite()) || self.output == Output::Overdraw {
+            return None;
+        }
+        let ndc = glam::Vec2::new(
+            (x as f32 + 0.5) / target.width as f32 * 2.0 - 1.0,
+            1.0 - (y as f32 + 0.5) / target.height as f32 * 2.0,
+        );
+        let p = self.inv_vp * ndc.extend(depth).extend(1.0);
+        let p = p.truncate() / p.w;
+        p.is_finite().then_some(p)
+    }
+}
+
+/// Adds the target's colour to `accum` (tile layout); with `scale`, replaces the target's
+/// colour by `accum * scale` (the average, after the last pass).
+fn accumulate(target: &mut Target, accum: &mut [Vec4], scale: Option<f32>) {
+    let n = (TILE * TILE) as usize;
+    target
+        .tiles
+        .par_iter_mut()
+        .zip(accum.par_chunks_mut(n))
+        .for_each(|(tile, acc)| {
+            for (o, a) in acc.iter_mut().enumerate() {
+                *a += tile.color_at(o);
+            }
+            if let Some(s) = scale {
+                tile.materialize();
+                for (c, a) in tile.color.iter_mut().zip(acc.iter()) {
+                    *c = *a * s;
+                }
+            }
+        });
+}
