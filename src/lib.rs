@@ -20,6 +20,10 @@
 //! | [`shade`] | the lighting equation and the shaders of every mode (flat, Gouraud, Phong, Blinn, textured, debug views) |
 //! | [`quality`] | analytic references, error metrics, the time-versus-error sweep |
 //! | [`overlay`] | 2D drawings with tiny-skia: the chromaticity diagram, plots |
+//! | `viewer` | the egui/eframe viewer (feature `viewer`, on by default): worker thread, panels, navigation |
+//!
+//! Feature flags: `viewer` (default) builds the interactive viewer with eframe (glow + x11);
+//! `--no-default-features` builds the headless library and command line.
 
 pub mod color;
 pub mod load;
@@ -31,3 +35,5 @@ pub mod render;
 pub mod scene;
 pub mod shade;
 pub mod texture;
+#[cfg(feature = "viewer")]
+pub mod viewer;

@@ -1,5 +1,5 @@
-//! Subcommands: `render`, `info`, `bench`, `color`, `chroma`. Without a subcommand, renders the demo scene to
-//! a PNG.
+//! Subcommands: `view`, `render`, `info`, `bench`, `color`, `chroma`. Without a subcommand (or
+//! with just a model file) the viewer opens; without a display it renders to a PNG instead.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -40,13 +40,20 @@ use info::info;
     version,
     about = "glTF 2.0 / OBJ viewer and material toolkit with a tiled CPU rasterizer"
 )]
+#[command(args_conflicts_with_subcommands = true)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+    /// A model to open in the viewer (as `realist view MODEL`).
+    #[arg(value_name = "MODEL")]
+    model: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
 enum Command {
+    /// Open the viewer on a model (or the built-in demo); without a display, render it to a
+    /// PNG instead.
+    View(ViewArgs),
     /// Render a model (or the built-in demo) headless to a PNG.
     Render(RenderArgs),
     /// Print the load report and the topology of every mesh.
@@ -146,6 +153,12 @@ pub(crate) struct NormalArgs {
 }
 
 #[derive(Args)]
+struct ViewArgs {
+    /// Model file (.obj, .gltf, .glb); the built-in demo if absent.
+    model: Option<PathBuf>,
+}
+
+#[derive(Args)]
 pub(crate) struct InfoArgs {
     /// Model file (.obj, .gltf, .glb).
     model: PathBuf,
@@ -226,35 +239,57 @@ pub fn run() -> Result<()> {
         },
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
-        None => {
-            let out = PathBuf::from("realist-demo.png");
-            let args = RenderArgs {
-                model: None,
-                demo: true,
-                output: out.clone(),
-                size: (1280, 720),
-                shading: None,
-                threads: None,
-                camera: None,
-                fov: None,
-                zoom: None,
-                texture: None,
-                stats: false,
-                double_sided: false,
-                normals: NormalArgs {
-                    crease: "60".into(),
-                    weighting: "angle".into(),
-                },
-            };
-            say!("No display viewer yet: rendering the demo scene headless.");
-            render(&args)?;
-            say!(
-                "Wrote {}",
-                std::fs::canonicalize(&out).unwrap_or(out).display()
-            );
-            Ok(())
+        Some(Command::View(args)) => view(args.model),
+        None => view(cli.model),
+    }
+}
+
+/// The viewer, or without a display a headless render to a PNG named on the way out.
+fn view(model: Option<PathBuf>) -> Result<()> {
+    #[cfg(feature = "viewer")]
+    {
+        if realist::viewer::display_available() {
+            match realist::viewer::run(model.clone()) {
+                Ok(()) => return Ok(()),
+                Err(e) => say!("No window could be opened ({e}): rendering to a PNG instead."),
+            }
+        } else {
+            say!("No display (DISPLAY and WAYLAND_DISPLAY are unset): rendering to a PNG instead.");
         }
     }
+    #[cfg(not(feature = "viewer"))]
+    say!("Built without the viewer (feature `viewer`): rendering to a PNG instead.");
+    let out = match &model {
+        Some(m) => PathBuf::from(format!(
+            "realist-{}.png",
+            m.file_stem().map_or("model".into(), |s| s.to_string_lossy())
+        )),
+        None => PathBuf::from("realist-demo.png"),
+    };
+    let args = RenderArgs {
+        demo: model.is_none(),
+        model,
+        output: out.clone(),
+        size: (1280, 720),
+        shading: None,
+        threads: None,
+        camera: None,
+        fov: None,
+        zoom: None,
+        texture: None,
+        stats: false,
+        double_sided: false,
+        normals: NormalArgs {
+            crease: "60".into(),
+            weighting: "angle".into(),
+        },
+    };
+    render(&args)?;
+    say!(
+        "Wrote {}",
+        std::fs::canonicalize(&out).unwrap_or(out).display()
+    );
+    Ok(())
 }
 
 pub(crate) fn load_model(path: &Path, normals: &NormalArgs) -> Result<Scene> {

@@ -8,6 +8,8 @@
 //! - an error heat map (ΔE00 through a black-red-yellow-white ramp, saturating at 5).
 
 use super::LinearImage;
+use rayon::prelude::*;
+
 use crate::color::{delta_e_2000, xyz_to_lab, Illuminant, Observer, RgbSpace};
 
 /// ΔE00 above which a pixel counts as visibly different.
@@ -35,10 +37,32 @@ pub fn delta_e_map(test: &LinearImage, reference: &LinearImage) -> Vec<f64> {
     let white = Illuminant::D65.xyz(Observer::Cie1931);
     let lab = |c: [f64; 3]| xyz_to_lab(space.linear_to_xyz(c.map(|v| v.clamp(0.0, 1.0))), white);
     test.rgb
-        .iter()
+        .par_iter()
         .zip(&reference.rgb)
         .map(|(&a, &b)| delta_e_2000(lab(a), lab(b)))
         .collect()
+}
+
+/// The heat-map colour of one ΔE00 value: black (0) through red and yellow to white
+/// ([`HEAT_MAP_MAX_DE`] and above), 8-bit sRGB.
+#[must_use]
+pub fn heat_color(de: f64) -> [u8; 3] {
+    let t = (de / HEAT_MAP_MAX_DE).clamp(0.0, 1.0) * 3.0;
+    let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [q(t), q(t - 1.0), q(t - 2.0)]
+}
+
+/// Mean and 95th percentile of a ΔE map (0 for an empty one).
+#[must_use]
+pub fn mean_p95(de: &[f64]) -> (f64, f64) {
+    let mean = de.iter().sum::<f64>() / de.len().max(1) as f64;
+    let mut sorted = de.to_vec();
+    sorted.sort_unstable_by(f64::total_cmp);
+    let p95 = sorted
+        .get(((sorted.len() as f64 * 0.95).ceil() as usize).saturating_sub(1))
+        .copied()
+        .unwrap_or(0.0);
+    (mean, p95)
 }
 
 /// Compares `test` with `reference` (same size).
@@ -63,14 +87,9 @@ pub fn compare(test: &LinearImage, reference: &LinearImage, threshold: f64) -> M
     }
     let n = (test.rgb.len() * 3).max(1) as f64;
     let rmse = (sq / n).sqrt();
-    let mut de = delta_e_map(test, reference);
-    let mean = de.iter().sum::<f64>() / de.len().max(1) as f64;
+    let de = delta_e_map(test, reference);
     let over = de.iter().filter(|&&d| d > threshold).count();
-    de.sort_by(f64::total_cmp);
-    let p95 = de
-        .get(((de.len() as f64 * 0.95).ceil() as usize).saturating_sub(1))
-        .copied()
-        .unwrap_or(0.0);
+    let (mean, p95) = mean_p95(&de);
     Metrics {
         rmse,
         psnr: if rmse > 0.0 {
@@ -91,11 +110,7 @@ pub fn compare(test: &LinearImage, reference: &LinearImage, threshold: f64) -> M
 pub fn heat_map(test: &LinearImage, reference: &LinearImage) -> Vec<u8> {
     delta_e_map(test, reference)
         .into_iter()
-        .flat_map(|d| {
-            let t = (d / HEAT_MAP_MAX_DE).clamp(0.0, 1.0) * 3.0;
-            let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-            [q(t), q(t - 1.0), q(t - 2.0)]
-        })
+        .flat_map(heat_color)
         .collect()
 }
 

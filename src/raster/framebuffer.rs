@@ -208,28 +208,65 @@ impl Target {
     /// # Panics
     /// If `out` does not hold exactly `width * height` pixels.
     pub fn write_rgba8_mapped(&self, out: &mut [[u8; 4]], map: impl Fn(Vec4) -> Vec4 + Sync) {
+        self.write_pixels(out, map, |p| p);
+    }
+
+    /// Encodes the image as 8-bit sRGB into any pixel type (`make` turns RGBA bytes into a
+    /// pixel, e.g. egui's `Color32::from_rgba_premultiplied`), after `map`.
+    ///
+    /// # Panics
+    /// If `out` does not hold exactly `width * height` pixels.
+    pub fn write_pixels<P: Send>(
+        &self,
+        out: &mut [P],
+        map: impl Fn(Vec4) -> Vec4 + Sync,
+        make: impl Fn([u8; 4]) -> P + Sync,
+    ) {
         let w = self.width as usize;
         assert_eq!(out.len(), w * self.height as usize, "output size");
         let lut = encode_table();
         let px = |c: Vec4| {
             let c = map(c);
-            [encode(lut, c.x), encode(lut, c.y), encode(lut, c.z), 255]
+            make([encode(lut, c.x), encode(lut, c.y), encode(lut, c.z), 255])
         };
         out.par_chunks_mut(w * TILE as usize)
             .enumerate()
             .for_each(|(ty, band)| {
                 for t in &self.tiles[ty * self.tiles_x as usize..(ty + 1) * self.tiles_x as usize] {
-                    let clear = t.pending_clear.map(px);
+                    let clear = t.pending_clear;
                     for y in 0..t.h as usize {
                         let dst = &mut band[y * w + t.x0 as usize..][..t.w as usize];
                         match clear {
-                            Some(rgba) => dst.fill(rgba),
+                            Some(c) => dst.iter_mut().for_each(|d| *d = px(c)),
                             None => {
                                 let src = &t.color[y * TILE as usize..][..t.w as usize];
                                 for (d, c) in dst.iter_mut().zip(src) {
                                     *d = px(*c);
                                 }
                             }
+                        }
+                    }
+                }
+            });
+    }
+
+    /// Writes the depth plane row-major into `out` (`width * height` values; 0 where
+    /// nothing was drawn).
+    ///
+    /// # Panics
+    /// If `out` does not hold exactly `width * height` values.
+    pub fn write_depth(&self, out: &mut [f32]) {
+        let w = self.width as usize;
+        assert_eq!(out.len(), w * self.height as usize, "output size");
+        out.par_chunks_mut(w * TILE as usize)
+            .enumerate()
+            .for_each(|(ty, band)| {
+                for t in &self.tiles[ty * self.tiles_x as usize..(ty + 1) * self.tiles_x as usize] {
+                    for y in 0..t.h as usize {
+                        let dst = &mut band[y * w + t.x0 as usize..][..t.w as usize];
+                        match t.pending_clear {
+                            Some(_) => dst.fill(0.0),
+                            None => dst.copy_from_slice(&t.depth[y * TILE as usize..][..t.w as usize]),
                         }
                     }
                 }

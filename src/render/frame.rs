@@ -9,6 +9,7 @@ use super::settings::{Lights, Output, Settings};
 use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
 use crate::scene::{AlphaMode, Light, Style};
 use crate::shade::{DrawParams, LightSet, Shading, Surface};
+use crate::texture::Filter;
 
 /// One visible instance of this frame.
 #[derive(Clone, Copy, Debug)]
@@ -127,6 +128,10 @@ pub(crate) fn resolve(
         };
     }
     let textured = mode == Shading::Textured && texture.is_some();
+    let mut sampler = texture.as_ref().map(|t| t.sampler).unwrap_or_default();
+    if let Some(f) = settings.filter {
+        sampler.filter = f;
+    }
     let params = DrawParams {
         base: if m.base_color.is_finite() {
             m.base_color
@@ -144,6 +149,7 @@ pub(crate) fn resolve(
             },
         },
         texture,
+        sampler,
         alpha: if debug {
             AlphaMode::Opaque
         } else {
@@ -189,6 +195,12 @@ pub(super) fn set_up(
             continue;
         }
         let r = resolve(scene, settings, inst);
+        if let (true, Some(t)) = (r.textured, &r.params.texture) {
+            if r.params.sampler.filter == Filter::Trilinear {
+                // Built once (a no-op afterwards), in parallel, so no tile waits for it.
+                t.prepare_mips();
+            }
+        }
         let center = inst.world.transform_point3(tri.center);
         fd.insts.push(FrameInst {
             inst: k as u32,

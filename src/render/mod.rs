@@ -36,7 +36,7 @@ mod vertex;
 
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
-pub use renderer::{FrameReport, Interrupted, Renderer, StageTimes};
+pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
 pub use settings::{Lights, Output, Settings, View};
 
 /// Everything about a one-shot frame: [`Settings`] and [`View`] in one struct, the camera

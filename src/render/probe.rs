@@ -109,7 +109,7 @@ pub fn probe(
         base *= col[a] * bary.x + col[b] * bary.y + col[c] * bary.z;
     }
     if let (true, Some(uv), Some(t)) = (r.textured, uv, &r.params.texture) {
-        base *= t.sample(uv);
+        base *= t.sample_with(uv, r.params.sampler);
     }
     let blinn = matches!(r.mode, Shading::Blinn | Shading::Textured);
     let eye = cam.shading_eye();

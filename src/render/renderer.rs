@@ -248,10 +248,19 @@ impl Renderer {
     /// # Panics
     /// If there is no frame yet or `out` has the wrong size.
     pub fn write_rgba8(&self, out: &mut [[u8; 4]]) {
+        self.write_pixels(out, |p| p);
+    }
+
+    /// [`Renderer::write_rgba8`] into any pixel type: `make` turns sRGB bytes (alpha 255)
+    /// into a pixel, e.g. `|[r, g, b, a]| Color32::from_rgba_premultiplied(r, g, b, a)`.
+    ///
+    /// # Panics
+    /// If there is no frame yet or `out` has the wrong size.
+    pub fn write_pixels<P: Send>(&self, out: &mut [P], make: impl Fn([u8; 4]) -> P + Sync) {
         let target = self.target.as_ref().expect("a frame was rendered");
         match self.output {
-            Output::Shaded => target.write_rgba8(out),
-            Output::Overdraw => target.write_rgba8_mapped(out, |c| super::overdraw_color(c.x)),
+            Output::Shaded => target.write_pixels(out, |c| c, make),
+            Output::Overdraw => target.write_pixels(out, |c| super::overdraw_color(c.x), make),
         }
     }
 
@@ -261,17 +270,31 @@ impl Renderer {
     pub fn pick(&self, x: u32, y: u32) -> Option<Vec3> {
         let target = self.target.as_ref()?;
         let (_, depth) = target.pixel(x, y)?;
-        if !(depth > 0.0 && depth.is_finite()) || self.output == Output::Overdraw {
+        if self.output == Output::Overdraw {
             return None;
         }
-        let ndc = glam::Vec2::new(
-            (x as f32 + 0.5) / target.width as f32 * 2.0 - 1.0,
-            1.0 - (y as f32 + 0.5) / target.height as f32 * 2.0,
-        );
-        let p = self.inv_vp * ndc.extend(depth).extend(1.0);
-        let p = p.truncate() / p.w;
-        p.is_finite().then_some(p)
+        let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
+        unproject_with(self.inv_vp, target.width, target.height, fx, fy, depth)
     }
+}
+
+/// The world point at pixel position (x, y) of `view` (pixels, y down; pixel centres at
+/// +0.5) whose depth-buffer value is `depth` (reversed-Z z/w), or `None` for depth 0
+/// (nothing drawn) or a non-finite result.
+#[must_use]
+pub fn unproject(view: &View, x: f32, y: f32, depth: f32) -> Option<Vec3> {
+    let vp = view.camera.projection(view.aspect()) * view.camera.view();
+    unproject_with(vp.inverse(), view.width.max(1), view.height.max(1), x, y, depth)
+}
+
+fn unproject_with(inv_vp: Mat4, w: u32, h: u32, x: f32, y: f32, depth: f32) -> Option<Vec3> {
+    if !(depth > 0.0 && depth.is_finite()) {
+        return None;
+    }
+    let ndc = glam::Vec2::new(x / w as f32 * 2.0 - 1.0, 1.0 - y / h as f32 * 2.0);
+    let p = inv_vp * ndc.extend(depth).extend(1.0);
+    let p = p.truncate() / p.w;
+    p.is_finite().then_some(p)
 }
 
 /// Adds the target's colour to `accum` (tile layout); with `scale`, replaces the target's

@@ -8,7 +8,7 @@ use glam::Vec4;
 
 use crate::scene::{Camera, Light, Material};
 use crate::shade::Shading;
-use crate::texture::Texture;
+use crate::texture::{Filter, Texture};
 
 /// The lights a frame uses.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -37,7 +37,7 @@ pub enum Output {
 }
 
 /// Settings that change rarely: everything but the camera and the size.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
     /// Forces one mode on every instance; `None` = each instance's style, else textured
     /// for meshes with a texture, else Phong.
@@ -53,6 +53,8 @@ pub struct Settings {
     pub subpixel_bits: u8,
     /// Applied to meshes that have UVs but no base-colour texture.
     pub texture: Option<Arc<Texture>>,
+    /// Reads every texture with this filter instead of its sampler's.
+    pub filter: Option<Filter>,
     pub lights: Lights,
     /// Replaces the scene's materials (same order and count; missing entries keep the
     /// scene's): what a material editor changes.
@@ -73,6 +75,7 @@ impl Default for Settings {
             double_sided: false,
             subpixel_bits: crate::raster::SUBPIXEL_BITS as u8,
             texture: None,
+            filter: None,
             lights: Lights::Auto,
             materials: None,
             samples: 1,

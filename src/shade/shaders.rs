@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3, Vec4};
 use super::lighting::{illuminate, LightSet, Surface};
 use crate::raster::{FragmentShader, TriInfo, Varying};
 use crate::scene::AlphaMode;
-use crate::texture::{srgb_to_linear, Texture};
+use crate::texture::{srgb_to_linear, Sampler, Texture};
 
 /// Material parameters of one draw.
 #[derive(Clone, Debug)]
@@ -16,6 +16,8 @@ pub struct DrawParams {
     pub base: Vec4,
     pub surface: Surface,
     pub texture: Option<Arc<Texture>>,
+    /// How `texture` is read (its own sampler, or a filter the renderer's settings force).
+    pub sampler: Sampler,
     pub alpha: AlphaMode,
     pub double_sided: bool,
 }
@@ -180,9 +182,10 @@ impl<V: LitVarying, const BLINN: bool> LitShader<'_, V, BLINN> {
             base *= c;
         }
         if let (Some(uv), Some(t)) = (v.uv(), &d.texture) {
+            let (s, k) = (d.sampler, self.lod_scale);
             base *= match duv {
-                Some((dx, dy)) => t.sample_grad(uv, dx * self.lod_scale, dy * self.lod_scale),
-                None => t.sample(uv),
+                Some((dx, dy)) => t.sample_grad_with(uv, dx * k, dy * k, s),
+                None => t.sample_with(uv, s),
             };
         }
         let mut n = v.normal().normalize_or_zero();

@@ -1,0 +1,459 @@
+//! [`ViewerApp`]: the viewer's state and its whole UI in [`ViewerApp::ui_contents`], which
+//! `eframe::App::ui` calls and the UI tests drive directly.
+//!
+//! Each UI pass: take a finished frame from the worker (upload it once), lay out the
+//! panels and the viewport (which turn input into camera moves and setting changes), then
+//! submit a render job if the view or the settings differ from the last job's.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use eframe::egui::{self, ColorImage, TextureHandle, TextureOptions};
+
+use super::files::{sibling_model, FileWatcher, RecentFiles};
+use super::loader::{self, LoadTask, Loaded};
+use super::navigate::Navigator;
+use super::panels::{self, Panels};
+use super::viewport::ViewportState;
+use super::worker::{Frame, Job, Level, RenderHost};
+use crate::mesh::NormalOptions;
+use crate::raster::TileCost;
+use crate::render::{FrameReport, PreparedScene, Settings, View};
+use crate::scene;
+
+/// How the viewer starts.
+#[derive(Clone, Debug, Default)]
+pub struct ViewerOptions {
+    /// A model to open (else the built-in demo).
+    pub model: Option<PathBuf>,
+    /// Load and render in the calling thread, each job at its final quality (UI tests).
+    pub synchronous: bool,
+    /// Where the recent-files list lives (`None`: the user's config folder).
+    pub recent_file: Option<PathBuf>,
+    /// Render threads (0 = all cores).
+    pub threads: usize,
+}
+
+/// The A | B split view.
+#[derive(Clone, Debug)]
+pub struct Split {
+    pub enabled: bool,
+    /// The divider's position as a fraction of the viewport width.
+    pub divider: f32,
+    /// The right half's settings.
+    pub b: Settings,
+    /// Show the ΔE00 difference of A and B in the right half instead of B.
+    pub heat: bool,
+}
+
+/// A frame on screen: its textures and what the panels read about it.
+pub struct Shown {
+    pub job: u64,
+    pub level: Level,
+    pub view: View,
+    pub last: bool,
+    pub a: Arc<ColorImage>,
+    pub tex_a: TextureHandle,
+    pub tex_b: Option<TextureHandle>,
+    pub tex_heat: Option<TextureHandle>,
+    pub report_a: FrameReport,
+    pub report_b: Option<FrameReport>,
+    pub tile_costs: Vec<TileCost>,
+    pub tiles_x: u32,
+    pub depth: Vec<f32>,
+    /// ΔE00 mean and 95th percentile of the split view.
+    pub heat: Option<(f64, f64)>,
+    /// When it arrived, and the frame before's arrival (for frames per second).
+    pub arrived: Instant,
+    pub interval: Option<f64>,
+}
+
+/// The viewer.
+pub struct ViewerApp {
+    pub scene: Arc<PreparedScene>,
+    /// The file the scene came from (`None`: the built-in demo).
+    pub model: Option<PathBuf>,
+    pub load_millis: Option<f64>,
+    pub settings: Settings,
+    pub split: Split,
+    pub nav: Navigator,
+    /// Refine a still image up to this many samples per axis (1, 2 or 4).
+    pub max_samples: u32,
+    pub normals: NormalOptions,
+    pub host: RenderHost,
+    pub shown: Option<Shown>,
+    /// The last job submitted.
+    last_job: Option<Job>,
+    /// The camera moved by input during this UI pass.
+    pub interacting: bool,
+    pub loading: Option<LoadTask>,
+    synchronous: bool,
+    /// The last load's error, shown until the next success or dismissal.
+    pub error: Option<String>,
+    pub recent: RecentFiles,
+    recent_file: Option<PathBuf>,
+    watcher: Option<FileWatcher>,
+    file_changed: Arc<AtomicBool>,
+    repaint: Arc<dyn Fn() + Send + Sync>,
+    pub panels: Panels,
+    pub viewport: ViewportState,
+    /// A short message for the status bar (e.g. where a screenshot went).
+    pub notice: Option<String>,
+    /// Frame the scene for the viewport's aspect once its size is known (a new scene).
+    frame_pending: bool,
+}
+
+impl ViewerApp {
+    /// A viewer on `opts.model` (or the demo). A model that fails to load leaves the demo on
+    /// screen with the error shown.
+    ///
+    /// # Errors
+    /// If the render thread cannot start.
+    pub fn new(opts: ViewerOptions, repaint: Arc<dyn Fn() + Send + Sync>) -> Result<Self, String> {
+        let host = if opts.synchronous {
+            RenderHost::synchronous()
+        } else {
+            RenderHost::threaded(opts.threads, Arc::clone(&repaint))
+                .map_err(|e| format!("could not start the render thread: {e}"))?
+        };
+        let scene = Arc::new(PreparedScene::new(scene::demo()));
+        let (center, radius) = scene.bounding_sphere();
+        let nav = match scene.scene().cameras.first() {
+            Some(cam) => Navigator::from_camera(cam, center, radius, Default::default()),
+            None => Navigator::new(center, radius, 16.0 / 10.0),
+        };
+        // A corrupt list is not worth stopping for: start empty and say why.
+        let (recent, recent_problem) = match &opts.recent_file {
+            Some(p) => RecentFiles::load_from(p),
+            None => RecentFiles::load(),
+        };
+        let mut app = Self {
+            scene,
+            model: None,
+            load_millis: None,
+            settings: Settings::default(),
+            split: Split {
+                enabled: false,
+                divider: 0.5,
+                b: Settings {
+                    shading: Some(crate::shade::Shading::Gouraud),
+                    ..Settings::default()
+                },
+                heat: false,
+            },
+            nav,
+            max_samples: 4,
+            normals: NormalOptions::default(),
+            host,
+            shown: None,
+            last_job: None,
+            interacting: false,
+            loading: None,
+            synchronous: opts.synchronous,
+            error: None,
+            recent,
+            recent_file: opts.recent_file,
+            watcher: None,
+            file_changed: Arc::new(AtomicBool::new(false)),
+            repaint,
+            panels: Panels::default(),
+            viewport: ViewportState::default(),
+            notice: recent_problem,
+            frame_pending: true,
+        };
+        if let Some(m) = opts.model {
+            app.open(m);
+        }
+        Ok(app)
+    }
+
+    /// Starts loading `path` (in the background, or now in synchronous mode).
+    pub fn open(&mut self, path: PathBuf) {
+        if let Some(t) = self.loading.take() {
+            t.cancel();
+        }
+        if self.synchronous {
+            let out = loader::load_now(&path, self.normals, None);
+            self.finish_load(out);
+        } else {
+            self.loading = Some(LoadTask::start(path, self.normals, Arc::clone(&self.repaint)));
+        }
+    }
+
+    /// Installs a finished load, or shows its error (the current scene stays).
+    fn finish_load(&mut self, out: loader::Outcome) {
+        match out {
+            Ok(Loaded {
+                path,
+                scene,
+                millis,
+            }) => {
+                let (center, radius) = scene.bounding_sphere();
+                let aspect = self.viewport.aspect();
+                let same = self.model.as_deref() == Some(path.as_path());
+                if same {
+                    // A reload keeps the camera; only the scene's extent may have changed.
+                    self.nav.new_scene(center, radius, aspect);
+                } else {
+                    self.nav = Navigator::new(center, radius, aspect);
+                    self.frame_pending = true;
+                    self.settings.materials = None;
+                    self.panels.on_new_scene();
+                }
+                self.scene = scene;
+                self.load_millis = Some(millis);
+                self.error = None;
+                self.recent.add(&path);
+                self.save_state();
+                self.watch(&path);
+                self.model = Some(path);
+                self.panels.probe = None;
+            }
+            Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// Watches the current model for changes (reloaded when it changes on disk).
+    fn watch(&mut self, path: &Path) {
+        if self.synchronous {
+            return;
+        }
+        let (flag, repaint) = (Arc::clone(&self.file_changed), Arc::clone(&self.repaint));
+        self.watcher = FileWatcher::new(
+            path,
+            Box::new(move || {
+                flag.store(true, Ordering::SeqCst);
+                repaint();
+            }),
+        )
+        .ok();
+    }
+
+    /// Shows the built-in demo scene again.
+    pub fn open_demo(&mut self) {
+        if let Some(t) = self.loading.take() {
+            t.cancel();
+        }
+        let scene = Arc::new(PreparedScene::new(scene::demo()));
+        let (center, radius) = scene.bounding_sphere();
+        self.nav = match scene.scene().cameras.first() {
+            Some(cam) => Navigator::from_camera(cam, center, radius, Default::default()),
+            None => Navigator::new(center, radius, self.viewport.aspect()),
+        };
+        self.scene = scene;
+        self.frame_pending = true;
+        self.model = None;
+        self.watcher = None;
+        self.settings.materials = None;
+        self.panels.on_new_scene();
+    }
+
+    /// Opens the previous (`step` = -1) or next (+1) model in the current model's folder.
+    pub fn step_file(&mut self, step: i32) {
+        match self.model.as_deref().and_then(|m| sibling_model(m, step)) {
+            Some(p) => self.open(p),
+            None => self.notice = Some("no other model in this folder".into()),
+        }
+    }
+
+    /// Reloads the current model.
+    pub fn reload(&mut self) {
+        if let Some(m) = self.model.clone() {
+            self.open(m);
+        }
+    }
+
+    /// Saves what persists between runs (the recent files).
+    pub fn save_state(&mut self) {
+        // Losing the recent list is not worth an error dialog.
+        let _ = match &self.recent_file {
+            Some(p) => self.recent.save_to(p),
+            None => self.recent.save(),
+        };
+    }
+
+    /// The whole UI.
+    pub fn ui_contents(&mut self, ui: &mut egui::Ui) {
+        self.interacting = false;
+        self.poll_background(ui.ctx());
+        self.take_frames(ui.ctx());
+        panels::keyboard(self, ui);
+        panels::menu_bar(self, ui);
+        panels::status_bar(self, ui);
+        if self.panels.visible {
+            panels::side_panels(self, ui);
+        }
+        egui::CentralPanel::default()
+            .frame(egui::Frame::NONE)
+            .show(ui, |ui| super::viewport::show(self, ui));
+        panels::windows(self, ui.ctx());
+        if self.frame_pending && self.viewport.size_px[0] > 0 {
+            // Framed for the viewport's real aspect (a portrait window needs more distance).
+            let (center, radius) = self.scene.bounding_sphere();
+            self.nav.frame(center, radius, self.viewport.aspect());
+            self.nav.set_home();
+            self.frame_pending = false;
+        }
+        self.submit_if_changed();
+        if self.loading.is_some() {
+            // The progress bar moves: look again in a moment (nothing else polls).
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+        }
+    }
+
+    /// Loads that finished, and files that changed on disk.
+    fn poll_background(&mut self, _ctx: &egui::Context) {
+        if let Some(out) = self.loading.as_ref().and_then(LoadTask::poll) {
+            self.loading = None;
+            self.finish_load(out);
+        }
+        if self.file_changed.swap(false, Ordering::SeqCst) && self.loading.is_none() {
+            self.notice = Some("file changed on disk: reloaded".into());
+            self.reload();
+        }
+    }
+
+    /// Uploads the newest finished frame.
+    fn take_frames(&mut self, ctx: &egui::Context) {
+        let Some(frame) = self.host.take_frame() else {
+            return;
+        };
+        let Frame {
+            job,
+            level,
+            view,
+            a,
+            b,
+            heat,
+            depth,
+            last,
+        } = frame;
+        let size = [view.width as usize, view.height as usize];
+        let opts = if matches!(level, Level::Reduced(_)) {
+            TextureOptions::LINEAR
+        } else {
+            TextureOptions::NEAREST
+        };
+        let img_a = Arc::new(ColorImage::new(size, a.pixels));
+        let upload = |old: Option<TextureHandle>, name: &str, img: Arc<ColorImage>| {
+            match old {
+                // In place when the size is unchanged (glTexSubImage2D), else reallocated.
+                Some(mut t) if t.size() == size => {
+                    t.set_partial([0, 0], img, opts);
+                    t
+                }
+                Some(mut t) => {
+                    t.set(img, opts);
+                    t
+                }
+                None => ctx.load_texture(name, img, opts),
+            }
+        };
+        let old = self.shown.take();
+        let (old_a, old_b, old_h, prev) = match old {
+            Some(s) => (Some(s.tex_a), s.tex_b, s.tex_heat, Some(s.arrived)),
+            None => (None, None, None, None),
+        };
+        let tex_a = upload(old_a, "frame-a", Arc::clone(&img_a));
+        let (tex_b, report_b) = match b {
+            Some(b) => (
+                Some(upload(old_b, "frame-b", Arc::new(ColorImage::new(size, b.pixels)))),
+                Some(b.report),
+            ),
+            None => (None, None),
+        };
+        let (tex_heat, heat) = match heat {
+            Some(h) if h.pixels.len() == size[0] * size[1] => (
+                Some(upload(old_h, "frame-heat", Arc::new(ColorImage::new(size, h.pixels)))),
+                Some((h.mean, h.p95)),
+            ),
+            _ => (None, None),
+        };
+        let now = Instant::now();
+        self.shown = Some(Shown {
+            job,
+            level,
+            view,
+            last,
+            a: img_a,
+            tex_a,
+            tex_b,
+            tex_heat,
+            report_a: a.report,
+            report_b,
+            tile_costs: a.tile_costs,
+            tiles_x: a.tiles_x,
+            depth,
+            heat,
+            arrived: now,
+            interval: prev.map(|p| now.duration_since(p).as_secs_f64() * 1e3),
+        });
+    }
+
+    /// The view of the viewport as it is now.
+    #[must_use]
+    pub fn current_view(&self) -> View {
+        let [w, h] = self.viewport.size_px;
+        View {
+            camera: self.nav.camera(w.max(1) as f32 / h.max(1) as f32),
+            width: w.max(1),
+            height: h.max(1),
+        }
+    }
+
+    /// Submits a job if the view, the scene or the settings changed since the last one.
+    fn submit_if_changed(&mut self) {
+        if self.viewport.size_px[0] == 0 {
+            return;
+        }
+        let view = self.current_view();
+        let b = self.split.enabled.then_some(&self.split.b);
+        let heat = self.split.enabled && self.split.heat;
+        let same = self.last_job.as_ref().is_some_and(|j| {
+            Arc::ptr_eq(&j.scene, &self.scene)
+                && j.view == view
+                && *j.a == self.settings
+                && j.b.as_deref() == b
+                && j.heat == heat
+                && j.max_samples == self.max_samples
+        });
+        if same {
+            return;
+        }
+        let job = Job {
+            scene: Arc::clone(&self.scene),
+            a: Arc::new(self.settings.clone()),
+            b: b.map(|s| Arc::new(s.clone())),
+            heat,
+            view,
+            interactive: self.interacting,
+            max_samples: self.max_samples,
+        };
+        self.last_job = Some(job.clone());
+        self.host.submit(job);
+        if self.synchronous {
+            // The frame is ready now; show it in this pass's successor.
+            (self.repaint)();
+        }
+    }
+
+    /// The frame on screen is the final one for the current view and settings.
+    #[must_use]
+    pub fn settled(&self) -> bool {
+        self.shown
+            .as_ref()
+            .is_some_and(|s| s.last && s.job == self.host.submitted())
+            && !self.host.busy()
+    }
+
+    /// The name shown for the scene (file name or "demo").
+    #[must_use]
+    pub fn scene_name(&self) -> String {
+        self.model
+            .as_deref()
+            .and_then(Path::file_name)
+            .map_or_else(|| "demo (seed figure 9-8)".into(), |n| n.to_string_lossy().into_owned())
+    }
+}

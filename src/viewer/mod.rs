@@ -1,0 +1,83 @@
+//! The interactive viewer (feature `viewer`): an egui/eframe window around the CPU renderer.
+//! The renderer draws every pixel; egui shows the frame as a texture and hosts the panels.
+//!
+//! | module | owns |
+//! |---|---|
+//! | [`app`] | [`ViewerApp`]: the state and the whole UI in one method ([`ViewerApp::ui_contents`]) that eframe and the UI tests both drive |
+//! | [`worker`] | the render thread: coalesced jobs, abandoned stale frames, progressive quality |
+//! | [`loader`] | loading and preparing a model off the UI thread, with progress and cancel |
+//! | [`viewport`] | the image, mouse navigation, picking, the probe click, overlays (tile grid and cost, split divider) |
+//! | [`keys`] | the key bindings table behind both the dispatcher and the cheat sheet |
+//! | [`panels`] | shading, split view, scene, lights and materials, probe, colour, stats |
+//! | [`navigate`] | the camera controller (turntable / trackball, pan, dolly to cursor, framing, named views) |
+//! | [`files`] | recent files, previous / next model in a folder, reload on change |
+//!
+//! Repaints happen only on input, on a finished frame (the worker asks for one) and while a
+//! load shows its progress: an idle window uses no CPU.
+
+pub mod app;
+pub mod files;
+pub mod keys;
+pub mod loader;
+pub mod navigate;
+pub mod panels;
+pub mod viewport;
+pub mod worker;
+
+use std::path::PathBuf;
+
+pub use app::{ViewerApp, ViewerOptions};
+
+/// Whether a display server is announced (`DISPLAY` or `WAYLAND_DISPLAY`); the window may
+/// still fail to open, which [`run`] reports.
+#[must_use]
+pub fn display_available() -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
+}
+
+/// Opens the viewer window on `model` (or the built-in demo) and runs until it is closed.
+///
+/// # Errors
+/// If the window cannot be created (no display, no OpenGL).
+pub fn run(model: Option<PathBuf>) -> Result<(), String> {
+    let options = eframe::NativeOptions {
+        viewport: eframe::egui::ViewportBuilder::default()
+            .with_title("realist")
+            .with_inner_size([1280.0, 800.0])
+            .with_min_inner_size([480.0, 320.0])
+            .with_drag_and_drop(true),
+        // The renderer already shows what it has; vsync would only add latency.
+        glow_options: eframe::egui_glow::GlowConfiguration {
+            vsync: false,
+            ..Default::default()
+        },
+        ..eframe::NativeOptions::default()
+    };
+    eframe::run_native(
+        "realist",
+        options,
+        Box::new(move |cc| {
+            let ctx = cc.egui_ctx.clone();
+            let repaint = std::sync::Arc::new(move || ctx.request_repaint());
+            let app = ViewerApp::new(ViewerOptions {
+                model,
+                ..ViewerOptions::default()
+            }, repaint)
+            .map_err(|e| -> Box<dyn std::error::Error + Send + Sync> { e.into() })?;
+            Ok(Box::new(app))
+        }),
+    )
+    .map_err(|e| e.to_string())
+}
+
+impl eframe::App for ViewerApp {
+    fn ui(&mut self, ui: &mut eframe::egui::Ui, _frame: &mut eframe::Frame) {
+        self.ui_contents(ui);
+    }
+
+    fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
+        self.save_state();
+    }
+}

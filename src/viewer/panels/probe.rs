@@ -1,0 +1,138 @@
+//! The pixel probe section: what the clicked pixel shows and how it was lit, re-shaded for
+//! that pixel alone by the renderer's lighting code ([`crate::render::probe`]), with the
+//! colour in linear RGB, sRGB, HSV, L*a*b* and xy, and each light's diffuse and specular
+//! share.
+
+use eframe::egui::{self, Color32, RichText};
+use glam::Vec3;
+
+use super::Side;
+use crate::color::{self, rgb_to_hsv, srgb_decode, srgb_encode, xyz_to_xyy};
+use crate::viewer::app::ViewerApp;
+
+fn v3(v: Vec3) -> String {
+    format!("({:.4}, {:.4}, {:.4})", v.x, v.y, v.z)
+}
+
+/// A swatch of a linear colour.
+fn swatch(ui: &mut egui::Ui, linear: Vec3) {
+    let e = |v: f32| (srgb_encode(f64::from(v).clamp(0.0, 1.0)) * 255.0).round() as u8;
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(28.0, 14.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(e(linear.x), e(linear.y), e(linear.z)));
+}
+
+/// The colour of a linear RGB value in the models the seeds name.
+fn colour_rows(ui: &mut egui::Ui, linear: Vec3) {
+    let lin = linear.to_array().map(f64::from);
+    let clipped = lin.map(|v| v.clamp(0.0, 1.0));
+    let enc = clipped.map(srgb_encode);
+    let hsv = rgb_to_hsv(enc);
+    let lab = color::srgb_to_lab(enc);
+    let xyy = xyz_to_xyy(color::srgb_to_xyz(enc));
+    let bytes = enc.map(|v| (v * 255.0).round() as u8);
+    let mut row = |k: &str, v: String| {
+        ui.label(k);
+        ui.monospace(v);
+        ui.end_row();
+    };
+    row("linear RGB", format!("{:.4} {:.4} {:.4}", lin[0], lin[1], lin[2]));
+    row(
+        "sRGB",
+        format!("#{:02x}{:02x}{:02x}  ({} {} {})", bytes[0], bytes[1], bytes[2], bytes[0], bytes[1], bytes[2]),
+    );
+    row("HSV", format!("h {:.1}°  s {:.3}  v {:.3}", hsv[0] * 360.0, hsv[1], hsv[2]));
+    row("L*a*b*", format!("{:.2} {:.2} {:.2}", lab[0], lab[1], lab[2]));
+    row("xy (Y)", format!("{:.4} {:.4} ({:.4})", xyy[0], xyy[1], xyy[2]));
+    if lin.iter().any(|v| *v > 1.0) {
+        row("note", "above 1: clamped on screen".into());
+    }
+}
+
+/// The probe section.
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let Some(pv) = app.panels.probe.clone() else {
+        ui.label("Click a pixel to probe it: position, depth, normal, UV, what was drawn there, its colour and each light's share, recomputed for that pixel.");
+        return;
+    };
+    ui.label(format!(
+        "pixel ({}, {}) of {}x{}{}",
+        pv.pixel[0],
+        pv.pixel[1],
+        pv.frame_size[0],
+        pv.frame_size[1],
+        if pv.side == Side::B { ", right half (B)" } else { "" }
+    ));
+    if let Some(rgb) = pv.shown_rgb {
+        ui.horizontal(|ui| {
+            ui.label("on screen");
+            let lin = Vec3::from_array(rgb.map(|c| srgb_decode(f64::from(c) / 255.0) as f32));
+            swatch(ui, lin);
+            ui.monospace(format!("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2]));
+        });
+    }
+    let Some(p) = &pv.probe else {
+        ui.label("background: the ray through this pixel meets nothing");
+        return;
+    };
+    let scene = app.scene.scene();
+    let inst = scene.instances.get(p.instance);
+    let mesh = scene.meshes.get(p.mesh);
+    let material = p.material.and_then(|m| scene.materials.get(m));
+    egui::Grid::new("probe-geometry").num_columns(2).striped(true).show(ui, |ui| {
+        let mut row = |k: &str, v: String| {
+            ui.label(k);
+            ui.monospace(v);
+            ui.end_row();
+        };
+        row("instance", format!("{} ({})", p.instance, inst.map_or("", |i| i.name.as_str())));
+        row("mesh", format!("{} ({})", p.mesh, mesh.map_or("", |m| m.name.as_str())));
+        row(
+            "material",
+            material.map_or("default".into(), |m| format!("{} ({})", p.material.unwrap_or(0), m.name)),
+        );
+        row("triangle / facet", format!("{} / {}", p.triangle, p.facet));
+        row("shading", format!("{}{}", p.mode, if p.front { "" } else { ", back face" }));
+        row("position", v3(p.position));
+        row("view depth", format!("{:.5}", p.view_depth));
+        row("depth (z/w)", format!("{:.7}", p.depth));
+        if let Some(d) = pv.buffer_depth {
+            row("depth buffer", format!("{d:.7} (differs by {:.1e})", (d - p.depth).abs()));
+        }
+        row("normal", v3(p.normal));
+        row("face normal", v3(p.face_normal));
+        row("barycentric", v3(p.barycentric));
+        row("UV", p.uv.map_or("none".into(), |uv| format!("({:.4}, {:.4})", uv.x, uv.y)));
+        row("diffuse colour", format!("{:.3} {:.3} {:.3}, alpha {:.3}", p.base.x, p.base.y, p.base.z, p.base.w));
+    });
+    ui.separator();
+    ui.horizontal(|ui| {
+        ui.label(RichText::new("Re-shaded colour").strong());
+        swatch(ui, p.color);
+    });
+    if !matches!(p.mode, crate::shade::Shading::Phong | crate::shade::Shading::Blinn | crate::shade::Shading::Textured) {
+        ui.label(format!("(per-pixel lighting; this pixel was drawn in {} mode)", p.mode));
+    }
+    egui::Grid::new("probe-colour").num_columns(2).striped(true).show(ui, |ui| colour_rows(ui, p.color));
+    ui.separator();
+    ui.label(RichText::new("Each light's share (linear RGB)").strong());
+    egui::Grid::new("probe-lights").num_columns(3).striped(true).show(ui, |ui| {
+        ui.label("light");
+        ui.label("diffuse");
+        ui.label("specular");
+        ui.end_row();
+        ui.label("ambient");
+        ui.monospace(v3(p.ambient));
+        ui.label("");
+        ui.end_row();
+        for s in &p.lights {
+            ui.label(format!("{} {}", s.index, s.light.kind()));
+            ui.monospace(v3(s.diffuse));
+            ui.monospace(v3(s.specular));
+            ui.end_row();
+        }
+        ui.label("sum");
+        ui.monospace(v3(p.color));
+        ui.label("");
+        ui.end_row();
+    });
+}

@@ -1,0 +1,183 @@
+//! The scene section: instances, meshes with their topology report, materials, textures
+//! with thumbnails, lights, cameras (view through a file's camera) and the load report.
+
+use eframe::egui::{self, ColorImage, TextureOptions};
+
+use crate::mesh::TopologyReport;
+use crate::render::Lights;
+use crate::scene::Light;
+use crate::viewer::app::ViewerApp;
+use crate::viewer::navigate::Navigator;
+
+/// Largest thumbnail side in texels.
+const THUMB: u32 = 96;
+/// Rows listed before a long list is cut.
+const MAX_ROWS: usize = 200;
+
+/// The scene section.
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let scene = std::sync::Arc::clone(app.scene.scene());
+    let r = &scene.report;
+    ui.label(format!(
+        "{} ({}): {} meshes, {} instances, {} triangles",
+        app.scene_name(),
+        if r.format.is_empty() { "?" } else { r.format.as_str() },
+        scene.meshes.len(),
+        scene.instances.len(),
+        app.scene.triangle_count()
+    ));
+    egui::CollapsingHeader::new(format!("Load report ({} warnings, {} skipped, {} generated)", r.warnings.len(), r.skipped.len(), r.generated.len()))
+        .id_salt("load-report")
+        .show(ui, |ui| {
+            for (what, list) in [("warning", &r.warnings), ("skipped", &r.skipped), ("generated", &r.generated)] {
+                for line in list.iter().take(MAX_ROWS) {
+                    ui.label(format!("{what}: {line}"));
+                }
+            }
+            if r.warnings.is_empty() && r.skipped.is_empty() && r.generated.is_empty() {
+                ui.label("nothing to report");
+            }
+        });
+    egui::CollapsingHeader::new(format!("Instances ({})", scene.instances.len()))
+        .id_salt("instances")
+        .show(ui, |ui| {
+            for (i, inst) in scene.instances.iter().enumerate().take(MAX_ROWS) {
+                let tris = app.scene.meshes().get(inst.mesh).map_or(0, |m| m.tri.triangles.len());
+                ui.label(format!("{i}: {} (mesh {}, {tris} triangles, {:?})", inst.name, inst.mesh, inst.style));
+            }
+            more(ui, scene.instances.len());
+        });
+    egui::CollapsingHeader::new(format!("Meshes ({})", scene.meshes.len()))
+        .id_salt("meshes")
+        .show(ui, |ui| {
+            for (i, m) in scene.meshes.iter().enumerate().take(MAX_ROWS) {
+                egui::CollapsingHeader::new(format!("{i}: {} ({} vertices, {} facets)", m.name, m.positions.len(), m.facets.len()))
+                    .id_salt(("mesh", i))
+                    .show(ui, |ui| {
+                        ui.label(format!("normals: {:?}; UVs: {}; colours: {}", m.normal_source, m.uvs.is_some(), m.colors.is_some()));
+                        // The topology report walks the whole mesh: computed when opened, then kept.
+                        let report = app.panels.topology.entry(i).or_insert_with(|| m.topology());
+                        topology(ui, i, report);
+                    });
+            }
+            more(ui, scene.meshes.len());
+        });
+    egui::CollapsingHeader::new(format!("Materials ({})", scene.materials.len()))
+        .id_salt("materials")
+        .show(ui, |ui| {
+            for (i, m) in scene.materials.iter().enumerate().take(MAX_ROWS) {
+                let c = m.base_color;
+                ui.label(format!(
+                    "{i}: {}: Kd ({:.2} {:.2} {:.2}) a {:.2}, Ks {:.2}, n {:.0}, {:?}{}{}",
+                    m.name,
+                    c.x,
+                    c.y,
+                    c.z,
+                    c.w,
+                    m.specular.max_element(),
+                    m.shininess,
+                    m.alpha_mode,
+                    if m.double_sided { ", double-sided" } else { "" },
+                    if m.base_color_texture.is_some() { ", textured" } else { "" },
+                ));
+            }
+            more(ui, scene.materials.len());
+        });
+    egui::CollapsingHeader::new(format!("Textures ({})", scene.textures.len()))
+        .id_salt("textures")
+        .show(ui, |ui| {
+            if app.panels.thumbnails.len() != scene.textures.len() {
+                app.panels.thumbnails = vec![None; scene.textures.len()];
+            }
+            for (i, t) in scene.textures.iter().enumerate().take(MAX_ROWS) {
+                ui.horizontal(|ui| {
+                    let thumb = app.panels.thumbnails[i]
+                        .get_or_insert_with(|| ui.ctx().load_texture(format!("thumb-{i}"), thumbnail(t), TextureOptions::LINEAR));
+                    ui.image((thumb.id(), thumb.size_vec2()));
+                    ui.label(format!("{i}: {}\n{}x{}, {}, {:?}", t.name, t.width, t.height, if t.srgb { "sRGB" } else { "linear" }, t.sampler.filter));
+                });
+            }
+        });
+    egui::CollapsingHeader::new(format!("Lights ({})", scene.lights.len()))
+        .id_salt("scene-lights")
+        .show(ui, |ui| {
+            if scene.lights.is_empty() {
+                ui.label("none: the default rig (ambient, key and fill) follows the camera");
+            }
+            for (i, l) in scene.lights.iter().enumerate() {
+                ui.label(format!("{i}: {}", describe_light(l)));
+            }
+            if app.settings.lights != Lights::Auto && ui.button("use the scene's lights").clicked() {
+                app.settings.lights = Lights::Auto;
+            }
+        });
+    egui::CollapsingHeader::new(format!("Cameras ({})", scene.cameras.len()))
+        .id_salt("cameras")
+        .show(ui, |ui| {
+            if scene.cameras.is_empty() {
+                ui.label("none in the file");
+            }
+            for (i, c) in scene.cameras.iter().enumerate() {
+                let kind = match c.ortho {
+                    Some(h) => format!("orthographic, half height {h:.3}"),
+                    None => format!("{:.1}° field of view", c.yfov.to_degrees()),
+                };
+                if ui.button(format!("{i}: view through '{}' ({kind})", c.name)).clicked() {
+                    let (center, radius) = app.scene.bounding_sphere();
+                    app.nav = Navigator::from_camera(c, center, radius, app.nav.up_axis());
+                }
+            }
+        });
+}
+
+fn more(ui: &mut egui::Ui, n: usize) {
+    if n > MAX_ROWS {
+        ui.label(format!("... and {} more", n - MAX_ROWS));
+    }
+}
+
+fn topology(ui: &mut egui::Ui, i: usize, t: &TopologyReport) {
+    egui::Grid::new(("topology", i)).num_columns(2).show(ui, |ui| {
+        let mut row = |k: &str, v: String| {
+            ui.label(k);
+            ui.monospace(v);
+            ui.end_row();
+        };
+        row("vertices / edges / facets", format!("{} / {} / {}", t.vertices, t.edges, t.facets));
+        row("triangles", t.triangles.to_string());
+        row("boundary edges (loops)", format!("{} ({})", t.boundary_edges, t.boundary_loops));
+        row("non-manifold edges", t.non_manifold_edges.to_string());
+        row("degenerate facets", t.degenerate_facets.to_string());
+        row("isolated vertices", t.isolated_vertices.to_string());
+        row("components", t.components.to_string());
+        row("V - E + F", format!("{} (used vertices: {})", t.euler_characteristic, t.euler_characteristic_used));
+        row("genus", t.genus.map_or("not defined".into(), |g| g.to_string()));
+    });
+}
+
+/// A one-line description of a light.
+#[must_use]
+pub fn describe_light(l: &Light) -> String {
+    let c = |v: glam::Vec3| format!("({:.2} {:.2} {:.2})", v.x, v.y, v.z);
+    match l {
+        Light::Ambient { color } => format!("ambient {}", c(*color)),
+        Light::Directional { direction, color } => format!("directional along {} colour {}", c(*direction), c(*color)),
+        Light::Point { position, color } => format!("point at {} colour {}", c(*position), c(*color)),
+    }
+}
+
+/// A texture scaled down (nearest texel) to at most [`THUMB`] texels a side.
+fn thumbnail(t: &crate::texture::Texture) -> ColorImage {
+    let (w, h) = (t.width.max(1), t.height.max(1));
+    let scale = (THUMB as f32 / w.max(h) as f32).min(1.0);
+    let (tw, th) = (((w as f32 * scale) as u32).max(1), ((h as f32 * scale) as u32).max(1));
+    let mut px = Vec::with_capacity((tw * th) as usize);
+    for y in 0..th {
+        for x in 0..tw {
+            let (sx, sy) = (x * w / tw, y * h / th);
+            let [r, g, b, a] = t.texels.get((sy * w + sx) as usize).copied().unwrap_or([0; 4]);
+            px.push(egui::Color32::from_rgba_unmultiplied(r, g, b, a));
+        }
+    }
+    ColorImage::new([tw as usize, th as usize], px)
+}

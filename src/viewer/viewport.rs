@@ -1,0 +1,351 @@
+//! The viewport: the rendered frame as a texture (A | B in split view), mouse navigation,
+//! picking and the probe click, and the rasterizer overlays (64x64 tile grid, per-tile cost,
+//! overdraw legend, split divider).
+//!
+//! Units: egui lays out in points; the renderer draws physical pixels (`points * pixels per
+//! point`, rounded), so a frame maps one to one onto the screen. A frame of another size
+//! (reduced while moving, or from before a resize) is stretched over the viewport.
+
+use eframe::egui::{
+    self, Align2, Color32, CursorIcon, FontId, PointerButton, Pos2, Rect, Sense, Stroke,
+    StrokeKind, Vec2,
+};
+
+use super::app::ViewerApp;
+use super::navigate::pixel_to_ndc;
+use super::panels::{CostView, ProbeView, Side};
+use crate::render::{self, Output};
+
+/// Wheel travel (points) per dolly step.
+const POINTS_PER_STEP: f32 = 50.0;
+/// Half-width (points) of the split divider's grab area.
+const DIVIDER_GRAB: f32 = 5.0;
+
+/// Where the viewport is on screen.
+#[derive(Clone, Debug)]
+pub struct ViewportState {
+    /// In points.
+    pub rect: Rect,
+    /// Physical pixels (the render size).
+    pub size_px: [u32; 2],
+    pub pixels_per_point: f32,
+}
+
+impl Default for ViewportState {
+    fn default() -> Self {
+        Self {
+            rect: Rect::NOTHING,
+            size_px: [0, 0],
+            pixels_per_point: 1.0,
+        }
+    }
+}
+
+impl ViewportState {
+    /// Width over height (16:10 before the first layout).
+    #[must_use]
+    pub fn aspect(&self) -> f32 {
+        match self.size_px {
+            [w, h] if w > 0 && h > 0 => w as f32 / h as f32,
+            _ => 1.6,
+        }
+    }
+
+    /// A point on screen in the render's physical pixels (top left 0, 0).
+    #[must_use]
+    pub fn to_pixels(&self, p: Pos2) -> Vec2 {
+        (p - self.rect.min) * self.pixels_per_point
+    }
+}
+
+/// Lays out the viewport and handles its input.
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let (rect, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    let ppp = ui.ctx().pixels_per_point();
+    let size = (rect.size() * ppp).round();
+    app.viewport = ViewportState {
+        rect,
+        size_px: [size.x.max(1.0) as u32, size.y.max(1.0) as u32],
+        pixels_per_point: ppp,
+    };
+    let divider = split_divider(app, ui, rect);
+    if !divider {
+        navigate(app, ui, &resp);
+    }
+    paint(app, ui, rect);
+}
+
+/// The split divider: a handle to drag. Returns true while it is being dragged.
+fn split_divider(app: &mut ViewerApp, ui: &mut egui::Ui, rect: Rect) -> bool {
+    if !app.split.enabled {
+        return false;
+    }
+    let x = rect.left() + rect.width() * app.split.divider;
+    let grab = Rect::from_x_y_ranges(x - DIVIDER_GRAB..=x + DIVIDER_GRAB, rect.y_range());
+    let r = ui.interact(grab, ui.scope_id().with("split-divider"), Sense::drag());
+    if r.hovered() || r.dragged() {
+        ui.ctx().set_cursor_icon(CursorIcon::ResizeHorizontal);
+    }
+    if r.dragged() {
+        if let Some(p) = r.interact_pointer_pos() {
+            app.split.divider = ((p.x - rect.left()) / rect.width()).clamp(0.0, 1.0);
+        }
+    }
+    r.dragged()
+}
+
+/// Mouse navigation, picking and probing.
+fn navigate(app: &mut ViewerApp, ui: &mut egui::Ui, resp: &egui::Response) {
+    let vp = app.viewport.clone();
+    let height = vp.size_px[1] as f32;
+    let aspect = vp.aspect();
+    let shift = ui.input(|i| i.modifiers.shift);
+    let delta = resp.drag_delta() * vp.pixels_per_point;
+    let mut moved = false;
+    if delta != Vec2::ZERO {
+        if resp.dragged_by(PointerButton::Middle)
+            || (resp.dragged_by(PointerButton::Primary) && shift)
+        {
+            app.nav.pan(delta.x, delta.y, height);
+            moved = true;
+        } else if resp.dragged_by(PointerButton::Primary) {
+            app.nav.orbit(delta.x, delta.y, height);
+            moved = true;
+        } else if resp.dragged_by(PointerButton::Secondary) {
+            app.nav.dolly(-delta.y / POINTS_PER_STEP);
+            moved = true;
+        }
+    }
+    if resp.hovered() {
+        let (scroll, zoom, hover) =
+            ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta(), i.pointer.hover_pos()));
+        if scroll != 0.0 {
+            let steps = scroll / POINTS_PER_STEP;
+            match hover {
+                Some(p) => {
+                    let px = vp.to_pixels(p);
+                    let ndc = pixel_to_ndc(glam::Vec2::new(px.x, px.y), glam::Vec2::from(size(&vp)));
+                    app.nav.dolly_at(steps, ndc, aspect);
+                }
+                None => app.nav.dolly(steps),
+            }
+            moved = true;
+        }
+        if zoom != 1.0 && zoom.is_finite() && zoom > 0.0 {
+            // Ctrl + wheel (or a pinch): dolly towards the centre.
+            app.nav.dolly(zoom.ln() / (1.0 / super::navigate::DOLLY_PER_STEP).ln());
+            moved = true;
+        }
+    }
+    let pos = resp.interact_pointer_pos();
+    if resp.double_clicked() || resp.clicked_by(PointerButton::Middle) {
+        if let Some(p) = pos.and_then(|p| pick(app, p)) {
+            app.nav.center_on(p);
+            moved = true;
+        }
+    } else if resp.clicked() {
+        if let Some(p) = pos {
+            probe_at(app, p);
+        }
+    }
+    app.interacting |= moved;
+}
+
+fn size(vp: &ViewportState) -> [f32; 2] {
+    [vp.size_px[0] as f32, vp.size_px[1] as f32]
+}
+
+/// The frame pixel under a screen point, and the frame's size.
+fn frame_pixel(app: &ViewerApp, p: Pos2) -> Option<(u32, u32)> {
+    let s = app.shown.as_ref()?;
+    let r = app.viewport.rect;
+    let u = (p - r.min) / r.size();
+    if !(0.0..1.0).contains(&u.x) || !(0.0..1.0).contains(&u.y) {
+        return None;
+    }
+    let x = (u.x * s.view.width as f32) as u32;
+    let y = (u.y * s.view.height as f32) as u32;
+    Some((x.min(s.view.width - 1), y.min(s.view.height - 1)))
+}
+
+/// The world point under a screen point, from the shown frame's depth buffer.
+#[must_use]
+pub fn pick(app: &ViewerApp, p: Pos2) -> Option<glam::Vec3> {
+    let s = app.shown.as_ref()?;
+    let (x, y) = frame_pixel(app, p)?;
+    let depth = *s.depth.get((y * s.view.width + x) as usize)?;
+    render::unproject(&s.view, x as f32 + 0.5, y as f32 + 0.5, depth)
+}
+
+/// Probes the pixel under a screen point with the settings of the half it is in.
+pub fn probe_at(app: &mut ViewerApp, p: Pos2) {
+    let Some(s) = app.shown.as_ref() else {
+        return;
+    };
+    let Some((x, y)) = frame_pixel(app, p) else {
+        return;
+    };
+    let r = app.viewport.rect;
+    let side = if app.split.enabled && p.x > r.left() + r.width() * app.split.divider {
+        Side::B
+    } else {
+        Side::A
+    };
+    let settings = match side {
+        Side::A => &app.settings,
+        Side::B => &app.split.b,
+    };
+    let shown_rgb = match side {
+        Side::A => s.a.pixels.get((y * s.view.width + x) as usize).map(|c| [c.r(), c.g(), c.b()]),
+        Side::B => None,
+    };
+    let probe = render::probe(&app.scene, settings, &s.view, x, y);
+    let depth = s.depth.get((y * s.view.width + x) as usize).copied();
+    app.panels.probe = Some(ProbeView {
+        pixel: [x, y],
+        frame_size: [s.view.width, s.view.height],
+        at: p,
+        side,
+        probe,
+        shown_rgb,
+        buffer_depth: depth.filter(|d| *d > 0.0),
+    });
+    app.panels.open_probe = true;
+}
+
+/// Paints the frame, the split halves and the overlays.
+fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 0.0, Color32::from_gray(12));
+    let Some(s) = &app.shown else {
+        painter.text(
+            rect.center(),
+            Align2::CENTER_CENTER,
+            "rendering...",
+            FontId::proportional(18.0),
+            Color32::GRAY,
+        );
+        return;
+    };
+    let full = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
+    let white = Color32::WHITE;
+    match (&s.tex_b, app.split.enabled) {
+        (Some(tex_b), true) => {
+            let d = app.split.divider;
+            let x = rect.left() + rect.width() * d;
+            let (left, right) = (
+                Rect::from_min_max(rect.min, Pos2::new(x, rect.max.y)),
+                Rect::from_min_max(Pos2::new(x, rect.min.y), rect.max),
+            );
+            let uv_l = Rect::from_min_max(Pos2::ZERO, Pos2::new(d, 1.0));
+            let uv_r = Rect::from_min_max(Pos2::new(d, 0.0), Pos2::new(1.0, 1.0));
+            painter.image(s.tex_a.id(), left, uv_l, white);
+            let right_tex = match (&s.tex_heat, app.split.heat) {
+                (Some(h), true) => h.id(),
+                _ => tex_b.id(),
+            };
+            painter.image(right_tex, right, uv_r, white);
+            painter.line_segment(
+                [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
+                Stroke::new(2.0, Color32::from_rgb(255, 200, 40)),
+            );
+            let label = |pos: Pos2, align: Align2, text: String| {
+                painter.text(pos, align, text, FontId::monospace(13.0), Color32::from_rgb(255, 220, 120));
+            };
+            label(rect.left_top() + Vec2::new(8.0, 6.0), Align2::LEFT_TOP, "A: ".to_owned() + &super::panels::describe(&app.settings));
+            let right_text = match (s.heat, app.split.heat) {
+                (Some((mean, p95)), true) => format!("ΔE00 A vs B: mean {mean:.3}, p95 {p95:.3}"),
+                _ => "B: ".to_owned() + &super::panels::describe(&app.split.b),
+            };
+            label(rect.right_top() + Vec2::new(-8.0, 6.0), Align2::RIGHT_TOP, right_text);
+        }
+        _ => {
+            painter.image(s.tex_a.id(), rect, full, white);
+        }
+    }
+    tiles(app, &painter, rect);
+    if app.settings.output == Output::Overdraw {
+        super::panels::overdraw_legend(&painter, rect);
+    }
+    if let Some(pv) = &app.panels.probe {
+        if s.view.width == pv.frame_size[0] && s.view.height == pv.frame_size[1] {
+            let c = rect.min
+                + Vec2::new(
+                    (pv.pixel[0] as f32 + 0.5) / s.view.width as f32 * rect.width(),
+                    (pv.pixel[1] as f32 + 0.5) / s.view.height as f32 * rect.height(),
+                );
+            let stroke = Stroke::new(1.5, Color32::from_rgb(0, 255, 200));
+            painter.circle_stroke(c, 6.0, stroke);
+            painter.line_segment([c - Vec2::X * 10.0, c - Vec2::X * 3.0], stroke);
+            painter.line_segment([c + Vec2::X * 3.0, c + Vec2::X * 10.0], stroke);
+        }
+    }
+    let hovering = ui.input(|i| !i.raw.hovered_files.is_empty());
+    if hovering {
+        painter.rect_filled(rect, 0.0, Color32::from_black_alpha(160));
+        painter.text(
+            rect.center(),
+            Align2::CENTER_CENTER,
+            "drop a .obj, .gltf or .glb file to open it",
+            FontId::proportional(22.0),
+            Color32::WHITE,
+        );
+    }
+}
+
+/// The 64x64 tile grid and the per-tile cost heat map of the shown frame.
+fn tiles(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
+    let Some(s) = &app.shown else {
+        return;
+    };
+    let (fw, fh) = (s.view.width as f32, s.view.height as f32);
+    let tile = crate::raster::TILE as f32;
+    let (sx, sy) = (rect.width() / fw, rect.height() / fh);
+    if app.panels.tile_cost != CostView::Off && !s.tile_costs.is_empty() {
+        let value = |c: &crate::raster::TileCost| match app.panels.tile_cost {
+            CostView::Time => c.nanos as f32,
+            _ => c.fragments as f32,
+        };
+        let max = s.tile_costs.iter().map(value).fold(0.0, f32::max);
+        for (i, c) in s.tile_costs.iter().enumerate() {
+            let t = if max > 0.0 { value(c) / max } else { 0.0 };
+            if t <= 0.0 {
+                continue;
+            }
+            let (tx, ty) = ((i as u32 % s.tiles_x) as f32, (i as u32 / s.tiles_x) as f32);
+            let r = Rect::from_min_max(
+                rect.min + Vec2::new(tx * tile * sx, ty * tile * sy),
+                rect.min + Vec2::new(((tx + 1.0) * tile).min(fw) * sx, ((ty + 1.0) * tile).min(fh) * sy),
+            );
+            let [cr, cg, cb] = crate::quality::metrics::heat_color(f64::from(t) * crate::quality::metrics::HEAT_MAP_MAX_DE);
+            painter.rect_filled(r, 0.0, Color32::from_rgba_unmultiplied(cr, cg, cb, 150));
+        }
+        let what = match app.panels.tile_cost {
+            CostView::Time => format!("tile fill time, max {:.2} ms", max * 1e-6),
+            _ => format!("fragments per tile, max {max:.0}"),
+        };
+        painter.text(
+            rect.left_bottom() + Vec2::new(8.0, -8.0),
+            Align2::LEFT_BOTTOM,
+            what,
+            FontId::monospace(13.0),
+            Color32::WHITE,
+        );
+    }
+    if app.panels.tile_grid || app.panels.tile_cost != CostView::Off {
+        let stroke = Stroke::new(1.0, Color32::from_rgba_unmultiplied(255, 255, 255, 70));
+        let mut x = tile;
+        while x < fw {
+            let px = rect.left() + x * sx;
+            painter.line_segment([Pos2::new(px, rect.top()), Pos2::new(px, rect.bottom())], stroke);
+            x += tile;
+        }
+        let mut y = tile;
+        while y < fh {
+            let py = rect.top() + y * sy;
+            painter.line_segment([Pos2::new(rect.left(), py), Pos2::new(rect.right(), py)], stroke);
+            y += tile;
+        }
+        painter.rect_stroke(rect, 0.0, stroke, StrokeKind::Inside);
+    }
+}

@@ -1,0 +1,433 @@
+//! The render worker: renders on its own thread (and rayon pool) so the UI never waits for a
+//! frame. Requests are coalesced in a one-job slot (a drag sends many, only the newest is
+//! drawn), a frame in progress is abandoned between tiles when a newer job arrives, and
+//! each job is refined progressively:
+//!
+//! 1. while the camera moves, at a reduced resolution if full resolution would take longer
+//!    than [`FRAME_BUDGET_MS`] (the divisor chosen from the last full frame's time);
+//! 2. full resolution, one sample per pixel;
+//! 3. 2 x 2, then 4 x 4 supersampling (as far as the job's `max_samples` allows), each a
+//!    finished image shown as soon as it is done.
+//!
+//! After an interactive job's first frame the worker waits [`SETTLE_MS`] for a newer job
+//! before refining, so a drag does not start refinements it will abandon. Finished frames
+//! go to a one-frame slot and the UI is asked to repaint; an idle worker sleeps on a
+//! condition variable (no polling). Tests use the synchronous host, which renders the
+//! final level in the calling thread.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use eframe::egui::Color32;
+
+use crate::quality::metrics::{delta_e_map, heat_color, mean_p95};
+use crate::quality::LinearImage;
+use crate::raster::TileCost;
+use crate::render::{FrameReport, PreparedScene, Renderer, Settings, View};
+
+/// Interactive frames should take at most this long (about 30 frames per second).
+pub const FRAME_BUDGET_MS: f64 = 33.0;
+/// How long an interactive job waits for a newer one before refining.
+pub const SETTLE_MS: u64 = 150;
+
+/// A quality level of a shown frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Level {
+    /// Resolution divided by this (2..=4) per axis, while the camera moves.
+    Reduced(u32),
+    /// Full resolution, one sample per pixel.
+    Full,
+    /// Full resolution, n x n samples per pixel.
+    Supersampled(u32),
+}
+
+impl Level {
+    /// For the status bar.
+    #[must_use]
+    pub fn label(self) -> String {
+        match self {
+            Level::Reduced(d) => format!("1/{d} resolution (moving)"),
+            Level::Full => "full resolution, 1 sample".into(),
+            Level::Supersampled(n) => format!("{n}x{n} anti-aliased"),
+        }
+    }
+
+    fn samples(self) -> u32 {
+        match self {
+            Level::Supersampled(n) => n,
+            _ => 1,
+        }
+    }
+}
+
+/// A render request.
+#[derive(Clone)]
+pub struct Job {
+    pub scene: Arc<PreparedScene>,
+    /// The left (or only) image's settings.
+    pub a: Arc<Settings>,
+    /// The right image's settings in split view.
+    pub b: Option<Arc<Settings>>,
+    /// Compute the ΔE00 map between A and B (split view only).
+    pub heat: bool,
+    /// The full-resolution view.
+    pub view: View,
+    /// The camera is moving: a reduced resolution is allowed.
+    pub interactive: bool,
+    /// Refine up to this many samples per axis (1, 2 or 4).
+    pub max_samples: u32,
+}
+
+/// One rendered image with what the panels show about it.
+pub struct Image {
+    /// sRGB8, row-major, `view.width * view.height` (of the frame's view).
+    pub pixels: Vec<Color32>,
+    pub report: FrameReport,
+    pub tile_costs: Vec<TileCost>,
+    /// Tiles per row of the frame's target.
+    pub tiles_x: u32,
+}
+
+/// The ΔE00 difference of a split view.
+pub struct Heat {
+    pub pixels: Vec<Color32>,
+    pub mean: f64,
+    pub p95: f64,
+}
+
+/// A finished frame.
+pub struct Frame {
+    /// Which job (counting from 1) it belongs to.
+    pub job: u64,
+    pub level: Level,
+    /// The view actually rendered (reduced size while moving).
+    pub view: View,
+    pub a: Image,
+    pub b: Option<Image>,
+    pub heat: Option<Heat>,
+    /// Depth of A, row-major (reversed-Z, 0 = nothing drawn), for picking.
+    pub depth: Vec<f32>,
+    /// No finer level follows for this job.
+    pub last: bool,
+}
+
+/// What the worker thread and the UI share.
+struct Shared {
+    job: Mutex<Option<(u64, Job)>>,
+    wake: Condvar,
+    /// Number of the newest job submitted.
+    newest: AtomicU64,
+    frame: Mutex<Option<Frame>>,
+    /// The worker is rendering (for the status bar's spinner).
+    busy: AtomicBool,
+    quit: AtomicBool,
+}
+
+/// Renders jobs on a worker thread, or synchronously for tests.
+pub struct RenderHost {
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+    /// `Some` in synchronous mode: the renderers used inline.
+    sync: Option<Box<Worker>>,
+    submitted: u64,
+}
+
+impl RenderHost {
+    /// A worker thread with its own rayon pool of `threads` threads (0 = all cores);
+    /// `repaint` is called whenever a frame is ready.
+    ///
+    /// # Errors
+    /// If the thread or its pool cannot be started.
+    pub fn threaded(
+        threads: usize,
+        repaint: Arc<dyn Fn() + Send + Sync>,
+    ) -> std::io::Result<Self> {
+        let shared = Arc::new(Shared::new());
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("realist-render-{i}"))
+            .build()
+            .map_err(std::io::Error::other)?;
+        let sh = Arc::clone(&shared);
+        let thread = std::thread::Builder::new()
+            .name("realist-render".into())
+            .spawn(move || {
+                // The loop runs on a pool thread, so the renderer's parallel work is queued
+                // locally (rayon's injector would allocate per frame).
+                pool.install(|| Worker::default().run(&sh, &*repaint));
+            })?;
+        Ok(Self {
+            shared,
+            thread: Some(thread),
+            sync: None,
+            submitted: 0,
+        })
+    }
+
+    /// Renders each job's final level inside [`RenderHost::submit`] (UI tests).
+    #[must_use]
+    pub fn synchronous() -> Self {
+        Self {
+            shared: Arc::new(Shared::new()),
+            thread: None,
+            sync: Some(Box::default()),
+            submitted: 0,
+        }
+    }
+
+    /// Queues a job, replacing any job not yet started; the frame in progress is abandoned.
+    pub fn submit(&mut self, job: Job) {
+        self.submitted += 1;
+        let n = self.submitted;
+        if let Some(w) = &mut self.sync {
+            let level = match job.max_samples {
+                0 | 1 => Level::Full,
+                s => Level::Supersampled(s),
+            };
+            if let Ok(frame) = w.render_level(&job, n, level, &|| false) {
+                *lock(&self.shared.frame) = Some(Frame { last: true, ..frame });
+            }
+            return;
+        }
+        *lock(&self.shared.job) = Some((n, job));
+        self.shared.newest.store(n, Ordering::SeqCst);
+        self.shared.wake.notify_all();
+    }
+
+    /// The newest finished frame, if one arrived since the last call.
+    pub fn take_frame(&mut self) -> Option<Frame> {
+        lock(&self.shared.frame).take()
+    }
+
+    /// Whether the worker is rendering or has a job queued.
+    #[must_use]
+    pub fn busy(&self) -> bool {
+        self.shared.busy.load(Ordering::SeqCst) || lock(&self.shared.job).is_some()
+    }
+
+    /// Number of the newest job submitted.
+    #[must_use]
+    pub fn submitted(&self) -> u64 {
+        self.submitted
+    }
+}
+
+impl Drop for RenderHost {
+    fn drop(&mut self) {
+        self.shared.quit.store(true, Ordering::SeqCst);
+        self.shared.newest.fetch_add(1, Ordering::SeqCst);
+        self.shared.wake.notify_all();
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Shared {
+    fn new() -> Self {
+        Self {
+            job: Mutex::new(None),
+            wake: Condvar::new(),
+            newest: AtomicU64::new(0),
+            frame: Mutex::new(None),
+            busy: AtomicBool::new(false),
+            quit: AtomicBool::new(false),
+        }
+    }
+}
+
+/// Locks a mutex, recovering the data of a poisoned one (a panic elsewhere must not take
+/// the viewer down).
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// The worker's state: its renderers and what it learnt about frame times.
+#[derive(Default)]
+struct Worker {
+    a: Renderer,
+    b: Renderer,
+    /// Milliseconds of the last full-resolution one-sample frame (A and B).
+    full_ms: Option<f64>,
+}
+
+impl Worker {
+    fn run(&mut self, sh: &Shared, repaint: &(dyn Fn() + Send + Sync)) {
+        loop {
+            let (n, job) = {
+                let mut slot = lock(&sh.job);
+                loop {
+                    if sh.quit.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    if let Some(j) = slot.take() {
+                        break j;
+                    }
+                    slot = sh
+                        .wake
+                        .wait(slot)
+                        .unwrap_or_else(std::sync::PoisonError::into_inner);
+                }
+            };
+            sh.busy.store(true, Ordering::SeqCst);
+            let stale = || sh.newest.load(Ordering::SeqCst) != n;
+            let levels = self.plan(&job);
+            for (i, &level) in levels.iter().enumerate() {
+                if i == 1 && job.interactive && Self::newer_within(sh, n, SETTLE_MS) {
+                    break;
+                }
+                // A panic in a frame (a renderer bug) must not kill the worker: the frame is
+                // dropped and the next job starts from fresh renderers.
+                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    self.render_level(&job, n, level, &stale)
+                }));
+                match result {
+                    Ok(Ok(frame)) => {
+                        let last = i + 1 == levels.len();
+                        *lock(&sh.frame) = Some(Frame { last, ..frame });
+                        repaint();
+                    }
+                    Ok(Err(_)) => break,
+                    Err(_) => {
+                        *self = Worker::default();
+                        break;
+                    }
+                }
+            }
+            sh.busy.store(false, Ordering::SeqCst);
+            repaint();
+        }
+    }
+
+    /// Waits up to `ms` for a job newer than `n`; true if one arrived.
+    fn newer_within(sh: &Shared, n: u64, ms: u64) -> bool {
+        let deadline = Instant::now() + Duration::from_millis(ms);
+        let mut slot = lock(&sh.job);
+        loop {
+            if sh.newest.load(Ordering::SeqCst) != n || sh.quit.load(Ordering::SeqCst) {
+                return true;
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return false;
+            }
+            slot = sh
+                .wake
+                .wait_timeout(slot, deadline - now)
+                .map(|(g, _)| g)
+                .unwrap_or_else(|e| e.into_inner().0);
+        }
+    }
+
+    /// The levels to render for a job, coarsest first.
+    fn plan(&self, job: &Job) -> Vec<Level> {
+        let mut levels = Vec::new();
+        if job.interactive {
+            if let Some(ms) = self.full_ms.filter(|&ms| ms > FRAME_BUDGET_MS) {
+                let d = (ms / FRAME_BUDGET_MS).sqrt().ceil().clamp(2.0, 4.0) as u32;
+                levels.push(Level::Reduced(d));
+            }
+        }
+        levels.push(Level::Full);
+        for n in [2, 4] {
+            if job.max_samples >= n {
+                levels.push(Level::Supersampled(n));
+            }
+        }
+        levels
+    }
+
+    /// Renders one level of a job (A, B and the heat map).
+    fn render_level(
+        &mut self,
+        job: &Job,
+        n: u64,
+        level: Level,
+        stale: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Frame, crate::render::Interrupted> {
+        let start = Instant::now();
+        let mut view = job.view.clone();
+        if let Level::Reduced(d) = level {
+            view.width = (view.width / d).max(1);
+            view.height = (view.height / d).max(1);
+        }
+        let samples = level.samples();
+        let a = render_image(&mut self.a, job, &job.a, &view, samples, stale)?;
+        let b = match &job.b {
+            Some(s) => Some(render_image(&mut self.b, job, s, &view, samples, stale)?),
+            None => None,
+        };
+        if level == Level::Full {
+            self.full_ms = Some(start.elapsed().as_secs_f64() * 1e3);
+        }
+        let heat = match (&b, job.heat, level) {
+            (Some(_), true, Level::Full | Level::Supersampled(_)) => Some(heat(&self.a, &self.b)),
+            _ => None,
+        };
+        let mut depth = vec![0.0; (view.width * view.height) as usize];
+        if let Some(t) = self.a.target() {
+            t.write_depth(&mut depth);
+        }
+        Ok(Frame {
+            job: n,
+            level,
+            view,
+            a,
+            b,
+            heat,
+            depth,
+            last: false,
+        })
+    }
+}
+
+fn render_image(
+    r: &mut Renderer,
+    job: &Job,
+    settings: &Settings,
+    view: &View,
+    samples: u32,
+    stale: &(dyn Fn() -> bool + Sync),
+) -> Result<Image, crate::render::Interrupted> {
+    let mut s = settings.clone();
+    s.samples = samples;
+    let report = r.render_until(&job.scene, &s, view, stale)?.clone();
+    let mut pixels = vec![Color32::BLACK; (view.width * view.height) as usize];
+    r.write_pixels(&mut pixels, |[cr, cg, cb, ca]| {
+        Color32::from_rgba_premultiplied(cr, cg, cb, ca)
+    });
+    let tiles_x = r.target().map_or(1, |t| t.tiles_x);
+    Ok(Image {
+        pixels,
+        report,
+        tile_costs: r.tile_costs().to_vec(),
+        tiles_x,
+    })
+}
+
+/// The ΔE00 map between the two renderers' frames.
+fn heat(a: &Renderer, b: &Renderer) -> Heat {
+    let (Some(ta), Some(tb)) = (a.target(), b.target()) else {
+        return Heat {
+            pixels: Vec::new(),
+            mean: 0.0,
+            p95: 0.0,
+        };
+    };
+    let (ia, ib) = (
+        LinearImage::from_framebuffer(&ta.resolve()),
+        LinearImage::from_framebuffer(&tb.resolve()),
+    );
+    let de = delta_e_map(&ia, &ib);
+    let (mean, p95) = mean_p95(&de);
+    let pixels = de
+        .iter()
+        .map(|&d| {
+            let [r, g, b] = heat_color(d);
+            Color32::from_rgb(r, g, b)
+        })
+        .collect();
+    Heat { pixels, mean, p95 }
+}
