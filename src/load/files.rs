@@ -5,12 +5,41 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use super::progress::{Stage, Tracker};
 use super::{Budget, LoadError};
 
 /// Reads `path`, which must be a regular file, charging its size to `budget` as `what`.
 /// At most the charged size plus one byte is ever read, so a special file or one that grows
 /// while read cannot exhaust memory.
 pub(crate) fn read_capped(path: &Path, budget: &Budget, what: &str) -> Result<Vec<u8>, LoadError> {
+    read_chunked(path, budget, what, |_, _| Ok(()))
+}
+
+/// [`read_capped`] for the model file itself: the [`Stage::Reading`] stage, filling the
+/// progress bar up to `until`, with a checkpoint every [`CHUNK`] bytes.
+pub(crate) fn read_model(
+    path: &Path,
+    budget: &Budget,
+    what: &str,
+    tracker: &Tracker,
+    until: f32,
+) -> Result<Vec<u8>, LoadError> {
+    read_chunked(path, budget, what, |done, total| match done {
+        0 => tracker.begin(Stage::Reading, until, total),
+        _ => tracker.advance(done),
+    })
+}
+
+/// Bytes read between two calls of the progress callback.
+const CHUNK: u64 = 4 << 20;
+
+/// [`read_capped`], calling `step(bytes read, file size)` before each [`CHUNK`].
+fn read_chunked(
+    path: &Path,
+    budget: &Budget,
+    what: &str,
+    mut step: impl FnMut(u64, u64) -> Result<(), LoadError>,
+) -> Result<Vec<u8>, LoadError> {
     let io = |source| LoadError::Io {
         path: path.to_owned(),
         source,
@@ -27,7 +56,17 @@ pub(crate) fn read_capped(path: &Path, budget: &Budget, what: &str) -> Result<Ve
     // `meta.len()` is already charged; allow one more byte to detect growth.
     let cap = meta.len().saturating_add(1);
     let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
-    file.take(cap).read_to_end(&mut bytes).map_err(io)?;
+    let mut file = file.take(cap);
+    loop {
+        step(bytes.len() as u64, meta.len())?;
+        let n = (&mut file)
+            .take(CHUNK)
+            .read_to_end(&mut bytes)
+            .map_err(io)?;
+        if n == 0 {
+            break;
+        }
+    }
     if bytes.len() as u64 > meta.len() {
         return Err(io(std::io::Error::new(
             std::io::ErrorKind::InvalidData,

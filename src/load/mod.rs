@@ -20,12 +20,17 @@
 //!   (a missing texture or MTL file, dropped faces, skipped line primitives) goes to
 //!   [`LoadReport`](crate::scene::LoadReport) instead.
 //!
+//! A load can be watched and cancelled from another thread through a shared [`Progress`]
+//! ([`LoadOptions::progress`]); `progress.rs` says where the loaders look at it and what
+//! that costs.
+//!
 //! Faces with fewer than three corners or three distinct vertices, and faces touching a
 //! non-finite position, are dropped (and counted in the report) by both loaders, so the
 //! renderer never sees them.
 
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::mesh::{MeshData, NormalOptions};
 use crate::scene::Scene;
@@ -35,10 +40,13 @@ mod files;
 mod gltf;
 mod images;
 mod obj;
+mod progress;
 
 pub use self::gltf::GltfError;
 pub use self::images::MAX_SIDE as MAX_TEXTURE_SIDE;
 pub use self::obj::ObjError;
+use self::progress::Tracker;
+pub use self::progress::{Progress, Stage};
 
 /// Options shared by the loaders.
 #[derive(Clone, Debug)]
@@ -47,6 +55,9 @@ pub struct LoadOptions {
     pub normals: NormalOptions,
     /// Memory budget for the whole document (file bytes, geometry, decoded textures).
     pub max_bytes: u64,
+    /// Where the load reports its stage and fraction, and where it can be cancelled from
+    /// another thread (`None`: nobody watches; the load behaves the same).
+    pub progress: Option<Arc<Progress>>,
 }
 
 impl Default for LoadOptions {
@@ -54,6 +65,7 @@ impl Default for LoadOptions {
         Self {
             normals: NormalOptions::default(),
             max_bytes: 2 << 30,
+            progress: None,
         }
     }
 }
@@ -81,6 +93,9 @@ pub enum LoadError {
     },
     #[error("{path}: cannot use image: {reason}")]
     Image { path: PathBuf, reason: String },
+    /// [`Progress::cancel`] was called during the load.
+    #[error("{path}: load cancelled")]
+    Cancelled { path: PathBuf },
     #[error(transparent)]
     Obj(#[from] ObjError),
     #[error(transparent)]
@@ -90,12 +105,17 @@ pub enum LoadError {
 /// Loads a model file, choosing the loader by extension (`.obj`, `.gltf`, `.glb`, any case).
 ///
 /// A panic inside a loader is caught and returned as [`LoadError::Panic`].
+///
+/// With [`LoadOptions::progress`], the stage and fraction are published as the load goes
+/// and end at ([`Stage::Done`], 1) on success. If the `Progress` is cancelled before this
+/// function returns, it returns [`LoadError::Cancelled`] (whatever the load had come to,
+/// unless it panicked), within a few milliseconds of the cancel.
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    let loader: fn(&Path, &LoadOptions) -> Result<Scene, LoadError> = match ext.as_deref() {
+    let loader: Loader = match ext.as_deref() {
         Some("obj") => obj::load_obj,
         Some("gltf" | "glb") => gltf::load_gltf,
         _ => {
@@ -104,8 +124,24 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
             })
         }
     };
-    guarded(path, || loader(path, opts))
+    let tracker = Tracker::new(path, opts.progress.as_ref());
+    let result = guarded(path, || {
+        tracker.check()?;
+        loader(path, opts, &tracker)
+    });
+    match result {
+        Err(e @ LoadError::Panic { .. }) => Err(e),
+        _ if tracker.is_cancelled() => Err(tracker.cancelled()),
+        Ok(scene) => {
+            tracker.finish();
+            Ok(scene)
+        }
+        Err(e) => Err(e),
+    }
 }
+
+/// A format's loader.
+type Loader = fn(&Path, &LoadOptions, &Tracker) -> Result<Scene, LoadError>;
 
 /// Loads an image file (PNG or JPEG) as an sRGB colour texture, e.g. for `--texture IMG`.
 /// The file and the decoded texels must fit [`LoadOptions::default`]'s memory budget, and

@@ -79,7 +79,7 @@ pub(super) fn split(bytes: &[u8]) -> Result<Chunks<'_>, String> {
 }
 
 #[cfg(test)]
-pub(super) fn build(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
+pub(in crate::load) fn build(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     let pad = |v: &[u8], fill: u8| {
         let mut v = v.to_vec();
         while v.len() % 4 != 0 {

@@ -18,6 +18,7 @@ use gltf::json::texture::{MagFilter, MinFilter, WrappingMode};
 use gltf::json::validation::Checked;
 
 use super::{uri, Builder};
+use crate::load::progress::Stage;
 use crate::load::{images, LoadError};
 use crate::scene::{AlphaMode, Material, TextureRef};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
@@ -223,18 +224,23 @@ impl Builder<'_> {
                     Some(u) if !u.starts_with("data:") => u.clone(),
                     _ => format!("image {i}"),
                 });
+                doc.tracker.label(Stage::Textures)?;
                 let bytes: Result<Cow<[u8]>, String> = match (&img.uri, img.buffer_view) {
                     (Some(u), _) => {
                         uri::load(u, &doc.root, doc.budget, &format!("image {i}"))?.map(Cow::Owned)
                     }
                     (None, Some(v)) => match doc.view(v.value(), &format!("image {i}")) {
                         Ok((b, _)) => Ok(Cow::Borrowed(b)),
-                        Err(e @ LoadError::TooLarge { .. }) => return Err(e),
+                        Err(e @ (LoadError::TooLarge { .. } | LoadError::Cancelled { .. })) => {
+                            return Err(e)
+                        }
                         Err(e) => Err(e.to_string()),
                     },
                     (None, None) => Err("has neither a uri nor a bufferView".into()),
                 };
-                match bytes.map(|b| images::decode(&b, &name, doc.budget)) {
+                let decoded = bytes.map(|b| images::decode(&b, &name, doc.budget));
+                doc.tracker.label(Stage::Geometry)?;
+                match decoded {
                     Ok(Ok(t)) => Ok(Arc::new(t)),
                     Ok(Err(images::DecodeError::Budget(e))) => return Err(e),
                     Ok(Err(images::DecodeError::Invalid(reason))) | Err(reason) => Err(reason),

@@ -29,13 +29,17 @@ use std::cell::OnceCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use gltf::json::mesh::Semantic;
+use gltf::json::validation::Checked;
+
+use super::progress::{Stage, Tracker};
 use super::{files, Budget, LoadError, LoadOptions};
 use crate::mesh::MeshError;
 use crate::scene::{LoadReport, Scene};
 use crate::texture::Texture;
 
 mod accessor;
-mod glb;
+pub(super) mod glb;
 mod material;
 mod nodes;
 mod primitive;
@@ -116,6 +120,8 @@ pub(super) struct Doc<'a> {
     /// The GLB `BIN\0` chunk.
     pub bin: Option<&'a [u8]>,
     pub budget: &'a Budget,
+    /// Progress of the load: checked before each buffer is loaded and each primitive built.
+    pub tracker: &'a Tracker,
     buffers: Vec<OnceCell<Cow<'a, [u8]>>>,
 }
 
@@ -147,6 +153,7 @@ impl<'a> Doc<'a> {
         if let Some(bytes) = cell.get() {
             return Ok(bytes);
         }
+        self.tracker.check()?;
         let err = |reason: String| {
             LoadError::from(GltfError::Buffer {
                 path: self.path.to_owned(),
@@ -235,11 +242,21 @@ pub(super) struct Builder<'a> {
     pub images: HashMap<usize, Option<std::sync::Arc<Texture>>>,
 }
 
-/// Loads a `.gltf` or `.glb` file.
-pub(crate) fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
+/// Where reading and parsing end on the progress bar; the rest is geometry (in units of
+/// vertices, see [`geometry_units`]), with images decoded as the materials that use them
+/// are first met. Geometry dominates a big file; these are rough, not measured shares.
+const READ_UNTIL: f32 = 0.10;
+const PARSE_UNTIL: f32 = 0.15;
+
+/// Loads a `.gltf` or `.glb` file, reporting to `tracker`.
+pub(crate) fn load_gltf(
+    path: &Path,
+    opts: &LoadOptions,
+    tracker: &Tracker,
+) -> Result<Scene, LoadError> {
     let budget = Budget::new(path, opts.max_bytes);
     let root = files::model_folder(path)?;
-    let bytes = files::read_capped(path, &budget, "glTF file")?;
+    let bytes = files::read_model(path, &budget, "glTF file", tracker, READ_UNTIL)?;
     let is_glb = bytes.starts_with(b"glTF");
     let glb_err = |reason: String| {
         LoadError::from(GltfError::Glb {
@@ -261,11 +278,13 @@ pub(crate) fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadEr
     let json_bytes = json_bytes
         .strip_prefix(b"\xEF\xBB\xBF")
         .unwrap_or(json_bytes);
+    tracker.begin(Stage::Parsing, PARSE_UNTIL, 1)?;
     let json = schema::parse(json_bytes, &budget)?.map_err(|e| GltfError::Json {
         path: path.to_owned(),
         message: e.to_string(),
     })?;
     check_header(path, &json)?;
+    tracker.begin(Stage::Geometry, 1.0, geometry_units(&json))?;
 
     let mut report = LoadReport {
         file: path.display().to_string(),
@@ -280,6 +299,7 @@ pub(crate) fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadEr
         json,
         bin,
         budget: &budget,
+        tracker,
         buffers,
     };
     let mut b = Builder {
@@ -301,6 +321,36 @@ pub(crate) fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadEr
             .push("the scene has nothing to draw".into());
     }
     Ok(b.scene)
+}
+
+/// Progress units of primitive `p` of mesh `m`: its vertex count (POSITION's), plus one.
+fn primitive_units(json: &Json, m: usize, p: usize) -> u64 {
+    let position = json
+        .meshes
+        .get(m)
+        .and_then(|mesh| mesh.primitives.get(p))
+        .and_then(|prim| prim.attributes.get(&Checked::Valid(Semantic::Positions)));
+    position
+        .and_then(|a| json.accessors.get(a.value()))
+        .map_or(0, |a| a.count.0)
+        .saturating_add(1)
+}
+
+/// Progress units of the geometry stage: those of every primitive of every mesh a node
+/// uses (each is built once however many nodes share it).
+fn geometry_units(json: &Json) -> u64 {
+    let mut used = vec![false; json.meshes.len()];
+    for m in json.nodes.iter().filter_map(|n| n.mesh) {
+        if let Some(flag) = used.get_mut(m.value()) {
+            *flag = true;
+        }
+    }
+    let used = used.iter().enumerate().filter(|(_, &u)| u);
+    used.flat_map(|(m, _)| {
+        let primitives = json.meshes.get(m).map_or(0, |mesh| mesh.primitives.len());
+        (0..primitives).map(move |p| primitive_units(json, m, p))
+    })
+    .fold(0u64, u64::saturating_add)
 }
 
 /// The one extension supported: integer vertex attributes (read and converted to floats).

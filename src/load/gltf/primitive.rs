@@ -12,7 +12,7 @@ use gltf::json::mesh::{Mode, Primitive, Semantic};
 use gltf::json::validation::Checked;
 
 use super::accessor::Format;
-use super::{Builder, Doc, GltfError, QUANTIZATION};
+use super::{primitive_units, Builder, Doc, GltfError, QUANTIZATION};
 use crate::load::{mesh_bytes, retain_facets, LoadError};
 use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 
@@ -125,12 +125,24 @@ impl Builder<'_> {
         if let Some(&cached) = self.meshes.get(&(m, p)) {
             return Ok(cached);
         }
-        let built = self.build_primitive(m, p)?;
+        // Progress: the primitive's units, a share at each step of building it.
+        let (tracker, base) = (self.doc.tracker, self.doc.tracker.done());
+        let units = primitive_units(&self.doc.json, m, p);
+        let step = |tenths: u64| tracker.advance(base + units / 10 * tenths);
+        let built = self.build_primitive(m, p, &step)?;
         self.meshes.insert((m, p), built);
+        tracker.advance(base + units)?;
         Ok(built)
     }
 
-    fn build_primitive(&mut self, m: usize, p: usize) -> Result<Option<usize>, LoadError> {
+    /// Builds primitive `p` of mesh `m`, calling `step(k)` (a checkpoint, and progress to
+    /// k tenths of the primitive) between the steps that take time on a big one.
+    fn build_primitive(
+        &mut self,
+        m: usize,
+        p: usize,
+        step: &dyn Fn(u64) -> Result<(), LoadError>,
+    ) -> Result<Option<usize>, LoadError> {
         let doc = &self.doc;
         let mesh = doc.json.meshes.get(m);
         let Some(prim) = mesh.and_then(|mesh| mesh.primitives.get(p)) else {
@@ -171,9 +183,12 @@ impl Builder<'_> {
             label: &label,
         };
         let attrs = doc.attributes(prim, position.value(), &at)?;
+        step(2)?;
         let n = attrs.positions.len();
         let indices = doc.indices(prim, n, &at)?;
+        step(3)?;
         let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
+        step(4)?;
         if prim.targets.as_ref().is_some_and(|t| !t.is_empty()) {
             report
                 .skipped
@@ -203,6 +218,7 @@ impl Builder<'_> {
         report
             .warnings
             .extend(retain_facets(&mut data).warnings(&label));
+        step(5)?;
         if data.corners.is_empty() {
             report.skipped.push(format!("{label}: no triangles"));
             return Ok(None);
@@ -212,7 +228,10 @@ impl Builder<'_> {
                 .generated
                 .push(format!("{label}: flat normals (no NORMAL attribute)"));
         }
-        let mesh = Mesh::new(data.weld_positions(), NormalPolicy::Flat).map_err(|source| {
+        let data_corners = data.corners.len();
+        let build = move || Mesh::new(data.weld_positions(), NormalPolicy::Flat);
+        let built = self.doc.tracker.run(data_corners, build)?;
+        let mesh = built.map_err(|source| {
             let path = self.doc.path.to_owned();
             GltfError::Mesh {
                 path,

@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
+use crate::load::progress::Tracker;
 use crate::load::{files, images, Budget, LoadError};
 use crate::scene::{AlphaMode, Material, TextureRef};
 use crate::texture::Texture;
@@ -177,6 +178,8 @@ pub(super) struct Converter<'a> {
     /// Canonical model folder: textures outside it are refused.
     root: &'a Path,
     budget: &'a Budget,
+    /// Checked before each texture is read and decoded.
+    tracker: &'a Tracker,
     /// The decoded textures, in scene order.
     pub textures: Vec<Arc<Texture>>,
     pub warnings: Vec<String>,
@@ -185,10 +188,11 @@ pub(super) struct Converter<'a> {
 }
 
 impl<'a> Converter<'a> {
-    pub fn new(root: &'a Path, budget: &'a Budget) -> Self {
+    pub fn new(root: &'a Path, budget: &'a Budget, tracker: &'a Tracker) -> Self {
         Self {
             root,
             budget,
+            tracker,
             textures: Vec::new(),
             warnings: Vec::new(),
             by_path: HashMap::new(),
@@ -263,6 +267,7 @@ impl<'a> Converter<'a> {
         let name = path
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        self.tracker.check()?;
         let decoded = match files::read_capped(&path, self.budget, "texture") {
             Ok(bytes) => images::decode(&bytes, &name, self.budget),
             Err(e @ LoadError::TooLarge { .. }) => return Err(e),

@@ -18,6 +18,11 @@ use std::borrow::Cow;
 use std::path::Path;
 
 use super::ObjError;
+use crate::load::progress::Tracker;
+use crate::load::LoadError;
+
+/// Lines between two progress checkpoints (a power of two: the test is a mask).
+const CHECK_EVERY: usize = 4096;
 
 /// Counts and findings of the pass.
 #[derive(Debug, Default)]
@@ -67,8 +72,13 @@ impl<'a> Editor<'a> {
     }
 }
 
-/// Checks and normalises OBJ `text` from `path`.
-pub(super) fn scan<'a>(path: &Path, text: &'a str) -> Result<Scan<'a>, ObjError> {
+/// Checks and normalises OBJ `text` from `path`, telling `tracker` how many bytes are done
+/// every [`CHECK_EVERY`] lines.
+pub(super) fn scan<'a>(
+    path: &Path,
+    text: &'a str,
+    tracker: &Tracker,
+) -> Result<Scan<'a>, LoadError> {
     let mut s = Scan::default();
     let mut ed = Editor {
         src: text,
@@ -79,13 +89,18 @@ pub(super) fn scan<'a>(path: &Path, text: &'a str) -> Result<Scan<'a>, ObjError>
     let mut used = std::collections::HashSet::new();
     let mut start = 0usize;
     for (i, raw) in text.split('\n').enumerate() {
+        if i & (CHECK_EVERY - 1) == 0 {
+            tracker.advance(start as u64)?;
+        }
         let line_no = i + 1;
         let end = start + raw.len();
         let line = raw.strip_suffix('\r').unwrap_or(raw);
-        let err = |message: String| ObjError::Syntax {
-            path: path.to_owned(),
-            line: line_no,
-            message,
+        let err = |message: String| {
+            LoadError::from(ObjError::Syntax {
+                path: path.to_owned(),
+                line: line_no,
+                message,
+            })
         };
         let trimmed = line.trim();
         let keyword = trimmed.split_whitespace().next().unwrap_or("");
@@ -159,13 +174,13 @@ pub(super) fn scan<'a>(path: &Path, text: &'a str) -> Result<Scan<'a>, ObjError>
             "f" => {
                 for corner in words {
                     check_corner(corner, &s).map_err(|(message, index)| match index {
-                        Some((kind, index, count)) => ObjError::Index {
+                        Some((kind, index, count)) => LoadError::from(ObjError::Index {
                             path: path.to_owned(),
                             line: line_no,
                             kind,
                             index,
                             count,
-                        },
+                        }),
                         None => err(message),
                     })?;
                     s.corners += 1;
@@ -272,7 +287,8 @@ mod tests {
     use super::*;
 
     fn run(text: &str) -> Result<Scan<'_>, String> {
-        scan(Path::new("m.obj"), text).map_err(|e| e.to_string())
+        let tracker = Tracker::new(Path::new("m.obj"), None);
+        scan(Path::new("m.obj"), text, &tracker).map_err(|e| e.to_string())
     }
 
     #[test]
