@@ -106,10 +106,11 @@ pub enum LoadError {
 ///
 /// A panic inside a loader is caught and returned as [`LoadError::Panic`].
 ///
-/// With [`LoadOptions::progress`], the stage and fraction are published as the load goes
-/// and end at ([`Stage::Done`], 1) on success. If the `Progress` is cancelled before this
-/// function returns, it returns [`LoadError::Cancelled`] (whatever the load had come to,
-/// unless it panicked), within a few milliseconds of the cancel.
+/// With [`LoadOptions::progress`], the load runs on a helper thread while this one waits;
+/// the stage and fraction are published as it goes and end at ([`Stage::Done`], 1) on
+/// success. If the `Progress` is cancelled before this function returns, it returns
+/// [`LoadError::Cancelled`] (whatever the load had come to, unless it panicked), within a
+/// few milliseconds of the cancel; the helper stops at its next checkpoint.
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
     let ext = path
         .extension()
@@ -124,6 +125,17 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
             })
         }
     };
+    match &opts.progress {
+        None => run(loader, path, opts),
+        Some(progress) => {
+            let (owned_path, opts) = (path.to_owned(), opts.clone());
+            progress::watch(path, progress, move || run(loader, &owned_path, &opts))
+        }
+    }
+}
+
+/// Runs `loader` under [`guarded`], reporting to `opts.progress` (if any).
+fn run(loader: Loader, path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
     let tracker = Tracker::new(path, opts.progress.as_ref());
     let result = guarded(path, || {
         tracker.check()?;

@@ -228,10 +228,7 @@ impl Builder<'_> {
                 .generated
                 .push(format!("{label}: flat normals (no NORMAL attribute)"));
         }
-        let data_corners = data.corners.len();
-        let build = move || Mesh::new(data.weld_positions(), NormalPolicy::Flat);
-        let built = self.doc.tracker.run(data_corners, build)?;
-        let mesh = built.map_err(|source| {
+        let mesh = Mesh::new(data.weld_positions(), NormalPolicy::Flat).map_err(|source| {
             let path = self.doc.path.to_owned();
             GltfError::Mesh {
                 path,

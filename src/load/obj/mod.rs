@@ -31,7 +31,7 @@ mod scan;
 /// (none there) and meshes 23%.
 const READ_UNTIL: f32 = 0.07;
 const SCAN_UNTIL: f32 = 0.30;
-const TOBJ_UNTIL: f32 = 0.77;
+pub(super) const TOBJ_UNTIL: f32 = 0.77;
 const TEXTURES_UNTIL: f32 = 0.78;
 
 /// Why an OBJ file could not be loaded. Messages are one line starting with the path.
@@ -239,12 +239,12 @@ fn add_meshes(
             averaged.push(name.clone());
             tracker.label(Stage::Normals)?;
         }
-        let policy = NormalPolicy::Average(opts.normals);
-        let built = tracker.run(data.corners.len(), move || Mesh::new(data, policy))?;
-        let mesh = built.map_err(|source| ObjError::Mesh {
-            path: path.to_owned(),
-            object: name.clone(),
-            source,
+        let mesh = Mesh::new(data, NormalPolicy::Average(opts.normals)).map_err(|source| {
+            ObjError::Mesh {
+                path: path.to_owned(),
+                object: name.clone(),
+                source,
+            }
         })?;
         tracker.label(Stage::Geometry)?;
         tracker.advance(done)?;

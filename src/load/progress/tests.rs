@@ -1,6 +1,6 @@
 //! Progress and cancellation: the shared handle on its own, and through [`load`] for OBJ,
 //! glTF and GLB (pre-cancelled, cancelled from another thread, watched from another
-//! thread), on generated grids big enough to take the helper-thread path.
+//! thread), on generated grids of a few hundred thousand triangles.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -117,16 +117,16 @@ fn full_load_time(path: &Path) -> Duration {
     times[1]
 }
 
-/// Loads `path`, cancelling from another thread as soon as the load shows `stage` with some
-/// progress made; returns the time from the cancel to `load` returning, and the whole
-/// load's time.
-fn cancel_at(path: &Path, stage: Stage) -> (Duration, Duration) {
+/// Loads `path`, cancelling from another thread as soon as the load shows `stage` with a
+/// fraction above `after`; returns the time from the cancel to `load` returning, and the
+/// whole load's time.
+fn cancel_at(path: &Path, stage: Stage, after: f32) -> (Duration, Duration) {
     let progress = Progress::new();
     let watcher = {
         let progress = progress.clone();
         std::thread::spawn(move || loop {
             match progress.snapshot() {
-                (s, Some(f)) if s == stage && f > 0.0 => {
+                (s, Some(f)) if s == stage && f > after => {
                     progress.cancel();
                     return Some(Instant::now());
                 }
@@ -140,7 +140,10 @@ fn cancel_at(path: &Path, stage: Stage) -> (Duration, Duration) {
     progress.cancel(); // Stops a watcher that never saw the stage.
     let cancelled_at = watcher.join().unwrap();
     let Some(cancelled_at) = cancelled_at else {
-        panic!("{}: the load never showed stage {stage}", path.display());
+        panic!(
+            "{}: the load never showed {stage} above {after}",
+            path.display()
+        );
     };
     match result {
         Err(LoadError::Cancelled { path: p }) => assert_eq!(p, path),
@@ -193,10 +196,6 @@ fn the_tracker_maps_stages_into_one_bar_that_never_goes_back() {
     progress.cancel();
     let err = t.advance(0).unwrap_err();
     assert_eq!(err.to_string(), "m.obj: load cancelled");
-    assert!(matches!(
-        t.run(usize::MAX, || 1),
-        Err(LoadError::Cancelled { .. })
-    ));
 }
 
 #[test]
@@ -269,11 +268,10 @@ fn progress_rises_monotonically_to_done_and_changes_no_result() {
         assert!(seen.len() >= 3, "{}: {seen:?}", path.display());
         assert!(seen.iter().any(|s| s.0 == *longest), "{seen:?}");
 
-        // The helper-thread path builds exactly what the inline one does.
+        // The watched load (on a helper thread) builds exactly what the plain one does.
         let plain = load(path, &LoadOptions::default()).unwrap();
         assert_eq!(plain.meshes.len(), scene.meshes.len());
         for (a, b) in plain.meshes.iter().zip(&scene.meshes) {
-            assert!(a.corners.len() >= OFFLOAD_CORNERS, "{}", path.display());
             assert_eq!(a.positions, b.positions);
             assert_eq!(a.corners, b.corners);
             assert_eq!(a.normals, b.normals);
@@ -290,22 +288,27 @@ fn a_cancel_from_another_thread_ends_a_big_load_quickly() {
     // 250,000 vertices, 498,002 triangles, about 19 MB of text.
     let obj = dir.write("grid.obj", grid_obj(500));
     let glb = dir.write("grid.glb", grid_glb(500));
-    let cases: [(&PathBuf, Stage); 4] = [
-        (&obj, Stage::Reading),
-        (&obj, Stage::Parsing),
-        (&obj, Stage::Normals),
-        (&glb, Stage::Geometry),
+    // Where a cancel finds the loader: reading, the pre-scan, tobj assembling the one
+    // group at the end of the text, building the mesh and its normals (mesh/, no
+    // checkpoint inside), and glTF geometry.
+    let tobj_end = super::super::obj::TOBJ_UNTIL - 0.002;
+    let cases: [(&PathBuf, Stage, f32); 5] = [
+        (&obj, Stage::Reading, 0.0),
+        (&obj, Stage::Parsing, 0.0),
+        (&obj, Stage::Parsing, tobj_end),
+        (&obj, Stage::Normals, 0.0),
+        (&glb, Stage::Geometry, 0.0),
     ];
-    for (path, stage) in cases {
+    for (path, stage, after) in cases {
         let full = full_load_time(path);
-        let (latency, total) = cancel_at(path, stage);
+        let (latency, total) = cancel_at(path, stage, after);
         eprintln!(
-            "{} cancelled at {stage}: returned {latency:?} after the cancel, {total:?} in all (a full load takes {full:?})",
+            "{} cancelled at {stage} above {after}: returned {latency:?} after the cancel, {total:?} in all (a full load takes {full:?})",
             path.file_name().unwrap().to_string_lossy(),
         );
         // Generous bounds for a busy machine: 4 ms is typical for the latency.
         assert!(latency * 8 < full, "{stage}: {latency:?} of {full:?}");
-        if stage <= Stage::Parsing {
+        if stage <= Stage::Parsing && after == 0.0 {
             assert!(total * 2 < full, "{stage}: {total:?} of {full:?}");
         }
     }
@@ -318,13 +321,11 @@ fn the_bunny_cancels_quickly() {
     };
     let bunny = shared.join("models/obj/stanford-bunny.obj");
     let full = full_load_time(&bunny);
-    // The bunny's one mesh is built inline (below the helper-thread size): a cancel while
-    // its normals are averaged waits for them, about a quarter of the load.
-    for (stage, ratio) in [(Stage::Parsing, 4), (Stage::Normals, 2)] {
-        let (latency, total) = cancel_at(&bunny, stage);
+    for stage in [Stage::Parsing, Stage::Normals] {
+        let (latency, total) = cancel_at(&bunny, stage, 0.0);
         eprintln!(
             "stanford-bunny.obj cancelled at {stage}: returned {latency:?} after the cancel, {total:?} in all (a full load takes {full:?})"
         );
-        assert!(latency * ratio < full, "{stage}: {latency:?} of {full:?}");
+        assert!(latency * 4 < full, "{stage}: {latency:?} of {full:?}");
     }
 }
