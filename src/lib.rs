@@ -19,6 +19,7 @@
 //! | [`shade`] | shading modes (flat, Gouraud, Phong, Blinn, textured, debug views) and the renderer |
 //! | [`quality`] | analytic references, error metrics, the time-versus-error sweep |
 //! | [`overlay`] | 2D drawings with tiny-skia: the chromaticity diagram, plots |
+//! | `viewer` | the interactive viewer (feature `viewer`): navigation, recent files, file watching |
 
 pub mod color;
 pub mod load;
@@ -29,3 +30,5 @@ pub mod raster;
 pub mod scene;
 pub mod shade;
 pub mod texture;
+#[cfg(feature = "viewer")]
+pub mod viewer;
