@@ -304,14 +304,18 @@ fn watcher_fires_once_per_change_and_stops_promptly() {
 
     let start = Instant::now();
     drop(watcher);
-    assert!(start.elapsed() < Duration::from_millis(100));
+    assert!(
+        start.elapsed() < Duration::from_millis(250),
+        "{:?}",
+        start.elapsed()
+    );
     // Even with the default half-second interval, drop does not wait for the next poll.
     let idle = FileWatcher::new(&file, Box::new(|| {})).unwrap();
     std::thread::sleep(Duration::from_millis(20));
     let start = Instant::now();
     drop(idle);
     assert!(
-        start.elapsed() < Duration::from_millis(100),
+        start.elapsed() < Duration::from_millis(250),
         "{:?}",
         start.elapsed()
     );

@@ -10,7 +10,7 @@ use glam::{Quat, Vec2, Vec3};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Mode {
     /// Yaw about the world up axis and pitch about the camera's right axis, pitch limited to
-    /// [`PITCH_LIMIT_DEGREES`]; the horizon stays level (no roll).
+    /// [`PITCH_LIMIT_DEGREES`](super::PITCH_LIMIT_DEGREES); the horizon stays level (no roll).
     #[default]
     Turntable,
     /// Free rotation about the axis perpendicular to the drag; the camera's up vector turns

@@ -114,7 +114,8 @@ impl Navigator {
     /// Starts from a file's camera (exactly its view, roll included; an orthographic camera's
     /// eye may be moved back along the line of sight to see the whole sphere), which becomes
     /// the home. The field of view is kept within [`clamp_fov`]'s range; the distance is
-    /// clamped to [`DISTANCE_RANGE`].
+    /// clamped to [`DISTANCE_RANGE`]. A camera whose eye is on its target (or not finite)
+    /// gives [`Navigator::new`]'s framing instead.
     #[must_use]
     pub fn from_camera(camera: &Camera, center: Vec3, radius: f32, up_axis: UpAxis) -> Self {
         let mut nav = Self::new(center, radius, 1.0);
@@ -164,11 +165,15 @@ impl Navigator {
         let back = self.pose.rotation * Vec3::Z;
         let mut eye_distance = self.pose.distance;
         if self.ortho {
-            // Any eye on the line of sight gives the same image: keep it outside the sphere.
-            eye_distance = eye_distance.max((self.center - target).dot(back) + 1.1 * self.radius);
+            // Any eye on the line of sight gives the same image: stand back far enough that
+            // the whole sphere is in front whatever the direction (and its rounding).
+            let reach = (self.center - target).length() + 1.1 * self.radius;
+            eye_distance = eye_distance.max(reach);
         }
         let eye = target + back * eye_distance;
-        let (near, far) = self.near_far(eye, -back);
+        // Depths as the view matrix will measure them: along the rounded `target - eye`,
+        // which far from the origin at a short distance is a little off `-back`.
+        let (near, far) = self.near_far(eye, (target - eye).normalize_or(-back));
         Camera {
             name: "viewer".into(),
             eye,
