@@ -405,11 +405,11 @@ fn averaged_normals_are_finite_and_unit_for_degenerate_meshes() {
                 (rng.next() % nv as u64) as u32,
                 (rng.next() % nv as u64) as u32,
             ];
-            if rng.next() % 3 == 0 {
+            if rng.next().is_multiple_of(3) {
                 f.swap(1, 2); // inverted
             }
             corners.extend_from_slice(&f);
-            if rng.next() % 4 == 0 {
+            if rng.next().is_multiple_of(4) {
                 corners.extend_from_slice(&f); // duplicate facet
             }
         }

@@ -262,7 +262,8 @@ fn view(model: Option<PathBuf>) -> Result<()> {
     let out = match &model {
         Some(m) => PathBuf::from(format!(
             "realist-{}.png",
-            m.file_stem().map_or("model".into(), |s| s.to_string_lossy())
+            m.file_stem()
+                .map_or("model".into(), |s| s.to_string_lossy())
         )),
         None => PathBuf::from("realist-demo.png"),
     };

@@ -288,7 +288,7 @@ pub(crate) fn retain_facets(data: &mut MeshData) -> Dropped {
         corners.iter().any(|&v| {
             data.positions
                 .get(v as usize)
-                .map_or(true, |p| !p.is_finite())
+                .is_none_or(|p| !p.is_finite())
         })
     };
     let mut keep = Vec::with_capacity(sizes.len());
@@ -316,7 +316,7 @@ pub(crate) fn retain_facets(data: &mut MeshData) -> Dropped {
     let corner_keep: Vec<bool> = sizes
         .iter()
         .zip(&keep)
-        .flat_map(|(&n, &k)| std::iter::repeat(k).take(n as usize))
+        .flat_map(|(&n, &k)| std::iter::repeat_n(k, n as usize))
         .collect();
     let filter = |v: &mut Vec<u32>| {
         let mut it = corner_keep.iter();

@@ -61,7 +61,7 @@ impl<'a> Ring<'a> {
     #[inline]
     pub fn prev(&self, c: usize) -> usize {
         if self.table.is_empty() {
-            return if c % 3 == 0 { c + 2 } else { c - 1 };
+            return if c.is_multiple_of(3) { c + 2 } else { c - 1 };
         }
         let f = &self.facets[self.table[c] as usize];
         if c == f.first as usize {
@@ -85,7 +85,7 @@ impl<'a> Ring<'a> {
 fn corner_facets(facets: &[Facet], corner_count: usize) -> Vec<u32> {
     let mut out = Vec::with_capacity(corner_count);
     for (f, facet) in facets.iter().enumerate() {
-        out.extend(std::iter::repeat(f as u32).take(facet.len as usize));
+        out.extend(std::iter::repeat_n(f as u32, facet.len as usize));
     }
     out
 }

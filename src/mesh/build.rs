@@ -26,14 +26,16 @@ pub(super) fn validate(data: &MeshData) -> Result<(), MeshError> {
     // and u32::MAX itself is reserved for NO_FACET and "unset" markers.
     if vertex_count
         .checked_add(corner_count)
-        .map_or(true, |n| n >= u32::MAX as usize)
+        .is_none_or(|n| n >= u32::MAX as usize)
     {
         return Err(MeshError::TooLarge(
             "vertices + corners must stay below 2^32 - 1",
         ));
     }
     match &data.facet_sizes {
-        None if corner_count % 3 != 0 => return Err(MeshError::NotTriangles(corner_count)),
+        None if !corner_count.is_multiple_of(3) => {
+            return Err(MeshError::NotTriangles(corner_count))
+        }
         None => {}
         Some(sizes) => {
             let mut sum = 0u64;

@@ -61,8 +61,8 @@ struct RenderVertices {
 fn render_vertices(mesh: &Mesh) -> RenderVertices {
     let vertex_count = mesh.positions.len();
     let all_per_vertex = mesh.normals.indices.is_none()
-        && mesh.uvs.as_ref().map_or(true, |c| c.indices.is_none())
-        && mesh.colors.as_ref().map_or(true, |c| c.indices.is_none());
+        && mesh.uvs.as_ref().is_none_or(|c| c.indices.is_none())
+        && mesh.colors.as_ref().is_none_or(|c| c.indices.is_none());
     let identity: Vec<u32> = (0..vertex_count as u32).collect();
     if all_per_vertex {
         return RenderVertices {

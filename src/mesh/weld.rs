@@ -55,9 +55,7 @@ impl MeshData {
 }
 
 fn per_vertex_fits<T>(ch: Option<&Channel<T>>, vertices: usize) -> bool {
-    ch.map_or(true, |ch| {
-        ch.indices.is_some() || ch.values.len() == vertices
-    })
+    ch.is_none_or(|ch| ch.indices.is_some() || ch.values.len() == vertices)
 }
 
 /// The new index of every old vertex ([`UNUSED`] for vertices no corner uses), and the

@@ -250,7 +250,7 @@ fn hit(shape: Shape, r: &Rays, x: f64, y: f64) -> Option<(V3, V3, u8)> {
         Shape::Cylinder => {
             let mut best: Option<(f64, V3, u8)> = None;
             let mut take = |t: f64, n: V3, part: u8| {
-                if t > 0.0 && best.map_or(true, |(bt, _, _)| t < bt) {
+                if t > 0.0 && best.is_none_or(|(bt, _, _)| t < bt) {
                     best = Some((t, n, part));
                 }
             };

@@ -266,7 +266,9 @@ impl Target {
                         let dst = &mut band[y * w + t.x0 as usize..][..t.w as usize];
                         match t.pending_clear {
                             Some(_) => dst.fill(0.0),
-                            None => dst.copy_from_slice(&t.depth[y * TILE as usize..][..t.w as usize]),
+                            None => {
+                                dst.copy_from_slice(&t.depth[y * TILE as usize..][..t.w as usize])
+                            }
                         }
                     }
                 }

@@ -226,7 +226,7 @@ fn cast(scene: &PreparedScene, settings: &Settings, near: DVec3, far: DVec3) -> 
             .filter(|h| h.0 <= limit)
             .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
         if let Some((t, k, bary, front)) = found {
-            if best.map_or(true, |b| t < b.t) {
+            if best.is_none_or(|b| t < b.t) {
                 best = Some(Hit {
                     t,
                     instance: i,

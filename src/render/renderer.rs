@@ -284,7 +284,14 @@ impl Renderer {
 #[must_use]
 pub fn unproject(view: &View, x: f32, y: f32, depth: f32) -> Option<Vec3> {
     let vp = view.camera.projection(view.aspect()) * view.camera.view();
-    unproject_with(vp.inverse(), view.width.max(1), view.height.max(1), x, y, depth)
+    unproject_with(
+        vp.inverse(),
+        view.width.max(1),
+        view.height.max(1),
+        x,
+        y,
+        depth,
+    )
 }
 
 fn unproject_with(inv_vp: Mat4, w: u32, h: u32, x: f32, y: f32, depth: f32) -> Option<Vec3> {

@@ -135,5 +135,5 @@ pub(super) fn debug(scene: &PreparedScene, fi: &FrameInst, mode: Debug, out: &mu
 /// Nothing per vertex (depth-only and counting passes).
 pub(super) fn unit(scene: &PreparedScene, fi: &FrameInst, out: &mut Vec<()>) {
     let n = scene.meshes[fi.mesh as usize].tri.positions.len();
-    out.extend(std::iter::repeat(()).take(n));
+    out.extend(std::iter::repeat_n((), n));
 }

@@ -64,7 +64,7 @@ pub(crate) fn half(n: u32) -> u32 {
 fn taps(i: u32, n: u32) -> ([u32; 3], [f32; 3], usize) {
     if n == 1 {
         ([0, 0, 0], [1.0, 0.0, 0.0], 1)
-    } else if n % 2 == 0 {
+    } else if n.is_multiple_of(2) {
         ([2 * i, 2 * i + 1, 0], [0.5, 0.5, 0.0], 2)
     } else {
         let (m, nf) = (n / 2, n as f32);

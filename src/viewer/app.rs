@@ -178,7 +178,11 @@ impl ViewerApp {
             let out = loader::load_now(&path, self.normals, None);
             self.finish_load(out);
         } else {
-            self.loading = Some(LoadTask::start(path, self.normals, Arc::clone(&self.repaint)));
+            self.loading = Some(LoadTask::start(
+                path,
+                self.normals,
+                Arc::clone(&self.repaint),
+            ));
         }
     }
 
@@ -299,7 +303,8 @@ impl ViewerApp {
         self.submit_if_changed();
         if self.loading.is_some() {
             // The progress bar moves: look again in a moment (nothing else polls).
-            ui.ctx().request_repaint_after(std::time::Duration::from_millis(100));
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(100));
         }
     }
 
@@ -359,14 +364,22 @@ impl ViewerApp {
         let tex_a = upload(old_a, "frame-a", Arc::clone(&img_a));
         let (tex_b, report_b) = match b {
             Some(b) => (
-                Some(upload(old_b, "frame-b", Arc::new(ColorImage::new(size, b.pixels)))),
+                Some(upload(
+                    old_b,
+                    "frame-b",
+                    Arc::new(ColorImage::new(size, b.pixels)),
+                )),
                 Some(b.report),
             ),
             None => (None, None),
         };
         let (tex_heat, heat) = match heat {
             Some(h) if h.pixels.len() == size[0] * size[1] => (
-                Some(upload(old_h, "frame-heat", Arc::new(ColorImage::new(size, h.pixels)))),
+                Some(upload(
+                    old_h,
+                    "frame-heat",
+                    Arc::new(ColorImage::new(size, h.pixels)),
+                )),
                 Some((h.mean, h.p95)),
             ),
             _ => (None, None),
@@ -451,9 +464,9 @@ impl ViewerApp {
     /// The name shown for the scene (file name or "demo").
     #[must_use]
     pub fn scene_name(&self) -> String {
-        self.model
-            .as_deref()
-            .and_then(Path::file_name)
-            .map_or_else(|| "demo (seed figure 9-8)".into(), |n| n.to_string_lossy().into_owned())
+        self.model.as_deref().and_then(Path::file_name).map_or_else(
+            || "demo (seed figure 9-8)".into(),
+            |n| n.to_string_lossy().into_owned(),
+        )
     }
 }

@@ -96,32 +96,58 @@ pub const BINDINGS: &[Binding] = &[
     bind(Key::Enter, Action::Reset, "reset the camera"),
     bind(Key::F, Action::FrameAll, "frame the whole scene"),
     bind(Key::T, Action::ToggleTrackball, "trackball / turntable"),
-    bind(Key::OpenBracket, Action::FovDown, "field of view -5 degrees"),
+    bind(
+        Key::OpenBracket,
+        Action::FovDown,
+        "field of view -5 degrees",
+    ),
     bind(Key::CloseBracket, Action::FovUp, "field of view +5 degrees"),
     bind(Key::M, Action::NextShading, "next shading mode"),
     bind(Key::E, Action::ToggleWireOverlay, "wireframe over shaded"),
     bind(Key::O, Action::ToggleOverdraw, "overdraw view"),
     bind(Key::G, Action::ToggleTileGrid, "64x64 tile grid"),
-    bind(Key::K, Action::CycleTileCost, "tile cost: off / time / fragments"),
-    bind(Key::A, Action::CycleAntialias, "anti-aliasing when still: 1 / 2x2 / 4x4"),
+    bind(
+        Key::K,
+        Action::CycleTileCost,
+        "tile cost: off / time / fragments",
+    ),
+    bind(
+        Key::A,
+        Action::CycleAntialias,
+        "anti-aliasing when still: 1 / 2x2 / 4x4",
+    ),
     bind(Key::S, Action::ToggleSplit, "split view A | B"),
     bind(Key::H, Action::CheatSheet, "this cheat sheet"),
     bind(Key::F12, Action::Screenshot, "screenshot to PNG"),
-    bind(Key::ArrowLeft, Action::PrevFile, "previous model in the folder"),
-    bind(Key::ArrowRight, Action::NextFile, "next model in the folder"),
+    bind(
+        Key::ArrowLeft,
+        Action::PrevFile,
+        "previous model in the folder",
+    ),
+    bind(
+        Key::ArrowRight,
+        Action::NextFile,
+        "next model in the folder",
+    ),
     bind(Key::ArrowUp, Action::Reload, "reload the model"),
     bind(Key::Tab, Action::TogglePanels, "hide / show the panels"),
 ];
 
 /// Mouse bindings, for the cheat sheet.
 pub const MOUSE: &[(&str, &str)] = &[
-    ("left drag", "orbit (turntable about the up axis, or trackball)"),
+    (
+        "left drag",
+        "orbit (turntable about the up axis, or trackball)",
+    ),
     ("shift + left drag, middle drag", "pan"),
     ("right drag", "dolly"),
     ("wheel", "dolly towards the cursor"),
     ("ctrl + wheel", "dolly towards the centre"),
     ("click", "probe the pixel"),
-    ("double-click, middle click", "orbit about the point under the cursor"),
+    (
+        "double-click, middle click",
+        "orbit about the point under the cursor",
+    ),
     ("drag the split divider", "move the A | B boundary"),
     ("drop a file", "open it"),
 ];

@@ -61,10 +61,13 @@ pub fn run(model: Option<PathBuf>) -> Result<(), String> {
         Box::new(move |cc| {
             let ctx = cc.egui_ctx.clone();
             let repaint = std::sync::Arc::new(move || ctx.request_repaint());
-            let app = ViewerApp::new(ViewerOptions {
-                model,
-                ..ViewerOptions::default()
-            }, repaint)
+            let app = ViewerApp::new(
+                ViewerOptions {
+                    model,
+                    ..ViewerOptions::default()
+                },
+                repaint,
+            )
             .map_err(|e| -> Box<dyn std::error::Error + Send + Sync> { e.into() })?;
             Ok(Box::new(app))
         }),

@@ -117,14 +117,20 @@ fn navigate(app: &mut ViewerApp, ui: &mut egui::Ui, resp: &egui::Response) {
         }
     }
     if resp.hovered() {
-        let (scroll, zoom, hover) =
-            ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta(), i.pointer.hover_pos()));
+        let (scroll, zoom, hover) = ui.input(|i| {
+            (
+                i.smooth_scroll_delta.y,
+                i.zoom_delta(),
+                i.pointer.hover_pos(),
+            )
+        });
         if scroll != 0.0 {
             let steps = scroll / POINTS_PER_STEP;
             match hover {
                 Some(p) => {
                     let px = vp.to_pixels(p);
-                    let ndc = pixel_to_ndc(glam::Vec2::new(px.x, px.y), glam::Vec2::from(size(&vp)));
+                    let ndc =
+                        pixel_to_ndc(glam::Vec2::new(px.x, px.y), glam::Vec2::from(size(&vp)));
                     app.nav.dolly_at(steps, ndc, aspect);
                 }
                 None => app.nav.dolly(steps),
@@ -133,7 +139,8 @@ fn navigate(app: &mut ViewerApp, ui: &mut egui::Ui, resp: &egui::Response) {
         }
         if zoom != 1.0 && zoom.is_finite() && zoom > 0.0 {
             // Ctrl + wheel (or a pinch): dolly towards the centre.
-            app.nav.dolly(zoom.ln() / (1.0 / super::navigate::DOLLY_PER_STEP).ln());
+            app.nav
+                .dolly(zoom.ln() / (1.0 / super::navigate::DOLLY_PER_STEP).ln());
             moved = true;
         }
     }
@@ -196,7 +203,11 @@ pub fn probe_at(app: &mut ViewerApp, p: Pos2) {
         Side::B => &app.split.b,
     };
     let shown_rgb = match side {
-        Side::A => s.a.pixels.get((y * s.view.width + x) as usize).map(|c| [c.r(), c.g(), c.b()]),
+        Side::A => {
+            s.a.pixels
+                .get((y * s.view.width + x) as usize)
+                .map(|c| [c.r(), c.g(), c.b()])
+        }
         Side::B => None,
     };
     let probe = render::probe(&app.scene, settings, &s.view, x, y);
@@ -250,14 +261,28 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
                 Stroke::new(2.0, Color32::from_rgb(255, 200, 40)),
             );
             let label = |pos: Pos2, align: Align2, text: String| {
-                painter.text(pos, align, text, FontId::monospace(13.0), Color32::from_rgb(255, 220, 120));
+                painter.text(
+                    pos,
+                    align,
+                    text,
+                    FontId::monospace(13.0),
+                    Color32::from_rgb(255, 220, 120),
+                );
             };
-            label(rect.left_top() + Vec2::new(8.0, 6.0), Align2::LEFT_TOP, "A: ".to_owned() + &super::panels::describe(&app.settings));
+            label(
+                rect.left_top() + Vec2::new(8.0, 6.0),
+                Align2::LEFT_TOP,
+                "A: ".to_owned() + &super::panels::describe(&app.settings),
+            );
             let right_text = match (s.heat, app.split.heat) {
                 (Some((mean, p95)), true) => format!("ΔE00 A vs B: mean {mean:.3}, p95 {p95:.3}"),
                 _ => "B: ".to_owned() + &super::panels::describe(&app.split.b),
             };
-            label(rect.right_top() + Vec2::new(-8.0, 6.0), Align2::RIGHT_TOP, right_text);
+            label(
+                rect.right_top() + Vec2::new(-8.0, 6.0),
+                Align2::RIGHT_TOP,
+                right_text,
+            );
         }
         _ => {
             painter.image(s.tex_a.id(), rect, full, white);
@@ -315,9 +340,15 @@ fn tiles(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
             let (tx, ty) = ((i as u32 % s.tiles_x) as f32, (i as u32 / s.tiles_x) as f32);
             let r = Rect::from_min_max(
                 rect.min + Vec2::new(tx * tile * sx, ty * tile * sy),
-                rect.min + Vec2::new(((tx + 1.0) * tile).min(fw) * sx, ((ty + 1.0) * tile).min(fh) * sy),
+                rect.min
+                    + Vec2::new(
+                        ((tx + 1.0) * tile).min(fw) * sx,
+                        ((ty + 1.0) * tile).min(fh) * sy,
+                    ),
             );
-            let [cr, cg, cb] = crate::quality::metrics::heat_color(f64::from(t) * crate::quality::metrics::HEAT_MAP_MAX_DE);
+            let [cr, cg, cb] = crate::quality::metrics::heat_color(
+                f64::from(t) * crate::quality::metrics::HEAT_MAP_MAX_DE,
+            );
             painter.rect_filled(r, 0.0, Color32::from_rgba_unmultiplied(cr, cg, cb, 150));
         }
         let what = match app.panels.tile_cost {
@@ -337,13 +368,19 @@ fn tiles(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
         let mut x = tile;
         while x < fw {
             let px = rect.left() + x * sx;
-            painter.line_segment([Pos2::new(px, rect.top()), Pos2::new(px, rect.bottom())], stroke);
+            painter.line_segment(
+                [Pos2::new(px, rect.top()), Pos2::new(px, rect.bottom())],
+                stroke,
+            );
             x += tile;
         }
         let mut y = tile;
         while y < fh {
             let py = rect.top() + y * sy;
-            painter.line_segment([Pos2::new(rect.left(), py), Pos2::new(rect.right(), py)], stroke);
+            painter.line_segment(
+                [Pos2::new(rect.left(), py), Pos2::new(rect.right(), py)],
+                stroke,
+            );
             y += tile;
         }
         painter.rect_stroke(rect, 0.0, stroke, StrokeKind::Inside);

@@ -140,10 +140,7 @@ impl RenderHost {
     ///
     /// # Errors
     /// If the thread or its pool cannot be started.
-    pub fn threaded(
-        threads: usize,
-        repaint: Arc<dyn Fn() + Send + Sync>,
-    ) -> std::io::Result<Self> {
+    pub fn threaded(threads: usize, repaint: Arc<dyn Fn() + Send + Sync>) -> std::io::Result<Self> {
         let shared = Arc::new(Shared::new());
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -187,7 +184,10 @@ impl RenderHost {
                 s => Level::Supersampled(s),
             };
             if let Ok(frame) = w.render_level(&job, n, level, &|| false) {
-                *lock(&self.shared.frame) = Some(Frame { last: true, ..frame });
+                *lock(&self.shared.frame) = Some(Frame {
+                    last: true,
+                    ..frame
+                });
             }
             return;
         }

@@ -82,7 +82,7 @@ pub(super) fn split(bytes: &[u8]) -> Result<Chunks<'_>, String> {
 pub(in crate::load) fn build(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     let pad = |v: &[u8], fill: u8| {
         let mut v = v.to_vec();
-        while v.len() % 4 != 0 {
+        while !v.len().is_multiple_of(4) {
             v.push(fill);
         }
         v

@@ -250,7 +250,7 @@ impl Builder<'_> {
 fn triangle_list(mode: Mode, indices: &[u32], at: &Site, warnings: &mut Vec<String>) -> Vec<u32> {
     let (corners, degenerate) = triangles(mode, indices);
     let label = at.label;
-    if mode == Mode::Triangles && indices.len() % 3 != 0 {
+    if mode == Mode::Triangles && !indices.len().is_multiple_of(3) {
         let extra = indices.len() % 3;
         warnings.push(format!(
             "{label}: {extra} trailing indices ignored (not a whole triangle)"

@@ -46,7 +46,7 @@ impl MtlLibs<'_> {
             let dir = path.parent().unwrap_or(self.root).to_owned();
             self.dirs
                 .borrow_mut()
-                .extend(std::iter::repeat(dir).take(mats.len()));
+                .extend(std::iter::repeat_n(dir, mats.len()));
             materials.extend(mats);
         }
         library

@@ -52,14 +52,22 @@ pub struct ColourState {
 
 /// Analyses `image` and draws the diagram (runs on a worker thread).
 fn draw(image: &Texture, density: bool, what: String) -> Diagram {
-    let gamuts = vec![RgbSpace::srgb(), RgbSpace::display_p3(), RgbSpace::rec2020()];
+    let gamuts = vec![
+        RgbSpace::srgb(),
+        RgbSpace::display_p3(),
+        RgbSpace::rec2020(),
+    ];
     let report = chroma::pixels::analyse(image, &gamuts);
     let opts = ChromaOptions {
         size: SIZE,
         gamuts,
         planckian: true,
         pixels: Some(report.clone()),
-        pixel_style: if density { PixelStyle::Density } else { PixelStyle::Scatter },
+        pixel_style: if density {
+            PixelStyle::Density
+        } else {
+            PixelStyle::Scatter
+        },
         title: Some(format!("CIE 1931 xy: {what}")),
         ..ChromaOptions::default()
     };
@@ -91,19 +99,34 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     });
     ui.checkbox(&mut st.density, "density (log count) instead of dots");
     let busy = st.pending.is_some();
-    if ui.add_enabled(!busy, egui::Button::new("draw the diagram")).clicked() {
+    if ui
+        .add_enabled(!busy, egui::Button::new("draw the diagram"))
+        .clicked()
+    {
         let (image, what) = match st.source {
             Source::Frame => match &app.shown {
                 Some(s) => {
-                    let texels = s.a.pixels.iter().map(|c| [c.r(), c.g(), c.b(), 255]).collect();
-                    let t = Texture::new("frame", s.a.size[0] as u32, s.a.size[1] as u32, texels, true);
+                    let texels =
+                        s.a.pixels
+                            .iter()
+                            .map(|c| [c.r(), c.g(), c.b(), 255])
+                            .collect();
+                    let t = Texture::new(
+                        "frame",
+                        s.a.size[0] as u32,
+                        s.a.size[1] as u32,
+                        texels,
+                        true,
+                    );
                     (t.ok(), format!("frame, {}x{}", s.a.size[0], s.a.size[1]))
                 }
                 None => (None, String::new()),
             },
             Source::Texture(i) => (
                 textures.get(i).map(|t| (**t).clone()),
-                textures.get(i).map_or(String::new(), |t| format!("texture '{}'", t.name)),
+                textures
+                    .get(i)
+                    .map_or(String::new(), |t| format!("texture '{}'", t.name)),
             ),
         };
         if let Some(image) = image {
@@ -125,7 +148,9 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .and_then(|p| p.lock().ok().and_then(|mut s| s.take()));
     if let Some(d) = done {
         st.pending = None;
-        let tex = ui.ctx().load_texture("cie-diagram", d.image, TextureOptions::LINEAR);
+        let tex = ui
+            .ctx()
+            .load_texture("cie-diagram", d.image, TextureOptions::LINEAR);
         st.texture = Some(tex);
         st.shown = Some(d.summary);
     }
@@ -133,7 +158,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         ui.label("drawing...");
     }
     if let Some(sm) = &st.shown {
-        ui.label(format!("{}: {} pixels, {} too dark to place", sm.what, sm.pixels, sm.dark));
+        ui.label(format!(
+            "{}: {} pixels, {} too dark to place",
+            sm.what, sm.pixels, sm.dark
+        ));
         for (name, f) in &sm.outside {
             ui.label(format!("outside {name}: {:.2}%", f * 100.0));
         }

@@ -38,7 +38,12 @@ fn colour_intensity(ui: &mut egui::Ui, color: &mut Vec3) -> bool {
     let (mut rgb, mut i) = split_intensity(*color);
     let mut changed = ui.color_edit_button_rgb(&mut rgb).changed();
     changed |= ui
-        .add(egui::DragValue::new(&mut i).speed(0.01).range(0.0..=100.0).prefix("intensity "))
+        .add(
+            egui::DragValue::new(&mut i)
+                .speed(0.01)
+                .range(0.0..=100.0)
+                .prefix("intensity "),
+        )
         .changed();
     if changed {
         *color = Vec3::from_array(rgb) * i;
@@ -49,7 +54,9 @@ fn colour_intensity(ui: &mut egui::Ui, color: &mut Vec3) -> bool {
 fn vec3_edit(ui: &mut egui::Ui, v: &mut Vec3, speed: f64) -> bool {
     let mut changed = false;
     for (c, name) in [(&mut v.x, "x "), (&mut v.y, "y "), (&mut v.z, "z ")] {
-        changed |= ui.add(egui::DragValue::new(c).speed(speed).prefix(name)).changed();
+        changed |= ui
+            .add(egui::DragValue::new(c).speed(speed).prefix(name))
+            .changed();
     }
     changed
 }
@@ -59,7 +66,10 @@ pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let (mut list, mut follow) = effective(app);
     let mut changed = false;
     changed |= ui
-        .checkbox(&mut follow, "positions and directions in camera space (follow the camera)")
+        .checkbox(
+            &mut follow,
+            "positions and directions in camera space (follow the camera)",
+        )
         .changed();
     let mut remove = None;
     for (i, l) in list.iter_mut().enumerate() {
@@ -93,7 +103,9 @@ pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
         ui.label("add");
         let (c, r) = app.scene.bounding_sphere();
         if ui.button("ambient").clicked() {
-            list.push(Light::Ambient { color: Vec3::splat(0.1) });
+            list.push(Light::Ambient {
+                color: Vec3::splat(0.1),
+            });
             changed = true;
         }
         if ui.button("directional").clicked() {
@@ -104,8 +116,15 @@ pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
             changed = true;
         }
         if ui.button("point").clicked() {
-            let position = if follow { Vec3::new(0.0, r, r) } else { c + Vec3::new(r, 2.0 * r, 2.0 * r) };
-            list.push(Light::Point { position, color: Vec3::splat(0.8) });
+            let position = if follow {
+                Vec3::new(0.0, r, r)
+            } else {
+                c + Vec3::new(r, 2.0 * r, 2.0 * r)
+            };
+            list.push(Light::Point {
+                position,
+                color: Vec3::splat(0.8),
+            });
             changed = true;
         }
     });
@@ -115,7 +134,11 @@ pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
             follow_camera: follow,
         };
     }
-    if app.settings.lights != Lights::Auto && ui.button("back to the scene's lights (or the default rig)").clicked() {
+    if app.settings.lights != Lights::Auto
+        && ui
+            .button("back to the scene's lights (or the default rig)")
+            .clicked()
+    {
         app.settings.lights = Lights::Auto;
     }
     if app.split.b.lights != app.settings.lights {
@@ -145,47 +168,55 @@ pub fn materials(app: &mut ViewerApp, ui: &mut egui::Ui) {
         });
     let m = &mut list[k];
     let mut changed = false;
-    egui::Grid::new("material-grid").num_columns(2).show(ui, |ui| {
-        ui.label("Kd (diffuse)");
-        let mut kd = m.base_color.truncate().to_array();
-        if ui.color_edit_button_rgb(&mut kd).changed() {
-            m.base_color = Vec3::from_array(kd).extend(m.base_color.w);
-            changed = true;
-        }
-        ui.end_row();
-        ui.label("alpha");
-        changed |= ui.add(egui::Slider::new(&mut m.base_color.w, 0.0..=1.0)).changed();
-        ui.end_row();
-        ui.label("Ks (specular)");
-        let mut ks = m.specular.to_array();
-        if ui.color_edit_button_rgb(&mut ks).changed() {
-            m.specular = Vec3::from_array(ks);
-            changed = true;
-        }
-        ui.end_row();
-        ui.label("shininess n");
-        changed |= ui
-            .add(egui::Slider::new(&mut m.shininess, 1.0..=2000.0).logarithmic(true))
-            .changed();
-        ui.end_row();
-        ui.label("Ka (ambient factor)");
-        let mut ka = m.ambient.to_array();
-        if ui.color_edit_button_rgb(&mut ka).changed() {
-            m.ambient = Vec3::from_array(ka);
-            changed = true;
-        }
-        ui.end_row();
-        ui.label("alpha mode");
-        ui.horizontal(|ui| {
-            for (mode, name) in [(AlphaMode::Opaque, "opaque"), (AlphaMode::Mask(0.5), "mask 0.5"), (AlphaMode::Blend, "blend")] {
-                changed |= ui.selectable_value(&mut m.alpha_mode, mode, name).changed();
+    egui::Grid::new("material-grid")
+        .num_columns(2)
+        .show(ui, |ui| {
+            ui.label("Kd (diffuse)");
+            let mut kd = m.base_color.truncate().to_array();
+            if ui.color_edit_button_rgb(&mut kd).changed() {
+                m.base_color = Vec3::from_array(kd).extend(m.base_color.w);
+                changed = true;
             }
+            ui.end_row();
+            ui.label("alpha");
+            changed |= ui
+                .add(egui::Slider::new(&mut m.base_color.w, 0.0..=1.0))
+                .changed();
+            ui.end_row();
+            ui.label("Ks (specular)");
+            let mut ks = m.specular.to_array();
+            if ui.color_edit_button_rgb(&mut ks).changed() {
+                m.specular = Vec3::from_array(ks);
+                changed = true;
+            }
+            ui.end_row();
+            ui.label("shininess n");
+            changed |= ui
+                .add(egui::Slider::new(&mut m.shininess, 1.0..=2000.0).logarithmic(true))
+                .changed();
+            ui.end_row();
+            ui.label("Ka (ambient factor)");
+            let mut ka = m.ambient.to_array();
+            if ui.color_edit_button_rgb(&mut ka).changed() {
+                m.ambient = Vec3::from_array(ka);
+                changed = true;
+            }
+            ui.end_row();
+            ui.label("alpha mode");
+            ui.horizontal(|ui| {
+                for (mode, name) in [
+                    (AlphaMode::Opaque, "opaque"),
+                    (AlphaMode::Mask(0.5), "mask 0.5"),
+                    (AlphaMode::Blend, "blend"),
+                ] {
+                    changed |= ui.selectable_value(&mut m.alpha_mode, mode, name).changed();
+                }
+            });
+            ui.end_row();
+            ui.label("double-sided");
+            changed |= ui.checkbox(&mut m.double_sided, "").changed();
+            ui.end_row();
         });
-        ui.end_row();
-        ui.label("double-sided");
-        changed |= ui.checkbox(&mut m.double_sided, "").changed();
-        ui.end_row();
-    });
     if changed {
         app.settings.materials = Some(list);
     }

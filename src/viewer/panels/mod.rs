@@ -112,7 +112,9 @@ impl Panels {
 /// A one-line description of settings, for the split view's labels.
 #[must_use]
 pub fn describe(s: &Settings) -> String {
-    let mut d = s.shading.map_or("per model".into(), |m| m.name().to_owned());
+    let mut d = s
+        .shading
+        .map_or("per model".into(), |m| m.name().to_owned());
     if let Some(f) = s.filter {
         d += &format!(", {f:?} filter").to_lowercase();
     }
@@ -205,7 +207,11 @@ pub fn act(app: &mut ViewerApp, a: Action) {
                 .and_then(|m| CYCLE.iter().position(|c| *c == m))
                 .unwrap_or(3);
             let n = CYCLE.len();
-            let next = if a == Action::NextShading { (k + 1) % n } else { (k + n - 1) % n };
+            let next = if a == Action::NextShading {
+                (k + 1) % n
+            } else {
+                (k + n - 1) % n
+            };
             s.shading = Some(CYCLE[next]);
         }
         Action::ToggleWireOverlay => s.wireframe_overlay = !s.wireframe_overlay,
@@ -281,13 +287,22 @@ pub fn menu_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     }
                 });
                 let has = app.model.is_some();
-                if ui.add_enabled(has, egui::Button::new("Reload  (Up)")).clicked() {
+                if ui
+                    .add_enabled(has, egui::Button::new("Reload  (Up)"))
+                    .clicked()
+                {
                     app.reload();
                 }
-                if ui.add_enabled(has, egui::Button::new("Previous in folder  (Left)")).clicked() {
+                if ui
+                    .add_enabled(has, egui::Button::new("Previous in folder  (Left)"))
+                    .clicked()
+                {
                     app.step_file(-1);
                 }
-                if ui.add_enabled(has, egui::Button::new("Next in folder  (Right)")).clicked() {
+                if ui
+                    .add_enabled(has, egui::Button::new("Next in folder  (Right)"))
+                    .clicked()
+                {
                     app.step_file(1);
                 }
                 if ui.button("Demo scene").clicked() {
@@ -333,10 +348,17 @@ pub fn status_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
             ui.label(format!("{} triangles", app.scene.triangle_count()));
             if let Some(t) = &app.loading {
                 let (stage, fraction, secs) = t.status();
-                let name = t.path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+                let name = t
+                    .path
+                    .file_name()
+                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
                 ui.separator();
                 ui.label(format!("loading {name}: {} ({secs:.1} s)", stage.name()));
-                ui.add(egui::ProgressBar::new(fraction.unwrap_or(0.0)).desired_width(120.0).show_percentage());
+                ui.add(
+                    egui::ProgressBar::new(fraction.unwrap_or(0.0))
+                        .desired_width(120.0)
+                        .show_percentage(),
+                );
                 if ui.button("Cancel").clicked() {
                     t.cancel();
                 }
@@ -375,8 +397,11 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .size_range(200.0..=420.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
-                egui::CollapsingHeader::new("Shading").default_open(true).show(ui, |ui| shading::show(app, ui));
-                egui::CollapsingHeader::new("Split view A | B").show(ui, |ui| shading::split(app, ui));
+                egui::CollapsingHeader::new("Shading")
+                    .default_open(true)
+                    .show(ui, |ui| shading::show(app, ui));
+                egui::CollapsingHeader::new("Split view A | B")
+                    .show(ui, |ui| shading::split(app, ui));
                 egui::CollapsingHeader::new("Lights").show(ui, |ui| lights::lights(app, ui));
                 egui::CollapsingHeader::new("Materials").show(ui, |ui| lights::materials(app, ui));
                 egui::CollapsingHeader::new("Stats").show(ui, |ui| stats::show(app, ui));
@@ -393,8 +418,11 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     .default_open(true)
                     .open(open)
                     .show(ui, |ui| probe::show(app, ui));
-                egui::CollapsingHeader::new("Scene").default_open(true).show(ui, |ui| scene::show(app, ui));
-                egui::CollapsingHeader::new("Colour (CIE 1931)").show(ui, |ui| colour::show(app, ui));
+                egui::CollapsingHeader::new("Scene")
+                    .default_open(true)
+                    .show(ui, |ui| scene::show(app, ui));
+                egui::CollapsingHeader::new("Colour (CIE 1931)")
+                    .show(ui, |ui| colour::show(app, ui));
             });
         });
 }
@@ -427,7 +455,12 @@ fn cheat_sheet(app: &ViewerApp, ui: &mut egui::Ui) {
     let on = |b: bool| if b { "on" } else { "off" };
     let state = |a: Action| -> String {
         match a {
-            Action::ToggleOrtho => (if app.nav.is_ortho() { "orthographic" } else { "perspective" }).into(),
+            Action::ToggleOrtho => (if app.nav.is_ortho() {
+                "orthographic"
+            } else {
+                "perspective"
+            })
+            .into(),
             Action::UpY | Action::UpZ => format!("up: {:?}", app.nav.up_axis()),
             Action::ToggleTrackball => format!("{:?}", app.nav.mode()).to_lowercase(),
             Action::FovDown | Action::FovUp => format!("{:.0} degrees", app.nav.fov_degrees()),
@@ -466,7 +499,8 @@ pub fn overdraw_legend(painter: &egui::Painter, rect: Rect) {
     for i in 0..steps {
         let c = 16.0 * i as f32 / (steps - 1) as f32;
         let col = crate::render::overdraw_color(c);
-        let enc = |v: f32| (crate::texture::linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+        let enc =
+            |v: f32| (crate::texture::linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
         let x = origin.x + w * i as f32 / steps as f32;
         painter.rect_filled(
             Rect::from_min_size(Pos2::new(x, origin.y), Vec2::new(w / steps as f32 + 0.5, h)),
@@ -474,7 +508,13 @@ pub fn overdraw_legend(painter: &egui::Painter, rect: Rect) {
             Color32::from_rgb(enc(col.x), enc(col.y), enc(col.z)),
         );
     }
-    for (v, label) in [(0.0, "0"), (1.0, "1"), (4.0, "4"), (10.0, "10"), (16.0, "16+")] {
+    for (v, label) in [
+        (0.0, "0"),
+        (1.0, "1"),
+        (4.0, "4"),
+        (10.0, "10"),
+        (16.0, "16+"),
+    ] {
         painter.text(
             Pos2::new(origin.x + w * v / 16.0, origin.y + h + 2.0),
             Align2::CENTER_TOP,

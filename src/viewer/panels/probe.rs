@@ -18,7 +18,11 @@ fn v3(v: Vec3) -> String {
 fn swatch(ui: &mut egui::Ui, linear: Vec3) {
     let e = |v: f32| (srgb_encode(f64::from(v).clamp(0.0, 1.0)) * 255.0).round() as u8;
     let (rect, _) = ui.allocate_exact_size(egui::vec2(28.0, 14.0), egui::Sense::hover());
-    ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(e(linear.x), e(linear.y), e(linear.z)));
+    ui.painter().rect_filled(
+        rect,
+        2.0,
+        Color32::from_rgb(e(linear.x), e(linear.y), e(linear.z)),
+    );
 }
 
 /// The colour of a linear RGB value in the models the seeds name.
@@ -35,14 +39,29 @@ fn colour_rows(ui: &mut egui::Ui, linear: Vec3) {
         ui.monospace(v);
         ui.end_row();
     };
-    row("linear RGB", format!("{:.4} {:.4} {:.4}", lin[0], lin[1], lin[2]));
+    row(
+        "linear RGB",
+        format!("{:.4} {:.4} {:.4}", lin[0], lin[1], lin[2]),
+    );
     row(
         "sRGB",
-        format!("#{:02x}{:02x}{:02x}  ({} {} {})", bytes[0], bytes[1], bytes[2], bytes[0], bytes[1], bytes[2]),
+        format!(
+            "#{:02x}{:02x}{:02x}  ({} {} {})",
+            bytes[0], bytes[1], bytes[2], bytes[0], bytes[1], bytes[2]
+        ),
     );
-    row("HSV", format!("h {:.1}°  s {:.3}  v {:.3}", hsv[0] * 360.0, hsv[1], hsv[2]));
-    row("L*a*b*", format!("{:.2} {:.2} {:.2}", lab[0], lab[1], lab[2]));
-    row("xy (Y)", format!("{:.4} {:.4} ({:.4})", xyy[0], xyy[1], xyy[2]));
+    row(
+        "HSV",
+        format!("h {:.1}°  s {:.3}  v {:.3}", hsv[0] * 360.0, hsv[1], hsv[2]),
+    );
+    row(
+        "L*a*b*",
+        format!("{:.2} {:.2} {:.2}", lab[0], lab[1], lab[2]),
+    );
+    row(
+        "xy (Y)",
+        format!("{:.4} {:.4} ({:.4})", xyy[0], xyy[1], xyy[2]),
+    );
     if lin.iter().any(|v| *v > 1.0) {
         row("note", "above 1: clamped on screen".into());
     }
@@ -60,7 +79,11 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         pv.pixel[1],
         pv.frame_size[0],
         pv.frame_size[1],
-        if pv.side == Side::B { ", right half (B)" } else { "" }
+        if pv.side == Side::B {
+            ", right half (B)"
+        } else {
+            ""
+        }
     ));
     if let Some(rgb) = pv.shown_rgb {
         ui.horizontal(|ui| {
@@ -78,61 +101,101 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let inst = scene.instances.get(p.instance);
     let mesh = scene.meshes.get(p.mesh);
     let material = p.material.and_then(|m| scene.materials.get(m));
-    egui::Grid::new("probe-geometry").num_columns(2).striped(true).show(ui, |ui| {
-        let mut row = |k: &str, v: String| {
-            ui.label(k);
-            ui.monospace(v);
-            ui.end_row();
-        };
-        row("instance", format!("{} ({})", p.instance, inst.map_or("", |i| i.name.as_str())));
-        row("mesh", format!("{} ({})", p.mesh, mesh.map_or("", |m| m.name.as_str())));
-        row(
-            "material",
-            material.map_or("default".into(), |m| format!("{} ({})", p.material.unwrap_or(0), m.name)),
-        );
-        row("triangle / facet", format!("{} / {}", p.triangle, p.facet));
-        row("shading", format!("{}{}", p.mode, if p.front { "" } else { ", back face" }));
-        row("position", v3(p.position));
-        row("view depth", format!("{:.5}", p.view_depth));
-        row("depth (z/w)", format!("{:.7}", p.depth));
-        if let Some(d) = pv.buffer_depth {
-            row("depth buffer", format!("{d:.7} (differs by {:.1e})", (d - p.depth).abs()));
-        }
-        row("normal", v3(p.normal));
-        row("face normal", v3(p.face_normal));
-        row("barycentric", v3(p.barycentric));
-        row("UV", p.uv.map_or("none".into(), |uv| format!("({:.4}, {:.4})", uv.x, uv.y)));
-        row("diffuse colour", format!("{:.3} {:.3} {:.3}, alpha {:.3}", p.base.x, p.base.y, p.base.z, p.base.w));
-    });
+    egui::Grid::new("probe-geometry")
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| {
+            let mut row = |k: &str, v: String| {
+                ui.label(k);
+                ui.monospace(v);
+                ui.end_row();
+            };
+            row(
+                "instance",
+                format!("{} ({})", p.instance, inst.map_or("", |i| i.name.as_str())),
+            );
+            row(
+                "mesh",
+                format!("{} ({})", p.mesh, mesh.map_or("", |m| m.name.as_str())),
+            );
+            row(
+                "material",
+                material.map_or("default".into(), |m| {
+                    format!("{} ({})", p.material.unwrap_or(0), m.name)
+                }),
+            );
+            row("triangle / facet", format!("{} / {}", p.triangle, p.facet));
+            row(
+                "shading",
+                format!("{}{}", p.mode, if p.front { "" } else { ", back face" }),
+            );
+            row("position", v3(p.position));
+            row("view depth", format!("{:.5}", p.view_depth));
+            row("depth (z/w)", format!("{:.7}", p.depth));
+            if let Some(d) = pv.buffer_depth {
+                row(
+                    "depth buffer",
+                    format!("{d:.7} (differs by {:.1e})", (d - p.depth).abs()),
+                );
+            }
+            row("normal", v3(p.normal));
+            row("face normal", v3(p.face_normal));
+            row("barycentric", v3(p.barycentric));
+            row(
+                "UV",
+                p.uv.map_or("none".into(), |uv| format!("({:.4}, {:.4})", uv.x, uv.y)),
+            );
+            row(
+                "diffuse colour",
+                format!(
+                    "{:.3} {:.3} {:.3}, alpha {:.3}",
+                    p.base.x, p.base.y, p.base.z, p.base.w
+                ),
+            );
+        });
     ui.separator();
     ui.horizontal(|ui| {
         ui.label(RichText::new("Re-shaded colour").strong());
         swatch(ui, p.color);
     });
-    if !matches!(p.mode, crate::shade::Shading::Phong | crate::shade::Shading::Blinn | crate::shade::Shading::Textured) {
-        ui.label(format!("(per-pixel lighting; this pixel was drawn in {} mode)", p.mode));
+    if !matches!(
+        p.mode,
+        crate::shade::Shading::Phong
+            | crate::shade::Shading::Blinn
+            | crate::shade::Shading::Textured
+    ) {
+        ui.label(format!(
+            "(per-pixel lighting; this pixel was drawn in {} mode)",
+            p.mode
+        ));
     }
-    egui::Grid::new("probe-colour").num_columns(2).striped(true).show(ui, |ui| colour_rows(ui, p.color));
+    egui::Grid::new("probe-colour")
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| colour_rows(ui, p.color));
     ui.separator();
     ui.label(RichText::new("Each light's share (linear RGB)").strong());
-    egui::Grid::new("probe-lights").num_columns(3).striped(true).show(ui, |ui| {
-        ui.label("light");
-        ui.label("diffuse");
-        ui.label("specular");
-        ui.end_row();
-        ui.label("ambient");
-        ui.monospace(v3(p.ambient));
-        ui.label("");
-        ui.end_row();
-        for s in &p.lights {
-            ui.label(format!("{} {}", s.index, s.light.kind()));
-            ui.monospace(v3(s.diffuse));
-            ui.monospace(v3(s.specular));
+    egui::Grid::new("probe-lights")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label("light");
+            ui.label("diffuse");
+            ui.label("specular");
             ui.end_row();
-        }
-        ui.label("sum");
-        ui.monospace(v3(p.color));
-        ui.label("");
-        ui.end_row();
-    });
+            ui.label("ambient");
+            ui.monospace(v3(p.ambient));
+            ui.label("");
+            ui.end_row();
+            for s in &p.lights {
+                ui.label(format!("{} {}", s.index, s.light.kind()));
+                ui.monospace(v3(s.diffuse));
+                ui.monospace(v3(s.specular));
+                ui.end_row();
+            }
+            ui.label("sum");
+            ui.monospace(v3(p.color));
+            ui.label("");
+            ui.end_row();
+        });
 }

@@ -21,29 +21,49 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     ui.label(format!(
         "{} ({}): {} meshes, {} instances, {} triangles",
         app.scene_name(),
-        if r.format.is_empty() { "?" } else { r.format.as_str() },
+        if r.format.is_empty() {
+            "?"
+        } else {
+            r.format.as_str()
+        },
         scene.meshes.len(),
         scene.instances.len(),
         app.scene.triangle_count()
     ));
-    egui::CollapsingHeader::new(format!("Load report ({} warnings, {} skipped, {} generated)", r.warnings.len(), r.skipped.len(), r.generated.len()))
-        .id_salt("load-report")
-        .show(ui, |ui| {
-            for (what, list) in [("warning", &r.warnings), ("skipped", &r.skipped), ("generated", &r.generated)] {
-                for line in list.iter().take(MAX_ROWS) {
-                    ui.label(format!("{what}: {line}"));
-                }
+    egui::CollapsingHeader::new(format!(
+        "Load report ({} warnings, {} skipped, {} generated)",
+        r.warnings.len(),
+        r.skipped.len(),
+        r.generated.len()
+    ))
+    .id_salt("load-report")
+    .show(ui, |ui| {
+        for (what, list) in [
+            ("warning", &r.warnings),
+            ("skipped", &r.skipped),
+            ("generated", &r.generated),
+        ] {
+            for line in list.iter().take(MAX_ROWS) {
+                ui.label(format!("{what}: {line}"));
             }
-            if r.warnings.is_empty() && r.skipped.is_empty() && r.generated.is_empty() {
-                ui.label("nothing to report");
-            }
-        });
+        }
+        if r.warnings.is_empty() && r.skipped.is_empty() && r.generated.is_empty() {
+            ui.label("nothing to report");
+        }
+    });
     egui::CollapsingHeader::new(format!("Instances ({})", scene.instances.len()))
         .id_salt("instances")
         .show(ui, |ui| {
             for (i, inst) in scene.instances.iter().enumerate().take(MAX_ROWS) {
-                let tris = app.scene.meshes().get(inst.mesh).map_or(0, |m| m.tri.triangles.len());
-                ui.label(format!("{i}: {} (mesh {}, {tris} triangles, {:?})", inst.name, inst.mesh, inst.style));
+                let tris = app
+                    .scene
+                    .meshes()
+                    .get(inst.mesh)
+                    .map_or(0, |m| m.tri.triangles.len());
+                ui.label(format!(
+                    "{i}: {} (mesh {}, {tris} triangles, {:?})",
+                    inst.name, inst.mesh, inst.style
+                ));
             }
             more(ui, scene.instances.len());
         });
@@ -51,14 +71,24 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .id_salt("meshes")
         .show(ui, |ui| {
             for (i, m) in scene.meshes.iter().enumerate().take(MAX_ROWS) {
-                egui::CollapsingHeader::new(format!("{i}: {} ({} vertices, {} facets)", m.name, m.positions.len(), m.facets.len()))
-                    .id_salt(("mesh", i))
-                    .show(ui, |ui| {
-                        ui.label(format!("normals: {:?}; UVs: {}; colours: {}", m.normal_source, m.uvs.is_some(), m.colors.is_some()));
-                        // The topology report walks the whole mesh: computed when opened, then kept.
-                        let report = app.panels.topology.entry(i).or_insert_with(|| m.topology());
-                        topology(ui, i, report);
-                    });
+                egui::CollapsingHeader::new(format!(
+                    "{i}: {} ({} vertices, {} facets)",
+                    m.name,
+                    m.positions.len(),
+                    m.facets.len()
+                ))
+                .id_salt(("mesh", i))
+                .show(ui, |ui| {
+                    ui.label(format!(
+                        "normals: {:?}; UVs: {}; colours: {}",
+                        m.normal_source,
+                        m.uvs.is_some(),
+                        m.colors.is_some()
+                    ));
+                    // The topology report walks the whole mesh: computed when opened, then kept.
+                    let report = app.panels.topology.entry(i).or_insert_with(|| m.topology());
+                    topology(ui, i, report);
+                });
             }
             more(ui, scene.meshes.len());
         });
@@ -78,7 +108,11 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     m.shininess,
                     m.alpha_mode,
                     if m.double_sided { ", double-sided" } else { "" },
-                    if m.base_color_texture.is_some() { ", textured" } else { "" },
+                    if m.base_color_texture.is_some() {
+                        ", textured"
+                    } else {
+                        ""
+                    },
                 ));
             }
             more(ui, scene.materials.len());
@@ -91,10 +125,22 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             }
             for (i, t) in scene.textures.iter().enumerate().take(MAX_ROWS) {
                 ui.horizontal(|ui| {
-                    let thumb = app.panels.thumbnails[i]
-                        .get_or_insert_with(|| ui.ctx().load_texture(format!("thumb-{i}"), thumbnail(t), TextureOptions::LINEAR));
+                    let thumb = app.panels.thumbnails[i].get_or_insert_with(|| {
+                        ui.ctx().load_texture(
+                            format!("thumb-{i}"),
+                            thumbnail(t),
+                            TextureOptions::LINEAR,
+                        )
+                    });
                     ui.image((thumb.id(), thumb.size_vec2()));
-                    ui.label(format!("{i}: {}\n{}x{}, {}, {:?}", t.name, t.width, t.height, if t.srgb { "sRGB" } else { "linear" }, t.sampler.filter));
+                    ui.label(format!(
+                        "{i}: {}\n{}x{}, {}, {:?}",
+                        t.name,
+                        t.width,
+                        t.height,
+                        if t.srgb { "sRGB" } else { "linear" },
+                        t.sampler.filter
+                    ));
                 });
             }
         });
@@ -107,7 +153,8 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             for (i, l) in scene.lights.iter().enumerate() {
                 ui.label(format!("{i}: {}", describe_light(l)));
             }
-            if app.settings.lights != Lights::Auto && ui.button("use the scene's lights").clicked() {
+            if app.settings.lights != Lights::Auto && ui.button("use the scene's lights").clicked()
+            {
                 app.settings.lights = Lights::Auto;
             }
         });
@@ -122,7 +169,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     Some(h) => format!("orthographic, half height {h:.3}"),
                     None => format!("{:.1}° field of view", c.yfov.to_degrees()),
                 };
-                if ui.button(format!("{i}: view through '{}' ({kind})", c.name)).clicked() {
+                if ui
+                    .button(format!("{i}: view through '{}' ({kind})", c.name))
+                    .clicked()
+                {
                     let (center, radius) = app.scene.bounding_sphere();
                     app.nav = Navigator::from_camera(c, center, radius, app.nav.up_axis());
                 }
@@ -137,22 +187,39 @@ fn more(ui: &mut egui::Ui, n: usize) {
 }
 
 fn topology(ui: &mut egui::Ui, i: usize, t: &TopologyReport) {
-    egui::Grid::new(("topology", i)).num_columns(2).show(ui, |ui| {
-        let mut row = |k: &str, v: String| {
-            ui.label(k);
-            ui.monospace(v);
-            ui.end_row();
-        };
-        row("vertices / edges / facets", format!("{} / {} / {}", t.vertices, t.edges, t.facets));
-        row("triangles", t.triangles.to_string());
-        row("boundary edges (loops)", format!("{} ({})", t.boundary_edges, t.boundary_loops));
-        row("non-manifold edges", t.non_manifold_edges.to_string());
-        row("degenerate facets", t.degenerate_facets.to_string());
-        row("isolated vertices", t.isolated_vertices.to_string());
-        row("components", t.components.to_string());
-        row("V - E + F", format!("{} (used vertices: {})", t.euler_characteristic, t.euler_characteristic_used));
-        row("genus", t.genus.map_or("not defined".into(), |g| g.to_string()));
-    });
+    egui::Grid::new(("topology", i))
+        .num_columns(2)
+        .show(ui, |ui| {
+            let mut row = |k: &str, v: String| {
+                ui.label(k);
+                ui.monospace(v);
+                ui.end_row();
+            };
+            row(
+                "vertices / edges / facets",
+                format!("{} / {} / {}", t.vertices, t.edges, t.facets),
+            );
+            row("triangles", t.triangles.to_string());
+            row(
+                "boundary edges (loops)",
+                format!("{} ({})", t.boundary_edges, t.boundary_loops),
+            );
+            row("non-manifold edges", t.non_manifold_edges.to_string());
+            row("degenerate facets", t.degenerate_facets.to_string());
+            row("isolated vertices", t.isolated_vertices.to_string());
+            row("components", t.components.to_string());
+            row(
+                "V - E + F",
+                format!(
+                    "{} (used vertices: {})",
+                    t.euler_characteristic, t.euler_characteristic_used
+                ),
+            );
+            row(
+                "genus",
+                t.genus.map_or("not defined".into(), |g| g.to_string()),
+            );
+        });
 }
 
 /// A one-line description of a light.
@@ -161,8 +228,12 @@ pub fn describe_light(l: &Light) -> String {
     let c = |v: glam::Vec3| format!("({:.2} {:.2} {:.2})", v.x, v.y, v.z);
     match l {
         Light::Ambient { color } => format!("ambient {}", c(*color)),
-        Light::Directional { direction, color } => format!("directional along {} colour {}", c(*direction), c(*color)),
-        Light::Point { position, color } => format!("point at {} colour {}", c(*position), c(*color)),
+        Light::Directional { direction, color } => {
+            format!("directional along {} colour {}", c(*direction), c(*color))
+        }
+        Light::Point { position, color } => {
+            format!("point at {} colour {}", c(*position), c(*color))
+        }
     }
 }
 
@@ -170,12 +241,19 @@ pub fn describe_light(l: &Light) -> String {
 fn thumbnail(t: &crate::texture::Texture) -> ColorImage {
     let (w, h) = (t.width.max(1), t.height.max(1));
     let scale = (THUMB as f32 / w.max(h) as f32).min(1.0);
-    let (tw, th) = (((w as f32 * scale) as u32).max(1), ((h as f32 * scale) as u32).max(1));
+    let (tw, th) = (
+        ((w as f32 * scale) as u32).max(1),
+        ((h as f32 * scale) as u32).max(1),
+    );
     let mut px = Vec::with_capacity((tw * th) as usize);
     for y in 0..th {
         for x in 0..tw {
             let (sx, sy) = (x * w / tw, y * h / th);
-            let [r, g, b, a] = t.texels.get((sy * w + sx) as usize).copied().unwrap_or([0; 4]);
+            let [r, g, b, a] = t
+                .texels
+                .get((sy * w + sx) as usize)
+                .copied()
+                .unwrap_or([0; 4]);
             px.push(egui::Color32::from_rgba_unmultiplied(r, g, b, a));
         }
     }

@@ -45,14 +45,24 @@ impl Default for Screenshot {
 fn file_name(folder: &str, scene: &str, w: u32, h: u32) -> PathBuf {
     let stem: String = scene
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
     let mut k = 0;
     loop {
-        let suffix = if k == 0 { String::new() } else { format!("-{k}") };
+        let suffix = if k == 0 {
+            String::new()
+        } else {
+            format!("-{k}")
+        };
         let p = PathBuf::from(folder).join(format!("realist-{stem}-{w}x{h}-{secs}{suffix}.png"));
         if !p.exists() {
             return p;
@@ -74,8 +84,17 @@ pub fn quick(app: &mut ViewerApp) {
         return;
     };
     let [w, h] = s.a.size;
-    let path = file_name(&app.panels.screenshot.folder, &app.scene_name(), w as u32, h as u32);
-    let rgba = s.a.pixels.iter().flat_map(|c| [c.r(), c.g(), c.b(), 255]).collect();
+    let path = file_name(
+        &app.panels.screenshot.folder,
+        &app.scene_name(),
+        w as u32,
+        h as u32,
+    );
+    let rgba =
+        s.a.pixels
+            .iter()
+            .flat_map(|c| [c.r(), c.g(), c.b(), 255])
+            .collect();
     app.notice = Some(match save_png(&path, w as u32, h as u32, rgba) {
         Ok(()) => format!("saved {} ({})", path.display(), s.level.label()),
         Err(e) => e,
@@ -83,7 +102,12 @@ pub fn quick(app: &mut ViewerApp) {
 }
 
 /// Renders `view` offscreen and saves it.
-fn offscreen(scene: &PreparedScene, settings: &Settings, view: &View, path: &std::path::Path) -> Result<(), String> {
+fn offscreen(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    path: &std::path::Path,
+) -> Result<(), String> {
     let mut r = Renderer::new();
     r.render(scene, settings, view);
     let mut px = vec![[0u8; 4]; (view.width * view.height) as usize];
@@ -98,49 +122,71 @@ pub fn window(app: &mut ViewerApp, ctx: &egui::Context) {
     }
     let mut open = true;
     let mut start = false;
-    egui::Window::new("Screenshot").open(&mut open).show(ctx, |ui| {
-        let st = &mut app.panels.screenshot;
-        ui.horizontal(|ui| {
-            ui.add(egui::DragValue::new(&mut st.width).range(16..=MAX_SIDE).suffix(" px"));
-            ui.label("x");
-            ui.add(egui::DragValue::new(&mut st.height).range(16..=MAX_SIDE).suffix(" px"));
-        });
-        ui.horizontal(|ui| {
-            for (w, h) in [(1920, 1080), (2560, 1440), (3840, 2160)] {
-                if ui.button(format!("{w}x{h}")).clicked() {
-                    (st.width, st.height) = (w, h);
+    egui::Window::new("Screenshot")
+        .open(&mut open)
+        .show(ctx, |ui| {
+            let st = &mut app.panels.screenshot;
+            ui.horizontal(|ui| {
+                ui.add(
+                    egui::DragValue::new(&mut st.width)
+                        .range(16..=MAX_SIDE)
+                        .suffix(" px"),
+                );
+                ui.label("x");
+                ui.add(
+                    egui::DragValue::new(&mut st.height)
+                        .range(16..=MAX_SIDE)
+                        .suffix(" px"),
+                );
+            });
+            ui.horizontal(|ui| {
+                for (w, h) in [(1920, 1080), (2560, 1440), (3840, 2160)] {
+                    if ui.button(format!("{w}x{h}")).clicked() {
+                        (st.width, st.height) = (w, h);
+                    }
                 }
+                if ui.button("window").clicked() {
+                    [st.width, st.height] = app.viewport.size_px;
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("anti-aliasing");
+                for n in [1, 2, 4] {
+                    ui.selectable_value(
+                        &mut st.samples,
+                        n,
+                        if n == 1 {
+                            "off".into()
+                        } else {
+                            format!("{n}x{n}")
+                        },
+                    );
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("folder");
+                ui.text_edit_singleline(&mut st.folder);
+            });
+            let running = st
+                .result
+                .as_ref()
+                .is_some_and(|r| r.lock().is_ok_and(|g| g.is_none()));
+            if running {
+                ui.label("rendering...");
+            } else if ui.button("render and save").clicked() {
+                start = true;
             }
-            if ui.button("window").clicked() {
-                [st.width, st.height] = app.viewport.size_px;
+            if let Some(Some(r)) = st
+                .result
+                .as_ref()
+                .and_then(|r| r.lock().ok().map(|g| g.clone()))
+            {
+                match r {
+                    Ok(p) => ui.label(format!("saved {}", p.display())),
+                    Err(e) => ui.colored_label(egui::Color32::from_rgb(255, 110, 90), e),
+                };
             }
         });
-        ui.horizontal(|ui| {
-            ui.label("anti-aliasing");
-            for n in [1, 2, 4] {
-                ui.selectable_value(&mut st.samples, n, if n == 1 { "off".into() } else { format!("{n}x{n}") });
-            }
-        });
-        ui.horizontal(|ui| {
-            ui.label("folder");
-            ui.text_edit_singleline(&mut st.folder);
-        });
-        let running = st
-            .result
-            .as_ref()
-            .is_some_and(|r| r.lock().is_ok_and(|g| g.is_none()));
-        if running {
-            ui.label("rendering...");
-        } else if ui.button("render and save").clicked() {
-            start = true;
-        }
-        if let Some(Some(r)) = st.result.as_ref().and_then(|r| r.lock().ok().map(|g| g.clone())) {
-            match r {
-                Ok(p) => ui.label(format!("saved {}", p.display())),
-                Err(e) => ui.colored_label(egui::Color32::from_rgb(255, 110, 90), e),
-            };
-        }
-    });
     app.panels.screenshot.open &= open;
     if start {
         let st = &app.panels.screenshot;
@@ -155,7 +201,11 @@ pub fn window(app: &mut ViewerApp, ctx: &egui::Context) {
             ..app.settings.clone()
         };
         let path = file_name(&st.folder, &app.scene_name(), w, h);
-        let (scene, slot, ctx) = (Arc::clone(&app.scene), Arc::new(Mutex::new(None)), ctx.clone());
+        let (scene, slot, ctx) = (
+            Arc::clone(&app.scene),
+            Arc::new(Mutex::new(None)),
+            ctx.clone(),
+        );
         let out = Arc::clone(&slot);
         std::thread::spawn(move || {
             let r = offscreen(&scene, &settings, &view, &path).map(|()| path);

@@ -15,20 +15,34 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
     egui::ComboBox::from_id_salt((id, "mode"))
         .selected_text(s.shading.map_or("per model", |m| m.name()))
         .show_ui(ui, |ui| {
-            ui.selectable_value(&mut s.shading, None, "per model (textured if it has a texture, else Phong)");
+            ui.selectable_value(
+                &mut s.shading,
+                None,
+                "per model (textured if it has a texture, else Phong)",
+            );
             for m in Shading::ALL {
                 ui.selectable_value(&mut s.shading, Some(m), m.name());
             }
         });
     ui.checkbox(&mut s.wireframe_overlay, "wireframe over shaded (E)");
     let mut overdraw = s.output == Output::Overdraw;
-    if ui.checkbox(&mut overdraw, "overdraw: fragments per pixel (O)").changed() {
-        s.output = if overdraw { Output::Overdraw } else { Output::Shaded };
+    if ui
+        .checkbox(&mut overdraw, "overdraw: fragments per pixel (O)")
+        .changed()
+    {
+        s.output = if overdraw {
+            Output::Overdraw
+        } else {
+            Output::Shaded
+        };
     }
     ui.horizontal(|ui| {
         ui.label("texture filter");
         egui::ComboBox::from_id_salt((id, "filter"))
-            .selected_text(s.filter.map_or("model's".to_owned(), |f| format!("{f:?}").to_lowercase()))
+            .selected_text(
+                s.filter
+                    .map_or("model's".to_owned(), |f| format!("{f:?}").to_lowercase()),
+            )
             .show_ui(ui, |ui| {
                 ui.selectable_value(&mut s.filter, None, "the model's sampler");
                 for f in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
@@ -58,7 +72,15 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     ui.horizontal(|ui| {
         ui.label("anti-aliasing when still (A)");
         for n in [1, 2, 4] {
-            ui.selectable_value(&mut app.max_samples, n, if n == 1 { "off".into() } else { format!("{n}x{n}") });
+            ui.selectable_value(
+                &mut app.max_samples,
+                n,
+                if n == 1 {
+                    "off".into()
+                } else {
+                    format!("{n}x{n}")
+                },
+            );
         }
     });
     ui.separator();
@@ -74,7 +96,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
 
 /// The split view section.
 pub fn split(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    ui.checkbox(&mut app.split.enabled, "split the view (S): A left, B right");
+    ui.checkbox(
+        &mut app.split.enabled,
+        "split the view (S): A left, B right",
+    );
     ui.add_enabled_ui(app.split.enabled, |ui| {
         ui.label("A is the shading section above; B:");
         settings_controls(&mut app.split.b, ui, "b");
@@ -82,7 +107,10 @@ pub fn split(app: &mut ViewerApp, ui: &mut egui::Ui) {
             ui.label("divider");
             ui.add(egui::Slider::new(&mut app.split.divider, 0.0..=1.0));
         });
-        ui.checkbox(&mut app.split.heat, "right half shows the ΔE00 difference A vs B");
+        ui.checkbox(
+            &mut app.split.heat,
+            "right half shows the ΔE00 difference A vs B",
+        );
         if let Some((mean, p95)) = app.shown.as_ref().and_then(|s| s.heat) {
             ui.label(format!("ΔE00: mean {mean:.4}, 95th percentile {p95:.4}"));
             ui.label("black 0, red, yellow, white at 5 and above");

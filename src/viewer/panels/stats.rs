@@ -9,34 +9,37 @@ use crate::viewer::app::ViewerApp;
 fn report_grid(ui: &mut egui::Ui, id: &str, r: &FrameReport) {
     let t = &r.times;
     let s = &r.stats;
-    egui::Grid::new(id).striped(true).num_columns(2).show(ui, |ui| {
-        let mut row = |k: &str, v: String| {
-            ui.label(k);
-            ui.monospace(v);
-            ui.end_row();
-        };
-        row(
-            "size",
-            format!("{}x{}, {2}x{2} samples", r.width, r.height, r.samples),
-        );
-        row("frame", format!("{:.2} ms", t.total));
-        row("  set-up", format!("{:.2} ms", t.setup));
-        row("  vertex", format!("{:.2} ms", t.vertex));
-        row("  clip, set-up, bin", format!("{:.2} ms", t.raster));
-        row("  fill + shade", format!("{:.2} ms", t.fill));
-        row("  resolve samples", format!("{:.2} ms", t.resolve));
-        row("triangles in", s.triangles_in.to_string());
-        row("  objects culled", s.objects_culled.to_string());
-        row("  frustum culled", s.culled_frustum.to_string());
-        row("  back faces", s.culled_backface.to_string());
-        row("  degenerate", s.culled_degenerate.to_string());
-        row("  clipped", s.clipped.to_string());
-        row("  drawn (set up)", s.drawn.to_string());
-        row("tiles filled", s.tiles.to_string());
-        row("pixels shaded", s.pixels_shaded.to_string());
-        row("depth rejected", s.depth_rejected.to_string());
-        row("lines", s.lines_drawn.to_string());
-    });
+    egui::Grid::new(id)
+        .striped(true)
+        .num_columns(2)
+        .show(ui, |ui| {
+            let mut row = |k: &str, v: String| {
+                ui.label(k);
+                ui.monospace(v);
+                ui.end_row();
+            };
+            row(
+                "size",
+                format!("{}x{}, {2}x{2} samples", r.width, r.height, r.samples),
+            );
+            row("frame", format!("{:.2} ms", t.total));
+            row("  set-up", format!("{:.2} ms", t.setup));
+            row("  vertex", format!("{:.2} ms", t.vertex));
+            row("  clip, set-up, bin", format!("{:.2} ms", t.raster));
+            row("  fill + shade", format!("{:.2} ms", t.fill));
+            row("  resolve samples", format!("{:.2} ms", t.resolve));
+            row("triangles in", s.triangles_in.to_string());
+            row("  objects culled", s.objects_culled.to_string());
+            row("  frustum culled", s.culled_frustum.to_string());
+            row("  back faces", s.culled_backface.to_string());
+            row("  degenerate", s.culled_degenerate.to_string());
+            row("  clipped", s.clipped.to_string());
+            row("  drawn (set up)", s.drawn.to_string());
+            row("tiles filled", s.tiles.to_string());
+            row("pixels shaded", s.pixels_shaded.to_string());
+            row("depth rejected", s.depth_rejected.to_string());
+            row("lines", s.lines_drawn.to_string());
+        });
 }
 
 /// The stats section.
@@ -47,7 +50,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     };
     ui.label(format!("on screen: {}", s.level.label()));
     if let Some(ms) = s.interval.filter(|ms| *ms < 2000.0) {
-        ui.label(format!("frames arrive every {ms:.1} ms ({:.0} per second)", 1e3 / ms.max(1e-3)));
+        ui.label(format!(
+            "frames arrive every {ms:.1} ms ({:.0} per second)",
+            1e3 / ms.max(1e-3)
+        ));
     }
     if let Some(l) = app.load_millis {
         ui.label(format!("model loaded and prepared in {l:.0} ms"));
