@@ -4,6 +4,8 @@
 mod cli;
 
 fn main() -> std::process::ExitCode {
+    #[cfg(feature = "viewer")]
+    realist::viewer::mark_launch();
     match cli::run() {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) if is_broken_pipe(&e) => std::process::ExitCode::SUCCESS,

@@ -156,6 +156,12 @@ pub(crate) struct NormalArgs {
 struct ViewArgs {
     /// Model file (.obj, .gltf, .glb); the built-in demo if absent.
     model: Option<PathBuf>,
+    /// Window's inner size WIDTHxHEIGHT in points.
+    #[arg(long, default_value = "1440x900", value_parser = parse_size)]
+    window: (u32, u32),
+    /// Start with the side panels hidden (Tab shows them).
+    #[arg(long)]
+    no_panels: bool,
 }
 
 #[derive(Args)]
@@ -239,17 +245,17 @@ pub fn run() -> Result<()> {
         },
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
-        Some(Command::View(args)) => view(args.model),
-        None => view(cli.model),
+        Some(Command::View(args)) => view(args.model, args.window, args.no_panels),
+        None => view(cli.model, (1440, 900), false),
     }
 }
 
 /// The viewer, or without a display a headless render to a PNG named on the way out.
-fn view(model: Option<PathBuf>) -> Result<()> {
+fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<()> {
     #[cfg(feature = "viewer")]
     {
         if realist::viewer::display_available() {
-            match realist::viewer::run(model.clone()) {
+            match realist::viewer::run(model.clone(), window, no_panels) {
                 Ok(()) => return Ok(()),
                 Err(e) => say!("No window could be opened ({e}): rendering to a PNG instead."),
             }
@@ -258,7 +264,10 @@ fn view(model: Option<PathBuf>) -> Result<()> {
         }
     }
     #[cfg(not(feature = "viewer"))]
-    say!("Built without the viewer (feature `viewer`): rendering to a PNG instead.");
+    {
+        let _ = (window, no_panels);
+        say!("Built without the viewer (feature `viewer`): rendering to a PNG instead.");
+    }
     let out = match &model {
         Some(m) => PathBuf::from(format!(
             "realist-{}.png",

@@ -34,6 +34,8 @@ pub struct ViewerOptions {
     pub recent_file: Option<PathBuf>,
     /// Render threads (0 = all cores).
     pub threads: usize,
+    /// Start with the side panels hidden (Tab shows them).
+    pub hide_panels: bool,
 }
 
 /// The A | B split view.
@@ -103,6 +105,9 @@ pub struct ViewerApp {
     pub notice: Option<String>,
     /// Frame the scene for the viewport's aspect once its size is known (a new scene).
     frame_pending: bool,
+    /// `REALIST_VIEWER_LOG=FILE`: one JSON line per frame shown and per UI pass, for
+    /// measuring frame times and the time from launch to the first frame.
+    trace: Option<std::fs::File>,
 }
 
 impl ViewerApp {
@@ -118,7 +123,12 @@ impl ViewerApp {
             RenderHost::threaded(opts.threads, Arc::clone(&repaint))
                 .map_err(|e| format!("could not start the render thread: {e}"))?
         };
-        let scene = Arc::new(PreparedScene::new(scene::demo()));
+        // With a model to open, nothing is shown until it loads (the demo only if it fails).
+        let scene = Arc::new(PreparedScene::new(if opts.model.is_some() {
+            scene::Scene::default()
+        } else {
+            scene::demo()
+        }));
         let (center, radius) = scene.bounding_sphere();
         let nav = match scene.scene().cameras.first() {
             Some(cam) => Navigator::from_camera(cam, center, radius, Default::default()),
@@ -162,7 +172,10 @@ impl ViewerApp {
             viewport: ViewportState::default(),
             notice: recent_problem,
             frame_pending: true,
+            trace: std::env::var_os("REALIST_VIEWER_LOG")
+                .and_then(|p| std::fs::File::create(p).ok()),
         };
+        app.panels.visible = !opts.hide_panels;
         if let Some(m) = opts.model {
             app.open(m);
         }
@@ -215,7 +228,13 @@ impl ViewerApp {
                 self.model = Some(path);
                 self.panels.probe = None;
             }
-            Err(e) => self.error = Some(e),
+            Err(e) => {
+                if self.model.is_none() && self.scene.scene().instances.is_empty() {
+                    // The first model failed: show the demo rather than nothing.
+                    self.open_demo();
+                }
+                self.error = Some(e);
+            }
         }
     }
 
@@ -280,6 +299,7 @@ impl ViewerApp {
 
     /// The whole UI.
     pub fn ui_contents(&mut self, ui: &mut egui::Ui) {
+        let pass = Instant::now();
         self.interacting = false;
         self.poll_background(ui.ctx());
         self.take_frames(ui.ctx());
@@ -305,6 +325,20 @@ impl ViewerApp {
             // The progress bar moves: look again in a moment (nothing else polls).
             ui.ctx()
                 .request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        let line = format!(
+            r#"{{"event":"ui","t_ms":{:.3},"ui_ms":{:.3},"interacting":{}}}"#,
+            super::since_launch_ms(),
+            pass.elapsed().as_secs_f64() * 1e3,
+            self.interacting
+        );
+        self.trace_line(&line);
+    }
+
+    fn trace_line(&mut self, line: &str) {
+        use std::io::Write as _;
+        if let Some(f) = &mut self.trace {
+            let _ = writeln!(f, "{line}");
         }
     }
 
@@ -385,6 +419,16 @@ impl ViewerApp {
             _ => (None, None),
         };
         let now = Instant::now();
+        let line = format!(
+            r#"{{"event":"frame","t_ms":{:.3},"job":{job},"level":"{}","width":{},"height":{},"render_ms":{:.3},"first":{}}}"#,
+            super::since_launch_ms(),
+            level.label(),
+            view.width,
+            view.height,
+            a.report.times.total,
+            prev.is_none()
+        );
+        self.trace_line(&line);
         self.shown = Some(Shown {
             job,
             level,

@@ -37,15 +37,34 @@ pub fn display_available() -> bool {
         .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
 }
 
-/// Opens the viewer window on `model` (or the built-in demo) and runs until it is closed.
+static LAUNCH: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+
+/// Records the moment the process started (call first thing in `main`), for the time from
+/// launch to the first frame.
+pub fn mark_launch() {
+    LAUNCH.get_or_init(std::time::Instant::now);
+}
+
+/// Milliseconds since [`mark_launch`] (or since the first call of this function).
+#[must_use]
+pub fn since_launch_ms() -> f64 {
+    LAUNCH
+        .get_or_init(std::time::Instant::now)
+        .elapsed()
+        .as_secs_f64()
+        * 1e3
+}
+
+/// Opens the viewer window on `model` (or the built-in demo) with an inner size of
+/// `window` points (side panels hidden if asked), and runs until it is closed.
 ///
 /// # Errors
 /// If the window cannot be created (no display, no OpenGL).
-pub fn run(model: Option<PathBuf>) -> Result<(), String> {
+pub fn run(model: Option<PathBuf>, window: (u32, u32), hide_panels: bool) -> Result<(), String> {
     let options = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("realist")
-            .with_inner_size([1280.0, 800.0])
+            .with_inner_size([window.0 as f32, window.1 as f32])
             .with_min_inner_size([480.0, 320.0])
             .with_drag_and_drop(true),
         // The renderer already shows what it has; vsync would only add latency.
@@ -64,6 +83,7 @@ pub fn run(model: Option<PathBuf>) -> Result<(), String> {
             let app = ViewerApp::new(
                 ViewerOptions {
                     model,
+                    hide_panels,
                     ..ViewerOptions::default()
                 },
                 repaint,

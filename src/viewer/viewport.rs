@@ -229,13 +229,7 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 0.0, Color32::from_gray(12));
     let Some(s) = &app.shown else {
-        painter.text(
-            rect.center(),
-            Align2::CENTER_CENTER,
-            "rendering...",
-            FontId::proportional(18.0),
-            Color32::GRAY,
-        );
+        loading(app, &painter, rect);
         return;
     };
     let full = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
@@ -305,6 +299,7 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
             painter.line_segment([c + Vec2::X * 3.0, c + Vec2::X * 10.0], stroke);
         }
     }
+    loading(app, &painter, rect);
     let hovering = ui.input(|i| !i.raw.hovered_files.is_empty());
     if hovering {
         painter.rect_filled(rect, 0.0, Color32::from_black_alpha(160));
@@ -316,6 +311,26 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
             Color32::WHITE,
         );
     }
+}
+
+/// "Loading NAME: stage, percent" in the middle of the viewport while a load runs.
+fn loading(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
+    let Some(t) = &app.loading else {
+        return;
+    };
+    let (stage, fraction, _) = t.status();
+    let name = t
+        .path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let pct = fraction.map_or(String::new(), |f| format!(" {:.0}%", f * 100.0));
+    painter.text(
+        rect.center(),
+        Align2::CENTER_CENTER,
+        format!("loading {name}: {}{pct}", stage.name()),
+        FontId::proportional(18.0),
+        Color32::from_gray(200),
+    );
 }
 
 /// The 64x64 tile grid and the per-tile cost heat map of the shown frame.
