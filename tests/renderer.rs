@@ -297,6 +297,21 @@ fn picking_and_the_probe_agree_with_the_depth_and_normal_buffers() {
         checked += 1;
     }
     assert_eq!(checked, 5);
+    // A supersampled frame keeps the depth of the pixel centres (a last depth pass without
+    // the passes' sub-pixel shifts), so picking and probing agree with it too.
+    let mut ss = Renderer::new();
+    ss.render(
+        &scene,
+        &Settings {
+            samples: 4,
+            ..phong.clone()
+        },
+        &v,
+    );
+    let (one, four) = (target, ss.target().expect("frame"));
+    for (x, y) in [(80, 60), (60, 40), (100, 80)] {
+        assert_eq!(one.pixel(x, y).map(|p| p.1), four.pixel(x, y).map(|p| p.1));
+    }
     // Nothing there: no pick, no probe.
     assert_eq!(r.pick(0, 0), None);
     assert!(render::probe(&scene, &phong, &v, 0, 0).is_none());

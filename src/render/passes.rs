@@ -196,6 +196,33 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     done
 }
 
+/// Depth only, at the pixel centres (no jitter), of the opaque surfaces: after a
+/// supersampled frame, so its depth buffer (picking, probing) is the pixel centres' and not
+/// the last pass's shifted samples. Returns false if stopped.
+pub(super) fn centre_depth(cx: &mut Cx, fd: &FrameData) -> bool {
+    cx.target.clear_depth();
+    cx.jitter = Mat4::IDENTITY;
+    let scene = cx.scene;
+    let saved = *cx.stats;
+    let opaque = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;
+    let (done, g) = group_with(
+        cx,
+        fd,
+        &opaque,
+        Geometry::Indexed,
+        &mut |fi, out| vertex::unit(scene, fi, out),
+        &DepthOnly,
+        |s| DrawState {
+            color_write: false,
+            ..s
+        },
+    );
+    // Not part of the frame's counters: the passes already counted this geometry.
+    *cx.stats = saved;
+    cx.pool.put(g);
+    done
+}
+
 /// Solid instances grouped by the shader they need.
 fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) -> bool {
     let scene = cx.scene;

@@ -184,12 +184,29 @@ impl Renderer {
             }
             if passes > 1 {
                 let t = Instant::now();
-                accumulate(
-                    target,
-                    &mut self.accum,
-                    (k + 1 == passes).then_some(1.0 / passes as f32),
-                );
+                let last = k + 1 == passes;
+                accumulate(target, &mut self.accum, last.then_some(1.0 / passes as f32));
                 resolve += t.elapsed();
+            }
+        }
+        if passes > 1 && settings.output == Output::Shaded {
+            let mut cx = Cx {
+                scene,
+                camera,
+                eye,
+                jitter: Mat4::IDENTITY,
+                lod_scale: 1.0,
+                target,
+                bins: &mut self.bins,
+                pool: &mut self.pool,
+                stats: &mut stats,
+                stop,
+                vertex_nanos: 0,
+            };
+            let done = passes::centre_depth(&mut cx, &self.frame);
+            vertex_nanos += cx.vertex_nanos;
+            if !done {
+                return Err(Interrupted);
             }
         }
         let ms = |nanos: u64| nanos as f64 * 1e-6;
@@ -218,7 +235,7 @@ impl Renderer {
     }
 
     /// The target of the last frame (linear light; for a supersampled frame, the average of
-    /// its passes; depth from its last pass). `None` before the first frame.
+    /// its passes, and the depth of the pixel centres). `None` before the first frame.
     #[must_use]
     pub fn target(&self) -> Option<&Target> {
         self.target.as_ref()

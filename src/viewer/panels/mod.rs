@@ -409,10 +409,10 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
         });
     egui::Panel::right("inspect")
         .resizable(true)
-        .default_size(330.0)
-        .size_range(200.0..=440.0)
+        .default_size(400.0)
+        .size_range(220.0..=520.0)
         .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
+            egui::ScrollArea::both().show(ui, |ui| {
                 let open = std::mem::take(&mut app.panels.open_probe).then_some(true);
                 egui::CollapsingHeader::new("Pixel probe")
                     .default_open(true)

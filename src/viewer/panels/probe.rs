@@ -11,7 +11,7 @@ use crate::color::{self, rgb_to_hsv, srgb_decode, srgb_encode, xyz_to_xyy};
 use crate::viewer::app::ViewerApp;
 
 fn v3(v: Vec3) -> String {
-    format!("({:.4}, {:.4}, {:.4})", v.x, v.y, v.z)
+    format!("{:.3} {:.3} {:.3}", v.x, v.y, v.z)
 }
 
 /// A swatch of a linear colour.
@@ -135,7 +135,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             if let Some(d) = pv.buffer_depth {
                 row(
                     "depth buffer",
-                    format!("{d:.7} (differs by {:.1e})", (d - p.depth).abs()),
+                    format!("{d:.7} (Δ {:.1e})", (d - p.depth).abs()),
                 );
             }
             row("normal", v3(p.normal));

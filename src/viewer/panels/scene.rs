@@ -3,7 +3,7 @@
 
 use eframe::egui::{self, ColorImage, TextureOptions};
 
-use crate::mesh::TopologyReport;
+use crate::mesh::{NormalSource, TopologyReport};
 use crate::render::Lights;
 use crate::scene::Light;
 use crate::viewer::app::ViewerApp;
@@ -79,11 +79,22 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 ))
                 .id_salt(("mesh", i))
                 .show(ui, |ui| {
+                    let normals = match m.normal_source {
+                        NormalSource::File => "from the file".to_owned(),
+                        NormalSource::Averaged(o) => format!(
+                            "averaged ({:?} weights, crease {})",
+                            o.weighting,
+                            o.crease_degrees.map_or("off".into(), |d| format!("{d}°"))
+                        )
+                        .to_lowercase(),
+                        NormalSource::Flat => "flat (one per facet)".into(),
+                        NormalSource::Analytic => "exact (primitive)".into(),
+                    };
+                    let yes = |b: bool| if b { "yes" } else { "no" };
                     ui.label(format!(
-                        "normals: {:?}; UVs: {}; colours: {}",
-                        m.normal_source,
-                        m.uvs.is_some(),
-                        m.colors.is_some()
+                        "normals {normals}; UVs {}; colours {}",
+                        yes(m.uvs.is_some()),
+                        yes(m.colors.is_some())
                     ));
                     // The topology report walks the whole mesh: computed when opened, then kept.
                     let report = app.panels.topology.entry(i).or_insert_with(|| m.topology());
