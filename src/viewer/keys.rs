@@ -171,7 +171,7 @@ pub fn describe(b: &Binding) -> String {
     if b.shift {
         s.push_str("Shift+");
     }
-    s.push_str(b.key.name());
+    s.push_str(b.key.symbol_or_name());
     s
 }
 

@@ -300,6 +300,21 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
         }
     }
     loading(app, &painter, rect);
+    if let Some(e) = &app.error {
+        // Also in the status bar; here so it cannot be missed.
+        let bar = Rect::from_min_size(
+            rect.left_bottom() - Vec2::new(0.0, 30.0),
+            Vec2::new(rect.width(), 30.0),
+        );
+        painter.rect_filled(bar, 0.0, Color32::from_rgba_unmultiplied(120, 20, 10, 220));
+        painter.text(
+            bar.left_center() + Vec2::new(10.0, 0.0),
+            Align2::LEFT_CENTER,
+            format!("could not open: {e}"),
+            FontId::proportional(14.0),
+            Color32::WHITE,
+        );
+    }
     let hovering = ui.input(|i| !i.raw.hovered_files.is_empty());
     if hovering {
         painter.rect_filled(rect, 0.0, Color32::from_black_alpha(160));
