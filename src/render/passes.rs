@@ -201,7 +201,6 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
 /// the last pass's shifted samples. Returns false if stopped.
 pub(super) fn centre_depth(cx: &mut Cx, fd: &FrameData) -> bool {
     cx.target.clear_depth();
-    cx.jitter = Mat4::IDENTITY;
     let scene = cx.scene;
     let saved = *cx.stats;
     let opaque = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;

@@ -145,18 +145,24 @@ impl Renderer {
         }
         let mut vertex_nanos = 0;
         let mut resolve = std::time::Duration::ZERO;
-        for k in 0..passes {
+        // After the passes of a supersampled frame, one more: depth at the pixel centres.
+        let centre_depth = passes > 1 && settings.output == Output::Shaded;
+        for k in 0..passes + u32::from(centre_depth) {
             if stop() {
                 return Err(Interrupted);
             }
-            if k > 0 {
+            if k > 0 && k < passes {
                 target.clear(bg);
             }
             // Sample k of the n x n grid: offsets (i + 0.5) / n - 0.5 pixel, y down.
-            let (dx, dy) = (
-                ((k % n) as f32 + 0.5) / n as f32 - 0.5,
-                ((k / n) as f32 + 0.5) / n as f32 - 0.5,
-            );
+            let (dx, dy) = if k < passes {
+                (
+                    ((k % n) as f32 + 0.5) / n as f32 - 0.5,
+                    ((k / n) as f32 + 0.5) / n as f32 - 0.5,
+                )
+            } else {
+                (0.0, 0.0)
+            };
             let jitter =
                 Mat4::from_translation(Vec3::new(2.0 * dx / w as f32, -2.0 * dy / h as f32, 0.0));
             let mut cx = Cx {
@@ -172,41 +178,26 @@ impl Renderer {
                 stop,
                 vertex_nanos: 0,
             };
-            let done = passes::frame(
-                &mut cx,
-                &mut self.frame,
-                settings.output == Output::Overdraw,
-                settings.wireframe_overlay,
-            );
+            let done = if k < passes {
+                let overdraw = settings.output == Output::Overdraw;
+                passes::frame(
+                    &mut cx,
+                    &mut self.frame,
+                    overdraw,
+                    settings.wireframe_overlay,
+                )
+            } else {
+                passes::centre_depth(&mut cx, &self.frame)
+            };
             vertex_nanos += cx.vertex_nanos;
             if !done {
                 return Err(Interrupted);
             }
-            if passes > 1 {
+            if passes > 1 && k < passes {
                 let t = Instant::now();
                 let last = k + 1 == passes;
                 accumulate(target, &mut self.accum, last.then_some(1.0 / passes as f32));
                 resolve += t.elapsed();
-            }
-        }
-        if passes > 1 && settings.output == Output::Shaded {
-            let mut cx = Cx {
-                scene,
-                camera,
-                eye,
-                jitter: Mat4::IDENTITY,
-                lod_scale: 1.0,
-                target,
-                bins: &mut self.bins,
-                pool: &mut self.pool,
-                stats: &mut stats,
-                stop,
-                vertex_nanos: 0,
-            };
-            let done = passes::centre_depth(&mut cx, &self.frame);
-            vertex_nanos += cx.vertex_nanos;
-            if !done {
-                return Err(Interrupted);
             }
         }
         let ms = |nanos: u64| nanos as f64 * 1e-6;

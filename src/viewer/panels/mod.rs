@@ -109,6 +109,13 @@ impl Panels {
     }
 }
 
+/// One row of a two-column grid: a label and a monospace value.
+fn row(ui: &mut egui::Ui, key: &str, value: String) {
+    ui.label(key);
+    ui.monospace(value);
+    ui.end_row();
+}
+
 /// A one-line description of settings, for the split view's labels.
 #[must_use]
 pub fn describe(s: &Settings) -> String {

@@ -6,7 +6,7 @@
 use eframe::egui::{self, Color32, RichText};
 use glam::Vec3;
 
-use super::Side;
+use super::{row, Side};
 use crate::color::{self, rgb_to_hsv, srgb_decode, srgb_encode, xyz_to_xyy};
 use crate::viewer::app::ViewerApp;
 
@@ -34,16 +34,13 @@ fn colour_rows(ui: &mut egui::Ui, linear: Vec3) {
     let lab = color::srgb_to_lab(enc);
     let xyy = xyz_to_xyy(color::srgb_to_xyz(enc));
     let bytes = enc.map(|v| (v * 255.0).round() as u8);
-    let mut row = |k: &str, v: String| {
-        ui.label(k);
-        ui.monospace(v);
-        ui.end_row();
-    };
     row(
+        ui,
         "linear RGB",
         format!("{:.4} {:.4} {:.4}", lin[0], lin[1], lin[2]),
     );
     row(
+        ui,
         "sRGB",
         format!(
             "#{:02x}{:02x}{:02x}  ({} {} {})",
@@ -51,19 +48,22 @@ fn colour_rows(ui: &mut egui::Ui, linear: Vec3) {
         ),
     );
     row(
+        ui,
         "HSV",
         format!("h {:.1}°  s {:.3}  v {:.3}", hsv[0] * 360.0, hsv[1], hsv[2]),
     );
     row(
+        ui,
         "L*a*b*",
         format!("{:.2} {:.2} {:.2}", lab[0], lab[1], lab[2]),
     );
     row(
+        ui,
         "xy (Y)",
         format!("{:.4} {:.4} ({:.4})", xyy[0], xyy[1], xyy[2]),
     );
     if lin.iter().any(|v| *v > 1.0) {
-        row("note", "above 1: clamped on screen".into());
+        row(ui, "note", "above 1: clamped on screen".into());
     }
 }
 
@@ -105,47 +105,53 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .num_columns(2)
         .striped(true)
         .show(ui, |ui| {
-            let mut row = |k: &str, v: String| {
-                ui.label(k);
-                ui.monospace(v);
-                ui.end_row();
-            };
             row(
+                ui,
                 "instance",
                 format!("{} ({})", p.instance, inst.map_or("", |i| i.name.as_str())),
             );
             row(
+                ui,
                 "mesh",
                 format!("{} ({})", p.mesh, mesh.map_or("", |m| m.name.as_str())),
             );
             row(
+                ui,
                 "material",
                 material.map_or("default".into(), |m| {
                     format!("{} ({})", p.material.unwrap_or(0), m.name)
                 }),
             );
-            row("triangle / facet", format!("{} / {}", p.triangle, p.facet));
             row(
+                ui,
+                "triangle / facet",
+                format!("{} / {}", p.triangle, p.facet),
+            );
+            row(
+                ui,
                 "shading",
                 format!("{}{}", p.mode, if p.front { "" } else { ", back face" }),
             );
-            row("position", v3(p.position));
-            row("view depth", format!("{:.5}", p.view_depth));
-            row("depth (z/w)", format!("{:.7}", p.depth));
+            row(ui, "position", v3(p.position));
+            row(ui, "view depth", format!("{:.5}", p.view_depth));
+            row(ui, "depth (z/w)", format!("{:.7}", p.depth));
             if let Some(d) = pv.buffer_depth {
                 row(
+                    ui,
                     "depth buffer",
                     format!("{d:.7} (Δ {:.1e})", (d - p.depth).abs()),
                 );
             }
-            row("normal", v3(p.normal));
-            row("face normal", v3(p.face_normal));
-            row("barycentric", v3(p.barycentric));
+            row(ui, "normal", v3(p.normal));
+            row(ui, "face normal", v3(p.face_normal));
+            row(ui, "barycentric", v3(p.barycentric));
             row(
+                ui,
                 "UV",
                 p.uv.map_or("none".into(), |uv| format!("({:.4}, {:.4})", uv.x, uv.y)),
             );
             row(
+                ui,
                 "diffuse colour",
                 format!(
                     "{:.3} {:.3} {:.3}, alpha {:.3}",

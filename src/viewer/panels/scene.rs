@@ -3,6 +3,8 @@
 
 use eframe::egui::{self, ColorImage, TextureOptions};
 
+use super::row;
+
 use crate::mesh::{NormalSource, TopologyReport};
 use crate::render::Lights;
 use crate::scene::Light;
@@ -201,25 +203,23 @@ fn topology(ui: &mut egui::Ui, i: usize, t: &TopologyReport) {
     egui::Grid::new(("topology", i))
         .num_columns(2)
         .show(ui, |ui| {
-            let mut row = |k: &str, v: String| {
-                ui.label(k);
-                ui.monospace(v);
-                ui.end_row();
-            };
             row(
+                ui,
                 "vertices / edges / facets",
                 format!("{} / {} / {}", t.vertices, t.edges, t.facets),
             );
-            row("triangles", t.triangles.to_string());
+            row(ui, "triangles", t.triangles.to_string());
             row(
+                ui,
                 "boundary edges (loops)",
                 format!("{} ({})", t.boundary_edges, t.boundary_loops),
             );
-            row("non-manifold edges", t.non_manifold_edges.to_string());
-            row("degenerate facets", t.degenerate_facets.to_string());
-            row("isolated vertices", t.isolated_vertices.to_string());
-            row("components", t.components.to_string());
+            row(ui, "non-manifold edges", t.non_manifold_edges.to_string());
+            row(ui, "degenerate facets", t.degenerate_facets.to_string());
+            row(ui, "isolated vertices", t.isolated_vertices.to_string());
+            row(ui, "components", t.components.to_string());
             row(
+                ui,
                 "V - E + F",
                 format!(
                     "{} (used vertices: {})",
@@ -227,6 +227,7 @@ fn topology(ui: &mut egui::Ui, i: usize, t: &TopologyReport) {
                 ),
             );
             row(
+                ui,
                 "genus",
                 t.genus.map_or("not defined".into(), |g| g.to_string()),
             );

@@ -3,6 +3,8 @@
 
 use eframe::egui;
 
+use super::row;
+
 use crate::render::FrameReport;
 use crate::viewer::app::ViewerApp;
 
@@ -13,32 +15,28 @@ fn report_grid(ui: &mut egui::Ui, id: &str, r: &FrameReport) {
         .striped(true)
         .num_columns(2)
         .show(ui, |ui| {
-            let mut row = |k: &str, v: String| {
-                ui.label(k);
-                ui.monospace(v);
-                ui.end_row();
-            };
             row(
+                ui,
                 "size",
                 format!("{}x{}, {2}x{2} samples", r.width, r.height, r.samples),
             );
-            row("frame", format!("{:.2} ms", t.total));
-            row("  set-up", format!("{:.2} ms", t.setup));
-            row("  vertex", format!("{:.2} ms", t.vertex));
-            row("  clip, set-up, bin", format!("{:.2} ms", t.raster));
-            row("  fill + shade", format!("{:.2} ms", t.fill));
-            row("  resolve samples", format!("{:.2} ms", t.resolve));
-            row("triangles in", s.triangles_in.to_string());
-            row("  objects culled", s.objects_culled.to_string());
-            row("  frustum culled", s.culled_frustum.to_string());
-            row("  back faces", s.culled_backface.to_string());
-            row("  degenerate", s.culled_degenerate.to_string());
-            row("  clipped", s.clipped.to_string());
-            row("  drawn (set up)", s.drawn.to_string());
-            row("tiles filled", s.tiles.to_string());
-            row("pixels shaded", s.pixels_shaded.to_string());
-            row("depth rejected", s.depth_rejected.to_string());
-            row("lines", s.lines_drawn.to_string());
+            row(ui, "frame", format!("{:.2} ms", t.total));
+            row(ui, "  set-up", format!("{:.2} ms", t.setup));
+            row(ui, "  vertex", format!("{:.2} ms", t.vertex));
+            row(ui, "  clip, set-up, bin", format!("{:.2} ms", t.raster));
+            row(ui, "  fill + shade", format!("{:.2} ms", t.fill));
+            row(ui, "  resolve samples", format!("{:.2} ms", t.resolve));
+            row(ui, "triangles in", s.triangles_in.to_string());
+            row(ui, "  objects culled", s.objects_culled.to_string());
+            row(ui, "  frustum culled", s.culled_frustum.to_string());
+            row(ui, "  back faces", s.culled_backface.to_string());
+            row(ui, "  degenerate", s.culled_degenerate.to_string());
+            row(ui, "  clipped", s.clipped.to_string());
+            row(ui, "  drawn (set up)", s.drawn.to_string());
+            row(ui, "tiles filled", s.tiles.to_string());
+            row(ui, "pixels shaded", s.pixels_shaded.to_string());
+            row(ui, "depth rejected", s.depth_rejected.to_string());
+            row(ui, "lines", s.lines_drawn.to_string());
         });
 }
 
