@@ -257,7 +257,11 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
         if realist::viewer::display_available() {
             match realist::viewer::run(model.clone(), window, no_panels) {
                 Ok(()) => return Ok(()),
-                Err(e) => say!("No window could be opened ({e}): rendering to a PNG instead."),
+                Err(e) => {
+                    // winit's message carries a source location; its last part is the reason.
+                    let reason = e.rsplit(": ").next().unwrap_or(&e);
+                    say!("No window could be opened ({reason}): rendering to a PNG instead.");
+                }
             }
         } else {
             say!("No display (DISPLAY and WAYLAND_DISPLAY are unset): rendering to a PNG instead.");
