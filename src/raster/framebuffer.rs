@@ -149,7 +149,8 @@ impl Target {
         self.clear(clear);
     }
 
-    /// Clears colour to `clear` and depth to 0 (far). Lazy: see [`Tile`].
+    /// Clears colour to `clear` and depth to 0 (far). Lazy: a tile is filled only when
+    /// something is first drawn into it.
     pub fn clear(&mut self, clear: Vec4) {
         for t in &mut self.tiles {
             t.pending_clear = Some(clear);

@@ -1,4 +1,4 @@
-//! The renderer's front end: it turns a [`Scene`](crate::scene::Scene) into draws for the
+//! The renderer's front end: it turns a [`Scene`] into draws for the
 //! rasterizer, with shaders from [`crate::shade`].
 //!
 //! ```text
