@@ -133,7 +133,9 @@ const CYCLE: [Shading; 9] = Shading::ALL;
 /// Key presses (ignored while a text field has the keyboard).
 pub fn keyboard(app: &mut ViewerApp, ui: &egui::Ui) {
     let ctx = ui.ctx().clone();
-    if ctx.egui_wants_keyboard_input() {
+    // Only a text field: any focused widget (a button reached with Tab) would swallow
+    // every key.
+    if ctx.text_edit_focused() {
         return;
     }
     let pressed: Vec<(egui::Key, egui::Modifiers)> = ctx.input(|i| {
@@ -152,6 +154,10 @@ pub fn keyboard(app: &mut ViewerApp, ui: &egui::Ui) {
     });
     for (key, mods) in pressed {
         if let Some(a) = keys::action_for(key, mods) {
+            if key == egui::Key::Tab {
+                // Tab is ours (hide / show the panels), not egui's focus traversal.
+                ctx.memory_mut(|m| m.move_focus(egui::FocusDirection::None));
+            }
             act(app, a);
         }
     }
