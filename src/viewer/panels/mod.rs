@@ -418,7 +418,9 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .default_size(330.0)
         .size_range(200.0..=440.0)
         .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
+            // Wide rows (the probe's light shares) scroll sideways: growing the panel would
+            // shrink the viewport and re-render the frame just probed.
+            egui::ScrollArea::both().show(ui, |ui| {
                 let open = std::mem::take(&mut app.panels.open_probe).then_some(true);
                 egui::CollapsingHeader::new("Pixel probe")
                     .default_open(true)
