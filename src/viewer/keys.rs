@@ -171,7 +171,12 @@ pub fn describe(b: &Binding) -> String {
     if b.shift {
         s.push_str("Shift+");
     }
-    s.push_str(b.key.symbol_or_name());
+    // Names, not symbols: the arrows' symbols are not in egui's monospace font.
+    s.push_str(match b.key {
+        Key::OpenBracket => "[",
+        Key::CloseBracket => "]",
+        k => k.name(),
+    });
     s
 }
 

@@ -137,10 +137,18 @@ pub fn describe(s: &Settings) -> String {
 /// Shading modes in the order the `M` key cycles them.
 const CYCLE: [Shading; 9] = Shading::ALL;
 
-/// Key presses (ignored while a text field has the keyboard).
+/// Key presses (ignored while a text field has the keyboard) and dropped files.
 pub fn keyboard(app: &mut ViewerApp, ui: &egui::Ui) {
     let ctx = ui.ctx().clone();
-    if ctx.egui_wants_keyboard_input() {
+    // A dropped file opens whatever has the keyboard.
+    let dropped: Option<PathBuf> =
+        ctx.input(|i| i.raw.dropped_files.first().map(|f| f.path().to_owned()));
+    if let Some(p) = dropped {
+        app.open(p);
+    }
+    // Only a text field: any focused widget (a button reached with Tab) would swallow
+    // every key.
+    if ctx.text_edit_focused() {
         return;
     }
     let pressed: Vec<(egui::Key, egui::Modifiers)> = ctx.input(|i| {
@@ -159,18 +167,12 @@ pub fn keyboard(app: &mut ViewerApp, ui: &egui::Ui) {
     });
     for (key, mods) in pressed {
         if let Some(a) = keys::action_for(key, mods) {
+            if key == egui::Key::Tab {
+                // Tab is ours (hide / show the panels), not egui's focus traversal.
+                ctx.memory_mut(|m| m.move_focus(egui::FocusDirection::None));
+            }
             act(app, a);
         }
-    }
-    let dropped: Vec<PathBuf> = ctx.input(|i| {
-        i.raw
-            .dropped_files
-            .iter()
-            .map(|f| f.path().to_owned())
-            .collect()
-    });
-    if let Some(p) = dropped.into_iter().next() {
-        app.open(p);
     }
 }
 
@@ -419,6 +421,8 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .default_size(400.0)
         .size_range(220.0..=520.0)
         .show(ui, |ui| {
+            // Wide rows (the probe's light shares) scroll sideways: growing the panel would
+            // shrink the viewport and re-render the frame just probed.
             egui::ScrollArea::both().show(ui, |ui| {
                 let open = std::mem::take(&mut app.panels.open_probe).then_some(true);
                 egui::CollapsingHeader::new("Pixel probe")

@@ -23,7 +23,9 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
             for m in Shading::ALL {
                 ui.selectable_value(&mut s.shading, Some(m), m.name());
             }
-        });
+        })
+        .response
+        .accessible_name(format!("shading mode {}", id.to_uppercase()));
     ui.checkbox(&mut s.wireframe_overlay, "wireframe over shaded (E)");
     let mut overdraw = s.output == Output::Overdraw;
     if ui
@@ -37,7 +39,7 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
         };
     }
     ui.horizontal(|ui| {
-        ui.label("texture filter");
+        let label = ui.label("texture filter");
         egui::ComboBox::from_id_salt((id, "filter"))
             .selected_text(
                 s.filter
@@ -48,12 +50,15 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
                 for f in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
                     ui.selectable_value(&mut s.filter, Some(f), format!("{f:?}").to_lowercase());
                 }
-            });
+            })
+            .response
+            .labelled_by(label.id);
     });
     ui.checkbox(&mut s.double_sided, "every material double-sided");
     ui.horizontal(|ui| {
-        ui.label("sub-pixel bits");
-        ui.add(egui::Slider::new(&mut s.subpixel_bits, 0..=8));
+        let label = ui.label("sub-pixel bits");
+        ui.add(egui::Slider::new(&mut s.subpixel_bits, 0..=8))
+            .labelled_by(label.id);
     });
 }
 

@@ -1,0 +1,363 @@
+//! The viewer's threaded render host: coalesced jobs, progressive levels, a reduced first
+//! frame while moving on a slow scene, and abandoned stale work.
+//!
+//! The worker calls its repaint callback after each frame it finishes (and once when a job
+//! ends). Most tests make that callback a gate: the worker waits there until the test has
+//! taken the frame, so no frame is missed however the threads are scheduled. Timeouts are
+//! generous (a noisy 2-core machine); nothing waits for a fixed time.
+#![cfg(feature = "viewer")]
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
+
+use realist::render::{default_camera, PreparedScene, Settings, View};
+use realist::viewer::worker::{Frame, Job, Level, RenderHost, FRAME_BUDGET_MS};
+
+/// Longest wait for anything the worker does.
+const TIMEOUT: Duration = Duration::from_secs(30);
+
+fn demo() -> Arc<PreparedScene> {
+    Arc::new(PreparedScene::new(realist::scene::demo()))
+}
+
+/// The demo's default framing at `width` x `height`, turned `turn` radians about +Y.
+fn view(scene: &PreparedScene, width: u32, height: u32, turn: f32) -> View {
+    let mut camera = default_camera(scene.scene(), width as f32 / height as f32);
+    let offset = camera.eye - camera.target;
+    camera.eye = camera.target + glam::Quat::from_rotation_y(turn) * offset;
+    View {
+        camera,
+        width,
+        height,
+    }
+}
+
+fn job(scene: &Arc<PreparedScene>, view: View, interactive: bool, max_samples: u32) -> Job {
+    Job {
+        scene: Arc::clone(scene),
+        a: Arc::new(Settings::default()),
+        b: None,
+        heat: false,
+        view,
+        interactive,
+        max_samples,
+    }
+}
+
+/// The repaint callback as a gate: each call waits until the test has looked.
+#[derive(Default)]
+struct Gate {
+    state: Mutex<GateState>,
+    changed: Condvar,
+}
+
+#[derive(Default)]
+struct GateState {
+    /// The worker is waiting in its repaint call.
+    waiting: bool,
+    /// The test is done: let the worker through from now on.
+    open: bool,
+}
+
+impl Gate {
+    /// The state, also after a panic elsewhere (a failed test must still shut down).
+    fn state(&self) -> MutexGuard<'_, GateState> {
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Waits on `changed` until `deadline`.
+    fn sleep<'a>(
+        &self,
+        s: MutexGuard<'a, GateState>,
+        deadline: Instant,
+    ) -> MutexGuard<'a, GateState> {
+        let left = deadline.saturating_duration_since(Instant::now());
+        self.changed
+            .wait_timeout(s, left)
+            .map_or_else(|e| e.into_inner().0, |(s, _)| s)
+    }
+
+    /// The worker's side (its repaint call).
+    fn pass(&self) {
+        let mut s = self.state();
+        if s.open {
+            return;
+        }
+        s.waiting = true;
+        self.changed.notify_all();
+        let deadline = Instant::now() + TIMEOUT;
+        while s.waiting && !s.open && Instant::now() < deadline {
+            s = self.sleep(s, deadline);
+        }
+        s.waiting = false;
+    }
+
+    /// Waits until the worker is in its repaint call.
+    fn wait(&self) {
+        let deadline = Instant::now() + TIMEOUT;
+        let mut s = self.state();
+        while !s.waiting {
+            if Instant::now() >= deadline {
+                drop(s);
+                panic!("no word from the worker in {TIMEOUT:?}");
+            }
+            s = self.sleep(s, deadline);
+        }
+    }
+
+    /// Lets the worker go on.
+    fn release(&self) {
+        self.state().waiting = false;
+        self.changed.notify_all();
+    }
+
+    fn open(&self) {
+        self.state().open = true;
+        self.changed.notify_all();
+    }
+}
+
+/// A threaded host whose repaint calls go through a [`Gate`].
+struct Gated {
+    host: RenderHost,
+    gate: Arc<Gate>,
+}
+
+impl Gated {
+    fn new(threads: usize) -> Self {
+        let gate = Arc::new(Gate::default());
+        let g = Arc::clone(&gate);
+        let host = RenderHost::threaded(threads, Arc::new(move || g.pass())).expect("worker");
+        Self { host, gate }
+    }
+
+    /// The next frame the worker finishes (job ends without a frame are skipped).
+    fn next_frame(&mut self) -> Frame {
+        loop {
+            self.gate.wait();
+            let frame = self.host.take_frame();
+            self.gate.release();
+            if let Some(f) = frame {
+                return f;
+            }
+        }
+    }
+
+    /// Every frame up to and including the first final frame of job `n`.
+    fn frames_until_last_of(&mut self, n: u64) -> Vec<Frame> {
+        let mut frames = Vec::new();
+        loop {
+            let f = self.next_frame();
+            let done = f.job == n && f.last;
+            frames.push(f);
+            if done {
+                return frames;
+            }
+        }
+    }
+}
+
+impl Drop for Gated {
+    fn drop(&mut self) {
+        // Before the host joins its thread, which may be waiting at the gate.
+        self.gate.open();
+    }
+}
+
+fn levels(frames: &[Frame]) -> Vec<(u64, Level, bool)> {
+    frames.iter().map(|f| (f.job, f.level, f.last)).collect()
+}
+
+#[test]
+fn a_burst_of_jobs_is_coalesced() {
+    let scene = demo();
+    let mut w = Gated::new(2);
+    let jobs: Vec<Job> = (0..50)
+        .map(|i| job(&scene, view(&scene, 960, 600, i as f32 * 0.01), false, 1))
+        .collect();
+    let newest = jobs[49].view.clone();
+    for j in jobs {
+        w.host.submit(j);
+    }
+    assert_eq!(w.host.submitted(), 50);
+    let frames = w.frames_until_last_of(50);
+    assert!(
+        frames.len() <= 5,
+        "50 jobs coalesce into a few frames, not {:?}",
+        levels(&frames)
+    );
+    assert!(frames.windows(2).all(|p| p[0].job < p[1].job));
+    let last = frames.last().unwrap();
+    assert_eq!(last.view, newest, "the last frame shows the newest job");
+    assert_eq!(last.level, Level::Full);
+    // Nothing else follows.
+    w.gate.open();
+    let deadline = Instant::now() + TIMEOUT;
+    while w.host.busy() {
+        assert!(Instant::now() < deadline, "the worker settles");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(w.host.take_frame().is_none());
+}
+
+#[test]
+fn a_burst_of_jobs_renders_far_fewer_frames_ungated() {
+    // Without the gate (the worker never waits): count the repaint calls, one per frame
+    // and one per job started, and poll for the newest job's frame as the UI does.
+    let scene = demo();
+    let repaints = Arc::new(AtomicUsize::new(0));
+    let r = Arc::clone(&repaints);
+    let mut host = RenderHost::threaded(
+        2,
+        Arc::new(move || {
+            r.fetch_add(1, Ordering::SeqCst);
+        }),
+    )
+    .expect("worker");
+    let jobs: Vec<Job> = (0..50)
+        .map(|i| job(&scene, view(&scene, 960, 600, i as f32 * 0.01), false, 1))
+        .collect();
+    let newest = jobs[49].view.clone();
+    for j in jobs {
+        host.submit(j);
+    }
+    let deadline = Instant::now() + TIMEOUT;
+    let last = loop {
+        if let Some(f) = host.take_frame() {
+            if f.job == 50 {
+                break f;
+            }
+        }
+        assert!(Instant::now() < deadline, "no frame of the newest job");
+        std::thread::sleep(Duration::from_millis(2));
+    };
+    assert!(last.last && last.view == newest);
+    while host.busy() {
+        assert!(Instant::now() < deadline, "the worker settles");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let calls = repaints.load(Ordering::SeqCst);
+    assert!(calls <= 10, "{calls} repaints for 50 jobs");
+}
+
+#[test]
+fn progressive_levels_arrive_coarse_to_fine() {
+    let scene = demo();
+    let mut w = Gated::new(2);
+    let mut n = 0;
+    for (max_samples, expected) in [
+        (
+            4,
+            vec![Level::Full, Level::Supersampled(2), Level::Supersampled(4)],
+        ),
+        (2, vec![Level::Full, Level::Supersampled(2)]),
+        (1, vec![Level::Full]),
+    ] {
+        let v = view(&scene, 320, 200, n as f32 * 0.1);
+        w.host.submit(job(&scene, v.clone(), false, max_samples));
+        n += 1;
+        let frames = w.frames_until_last_of(n);
+        let got: Vec<Level> = frames.iter().map(|f| f.level).collect();
+        assert_eq!(got, expected, "max_samples {max_samples}");
+        for (i, f) in frames.iter().enumerate() {
+            assert_eq!(f.job, n);
+            assert_eq!(f.last, i + 1 == frames.len(), "only the finest is last");
+            assert_eq!(f.view, v, "every level at full resolution");
+            let samples = match f.level {
+                Level::Supersampled(s) => s,
+                _ => 1,
+            };
+            assert_eq!(f.a.report.samples, samples);
+            assert_eq!(f.a.pixels.len(), 320 * 200);
+        }
+    }
+}
+
+#[test]
+fn an_interactive_job_on_a_slow_scene_starts_at_a_reduced_resolution() {
+    let scene = demo();
+    // One render thread and a big frame (bigger if that was not enough, up to 3600 x 2250,
+    // 8 Mpixels): full resolution takes longer than the budget. The worker times the full
+    // frames it renders and plans the next interactive job from the last one.
+    let mut w = Gated::new(1);
+    let (mut width, mut height) = (2400, 1500);
+    let mut n = 0;
+    let full_ms = loop {
+        w.host
+            .submit(job(&scene, view(&scene, width, height, 0.0), false, 1));
+        n += 1;
+        let frames = w.frames_until_last_of(n);
+        assert_eq!(levels(&frames), [(n, Level::Full, true)]);
+        let ms = frames[0].a.report.times.total;
+        if ms > 2.0 * FRAME_BUDGET_MS || n == 2 {
+            break ms;
+        }
+        (width, height) = (width * 3 / 2, height * 3 / 2);
+    };
+    assert!(
+        full_ms > FRAME_BUDGET_MS,
+        "a {width}x{height} frame should be slow, took {full_ms} ms"
+    );
+    let v = view(&scene, width, height, 0.2);
+    w.host.submit(job(&scene, v.clone(), true, 1));
+    n += 1;
+    let frames = w.frames_until_last_of(n);
+    let first = &frames[0];
+    let Level::Reduced(d) = first.level else {
+        panic!("the first frame is reduced: {:?}", levels(&frames));
+    };
+    assert!((2..=4).contains(&d), "divisor {d}");
+    assert_eq!(
+        [first.view.width, first.view.height],
+        [width / d, height / d]
+    );
+    assert_eq!(first.view.camera, v.camera);
+    assert!(!first.last);
+    // With no newer job, the full-resolution frame follows.
+    assert_eq!(
+        levels(&frames[1..]),
+        [(n, Level::Full, true)],
+        "refined after the settle time"
+    );
+    assert_eq!(frames[1].view, v);
+}
+
+#[test]
+fn a_new_job_abandons_the_one_in_progress() {
+    let scene = demo();
+    let mut w = Gated::new(2);
+    let old = view(&scene, 960, 600, 0.0);
+    w.host.submit(job(&scene, old, false, 4));
+    let first = w.next_frame();
+    assert_eq!(
+        (first.job, first.level, first.last),
+        (1, Level::Full, false)
+    );
+    // The worker goes on to 2x2 and then 4x4 for job 1; job 2 arrives meanwhile.
+    let new = view(&scene, 960, 600, 0.5);
+    w.host.submit(job(&scene, new.clone(), false, 1));
+    let frames = w.frames_until_last_of(2);
+    assert!(
+        frames.iter().all(|f| !(f.job == 1 && f.last)),
+        "job 1's final level never arrives: {:?}",
+        levels(&frames)
+    );
+    assert!(
+        frames
+            .iter()
+            .all(|f| f.job == 2 || f.level == Level::Supersampled(2)),
+        "{:?}",
+        levels(&frames)
+    );
+    let last = frames.last().unwrap();
+    assert_eq!((last.level, &last.view), (Level::Full, &new));
+    // And nothing of job 1 comes later.
+    w.gate.open();
+    let deadline = Instant::now() + TIMEOUT;
+    while w.host.busy() {
+        assert!(Instant::now() < deadline, "the worker settles");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert!(w.host.take_frame().is_none());
+}
