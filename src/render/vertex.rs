@@ -19,6 +19,12 @@ pub(super) struct Lit<'a> {
     pub eye: Vec3,
 }
 
+/// Appends `f(0), f(1), ..., f(n - 1)`, computed in parallel, to `out` (in place: the range
+/// is indexed, so rayon writes into the reserved capacity).
+fn per_item<T: Send>(out: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync + Send) {
+    out.par_extend((0..n).into_par_iter().with_min_len(MIN_LEN).map(f));
+}
+
 /// World position and unit world normal of render vertex `k`.
 #[inline]
 fn world(scene: &PreparedScene, fi: &FrameInst, mesh: &PreparedMesh, k: usize) -> (Vec3, Vec3) {
@@ -32,17 +38,12 @@ fn world(scene: &PreparedScene, fi: &FrameInst, mesh: &PreparedMesh, k: usize) -
 pub(super) fn lit<V: LitVarying>(scene: &PreparedScene, fi: &FrameInst, out: &mut Vec<V>) {
     let mesh = &scene.meshes[fi.mesh as usize];
     let tri = &mesh.tri;
-    out.par_extend(
-        (0..tri.positions.len())
-            .into_par_iter()
-            .with_min_len(MIN_LEN)
-            .map(|k| {
-                let (p, n) = world(scene, fi, mesh, k);
-                let uv = tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]);
-                let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
-                V::new(p, n, uv, c)
-            }),
-    );
+    per_item(out, tri.positions.len(), |k| {
+        let (p, n) = world(scene, fi, mesh, k);
+        let uv = tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]);
+        let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
+        V::new(p, n, uv, c)
+    });
 }
 
 /// The lighting equation at a vertex or facet centroid, seen from the side `n` points to.
@@ -62,22 +63,17 @@ impl Lit<'_> {
         let d = &self.params[fi.param as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];
         let tri = &mesh.tri;
-        out.par_extend(
-            (0..tri.positions.len())
-                .into_par_iter()
-                .with_min_len(MIN_LEN)
-                .map(|k| {
-                    let (p, n) = world(self.scene, fi, mesh, k);
-                    let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
-                    let front = lit_colour(d, self.lights, self.eye, p, n, c);
-                    let back = if d.double_sided {
-                        lit_colour(d, self.lights, self.eye, p, -n, c)
-                    } else {
-                        front
-                    };
-                    (front, back)
-                }),
-        );
+        per_item(out, tri.positions.len(), |k| {
+            let (p, n) = world(self.scene, fi, mesh, k);
+            let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
+            let front = lit_colour(d, self.lights, self.eye, p, n, c);
+            let back = if d.double_sided {
+                lit_colour(d, self.lights, self.eye, p, -n, c)
+            } else {
+                front
+            };
+            (front, back)
+        });
     }
 
     /// Flat: one lighting evaluation per facet, at its area-weighted centroid with its plane
@@ -89,30 +85,20 @@ impl Lit<'_> {
         let (tri, flat) = (&mesh.tri, mesh.flat());
         let normal = self.scene.instances[fi.inst as usize].normal;
         facets.clear();
-        facets.par_extend(
-            (0..tri.facet_normals.len())
-                .into_par_iter()
-                .with_min_len(MIN_LEN)
-                .map(|f| {
-                    let p = fi.world.transform_point3(flat.centroids[f]);
-                    let mut n = (normal * tri.facet_normals[f]).normalize_or_zero();
-                    if d.double_sided && n.dot(self.eye - p) < 0.0 {
-                        n = -n;
-                    }
-                    lit_colour(d, self.lights, self.eye, p, n, flat.first_colors[f])
-                }),
-        );
+        per_item(facets, tri.facet_normals.len(), |f| {
+            let p = fi.world.transform_point3(flat.centroids[f]);
+            let mut n = (normal * tri.facet_normals[f]).normalize_or_zero();
+            if d.double_sided && n.dot(self.eye - p) < 0.0 {
+                n = -n;
+            }
+            lit_colour(d, self.lights, self.eye, p, n, flat.first_colors[f])
+        });
         let facets = &*facets;
         // Indexed (corner by corner), so the extend writes in place without a list of chunks.
-        out.par_extend(
-            (0..3 * tri.triangle_facets.len())
-                .into_par_iter()
-                .with_min_len(MIN_LEN)
-                .map(|c| {
-                    let f = tri.triangle_facets[c / 3] as usize;
-                    facets.get(f).copied().unwrap_or(Vec4::ZERO)
-                }),
-        );
+        per_item(out, 3 * tri.triangle_facets.len(), |c| {
+            let f = tri.triangle_facets[c / 3] as usize;
+            facets.get(f).copied().unwrap_or(Vec4::ZERO)
+        });
     }
 }
 
@@ -120,16 +106,11 @@ impl Lit<'_> {
 pub(super) fn debug(scene: &PreparedScene, fi: &FrameInst, mode: Debug, out: &mut Vec<Vec3>) {
     let mesh = &scene.meshes[fi.mesh as usize];
     let tri = &mesh.tri;
-    out.par_extend(
-        (0..tri.positions.len())
-            .into_par_iter()
-            .with_min_len(MIN_LEN)
-            .map(|k| match mode {
-                Debug::Normals => world(scene, fi, mesh, k).1,
-                Debug::Depth => Vec3::splat(-fi.model_view.transform_point3(tri.positions[k]).z),
-                Debug::Uv => tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]).extend(0.0),
-            }),
-    );
+    per_item(out, tri.positions.len(), |k| match mode {
+        Debug::Normals => world(scene, fi, mesh, k).1,
+        Debug::Depth => Vec3::splat(-fi.model_view.transform_point3(tri.positions[k]).z),
+        Debug::Uv => tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]).extend(0.0),
+    });
 }
 
 /// Nothing per vertex (depth-only and counting passes).
