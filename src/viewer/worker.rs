@@ -249,7 +249,10 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 struct Worker {
     a: Renderer,
     b: Renderer,
-    /// Milliseconds of the last full-resolution one-sample frame (A and B).
+    /// Estimated milliseconds of a full-resolution one-sample frame (A and B): a moving
+    /// average of full frames' times and of reduced frames' times scaled by their pixel
+    /// ratio (an upper bound: geometry does not shrink with the image), so a slow first
+    /// frame (mip chains, cold caches) does not keep a whole drag at reduced resolution.
     full_ms: Option<f64>,
 }
 
@@ -359,8 +362,14 @@ impl Worker {
             Some(s) => Some(render_image(&mut self.b, job, s, &view, samples, stale)?),
             None => None,
         };
-        if level == Level::Full {
-            self.full_ms = Some(start.elapsed().as_secs_f64() * 1e3);
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let estimate = match level {
+            Level::Full => Some(ms),
+            Level::Reduced(d) => Some(ms * f64::from(d * d)),
+            Level::Supersampled(_) => None,
+        };
+        if let Some(e) = estimate {
+            self.full_ms = Some(self.full_ms.map_or(e, |old| 0.5 * (old + e)));
         }
         let heat = match (&b, job.heat, level) {
             (Some(_), true, Level::Full | Level::Supersampled(_)) => Some(heat(&self.a, &self.b)),
