@@ -361,3 +361,50 @@ fn a_new_job_abandons_the_one_in_progress() {
     }
     assert!(w.host.take_frame().is_none());
 }
+
+#[test]
+fn a_drag_faster_than_frames_still_shows_frames() {
+    // Interactive jobs every 3 ms (a fast mouse) on frames that take longer than that (a
+    // 262,000-triangle sphere on one thread: geometry-bound at any resolution): each job's
+    // first frame is finished rather than abandoned for the next job (which would leave the
+    // screen frozen for the whole drag), so frames keep arriving.
+    let setup = realist::quality::sphere::SphereSetup::standard(1280, 720);
+    let scene = Arc::new(PreparedScene::new(setup.scene(512, 256).expect("sphere")));
+    let mut host = RenderHost::threaded(1, Arc::new(|| {})).expect("worker");
+    let drag = Duration::from_millis(1500);
+    let start = Instant::now();
+    let (mut times, mut k) = (Vec::new(), 0);
+    while start.elapsed() < drag {
+        host.submit(job(
+            &scene,
+            view(&scene, 1280, 720, k as f32 * 0.003),
+            true,
+            1,
+        ));
+        k += 1;
+        if let Some(f) = host.take_frame() {
+            times.push(f.a.report.times.total);
+        }
+        std::thread::sleep(Duration::from_millis(3));
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
+    eprintln!(
+        "{k} jobs, {} frames shown during the drag, median {median:.1} ms",
+        times.len()
+    );
+    assert!(
+        median > 6.0,
+        "frames must be slower than the jobs for this test: {median} ms"
+    );
+    assert!(
+        times.len() >= 5,
+        "{} frames for {k} jobs in {drag:?}",
+        times.len()
+    );
+    let deadline = Instant::now() + TIMEOUT;
+    while host.busy() {
+        assert!(Instant::now() < deadline, "the worker settles");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}

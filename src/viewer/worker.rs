@@ -9,6 +9,10 @@
 //! 3. 2 x 2, then 4 x 4 supersampling (as far as the job's `max_samples` allows), each a
 //!    finished image shown as soon as it is done.
 //!
+//! A newer job abandons refinements at once, but a job's first frame only once it has run
+//! [`ABANDON_FIRST_MS`]: a drag whose events come faster than frames then still shows a
+//! frame per render instead of abandoning them all.
+//!
 //! After an interactive job's first frame the worker waits [`SETTLE_MS`] for a newer job
 //! before refining, so a drag does not start refinements it will abandon. Finished frames
 //! go to a one-frame slot and the UI is asked to repaint; an idle worker sleeps on a
@@ -31,6 +35,8 @@ use crate::render::{FrameReport, PreparedScene, Renderer, Settings, View};
 pub const FRAME_BUDGET_MS: f64 = 33.0;
 /// How long an interactive job waits for a newer one before refining.
 pub const SETTLE_MS: u64 = 150;
+/// A job's first frame is abandoned for a newer job only after this long (4 budgets).
+pub const ABANDON_FIRST_MS: f64 = 4.0 * FRAME_BUDGET_MS;
 
 /// A quality level of a shown frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,6 +57,14 @@ impl Level {
             Level::Reduced(d) => format!("1/{d} resolution (moving)"),
             Level::Full => "full resolution, 1 sample".into(),
             Level::Supersampled(n) => format!("{n}x{n} anti-aliased"),
+        }
+    }
+
+    /// The resolution divisor: 1 at full resolution.
+    fn divisor(self) -> u32 {
+        match self {
+            Level::Reduced(d) => d.clamp(2, 4),
+            _ => 1,
         }
     }
 
@@ -249,11 +263,9 @@ fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
 struct Worker {
     a: Renderer,
     b: Renderer,
-    /// Estimated milliseconds of a full-resolution one-sample frame (A and B): a moving
-    /// average of full frames' times and of reduced frames' times scaled by their pixel
-    /// ratio (an upper bound: geometry does not shrink with the image), so a slow first
-    /// frame (mip chains, cold caches) does not keep a whole drag at reduced resolution.
-    full_ms: Option<f64>,
+    /// Moving averages of one-sample frame times (A and B) at full resolution (index 1)
+    /// and at 1/2, 1/3, 1/4 (indices 2..=4), for choosing the first level of a job.
+    times: [Option<f64>; 5],
 }
 
 impl Worker {
@@ -281,10 +293,18 @@ impl Worker {
                 if i == 1 && job.interactive && Self::newer_within(sh, n, SETTLE_MS) {
                     break;
                 }
+                // A job's first level is what the user waits for: a newer job abandons it
+                // only once it runs well past the budget (else a drag whose events come
+                // faster than frames would abandon every frame and show none); later
+                // levels are refinements, abandoned at once.
+                let started = Instant::now();
+                let long = || started.elapsed().as_secs_f64() * 1e3 > ABANDON_FIRST_MS;
+                let first_stop = || stale() && long();
+                let stop: &(dyn Fn() -> bool + Sync) = if i == 0 { &first_stop } else { &stale };
                 // A panic in a frame (a renderer bug) must not kill the worker: the frame is
                 // dropped and the next job starts from fresh renderers.
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    self.render_level(&job, n, level, &stale)
+                    self.render_level(&job, n, level, stop)
                 }));
                 match result {
                     Ok(Ok(frame)) => {
@@ -292,7 +312,15 @@ impl Worker {
                         *lock(&sh.frame) = Some(Frame { last, ..frame });
                         repaint();
                     }
-                    Ok(Err(_)) => break,
+                    Ok(Err(_)) => {
+                        if i == 0 {
+                            // Too slow to finish: the next job plans a smaller first frame.
+                            let spent = started.elapsed().as_secs_f64() * 1e3;
+                            let slot = &mut self.times[level.divisor() as usize];
+                            *slot = Some(slot.map_or(spent, |e| e.max(spent)));
+                        }
+                        break;
+                    }
                     Err(_) => {
                         *self = Worker::default();
                         break;
@@ -328,8 +356,8 @@ impl Worker {
     fn plan(&self, job: &Job) -> Vec<Level> {
         let mut levels = Vec::new();
         if job.interactive {
-            if let Some(ms) = self.full_ms.filter(|&ms| ms > FRAME_BUDGET_MS) {
-                let d = (ms / FRAME_BUDGET_MS).sqrt().ceil().clamp(2.0, 4.0) as u32;
+            let d = self.divisor();
+            if d > 1 {
                 levels.push(Level::Reduced(d));
             }
         }
@@ -340,6 +368,37 @@ impl Worker {
             }
         }
         levels
+    }
+
+    /// The resolution divisor (1..=4) for a frame that should fit [`FRAME_BUDGET_MS`]: the
+    /// smallest whose time (measured, or extrapolated from the nearest measured divisor as
+    /// if cost followed the pixel count) fits; if none does, the fastest, preferring the
+    /// larger image within 10% (a frame bound by geometry gains nothing from fewer pixels).
+    fn divisor(&self) -> u32 {
+        let estimate = |d: usize| -> Option<f64> {
+            self.times[d].or_else(|| {
+                (1..=4)
+                    .filter_map(|k| self.times[k].map(|t| (k, t)))
+                    .min_by_key(|(k, _)| k.abs_diff(d))
+                    .map(|(k, t)| t * (k * k) as f64 / (d * d) as f64)
+            })
+        };
+        let Some(full) = estimate(1) else {
+            return 1;
+        };
+        if full <= FRAME_BUDGET_MS {
+            return 1;
+        }
+        let est: Vec<(u32, f64)> = (2..=4u32)
+            .map(|d| (d, estimate(d as usize).unwrap_or(f64::INFINITY)))
+            .collect();
+        if let Some(&(d, _)) = est.iter().find(|(_, t)| *t <= FRAME_BUDGET_MS) {
+            return d;
+        }
+        let fastest = est.iter().map(|e| e.1).fold(f64::INFINITY, f64::min);
+        est.iter()
+            .find(|(_, t)| *t <= fastest * 1.1)
+            .map_or(4, |&(d, _)| d)
     }
 
     /// Renders one level of a job (A, B and the heat map).
@@ -362,14 +421,10 @@ impl Worker {
             Some(s) => Some(render_image(&mut self.b, job, s, &view, samples, stale)?),
             None => None,
         };
-        let ms = start.elapsed().as_secs_f64() * 1e3;
-        let estimate = match level {
-            Level::Full => Some(ms),
-            Level::Reduced(d) => Some(ms * f64::from(d * d)),
-            Level::Supersampled(_) => None,
-        };
-        if let Some(e) = estimate {
-            self.full_ms = Some(self.full_ms.map_or(e, |old| 0.5 * (old + e)));
+        if !matches!(level, Level::Supersampled(_)) {
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            let slot = &mut self.times[level.divisor() as usize];
+            *slot = Some(slot.map_or(ms, |old| 0.5 * (old + ms)));
         }
         let heat = match (&b, job.heat, level) {
             (Some(_), true, Level::Full | Level::Supersampled(_)) => Some(heat(&self.a, &self.b)),
