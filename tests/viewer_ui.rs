@@ -398,6 +398,7 @@ fn assert_near(a: Vec3, b: Vec3, what: &str) {
 fn keys_change_the_view_the_overlays_and_the_panels() {
     let dir = temp_dir("keys");
     let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    let shown_ortho = |h: &App| h.state().shown.as_ref().expect("frame").view.camera.ortho;
     let press = |h: &mut App, mods: Modifiers, key: Key| {
         h.key_press_modifiers(mods, key);
         h.run();
@@ -405,36 +406,12 @@ fn keys_change_the_view_the_overlays_and_the_panels() {
     };
 
     // 5: orthographic and back.
-    assert!(h
-        .state()
-        .shown
-        .as_ref()
-        .unwrap()
-        .view
-        .camera
-        .ortho
-        .is_none());
+    assert!(shown_ortho(&h).is_none());
     press(&mut h, Modifiers::NONE, Key::Num5);
     assert!(h.state().nav.is_ortho());
-    assert!(h
-        .state()
-        .shown
-        .as_ref()
-        .unwrap()
-        .view
-        .camera
-        .ortho
-        .is_some());
+    assert!(shown_ortho(&h).is_some());
     press(&mut h, Modifiers::NONE, Key::Num5);
-    assert!(h
-        .state()
-        .shown
-        .as_ref()
-        .unwrap()
-        .view
-        .camera
-        .ortho
-        .is_none());
+    assert!(shown_ortho(&h).is_none());
 
     // 1: front view, looking along -Z with +Y up.
     press(&mut h, Modifiers::NONE, Key::Num1);

@@ -165,6 +165,15 @@ impl Drop for Gated {
     }
 }
 
+/// Waits (up to [`TIMEOUT`]) until the worker has nothing to do.
+fn wait_idle(host: &RenderHost) {
+    let deadline = Instant::now() + TIMEOUT;
+    while host.busy() {
+        assert!(Instant::now() < deadline, "the worker settles");
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
 fn levels(frames: &[Frame]) -> Vec<(u64, Level, bool)> {
     frames.iter().map(|f| (f.job, f.level, f.last)).collect()
 }
@@ -402,9 +411,5 @@ fn a_drag_faster_than_frames_still_shows_frames() {
         "{} frames for {k} jobs in {drag:?}",
         times.len()
     );
-    let deadline = Instant::now() + TIMEOUT;
-    while host.busy() {
-        assert!(Instant::now() < deadline, "the worker settles");
-        std::thread::sleep(Duration::from_millis(2));
-    }
+    wait_idle(&host);
 }
