@@ -202,11 +202,7 @@ fn a_burst_of_jobs_is_coalesced() {
     assert_eq!(last.level, Level::Full);
     // Nothing else follows.
     w.gate.open();
-    let deadline = Instant::now() + TIMEOUT;
-    while w.host.busy() {
-        assert!(Instant::now() < deadline, "the worker settles");
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    wait_idle(&w.host);
     assert!(w.host.take_frame().is_none());
 }
 
@@ -363,11 +359,7 @@ fn a_new_job_abandons_the_one_in_progress() {
     assert_eq!((last.level, &last.view), (Level::Full, &new));
     // And nothing of job 1 comes later.
     w.gate.open();
-    let deadline = Instant::now() + TIMEOUT;
-    while w.host.busy() {
-        assert!(Instant::now() < deadline, "the worker settles");
-        std::thread::sleep(Duration::from_millis(5));
-    }
+    wait_idle(&w.host);
     assert!(w.host.take_frame().is_none());
 }
 
