@@ -9,15 +9,20 @@ use glam::{Mat4, Vec3, Vec4};
 use realist::mesh::Mesh;
 use realist::quality::sphere::SphereSetup;
 use realist::raster::{
-    self, stages, Cull, Draw, DrawState, FragmentShader, Stats, Target, TriInfo,
+    self, stages, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, Kernel, KernelKind,
+    Stats, Target, F8, V3,
 };
+use realist::scene::{AlphaMode, Light};
+use realist::shade::{DrawParams, LightSet, LitLayout, LitShader, Surface};
+use realist::texture::Sampler;
 
 const W: u32 = 1280;
 const H: u32 = 720;
 
 struct Fixture {
     positions: Vec<Vec3>,
-    normals: Vec<Vec3>,
+    /// World position and normal per vertex (the lit layout without UV or colour).
+    varyings: Vec<f32>,
     triangles: Vec<[u32; 3]>,
     mvp: Mat4,
 }
@@ -27,8 +32,8 @@ fn sphere() -> Fixture {
     let tri = Mesh::sphere(1.0, 256, 128).expect("sphere").triangulate();
     let mvp = setup.camera.projection(W as f32 / H as f32) * setup.camera.view();
     Fixture {
+        varyings: lit_varyings(&tri.positions, &tri.normals),
         positions: tri.positions,
-        normals: tri.normals,
         triangles: tri.triangles,
         mvp,
     }
@@ -59,30 +64,47 @@ fn floor() -> Fixture {
     let mvp = cam.projection(W as f32 / H as f32) * cam.view();
     let normals = vec![Vec3::Y; positions.len()];
     Fixture {
+        varyings: lit_varyings(&positions, &normals),
         positions,
-        normals,
         triangles,
         mvp,
     }
 }
 
-/// Lambert against a fixed light: the cost of a light per-pixel shader.
+fn lit_varyings(positions: &[Vec3], normals: &[Vec3]) -> Vec<f32> {
+    let layout = LitLayout::default();
+    let mut out = vec![0.0; positions.len() * layout.stride()];
+    for ((o, p), n) in out.chunks_mut(layout.stride()).zip(positions).zip(normals) {
+        layout.write(o, *p, *n, glam::Vec2::ZERO, Vec4::ONE);
+    }
+    out
+}
+
+/// Lambert against a fixed light: the cost of the simplest lit shader.
 struct Lambert;
 
 impl FragmentShader for Lambert {
-    type Varying = Vec3;
-    fn fragment(&self, _: TriInfo, n: &Vec3) -> Option<Vec4> {
-        let l = Vec3::new(0.4, 0.8, 0.45).normalize();
-        let d = n.normalize_or_zero().dot(l).max(0.0);
-        Some(Vec4::new(d, d, d, 1.0))
+    #[inline(always)]
+    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+        let l = V3::splat(Vec3::new(0.4, 0.8, 0.45).normalize());
+        let n = V3::new(f.var[3], f.var[4], f.var[5]).normalize_or_zero::<K>();
+        let d = n.dot::<K>(l).max(F8::ZERO);
+        *out = Colors {
+            r: d,
+            g: d,
+            b: d,
+            a: F8::ONE,
+        };
+        f.mask
     }
 }
 
-fn draw_of<'a>(f: &'a Fixture, clip: &'a [Vec4]) -> Draw<'a, Vec3> {
+fn draw_of<'a>(f: &'a Fixture, clip: &'a [Vec4]) -> Draw<'a> {
     Draw {
         id: 0,
         clip,
-        varyings: &f.normals,
+        varyings: &f.varyings,
+        stride: LitLayout::default().stride(),
         triangles: &f.triangles,
         state: DrawState {
             cull: Cull::Back,
@@ -110,26 +132,66 @@ fn benches(c: &mut Criterion) {
         b.iter(|| stages::setup_all(&draw_of(&sphere, &clip), W, H))
     });
     let target = Target::new(W, H, Vec4::ZERO);
-    let batch = stages::setup_all(&draw_of(&sphere, &clip), W, H);
     c.bench_function("bin/sphere", |b| {
-        b.iter(|| stages::bin_all(&target, &batch))
-    });
-    c.bench_function("fill_shade/sphere lambert", |b| {
         b.iter_batched(
-            || {
-                let batch = stages::setup_all(&draw_of(&sphere, &clip), W, H);
-                let target = Target::new(W, H, Vec4::ZERO);
-                let bins = stages::bin_all(&target, &batch);
-                (target, batch, bins)
-            },
-            |(mut target, mut batch, bins)| {
-                let mut stats = Stats::default();
-                stages::fill_all(&mut target, &mut batch, bins, &Lambert, &mut stats);
-                target
+            || stages::setup_all(&draw_of(&sphere, &clip), W, H),
+            |mut batch| {
+                stages::bin_all(&target, &mut batch);
+                batch
             },
             criterion::BatchSize::LargeInput,
         )
     });
+    let mut batch = stages::setup_all(&draw_of(&sphere, &clip), W, H);
+    stages::bin_all(&target, &mut batch);
+    let params = [DrawParams {
+        base: Vec4::new(0.8, 0.7, 0.6, 1.0),
+        surface: Surface {
+            diffuse: Vec3::ONE,
+            specular: Vec3::splat(0.4),
+            ambient: Vec3::ONE,
+            shininess: 32.0,
+        },
+        texture: None,
+        sampler: Sampler::default(),
+        alpha: AlphaMode::Opaque,
+        double_sided: false,
+    }];
+    let lights = LightSet::new(&[
+        Light::Ambient {
+            color: Vec3::splat(0.1),
+        },
+        Light::Directional {
+            direction: -Vec3::new(0.5, 1.0, 0.8),
+            color: Vec3::splat(0.9),
+        },
+    ]);
+    let blinn = LitShader {
+        draws: &params,
+        lights: &lights,
+        eye: Vec3::new(0.0, 0.0, 4.0),
+        layout: LitLayout::default(),
+        blinn: true,
+        lod_scale: 1.0,
+    };
+    // One fill benchmark per kernel this machine has, with the simplest and the real shader.
+    for kernel in KernelKind::available_kinds() {
+        let name = kernel.name();
+        c.bench_function(&format!("fill_shade/sphere lambert/{name}"), |b| {
+            let mut target = Target::new(W, H, Vec4::ZERO);
+            b.iter(|| {
+                target.clear(Vec4::ZERO);
+                stages::fill_all(&mut target, &batch, &Lambert, &mut Stats::default(), kernel);
+            })
+        });
+        c.bench_function(&format!("fill_shade/sphere blinn-phong/{name}"), |b| {
+            let mut target = Target::new(W, H, Vec4::ZERO);
+            b.iter(|| {
+                target.clear(Vec4::ZERO);
+                stages::fill_all(&mut target, &batch, &blinn, &mut Stats::default(), kernel);
+            })
+        });
+    }
     let mut drawn = Target::new(W, H, Vec4::ZERO);
     raster::draw(
         &mut drawn,

@@ -5,16 +5,18 @@
 use glam::{Vec2, Vec4};
 use proptest::prelude::*;
 use realist::raster::{
-    self, Blend, Cull, DepthTest, Draw, DrawState, FragmentShader, Stats, Target, TriInfo,
+    self, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Fragments, Kernel,
+    KernelKind, Stats, Target,
 };
 
 /// Adds 1 to the red channel of every covered pixel.
 struct Count;
 
 impl FragmentShader for Count {
-    type Varying = ();
-    fn fragment(&self, _: TriInfo, _: &()) -> Option<Vec4> {
-        Some(Vec4::new(1.0, 0.0, 0.0, 0.0))
+    #[inline(always)]
+    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+        *out = Colors::splat(Vec4::new(1.0, 0.0, 0.0, 0.0));
+        f.mask
     }
 }
 
@@ -47,18 +49,27 @@ fn count_with(
         .zip(w)
         .map(|(p, &w)| Vec4::new(p.x * w, p.y * w, 0.5 * w, w))
         .collect();
-    let units = vec![(); clip.len()];
-    let mut target = Target::new(width, height, Vec4::ZERO);
     let draw = Draw {
         id: 0,
         clip: &clip,
-        varyings: &units,
+        varyings: &[],
+        stride: 0,
         triangles: tris,
         state,
     };
-    let mut stats = Stats::default();
-    raster::draw(&mut target, &[draw], &Count, &mut stats);
-    target.resolve().color.iter().map(|c| c.x as u32).collect()
+    // Coverage is integer arithmetic: every kernel must give the identical count.
+    let mut first: Option<Vec<u32>> = None;
+    for kernel in KernelKind::available_kinds() {
+        let mut target = Target::new(width, height, Vec4::ZERO);
+        let mut stats = Stats::default();
+        raster::draw_with_kernel(&mut target, &[draw], &Count, &mut stats, kernel);
+        let counts: Vec<u32> = target.resolve().color.iter().map(|c| c.x as u32).collect();
+        match &first {
+            Some(f) => assert!(*f == counts, "kernel {kernel:?} covers differently"),
+            None => first = Some(counts),
+        }
+    }
+    first.unwrap_or_default()
 }
 
 /// An (n+1) x (m+1) grid of points spanning beyond the viewport, interior points jittered by

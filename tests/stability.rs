@@ -13,7 +13,8 @@
 use glam::Vec4;
 use realist::mesh::{Mesh, MeshData, NormalOptions, NormalPolicy};
 use realist::raster::{
-    self, Blend, Cull, DepthTest, Draw, DrawState, FragmentShader, Stats, Target, TriInfo,
+    self, Blend, Cull, DepthTest, Draw, DrawState, KernelKind, PerPixel, PixelShader, Stats,
+    Target, TriInfo,
 };
 
 /// Distance from a pixel centre within which the reference decision is not enforced.
@@ -41,10 +42,9 @@ impl Rng {
 /// Outputs the interpolated attribute in red and 1 in green (the count).
 struct Attr;
 
-impl FragmentShader for Attr {
-    type Varying = f32;
-    fn fragment(&self, _: TriInfo, v: &f32) -> Option<Vec4> {
-        Some(Vec4::new(*v, 1.0, 0.0, 0.0))
+impl PixelShader for Attr {
+    fn pixel(&self, _: TriInfo, v: &[f32]) -> Option<Vec4> {
+        Some(Vec4::new(v[0], 1.0, 0.0, 0.0))
     }
 }
 
@@ -65,9 +65,35 @@ struct Tri {
     attr: [f32; 3],
 }
 
-/// Draws `tri` into a fresh `w` x `h` target; returns (attribute sum, count) per pixel and
-/// checks every buffer is finite.
+/// Draws `tri` into a fresh `w` x `h` target with every kernel the machine has; checks
+/// every buffer is finite, that the kernels cover identical pixels and interpolate the
+/// attribute within 1e-4 of the attribute's range of the portable kernel (FMA rounding,
+/// amplified on triangles through w = 0; the f64 reference's tolerance is 2e-3)
+/// kernel, and returns the portable kernel's (attribute sum, count) per pixel.
 fn draw(tri: &Tri, w: u32, h: u32) -> Vec<(f32, f32)> {
+    let mut first: Option<Vec<(f32, f32)>> = None;
+    let range = tri.attr.iter().fold(1f32, |m, a| m.max(a.abs()));
+    for kernel in KernelKind::available_kinds() {
+        let got = draw_with(tri, w, h, kernel);
+        match &first {
+            None => first = Some(got),
+            Some(f) => {
+                for (a, b) in f.iter().zip(&got) {
+                    assert_eq!(a.1, b.1, "{kernel:?} covers differently: {tri:?}");
+                    assert!(
+                        (a.0 - b.0).abs() <= 1e-4 * range,
+                        "{kernel:?} attribute {} vs {}: {tri:?}",
+                        b.0,
+                        a.0
+                    );
+                }
+            }
+        }
+    }
+    first.unwrap_or_default()
+}
+
+fn draw_with(tri: &Tri, w: u32, h: u32, kernel: KernelKind) -> Vec<(f32, f32)> {
     let clip: Vec<Vec4> = tri
         .clip
         .iter()
@@ -78,11 +104,12 @@ fn draw(tri: &Tri, w: u32, h: u32) -> Vec<(f32, f32)> {
         id: 0,
         clip: &clip,
         varyings: &tri.attr,
+        stride: 1,
         triangles: &[[0, 1, 2]],
         state: state(),
     };
     let mut stats = Stats::default();
-    raster::draw(&mut target, &[d], &Attr, &mut stats);
+    raster::draw_with_kernel(&mut target, &[d], &PerPixel(Attr), &mut stats, kernel);
     let fb = target.resolve();
     assert!(
         fb.color.iter().all(|c| c.is_finite()),
@@ -367,10 +394,11 @@ fn coplanar_triangles_resolve_depth_deterministically() {
             id: 0,
             clip: &clip,
             varyings: &t.attr,
+            stride: 1,
             triangles: &tris,
             state: st,
         };
-        raster::draw(&mut target, &[d], &Attr, &mut Stats::default());
+        raster::draw(&mut target, &[d], &PerPixel(Attr), &mut Stats::default());
         let fb = target.resolve();
         assert!(
             fb.color.iter().all(|c| c.y == 0.0 || c.y == 2.0),

@@ -12,7 +12,7 @@
 
 use glam::{Vec2, Vec4};
 
-use super::Varying;
+use super::MAX_VARYINGS;
 
 pub(crate) const NEAR: u8 = 1;
 pub(crate) const FAR: u8 = 2;
@@ -48,11 +48,22 @@ pub(crate) fn outcode(p: Vec4, g: Vec2) -> u8 {
     code
 }
 
-/// A vertex being clipped: clip-space position and its varying.
+/// A vertex being clipped: clip-space position and its varyings (the draw's first
+/// `stride` floats are meaningful).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct ClipVertex<V> {
+pub(crate) struct ClipVertex {
     pub pos: Vec4,
-    pub var: V,
+    pub var: [f32; MAX_VARYINGS],
+}
+
+impl ClipVertex {
+    /// A vertex with position `pos` and varyings `var` (at most [`MAX_VARYINGS`]).
+    pub fn new(pos: Vec4, var: &[f32]) -> Self {
+        let mut v = [0.0; MAX_VARYINGS];
+        let n = var.len().min(MAX_VARYINGS);
+        v[..n].copy_from_slice(&var[..n]);
+        Self { pos, var: v }
+    }
 }
 
 /// Most vertices a clipped triangle can have: each of the six planes adds at most one.
@@ -61,21 +72,27 @@ pub(crate) const MAX_POLY: usize = 3 + 6;
 /// A convex polygon of at most [`MAX_POLY`] vertices, on the stack: clipping allocates
 /// nothing, so a frame that clips triangles allocates nothing either.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Poly<V> {
-    v: [ClipVertex<V>; MAX_POLY],
+pub(crate) struct Poly {
+    v: [ClipVertex; MAX_POLY],
+    /// Varyings per vertex to interpolate.
+    stride: usize,
     n: usize,
 }
 
-impl<V: Copy> Poly<V> {
-    /// A polygon with the vertices of `tri`.
-    pub fn triangle(tri: [ClipVertex<V>; 3]) -> Self {
+impl Poly {
+    /// A polygon with the vertices of `tri`, whose first `stride` varyings are interpolated.
+    pub fn triangle(tri: [ClipVertex; 3], stride: usize) -> Self {
         let mut v = [tri[0]; MAX_POLY];
         v[..3].copy_from_slice(&tri);
-        Self { v, n: 3 }
+        Self {
+            v,
+            stride: stride.min(MAX_VARYINGS),
+            n: 3,
+        }
     }
 
     #[inline]
-    fn push(&mut self, p: ClipVertex<V>) {
+    fn push(&mut self, p: ClipVertex) {
         // Cannot overflow: a plane adds at most one vertex to a convex polygon.
         if self.n < MAX_POLY {
             self.v[self.n] = p;
@@ -85,14 +102,14 @@ impl<V: Copy> Poly<V> {
 
     /// The vertices, in winding order.
     #[must_use]
-    pub fn as_slice(&self) -> &[ClipVertex<V>] {
+    pub fn as_slice(&self) -> &[ClipVertex] {
         &self.v[..self.n]
     }
 }
 
 /// Clips a convex polygon against every plane in `planes`; returns the clipped polygon
 /// (possibly empty) in the same winding.
-pub(crate) fn clip_polygon<V: Varying>(poly: Poly<V>, planes: u8, g: Vec2) -> Poly<V> {
+pub(crate) fn clip_polygon(poly: Poly, planes: u8, g: Vec2) -> Poly {
     let mut poly = poly;
     let mut out = poly;
     for plane in PLANES {
@@ -113,9 +130,9 @@ pub(crate) fn clip_polygon<V: Varying>(poly: Poly<V>, planes: u8, g: Vec2) -> Po
             }
             if a_in != b_in {
                 out.push(if a_in {
-                    intersect(&a, &b, plane, g)
+                    intersect(&a, &b, plane, g, poly.stride)
                 } else {
-                    intersect(&b, &a, plane, g)
+                    intersect(&b, &a, plane, g, poly.stride)
                 });
             }
         }
@@ -137,18 +154,18 @@ pub(crate) fn clip_polygon<V: Varying>(poly: Poly<V>, planes: u8, g: Vec2) -> Po
 /// is correct to f32 rounding. Still computed from the inside vertex, so two triangles
 /// sharing the edge get the identical vertex.
 #[inline]
-fn intersect<V: Varying>(
-    i: &ClipVertex<V>,
-    o: &ClipVertex<V>,
-    plane: u8,
-    g: Vec2,
-) -> ClipVertex<V> {
+fn intersect(i: &ClipVertex, o: &ClipVertex, plane: u8, g: Vec2, stride: usize) -> ClipVertex {
     let (pi, po) = (i.pos.as_dvec4(), o.pos.as_dvec4());
     let (di, d_o) = (distance64(pi, plane, g), distance64(po, plane, g));
     let t = (di / (di - d_o)).clamp(0.0, 1.0);
+    let tf = t as f32;
+    let mut var = i.var;
+    for (v, w) in var[..stride].iter_mut().zip(&o.var[..stride]) {
+        *v += (w - *v) * tf;
+    }
     ClipVertex {
         pos: (pi + (po - pi) * t).as_vec4(),
-        var: i.var.lerp(&o.var, t as f32),
+        var,
     }
 }
 
@@ -170,21 +187,21 @@ fn distance64(p: glam::DVec4, plane: u8, g: Vec2) -> f64 {
 mod tests {
     use super::*;
 
-    fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex<f32> {
-        ClipVertex {
-            pos: Vec4::new(x, y, z, w),
-            var: w,
-        }
+    fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex {
+        ClipVertex::new(Vec4::new(x, y, z, w), &[w])
     }
 
     #[test]
     fn near_clip_of_triangle_through_eye_plane() {
         // One vertex behind the eye (w < 0): the result must have all w > 0.
-        let tri = Poly::triangle([
-            v(0.0, 0.0, 0.5, 1.0),
-            v(1.0, 0.0, 0.5, 1.0),
-            v(0.0, 1.0, 2.0, -1.0),
-        ]);
+        let tri = Poly::triangle(
+            [
+                v(0.0, 0.0, 0.5, 1.0),
+                v(1.0, 0.0, 0.5, 1.0),
+                v(0.0, 1.0, 2.0, -1.0),
+            ],
+            1,
+        );
         let out = clip_polygon(tri, NEAR, Vec2::ONE);
         let out = out.as_slice();
         assert_eq!(out.len(), 4);
@@ -200,12 +217,12 @@ mod tests {
         let a = v(0.3, 0.1, 0.2, 1.0);
         let b = v(-0.7, 0.4, 3.0, -2.0);
         let t1 = clip_polygon(
-            Poly::triangle([a, b, v(0.5, 0.5, 0.1, 1.0)]),
+            Poly::triangle([a, b, v(0.5, 0.5, 0.1, 1.0)], 1),
             NEAR,
             Vec2::ONE,
         );
         let t2 = clip_polygon(
-            Poly::triangle([b, a, v(-0.5, 0.5, 0.1, 1.0)]),
+            Poly::triangle([b, a, v(-0.5, 0.5, 0.1, 1.0)], 1),
             NEAR,
             Vec2::ONE,
         );
@@ -226,11 +243,14 @@ mod tests {
 
     #[test]
     fn fully_outside_is_empty() {
-        let tri = Poly::triangle([
-            v(0.0, 0.0, 2.0, 1.0),
-            v(1.0, 0.0, 2.0, 1.0),
-            v(0.0, 1.0, 2.0, 1.0),
-        ]);
+        let tri = Poly::triangle(
+            [
+                v(0.0, 0.0, 2.0, 1.0),
+                v(1.0, 0.0, 2.0, 1.0),
+                v(0.0, 1.0, 2.0, 1.0),
+            ],
+            1,
+        );
         assert!(clip_polygon(tri, NEAR, Vec2::ONE).as_slice().is_empty());
     }
 }

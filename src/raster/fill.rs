@@ -7,11 +7,15 @@
 //! - The tile is walked in 8x8 blocks. A block is skipped when one edge is negative at all
 //!   its sample points, and filled without edge tests when all three edges are non-negative
 //!   at all of them (edge functions are linear, so the extremes lie at block corners).
+//!   Each row of a block is one eight-lane step: coverage mask from the exact integer edge
+//!   values, depth, then (if any lane is live) interpolation and one call of the shader for
+//!   the eight lanes. Per-triangle constants (edge steps, lane offsets, barycentric steps,
+//!   derivative constants) are computed once per triangle and tile.
 //! - Depth: early test before shading, reversed-Z, `z` interpolated linearly in screen space
 //!   (z/w is affine there). Attributes are interpolated perspective-correctly:
 //!   `p_k = λ_k (1/w_k) / Σ λ_j (1/w_j)` with screen-space barycentrics `λ_k = E_k / area`,
 //!   then `V = V_0 + p_1 (V_1 - V_0) + p_2 (V_2 - V_0)`.
-//! - Derivatives (shaders with [`FragmentShader::DERIVATIVES`]): exact, analytic, at the pixel
+//! - Derivatives (of the varyings [`FragmentShader::derivatives`] names): exact, analytic, at the pixel
 //!   centre, not differences over 2x2 quads. The `λ_k` are affine in screen space with
 //!   per-pixel steps `∂λ_k/∂x = a_k ONE / area`, `∂λ_k/∂y = b_k ONE / area`; with
 //!   `D = Σ λ_j (1/w_j)` (so `∂D/∂x = Σ ∂λ_j/∂x (1/w_j)`, constant over the triangle),
@@ -20,12 +24,16 @@
 //!   clipped triangle carries its own vertices' 1/w and varyings (interpolated in clip
 //!   space), so this is the derivative of the original triangle's varying there too.
 
+// Lane and edge loops index several arrays by one counter on purpose: that shape vectorises.
+#![allow(clippy::needless_range_loop)]
+
 use glam::Vec4;
 
 use super::framebuffer::{Tile, TILE};
+use super::lanes::{Kernel, F8, LANES};
 use super::pipeline::{Blend, DepthTest};
 use super::setup::{SetupTri, ONE};
-use super::{FragmentShader, Varying};
+use super::{Colors, FragmentShader, Fragments, MAX_VARYINGS};
 
 const BLOCK: u32 = 8;
 const HALF: i64 = ONE / 2;
@@ -37,10 +45,29 @@ pub(crate) struct FillCounters {
     pub depth_rejected: u64,
 }
 
-/// Fills the part of `tri` that lies in `tile`.
-pub(crate) fn fill<S: FragmentShader>(
+/// What the rows of one triangle share, computed once per triangle and tile.
+struct Rows<'a> {
+    tri: &'a SetupTri,
+    /// Edge steps per pixel along y, and per lane offsets along x.
+    step_y: [i64; 3],
+    lane_x: [[i64; LANES]; 3],
+    /// λ0, λ1, λ2 per pixel along x, as lane offsets.
+    l0_lanes: F8,
+    l1_lanes: F8,
+    l2_lanes: F8,
+    /// Varyings: vertex 0, differences to vertices 1 and 2.
+    v0: &'a [f32],
+    d1: &'a [f32],
+    d2: &'a [f32],
+    grad: Option<(usize, usize, Gradients)>,
+}
+
+/// Fills the part of `tri` that lies in `tile`; `attrs` holds its varyings.
+#[inline(always)]
+pub(crate) fn fill<K: Kernel, S: FragmentShader>(
     tile: &mut Tile,
-    tri: &SetupTri<S::Varying>,
+    tri: &SetupTri,
+    attrs: &[f32],
     shader: &S,
     n: &mut FillCounters,
 ) {
@@ -51,16 +78,49 @@ pub(crate) fn fill<S: FragmentShader>(
     if x0 > x1 || y0 > y1 {
         return;
     }
+    let stride = tri.stride as usize;
+    let at = tri.attr as usize;
+    let Some(var) = attrs.get(at..at + 3 * stride) else {
+        return;
+    };
+    let step_x = [tri.a[0] * ONE, tri.a[1] * ONE, tri.a[2] * ONE];
+    let step_y = [tri.b[0] * ONE, tri.b[1] * ONE, tri.b[2] * ONE];
+    let mut lane_x = [[0i64; LANES]; 3];
+    for k in 0..3 {
+        for (i, l) in lane_x[k].iter_mut().enumerate() {
+            *l = step_x[k] * i as i64;
+        }
+    }
+    let grad = shader
+        .derivatives(tri.info.draw)
+        .filter(|&(first, count)| count > 0 && first + count <= stride)
+        .map(|(first, count)| (first, count, Gradients::new(tri)));
+    let rows = Rows {
+        tri,
+        step_y,
+        lane_x,
+        l0_lanes: F8::RAMP * (step_x[0] as f32 * tri.inv_area),
+        l1_lanes: F8::RAMP * (step_x[1] as f32 * tri.inv_area),
+        l2_lanes: F8::RAMP * (step_x[2] as f32 * tri.inv_area),
+        v0: &var[..stride],
+        d1: &var[stride..2 * stride],
+        d2: &var[2 * stride..],
+        grad,
+    };
     let mut by = y0 - (y0 - tile.y0) % BLOCK;
     while by <= y1 {
         let mut bx = x0 - (x0 - tile.x0) % BLOCK;
         while bx <= x1 {
             let (sx0, sy0) = (bx.max(x0), by.max(y0));
             let (sx1, sy1) = ((bx + BLOCK - 1).min(x1), (by + BLOCK - 1).min(y1));
+            // Lanes of the block inside the triangle's (tile-clipped) bounds.
+            let span = ((1u32 << (sx1 - bx + 1)) - 1) & !((1u32 << (sx0 - bx)) - 1);
             match classify(tri, sx0, sy0, sx1, sy1) {
                 Coverage::None => {}
-                Coverage::Full => span::<S, false>(tile, tri, shader, n, sx0, sy0, sx1, sy1),
-                Coverage::Partial => span::<S, true>(tile, tri, shader, n, sx0, sy0, sx1, sy1),
+                Coverage::Full => block::<K, S, false>(tile, &rows, shader, n, bx, sy0, sy1, span),
+                Coverage::Partial => {
+                    block::<K, S, true>(tile, &rows, shader, n, bx, sy0, sy1, span);
+                }
             }
             bx += BLOCK;
         }
@@ -76,14 +136,15 @@ enum Coverage {
 
 /// Edge function (biased) at the centre of pixel (x, y).
 #[inline(always)]
-fn edge_at<V>(tri: &SetupTri<V>, k: usize, x: u32, y: u32) -> i64 {
+fn edge_at(tri: &SetupTri, k: usize, x: u32, y: u32) -> i64 {
     tri.a[k] * (i64::from(x) * ONE + HALF)
         + tri.b[k] * (i64::from(y) * ONE + HALF)
         + tri.c[k]
         + tri.bias[k]
 }
 
-fn classify<V>(tri: &SetupTri<V>, x0: u32, y0: u32, x1: u32, y1: u32) -> Coverage {
+#[inline(always)]
+fn classify(tri: &SetupTri, x0: u32, y0: u32, x1: u32, y1: u32) -> Coverage {
     let mut full = true;
     let (dx, dy) = (i64::from(x1 - x0) * ONE, i64::from(y1 - y0) * ONE);
     for k in 0..3 {
@@ -103,79 +164,144 @@ fn classify<V>(tri: &SetupTri<V>, x0: u32, y0: u32, x1: u32, y1: u32) -> Coverag
     }
 }
 
+/// Rows `y0..=y1` of the 8-pixel-wide block at `bx` (lanes outside `span` are off).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn span<S: FragmentShader, const TEST: bool>(
+fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
     tile: &mut Tile,
-    tri: &SetupTri<S::Varying>,
+    r: &Rows<'_>,
     shader: &S,
     n: &mut FillCounters,
-    x0: u32,
+    bx: u32,
     y0: u32,
-    x1: u32,
     y1: u32,
+    span: u32,
 ) {
-    let step_x = [tri.a[0] * ONE, tri.a[1] * ONE, tri.a[2] * ONE];
-    let step_y = [tri.b[0] * ONE, tri.b[1] * ONE, tri.b[2] * ONE];
-    let mut row = [
-        edge_at(tri, 0, x0, y0),
-        edge_at(tri, 1, x0, y0),
-        edge_at(tri, 2, x0, y0),
-    ];
+    let tri = r.tri;
     let st = tri.state;
-    let grad = if S::DERIVATIVES {
-        Gradients::new(tri)
-    } else {
-        Gradients::default()
-    };
+    let inv = tri.inv_area;
+    let mut row = [
+        edge_at(tri, 0, bx, y0),
+        edge_at(tri, 1, bx, y0),
+        edge_at(tri, 2, bx, y0),
+    ];
+    let (z0, z1, z2) = (
+        F8::splat(tri.z[0]),
+        F8::splat(tri.z[1]),
+        F8::splat(tri.z[2]),
+    );
     for y in y0..=y1 {
-        let mut e = row;
-        let base = ((y - tile.y0) * TILE) as usize;
-        for x in x0..=x1 {
-            if !TEST || (e[0] | e[1] | e[2]) >= 0 {
-                // Unbiased edge values -> screen-space barycentrics.
-                let l1 = (e[1] - tri.bias[1]) as f32 * tri.inv_area;
-                let l2 = (e[2] - tri.bias[2]) as f32 * tri.inv_area;
-                let z = tri.z[0] + tri.z[1] * l1 + tri.z[2] * l2;
-                let o = base + (x - tile.x0) as usize;
-                let pass = match st.depth_test {
-                    DepthTest::Greater => z > tile.depth[o],
-                    DepthTest::GreaterEqual => z >= tile.depth[o],
-                    DepthTest::Always => true,
-                };
-                if pass {
-                    let w1 = l1 * tri.iw[1];
-                    let w2 = l2 * tri.iw[2];
-                    let inv = 1.0 / ((1.0 - l1 - l2) * tri.iw[0] + w1 + w2);
-                    let (p1, p2) = (w1 * inv, w2 * inv);
-                    let v = tri.var[0].mad2(&tri.var[1], p1, &tri.var[2], p2);
-                    n.shaded += 1;
-                    let shaded = if S::DERIVATIVES {
-                        let [d1x, d2x, d1y, d2y] = grad.weights(p1, p2, inv);
-                        let dvdx = S::Varying::combine2(&tri.var[1], d1x, &tri.var[2], d2x);
-                        let dvdy = S::Varying::combine2(&tri.var[1], d1y, &tri.var[2], d2y);
-                        shader.fragment_grad(tri.info, &v, &dvdx, &dvdy)
-                    } else {
-                        shader.fragment(tri.info, &v)
-                    };
-                    if let Some(c) = shaded {
-                        if st.color_write {
-                            tile.color[o] = blend(st.blend, c, tile.color[o]);
-                        }
-                        if st.depth_write {
-                            tile.depth[o] = z;
-                        }
-                    }
-                } else {
-                    n.depth_rejected += 1;
-                }
-            }
+        let mut cover = span;
+        if TEST {
             for k in 0..3 {
-                e[k] += step_x[k];
+                let mut m = 0u32;
+                for i in 0..LANES {
+                    m |= u32::from(row[k] + r.lane_x[k][i] >= 0) << i;
+                }
+                cover &= m;
+            }
+        }
+        let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
+        if cover != 0 {
+            // Unbiased edge values -> screen-space barycentrics, each from its own exact
+            // edge value (1 - λ1 - λ2 cancels near vertex 0).
+            let l0 = F8::splat((row[0] - tri.bias[0]) as f32 * inv) + r.l0_lanes;
+            let l1 = F8::splat((row[1] - tri.bias[1]) as f32 * inv) + r.l1_lanes;
+            let l2 = F8::splat((row[2] - tri.bias[2]) as f32 * inv) + r.l2_lanes;
+            let z = K::fma(z2, l2, K::fma(z1, l1, z0));
+            let depth = F8::load(&tile.depth[o..o + LANES]);
+            let pass = match st.depth_test {
+                DepthTest::Greater => z.gt(depth).bits(),
+                DepthTest::GreaterEqual => z.ge(depth).bits(),
+                DepthTest::Always => u32::MAX,
+            };
+            let live = cover & pass;
+            n.depth_rejected += u64::from((cover & !pass).count_ones());
+            if live != 0 {
+                n.shaded += u64::from(live.count_ones());
+                shade_row::<K, S>(tile, r, shader, bx, y, o, live, [l0, l1, l2], z);
             }
         }
         for k in 0..3 {
-            row[k] += step_y[k];
+            row[k] += r.step_y[k];
+        }
+    }
+}
+
+/// Interpolates, shades and writes the live lanes of one row.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shade_row<K: Kernel, S: FragmentShader>(
+    tile: &mut Tile,
+    r: &Rows<'_>,
+    shader: &S,
+    bx: u32,
+    y: u32,
+    o: usize,
+    live: u32,
+    l: [F8; 3],
+    z: F8,
+) {
+    let tri = r.tri;
+    let st = tri.state;
+    // Perspective weights p_k = λ_k (1/w_k) / Σ λ_j (1/w_j). Inside the triangle every λ is
+    // >= 0 (clamped against rounding), so every term of D is >= 0: no cancellation, and D > 0
+    // even where one 1/w is tiny (a vertex at w = 1e30).
+    let [l0, l1, l2] = l.map(|x| x.max(F8::ZERO));
+    let w1 = l1 * tri.iw[1];
+    let w2 = l2 * tri.iw[2];
+    let d = K::fma(l0, F8::splat(tri.iw[0]), w1 + w2);
+    let inv_d = d.recip();
+    let (p1, p2) = (w1 * inv_d, w2 * inv_d);
+    let stride = r.v0.len();
+    let mut var = [F8::ZERO; MAX_VARYINGS];
+    for j in 0..stride.min(MAX_VARYINGS) {
+        var[j] = K::fma(
+            F8::splat(r.d2[j]),
+            p2,
+            K::fma(F8::splat(r.d1[j]), p1, F8::splat(r.v0[j])),
+        );
+    }
+    let mut ddx = [F8::ZERO; MAX_VARYINGS];
+    let mut ddy = [F8::ZERO; MAX_VARYINGS];
+    let mut nd = 0;
+    if let Some((first, count, g)) = &r.grad {
+        let [d1x, d2x, d1y, d2y] = g.weights::<K>(p1, p2, inv_d);
+        nd = *count;
+        for j in 0..nd {
+            let (a, b) = (F8::splat(r.d1[first + j]), F8::splat(r.d2[first + j]));
+            ddx[j] = K::fma(a, d1x, b * d2x);
+            ddy[j] = K::fma(a, d1y, b * d2y);
+        }
+    }
+    let frag = Fragments {
+        tri: tri.info,
+        x: bx,
+        y,
+        mask: live,
+        var: &var[..stride],
+        ddx: &ddx[..nd],
+        ddy: &ddy[..nd],
+    };
+    let mut out = Colors::default();
+    let keep = shader.shade::<K>(&frag, &mut out) & live;
+    if keep == 0 {
+        return;
+    }
+    if st.color_write {
+        let px = &mut tile.color[o..o + LANES];
+        for (i, p) in px.iter_mut().enumerate() {
+            if keep >> i & 1 != 0 {
+                *p = blend(st.blend, out.lane(i), *p);
+            }
+        }
+    }
+    if st.depth_write {
+        let dst = &mut tile.depth[o..o + LANES];
+        for (i, d) in dst.iter_mut().enumerate() {
+            if keep >> i & 1 != 0 {
+                *d = z.0[i];
+            }
         }
     }
 }
@@ -193,7 +319,7 @@ struct Gradients {
 
 impl Gradients {
     #[inline(always)]
-    fn new<V>(tri: &SetupTri<V>) -> Self {
+    fn new(tri: &SetupTri) -> Self {
         let s = ONE as f32 * tri.inv_area;
         let (l1x, l2x) = (tri.a[1] as f32 * s, tri.a[2] as f32 * s);
         let (l1y, l2y) = (tri.b[1] as f32 * s, tri.b[2] as f32 * s);
@@ -206,15 +332,16 @@ impl Gradients {
         }
     }
 
-    /// `[∂p_1/∂x, ∂p_2/∂x, ∂p_1/∂y, ∂p_2/∂y]` at a pixel with perspective weights `p1`, `p2`
+    /// `[∂p_1/∂x, ∂p_2/∂x, ∂p_1/∂y, ∂p_2/∂y]` at lanes with perspective weights `p1`, `p2`
     /// and `inv = 1 / D`.
     #[inline(always)]
-    fn weights(&self, p1: f32, p2: f32, inv: f32) -> [f32; 4] {
+    fn weights<K: Kernel>(&self, p1: F8, p2: F8, inv: F8) -> [F8; 4] {
+        let f = |c: f32, p: F8, d: f32| K::fma(p, F8::splat(-d), F8::splat(c)) * inv;
         [
-            (self.cx[0] - p1 * self.dx) * inv,
-            (self.cx[1] - p2 * self.dx) * inv,
-            (self.cy[0] - p1 * self.dy) * inv,
-            (self.cy[1] - p2 * self.dy) * inv,
+            f(self.cx[0], p1, self.dx),
+            f(self.cx[1], p2, self.dx),
+            f(self.cy[0], p1, self.dy),
+            f(self.cy[1], p2, self.dy),
         ]
     }
 }
@@ -237,16 +364,18 @@ fn blend(mode: Blend, src: Vec4, dst: Vec4) -> Vec4 {
 mod tests {
     use glam::{Mat4, Vec2, Vec3, Vec4};
 
-    use crate::raster::{draw, Cull, Draw, DrawState, FragmentShader, Stats, Target, TriInfo};
+    use crate::raster::{
+        draw, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, Kernel, PerPixel,
+        PixelShader, Stats, Target, TriInfo,
+    };
     use crate::scene::Camera;
 
     /// Outputs the interpolated varying (alpha 1 marks coverage).
     struct Value;
 
-    impl FragmentShader for Value {
-        type Varying = Vec2;
-        fn fragment(&self, _: TriInfo, v: &Vec2) -> Option<Vec4> {
-            Some(Vec4::new(v.x, v.y, 0.0, 1.0))
+    impl PixelShader for Value {
+        fn pixel(&self, _: TriInfo, v: &[f32]) -> Option<Vec4> {
+            Some(Vec4::new(v[0], v[1], 0.0, 1.0))
         }
     }
 
@@ -254,30 +383,34 @@ mod tests {
     struct Derivatives;
 
     impl FragmentShader for Derivatives {
-        type Varying = Vec2;
-        const DERIVATIVES: bool = true;
-        fn fragment(&self, _: TriInfo, _: &Vec2) -> Option<Vec4> {
-            Some(Vec4::NAN) // must not be called
+        fn derivatives(&self, _: u32) -> Option<(usize, usize)> {
+            Some((0, 2))
         }
-        fn fragment_grad(&self, _: TriInfo, _: &Vec2, dx: &Vec2, dy: &Vec2) -> Option<Vec4> {
-            Some(Vec4::new(dx.x, dx.y, dy.x, dy.y))
+        #[inline(always)]
+        fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+            assert_eq!((f.ddx.len(), f.ddy.len()), (2, 2));
+            *out = Colors {
+                r: f.ddx[0],
+                g: f.ddx[1],
+                b: f.ddy[0],
+                a: f.ddy[1],
+            };
+            f.mask
         }
     }
 
     const W: u32 = 96;
     const H: u32 = 72;
 
-    fn render<S: FragmentShader<Varying = Vec2>>(
-        clip: &[Vec4],
-        var: &[Vec2],
-        shader: &S,
-    ) -> (Vec<Vec4>, Stats) {
+    fn render<S: FragmentShader>(clip: &[Vec4], var: &[Vec2], shader: &S) -> (Vec<Vec4>, Stats) {
+        let flat: Vec<f32> = var.iter().flat_map(|v| [v.x, v.y]).collect();
         let mut target = Target::new(W, H, Vec4::ZERO);
         let mut stats = Stats::default();
         let d = Draw {
             id: 0,
             clip,
-            varyings: var,
+            varyings: &flat,
+            stride: 2,
             triangles: &[[0, 1, 2]],
             state: DrawState {
                 cull: Cull::None,
@@ -292,7 +425,7 @@ mod tests {
     /// at every pixel whose four neighbours are covered; returns (pixels checked, worst
     /// error relative to the derivative's size).
     fn check(clip: &[Vec4], var: &[Vec2]) -> (usize, f32, Stats) {
-        let (value, stats) = render(clip, var, &Value);
+        let (value, stats) = render(clip, var, &PerPixel(Value));
         let (grad, _) = render(clip, var, &Derivatives);
         let at = |x: u32, y: u32| value[(y * W + x) as usize];
         let (mut n, mut worst) = (0, 0f32);

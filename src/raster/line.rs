@@ -49,8 +49,8 @@ pub fn draw_lines(
         }
         let (a, b) = if (oa | ob) & (NEAR | FAR) != 0 {
             // A degenerate "polygon" a-b-a clips exactly like the segment.
-            let v = |p: Vec4| ClipVertex { pos: p, var: () };
-            let tri = Poly::triangle([v(a), v(b), v(a)]);
+            let v = |p: Vec4| ClipVertex::new(p, &[]);
+            let tri = Poly::triangle([v(a), v(b), v(a)], 0);
             let poly = clip_polygon(tri, (oa | ob) & (NEAR | FAR), Vec2::ONE);
             let poly = poly.as_slice();
             if poly.len() < 2 {

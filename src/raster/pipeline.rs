@@ -8,9 +8,11 @@ use rayon::prelude::*;
 
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
 use super::fill::{fill, FillCounters};
-use super::framebuffer::{Target, TILE};
-use super::setup::{setup, Reject, SetupTri, GUARD_BAND_PX};
-use super::FragmentShader;
+use super::framebuffer::{Target, Tile, TILE};
+use super::kernel::{dispatch, KernelJob, KernelKind};
+use super::lanes::Kernel;
+use super::setup::{setup, Corners, Reject, SetupTri, GUARD_BAND_PX};
+use super::{FragmentShader, MAX_VARYINGS};
 
 /// Which faces are discarded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -85,13 +87,18 @@ impl DrawState {
     }
 }
 
-/// A batch of triangles sharing state, with clip-space positions and varyings per vertex.
+/// A batch of triangles sharing state, with clip-space positions and `stride` float
+/// varyings per vertex.
 #[derive(Clone, Copy, Debug)]
-pub struct Draw<'a, V> {
+pub struct Draw<'a> {
     /// Passed to the shader in [`super::TriInfo::draw`].
     pub id: u32,
     pub clip: &'a [Vec4],
-    pub varyings: &'a [V],
+    /// Vertex `i`'s varyings are `varyings[i * stride..(i + 1) * stride]`.
+    pub varyings: &'a [f32],
+    /// Floats per vertex, at most [`MAX_VARYINGS`] (a draw with more is skipped, its
+    /// triangles counted as degenerate).
+    pub stride: usize,
     /// Vertex indices; triangles with an index out of range are dropped as degenerate.
     pub triangles: &'a [[u32; 3]],
     pub state: DrawState,
@@ -155,10 +162,11 @@ pub fn transform_positions_into(mvp: Mat4, positions: &[Vec3], out: &mut Vec<Vec
     );
 }
 
-/// Triangles set up per parallel chunk.
-const CHUNK: usize = 2048;
-/// Set-up triangles held before the tiles are filled (bounds memory on huge meshes).
-const BATCH: usize = 64 * 1024;
+/// Input triangles set up per parallel chunk (its pieces after clipping stay below 65536,
+/// so a tile list holds u16 indices).
+pub(crate) const CHUNK: usize = 2048;
+/// Input triangles set up before the tiles are filled (bounds memory on huge meshes).
+const BATCH: usize = 32 * CHUNK;
 
 /// Guard-band scale of the x/y clip planes for a target size.
 pub(crate) fn guard(width: u32, height: u32) -> Vec2 {
@@ -171,26 +179,19 @@ pub(crate) fn guard(width: u32, height: u32) -> Vec2 {
 /// Draws read one at a time by [`draw_list`]: a slice of [`Draw`]s, or a renderer's own
 /// per-frame list that builds each draw from plain indices (so the list itself can live in
 /// memory kept from frame to frame).
-pub trait DrawList<V>: Sync {
+pub trait DrawList: Sync {
     /// Number of draws.
     fn count(&self) -> usize;
     /// Draw `i`, for `i < count()`.
-    fn draw(&self, i: usize) -> Draw<'_, V>;
+    fn draw(&self, i: usize) -> Draw<'_>;
 }
 
-impl<V: Sync> DrawList<V> for [Draw<'_, V>] {
+impl DrawList for [Draw<'_>] {
     fn count(&self) -> usize {
         self.len()
     }
-    fn draw(&self, i: usize) -> Draw<'_, V> {
-        let d = &self[i];
-        Draw {
-            id: d.id,
-            clip: d.clip,
-            varyings: d.varyings,
-            triangles: d.triangles,
-            state: d.state,
-        }
+    fn draw(&self, i: usize) -> Draw<'_> {
+        self[i]
     }
 }
 
@@ -204,12 +205,10 @@ pub struct TileCost {
     pub fragments: u64,
 }
 
-/// Per-tile memory of the pipeline that does not depend on the varying type: the bins and
-/// the per-tile costs. Kept between passes and frames; the lists of the largest tile count
-/// seen are kept, so switching between sizes allocates nothing.
-#[derive(Debug, Default)]
+/// Per-tile state of the pipeline kept between passes and frames: the per-tile costs, the
+/// stage times and the kernel the fill runs with.
+#[derive(Debug)]
 pub struct Bins {
-    bins: Vec<Vec<u32>>,
     costs: Vec<TileCost>,
     /// Tiles of the current target (the first `active` entries are in use).
     active: usize,
@@ -217,23 +216,36 @@ pub struct Bins {
     /// the passes since the last [`Bins::reset_costs`].
     pub setup_nanos: u64,
     pub fill_nanos: u64,
+    /// The kernel the fill and shaders run with ([`KernelKind::best`] by default; one the CPU
+    /// lacks runs as the portable kernel).
+    pub kernel: KernelKind,
+}
+
+impl Default for Bins {
+    fn default() -> Self {
+        Self {
+            costs: Vec::new(),
+            active: 0,
+            setup_nanos: 0,
+            fill_nanos: 0,
+            kernel: KernelKind::best(),
+        }
+    }
 }
 
 impl Bins {
-    /// Total entries over all tiles.
-    pub(crate) fn entries(&self) -> usize {
-        self.bins[..self.active].iter().map(Vec::len).sum()
-    }
-
-    /// The per-tile triangle lists.
-    pub(crate) fn lists(&mut self) -> &mut [Vec<u32>] {
-        &mut self.bins[..self.active]
+    /// Pipeline state whose fill runs with `kernel`.
+    #[must_use]
+    pub fn with_kernel(kernel: KernelKind) -> Self {
+        Self {
+            kernel,
+            ..Self::default()
+        }
     }
 
     /// Uses `tiles` tiles (allocates only beyond the largest count seen).
     pub(crate) fn fit(&mut self, tiles: usize) {
-        if self.bins.len() < tiles {
-            self.bins.resize_with(tiles, Vec::new);
+        if self.costs.len() < tiles {
             self.costs.resize(tiles, TileCost::default());
         }
         if self.active != tiles {
@@ -256,21 +268,39 @@ impl Bins {
     }
 }
 
-/// Memory of the pipeline that depends on the varying type (set-up triangles), kept
-/// between passes and frames.
-#[derive(Debug)]
-pub struct RasterScratch<V> {
-    pending: Vec<SetupTri<V>>,
-    chunks: Vec<(Vec<SetupTri<V>>, Stats)>,
+/// The set-up triangles of one chunk of input triangles, their varyings, and per tile the
+/// indices of those that touch it.
+#[derive(Debug, Default)]
+pub(crate) struct Chunk {
+    pub tris: Vec<SetupTri>,
+    pub attrs: Vec<f32>,
+    /// Per tile of the target, indices into `tris`, in order.
+    pub bins: Vec<Vec<u16>>,
+    pub stats: Stats,
 }
 
-impl<V> Default for RasterScratch<V> {
-    fn default() -> Self {
-        Self {
-            pending: Vec::new(),
-            chunks: Vec::new(),
+impl Chunk {
+    /// Empties the chunk for a target of `tiles` tiles, keeping its memory.
+    pub fn reset(&mut self, tiles: usize) {
+        self.tris.clear();
+        self.attrs.clear();
+        if self.bins.len() < tiles {
+            self.bins.resize_with(tiles, Vec::new);
         }
+        for b in &mut self.bins[..tiles] {
+            b.clear();
+        }
+        self.stats = Stats::default();
     }
+}
+
+/// Working memory of the pipeline (set-up triangles and tile lists per chunk), kept between
+/// passes and frames.
+#[derive(Debug, Default)]
+pub struct RasterScratch {
+    chunks: Vec<Chunk>,
+    /// First global triangle index of each draw.
+    starts: Vec<usize>,
 }
 
 /// Rasterizes `draws` in order into `target` with `shader`. Runs on the current rayon pool;
@@ -278,11 +308,22 @@ impl<V> Default for RasterScratch<V> {
 /// that draws every frame uses [`draw_list`] with memory it keeps.
 pub fn draw<S: FragmentShader>(
     target: &mut Target,
-    draws: &[Draw<'_, S::Varying>],
+    draws: &[Draw<'_>],
     shader: &S,
     stats: &mut Stats,
 ) {
-    let mut bins = Bins::default();
+    draw_with_kernel(target, draws, shader, stats, KernelKind::best());
+}
+
+/// [`draw`] with a given kernel (the portable one if the CPU lacks it).
+pub fn draw_with_kernel<S: FragmentShader>(
+    target: &mut Target,
+    draws: &[Draw<'_>],
+    shader: &S,
+    stats: &mut Stats,
+    kernel: KernelKind,
+) {
+    let mut bins = Bins::with_kernel(kernel);
     let mut scratch = RasterScratch::default();
     draw_list(
         target,
@@ -299,72 +340,107 @@ pub fn draw<S: FragmentShader>(
 /// and once it answers true the remaining tiles of the pass are skipped and `false` is
 /// returned (the target then holds a partial image). Returns `true` if the pass completed.
 /// Allocates nothing once `bins` and `scratch` have served a pass of this size.
-pub fn draw_list<S: FragmentShader, L: DrawList<S::Varying> + ?Sized>(
+pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
     target: &mut Target,
     draws: &L,
     shader: &S,
     stats: &mut Stats,
     bins: &mut Bins,
-    scratch: &mut RasterScratch<S::Varying>,
+    scratch: &mut RasterScratch,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
     let g = guard(target.width, target.height);
-    let (w, h) = (target.width, target.height);
-    bins.fit(target.tiles.len());
-    let RasterScratch { pending, chunks } = scratch;
-    pending.clear();
-    let mut complete = true;
-    let start = Instant::now();
-    let fill_before = bins.fill_nanos;
+    let (w, h, tiles_x) = (target.width, target.height, target.tiles_x);
+    let tiles = target.tiles.len();
+    bins.fit(tiles);
+    let RasterScratch { chunks, starts } = scratch;
+    starts.clear();
+    let mut total = 0;
     for i in 0..draws.count() {
-        let d = draws.draw(i);
-        stats.triangles_in += d.triangles.len() as u64;
-        for batch in d.triangles.chunks(BATCH) {
-            let n = batch.len().div_ceil(CHUNK);
-            if chunks.len() < n {
-                chunks.resize_with(n, || (Vec::new(), Stats::default()));
-            }
-            chunks[..n]
-                .par_iter_mut()
-                .zip(batch.par_chunks(CHUNK))
-                .for_each(|((out, st), tris)| {
-                    out.clear();
-                    *st = Stats::default();
-                    for t in tris {
-                        assemble(&d, t, g, w, h, out, st);
-                    }
-                });
-            for (tris, st) in &chunks[..n] {
-                stats.add(st);
-                for t in tris {
-                    if pending.len() >= BATCH {
-                        complete &= flush(target, pending, bins, shader, stats, stop);
-                    }
-                    bin(target, t, pending.len() as u32, bins.lists());
-                    pending.push(*t);
-                }
-            }
-        }
+        starts.push(total);
+        total += draws.draw(i).triangles.len();
     }
-    complete &= flush(target, pending, bins, shader, stats, stop);
-    let total = start.elapsed().as_nanos() as u64;
-    bins.setup_nanos += total.saturating_sub(bins.fill_nanos - fill_before);
+    stats.triangles_in += total as u64;
+    let starts = &*starts;
+    let mut complete = true;
+    let mut batch = 0;
+    while batch < total && complete {
+        let start = Instant::now();
+        let end = (batch + BATCH).min(total);
+        let n = (end - batch).div_ceil(CHUNK);
+        if chunks.len() < n {
+            chunks.resize_with(n, Chunk::default);
+        }
+        chunks[..n]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                chunk.reset(tiles);
+                let lo = batch + c * CHUNK;
+                let hi = (lo + CHUNK).min(end);
+                setup_range(draws, starts, lo, hi, g, w, h, tiles_x, chunk);
+            });
+        for c in &chunks[..n] {
+            stats.add(&c.stats);
+        }
+        bins.setup_nanos += start.elapsed().as_nanos() as u64;
+        complete = flush(target, &chunks[..n], bins, shader, stats, stop);
+        batch = end;
+    }
     complete
 }
 
-/// Culls, clips and sets up one input triangle, appending the results to `out`.
-pub(crate) fn assemble<V: super::Varying>(
-    d: &Draw<'_, V>,
-    t: &[u32; 3],
+/// Sets up and bins the global triangles `lo..hi` into `chunk`.
+#[allow(clippy::too_many_arguments)]
+fn setup_range<L: DrawList + ?Sized>(
+    draws: &L,
+    starts: &[usize],
+    lo: usize,
+    hi: usize,
     g: Vec2,
     w: u32,
     h: u32,
-    out: &mut Vec<SetupTri<V>>,
-    st: &mut Stats,
+    tiles_x: u32,
+    chunk: &mut Chunk,
 ) {
-    let fetch = |i: u32| -> Option<ClipVertex<V>> {
-        let (p, v) = (d.clip.get(i as usize)?, d.varyings.get(i as usize)?);
-        p.is_finite().then_some(ClipVertex { pos: *p, var: *v })
+    // The draw holding triangle `lo` (the last draw starting at or before it).
+    let mut di = starts.partition_point(|&s| s <= lo).saturating_sub(1);
+    let mut at = lo;
+    while at < hi && di < starts.len() {
+        let d = draws.draw(di);
+        let first = at - starts[di];
+        let take = (d.triangles.len().saturating_sub(first)).min(hi - at);
+        if d.stride > MAX_VARYINGS {
+            chunk.stats.culled_degenerate += take as u64;
+        } else {
+            for t in &d.triangles[first..first + take] {
+                let before = chunk.tris.len();
+                assemble(&d, t, g, w, h, chunk);
+                for i in before..chunk.tris.len() {
+                    bin(tiles_x, &chunk.tris[i], i as u16, &mut chunk.bins);
+                }
+            }
+        }
+        at += take;
+        di += 1;
+    }
+    chunk.stats.drawn += chunk.tris.len() as u64;
+}
+
+/// Culls, clips and sets up one input triangle, appending the results to `chunk`.
+pub(crate) fn assemble(d: &Draw<'_>, t: &[u32; 3], g: Vec2, w: u32, h: u32, chunk: &mut Chunk) {
+    let Chunk {
+        tris: out,
+        attrs,
+        stats: st,
+        ..
+    } = chunk;
+    let stride = d.stride;
+    let fetch = |i: u32| -> Option<(Vec4, &[f32])> {
+        let p = d.clip.get(i as usize)?;
+        let k = i as usize * stride;
+        let v = d.varyings.get(k..k + stride)?;
+        p.is_finite().then_some((*p, v))
     };
     let (Some(a), Some(b), Some(c)) = (fetch(t[0]), fetch(t[1]), fetch(t[2])) else {
         st.culled_degenerate += 1;
@@ -372,19 +448,18 @@ pub(crate) fn assemble<V: super::Varying>(
     };
     // Trivial reject against the real frustum; clipping needs against near/far and guard band.
     let (fa, fb, fc) = (
-        outcode(a.pos, Vec2::ONE),
-        outcode(b.pos, Vec2::ONE),
-        outcode(c.pos, Vec2::ONE),
+        outcode(a.0, Vec2::ONE),
+        outcode(b.0, Vec2::ONE),
+        outcode(c.0, Vec2::ONE),
     );
     if fa & fb & fc != 0 {
         st.culled_frustum += 1;
         return;
     }
-    let (ga, gb, gc) = (outcode(a.pos, g), outcode(b.pos, g), outcode(c.pos, g));
+    let (ga, gb, gc) = (outcode(a.0, g), outcode(b.0, g), outcode(c.0, g));
     let need = ga | gb | gc;
-    let mut ccw = None;
-    let mut push = |tri: [&ClipVertex<V>; 3], ccw: Option<bool>, st: &mut Stats| match setup(
-        tri, w, h, d.id, d.state, ccw,
+    let mut push = |tri: Corners<'_>, ccw: Option<bool>, st: &mut Stats| match setup(
+        tri, w, h, d.id, d.state, ccw, attrs,
     ) {
         Ok(s) => {
             out.push(s);
@@ -400,20 +475,25 @@ pub(crate) fn assemble<V: super::Varying>(
         }
     };
     if need == 0 {
-        let _ = push([&a, &b, &c], ccw, st);
+        let corners = Corners {
+            pos: [a.0, b.0, c.0],
+            var: [a.1, b.1, c.1],
+        };
+        let _ = push(corners, None, st);
         return;
     }
     st.clipped += 1;
     // The orientation every piece must keep: the sign of det[X; Y; W] of the whole triangle
     // (homogeneous rasterization: positive = counter-clockwise in NDC where w > 0).
-    let det = homogeneous_orientation(a.pos, b.pos, c.pos);
+    let det = homogeneous_orientation(a.0, b.0, c.0);
     if det == 0.0 || !det.is_finite() {
         st.culled_degenerate += 1;
         return;
     }
-    ccw = Some(det > 0.0);
+    let ccw = Some(det > 0.0);
     // Clip against every violated plane (near first: it guarantees w > 0 afterwards).
-    let poly = clip_polygon(Poly::triangle([a, b, c]), need, g);
+    let tri = [a, b, c].map(|(p, v)| ClipVertex::new(p, v));
+    let poly = clip_polygon(Poly::triangle(tri, stride), need, g);
     let poly = poly.as_slice();
     if poly.len() < 3 {
         st.culled_frustum += 1;
@@ -422,7 +502,8 @@ pub(crate) fn assemble<V: super::Varying>(
     let mut rejected = Stats::default();
     let mut any = false;
     for i in 1..poly.len() - 1 {
-        any |= push([&poly[0], &poly[i], &poly[i + 1]], ccw, &mut rejected);
+        let corners = Corners::of([&poly[0], &poly[i], &poly[i + 1]], stride);
+        any |= push(corners, ccw, &mut rejected);
     }
     // Count the input triangle once: as drawn if any piece survived, else by the first reason.
     if !any {
@@ -442,9 +523,9 @@ fn homogeneous_orientation(a: Vec4, b: Vec4, c: Vec4) -> f64 {
         + c[0] * (a[1] * b[2] - b[1] * a[2])
 }
 
-/// Appends triangle `index` to the bin of every tile its bounds touch and its edges do not
+/// Appends triangle `index` to the list of every tile its bounds touch and its edges do not
 /// exclude (a tile is excluded when one edge is negative at all four of its corners).
-pub(crate) fn bin<V>(target: &Target, t: &SetupTri<V>, index: u32, bins: &mut [Vec<u32>]) {
+pub(crate) fn bin(tiles_x: u32, t: &SetupTri, index: u16, bins: &mut [Vec<u16>]) {
     let (tx0, ty0, tx1, ty1) = (t.x0 / TILE, t.y0 / TILE, t.x1 / TILE, t.y1 / TILE);
     let single = tx0 == tx1 && ty0 == ty1;
     for ty in ty0..=ty1 {
@@ -452,12 +533,12 @@ pub(crate) fn bin<V>(target: &Target, t: &SetupTri<V>, index: u32, bins: &mut [V
             if !single && tile_outside(t, tx * TILE, ty * TILE) {
                 continue;
             }
-            bins[(ty * target.tiles_x + tx) as usize].push(index);
+            bins[(ty * tiles_x + tx) as usize].push(index);
         }
     }
 }
 
-fn tile_outside<V>(t: &SetupTri<V>, x: u32, y: u32) -> bool {
+fn tile_outside(t: &SetupTri, x: u32, y: u32) -> bool {
     use super::setup::ONE;
     let (px, py) = (i64::from(x) * ONE + ONE / 2, i64::from(y) * ONE + ONE / 2);
     let span = i64::from(TILE - 1) * ONE;
@@ -467,40 +548,67 @@ fn tile_outside<V>(t: &SetupTri<V>, x: u32, y: u32) -> bool {
     })
 }
 
-/// Fills every tile with its binned triangles (in parallel over tiles), then empties the bins
-/// and `pending`. Tiles are skipped once `stop` answers true; returns false if any was.
+/// One tile's fill, compiled per kernel.
+struct TileJob<'a, S> {
+    tile: &'a mut Tile,
+    index: usize,
+    chunks: &'a [Chunk],
+    shader: &'a S,
+    n: &'a mut FillCounters,
+}
+
+impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
+    type Output = ();
+    #[inline(always)]
+    fn run<K: Kernel>(self) {
+        let TileJob {
+            tile,
+            index,
+            chunks,
+            shader,
+            n,
+        } = self;
+        for c in chunks {
+            for &i in &c.bins[index] {
+                fill::<K, S>(tile, &c.tris[i as usize], &c.attrs, shader, n);
+            }
+        }
+    }
+}
+
+/// Fills every tile with its binned triangles (in parallel over tiles, in chunk order).
+/// Tiles are skipped once `stop` answers true; returns false if any was.
 pub(crate) fn flush<S: FragmentShader>(
     target: &mut Target,
-    pending: &mut Vec<SetupTri<S::Varying>>,
+    chunks: &[Chunk],
     bins: &mut Bins,
     shader: &S,
     stats: &mut Stats,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
-    if pending.is_empty() {
-        return true;
-    }
-    stats.drawn += pending.len() as u64;
-    let tris = &*pending;
     let start = Instant::now();
+    let kernel = bins.kernel;
     let (tiles, shaded, rejected, skipped) = target
         .tiles
         .par_iter_mut()
-        .zip(bins.bins[..bins.active].par_iter_mut())
         .zip(bins.costs[..bins.active].par_iter_mut())
-        .filter(|((_, b), _)| !b.is_empty())
-        .map(|((tile, bin), cost)| {
+        .enumerate()
+        .filter(|(t, _)| chunks.iter().any(|c| !c.bins[*t].is_empty()))
+        .map(|(index, (tile, cost))| {
             if stop() {
-                bin.clear();
                 return (0, 0, 0, 1);
             }
             let start = Instant::now();
             let mut n = FillCounters::default();
             tile.materialize();
-            for &i in bin.iter() {
-                fill(tile, &tris[i as usize], shader, &mut n);
-            }
-            bin.clear();
+            let job = TileJob {
+                tile,
+                index,
+                chunks,
+                shader,
+                n: &mut n,
+            };
+            dispatch(kernel, job);
             cost.nanos += start.elapsed().as_nanos() as u64;
             cost.fragments += n.shaded;
             (1, n.shaded, n.depth_rejected, 0)
@@ -512,7 +620,6 @@ pub(crate) fn flush<S: FragmentShader>(
     stats.tiles += tiles;
     stats.pixels_shaded += shaded;
     stats.depth_rejected += rejected;
-    pending.clear();
     bins.fill_nanos += start.elapsed().as_nanos() as u64;
     skipped == 0
 }

@@ -21,7 +21,7 @@ use glam::Vec4;
 
 use super::clip::ClipVertex;
 use super::pipeline::{Cull, DrawState};
-use super::{TriInfo, Varying};
+use super::TriInfo;
 
 /// Sub-pixel precision of snapped vertices: 1/256 pixel.
 pub const SUBPIXEL_BITS: u32 = 8;
@@ -32,9 +32,10 @@ pub const GUARD_BAND_PX: f32 = 8192.0;
 /// Largest absolute fixed-point coordinate accepted (clamp after clipping's rounding).
 const MAX_COORD: f32 = (1u32 << 23) as f32;
 
-/// A triangle ready to fill. Vertices are ordered so the area is positive.
+/// A triangle ready to fill. Vertices are ordered so the area is positive. Its varyings are
+/// stored next to it, in its chunk's attribute buffer (see [`setup`]).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct SetupTri<V> {
+pub(crate) struct SetupTri {
     /// Edge function coefficients (unbiased).
     pub a: [i64; 3],
     pub b: [i64; 3],
@@ -52,8 +53,10 @@ pub(crate) struct SetupTri<V> {
     pub z: [f32; 3],
     /// 1/w at the three vertices.
     pub iw: [f32; 3],
-    /// Varying at vertex 0, and its differences to vertices 1 and 2.
-    pub var: [V; 3],
+    /// Offset of the varyings in the attribute buffer: `stride` floats of vertex 0, then
+    /// the differences to vertex 1, then to vertex 2.
+    pub attr: u32,
+    pub stride: u8,
     pub info: TriInfo,
     pub state: DrawState,
 }
@@ -66,22 +69,45 @@ pub(crate) enum Reject {
     Degenerate,
 }
 
-/// Sets up one (clipped) triangle for a `width` x `height` target.
-pub(crate) fn setup<V: Varying>(
-    v: [&ClipVertex<V>; 3],
+/// Where a triangle's vertices come from: clip positions and `stride` varyings each.
+#[derive(Clone, Copy)]
+pub(crate) struct Corners<'a> {
+    pub pos: [Vec4; 3],
+    pub var: [&'a [f32]; 3],
+}
+
+impl<'a> Corners<'a> {
+    pub fn of(v: [&'a ClipVertex; 3], stride: usize) -> Self {
+        Self {
+            pos: [v[0].pos, v[1].pos, v[2].pos],
+            var: [
+                &v[0].var[..stride],
+                &v[1].var[..stride],
+                &v[2].var[..stride],
+            ],
+        }
+    }
+}
+
+/// Sets up one (clipped) triangle for a `width` x `height` target; on success its varyings
+/// are appended to `attrs`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn setup(
+    v: Corners<'_>,
     width: u32,
     height: u32,
     draw: u32,
     state: DrawState,
     ccw: Option<bool>,
-) -> Result<SetupTri<V>, Reject> {
+    attrs: &mut Vec<f32>,
+) -> Result<SetupTri, Reject> {
     let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
     let mut x = [0i64; 3];
     let mut y = [0i64; 3];
     let mut z = [0f32; 3];
     let mut iw = [0f32; 3];
     for k in 0..3 {
-        let p: Vec4 = v[k].pos;
+        let p: Vec4 = v.pos[k];
         // Clipping leaves w >= near > 0; w = 0 can only come from a caller bypassing it.
         if p.w.is_nan() || p.w <= 0.0 {
             return Err(Reject::Degenerate);
@@ -144,7 +170,6 @@ pub(crate) fn setup<V: Varying>(
         let top_left = a[k] > 0 || (a[k] == 0 && b[k] > 0);
         bias[k] = if top_left { 0 } else { -1 };
     }
-    let var0 = v[i0].var;
     let inv_area = 1.0 / area.abs() as f32;
     let dz = [z[i1] - z[i0], z[i2] - z[i0]];
     let mut z0 = z[i0];
@@ -156,6 +181,12 @@ pub(crate) fn setup<V: Varying>(
         // Reversed-Z: away from the eye is smaller.
         z0 -= state.depth_offset * dzdx.abs().max(dzdy.abs());
     }
+    let stride = v.var[0].len();
+    let attr = attrs.len() as u32;
+    let (v0, v1, v2) = (v.var[i0], v.var[i1], v.var[i2]);
+    attrs.extend_from_slice(v0);
+    attrs.extend(v1.iter().zip(v0).map(|(a, b)| a - b));
+    attrs.extend(v2.iter().zip(v0).map(|(a, b)| a - b));
     Ok(SetupTri {
         a,
         b,
@@ -168,7 +199,8 @@ pub(crate) fn setup<V: Varying>(
         inv_area,
         z: [z0, dz[0], dz[1]],
         iw: [iw[i0], iw[i1], iw[i2]],
-        var: [var0, v[i1].var.sub(&var0), v[i2].var.sub(&var0)],
+        attr,
+        stride: stride as u8,
         info: TriInfo { draw, front },
         state,
     })
@@ -199,11 +231,20 @@ fn ceil_div(n: i64, d: i64) -> i64 {
 mod tests {
     use super::*;
 
-    fn cv(x: f32, y: f32) -> ClipVertex<()> {
-        ClipVertex {
-            pos: Vec4::new(x, y, 0.5, 1.0),
-            var: (),
-        }
+    fn cv(x: f32, y: f32) -> ClipVertex {
+        ClipVertex::new(Vec4::new(x, y, 0.5, 1.0), &[])
+    }
+
+    fn run(v: [&ClipVertex; 3], w: u32, h: u32, cull: Cull) -> Result<SetupTri, Reject> {
+        setup(
+            Corners::of(v, 0),
+            w,
+            h,
+            0,
+            state(cull),
+            None,
+            &mut Vec::new(),
+        )
     }
 
     fn state(cull: Cull) -> DrawState {
@@ -241,14 +282,14 @@ mod tests {
     #[test]
     fn ccw_is_front_and_edges_positive_inside() {
         let (a, b, c) = (cv(-0.5, -0.5), cv(0.5, -0.5), cv(0.0, 0.5));
-        let t = setup([&a, &b, &c], 64, 64, 0, state(Cull::Back), None).unwrap();
+        let t = run([&a, &b, &c], 64, 64, Cull::Back).unwrap();
         assert!(t.info.front);
         let (px, py) = (32 * ONE + HALF, 32 * ONE + HALF);
         for k in 0..3 {
             assert!(t.a[k] * px + t.b[k] * py + t.c[k] > 0);
         }
         assert_eq!(
-            setup([&a, &c, &b], 64, 64, 0, state(Cull::Back), None).unwrap_err(),
+            run([&a, &c, &b], 64, 64, Cull::Back).unwrap_err(),
             Reject::Backface
         );
     }
@@ -262,7 +303,7 @@ mod tests {
             cv(s(3.5), -s(1.5)),
             cv(s(1.5), -s(3.5)),
         );
-        let t = setup([&a, &b, &c], 8, 8, 0, state(Cull::None), None).unwrap();
+        let t = run([&a, &b, &c], 8, 8, Cull::None).unwrap();
         assert_eq!((t.x0, t.x1, t.y0, t.y1), (1, 3, 1, 3));
     }
 }

@@ -14,38 +14,35 @@
 use glam::Vec2;
 
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
-use super::pipeline::{assemble, bin, flush, guard};
-use super::setup::SetupTri;
-use super::{Draw, FragmentShader, Stats, Target, Varying};
+use super::pipeline::{assemble, bin, flush, guard, Chunk, CHUNK};
+use super::{Bins, Draw, FragmentShader, KernelKind, Stats, Target};
 
-/// Triangles after setup, ready for binning (opaque).
-pub struct SetupBatch<V> {
-    tris: Vec<SetupTri<V>>,
+/// Triangles after setup, in chunks as the pipeline makes them (opaque).
+pub struct SetupBatch {
+    chunks: Vec<Chunk>,
     /// Counters of the clip / cull / setup stage.
     pub stats: Stats,
 }
 
-impl<V> SetupBatch<V> {
+impl SetupBatch {
     /// Number of set-up triangles.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.tris.len()
+        self.chunks.iter().map(|c| c.tris.len()).sum()
     }
 
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.tris.is_empty()
+        self.len() == 0
     }
-}
 
-/// Per-tile lists of triangle indices (opaque).
-pub struct Binned(super::Bins);
-
-impl Binned {
-    /// Total entries over all tiles.
+    /// Total tile-list entries after [`bin_all`].
     #[must_use]
     pub fn entries(&self) -> usize {
-        self.0.entries()
+        self.chunks
+            .iter()
+            .map(|c| c.bins.iter().map(Vec::len).sum::<usize>())
+            .sum()
     }
 }
 
@@ -53,13 +50,15 @@ impl Binned {
 /// `width` x `height` target, without setup; returns the number of output polygons' fan
 /// triangles.
 #[must_use]
-pub fn clip_cull<V: Varying>(d: &Draw<'_, V>, width: u32, height: u32) -> usize {
+pub fn clip_cull(d: &Draw<'_>, width: u32, height: u32) -> usize {
     let g = guard(width, height);
+    let s = d.stride;
     let mut pieces = 0;
     for t in d.triangles {
-        let fetch = |i: u32| -> Option<ClipVertex<V>> {
-            let (p, v) = (d.clip.get(i as usize)?, d.varyings.get(i as usize)?);
-            p.is_finite().then_some(ClipVertex { pos: *p, var: *v })
+        let fetch = |i: u32| -> Option<ClipVertex> {
+            let p = d.clip.get(i as usize)?;
+            let v = d.varyings.get(i as usize * s..(i as usize + 1) * s)?;
+            p.is_finite().then(|| ClipVertex::new(*p, v))
         };
         let (Some(a), Some(b), Some(c)) = (fetch(t[0]), fetch(t[1]), fetch(t[2])) else {
             continue;
@@ -74,7 +73,7 @@ pub fn clip_cull<V: Varying>(d: &Draw<'_, V>, width: u32, height: u32) -> usize 
         if need == 0 {
             pieces += 1;
         } else {
-            pieces += clip_polygon(Poly::triangle([a, b, c]), need, g)
+            pieces += clip_polygon(Poly::triangle([a, b, c], s), need, g)
                 .as_slice()
                 .len()
                 .saturating_sub(2);
@@ -83,38 +82,48 @@ pub fn clip_cull<V: Varying>(d: &Draw<'_, V>, width: u32, height: u32) -> usize 
     pieces
 }
 
-/// Clip / cull and fixed-point setup of every triangle of `d` (sequentially).
+/// Clip / cull and fixed-point setup of every triangle of `d` (sequentially, in the
+/// pipeline's chunks), without binning.
 #[must_use]
-pub fn setup_all<V: Varying>(d: &Draw<'_, V>, width: u32, height: u32) -> SetupBatch<V> {
+pub fn setup_all(d: &Draw<'_>, width: u32, height: u32) -> SetupBatch {
     let g = guard(width, height);
-    let mut tris = Vec::with_capacity(d.triangles.len());
     let mut stats = Stats::default();
-    for t in d.triangles {
-        assemble(d, t, g, width, height, &mut tris, &mut stats);
-    }
-    SetupBatch { tris, stats }
+    let chunks = d
+        .triangles
+        .chunks(CHUNK)
+        .map(|tris| {
+            let mut c = Chunk::default();
+            for t in tris {
+                assemble(d, t, g, width, height, &mut c);
+            }
+            stats.add(&c.stats);
+            c
+        })
+        .collect();
+    SetupBatch { chunks, stats }
 }
 
-/// Bins every triangle of `batch` into `target`'s tiles.
-#[must_use]
-pub fn bin_all<V>(target: &Target, batch: &SetupBatch<V>) -> Binned {
-    let mut bins = super::Bins::default();
-    bins.fit(target.tiles.len());
-    for (i, t) in batch.tris.iter().enumerate() {
-        bin(target, t, i as u32, bins.lists());
+/// Bins every triangle of `batch` into `target`'s tiles (replacing earlier lists).
+pub fn bin_all(target: &Target, batch: &mut SetupBatch) {
+    let tiles = target.tiles.len();
+    for c in &mut batch.chunks {
+        c.bins.resize_with(tiles, Vec::new);
+        c.bins.iter_mut().for_each(Vec::clear);
+        for (i, t) in c.tris.iter().enumerate() {
+            bin(target.tiles_x, t, i as u16, &mut c.bins);
+        }
     }
-    Binned(bins)
 }
 
-/// Fills and shades every binned triangle (in parallel over tiles); consumes the bins.
+/// Fills and shades every binned triangle (in parallel over tiles) with `kernel`.
 pub fn fill_all<S: FragmentShader>(
     target: &mut Target,
-    batch: &mut SetupBatch<S::Varying>,
-    mut bins: Binned,
+    batch: &SetupBatch,
     shader: &S,
     stats: &mut Stats,
+    kernel: KernelKind,
 ) {
-    flush(target, &mut batch.tris, &mut bins.0, shader, stats, &|| {
-        false
-    });
+    let mut bins = Bins::with_kernel(kernel);
+    bins.fit(target.tiles.len());
+    flush(target, &batch.chunks, &mut bins, shader, stats, &|| false);
 }

@@ -2,24 +2,24 @@
 //! Phong / Blinn / textured by varying type, debug views), wireframe with hidden lines
 //! removed, the wireframe overlay, blended instances back to front, or the overdraw count.
 //!
-//! Every group appends its instances' clip positions and varyings to buffers kept in the
-//! renderer's [`Pool`] and hands the rasterizer a [`DrawList`] that builds each draw from
+//! Every group appends its instances' clip positions and float varyings to buffers kept in
+//! the renderer's [`Pool`] and hands the rasterizer a [`DrawList`] that builds each draw from
 //! plain indices, so a frame allocates nothing once the buffers have grown.
 
 use std::time::Instant;
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
 use super::frame::{FrameData, FrameInst};
 use super::pool::{GroupScratch, Item, Pool};
 use super::prepare::PreparedScene;
 use super::vertex::{self, Lit};
 use crate::raster::{
-    self, Bins, Cull, DepthCopy, Draw, DrawList, DrawState, LineStyle, Stats, Target, Varying,
+    self, Bins, Cull, DepthCopy, Draw, DrawList, DrawState, LineStyle, Stats, Target,
 };
 use crate::scene::Camera;
 use crate::shade::{
-    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying,
+    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
     Shading,
 };
 
@@ -52,30 +52,32 @@ enum Geometry {
 }
 
 /// A group's draws, built on demand from plain indices.
-struct GroupDraws<'a, V> {
+struct GroupDraws<'a> {
     scene: &'a PreparedScene,
     insts: &'a [FrameInst],
     items: &'a [Item],
     clip: &'a [Vec4],
-    var: &'a [V],
+    var: &'a [f32],
     geometry: Geometry,
     state: fn(DrawState) -> DrawState,
 }
 
-impl<V: Sync> DrawList<V> for GroupDraws<'_, V> {
+impl DrawList for GroupDraws<'_> {
     fn count(&self) -> usize {
         self.items.len()
     }
 
-    fn draw(&self, i: usize) -> Draw<'_, V> {
+    fn draw(&self, i: usize) -> Draw<'_> {
         let it = self.items[i];
         let fi = &self.insts[it.inst as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];
         let range = it.start as usize..(it.start + it.len) as usize;
+        let vars = it.var_start as usize..(it.var_start + it.len * it.stride) as usize;
         Draw {
             id: fi.param,
-            clip: &self.clip[range.clone()],
-            varyings: &self.var[range],
+            clip: &self.clip[range],
+            varyings: &self.var[vars],
+            stride: it.stride as usize,
             triangles: match self.geometry {
                 Geometry::Indexed => &mesh.tri.triangles,
                 Geometry::Flat => &mesh.flat().triangles,
@@ -85,21 +87,20 @@ impl<V: Sync> DrawList<V> for GroupDraws<'_, V> {
     }
 }
 
+/// Appends one instance's varyings (one vertex per position) and returns their stride.
+type VertexFn<'a> = dyn FnMut(&FrameInst, &mut Vec<f32>) -> usize + 'a;
+
 /// Draws the frame's instances for which `pick` holds as one group: the vertex stage
-/// (`vertex` appends one varying per position) then the rasterizer. Returns false if
+/// (`vertex` appends the varyings of each position) then the rasterizer. Returns false if
 /// stopped.
-fn group<V, S>(
+fn group<S: raster::FragmentShader>(
     cx: &mut Cx,
     fd: &FrameData,
     pick: &dyn Fn(usize, &FrameInst) -> bool,
     geometry: Geometry,
-    mut vertex: impl FnMut(&FrameInst, &mut Vec<V>),
+    mut vertex: impl FnMut(&FrameInst, &mut Vec<f32>) -> usize,
     shader: &S,
-) -> bool
-where
-    V: Varying,
-    S: raster::FragmentShader<Varying = V>,
-{
+) -> bool {
     let (done, g) = group_with(cx, fd, pick, geometry, &mut vertex, shader, |s| s);
     cx.pool.put(g);
     done
@@ -107,20 +108,16 @@ where
 
 /// [`group`] with a state override, also returning the group's buffers (to be put back in
 /// the pool) for a caller that needs the clip positions afterwards (wireframe).
-fn group_with<V, S>(
+fn group_with<S: raster::FragmentShader>(
     cx: &mut Cx,
     fd: &FrameData,
     pick: &dyn Fn(usize, &FrameInst) -> bool,
     geometry: Geometry,
-    vertex: &mut dyn FnMut(&FrameInst, &mut Vec<V>),
+    vertex: &mut VertexFn<'_>,
     shader: &S,
     state: fn(DrawState) -> DrawState,
-) -> (bool, Box<GroupScratch<V>>)
-where
-    V: Varying,
-    S: raster::FragmentShader<Varying = V>,
-{
-    let mut g = cx.pool.take::<GroupScratch<V>>();
+) -> (bool, Box<GroupScratch>) {
+    let mut g = cx.pool.take::<GroupScratch>();
     g.clear();
     let start = Instant::now();
     for (k, fi) in fd.insts.iter().enumerate() {
@@ -133,13 +130,17 @@ where
             Geometry::Flat => &mesh.flat().corners,
         };
         let first = g.clip.len();
+        let var_start = g.var.len();
         raster::transform_positions_into(cx.jitter * fi.mvp, positions, &mut g.clip);
-        vertex(fi, &mut g.var);
-        debug_assert_eq!(g.var.len(), g.clip.len());
+        let stride = vertex(fi, &mut g.var);
+        let len = g.clip.len() - first;
+        debug_assert_eq!(g.var.len() - var_start, len * stride);
         g.items.push(Item {
             inst: k as u32,
             start: first as u32,
-            len: (g.clip.len() - first) as u32,
+            len: len as u32,
+            var_start: var_start as u32,
+            stride: stride as u32,
         });
     }
     cx.vertex_nanos += start.elapsed().as_nanos() as u64;
@@ -171,7 +172,7 @@ where
 pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bool) -> bool {
     if overdraw {
         let (scene, all) = (cx.scene, &|_: usize, _: &FrameInst| true);
-        let vertex = |fi: &FrameInst, out: &mut Vec<()>| vertex::unit(scene, fi, out);
+        let vertex = |fi: &FrameInst, out: &mut Vec<f32>| vertex::unit(scene, fi, out);
         return group(cx, fd, all, Geometry::Indexed, vertex, &CountShader);
     }
     let fdr = &*fd;
@@ -237,21 +238,15 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     let flat_pick = of(Shading::Flat);
     if fd.insts.iter().enumerate().any(|(k, fi)| flat_pick(k, fi)) {
         let mut facets = cx.pool.take::<FacetScratch>();
-        let shader = ColorShader::<Vec4> {
-            draws: params,
-            _v: std::marker::PhantomData,
-        };
-        let vertex = |fi: &FrameInst, out: &mut Vec<Vec4>| lit.flat(fi, &mut facets.0, out);
+        let shader = ColorShader { draws: params };
+        let vertex = |fi: &FrameInst, out: &mut Vec<f32>| lit.flat(fi, &mut facets.0, out);
         let done = group(cx, fd, &flat_pick, Geometry::Flat, vertex, &shader);
         cx.pool.put(facets);
         if !done {
             return false;
         }
     }
-    let shader = ColorShader::<(Vec4, Vec4)> {
-        draws: params,
-        _v: std::marker::PhantomData,
-    };
+    let shader = ColorShader { draws: params };
     if !group(
         cx,
         fd,
@@ -267,21 +262,12 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
         (Shading::Blinn, true),
         (Shading::Textured, true),
     ] {
-        for tex in [false, true] {
-            for col in [false, true] {
+        for uv in [false, true] {
+            for color in [false, true] {
                 let p = |k: usize, fi: &FrameInst| {
-                    fi.mode == mode && fi.textured == tex && fi.colors == col && pick(k, fi)
+                    fi.mode == mode && fi.textured == uv && fi.colors == color && pick(k, fi)
                 };
-                type P = Vec3;
-                let done = match (tex, col, blinn) {
-                    (false, false, false) => lit_group::<(P, P, ()), false>(cx, fd, &p),
-                    (false, false, true) => lit_group::<(P, P, ()), true>(cx, fd, &p),
-                    (false, true, false) => lit_group::<(P, P, Vec4), false>(cx, fd, &p),
-                    (false, true, true) => lit_group::<(P, P, Vec4), true>(cx, fd, &p),
-                    (true, false, _) => lit_group::<(P, P, Vec2), true>(cx, fd, &p),
-                    (true, true, _) => lit_group::<(P, P, (Vec2, Vec4)), true>(cx, fd, &p),
-                };
-                if !done {
+                if !lit_group(cx, fd, &p, LitLayout { uv, color }, blinn) {
                     return false;
                 }
             }
@@ -297,7 +283,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
             near: cx.camera.near,
             far: cx.camera.far,
         };
-        let vertex = |fi: &FrameInst, out: &mut Vec<Vec3>| vertex::debug(scene, fi, debug, out);
+        let vertex = |fi: &FrameInst, out: &mut Vec<f32>| vertex::debug(scene, fi, debug, out);
         if !group(cx, fd, &of(mode), Geometry::Indexed, vertex, &shader) {
             return false;
         }
@@ -309,17 +295,20 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
 #[derive(Default)]
 struct FacetScratch(Vec<Vec4>);
 
-fn lit_group<V: LitVarying, const BLINN: bool>(
+fn lit_group(
     cx: &mut Cx,
     fd: &FrameData,
     pick: &dyn Fn(usize, &FrameInst) -> bool,
+    layout: LitLayout,
+    blinn: bool,
 ) -> bool {
-    let shader = LitShader::<V, BLINN> {
+    let shader = LitShader {
         draws: &fd.params,
         lights: &fd.lights,
         eye: cx.eye,
+        layout,
+        blinn,
         lod_scale: cx.lod_scale,
-        _v: std::marker::PhantomData,
     };
     let scene = cx.scene;
     group(
@@ -327,7 +316,7 @@ fn lit_group<V: LitVarying, const BLINN: bool>(
         fd,
         pick,
         Geometry::Indexed,
-        |fi, out| vertex::lit::<V>(scene, fi, out),
+        |fi, out| vertex::lit(scene, fi, layout, out),
         &shader,
     )
 }

@@ -1,8 +1,7 @@
-//! Memory kept between frames for each varying type: the renderer draws groups whose
-//! varying types differ (a colour for Gouraud, position + normal + UV for textured Phong,
-//! nothing for a depth pass), so their buffers live in a map keyed by type. Taking a buffer
-//! out and putting it back moves a `Box`; nothing is allocated once every type in use has
-//! been seen.
+//! Memory kept between frames, in a map keyed by type: the groups' vertex buffers and the
+//! rasterizer's scratch ([`GroupScratch`]), and the scratch of particular passes (flat
+//! shading's facet colours). Taking a buffer out and putting it back moves a `Box`; nothing
+//! is allocated once every type in use has been seen.
 
 use std::any::{Any, TypeId};
 use std::collections::HashMap;
@@ -41,30 +40,24 @@ impl Pool {
 pub(super) struct Item {
     /// Index into the frame's instances.
     pub inst: u32,
+    /// First vertex in the clip positions, and vertex count.
     pub start: u32,
     pub len: u32,
+    /// First float in the varyings, and floats per vertex.
+    pub var_start: u32,
+    pub stride: u32,
 }
 
-/// The buffers of one group of draws with varying type `V`.
-pub(super) struct GroupScratch<V> {
+/// The buffers of one group of draws.
+#[derive(Default)]
+pub(super) struct GroupScratch {
     pub clip: Vec<Vec4>,
-    pub var: Vec<V>,
+    pub var: Vec<f32>,
     pub items: Vec<Item>,
-    pub raster: RasterScratch<V>,
+    pub raster: RasterScratch,
 }
 
-impl<V> Default for GroupScratch<V> {
-    fn default() -> Self {
-        Self {
-            clip: Vec::new(),
-            var: Vec::new(),
-            items: Vec::new(),
-            raster: RasterScratch::default(),
-        }
-    }
-}
-
-impl<V> GroupScratch<V> {
+impl GroupScratch {
     pub fn clear(&mut self) {
         self.clip.clear();
         self.var.clear();

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::frame::FrameInst;
 use super::prepare::{PreparedMesh, PreparedScene};
-use crate::shade::{illuminate, Debug, DrawParams, LightSet, LitVarying, Surface};
+use crate::shade::{illuminate, Debug, DrawParams, LightSet, LitLayout, Surface};
 
 const MIN_LEN: usize = 4096;
 
@@ -17,6 +17,27 @@ pub(super) struct Lit<'a> {
     pub params: &'a [DrawParams],
     pub lights: &'a LightSet,
     pub eye: Vec3,
+}
+
+/// Appends `n` vertices of `stride` floats to `out`, vertex `k` written by `f(k, floats)`,
+/// in parallel (in place: no allocation when `out` has the capacity). Returns `stride`.
+fn per_vertex(
+    out: &mut Vec<f32>,
+    n: usize,
+    stride: usize,
+    f: impl Fn(usize, &mut [f32]) + Sync + Send,
+) -> usize {
+    if stride == 0 {
+        return 0;
+    }
+    let start = out.len();
+    out.resize(start + n * stride, 0.0);
+    out[start..]
+        .par_chunks_mut(stride)
+        .with_min_len(MIN_LEN)
+        .enumerate()
+        .for_each(|(k, o)| f(k, o));
+    stride
 }
 
 /// Appends `f(0), f(1), ..., f(n - 1)`, computed in parallel, to `out` (in place: the range
@@ -34,16 +55,21 @@ fn world(scene: &PreparedScene, fi: &FrameInst, mesh: &PreparedMesh, k: usize) -
     (p, n)
 }
 
-/// Per-pixel-lighting varyings.
-pub(super) fn lit<V: LitVarying>(scene: &PreparedScene, fi: &FrameInst, out: &mut Vec<V>) {
+/// Per-pixel-lighting varyings in `layout`; returns the stride.
+pub(super) fn lit(
+    scene: &PreparedScene,
+    fi: &FrameInst,
+    layout: LitLayout,
+    out: &mut Vec<f32>,
+) -> usize {
     let mesh = &scene.meshes[fi.mesh as usize];
     let tri = &mesh.tri;
-    per_item(out, tri.positions.len(), |k| {
+    per_vertex(out, tri.positions.len(), layout.stride(), |k, o| {
         let (p, n) = world(scene, fi, mesh, k);
         let uv = tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]);
         let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
-        V::new(p, n, uv, c)
-    });
+        layout.write(o, p, n, uv, c);
+    })
 }
 
 /// The lighting equation at a vertex or facet centroid, seen from the side `n` points to.
@@ -57,29 +83,31 @@ fn lit_colour(d: &DrawParams, lights: &LightSet, eye: Vec3, p: Vec3, n: Vec3, c:
 }
 
 impl Lit<'_> {
-    /// Gouraud: lighting per vertex, colours interpolated. Double-sided materials also get
-    /// the colour of the back side (normal flipped), chosen per triangle by the shader.
-    pub fn gouraud(&self, fi: &FrameInst, out: &mut Vec<(Vec4, Vec4)>) {
+    /// Gouraud: lighting per vertex, colours interpolated (4 floats). Double-sided materials
+    /// also get the colour of the back side (normal flipped; 8 floats), chosen per triangle
+    /// by the shader. Returns the stride.
+    pub fn gouraud(&self, fi: &FrameInst, out: &mut Vec<f32>) -> usize {
         let d = &self.params[fi.param as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];
         let tri = &mesh.tri;
-        per_item(out, tri.positions.len(), |k| {
+        let stride = if d.double_sided { 8 } else { 4 };
+        per_vertex(out, tri.positions.len(), stride, |k, o| {
             let (p, n) = world(self.scene, fi, mesh, k);
             let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
             let front = lit_colour(d, self.lights, self.eye, p, n, c);
-            let back = if d.double_sided {
-                lit_colour(d, self.lights, self.eye, p, -n, c)
-            } else {
-                front
-            };
-            (front, back)
-        });
+            o[..4].copy_from_slice(&front.to_array());
+            if d.double_sided {
+                let back = lit_colour(d, self.lights, self.eye, p, -n, c);
+                o[4..8].copy_from_slice(&back.to_array());
+            }
+        })
     }
 
     /// Flat: one lighting evaluation per facet, at its area-weighted centroid with its plane
     /// normal turned towards the eye on double-sided materials; every corner of the
-    /// (unindexed) triangles carries its facet's colour. `facets` is scratch memory.
-    pub fn flat(&self, fi: &FrameInst, facets: &mut Vec<Vec4>, out: &mut Vec<Vec4>) {
+    /// (unindexed) triangles carries its facet's colour (4 floats). `facets` is scratch
+    /// memory. Returns the stride.
+    pub fn flat(&self, fi: &FrameInst, facets: &mut Vec<Vec4>, out: &mut Vec<f32>) -> usize {
         let d = &self.params[fi.param as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];
         let (tri, flat) = (&mesh.tri, mesh.flat());
@@ -94,27 +122,34 @@ impl Lit<'_> {
             lit_colour(d, self.lights, self.eye, p, n, flat.first_colors[f])
         });
         let facets = &*facets;
-        // Indexed (corner by corner), so the extend writes in place without a list of chunks.
-        per_item(out, 3 * tri.triangle_facets.len(), |c| {
+        per_vertex(out, 3 * tri.triangle_facets.len(), 4, |c, o| {
             let f = tri.triangle_facets[c / 3] as usize;
-            facets.get(f).copied().unwrap_or(Vec4::ZERO)
-        });
+            let colour = facets.get(f).copied().unwrap_or(Vec4::ZERO);
+            o.copy_from_slice(&colour.to_array());
+        })
     }
 }
 
-/// Debug views: the quantity itself as a Vec3.
-pub(super) fn debug(scene: &PreparedScene, fi: &FrameInst, mode: Debug, out: &mut Vec<Vec3>) {
+/// Debug views: the quantity itself (3 floats). Returns the stride.
+pub(super) fn debug(
+    scene: &PreparedScene,
+    fi: &FrameInst,
+    mode: Debug,
+    out: &mut Vec<f32>,
+) -> usize {
     let mesh = &scene.meshes[fi.mesh as usize];
     let tri = &mesh.tri;
-    per_item(out, tri.positions.len(), |k| match mode {
-        Debug::Normals => world(scene, fi, mesh, k).1,
-        Debug::Depth => Vec3::splat(-fi.model_view.transform_point3(tri.positions[k]).z),
-        Debug::Uv => tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]).extend(0.0),
-    });
+    per_vertex(out, tri.positions.len(), 3, |k, o| {
+        let v = match mode {
+            Debug::Normals => world(scene, fi, mesh, k).1,
+            Debug::Depth => Vec3::splat(-fi.model_view.transform_point3(tri.positions[k]).z),
+            Debug::Uv => tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]).extend(0.0),
+        };
+        o.copy_from_slice(&v.to_array());
+    })
 }
 
 /// Nothing per vertex (depth-only and counting passes).
-pub(super) fn unit(scene: &PreparedScene, fi: &FrameInst, out: &mut Vec<()>) {
-    let n = scene.meshes[fi.mesh as usize].tri.positions.len();
-    out.extend(std::iter::repeat_n((), n));
+pub(super) fn unit(_: &PreparedScene, _: &FrameInst, _: &mut Vec<f32>) -> usize {
+    0
 }

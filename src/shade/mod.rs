@@ -19,9 +19,9 @@
 mod lighting;
 mod shaders;
 
-pub use lighting::{illuminate, LightSet, Surface};
+pub use lighting::{illuminate, illuminate_lanes, LightSet, Surface, SurfaceLanes};
 pub use shaders::{
-    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, LitVarying,
+    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
 };
 
 /// A shading mode.

@@ -1,12 +1,13 @@
-//! Fragment shaders, one type per shading mode, each with the smallest varying it needs.
-//! Per-draw material parameters are looked up by `TriInfo::draw`.
+//! Fragment shaders, one type per shading mode, each shading eight pixels (lanes) at a time
+//! from the varyings the vertex stage laid out (see [`LitLayout`]). Per-draw material
+//! parameters are looked up by `TriInfo::draw`.
 
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::lighting::{illuminate, LightSet, Surface};
-use crate::raster::{FragmentShader, TriInfo, Varying};
+use super::lighting::{illuminate_lanes, LightSet, Surface, SurfaceLanes};
+use crate::raster::{Colors, FragmentShader, Fragments, Kernel, F8, LANES, V3};
 use crate::scene::AlphaMode;
 use crate::texture::{srgb_to_linear, Sampler, Texture};
 
@@ -23,195 +24,167 @@ pub struct DrawParams {
 }
 
 impl DrawParams {
-    /// Applies the alpha mode: `None` discards.
-    #[inline]
-    fn alpha(&self, c: Vec4) -> Option<Vec4> {
+    /// Applies the alpha mode to lanes `mask` with alpha `a`: returns the alpha to store and
+    /// the lanes kept (`Mask` discards those below the cutoff).
+    #[inline(always)]
+    fn alpha_lanes(&self, a: F8, mask: u32) -> (F8, u32) {
         match self.alpha {
-            AlphaMode::Opaque => Some(c.truncate().extend(1.0)),
-            AlphaMode::Mask(cutoff) => (c.w >= cutoff).then(|| c.truncate().extend(1.0)),
-            AlphaMode::Blend => Some(c),
+            AlphaMode::Opaque => (F8::ONE, mask),
+            AlphaMode::Mask(cutoff) => (F8::ONE, mask & a.ge(F8::splat(cutoff)).bits()),
+            AlphaMode::Blend => (a, mask),
         }
     }
 }
 
 /// Flat and Gouraud: the colour was computed per facet or per vertex and is interpolated.
-pub struct ColorShader<'a, V> {
+/// Varyings: RGBA (4 floats), or front RGBA then back RGBA (8 floats: Gouraud on a
+/// double-sided material, where which side is seen is known only per triangle).
+pub struct ColorShader<'a> {
     pub draws: &'a [DrawParams],
-    pub _v: std::marker::PhantomData<V>,
 }
 
-/// A precomputed colour: one (flat: the facet's side is known per facet) or a front and a
-/// back colour (Gouraud on double-sided materials: which side is seen is known only per
-/// triangle, not per vertex).
-pub trait ColorVarying: Varying {
-    fn color(&self, front: bool) -> Vec4;
-}
-
-impl ColorVarying for Vec4 {
+impl FragmentShader for ColorShader<'_> {
     #[inline(always)]
-    fn color(&self, _: bool) -> Vec4 {
-        *self
+    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+        let d = &self.draws[f.tri.draw as usize];
+        let at = if !f.tri.front && f.var.len() >= 8 {
+            4
+        } else {
+            0
+        };
+        let Some(c) = f.var.get(at..at + 4) else {
+            return 0;
+        };
+        let (a, keep) = d.alpha_lanes(c[3], f.mask);
+        *out = Colors {
+            r: c[0],
+            g: c[1],
+            b: c[2],
+            a,
+        };
+        keep
     }
 }
 
-impl ColorVarying for (Vec4, Vec4) {
-    #[inline(always)]
-    fn color(&self, front: bool) -> Vec4 {
-        if front {
-            self.0
-        } else {
-            self.1
+/// Where a lit draw's varyings are: world position at 0..3, world normal at 3..6, then the
+/// UV (2 floats) if textured, then the vertex colour (4 floats) if the mesh has colours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct LitLayout {
+    pub uv: bool,
+    pub color: bool,
+}
+
+impl LitLayout {
+    /// Floats per vertex.
+    #[must_use]
+    pub fn stride(self) -> usize {
+        6 + if self.uv { 2 } else { 0 } + if self.color { 4 } else { 0 }
+    }
+
+    /// Index of the UV's first float.
+    #[must_use]
+    pub fn uv_at(self) -> Option<usize> {
+        self.uv.then_some(6)
+    }
+
+    /// Index of the colour's first float.
+    #[must_use]
+    pub fn color_at(self) -> Option<usize> {
+        self.color.then_some(if self.uv { 8 } else { 6 })
+    }
+
+    /// Writes one vertex's varyings into `out` (`stride()` floats).
+    #[inline]
+    pub fn write(self, out: &mut [f32], p: Vec3, n: Vec3, uv: Vec2, color: Vec4) {
+        out[..3].copy_from_slice(&p.to_array());
+        out[3..6].copy_from_slice(&n.to_array());
+        if let Some(k) = self.uv_at() {
+            out[k..k + 2].copy_from_slice(&uv.to_array());
+        }
+        if let Some(k) = self.color_at() {
+            out[k..k + 4].copy_from_slice(&color.to_array());
         }
     }
 }
 
-impl<V: ColorVarying> FragmentShader for ColorShader<'_, V> {
-    type Varying = V;
-    #[inline]
-    fn fragment(&self, tri: TriInfo, v: &V) -> Option<Vec4> {
-        self.draws[tri.draw as usize].alpha(v.color(tri.front))
-    }
-}
-
-/// Per-pixel lighting varyings: world position and normal, plus UV and/or colour.
-pub trait LitVarying: Varying {
-    /// Whether the varying carries a UV ([`LitVarying::uv`] is `Some`).
-    const UV: bool;
-    fn new(p: Vec3, n: Vec3, uv: Vec2, color: Vec4) -> Self;
-    fn position(&self) -> Vec3;
-    fn normal(&self) -> Vec3;
-    fn uv(&self) -> Option<Vec2>;
-    fn color(&self) -> Option<Vec4>;
-}
-
-/// What a lit varying carries besides position and normal: nothing (`()`), a UV (`Vec2`), a
-/// vertex colour (`Vec4`) or both.
-pub trait Extra: Varying {
-    const UV: bool = false;
-    fn new(uv: Vec2, color: Vec4) -> Self;
-    fn uv(&self) -> Option<Vec2> {
-        None
-    }
-    fn color(&self) -> Option<Vec4> {
-        None
-    }
-}
-
-impl Extra for () {
-    fn new(_: Vec2, _: Vec4) -> Self {}
-}
-
-impl Extra for Vec2 {
-    const UV: bool = true;
-    fn new(uv: Vec2, _: Vec4) -> Self {
-        uv
-    }
-    fn uv(&self) -> Option<Vec2> {
-        Some(*self)
-    }
-}
-
-impl Extra for Vec4 {
-    fn new(_: Vec2, color: Vec4) -> Self {
-        color
-    }
-    fn color(&self) -> Option<Vec4> {
-        Some(*self)
-    }
-}
-
-impl Extra for (Vec2, Vec4) {
-    const UV: bool = true;
-    fn new(uv: Vec2, color: Vec4) -> Self {
-        (uv, color)
-    }
-    fn uv(&self) -> Option<Vec2> {
-        Some(self.0)
-    }
-    fn color(&self) -> Option<Vec4> {
-        Some(self.1)
-    }
-}
-
-impl<E: Extra> LitVarying for (Vec3, Vec3, E) {
-    const UV: bool = E::UV;
-    #[inline(always)]
-    fn new(p: Vec3, n: Vec3, uv: Vec2, color: Vec4) -> Self {
-        (p, n, E::new(uv, color))
-    }
-    #[inline(always)]
-    fn position(&self) -> Vec3 {
-        self.0
-    }
-    #[inline(always)]
-    fn normal(&self) -> Vec3 {
-        self.1
-    }
-    #[inline(always)]
-    fn uv(&self) -> Option<Vec2> {
-        self.2.uv()
-    }
-    #[inline(always)]
-    fn color(&self) -> Option<Vec4> {
-        self.2.color()
-    }
-}
-
-/// Phong (`BLINN = false`) or Blinn-Phong per-pixel lighting; with a UV varying, the
-/// base-colour texture modulates the diffuse colour (filtered in linear light by the
+/// Phong (R·V) or Blinn-Phong (N·H, `blinn`) per-pixel lighting; with a UV in the layout,
+/// the base-colour texture modulates the diffuse colour (filtered in linear light by the
 /// texture's sampler: trilinear by default, its level of detail from the UV's exact
-/// screen-space derivatives, which the rasterizer computes only for varyings with a UV).
-pub struct LitShader<'a, V, const BLINN: bool> {
+/// screen-space derivatives, which the rasterizer computes only for draws with a texture).
+pub struct LitShader<'a> {
     pub draws: &'a [DrawParams],
     pub lights: &'a LightSet,
     pub eye: Vec3,
+    pub layout: LitLayout,
+    pub blinn: bool,
     /// Scale of the UV derivatives before the texture's level of detail is chosen: 1 for
     /// one sample per pixel, 1/n for a pass of an n x n supersampled frame (whose samples
     /// are 1/n pixel apart, as if rendered n times larger).
     pub lod_scale: f32,
-    pub _v: std::marker::PhantomData<V>,
 }
 
-impl<V: LitVarying, const BLINN: bool> LitShader<'_, V, BLINN> {
-    /// Shades with the UV's derivatives along x and y, if known.
+impl FragmentShader for LitShader<'_> {
     #[inline(always)]
-    fn shade(&self, tri: TriInfo, v: &V, duv: Option<(Vec2, Vec2)>) -> Option<Vec4> {
-        let d = &self.draws[tri.draw as usize];
-        let mut base = d.base;
-        if let Some(c) = v.color() {
-            base *= c;
+    fn derivatives(&self, draw: u32) -> Option<(usize, usize)> {
+        let textured = self.draws[draw as usize].texture.is_some();
+        self.layout.uv_at().filter(|_| textured).map(|k| (k, 2))
+    }
+
+    #[inline(always)]
+    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+        let d = &self.draws[f.tri.draw as usize];
+        let v = f.var;
+        if v.len() < self.layout.stride() {
+            return 0;
         }
-        if let (Some(uv), Some(t)) = (v.uv(), &d.texture) {
-            let (s, k) = (d.sampler, self.lod_scale);
-            base *= match duv {
-                Some((dx, dy)) => t.sample_grad_with(uv, dx * k, dy * k, s),
-                None => t.sample_with(uv, s),
-            };
+        let mut base = Colors::splat(d.base);
+        if let Some(k) = self.layout.color_at() {
+            base.r *= v[k];
+            base.g *= v[k + 1];
+            base.b *= v[k + 2];
+            base.a *= v[k + 3];
         }
-        let mut n = v.normal().normalize_or_zero();
-        if !tri.front {
+        if let (Some(k), Some(t)) = (self.layout.uv_at(), &d.texture) {
+            let (s, lod) = (d.sampler, self.lod_scale);
+            let grad = f.ddx.len() >= 2 && f.ddy.len() >= 2;
+            for i in 0..LANES {
+                if f.mask >> i & 1 == 0 {
+                    continue;
+                }
+                let uv = Vec2::new(v[k].0[i], v[k + 1].0[i]);
+                let c = if grad {
+                    let dx = Vec2::new(f.ddx[0].0[i], f.ddx[1].0[i]) * lod;
+                    let dy = Vec2::new(f.ddy[0].0[i], f.ddy[1].0[i]) * lod;
+                    t.sample_grad_with(uv, dx, dy, s)
+                } else {
+                    t.sample_with(uv, s)
+                };
+                base.r.0[i] *= c.x;
+                base.g.0[i] *= c.y;
+                base.b.0[i] *= c.z;
+                base.a.0[i] *= c.w;
+            }
+        }
+        let mut n = V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>();
+        if !f.tri.front {
             n = -n;
         }
-        let s = Surface {
-            diffuse: base.truncate(),
-            ..d.surface
+        let s = SurfaceLanes {
+            diffuse: V3::new(base.r, base.g, base.b),
+            specular: d.surface.specular,
+            ambient: d.surface.ambient,
+            shininess: d.surface.shininess,
         };
-        let c = illuminate::<BLINN>(self.lights, &s, v.position(), n, self.eye);
-        d.alpha(c.extend(base.w))
-    }
-}
-
-impl<V: LitVarying, const BLINN: bool> FragmentShader for LitShader<'_, V, BLINN> {
-    type Varying = V;
-    const DERIVATIVES: bool = V::UV;
-    #[inline]
-    fn fragment(&self, tri: TriInfo, v: &V) -> Option<Vec4> {
-        self.shade(tri, v, None)
-    }
-    #[inline]
-    fn fragment_grad(&self, tri: TriInfo, v: &V, dvdx: &V, dvdy: &V) -> Option<Vec4> {
-        let duv = dvdx.uv().zip(dvdy.uv());
-        self.shade(tri, v, duv)
+        let p = V3::new(v[0], v[1], v[2]);
+        let c = illuminate_lanes::<K>(self.lights, &s, p, n, self.eye, self.blinn);
+        let (a, keep) = d.alpha_lanes(base.a, f.mask);
+        *out = Colors {
+            r: c.x,
+            g: c.y,
+            b: c.z,
+            a,
+        };
+        keep
     }
 }
 
@@ -226,7 +199,7 @@ pub enum Debug {
     Uv,
 }
 
-/// Debug views; the varying is the quantity itself (normal, view distance, or UV in a Vec3).
+/// Debug views; the varyings are the quantity itself (normal, view distance, or UV; 3 floats).
 pub struct DebugShader {
     pub mode: Debug,
     pub near: f32,
@@ -234,28 +207,38 @@ pub struct DebugShader {
 }
 
 impl FragmentShader for DebugShader {
-    type Varying = Vec3;
-    #[inline]
-    fn fragment(&self, _: TriInfo, v: &Vec3) -> Option<Vec4> {
+    #[inline(always)]
+    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+        let [x, y, z] = match f.var {
+            [x, y, z, ..] => [*x, *y, *z],
+            _ => return 0,
+        };
         // Debug colours are display values: decode so the PNG shows them as computed.
-        let display = match self.mode {
+        let [r, g, b] = match self.mode {
             // Raw interpolated normals, not flipped on back faces: this view is for finding
             // inverted normals.
-            Debug::Normals => v.normalize_or_zero() * 0.5 + 0.5,
+            Debug::Normals => {
+                let n = V3::new(x, y, z).normalize_or_zero::<K>();
+                let half = F8::splat(0.5);
+                [n.x * half + half, n.y * half + half, n.z * half + half]
+            }
             Debug::Depth => {
-                Vec3::splat(1.0 - ((v.x - self.near) / (self.far - self.near)).clamp(0.0, 1.0))
+                let t = (x - self.near) * (1.0 / (self.far - self.near));
+                let v = F8::ONE - t.clamp(0.0, 1.0);
+                [v, v, v]
             }
             Debug::Uv => {
-                let f = |x: f32| if x.is_finite() { x - x.floor() } else { 0.0 };
-                Vec3::new(f(v.x), f(v.y), 0.0)
+                let fract = |v: F8| v.map(|x| if x.is_finite() { x - x.floor() } else { 0.0 });
+                [fract(x), fract(y), F8::ZERO]
             }
         };
-        Some(Vec4::new(
-            srgb_to_linear(display.x),
-            srgb_to_linear(display.y),
-            srgb_to_linear(display.z),
-            1.0,
-        ))
+        *out = Colors {
+            r: r.map(srgb_to_linear),
+            g: g.map(srgb_to_linear),
+            b: b.map(srgb_to_linear),
+            a: F8::ONE,
+        };
+        f.mask
     }
 }
 
@@ -264,20 +247,20 @@ impl FragmentShader for DebugShader {
 pub struct CountShader;
 
 impl FragmentShader for CountShader {
-    type Varying = ();
-    #[inline]
-    fn fragment(&self, _: TriInfo, _: &()) -> Option<Vec4> {
-        Some(Vec4::new(1.0, 0.0, 0.0, 0.0))
+    #[inline(always)]
+    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+        *out = Colors::splat(Vec4::new(1.0, 0.0, 0.0, 0.0));
+        f.mask
     }
 }
 
-/// Writes depth only (hidden-line pass of wireframe).
+/// Writes depth only (hidden-line pass of wireframe, centre-depth pass).
 pub struct DepthOnly;
 
 impl FragmentShader for DepthOnly {
-    type Varying = ();
-    #[inline]
-    fn fragment(&self, _: TriInfo, _: &()) -> Option<Vec4> {
-        Some(Vec4::ZERO)
+    #[inline(always)]
+    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
+        *out = Colors::default();
+        f.mask
     }
 }

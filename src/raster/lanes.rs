@@ -1,0 +1,528 @@
+//! Eight-lane values for the fill and the shaders: [`F8`] (eight f32), [`M8`] (a lane mask)
+//! and [`V3`] (a vector of three [`F8`]), plus the few transcendental functions shading needs
+//! (`log2`, `exp2`, `pow`) as polynomials that work on all lanes at once.
+//!
+//! Every operation is a loop over the eight lanes marked `#[inline(always)]`: compiled inside a
+//! kernel entry point with AVX2 enabled (see [`super::kernel`]), LLVM turns each into one
+//! 256-bit instruction; in the portable kernel the same source becomes two SSE2 instructions.
+//! No `unsafe` and no intrinsics here: which instructions run is decided only by the target
+//! features of the function these are inlined into.
+//!
+//! Fused multiply-add changes rounding, so it is not used implicitly: [`Kernel::fma`] is a
+//! real FMA in kernels that have one and `a * b + c` in the portable kernel. Results of the
+//! two kernels therefore differ by float rounding only (the tests state the tolerance).
+
+// Lane loops index several arrays by the lane number on purpose: that shape vectorises.
+#![allow(clippy::needless_range_loop)]
+
+use std::ops::{Add, AddAssign, BitAnd, BitOr, Div, Mul, MulAssign, Neg, Not, Sub, SubAssign};
+
+/// Lanes per block: one row of 8 pixels.
+pub const LANES: usize = 8;
+
+/// A kernel: the instruction set the fill and shaders are compiled for. Chosen once at run
+/// time ([`super::KernelKind`]); generic code takes it as a type parameter so each kernel gets
+/// its own copy of the inner loops.
+pub trait Kernel: Copy + Default + Send + Sync + 'static {
+    /// Whether [`Kernel::fma`] is fused.
+    const FMA: bool;
+    /// `a * b + c`, fused if the kernel has FMA.
+    #[inline(always)]
+    fn fma(a: F8, b: F8, c: F8) -> F8 {
+        if Self::FMA {
+            let mut r = [0.0; LANES];
+            for i in 0..LANES {
+                r[i] = a.0[i].mul_add(b.0[i], c.0[i]);
+            }
+            F8(r)
+        } else {
+            a * b + c
+        }
+    }
+}
+
+/// Eight f32 lanes.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[repr(C, align(32))]
+pub struct F8(pub [f32; LANES]);
+
+/// A mask of eight lanes: all bits set (true) or clear (false) per lane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[repr(C, align(32))]
+pub struct M8(pub [u32; LANES]);
+
+macro_rules! lanewise {
+    ($a:expr, $b:expr, $op:tt) => {{
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = $a.0[i] $op $b.0[i];
+        }
+        F8(r)
+    }};
+}
+
+impl F8 {
+    pub const ZERO: F8 = F8([0.0; LANES]);
+    pub const ONE: F8 = F8([1.0; LANES]);
+    /// 0, 1, ..., 7.
+    pub const RAMP: F8 = F8([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(v: f32) -> Self {
+        F8([v; LANES])
+    }
+
+    /// Eight consecutive values from `s` (which must hold at least eight).
+    #[inline(always)]
+    #[must_use]
+    pub fn load(s: &[f32]) -> Self {
+        let mut r = [0.0; LANES];
+        r.copy_from_slice(&s[..LANES]);
+        F8(r)
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
+        let mut r = self.0;
+        for x in &mut r {
+            *x = f(*x);
+        }
+        F8(r)
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn sqrt(self) -> Self {
+        self.map(f32::sqrt)
+    }
+
+    /// `1 / self`.
+    #[inline(always)]
+    #[must_use]
+    pub fn recip(self) -> Self {
+        F8::ONE / self
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn abs(self) -> Self {
+        self.map(f32::abs)
+    }
+
+    /// Lane-wise maximum; `NaN` in `self` gives `o`.
+    #[inline(always)]
+    #[must_use]
+    pub fn max(self, o: Self) -> Self {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = if self.0[i] > o.0[i] {
+                self.0[i]
+            } else {
+                o.0[i]
+            };
+        }
+        F8(r)
+    }
+
+    /// Lane-wise minimum; `NaN` in `self` gives `o`.
+    #[inline(always)]
+    #[must_use]
+    pub fn min(self, o: Self) -> Self {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = if self.0[i] < o.0[i] {
+                self.0[i]
+            } else {
+                o.0[i]
+            };
+        }
+        F8(r)
+    }
+
+    /// Clamped to `[lo, hi]`; `NaN` gives `lo`.
+    #[inline(always)]
+    #[must_use]
+    pub fn clamp(self, lo: f32, hi: f32) -> Self {
+        self.max(F8::splat(lo)).min(F8::splat(hi))
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn floor(self) -> Self {
+        self.map(f32::floor)
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn gt(self, o: Self) -> M8 {
+        cmp(self, o, |a, b| a > b)
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn ge(self, o: Self) -> M8 {
+        cmp(self, o, |a, b| a >= b)
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn lt(self, o: Self) -> M8 {
+        cmp(self, o, |a, b| a < b)
+    }
+
+    /// Lanes of `a` where `m` is set, else of `b`.
+    #[inline(always)]
+    #[must_use]
+    pub fn select(m: M8, a: Self, b: Self) -> Self {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = f32::from_bits((a.0[i].to_bits() & m.0[i]) | (b.0[i].to_bits() & !m.0[i]));
+        }
+        F8(r)
+    }
+
+    /// `base^e` for `base >= 0` (0 for `base <= 0`; `0^0` = 0), via [`F8::log2`] and
+    /// [`F8::exp2`]: relative error below 2e-7 * (1 + |e log2 base|).
+    #[inline(always)]
+    #[must_use]
+    pub fn powf<K: Kernel>(self, e: F8) -> Self {
+        let p = (self.log2::<K>() * e).exp2::<K>();
+        F8::select(self.gt(F8::ZERO), p, F8::ZERO)
+    }
+
+    /// Base-2 logarithm of positive finite lanes (others: unspecified but finite-safe).
+    /// `x = m 2^k` with `m` in [sqrt(1/2), sqrt(2)), `log2 m = 2 atanh(s) / ln 2` with
+    /// `s = (m - 1) / (m + 1)`, |s| < 0.1716, summed to s^9 (truncation below 1e-9).
+    #[inline(always)]
+    #[must_use]
+    pub fn log2<K: Kernel>(self) -> Self {
+        let mut m = [0.0; LANES];
+        let mut k = [0.0; LANES];
+        for i in 0..LANES {
+            let bits = self.0[i].to_bits();
+            // Exponent relative to the mantissa range [sqrt(1/2), sqrt(2)): offset by the
+            // bits of sqrt(1/2) so the split happens there.
+            let shifted = bits.wrapping_sub(0x3f35_04f3);
+            let e = (shifted as i32) >> 23;
+            k[i] = e as f32;
+            m[i] = f32::from_bits(bits.wrapping_sub((e as u32) << 23));
+        }
+        let (m, k) = (F8(m), F8(k));
+        let s = (m - F8::ONE) / (m + F8::ONE);
+        let s2 = s * s;
+        let mut p = F8::splat(1.0 / 9.0);
+        p = K::fma(p, s2, F8::splat(1.0 / 7.0));
+        p = K::fma(p, s2, F8::splat(1.0 / 5.0));
+        p = K::fma(p, s2, F8::splat(1.0 / 3.0));
+        p = K::fma(p, s2, F8::ONE);
+        // 2 / ln 2
+        K::fma(s * p, F8::splat(std::f32::consts::LOG2_E * 2.0), k)
+    }
+
+    /// `2^self`, for lanes in about [-126, 127] (clamped there: below gives ~0, above ~inf).
+    /// Split into integer and fraction in [-0.5, 0.5], the fraction by a degree-6
+    /// polynomial (relative error below 2e-7).
+    #[inline(always)]
+    #[must_use]
+    pub fn exp2<K: Kernel>(self) -> Self {
+        let x = self.clamp(-126.0, 127.0);
+        let n = (x + F8::splat(0.5)).floor();
+        let f = x - n;
+        // Taylor coefficients of 2^f = e^(f ln 2).
+        const L: f32 = std::f32::consts::LN_2;
+        let mut p = F8::splat(L * L * L * L * L * L / 720.0);
+        p = K::fma(p, f, F8::splat(L * L * L * L * L / 120.0));
+        p = K::fma(p, f, F8::splat(L * L * L * L / 24.0));
+        p = K::fma(p, f, F8::splat(L * L * L / 6.0));
+        p = K::fma(p, f, F8::splat(L * L / 2.0));
+        p = K::fma(p, f, F8::splat(L));
+        p = K::fma(p, f, F8::ONE);
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            let scale = f32::from_bits(((n.0[i] as i32 + 127) as u32) << 23);
+            r[i] = p.0[i] * scale;
+        }
+        F8(r)
+    }
+}
+
+#[inline(always)]
+fn cmp(a: F8, b: F8, f: impl Fn(f32, f32) -> bool) -> M8 {
+    let mut r = [0u32; LANES];
+    for i in 0..LANES {
+        r[i] = if f(a.0[i], b.0[i]) { u32::MAX } else { 0 };
+    }
+    M8(r)
+}
+
+impl M8 {
+    pub const ALL: M8 = M8([u32::MAX; LANES]);
+    pub const NONE: M8 = M8([0; LANES]);
+
+    /// The mask of the lanes whose bits are set in `bits` (bit i = lane i).
+    #[inline(always)]
+    #[must_use]
+    pub fn from_bits(bits: u32) -> Self {
+        let mut r = [0u32; LANES];
+        for (i, x) in r.iter_mut().enumerate() {
+            *x = if bits >> i & 1 != 0 { u32::MAX } else { 0 };
+        }
+        M8(r)
+    }
+
+    /// Bit i set for each set lane i.
+    #[inline(always)]
+    #[must_use]
+    pub fn bits(self) -> u32 {
+        let mut b = 0;
+        for i in 0..LANES {
+            b |= (self.0[i] >> 31) << i;
+        }
+        b
+    }
+}
+
+impl BitAnd for M8 {
+    type Output = M8;
+    #[inline(always)]
+    fn bitand(self, o: M8) -> M8 {
+        let mut r = [0u32; LANES];
+        for i in 0..LANES {
+            r[i] = self.0[i] & o.0[i];
+        }
+        M8(r)
+    }
+}
+
+impl BitOr for M8 {
+    type Output = M8;
+    #[inline(always)]
+    fn bitor(self, o: M8) -> M8 {
+        let mut r = [0u32; LANES];
+        for i in 0..LANES {
+            r[i] = self.0[i] | o.0[i];
+        }
+        M8(r)
+    }
+}
+
+impl Not for M8 {
+    type Output = M8;
+    #[inline(always)]
+    fn not(self) -> M8 {
+        let mut r = [0u32; LANES];
+        for i in 0..LANES {
+            r[i] = !self.0[i];
+        }
+        M8(r)
+    }
+}
+
+macro_rules! binop {
+    ($tr:ident, $f:ident, $op:tt, $tra:ident, $fa:ident) => {
+        impl $tr for F8 {
+            type Output = F8;
+            #[inline(always)]
+            fn $f(self, o: F8) -> F8 {
+                lanewise!(self, o, $op)
+            }
+        }
+        impl $tr<f32> for F8 {
+            type Output = F8;
+            #[inline(always)]
+            fn $f(self, o: f32) -> F8 {
+                lanewise!(self, F8::splat(o), $op)
+            }
+        }
+        impl $tra for F8 {
+            #[inline(always)]
+            fn $fa(&mut self, o: F8) {
+                *self = lanewise!(*self, o, $op);
+            }
+        }
+    };
+}
+binop!(Add, add, +, AddAssign, add_assign);
+binop!(Sub, sub, -, SubAssign, sub_assign);
+binop!(Mul, mul, *, MulAssign, mul_assign);
+
+impl Div for F8 {
+    type Output = F8;
+    #[inline(always)]
+    fn div(self, o: F8) -> F8 {
+        lanewise!(self, o, /)
+    }
+}
+
+impl Neg for F8 {
+    type Output = F8;
+    #[inline(always)]
+    fn neg(self) -> F8 {
+        self.map(|x| -x)
+    }
+}
+
+/// Three [`F8`]: one 3-vector per lane.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct V3 {
+    pub x: F8,
+    pub y: F8,
+    pub z: F8,
+}
+
+impl V3 {
+    #[inline(always)]
+    #[must_use]
+    pub fn new(x: F8, y: F8, z: F8) -> Self {
+        Self { x, y, z }
+    }
+
+    /// The same vector in every lane.
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(v: glam::Vec3) -> Self {
+        Self::new(F8::splat(v.x), F8::splat(v.y), F8::splat(v.z))
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn dot<K: Kernel>(self, o: V3) -> F8 {
+        K::fma(self.x, o.x, K::fma(self.y, o.y, self.z * o.z))
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn scale(self, s: F8) -> V3 {
+        V3::new(self.x * s, self.y * s, self.z * s)
+    }
+
+    /// Unit length, or zero where the length is zero or not finite.
+    #[inline(always)]
+    #[must_use]
+    pub fn normalize_or_zero<K: Kernel>(self) -> V3 {
+        let len2 = self.dot::<K>(self);
+        let inv = len2.sqrt().recip();
+        let ok = len2.gt(F8::ZERO) & inv.lt(F8::splat(f32::INFINITY));
+        self.scale(F8::select(ok, inv, F8::ZERO))
+    }
+}
+
+/// Component-wise product with the same vector in every lane.
+impl Mul<glam::Vec3> for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn mul(self, c: glam::Vec3) -> V3 {
+        V3::new(self.x * c.x, self.y * c.y, self.z * c.z)
+    }
+}
+
+impl Add for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn add(self, o: V3) -> V3 {
+        V3::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl Sub for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn sub(self, o: V3) -> V3 {
+        V3::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl Neg for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn neg(self) -> V3 {
+        V3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Clone, Copy, Default)]
+    struct NoFma;
+    impl Kernel for NoFma {
+        const FMA: bool = false;
+    }
+    #[derive(Clone, Copy, Default)]
+    struct Fused;
+    impl Kernel for Fused {
+        const FMA: bool = true;
+    }
+
+    fn check_pow<K: Kernel>() {
+        let mut worst: f64 = 0.0;
+        for i in 1..2000 {
+            let x = i as f32 / 2000.0;
+            for e in [1.0f32, 2.5, 8.0, 32.0, 128.0, 1000.0] {
+                let got = F8::splat(x).powf::<K>(F8::splat(e)).0[0];
+                let want = f64::from(x).powf(f64::from(e));
+                if want < 1e-30 {
+                    assert!(got < 1e-29, "{x}^{e} = {got}");
+                    continue;
+                }
+                let rel = ((f64::from(got) - want) / want).abs();
+                let bound = 4e-7 * (1.0 + (f64::from(e) * f64::from(x).log2()).abs());
+                assert!(rel < bound, "{x}^{e}: {got} vs {want}, rel {rel}");
+                worst = worst.max(rel / bound);
+            }
+        }
+        assert_eq!(F8::splat(0.0).powf::<K>(F8::splat(3.0)).0[0], 0.0);
+        assert_eq!(F8::splat(-1.0).powf::<K>(F8::splat(3.0)).0[0], 0.0);
+        assert_eq!(F8::splat(1.0).powf::<K>(F8::splat(500.0)).0[0], 1.0);
+        assert!(worst > 0.0);
+    }
+
+    #[test]
+    fn pow_matches_f64_with_and_without_fma() {
+        check_pow::<NoFma>();
+        check_pow::<Fused>();
+    }
+
+    #[test]
+    fn log2_and_exp2_over_wide_ranges() {
+        for k in -120..120 {
+            for m in [1.0f32, 1.1, 1.41, 1.42, 1.9] {
+                let x = m * 2f32.powi(k);
+                let got = F8::splat(x).log2::<NoFma>().0[0];
+                let want = f64::from(x).log2();
+                assert!(
+                    (f64::from(got) - want).abs() < 2e-6 * want.abs().max(1.0),
+                    "{x}"
+                );
+            }
+        }
+        for i in -1200..1200 {
+            let x = i as f32 / 10.0;
+            let got = f64::from(F8::splat(x).exp2::<Fused>().0[0]);
+            let want = 2f64.powf(f64::from(x));
+            assert!(((got - want) / want).abs() < 3e-7, "{x}: {got} {want}");
+        }
+    }
+
+    #[test]
+    fn masks_and_selects() {
+        let a = F8::RAMP;
+        let m = a.gt(F8::splat(3.5));
+        assert_eq!(m.bits(), 0b1111_0000);
+        assert_eq!(M8::from_bits(0b1010).bits(), 0b1010);
+        let s = F8::select(m, a, -a);
+        assert_eq!(s.0, [0.0, -1.0, -2.0, -3.0, 4.0, 5.0, 6.0, 7.0]);
+        assert_eq!((m & !m).bits(), 0);
+        assert_eq!((m | !m).bits(), 0xff);
+        let mut n = F8::splat(f32::NAN);
+        n.0[1] = 2.0;
+        assert_eq!(n.clamp(0.0, 1.0).0[..2], [0.0, 1.0]);
+        let v = V3::new(F8::splat(3.0), F8::splat(4.0), F8::ZERO).normalize_or_zero::<NoFma>();
+        assert_eq!((v.x.0[0], v.y.0[0]), (0.6, 0.8));
+        let z = V3::default().normalize_or_zero::<Fused>();
+        assert_eq!(z, V3::default());
+    }
+}
