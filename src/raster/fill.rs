@@ -27,10 +27,8 @@
 // Lane and edge loops index several arrays by one counter on purpose: that shape vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use glam::Vec4;
-
-use super::framebuffer::{Tile, TILE};
-use super::lanes::{Kernel, F8, LANES};
+use super::framebuffer::{Tile, TILE, TILE_PIXELS};
+use super::lanes::{Kernel, F8, LANES, M8};
 use super::pipeline::{Blend, DepthTest};
 use super::setup::{SetupTri, ONE};
 use super::{Colors, FragmentShader, Fragments, MAX_VARYINGS};
@@ -38,11 +36,15 @@ use super::{Colors, FragmentShader, Fragments, MAX_VARYINGS};
 const BLOCK: u32 = 8;
 const HALF: i64 = ONE / 2;
 
-/// Fragment counters of one tile.
-#[derive(Clone, Copy, Debug, Default)]
+/// Fragment counters of one tile, and the lanes' working memory (kept for the whole tile:
+/// zeroing it per row cost more than the interpolation it holds).
+#[derive(Clone, Debug, Default)]
 pub(crate) struct FillCounters {
     pub shaded: u64,
     pub depth_rejected: u64,
+    var: [F8; MAX_VARYINGS],
+    ddx: [F8; MAX_VARYINGS],
+    ddy: [F8; MAX_VARYINGS],
 }
 
 /// What the rows of one triangle share, computed once per triangle and tile.
@@ -193,13 +195,19 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
     for y in y0..=y1 {
         let mut cover = span;
         if TEST {
-            for k in 0..3 {
-                let mut m = 0u32;
-                for i in 0..LANES {
-                    m |= u32::from(row[k] + r.lane_x[k][i] >= 0) << i;
-                }
-                cover &= m;
+            // A lane is out if any edge value is negative: OR the three values and read the
+            // sign bits (two 4 x i64 adds, ors and one sign-mask move per edge pair).
+            let mut any_neg = [0i64; LANES];
+            for i in 0..LANES {
+                any_neg[i] = (row[0] + r.lane_x[0][i])
+                    | (row[1] + r.lane_x[1][i])
+                    | (row[2] + r.lane_x[2][i]);
             }
+            let mut out = 0u32;
+            for i in 0..LANES {
+                out |= ((any_neg[i] >> 63) as u32 & 1) << i;
+            }
+            cover &= !out;
         }
         let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
         if cover != 0 {
@@ -219,7 +227,7 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
             n.depth_rejected += u64::from((cover & !pass).count_ones());
             if live != 0 {
                 n.shaded += u64::from(live.count_ones());
-                shade_row::<K, S>(tile, r, shader, bx, y, o, live, [l0, l1, l2], z);
+                shade_row::<K, S>(tile, r, shader, n, bx, y, o, live, [l0, l1, l2], z);
             }
         }
         for k in 0..3 {
@@ -235,6 +243,7 @@ fn shade_row<K: Kernel, S: FragmentShader>(
     tile: &mut Tile,
     r: &Rows<'_>,
     shader: &S,
+    n: &mut FillCounters,
     bx: u32,
     y: u32,
     o: usize,
@@ -254,7 +263,7 @@ fn shade_row<K: Kernel, S: FragmentShader>(
     let inv_d = d.recip();
     let (p1, p2) = (w1 * inv_d, w2 * inv_d);
     let stride = r.v0.len();
-    let mut var = [F8::ZERO; MAX_VARYINGS];
+    let FillCounters { var, ddx, ddy, .. } = n;
     for j in 0..stride.min(MAX_VARYINGS) {
         var[j] = K::fma(
             F8::splat(r.d2[j]),
@@ -262,8 +271,6 @@ fn shade_row<K: Kernel, S: FragmentShader>(
             K::fma(F8::splat(r.d1[j]), p1, F8::splat(r.v0[j])),
         );
     }
-    let mut ddx = [F8::ZERO; MAX_VARYINGS];
-    let mut ddy = [F8::ZERO; MAX_VARYINGS];
     let mut nd = 0;
     if let Some((first, count, g)) = &r.grad {
         let [d1x, d2x, d1y, d2y] = g.weights::<K>(p1, p2, inv_d);
@@ -288,21 +295,35 @@ fn shade_row<K: Kernel, S: FragmentShader>(
     if keep == 0 {
         return;
     }
+    let keep_m = M8::from_bits(keep);
+    let (color, depth) = tile.planes_mut();
     if st.color_write {
-        let px = &mut tile.color[o..o + LANES];
-        for (i, p) in px.iter_mut().enumerate() {
-            if keep >> i & 1 != 0 {
-                *p = blend(st.blend, out.lane(i), *p);
+        let plane = |c: usize| c * TILE_PIXELS + o;
+        let dst = [0, 1, 2, 3].map(|c| F8::load(&color[plane(c)..]));
+        let src = [out.r, out.g, out.b, out.a];
+        let res = match st.blend {
+            Blend::Replace => src,
+            Blend::Alpha => {
+                let a = src[3].clamp(0.0, 1.0);
+                let na = F8::ONE - a;
+                [
+                    K::fma(src[0], a, dst[0] * na),
+                    K::fma(src[1], a, dst[1] * na),
+                    K::fma(src[2], a, dst[2] * na),
+                    K::fma(dst[3], na, a),
+                ]
             }
+            Blend::Add => [0, 1, 2, 3].map(|c| src[c] + dst[c]),
+        };
+        for c in 0..4 {
+            let v = F8::select(keep_m, res[c], dst[c]);
+            color[plane(c)..plane(c) + LANES].copy_from_slice(&v.0);
         }
     }
     if st.depth_write {
-        let dst = &mut tile.depth[o..o + LANES];
-        for (i, d) in dst.iter_mut().enumerate() {
-            if keep >> i & 1 != 0 {
-                *d = z.0[i];
-            }
-        }
+        let old = F8::load(&depth[o..]);
+        let v = F8::select(keep_m, z, old);
+        depth[o..o + LANES].copy_from_slice(&v.0);
     }
 }
 
@@ -343,20 +364,6 @@ impl Gradients {
             f(self.cy[0], p1, self.dy),
             f(self.cy[1], p2, self.dy),
         ]
-    }
-}
-
-#[inline(always)]
-fn blend(mode: Blend, src: Vec4, dst: Vec4) -> Vec4 {
-    match mode {
-        Blend::Replace => src,
-        Blend::Alpha => {
-            let a = src.w.clamp(0.0, 1.0);
-            (src * a + dst * (1.0 - a))
-                .truncate()
-                .extend(a + dst.w * (1.0 - a))
-        }
-        Blend::Add => src + dst,
     }
 }
 

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 
 /// Tile edge in pixels.
 pub const TILE: u32 = 64;
-const TILE_PIXELS: usize = (TILE * TILE) as usize;
+pub(crate) const TILE_PIXELS: usize = (TILE * TILE) as usize;
 
 /// One tile: pixels `x0..x0 + w` by `y0..y0 + h` of the image (w, h <= 64 at the right and
 /// bottom borders). Storage is always 64x64, row stride 64.
@@ -24,8 +24,11 @@ pub struct Tile {
     pub y0: u32,
     pub w: u32,
     pub h: u32,
-    /// Linear RGBA; stale while `pending_clear` is set.
-    pub color: Vec<Vec4>,
+    /// Linear RGBA as four planes of 64x64 (red, green, blue, alpha: plane `c` at
+    /// `c * 4096`), so the fill reads and writes eight pixels of one channel at once; stale
+    /// while `pending_clear` is set. Read and written through [`Tile::color_at`],
+    /// [`Tile::set_color`] and [`Tile::plane_mut`].
+    color: Vec<f32>,
     /// Reversed-Z depth; stale while `pending_clear` is set.
     pub depth: Vec<f32>,
     /// `Some(c)`: the tile is logically cleared to colour `c` and depth 0.
@@ -40,17 +43,45 @@ impl Tile {
             y0: 0,
             w: TILE,
             h: TILE,
-            color: vec![Vec4::ZERO; TILE_PIXELS],
+            color: vec![0.0; 4 * TILE_PIXELS],
             depth: vec![0.0; TILE_PIXELS],
             pending_clear: None,
         }
+    }
+
+    /// The tile's storage (colour planes, depth), for the fill.
+    #[inline(always)]
+    pub(crate) fn planes_mut(&mut self) -> (&mut [f32], &mut [f32]) {
+        (&mut self.color, &mut self.depth)
+    }
+
+    /// Sets the colour of the pixel at storage offset `o` (the tile must be materialised).
+    #[inline]
+    pub fn set_color(&mut self, o: usize, c: Vec4) {
+        self.color[o] = c.x;
+        self.color[TILE_PIXELS + o] = c.y;
+        self.color[2 * TILE_PIXELS + o] = c.z;
+        self.color[3 * TILE_PIXELS + o] = c.w;
+    }
+
+    /// Stored colour at offset `o`, ignoring a pending clear.
+    #[inline]
+    fn stored(&self, o: usize) -> Vec4 {
+        Vec4::new(
+            self.color[o],
+            self.color[TILE_PIXELS + o],
+            self.color[2 * TILE_PIXELS + o],
+            self.color[3 * TILE_PIXELS + o],
+        )
     }
 
     /// Applies a pending clear, so `color` and `depth` hold the tile's contents.
     #[inline]
     pub fn materialize(&mut self) {
         if let Some(c) = self.pending_clear.take() {
-            self.color.fill(c);
+            for (plane, v) in self.color.chunks_exact_mut(TILE_PIXELS).zip(c.to_array()) {
+                plane.fill(v);
+            }
             self.depth.fill(0.0);
         }
     }
@@ -59,7 +90,7 @@ impl Tile {
     #[inline]
     #[must_use]
     pub fn color_at(&self, o: usize) -> Vec4 {
-        self.pending_clear.unwrap_or(self.color[o])
+        self.pending_clear.unwrap_or_else(|| self.stored(o))
     }
 
     /// Depth of the pixel at storage offset `o`.
@@ -104,9 +135,9 @@ impl Target {
                     y0,
                     w: TILE.min(width - x0),
                     h: TILE.min(height - y0),
-                    color: vec![clear; TILE_PIXELS],
+                    color: vec![0.0; 4 * TILE_PIXELS],
                     depth: vec![0.0; TILE_PIXELS],
-                    pending_clear: None,
+                    pending_clear: Some(clear),
                 }
             })
             .collect();
@@ -179,7 +210,7 @@ impl Target {
                                 .chunks_exact_mut(3)
                                 .for_each(|px| px.copy_from_slice(&rgb)),
                             None => {
-                                let src = &t.color[y * TILE as usize..][..t.w as usize];
+                                let src = (0..t.w as usize).map(|x| t.stored(y * TILE as usize + x));
                                 for (px, c) in dst.chunks_exact_mut(3).zip(src) {
                                     px[0] = encode(lut, c.x);
                                     px[1] = encode(lut, c.y);
@@ -240,9 +271,9 @@ impl Target {
                         match clear {
                             Some(c) => dst.iter_mut().for_each(|d| *d = px(c)),
                             None => {
-                                let src = &t.color[y * TILE as usize..][..t.w as usize];
+                                let src = (0..t.w as usize).map(|x| t.stored(y * TILE as usize + x));
                                 for (d, c) in dst.iter_mut().zip(src) {
-                                    *d = px(*c);
+                                    *d = px(c);
                                 }
                             }
                         }
@@ -369,7 +400,9 @@ impl Target {
                         fb.depth[dst..dst + w].fill(0.0);
                     }
                     None => {
-                        fb.color[dst..dst + w].copy_from_slice(&t.color[src..src + w]);
+                        for (x, c) in fb.color[dst..dst + w].iter_mut().enumerate() {
+                            *c = t.stored(src + x);
+                        }
                         fb.depth[dst..dst + w].copy_from_slice(&t.depth[src..src + w]);
                     }
                 }
@@ -482,7 +515,7 @@ mod tests {
         let mut t = Target::new(70, 65, Vec4::ONE);
         let (ti, o) = t.locate(69, 64);
         t.tiles[ti].materialize();
-        t.tiles[ti].color[o] = Vec4::ZERO;
+        t.tiles[ti].set_color(o, Vec4::ZERO);
         let fb = t.resolve();
         assert_eq!(fb.pixel(69, 64), Vec4::ZERO);
         assert_eq!(fb.pixel(68, 64), Vec4::ONE);
@@ -502,7 +535,7 @@ mod tests {
         );
         let (ti, o) = t.locate(69, 64);
         t.tiles[ti].materialize();
-        t.tiles[ti].color[o] = Vec4::new(0.5, 0.0, 1.0, 1.0);
+        t.tiles[ti].set_color(o, Vec4::new(0.5, 0.0, 1.0, 1.0));
         let mut rgba = vec![[0u8; 4]; 70 * 65];
         t.write_rgba8(&mut rgba);
         assert_eq!(rgba[64 * 70 + 69], [188, 0, 255, 255]);

@@ -16,10 +16,14 @@
 //! and stability cases on every kernel the machine has.
 //!
 //! ## The `unsafe` policy
-//! The crate denies `unsafe_code`; this module alone allows it, for one purpose: calling a
-//! `#[target_feature]` function, which Rust requires to be `unsafe` at a call site without
-//! the features, because running it on a CPU without them is undefined behaviour. Each
-//! call is guarded by a run-time CPU-feature check right next to it (SAFETY comments). No
+//! The crate denies `unsafe_code`; this module alone allows it, for two purposes:
+//! - calling a `#[target_feature]` function, which Rust requires to be `unsafe` at a call
+//!   site without the features, because running it on a CPU without them is undefined
+//!   behaviour. Each call is guarded by a run-time CPU-feature check right next to it;
+//! - [`prefetch`]: the SSE prefetch hint (part of every x86-64 CPU), `unsafe` only because
+//!   it is declared with a target feature; it reads nothing and cannot fault.
+//!
+//! Each block has a SAFETY comment. No
 //! intrinsics, raw pointers or unchecked indexing are used anywhere: the kernels are the same
 //! safe source compiled with different target features (the eight-lane loops vectorise into
 //! 256-bit instructions). A safe SIMD crate (pulp, fearless_simd) would hide the same
@@ -189,6 +193,29 @@ fn run_avx2<J: KernelJob>(job: J) -> J::Output {
 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
 fn run_avx512<J: KernelJob>(job: J) -> J::Output {
     job.run::<Avx512>()
+}
+
+/// Asks the CPU to bring the cache lines of `value` towards L1 (a hint: no effect on
+/// results; a no-op off x86-64). The fill prefetches the next triangles of a tile's list,
+/// which setup wrote on whichever thread set them up.
+#[inline(always)]
+pub(crate) fn prefetch<T: ?Sized>(value: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = (value as *const T).cast::<i8>();
+        let n = std::mem::size_of_val(value);
+        let mut off = 0;
+        while off < n {
+            // SAFETY: PREFETCHT0 is SSE, which every x86-64 CPU has; it is a hint that
+            // neither reads memory architecturally nor faults, and `p + off` stays inside
+            // `value` (wrapping_add: no pointer arithmetic UB either way).
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(off)) };
+            off += 64;
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
 }
 
 #[cfg(test)]

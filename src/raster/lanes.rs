@@ -239,9 +239,13 @@ impl F8 {
         p = K::fma(p, f, F8::splat(L * L / 2.0));
         p = K::fma(p, f, F8::splat(L));
         p = K::fma(p, f, F8::ONE);
+        // 2^n from the exponent bits: n + 127 is an integer in [1, 254], which adding 2^23
+        // places in the low mantissa bits; shifting those to the exponent field (the rest
+        // shifts out) builds the float 2^n without a float-to-int conversion.
+        let biased = n + F8::splat(127.0 + 8_388_608.0);
         let mut r = [0.0; LANES];
         for i in 0..LANES {
-            let scale = f32::from_bits(((n.0[i] as i32 + 127) as u32) << 23);
+            let scale = f32::from_bits(biased.0[i].to_bits() << 23);
             r[i] = p.0[i] * scale;
         }
         F8(r)

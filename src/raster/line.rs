@@ -139,7 +139,7 @@ fn bresenham(target: &mut Target, depth: Option<&DepthCopy>, a: Vec4, b: Vec4, s
         if !style.depth_test || z >= d * (1.0 - style.depth_tolerance) {
             let tile = &mut target.tiles[t];
             tile.materialize();
-            tile.color[o] = style.color;
+            tile.set_color(o, style.color);
             if style.depth_write {
                 tile.depth[o] = tile.depth[o].max(z);
             }

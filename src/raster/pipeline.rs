@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
 use super::fill::{fill, FillCounters};
 use super::framebuffer::{Target, Tile, TILE};
-use super::kernel::{dispatch, KernelJob, KernelKind};
+use super::kernel::{dispatch, prefetch, KernelJob, KernelKind};
 use super::lanes::Kernel;
 use super::setup::{setup, Corners, Reject, SetupTri, GUARD_BAND_PX};
 use super::{FragmentShader, MAX_VARYINGS};
@@ -166,7 +166,7 @@ pub fn transform_positions_into(mvp: Mat4, positions: &[Vec3], out: &mut Vec<Vec
 /// so a tile list holds u16 indices).
 pub(crate) const CHUNK: usize = 2048;
 /// Input triangles set up before the tiles are filled (bounds memory on huge meshes).
-const BATCH: usize = 32 * CHUNK;
+const BATCH: usize = 8 * CHUNK;
 
 /// Guard-band scale of the x/y clip planes for a target size.
 pub(crate) fn guard(width: u32, height: u32) -> Vec2 {
@@ -548,6 +548,9 @@ fn tile_outside(t: &SetupTri, x: u32, y: u32) -> bool {
     })
 }
 
+/// How many triangles ahead of the one being filled the fill prefetches.
+const PREFETCH_AHEAD: usize = 3;
+
 /// One tile's fill, compiled per kernel.
 struct TileJob<'a, S> {
     tile: &'a mut Tile,
@@ -569,7 +572,21 @@ impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
             n,
         } = self;
         for c in chunks {
-            for &i in &c.bins[index] {
+            let bin = &c.bins[index];
+            for (k, &i) in bin.iter().enumerate() {
+                // Most of a small triangle's cost is fetching its set-up data (written by
+                // another thread): prefetch the triangle 2 * AHEAD on, and the varyings of
+                // the one AHEAD on (its triangle, read for their offset, is already here).
+                if let Some(&far) = bin.get(k + 2 * PREFETCH_AHEAD) {
+                    prefetch(&c.tris[far as usize]);
+                }
+                if let Some(&near) = bin.get(k + PREFETCH_AHEAD) {
+                    let t = &c.tris[near as usize];
+                    let at = t.attr as usize;
+                    if let Some(a) = c.attrs.get(at..at + 3 * t.stride as usize) {
+                        prefetch(a);
+                    }
+                }
                 fill::<K, S>(tile, &c.tris[i as usize], &c.attrs, shader, n);
             }
         }

@@ -326,8 +326,8 @@ fn accumulate(target: &mut Target, accum: &mut [Vec4], scale: Option<f32>) {
             }
             if let Some(s) = scale {
                 tile.materialize();
-                for (c, a) in tile.color.iter_mut().zip(acc.iter()) {
-                    *c = *a * s;
+                for (o, a) in acc.iter().enumerate() {
+                    tile.set_color(o, *a * s);
                 }
             }
         });
