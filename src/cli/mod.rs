@@ -374,9 +374,7 @@ fn render(args: &RenderArgs) -> Result<()> {
     });
     drop(prepared);
     let t = Instant::now();
-    let img = image::RgbImage::from_raw(frame.target.width, frame.target.height, frame.srgb8())
-        .context("framebuffer size mismatch")?;
-    img.save(&args.output)
+    write_image(&args.output, &frame)
         .with_context(|| format!("could not write {}", args.output.display()))?;
     let t_encode = t.elapsed();
     if args.stats {
@@ -399,6 +397,34 @@ fn render(args: &RenderArgs) -> Result<()> {
         });
         say!("{json}");
     }
+    Ok(())
+}
+
+/// Writes the frame as 8-bit sRGB: PNG (fast deflate, `Up` filter, see below) for a `.png`
+/// name, else the format the extension names.
+fn write_image(path: &Path, frame: &render::Frame) -> Result<()> {
+    let (w, h) = (frame.target.width, frame.target.height);
+    let rgb = frame.srgb8();
+    let png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !png {
+        let img = image::RgbImage::from_raw(w, h, rgb).context("framebuffer size mismatch")?;
+        return Ok(img.save(path)?);
+    }
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder;
+    // Measured on the bunny at 1920x1080 (PNG part only; the sRGB encode is another 7.7
+    // ms): adaptive filtering 6.3 ms for 226 KB, `Up` 2.5 ms for 278 KB, `Sub` 3.7 ms for
+    // 261 KB, `Paeth` 5 ms for 223 KB; no filter is slower (6 MB to write).
+    let filter = FilterType::Up;
+    let file = std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(path)?);
+    PngEncoder::new_with_quality(file, CompressionType::Fast, filter).write_image(
+        &rgb,
+        w,
+        h,
+        image::ExtendedColorType::Rgb8,
+    )?;
     Ok(())
 }
 

@@ -349,6 +349,12 @@ impl Tracker {
         self.shared.is_cancelled()
     }
 
+    /// The shared handle, for worker threads to see a cancel (the tracker itself stays on
+    /// the loading thread).
+    pub(crate) fn progress(&self) -> &Progress {
+        &self.shared
+    }
+
     /// The error a cancelled load returns.
     pub(crate) fn cancelled(&self) -> LoadError {
         LoadError::Cancelled {

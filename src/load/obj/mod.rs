@@ -21,6 +21,7 @@ use super::{files, mesh_bytes, retain_facets, Budget, Dropped, LoadError, LoadOp
 use crate::mesh::{Channel, Mesh, MeshData, MeshError, NormalPolicy};
 use crate::scene::{Instance, LoadReport, Scene, Style};
 
+mod fast;
 mod mtl;
 mod reader;
 mod scan;
@@ -30,8 +31,12 @@ mod scan;
 /// a few percent: reading and UTF-8 checking 7%, the pre-scan 23%, `tobj` 47%, textures
 /// (none there) and meshes 23%.
 const READ_UNTIL: f32 = 0.07;
+/// The fast path: parsing the chunks (the joining and assembling of the models, which have
+/// no checkpoint inside, follow at this mark).
+pub(super) const FAST_UNTIL: f32 = 0.5;
+/// The sequential path (a file the fast path leaves).
 const SCAN_UNTIL: f32 = 0.30;
-pub(super) const TOBJ_UNTIL: f32 = 0.77;
+const TOBJ_UNTIL: f32 = 0.77;
 const TEXTURES_UNTIL: f32 = 0.78;
 
 /// Why an OBJ file could not be loaded. Messages are one line starting with the path.
@@ -90,10 +95,6 @@ pub(crate) fn load_obj(
         let note = "file is not valid UTF-8: invalid bytes replaced";
         scene.report.warnings.push(note.into());
     }
-    tracker.begin(Stage::Parsing, SCAN_UNTIL, text.len() as u64)?;
-    let mut scan = scan::scan(path, &text, tracker)?;
-    charge_and_note(&mut scan, &budget, &mut scene.report)?;
-
     let libs = mtl::MtlLibs {
         root: &root,
         budget: &budget,
@@ -101,23 +102,16 @@ pub(crate) fn load_obj(
         dirs: Default::default(),
         fatal: Default::default(),
     };
-    let tobj_opts = tobj::LoadOptions {
-        single_index: false,
-        triangulate: false,
-        ..Default::default()
+    tracker.begin(Stage::Parsing, FAST_UNTIL, text.len() as u64)?;
+    let (models, materials, scan) = match fast::parse(&text, &budget, tracker)? {
+        Some(mut joined) => {
+            charge_and_note(&mut joined.scan, &budget, &mut scene.report)?;
+            let (models, materials, scan) = joined.assemble(|p| libs.load(p));
+            tracker.check()?;
+            (models, Ok(materials), scan)
+        }
+        None => sequential(path, &text, &budget, tracker, &libs, &mut scene.report)?,
     };
-    tracker.begin(Stage::Parsing, TOBJ_UNTIL, scan.text.len() as u64)?;
-    let mut text = reader::Checked::new(scan.text.as_bytes(), tracker);
-    let (models, materials) =
-        tobj::load_obj_buf(&mut text, &tobj_opts, |p| libs.load(p)).map_err(|e| {
-            match tracker.is_cancelled() {
-                true => tracker.cancelled(),
-                false => LoadError::from(ObjError::Parse {
-                    path: path.to_owned(),
-                    message: format!("tobj: {e}"),
-                }),
-            }
-        })?;
     if let Some(e) = libs.fatal.take() {
         return Err(e);
     }
@@ -133,14 +127,52 @@ pub(crate) fn load_obj(
     Ok(scene)
 }
 
+/// Models, materials (or why there are none) and the pre-scan's findings.
+type Parsed<'a> = (
+    Vec<tobj::Model>,
+    Result<Vec<tobj::Material>, tobj::LoadError>,
+    scan::Scan<'a>,
+);
+
+/// The sequential path: the pre-scan (which words every error with its line), then
+/// `tobj`.
+fn sequential<'a>(
+    path: &Path,
+    text: &'a str,
+    budget: &Budget,
+    tracker: &Tracker,
+    libs: &mtl::MtlLibs,
+    report: &mut LoadReport,
+) -> Result<Parsed<'a>, LoadError> {
+    tracker.begin(Stage::Parsing, SCAN_UNTIL, text.len() as u64)?;
+    let mut scan = scan::scan(path, text, tracker)?;
+    charge_and_note(&mut scan, budget, report)?;
+    let tobj_opts = tobj::LoadOptions {
+        single_index: false,
+        triangulate: false,
+        ..Default::default()
+    };
+    tracker.begin(Stage::Parsing, TOBJ_UNTIL, scan.text.len() as u64)?;
+    let mut reader = reader::Checked::new(scan.text.as_bytes(), tracker);
+    let (models, materials) = tobj::load_obj_buf(&mut reader, &tobj_opts, |p| libs.load(p))
+        .map_err(|e| match tracker.is_cancelled() {
+            true => tracker.cancelled(),
+            false => LoadError::from(ObjError::Parse {
+                path: path.to_owned(),
+                message: format!("tobj: {e}"),
+            }),
+        })?;
+    Ok((models, materials, scan))
+}
+
 /// Charges what parsing and building will need, and reports what the scan found.
 fn charge_and_note(
     scan: &mut scan::Scan,
     budget: &Budget,
     report: &mut LoadReport,
 ) -> Result<(), LoadError> {
-    if let Cow::Owned(t) = &scan.text {
-        budget.charge(t.len() as u64, || "rewritten OBJ text".into())?;
+    if let Some(len) = scan.rewritten_len {
+        budget.charge(len, || "rewritten OBJ text".into())?;
     }
     let (v, f) = (scan.positions, scan.faces);
     budget.charge(parse_bytes(scan), || {

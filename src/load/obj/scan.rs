@@ -29,6 +29,8 @@ const CHECK_EVERY: usize = 4096;
 pub(super) struct Scan<'a> {
     /// The text to give to `tobj`.
     pub text: Cow<'a, str>,
+    /// The length of the text once rewritten, if a line was.
+    pub rewritten_len: Option<u64>,
     pub positions: u64,
     pub texcoords: u64,
     pub normals: u64,
@@ -227,6 +229,9 @@ pub(super) fn scan<'a>(
         start = end + 1;
     }
     s.text = ed.finish();
+    if let Cow::Owned(t) = &s.text {
+        s.rewritten_len = Some(t.len() as u64);
+    }
     Ok(s)
 }
 

@@ -291,7 +291,7 @@ fn a_cancel_from_another_thread_ends_a_big_load_quickly() {
     // Where a cancel finds the loader: reading, the pre-scan, tobj assembling the one
     // group at the end of the text, building the mesh and its normals (mesh/, no
     // checkpoint inside), and glTF geometry.
-    let tobj_end = super::super::obj::TOBJ_UNTIL - 0.002;
+    let tobj_end = super::super::obj::FAST_UNTIL - 0.002;
     let cases: [(&PathBuf, Stage, f32); 5] = [
         (&obj, Stage::Reading, 0.0),
         (&obj, Stage::Parsing, 0.0),
