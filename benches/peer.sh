@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # realist against Mesa llvmpipe, row by row in one run: for each row the llvmpipe peer
 # (../shared/peer/bench_llvmpipe.py, LP_NUM_THREADS=$THREADS) and `realist bench frame` on the
-# same scene (--threads $THREADS), alternating, then a markdown table with the speed-up
+# same scene (--threads $THREADS), alternating (realist runs once before and twice after
+# llvmpipe; its time is the median of the three runs' medians), then a markdown table with the speed-up
 # (llvmpipe ms / realist ms) and a cross-check of the two images: the mean absolute
 # difference in 8-bit units over interior pixels (`realist bench diff`: pixels whose 3x3
 # neighbourhood is covered in both images; silhouettes against the background left out).
@@ -69,29 +70,47 @@ v = json.loads(line).get(sys.argv[1]) if line.strip() else None
 print("n/a" if v is None else v)' "$1"
 }
 
+# One realist run of the current row, appended to its JSON lines. realist runs once before
+# llvmpipe and twice after, and its time is the median of the three medians: a single
+# 2-second window is at the mercy of the shared machine's bursts.
+bench() {
+    "$realist" bench frame "$m" --size "$res" --shading "$mode" --threads "$threads" \
+        --png "$out/realist_$tag.png" >>"$out/$tag.realist.json"
+}
+
 echo "| mesh | size | mode | llvmpipe ms | realist ms | speed-up | mean abs diff (8-bit) |"
 echo "|---|---|---|---|---|---|---|"
 for row in "${rows[@]}"; do
     IFS=/ read -r mesh res mode <<<"$row"
     m=$(model "$mesh")
     tag=${mesh}_${res}_${mode}
+    : >"$out/$tag.realist.json"
+    echo "peer.sh: $row: realist" >&2
+    bench
     echo "peer.sh: $row: llvmpipe" >&2
     (cd "$shared/peer" && LP_NUM_THREADS=$threads "$py" bench_llvmpipe.py --mesh "$mesh" \
         --res "$res" --shading "$mode" --rounds "$rounds" --png "$out/peer") \
         | tail -n 1 >"$out/$tag.peer.json"
     echo "peer.sh: $row: realist" >&2
-    "$realist" bench frame "$m" --size "$res" --shading "$mode" --threads "$threads" \
-        --png "$out/realist_$tag.png" >"$out/$tag.realist.json"
+    bench
+    bench
     lp=$(field ms_finish_median <"$out/$tag.peer.json")
-    rl=$(field median_ms <"$out/$tag.realist.json")
+    rl=$("$py" -c 'import json, statistics, sys
+print(statistics.median(json.loads(l)["median_ms"] for l in sys.stdin if l.strip()))' \
+        <"$out/$tag.realist.json")
     diff=n/a
     if [ -f "$out/peer_$tag.png" ]; then
         "$realist" bench diff "$out/realist_$tag.png" "$out/peer_$tag.png" >"$out/$tag.diff.json"
         diff=$(field mean_abs_diff <"$out/$tag.diff.json")
     fi
-    speedup=$("$py" -c 'import sys
-try: print("%.2fx" % (float(sys.argv[1]) / float(sys.argv[2])))
-except ValueError: print("n/a")' "$lp" "$rl")
-    echo "| $mesh | $res | $mode | $lp | $rl | $speedup | $diff |"
+    "$py" -c 'import sys
+mesh, res, mode, lp, rl, diff = sys.argv[1:]
+def num(s, fmt):
+    try: return fmt % float(s)
+    except ValueError: return s
+try: speedup = "%.2fx" % (float(lp) / float(rl))
+except (ValueError, ZeroDivisionError): speedup = "n/a"
+print("| %s | %s | %s | %s | %s | %s | %s |" % (mesh, res, mode, num(lp, "%.1f"), num(rl, "%.1f"),
+      speedup, num(diff, "%.2f")))' "$mesh" "$res" "$mode" "$lp" "$rl" "$diff"
 done
 echo "peer.sh: PNGs and JSON lines in $out" >&2
