@@ -1,5 +1,9 @@
 //! `realist bench`: warm frame times with the peer harness's camera and light, so realist and
 //! Mesa llvmpipe (`../shared/peer`) can be compared as ratios measured in one run.
+//!
+//! `realist bench frame` (`frame.rs`) renders the peer's exact scene (`peer_scene.rs`: its
+//! mesh reading, normals, texture, light and camera) and times single frames; `bench diff`
+//! (`diff.rs`, hidden) compares its PNG with the peer's. `benches/peer.sh` runs both.
 
 use std::time::Instant;
 
@@ -11,6 +15,13 @@ use realist::scene::{Camera, Scene};
 use realist::shade::Shading;
 
 use super::{load_model, parse_size, BenchArgs, NormalArgs};
+
+mod diff;
+mod frame;
+mod peer_scene;
+
+pub(crate) use diff::{diff, DiffArgs};
+pub(crate) use frame::{frame, FrameArgs};
 
 /// The peer harness's view: eye = normalize(1.6, 1.2, 2.0) * 2.8 for a mesh scaled so its
 /// farthest vertex from the box centre is at distance 1; FOV 45 degrees, near 0.5, far 10.

@@ -96,6 +96,13 @@ pub(crate) enum BenchCommand {
     /// Time versus error: vary one knob at a time against an analytic reference, write
     /// results.csv and pareto.png, print the Pareto-optimal settings.
     Accuracy(accuracy::AccuracyArgs),
+    /// Frame time of the llvmpipe peer harness's exact scene (../shared/peer): one reused
+    /// renderer, warm-up then timed frames, one JSON line; --png writes the last frame as the
+    /// peer stores it (linear values, no sRGB).
+    Frame(bench::FrameArgs),
+    /// Mean absolute 8-bit difference of two RGBA PNGs over interior (non-silhouette) pixels.
+    #[command(hide = true)]
+    Diff(bench::DiffArgs),
 }
 
 #[derive(Args)]
@@ -241,6 +248,8 @@ pub fn run() -> Result<()> {
         Some(Command::Info(args)) => info(&args),
         Some(Command::Bench(args)) => match &args.sub {
             Some(BenchCommand::Accuracy(a)) => accuracy::accuracy(a),
+            Some(BenchCommand::Frame(a)) => bench::frame(a),
+            Some(BenchCommand::Diff(a)) => bench::diff(a),
             None => bench(&args),
         },
         Some(Command::Color(args)) => color(&args),
