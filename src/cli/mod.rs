@@ -396,6 +396,7 @@ fn render(args: &RenderArgs) -> Result<()> {
             "drawn": s.drawn,
             "tiles": s.tiles,
             "pixels_shaded": s.pixels_shaded,
+            "shader_calls": s.shader_calls,
             "counters": s,
             "ms": {
                 "load": ms(t_load),

@@ -42,6 +42,7 @@ const HALF: i64 = ONE / 2;
 pub(crate) struct FillCounters {
     pub shaded: u64,
     pub depth_rejected: u64,
+    pub calls: u64,
     var: [F8; MAX_VARYINGS],
     ddx: [F8; MAX_VARYINGS],
     ddy: [F8; MAX_VARYINGS],
@@ -85,8 +86,8 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
     let Some(var) = attrs.get(at..at + 3 * stride) else {
         return;
     };
-    let step_x = [tri.a[0] * ONE, tri.a[1] * ONE, tri.a[2] * ONE];
-    let step_y = [tri.b[0] * ONE, tri.b[1] * ONE, tri.b[2] * ONE];
+    let step_x = [0, 1, 2].map(|k| tri.ab(k).0 * ONE);
+    let step_y = [0, 1, 2].map(|k| tri.ab(k).1 * ONE);
     let mut lane_x = [[0i64; LANES]; 3];
     for k in 0..3 {
         for (i, l) in lane_x[k].iter_mut().enumerate() {
@@ -139,10 +140,8 @@ enum Coverage {
 /// Edge function (biased) at the centre of pixel (x, y).
 #[inline(always)]
 fn edge_at(tri: &SetupTri, k: usize, x: u32, y: u32) -> i64 {
-    tri.a[k] * (i64::from(x) * ONE + HALF)
-        + tri.b[k] * (i64::from(y) * ONE + HALF)
-        + tri.c[k]
-        + tri.bias[k]
+    let (a, b) = tri.ab(k);
+    a * (i64::from(x) * ONE + HALF) + b * (i64::from(y) * ONE + HALF) + tri.c[k] + tri.bias(k)
 }
 
 #[inline(always)]
@@ -151,7 +150,8 @@ fn classify(tri: &SetupTri, x0: u32, y0: u32, x1: u32, y1: u32) -> Coverage {
     let (dx, dy) = (i64::from(x1 - x0) * ONE, i64::from(y1 - y0) * ONE);
     for k in 0..3 {
         let e = edge_at(tri, k, x0, y0);
-        let (ax, by) = (tri.a[k] * dx, tri.b[k] * dy);
+        let (a, b) = tri.ab(k);
+        let (ax, by) = (a * dx, b * dy);
         let max = e + ax.max(0) + by.max(0);
         let min = e + ax.min(0) + by.min(0);
         if max < 0 {
@@ -197,15 +197,17 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
         if TEST {
             // A lane is out if any edge value is negative: OR the three values and read the
             // sign bits (two 4 x i64 adds, ors and one sign-mask move per edge pair).
-            let mut any_neg = [0i64; LANES];
+            let mut sign = [0u64; LANES];
             for i in 0..LANES {
-                any_neg[i] = (row[0] + r.lane_x[0][i])
+                let v = (row[0] + r.lane_x[0][i])
                     | (row[1] + r.lane_x[1][i])
                     | (row[2] + r.lane_x[2][i]);
+                // Logical shift: AVX2 has it for 64-bit lanes, the arithmetic one it lacks.
+                sign[i] = (v as u64) >> 63;
             }
             let mut out = 0u32;
             for i in 0..LANES {
-                out |= ((any_neg[i] >> 63) as u32 & 1) << i;
+                out |= (sign[i] as u32) << i;
             }
             cover &= !out;
         }
@@ -213,9 +215,9 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
         if cover != 0 {
             // Unbiased edge values -> screen-space barycentrics, each from its own exact
             // edge value (1 - λ1 - λ2 cancels near vertex 0).
-            let l0 = F8::splat((row[0] - tri.bias[0]) as f32 * inv) + r.l0_lanes;
-            let l1 = F8::splat((row[1] - tri.bias[1]) as f32 * inv) + r.l1_lanes;
-            let l2 = F8::splat((row[2] - tri.bias[2]) as f32 * inv) + r.l2_lanes;
+            let l0 = F8::splat((row[0] - tri.bias(0)) as f32 * inv) + r.l0_lanes;
+            let l1 = F8::splat((row[1] - tri.bias(1)) as f32 * inv) + r.l1_lanes;
+            let l2 = F8::splat((row[2] - tri.bias(2)) as f32 * inv) + r.l2_lanes;
             let z = K::fma(z2, l2, K::fma(z1, l1, z0));
             let depth = F8::load(&tile.depth[o..o + LANES]);
             let pass = match st.depth_test {
@@ -227,6 +229,7 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
             n.depth_rejected += u64::from((cover & !pass).count_ones());
             if live != 0 {
                 n.shaded += u64::from(live.count_ones());
+                n.calls += 1;
                 shade_row::<K, S>(tile, r, shader, n, bx, y, o, live, [l0, l1, l2], z);
             }
         }
@@ -256,7 +259,7 @@ fn shade_row<K: Kernel, S: FragmentShader>(
     // Perspective weights p_k = λ_k (1/w_k) / Σ λ_j (1/w_j). Inside the triangle every λ is
     // >= 0 (clamped against rounding), so every term of D is >= 0: no cancellation, and D > 0
     // even where one 1/w is tiny (a vertex at w = 1e30).
-    let [l0, l1, l2] = l.map(|x| x.max(F8::ZERO));
+    let (l0, l1, l2) = (l[0].max(F8::ZERO), l[1].max(F8::ZERO), l[2].max(F8::ZERO));
     let w1 = l1 * tri.iw[1];
     let w2 = l2 * tri.iw[2];
     let d = K::fma(l0, F8::splat(tri.iw[0]), w1 + w2);
@@ -298,27 +301,34 @@ fn shade_row<K: Kernel, S: FragmentShader>(
     let keep_m = M8::from_bits(keep);
     let (color, depth) = tile.planes_mut();
     if st.color_write {
-        let plane = |c: usize| c * TILE_PIXELS + o;
-        let dst = [0, 1, 2, 3].map(|c| F8::load(&color[plane(c)..]));
-        let src = [out.r, out.g, out.b, out.a];
-        let res = match st.blend {
-            Blend::Replace => src,
+        let (cr, rest) = color.split_at_mut(TILE_PIXELS);
+        let (cg, rest) = rest.split_at_mut(TILE_PIXELS);
+        let (cb, ca) = rest.split_at_mut(TILE_PIXELS);
+        let (pr, pg, pb, pa) = (
+            &mut cr[o..o + LANES],
+            &mut cg[o..o + LANES],
+            &mut cb[o..o + LANES],
+            &mut ca[o..o + LANES],
+        );
+        let (dr, dg, db, da) = (F8::load(pr), F8::load(pg), F8::load(pb), F8::load(pa));
+        let (r2, g2, b2, a2) = match st.blend {
+            Blend::Replace => (out.r, out.g, out.b, out.a),
             Blend::Alpha => {
-                let a = src[3].clamp(0.0, 1.0);
+                let a = out.a.clamp(0.0, 1.0);
                 let na = F8::ONE - a;
-                [
-                    K::fma(src[0], a, dst[0] * na),
-                    K::fma(src[1], a, dst[1] * na),
-                    K::fma(src[2], a, dst[2] * na),
-                    K::fma(dst[3], na, a),
-                ]
+                (
+                    K::fma(out.r, a, dr * na),
+                    K::fma(out.g, a, dg * na),
+                    K::fma(out.b, a, db * na),
+                    K::fma(da, na, a),
+                )
             }
-            Blend::Add => [0, 1, 2, 3].map(|c| src[c] + dst[c]),
+            Blend::Add => (out.r + dr, out.g + dg, out.b + db, out.a + da),
         };
-        for c in 0..4 {
-            let v = F8::select(keep_m, res[c], dst[c]);
-            color[plane(c)..plane(c) + LANES].copy_from_slice(&v.0);
-        }
+        pr.copy_from_slice(&F8::select(keep_m, r2, dr).0);
+        pg.copy_from_slice(&F8::select(keep_m, g2, dg).0);
+        pb.copy_from_slice(&F8::select(keep_m, b2, db).0);
+        pa.copy_from_slice(&F8::select(keep_m, a2, da).0);
     }
     if st.depth_write {
         let old = F8::load(&depth[o..]);

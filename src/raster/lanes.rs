@@ -85,9 +85,9 @@ impl F8 {
     #[inline(always)]
     #[must_use]
     pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
-        let mut r = self.0;
-        for x in &mut r {
-            *x = f(*x);
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = f(self.0[i]);
         }
         F8(r)
     }
@@ -178,7 +178,7 @@ impl F8 {
     pub fn select(m: M8, a: Self, b: Self) -> Self {
         let mut r = [0.0; LANES];
         for i in 0..LANES {
-            r[i] = f32::from_bits((a.0[i].to_bits() & m.0[i]) | (b.0[i].to_bits() & !m.0[i]));
+            r[i] = if m.0[i] != 0 { a.0[i] } else { b.0[i] };
         }
         F8(r)
     }

@@ -122,6 +122,9 @@ pub struct Stats {
     /// Non-empty tile bins filled.
     pub tiles: u64,
     pub pixels_shaded: u64,
+    /// Shader calls (eight-lane block rows with at least one live pixel): the lanes in use
+    /// are `pixels_shaded / (8 * shader_calls)`.
+    pub shader_calls: u64,
     pub depth_rejected: u64,
     pub lines_drawn: u64,
 }
@@ -138,6 +141,7 @@ impl Stats {
         self.drawn += o.drawn;
         self.tiles += o.tiles;
         self.pixels_shaded += o.pixels_shaded;
+        self.shader_calls += o.shader_calls;
         self.depth_rejected += o.depth_rejected;
         self.lines_drawn += o.lines_drawn;
     }
@@ -414,11 +418,7 @@ fn setup_range<L: DrawList + ?Sized>(
             chunk.stats.culled_degenerate += take as u64;
         } else {
             for t in &d.triangles[first..first + take] {
-                let before = chunk.tris.len();
-                assemble(&d, t, g, w, h, chunk);
-                for i in before..chunk.tris.len() {
-                    bin(tiles_x, &chunk.tris[i], i as u16, &mut chunk.bins);
-                }
+                assemble(&d, t, g, w, h, Some(tiles_x), chunk);
             }
         }
         at += take;
@@ -427,13 +427,23 @@ fn setup_range<L: DrawList + ?Sized>(
     chunk.stats.drawn += chunk.tris.len() as u64;
 }
 
-/// Culls, clips and sets up one input triangle, appending the results to `chunk`.
-pub(crate) fn assemble(d: &Draw<'_>, t: &[u32; 3], g: Vec2, w: u32, h: u32, chunk: &mut Chunk) {
+/// Culls, clips and sets up one input triangle, appending the results to `chunk` (and, with
+/// `tiles_x`, to its tile lists: binned before the triangle is stored, while it is still
+/// in registers).
+pub(crate) fn assemble(
+    d: &Draw<'_>,
+    t: &[u32; 3],
+    g: Vec2,
+    w: u32,
+    h: u32,
+    tiles_x: Option<u32>,
+    chunk: &mut Chunk,
+) {
     let Chunk {
         tris: out,
         attrs,
+        bins,
         stats: st,
-        ..
     } = chunk;
     let stride = d.stride;
     let fetch = |i: u32| -> Option<(Vec4, &[f32])> {
@@ -462,6 +472,9 @@ pub(crate) fn assemble(d: &Draw<'_>, t: &[u32; 3], g: Vec2, w: u32, h: u32, chun
         tri, w, h, d.id, d.state, ccw, attrs,
     ) {
         Ok(s) => {
+            if let Some(tx) = tiles_x {
+                bin(tx, &s, out.len() as u16, bins);
+            }
             out.push(s);
             true
         }
@@ -543,8 +556,9 @@ fn tile_outside(t: &SetupTri, x: u32, y: u32) -> bool {
     let (px, py) = (i64::from(x) * ONE + ONE / 2, i64::from(y) * ONE + ONE / 2);
     let span = i64::from(TILE - 1) * ONE;
     (0..3).any(|k| {
-        let e = t.a[k] * px + t.b[k] * py + t.c[k] + t.bias[k];
-        e + (t.a[k] * span).max(0) + (t.b[k] * span).max(0) < 0
+        let (a, b) = t.ab(k);
+        let e = a * px + b * py + t.c[k] + t.bias(k);
+        e + (a * span).max(0) + (b * span).max(0) < 0
     })
 }
 
@@ -605,7 +619,7 @@ pub(crate) fn flush<S: FragmentShader>(
 ) -> bool {
     let start = Instant::now();
     let kernel = bins.kernel;
-    let (tiles, shaded, rejected, skipped) = target
+    let (tiles, shaded, rejected, calls, skipped) = target
         .tiles
         .par_iter_mut()
         .zip(bins.costs[..bins.active].par_iter_mut())
@@ -613,7 +627,7 @@ pub(crate) fn flush<S: FragmentShader>(
         .filter(|(t, _)| chunks.iter().any(|c| !c.bins[*t].is_empty()))
         .map(|(index, (tile, cost))| {
             if stop() {
-                return (0, 0, 0, 1);
+                return (0, 0, 0, 0, 1);
             }
             let start = Instant::now();
             let mut n = FillCounters::default();
@@ -628,15 +642,16 @@ pub(crate) fn flush<S: FragmentShader>(
             dispatch(kernel, job);
             cost.nanos += start.elapsed().as_nanos() as u64;
             cost.fragments += n.shaded;
-            (1, n.shaded, n.depth_rejected, 0)
+            (1, n.shaded, n.depth_rejected, n.calls, 0)
         })
         .reduce(
-            || (0, 0, 0, 0),
-            |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3),
+            || (0, 0, 0, 0, 0),
+            |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3, a.4 + b.4),
         );
     stats.tiles += tiles;
     stats.pixels_shaded += shaded;
     stats.depth_rejected += rejected;
+    stats.shader_calls += calls;
     bins.fill_nanos += start.elapsed().as_nanos() as u64;
     skipped == 0
 }

@@ -36,12 +36,13 @@ const MAX_COORD: f32 = (1u32 << 23) as f32;
 /// stored next to it, in its chunk's attribute buffer (see [`setup`]).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SetupTri {
-    /// Edge function coefficients (unbiased).
-    pub a: [i64; 3],
-    pub b: [i64; 3],
+    /// Edge function coefficients (unbiased): `a`, `b` < 2^24 in magnitude (see the
+    /// module docs), `c` < 2^49.
+    pub a: [i32; 3],
+    pub b: [i32; 3],
     pub c: [i64; 3],
-    /// 0 for top-left edges, -1 otherwise: inside iff `E_k + bias_k >= 0` for all k.
-    pub bias: [i64; 3],
+    /// Bit k set if edge k is a top or left edge: inside iff `E_k + bias(k) >= 0` for all k.
+    pub top_left: u8,
     /// Inclusive pixel bounds, clamped to the target.
     pub x0: u32,
     pub y0: u32,
@@ -59,6 +60,20 @@ pub(crate) struct SetupTri {
     pub stride: u8,
     pub info: TriInfo,
     pub state: DrawState,
+}
+
+impl SetupTri {
+    /// 0 for a top-left edge, -1 otherwise.
+    #[inline(always)]
+    pub fn bias(&self, k: usize) -> i64 {
+        i64::from(self.top_left >> k & 1) - 1
+    }
+
+    /// `a[k]`, `b[k]` widened for the i64 edge arithmetic.
+    #[inline(always)]
+    pub fn ab(&self, k: usize) -> (i64, i64) {
+        (i64::from(self.a[k]), i64::from(self.b[k]))
+    }
 }
 
 /// Why a triangle produced nothing.
@@ -160,7 +175,7 @@ pub(crate) fn setup(
     let mut a = [0i64; 3];
     let mut b = [0i64; 3];
     let mut c = [0i64; 3];
-    let mut bias = [0i64; 3];
+    let mut top_left_bits = 0u8;
     for k in 0..3 {
         // Edge k runs from vertex k+1 to vertex k+2 (opposite vertex k).
         let (s, e) = ((k + 1) % 3, (k + 2) % 3);
@@ -168,7 +183,7 @@ pub(crate) fn setup(
         b[k] = xs[e] - xs[s];
         c[k] = -(a[k] * xs[s] + b[k] * ys[s]);
         let top_left = a[k] > 0 || (a[k] == 0 && b[k] > 0);
-        bias[k] = if top_left { 0 } else { -1 };
+        top_left_bits |= u8::from(top_left) << k;
     }
     let inv_area = 1.0 / area.abs() as f32;
     let dz = [z[i1] - z[i0], z[i2] - z[i0]];
@@ -188,10 +203,10 @@ pub(crate) fn setup(
     attrs.extend(v1.iter().zip(v0).map(|(a, b)| a - b));
     attrs.extend(v2.iter().zip(v0).map(|(a, b)| a - b));
     Ok(SetupTri {
-        a,
-        b,
+        a: a.map(|v| v as i32),
+        b: b.map(|v| v as i32),
         c,
-        bias,
+        top_left: top_left_bits,
         x0: px0 as u32,
         y0: py0 as u32,
         x1: px1 as u32,
@@ -286,7 +301,8 @@ mod tests {
         assert!(t.info.front);
         let (px, py) = (32 * ONE + HALF, 32 * ONE + HALF);
         for k in 0..3 {
-            assert!(t.a[k] * px + t.b[k] * py + t.c[k] > 0);
+            let (a, b) = t.ab(k);
+            assert!(a * px + b * py + t.c[k] > 0);
         }
         assert_eq!(
             run([&a, &c, &b], 64, 64, Cull::Back).unwrap_err(),

@@ -182,6 +182,7 @@ pub(crate) fn frame(args: &FrameArgs) -> Result<()> {
         "read_ms": round3(median(&mut reads)),
         "frame_read_ms": round3(median(&mut frame_reads)),
         "pixels_shaded": report.stats.pixels_shaded,
+        "shader_calls": report.stats.shader_calls,
         "load_ms": round3(t_load.as_secs_f64() * 1e3),
         "prepare_ms": round3(t_prepare.as_secs_f64() * 1e3),
         "png": args.png.as_ref().map(|p| p.display().to_string()),
