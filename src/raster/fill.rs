@@ -51,9 +51,12 @@ pub(crate) struct FillCounters {
 /// What the rows of one triangle share, computed once per triangle and tile.
 struct Rows<'a> {
     tri: &'a SetupTri,
-    /// Edge steps per pixel along y, and per lane offsets along x.
+    /// Edge steps per pixel along y, and per lane offsets along x (in i32 too when
+    /// `narrow`: every edge value of a block the triangle partly covers then fits in i32).
     step_y: [i64; 3],
     lane_x: [[i64; LANES]; 3],
+    lane_x32: [[i32; LANES]; 3],
+    narrow: bool,
     /// λ0, λ1, λ2 per pixel along x, as lane offsets.
     l0_lanes: F8,
     l1_lanes: F8,
@@ -89,11 +92,20 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
     let step_x = [0, 1, 2].map(|k| tri.ab(k).0 * ONE);
     let step_y = [0, 1, 2].map(|k| tri.ab(k).1 * ONE);
     let mut lane_x = [[0i64; LANES]; 3];
+    let mut lane_x32 = [[0i32; LANES]; 3];
     for k in 0..3 {
-        for (i, l) in lane_x[k].iter_mut().enumerate() {
-            *l = step_x[k] * i as i64;
+        for i in 0..LANES {
+            lane_x[k][i] = step_x[k] * i as i64;
+            lane_x32[k][i] = lane_x[k][i] as i32;
         }
     }
+    // In a block the triangle partly covers (some sample inside, some outside), each edge
+    // value is within (|a| + |b|) ONE 2 BLOCK of zero; below 2^30 it and every lane sum fit
+    // in i32 (|a|, |b| < 2^17: triangles under 512 px in extent, almost all of them).
+    let narrow = (0..3).all(|k| {
+        let (a, b) = tri.ab(k);
+        (a.abs() + b.abs()) * ONE * 2 * i64::from(BLOCK) < 1 << 30
+    });
     let grad = shader
         .derivatives(tri.info.draw)
         .filter(|&(first, count)| count > 0 && first + count <= stride)
@@ -102,6 +114,8 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
         tri,
         step_y,
         lane_x,
+        lane_x32,
+        narrow,
         l0_lanes: F8::RAMP * (step_x[0] as f32 * tri.inv_area),
         l1_lanes: F8::RAMP * (step_x[1] as f32 * tri.inv_area),
         l2_lanes: F8::RAMP * (step_x[2] as f32 * tri.inv_area),
@@ -195,21 +209,34 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
     for y in y0..=y1 {
         let mut cover = span;
         if TEST {
-            // A lane is out if any edge value is negative: OR the three values and read the
-            // sign bits (two 4 x i64 adds, ors and one sign-mask move per edge pair).
-            let mut sign = [0u64; LANES];
-            for i in 0..LANES {
-                let v = (row[0] + r.lane_x[0][i])
-                    | (row[1] + r.lane_x[1][i])
-                    | (row[2] + r.lane_x[2][i]);
-                // Logical shift: AVX2 has it for 64-bit lanes, the arithmetic one it lacks.
-                sign[i] = (v as u64) >> 63;
-            }
-            let mut out = 0u32;
-            for i in 0..LANES {
-                out |= (sign[i] as u32) << i;
-            }
-            cover &= !out;
+            cover &= if r.narrow {
+                // Exact in i32 (see `narrow`): one 8 x i32 register per edge.
+                let row32 = [row[0] as i32, row[1] as i32, row[2] as i32];
+                let mut out = 0u32;
+                for i in 0..LANES {
+                    let v = (row32[0] + r.lane_x32[0][i])
+                        | (row32[1] + r.lane_x32[1][i])
+                        | (row32[2] + r.lane_x32[2][i]);
+                    out |= ((v as u32) >> 31) << i;
+                }
+                !out
+            } else {
+                // A lane is out if any edge value is negative: OR the three values and read
+                // the sign bits.
+                let mut sign = [0u64; LANES];
+                for i in 0..LANES {
+                    let v = (row[0] + r.lane_x[0][i])
+                        | (row[1] + r.lane_x[1][i])
+                        | (row[2] + r.lane_x[2][i]);
+                    // Logical shift: AVX2 has it for 64-bit lanes, the arithmetic one it lacks.
+                    sign[i] = (v as u64) >> 63;
+                }
+                let mut out = 0u32;
+                for i in 0..LANES {
+                    out |= (sign[i] as u32) << i;
+                }
+                !out
+            };
         }
         let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
         if cover != 0 {

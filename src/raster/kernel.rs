@@ -7,7 +7,7 @@
 //! | kernel | compiled with | FMA |
 //! |---|---|---|
 //! | [`KernelKind::Portable`] | the build's baseline (SSE2 on x86-64) | no |
-//! | [`KernelKind::Avx2`] | AVX2 + FMA | yes |
+//! | [`KernelKind::Avx2`] | AVX2 + FMA (+ POPCNT, BMI1/2) | yes |
 //! | [`KernelKind::Avx512`] | AVX-512 F/VL/BW/DQ + AVX2 + FMA | yes |
 //!
 //! The best kernel the CPU has is detected once ([`KernelKind::best`]); `REALIST_KERNEL=
@@ -88,6 +88,9 @@ impl KernelKind {
             KernelKind::Avx2 => {
                 std::arch::is_x86_feature_detected!("avx2")
                     && std::arch::is_x86_feature_detected!("fma")
+                    && std::arch::is_x86_feature_detected!("popcnt")
+                    && std::arch::is_x86_feature_detected!("bmi1")
+                    && std::arch::is_x86_feature_detected!("bmi2")
             }
             #[cfg(target_arch = "x86_64")]
             KernelKind::Avx512 => {
@@ -169,14 +172,14 @@ pub(crate) fn dispatch<J: KernelJob>(kind: KernelKind, job: J) -> J::Output {
     match kind {
         #[cfg(target_arch = "x86_64")]
         KernelKind::Avx2 if KernelKind::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked on this line's guard), the features
-            // `run_avx2` is compiled with.
+            // SAFETY: the CPU has AVX2, FMA, POPCNT, BMI1 and BMI2 (checked on this line's
+            // guard), the features `run_avx2` is compiled with.
             unsafe { run_avx2(job) }
         }
         #[cfg(target_arch = "x86_64")]
         KernelKind::Avx512 if KernelKind::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512 F/VL/BW/DQ, AVX2 and FMA (checked on this line's
-            // guard), the features `run_avx512` is compiled with.
+            // SAFETY: the CPU has AVX-512 F/VL/BW/DQ and everything of AVX2 (checked on
+            // this line's guard), the features `run_avx512` is compiled with.
             unsafe { run_avx512(job) }
         }
         _ => job.run::<Portable>(),
@@ -184,13 +187,13 @@ pub(crate) fn dispatch<J: KernelJob>(kind: KernelKind, job: J) -> J::Output {
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2")]
 fn run_avx2<J: KernelJob>(job: J) -> J::Output {
     job.run::<Avx2>()
 }
 
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
+#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,popcnt,bmi1,bmi2")]
 fn run_avx512<J: KernelJob>(job: J) -> J::Output {
     job.run::<Avx512>()
 }
