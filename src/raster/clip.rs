@@ -24,7 +24,7 @@ const PLANES: [u8; 6] = [NEAR, FAR, LEFT, RIGHT, BOTTOM, TOP];
 
 /// Signed distance-like value of `p` to a plane: >= 0 inside. `g` scales the x/y planes
 /// (1 = the view frustum, > 1 = the guard band).
-#[inline]
+#[inline(always)]
 fn distance(p: Vec4, plane: u8, g: Vec2) -> f32 {
     match plane {
         NEAR => p.w - p.z,
@@ -37,7 +37,7 @@ fn distance(p: Vec4, plane: u8, g: Vec2) -> f32 {
 }
 
 /// Bit set of the planes `p` is outside of.
-#[inline]
+#[inline(always)]
 pub(crate) fn outcode(p: Vec4, g: Vec2) -> u8 {
     let mut code = 0;
     for plane in PLANES {

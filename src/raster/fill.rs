@@ -51,8 +51,8 @@ pub(crate) struct FillCounters {
 /// What the rows of one triangle share, computed once per triangle and tile.
 struct Rows<'a> {
     tri: &'a SetupTri,
-    /// Edge steps per pixel along y, and per lane offsets along x (in i32 too when
-    /// `narrow`: every edge value of a block the triangle partly covers then fits in i32).
+    /// Edge steps per pixel along y, and per lane offsets along x (in i32 instead when
+    /// `narrow`, see `fill`).
     step_y: [i64; 3],
     lane_x: [[i64; LANES]; 3],
     lane_x32: [[i32; LANES]; 3],
@@ -91,21 +91,26 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
     };
     let step_x = [0, 1, 2].map(|k| tri.ab(k).0 * ONE);
     let step_y = [0, 1, 2].map(|k| tri.ab(k).1 * ONE);
+    // Coverage in i32 lanes ("narrow"): the lane offsets `a_k ONE i` (i < 8) stay below
+    // 2^28 in magnitude when |a_k| < 2^17 (edges under 512 px across), and a row's edge
+    // value clamped to [-2^30, 2^30] keeps its sign after adding them, without overflow.
+    let narrow = (0..3).all(|k| tri.ab(k).0.abs() < 1 << 17);
     let mut lane_x = [[0i64; LANES]; 3];
     let mut lane_x32 = [[0i32; LANES]; 3];
-    for k in 0..3 {
-        for i in 0..LANES {
-            lane_x[k][i] = step_x[k] * i as i64;
-            lane_x32[k][i] = lane_x[k][i] as i32;
+    if narrow {
+        for k in 0..3 {
+            let step = step_x[k] as i32;
+            for i in 0..LANES {
+                lane_x32[k][i] = step * i as i32;
+            }
+        }
+    } else {
+        for k in 0..3 {
+            for i in 0..LANES {
+                lane_x[k][i] = step_x[k] * i as i64;
+            }
         }
     }
-    // In a block the triangle partly covers (some sample inside, some outside), each edge
-    // value is within (|a| + |b|) ONE 2 BLOCK of zero; below 2^30 it and every lane sum fit
-    // in i32 (|a|, |b| < 2^17: triangles under 512 px in extent, almost all of them).
-    let narrow = (0..3).all(|k| {
-        let (a, b) = tri.ab(k);
-        (a.abs() + b.abs()) * ONE * 2 * i64::from(BLOCK) < 1 << 30
-    });
     let grad = shader
         .derivatives(tri.info.draw)
         .filter(|&(first, count)| count > 0 && first + count <= stride)
@@ -211,7 +216,8 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
         if TEST {
             cover &= if r.narrow {
                 // Exact in i32 (see `narrow`): one 8 x i32 register per edge.
-                let row32 = [row[0] as i32, row[1] as i32, row[2] as i32];
+                let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
+                let row32 = [clamp(row[0]), clamp(row[1]), clamp(row[2])];
                 let mut out = 0u32;
                 for i in 0..LANES {
                     let v = (row32[0] + r.lane_x32[0][i])

@@ -210,7 +210,8 @@ impl Target {
                                 .chunks_exact_mut(3)
                                 .for_each(|px| px.copy_from_slice(&rgb)),
                             None => {
-                                let src = (0..t.w as usize).map(|x| t.stored(y * TILE as usize + x));
+                                let src =
+                                    (0..t.w as usize).map(|x| t.stored(y * TILE as usize + x));
                                 for (px, c) in dst.chunks_exact_mut(3).zip(src) {
                                     px[0] = encode(lut, c.x);
                                     px[1] = encode(lut, c.y);
@@ -271,7 +272,8 @@ impl Target {
                         match clear {
                             Some(c) => dst.iter_mut().for_each(|d| *d = px(c)),
                             None => {
-                                let src = (0..t.w as usize).map(|x| t.stored(y * TILE as usize + x));
+                                let src =
+                                    (0..t.w as usize).map(|x| t.stored(y * TILE as usize + x));
                                 for (d, c) in dst.iter_mut().zip(src) {
                                     *d = px(c);
                                 }

@@ -366,6 +366,7 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
     }
     stats.triangles_in += total as u64;
     let starts = &*starts;
+    let kernel = bins.kernel;
     let mut complete = true;
     let mut batch = 0;
     while batch < total && complete {
@@ -382,7 +383,16 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
                 chunk.reset(tiles);
                 let lo = batch + c * CHUNK;
                 let hi = (lo + CHUNK).min(end);
-                setup_range(draws, starts, lo, hi, g, w, h, tiles_x, chunk);
+                let job = SetupJob {
+                    draws,
+                    starts,
+                    lo,
+                    hi,
+                    g,
+                    size: (w, h, tiles_x),
+                    chunk,
+                };
+                dispatch(kernel, job);
             });
         for c in &chunks[..n] {
             stats.add(&c.stats);
@@ -394,8 +404,40 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
     complete
 }
 
+/// The set-up of one chunk, compiled per kernel (rounding, conversions and divisions of
+/// the fixed-point set-up become single instructions where the kernel has them).
+struct SetupJob<'a, L: ?Sized> {
+    draws: &'a L,
+    starts: &'a [usize],
+    lo: usize,
+    hi: usize,
+    g: Vec2,
+    size: (u32, u32, u32),
+    chunk: &'a mut Chunk,
+}
+
+impl<L: DrawList + ?Sized> KernelJob for SetupJob<'_, L> {
+    type Output = ();
+    #[inline(always)]
+    fn run<K: Kernel>(self) {
+        let (w, h, tiles_x) = self.size;
+        setup_range(
+            self.draws,
+            self.starts,
+            self.lo,
+            self.hi,
+            self.g,
+            w,
+            h,
+            tiles_x,
+            self.chunk,
+        );
+    }
+}
+
 /// Sets up and bins the global triangles `lo..hi` into `chunk`.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn setup_range<L: DrawList + ?Sized>(
     draws: &L,
     starts: &[usize],
@@ -430,6 +472,7 @@ fn setup_range<L: DrawList + ?Sized>(
 /// Culls, clips and sets up one input triangle, appending the results to `chunk` (and, with
 /// `tiles_x`, to its tile lists: binned before the triangle is stored, while it is still
 /// in registers).
+#[inline(always)]
 pub(crate) fn assemble(
     d: &Draw<'_>,
     t: &[u32; 3],
@@ -538,6 +581,7 @@ fn homogeneous_orientation(a: Vec4, b: Vec4, c: Vec4) -> f64 {
 
 /// Appends triangle `index` to the list of every tile its bounds touch and its edges do not
 /// exclude (a tile is excluded when one edge is negative at all four of its corners).
+#[inline(always)]
 pub(crate) fn bin(tiles_x: u32, t: &SetupTri, index: u16, bins: &mut [Vec<u16>]) {
     let (tx0, ty0, tx1, ty1) = (t.x0 / TILE, t.y0 / TILE, t.x1 / TILE, t.y1 / TILE);
     let single = tx0 == tx1 && ty0 == ty1;

@@ -107,6 +107,7 @@ impl<'a> Corners<'a> {
 /// Sets up one (clipped) triangle for a `width` x `height` target; on success its varyings
 /// are appended to `attrs`.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub(crate) fn setup(
     v: Corners<'_>,
     width: u32,
@@ -223,7 +224,7 @@ pub(crate) fn setup(
 
 /// Screen coordinate -> fixed point, rounded half to even on a grid of 2^-`bits` pixel
 /// (`bits` capped at [`SUBPIXEL_BITS`]), in units of 1/[`ONE`].
-#[inline]
+#[inline(always)]
 fn snap(s: f32, bits: u8) -> i64 {
     let coarse = SUBPIXEL_BITS.saturating_sub(u32::from(bits));
     if coarse == 0 {
