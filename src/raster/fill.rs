@@ -30,7 +30,7 @@
 use super::framebuffer::{Tile, TILE, TILE_PIXELS};
 use super::lanes::{Kernel, F8, LANES, M8};
 use super::pipeline::{Blend, DepthTest};
-use super::setup::{SetupTri, ONE};
+use super::setup::{padded, SetupTri, ONE};
 use super::{Colors, FragmentShader, Fragments, MAX_VARYINGS};
 
 const BLOCK: u32 = 8;
@@ -61,10 +61,12 @@ struct Rows<'a> {
     l0_lanes: F8,
     l1_lanes: F8,
     l2_lanes: F8,
-    /// Varyings: vertex 0, differences to vertices 1 and 2.
+    /// Varyings: vertex 0, differences to vertices 1 and 2 (each padded to a multiple of 4),
+    /// and the number that are real.
     v0: &'a [f32],
     d1: &'a [f32],
     d2: &'a [f32],
+    stride: usize,
     grad: Option<(usize, usize, Gradients)>,
 }
 
@@ -85,8 +87,9 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
         return;
     }
     let stride = tri.stride as usize;
+    let row = padded(stride);
     let at = tri.attr as usize;
-    let Some(var) = attrs.get(at..at + 3 * stride) else {
+    let Some(var) = attrs.get(at..at + 3 * row) else {
         return;
     };
     let step_x = [0, 1, 2].map(|k| tri.ab(k).0 * ONE);
@@ -124,9 +127,10 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
         l0_lanes: F8::RAMP * (step_x[0] as f32 * tri.inv_area),
         l1_lanes: F8::RAMP * (step_x[1] as f32 * tri.inv_area),
         l2_lanes: F8::RAMP * (step_x[2] as f32 * tri.inv_area),
-        v0: &var[..stride],
-        d1: &var[stride..2 * stride],
-        d2: &var[2 * stride..],
+        v0: &var[..row],
+        d1: &var[row..2 * row],
+        d2: &var[2 * row..],
+        stride,
         grad,
     };
     let mut by = y0 - (y0 - tile.y0) % BLOCK;
@@ -298,14 +302,22 @@ fn shade_row<K: Kernel, S: FragmentShader>(
     let d = K::fma(l0, F8::splat(tri.iw[0]), w1 + w2);
     let inv_d = d.recip();
     let (p1, p2) = (w1 * inv_d, w2 * inv_d);
-    let stride = r.v0.len();
+    let stride = r.stride;
     let FillCounters { var, ddx, ddy, .. } = n;
-    for j in 0..stride.min(MAX_VARYINGS) {
-        var[j] = K::fma(
-            F8::splat(r.d2[j]),
-            p2,
-            K::fma(F8::splat(r.d1[j]), p1, F8::splat(r.v0[j])),
-        );
+    // Groups of four (the rows are padded): a fixed inner trip count the compiler unrolls.
+    for (((out, v0), d1), d2) in var
+        .chunks_exact_mut(4)
+        .zip(r.v0.chunks_exact(4))
+        .zip(r.d1.chunks_exact(4))
+        .zip(r.d2.chunks_exact(4))
+    {
+        for j in 0..4 {
+            out[j] = K::fma(
+                F8::splat(d2[j]),
+                p2,
+                K::fma(F8::splat(d1[j]), p1, F8::splat(v0[j])),
+            );
+        }
     }
     let mut nd = 0;
     if let Some((first, count, g)) = &r.grad {

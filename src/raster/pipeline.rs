@@ -11,7 +11,7 @@ use super::fill::{fill, FillCounters};
 use super::framebuffer::{Target, Tile, TILE};
 use super::kernel::{dispatch, prefetch, KernelJob, KernelKind};
 use super::lanes::Kernel;
-use super::setup::{setup, Corners, Reject, SetupTri, GUARD_BAND_PX};
+use super::setup::{padded, setup, Corners, Reject, SetupTri, GUARD_BAND_PX};
 use super::{FragmentShader, MAX_VARYINGS};
 
 /// Which faces are discarded.
@@ -641,7 +641,7 @@ impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
                 if let Some(&near) = bin.get(k + PREFETCH_AHEAD) {
                     let t = &c.tris[near as usize];
                     let at = t.attr as usize;
-                    if let Some(a) = c.attrs.get(at..at + 3 * t.stride as usize) {
+                    if let Some(a) = c.attrs.get(at..at + 3 * padded(t.stride as usize)) {
                         prefetch(a);
                     }
                 }

@@ -55,11 +55,18 @@ pub(crate) struct SetupTri {
     /// 1/w at the three vertices.
     pub iw: [f32; 3],
     /// Offset of the varyings in the attribute buffer: `stride` floats of vertex 0, then
-    /// the differences to vertex 1, then to vertex 2.
+    /// the differences to vertex 1, then to vertex 2, each row padded to [`padded`] floats.
     pub attr: u32,
     pub stride: u8,
     pub info: TriInfo,
     pub state: DrawState,
+}
+
+/// `stride` rounded up to a multiple of 4: the length of each row of a triangle's stored
+/// varyings.
+#[inline(always)]
+pub(crate) fn padded(stride: usize) -> usize {
+    stride.div_ceil(4) * 4
 }
 
 impl SetupTri {
@@ -200,9 +207,15 @@ pub(crate) fn setup(
     let stride = v.var[0].len();
     let attr = attrs.len() as u32;
     let (v0, v1, v2) = (v.var[i0], v.var[i1], v.var[i2]);
+    // Each of the three rows padded with zeros to a multiple of 4 floats, so the fill
+    // interpolates in fixed groups of four (see `padded`).
+    let pad = padded(stride) - stride;
     attrs.extend_from_slice(v0);
+    attrs.extend(std::iter::repeat_n(0.0, pad));
     attrs.extend(v1.iter().zip(v0).map(|(a, b)| a - b));
+    attrs.extend(std::iter::repeat_n(0.0, pad));
     attrs.extend(v2.iter().zip(v0).map(|(a, b)| a - b));
+    attrs.extend(std::iter::repeat_n(0.0, pad));
     Ok(SetupTri {
         a: a.map(|v| v as i32),
         b: b.map(|v| v as i32),
