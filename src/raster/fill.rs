@@ -572,4 +572,45 @@ mod tests {
         assert!(n > 1000, "{n} pixels");
         assert!(worst < 0.02, "worst relative error {worst} over {n} pixels");
     }
+
+    /// `facing_varyings`: set-up keeps the front half of the varyings for a front-facing
+    /// triangle and the back half for a back-facing one.
+    #[test]
+    fn facing_varyings_keep_the_side_shown() {
+        struct Rgba;
+        impl PixelShader for Rgba {
+            fn pixel(&self, _: TriInfo, v: &[f32]) -> Option<Vec4> {
+                assert_eq!(v.len(), 4);
+                Some(Vec4::new(v[0], v[1], v[2], v[3]))
+            }
+        }
+        let front = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0];
+        let var: Vec<f32> = (0..3).flat_map(|_| front).collect();
+        let ccw = [
+            Vec4::new(-0.8, -0.8, 0.5, 1.0),
+            Vec4::new(0.8, -0.8, 0.5, 1.0),
+            Vec4::new(0.0, 0.8, 0.5, 1.0),
+        ];
+        for (tris, want) in [
+            ([[0u32, 1, 2]], Vec4::X.with_w(1.0)),
+            ([[0, 2, 1]], Vec4::Z.with_w(1.0)),
+        ] {
+            let mut target = Target::new(W, H, Vec4::ZERO);
+            let d = Draw {
+                id: 0,
+                clip: &ccw,
+                varyings: &var,
+                stride: 8,
+                triangles: &tris,
+                state: DrawState {
+                    cull: Cull::None,
+                    facing_varyings: true,
+                    ..DrawState::opaque()
+                },
+            };
+            draw(&mut target, &[d], &PerPixel(Rgba), &mut Stats::default());
+            let c = target.resolve().pixel(W / 2, H / 2);
+            assert_eq!(c, want, "{tris:?}");
+        }
+    }
 }

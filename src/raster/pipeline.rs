@@ -62,6 +62,10 @@ pub struct DrawState {
     /// treated as the maximum). Fewer bits emulate a coarser fixed-point rasterizer exactly,
     /// for accuracy sweeps; the edge functions keep their precision.
     pub subpixel_bits: u8,
+    /// The vertices' varyings are two halves, for front-facing then back-facing triangles
+    /// (e.g. Gouraud colours lit from both sides): set-up keeps only the half for each
+    /// triangle's facing, so the fill interpolates half as much.
+    pub facing_varyings: bool,
 }
 
 impl Default for DrawState {
@@ -83,6 +87,7 @@ impl DrawState {
             flip_winding: false,
             depth_offset: 0.0,
             subpixel_bits: super::SUBPIXEL_BITS as u8,
+            facing_varyings: false,
         }
     }
 }

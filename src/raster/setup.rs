@@ -115,8 +115,8 @@ impl<'a> Corners<'a> {
 /// are appended to `attrs`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(crate) fn setup(
-    v: Corners<'_>,
+pub(crate) fn setup<'a>(
+    v: Corners<'a>,
     width: u32,
     height: u32,
     draw: u32,
@@ -204,9 +204,14 @@ pub(crate) fn setup(
         // Reversed-Z: away from the eye is smaller.
         z0 -= state.depth_offset * dzdx.abs().max(dzdy.abs());
     }
-    let stride = v.var[0].len();
+    let (mut stride, mut first) = (v.var[0].len(), 0);
+    if state.facing_varyings {
+        stride /= 2;
+        first = if front { 0 } else { stride };
+    }
     let attr = attrs.len() as u32;
-    let (v0, v1, v2) = (v.var[i0], v.var[i1], v.var[i2]);
+    let half = |s: &'a [f32]| &s[first..first + stride];
+    let (v0, v1, v2) = (half(v.var[i0]), half(v.var[i1]), half(v.var[i2]));
     // Each of the three rows padded with zeros to a multiple of 4 floats, so the fill
     // interpolates in fixed groups of four (see `padded`).
     let pad = padded(stride) - stride;

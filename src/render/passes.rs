@@ -247,14 +247,21 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
         }
     }
     let shader = ColorShader { draws: params };
-    if !group(
+    // Double-sided materials (no culling) get both sides' colours (`Lit::gouraud`).
+    let (done, g) = group_with(
         cx,
         fd,
         &of(Shading::Gouraud),
         Geometry::Indexed,
-        |fi, out| lit.gouraud(fi, out),
+        &mut |fi, out| lit.gouraud(fi, out),
         &shader,
-    ) {
+        |s| DrawState {
+            facing_varyings: s.cull == Cull::None,
+            ..s
+        },
+    );
+    cx.pool.put(g);
+    if !done {
         return false;
     }
     for (mode, blinn) in [

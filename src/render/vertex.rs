@@ -84,8 +84,9 @@ fn lit_colour(d: &DrawParams, lights: &LightSet, eye: Vec3, p: Vec3, n: Vec3, c:
 
 impl Lit<'_> {
     /// Gouraud: lighting per vertex, colours interpolated (4 floats). Double-sided materials
-    /// also get the colour of the back side (normal flipped; 8 floats), chosen per triangle
-    /// by the shader. Returns the stride.
+    /// also get the colour of the back side (normal flipped; 8 floats), of which set-up
+    /// keeps the side each triangle shows (`DrawState::facing_varyings`, set for exactly
+    /// these draws: no culling). Returns the stride.
     pub fn gouraud(&self, fi: &FrameInst, out: &mut Vec<f32>) -> usize {
         let d = &self.params[fi.param as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];

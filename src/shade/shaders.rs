@@ -37,8 +37,10 @@ impl DrawParams {
 }
 
 /// Flat and Gouraud: the colour was computed per facet or per vertex and is interpolated.
-/// Varyings: RGBA (4 floats), or front RGBA then back RGBA (8 floats: Gouraud on a
-/// double-sided material, where which side is seen is known only per triangle).
+/// Varyings: RGBA (4 floats). Gouraud on a double-sided material lights each vertex from
+/// both sides (8 floats, front then back) and draws with
+/// [`DrawState::facing_varyings`](crate::raster::DrawState), so set-up keeps the side each
+/// triangle shows.
 pub struct ColorShader<'a> {
     pub draws: &'a [DrawParams],
 }
@@ -47,12 +49,7 @@ impl FragmentShader for ColorShader<'_> {
     #[inline(always)]
     fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
         let d = &self.draws[f.tri.draw as usize];
-        let at = if !f.tri.front && f.var.len() >= 8 {
-            4
-        } else {
-            0
-        };
-        let Some(c) = f.var.get(at..at + 4) else {
+        let Some(c) = f.var.get(..4) else {
             return 0;
         };
         let (a, keep) = d.alpha_lanes(c[3], f.mask);
