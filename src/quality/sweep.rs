@@ -18,7 +18,7 @@ use super::sphere::{Shape, SphereSetup};
 use super::{compare, metrics, LinearImage, Metrics};
 use crate::overlay::{Canvas, Color, HAlign, Path2, Stroke, VAlign};
 use crate::raster::SUBPIXEL_BITS;
-use crate::render::{self, PreparedScene, RenderOptions};
+use crate::render::{self, PreparedScene, RenderOptions, Renderer};
 use crate::scene::{Camera, Scene};
 use crate::shade::Shading;
 use crate::texture::Filter;
@@ -377,16 +377,21 @@ pub fn run_setting(
         subpixel_bits: s.bits,
         ..RenderOptions::default()
     };
-    // Warm-up, then time the renders alone (resolving to f64 is the metric's cost, not the
-    // renderer's).
-    let mut frame = render::render(&prepared, &opts);
+    // Frames into one reused renderer, as a viewer renders them (no allocation after the
+    // warm-up), timed alone: resolving to f64 is the metric's cost, not the renderer's.
+    let (settings, view) = (opts.settings(), opts.view(prepared.scene()));
+    let mut renderer = Renderer::new();
+    renderer.render(&prepared, &settings, &view);
     let mut times = Vec::with_capacity(runs);
     for _ in 0..runs.max(1) {
         let start = Instant::now();
-        frame = render::render(&prepared, &opts);
+        renderer.render(&prepared, &settings, &view);
         times.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    let image = LinearImage::from_framebuffer(&frame.image()).downsample(s.ss);
+    let target = renderer
+        .take_target()
+        .expect("the renderer has rendered a frame");
+    let image = LinearImage::from_framebuffer(&target.resolve()).downsample(s.ss);
     times.sort_by(f64::total_cmp);
     Ok((times[times.len() / 2], image))
 }
