@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3, Vec4};
 
 use super::lighting::{illuminate_lanes, LightSet, Surface, SurfaceLanes};
-use crate::raster::{Colors, FragmentShader, Fragments, Kernel, F8, LANES, V3};
+use crate::raster::{Colors, FragmentShader, Fragments, Kernel, F8, V3};
 use crate::scene::AlphaMode;
 use crate::texture::{srgb_to_linear, Sampler, Texture};
 
@@ -142,25 +142,26 @@ impl FragmentShader for LitShader<'_> {
             base.a *= v[k + 3];
         }
         if let (Some(k), Some(t)) = (self.layout.uv_at(), &d.texture) {
-            let (s, lod) = (d.sampler, self.lod_scale);
-            let grad = f.ddx.len() >= 2 && f.ddy.len() >= 2;
-            for i in 0..LANES {
-                if f.mask >> i & 1 == 0 {
-                    continue;
-                }
-                let uv = Vec2::new(v[k].0[i], v[k + 1].0[i]);
-                let c = if grad {
-                    let dx = Vec2::new(f.ddx[0].0[i], f.ddx[1].0[i]) * lod;
-                    let dy = Vec2::new(f.ddy[0].0[i], f.ddy[1].0[i]) * lod;
-                    t.sample_grad_with(uv, dx, dy, s)
-                } else {
-                    t.sample_with(uv, s)
-                };
-                base.r.0[i] *= c.x;
-                base.g.0[i] *= c.y;
-                base.b.0[i] *= c.z;
-                base.a.0[i] *= c.w;
-            }
+            let (s, l) = (d.sampler, self.lod_scale);
+            let (u, w) = (v[k], v[k + 1]);
+            let c = if let ([dudx, dvdx, ..], [dudy, dvdy, ..]) = (f.ddx, f.ddy) {
+                t.sample_grad_lanes::<K>(
+                    u,
+                    w,
+                    *dudx * l,
+                    *dvdx * l,
+                    *dudy * l,
+                    *dvdy * l,
+                    f.mask,
+                    s,
+                )
+            } else {
+                t.sample_lanes::<K>(u, w, f.mask, s)
+            };
+            base.r *= c[0];
+            base.g *= c[1];
+            base.b *= c[2];
+            base.a *= c[3];
         }
         let mut n = V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>();
         if !f.tri.front {

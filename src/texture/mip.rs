@@ -29,7 +29,7 @@ pub(crate) struct MipLevel {
     pub texels: Vec<[u16; 4]>,
 }
 
-const U16_MAX: f32 = 65535.0;
+pub(crate) const U16_MAX: f32 = 65535.0;
 
 impl MipLevel {
     /// Texel (x, y) in linear light.

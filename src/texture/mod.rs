@@ -11,7 +11,12 @@
 //! ahead of time by [`Texture::prepare_mips`] (the renderer does this before filling tiles,
 //! so no tile waits for it). The level of detail comes from the screen-space UV derivatives
 //! ([`Texture::sample_grad`]) with OpenGL's isotropic formula.
+//!
+//! Shaders that work on eight pixels at once sample with [`Texture::sample_lanes`] and
+//! [`Texture::sample_grad_lanes`] (`lanes.rs`): the same results, the coordinate and weight
+//! arithmetic done on all lanes at once and only the texel reads per lane.
 
+mod lanes;
 mod mip;
 
 use std::sync::OnceLock;

@@ -1,0 +1,666 @@
+//! Eight-lane sampling: [`Texture::sample_lanes`] and [`Texture::sample_grad_lanes`], the
+//! lane versions of [`Texture::sample_with`] and [`Texture::sample_grad_with`] for shaders
+//! that work on eight pixels at a time (see [`crate::raster::lanes`]).
+//!
+//! Everything but the texel reads is done on all lanes at once: folding the UV for the wrap
+//! modes, the level of detail (with [`F8::log2`]), the level of each lane and its size,
+//! texel coordinates (floors and wraps in integer lanes), bilinear weights and the blend
+//! between levels. Only the texel reads, with their decoding to linear light, are a loop
+//! over the live lanes. Every helper is `#[inline(always)]`, so in a kernel entry point the
+//! lane loops compile to that kernel's vector instructions, and nothing here calls libm
+//! (floors are float-to-integer conversions, remainders are exact subtractions).
+//!
+//! Results equal the scalar sampler's: the arithmetic is the same operation for operation
+//! (no fused multiply-add), except the logarithm of the level of detail, a polynomial here
+//! (error about 1e-7) against libm's `log2f`. Nearest and bilinear samples are therefore
+//! bit-identical, trilinear ones equal within about 1e-6 (the blend between levels is
+//! continuous in the level of detail); the tests compare them on random and degenerate
+//! inputs for every kernel the machine has.
+
+// Lane loops index several arrays by the lane number on purpose: that shape vectorises.
+#![allow(clippy::needless_range_loop)]
+
+use super::mip::{MipLevel, U16_MAX};
+use super::{srgb_table, Filter, Sampler, Texture, Wrap};
+use crate::raster::{Kernel, F8, LANES};
+
+/// Eight i32 lanes (texel coordinates, levels, sizes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[repr(C, align(32))]
+struct I8([i32; LANES]);
+
+impl I8 {
+    #[inline(always)]
+    fn splat(v: i32) -> Self {
+        I8([v; LANES])
+    }
+
+    #[inline(always)]
+    fn zip(self, o: Self, f: impl Fn(i32, i32) -> i32) -> Self {
+        let mut r = [0; LANES];
+        for i in 0..LANES {
+            r[i] = f(self.0[i], o.0[i]);
+        }
+        I8(r)
+    }
+
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        self.zip(o, i32::wrapping_add)
+    }
+
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        self.zip(o, i32::wrapping_mul)
+    }
+
+    /// Clamped to `[0, hi]` (per lane).
+    #[inline(always)]
+    fn clamp0(self, hi: Self) -> Self {
+        self.zip(hi, |a, h| {
+            let a = if a < 0 { 0 } else { a };
+            if a > h {
+                h
+            } else {
+                a
+            }
+        })
+    }
+
+    #[inline(always)]
+    fn to_f32(self) -> F8 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = self.0[i] as f32;
+        }
+        F8(r)
+    }
+}
+
+/// 2^23: floats at least this large are integers, and adding it to a smaller non-negative
+/// float rounds that float to an integer (round to nearest even).
+const INTEGRAL: f32 = 8_388_608.0;
+
+/// `|x|` rounded to the nearest integer, the sign of `x` put back: exact for |x| < 2^23
+/// (larger floats are returned as they are). No float-to-integer conversion: Rust's
+/// saturating `as i32` does not vectorise on x86 (it becomes a scalar conversion and two
+/// compares per lane).
+#[inline(always)]
+fn round_abs(v: f32) -> (f32, f32) {
+    let a = v.abs();
+    let r = if a < INTEGRAL {
+        (a + INTEGRAL) - INTEGRAL
+    } else {
+        a
+    };
+    (a, r)
+}
+
+/// `floor` of every lane without libm (see [`round_abs`]); NaN and infinities are kept,
+/// and -0 stays -0, as `f32::floor` does.
+#[inline(always)]
+fn floor(x: F8) -> F8 {
+    let mut r = [0.0; LANES];
+    for i in 0..LANES {
+        let v = x.0[i];
+        let (_, n) = round_abs(v);
+        let n = n.copysign(v);
+        r[i] = if n > v { n - 1.0 } else { n };
+    }
+    F8(r)
+}
+
+/// `trunc` of every lane without libm (see [`round_abs`]).
+#[inline(always)]
+fn trunc(x: F8) -> F8 {
+    let mut r = [0.0; LANES];
+    for i in 0..LANES {
+        let v = x.0[i];
+        let (a, n) = round_abs(v);
+        let n = if n > a { n - 1.0 } else { n };
+        r[i] = n.copysign(v);
+    }
+    F8(r)
+}
+
+/// Largest |x| [`floor_i`] handles: 2^22.
+const COORD_LIMIT: f32 = 4_194_304.0;
+
+/// `floor` of texel coordinates as integers, exact for |x| < 2^22 (coordinates beyond are
+/// clamped there first; NaN reads as -2^22): the float is added to 1.5 * 2^23, which puts
+/// the nearest integer in the low bits of its mantissa, and the bits are read as an integer.
+#[inline(always)]
+fn floor_i(x: F8) -> I8 {
+    const MAGIC: f32 = 12_582_912.0; // 1.5 * 2^23
+    let x = x.clamp(-COORD_LIMIT, COORD_LIMIT);
+    let mut r = [0; LANES];
+    for i in 0..LANES {
+        let m = x.0[i] + MAGIC;
+        let n = (m.to_bits() as i32).wrapping_sub(MAGIC.to_bits() as i32);
+        r[i] = if m - MAGIC > x.0[i] { n - 1 } else { n };
+    }
+    I8(r)
+}
+
+/// Lanes where `x` is finite.
+#[inline(always)]
+fn finite(x: F8) -> u32 {
+    x.abs().lt(F8::splat(f32::INFINITY)).bits()
+}
+
+/// [`super::reduce`] on lanes of finite coordinates.
+#[inline(always)]
+fn reduce(t: F8, wrap: Wrap) -> F8 {
+    match wrap {
+        Wrap::Repeat => t - floor(t),
+        Wrap::MirroredRepeat => {
+            // t % 2 (exact: t / 2 is exact, twice its truncation is representable, and the
+            // difference of two floats this close is exact), then made non-negative.
+            let r = t - trunc(t * 0.5) * 2.0;
+            F8::select(r.lt(F8::ZERO), r + 2.0, r)
+        }
+        Wrap::ClampToEdge => t.clamp(-1.0, 2.0),
+    }
+}
+
+/// [`super::fold`] on lanes: a lane with a non-finite coordinate reads (0, 0).
+#[inline(always)]
+fn fold(u: F8, v: F8, s: Sampler) -> (F8, F8) {
+    let ok = crate::raster::M8::from_bits(finite(u) & finite(v));
+    let (u, v) = (F8::select(ok, u, F8::ZERO), F8::select(ok, v, F8::ZERO));
+    (reduce(u, s.wrap_u), reduce(v, s.wrap_v))
+}
+
+/// [`super::wrap_index`] on lanes: integer texel coordinates `i` of folded UVs (so within
+/// a period or two of the image: -n - 1 ..= 2n) into `0..n`, per-lane `n`. The result is
+/// clamped to `0..n` in every mode, whatever `i` is.
+#[inline(always)]
+fn wrap_index(i: I8, n: I8, wrap: Wrap) -> I8 {
+    let last = n.add(I8::splat(-1));
+    let r = match wrap {
+        Wrap::ClampToEdge => i,
+        Wrap::Repeat => i.zip(n, |i, n| {
+            let i = if i < 0 { i.wrapping_add(n) } else { i };
+            if i >= n {
+                i.wrapping_sub(n)
+            } else {
+                i
+            }
+        }),
+        Wrap::MirroredRepeat => i.zip(n, |i, n| {
+            let p = n.wrapping_mul(2);
+            let i = if i < 0 { i.wrapping_add(p) } else { i };
+            let i = if i >= p { i.wrapping_sub(p) } else { i };
+            if i >= n {
+                p.wrapping_sub(1).wrapping_sub(i)
+            } else {
+                i
+            }
+        }),
+    };
+    r.clamp0(last)
+}
+
+/// `a * (1 - t) + b * t` per channel, as glam's `Vec4::lerp`.
+#[inline(always)]
+fn lerp4(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
+    let s = 1.0 - t;
+    [
+        a[0] * s + b[0] * t,
+        a[1] * s + b[1] * t,
+        a[2] * s + b[2] * t,
+        a[3] * s + b[3] * t,
+    ]
+}
+
+/// Where the four texels of a bilinear footprint are, per lane, and their weights.
+#[derive(Clone, Copy)]
+struct Footprint {
+    /// Each lane's level (0 = the base).
+    level: I8,
+    /// Row-major indices of texels (x0, y0), (x1, y0), (x0, y1), (x1, y1) in that level.
+    idx: [I8; 4],
+    tx: F8,
+    ty: F8,
+}
+
+/// A footprint of one texel (nearest): weights 0 read texel `idx` alone, exactly.
+#[inline(always)]
+fn single(idx: I8) -> Footprint {
+    Footprint {
+        level: I8::default(),
+        idx: [idx; 4],
+        tx: F8::ZERO,
+        ty: F8::ZERO,
+    }
+}
+
+impl Texture {
+    /// [`Texture::sample_with`] on eight lanes (UVs `u`, `v`): RGBA in linear light, one
+    /// [`F8`] per channel. Only lanes set in `mask` (bit i = lane i) read texels; the others
+    /// are zero. Equal to the scalar sample of each lane (see the module docs).
+    #[must_use]
+    #[inline(always)]
+    pub fn sample_lanes<K: Kernel>(&self, u: F8, v: F8, mask: u32, s: Sampler) -> [F8; 4] {
+        let (u, v) = fold(u, v, s);
+        let f = match s.filter {
+            Filter::Nearest => {
+                let (w, h) = (self.width as i32, self.height as i32);
+                let x = floor_i(u * self.width as f32);
+                let y = floor_i(v * self.height as f32);
+                let x = wrap_index(x, I8::splat(w), s.wrap_u);
+                let y = wrap_index(y, I8::splat(h), s.wrap_v);
+                single(y.mul(I8::splat(w)).add(x))
+            }
+            Filter::Bilinear | Filter::Trilinear => self.footprint(I8::default(), u, v, s),
+        };
+        self.filter(&[], f, None, mask)
+    }
+
+    /// [`Texture::sample_grad_with`] on eight lanes: UVs `u`, `v` and their screen-space
+    /// derivatives per pixel along x (`dudx`, `dvdx`) and y (`dudy`, `dvdy`), which choose
+    /// each lane's level of detail for [`Filter::Trilinear`]; the other filters ignore them
+    /// (as [`Texture::sample_lanes`]). Only lanes set in `mask` read texels.
+    #[must_use]
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn sample_grad_lanes<K: Kernel>(
+        &self,
+        u: F8,
+        v: F8,
+        dudx: F8,
+        dvdx: F8,
+        dudy: F8,
+        dvdy: F8,
+        mask: u32,
+        s: Sampler,
+    ) -> [F8; 4] {
+        let top = (self.levels() - 1) as f32;
+        if s.filter != Filter::Trilinear || top == 0.0 {
+            return self.sample_lanes::<K>(u, v, mask, s);
+        }
+        let lod = self.lod_lanes::<K>(dudx, dvdx, dudy, dvdy);
+        let (u, v) = fold(u, v, s);
+        // As `sample_lod_with`: bilinear on level floor(lod), blended towards the next level
+        // by the fraction where it is not zero (lod <= 0 is level 0 with no fraction).
+        let d = floor_i(lod);
+        let t = lod - d.to_f32();
+        let mips = self.mips();
+        let a = self.footprint(d, u, v, s);
+        let blend = mask & t.gt(F8::ZERO).bits();
+        if blend == 0 {
+            return self.filter(mips, a, None, mask);
+        }
+        let next = d.add(I8::splat(1)).clamp0(I8::splat(top as i32));
+        let b = self.footprint(next, u, v, s);
+        self.filter(mips, a, Some((b, t, blend)), mask)
+    }
+
+    /// [`Texture::lod`] on eight lanes (with [`F8::log2`] for the logarithm).
+    #[inline(always)]
+    fn lod_lanes<K: Kernel>(&self, dudx: F8, dvdx: F8, dudy: F8, dvdy: F8) -> F8 {
+        let ok = finite(dudx) & finite(dvdx) & finite(dudy) & finite(dvdy);
+        let (w, h) = (self.width as f32, self.height as f32);
+        let (xu, xv) = (dudx * w, dvdx * h);
+        let (yu, yv) = (dudy * w, dvdy * h);
+        let rho2 = (xu * xu + xv * xv).max(yu * yu + yv * yv);
+        // log2(0) is a large negative number here (not -inf), clamped to 0 all the same.
+        let lod = (rho2.log2::<K>() * 0.5).clamp(0.0, (self.levels() - 1) as f32);
+        F8::select(crate::raster::M8::from_bits(ok), lod, F8::ZERO)
+    }
+
+    /// The bilinear footprint of each lane's level `level` at folded UVs (the lane version
+    /// of the coordinates and weights of `super::bilinear`).
+    #[inline(always)]
+    fn footprint(&self, level: I8, u: F8, v: F8, s: Sampler) -> Footprint {
+        // Level sizes: each level halves each side, rounding down, to no less than 1.
+        let size = |n: u32| {
+            I8::splat(n as i32).zip(level, |n, l| {
+                let m = (n as u32) >> (l as u32 & 31);
+                m.max(1) as i32
+            })
+        };
+        let (w, h) = (size(self.width), size(self.height));
+        let fx = u * w.to_f32() - 0.5;
+        let fy = v * h.to_f32() - 0.5;
+        let (x0, y0) = (floor_i(fx), floor_i(fy));
+        let one = I8::splat(1);
+        let xa = wrap_index(x0, w, s.wrap_u);
+        let xb = wrap_index(x0.add(one), w, s.wrap_u);
+        let ra = wrap_index(y0, h, s.wrap_v).mul(w);
+        let rb = wrap_index(y0.add(one), h, s.wrap_v).mul(w);
+        Footprint {
+            level,
+            idx: [ra.add(xa), ra.add(xb), rb.add(xa), rb.add(xb)],
+            tx: fx - x0.to_f32(),
+            ty: fy - y0.to_f32(),
+        }
+    }
+
+    /// Filters footprint `a` of each lane in `mask`, and where `blend` = `(b, t, lanes)`
+    /// has a lane, blends it towards footprint `b` by `t`. The texel reads, the bilinear
+    /// weighting and the blend are done per lane on four-channel texels (the same
+    /// operations as the scalar `bilinear` and `Vec4::lerp`); lanes outside `mask` are zero.
+    #[inline(always)]
+    fn filter(
+        &self,
+        mips: &[MipLevel],
+        a: Footprint,
+        blend: Option<(Footprint, F8, u32)>,
+        mask: u32,
+    ) -> [F8; 4] {
+        let tab = srgb_table();
+        // Texel `idx` of level `level` in linear light; an index outside the level (never
+        // made: the coordinates are wrapped or clamped) reads zero.
+        let fetch = |level: i32, idx: i32| -> [f32; 4] {
+            if level <= 0 {
+                let t = self.texels.get(idx as usize).copied().unwrap_or_default();
+                let alpha = f32::from(t[3]) / 255.0;
+                if self.srgb {
+                    [
+                        tab[t[0] as usize],
+                        tab[t[1] as usize],
+                        tab[t[2] as usize],
+                        alpha,
+                    ]
+                } else {
+                    [
+                        f32::from(t[0]) / 255.0,
+                        f32::from(t[1]) / 255.0,
+                        f32::from(t[2]) / 255.0,
+                        alpha,
+                    ]
+                }
+            } else {
+                let t = mips
+                    .get(level as usize - 1)
+                    .and_then(|m| m.texels.get(idx as usize))
+                    .copied()
+                    .unwrap_or_default();
+                let k = 1.0 / U16_MAX;
+                [
+                    f32::from(t[0]) * k,
+                    f32::from(t[1]) * k,
+                    f32::from(t[2]) * k,
+                    f32::from(t[3]) * k,
+                ]
+            }
+        };
+        let bilinear = |f: &Footprint, i: usize| -> [f32; 4] {
+            let l = f.level.0[i];
+            let c = |k: usize| fetch(l, f.idx[k].0[i]);
+            let (tx, ty) = (f.tx.0[i], f.ty.0[i]);
+            if tx == 0.0 && ty == 0.0 {
+                // Exactly the first texel: the others are weighted by zero and texels are
+                // finite and non-negative. Nearest footprints always take this path.
+                return c(0);
+            }
+            let top = lerp4(c(0), c(1), tx);
+            let bottom = lerp4(c(2), c(3), tx);
+            lerp4(top, bottom, ty)
+        };
+        let mut aos = [[0.0f32; 4]; LANES];
+        let mut bits = mask & ((1 << LANES) - 1);
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let mut c = bilinear(&a, i);
+            if let Some((b, t, lanes)) = &blend {
+                if lanes >> i & 1 != 0 {
+                    c = lerp4(c, bilinear(b, i), t.0[i]);
+                }
+            }
+            aos[i] = c;
+        }
+        let mut out = [F8::ZERO; 4];
+        for i in 0..LANES {
+            for (ch, o) in out.iter_mut().enumerate() {
+                o.0[i] = aos[i][ch];
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::kernel::{dispatch, KernelJob};
+    use crate::raster::KernelKind;
+    use glam::{Vec2, Vec4};
+
+    /// splitmix64.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        /// Uniform in [0, 1).
+        fn unit(&mut self) -> f32 {
+            (self.next() >> 40) as f32 / (1u64 << 24) as f32
+        }
+        fn pick<T: Copy>(&mut self, xs: &[T]) -> T {
+            xs[(self.next() % xs.len() as u64) as usize]
+        }
+    }
+
+    fn noise(w: u32, h: u32, srgb: bool, rng: &mut Rng) -> Texture {
+        let texels = (0..w * h)
+            .map(|_| {
+                let b = rng.next().to_le_bytes();
+                [b[0], b[1], b[2], b[3]]
+            })
+            .collect();
+        Texture::new("noise", w, h, texels, srgb).unwrap()
+    }
+
+    const SPECIAL: [f32; 12] = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        1e-30,
+        1e30,
+        -1e30,
+        f32::MAX,
+        f32::MIN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+    ];
+
+    /// A texture coordinate: mostly ordinary, sometimes on texel edges, huge or special.
+    fn coord(rng: &mut Rng, n: u32) -> f32 {
+        match rng.next() % 8 {
+            0 => rng.pick(&SPECIAL),
+            1 => (rng.next() % (4 * u64::from(n) + 1)) as f32 / n as f32 - 1.5,
+            2 => (rng.unit() - 0.5) * 2e6,
+            3 => (rng.unit() - 0.5) * 1e-3,
+            _ => (rng.unit() - 0.5) * 6.0,
+        }
+    }
+
+    /// A derivative: log-uniform magnitude from 2^-16 to 2^4, random sign; sometimes special.
+    fn deriv(rng: &mut Rng) -> f32 {
+        if rng.next().is_multiple_of(10) {
+            return rng.pick(&SPECIAL);
+        }
+        let m = (rng.unit() * 20.0 - 16.0).exp2();
+        if rng.next().is_multiple_of(2) {
+            m
+        } else {
+            -m
+        }
+    }
+
+    struct Case<'a> {
+        t: &'a Texture,
+        uv: [F8; 2],
+        d: [F8; 4],
+        mask: u32,
+        s: Sampler,
+        grad: bool,
+    }
+
+    impl KernelJob for &Case<'_> {
+        type Output = [F8; 4];
+        #[inline(always)]
+        fn run<K: Kernel>(self) -> [F8; 4] {
+            let [u, v] = self.uv;
+            let [a, b, c, d] = self.d;
+            if self.grad {
+                self.t
+                    .sample_grad_lanes::<K>(u, v, a, b, c, d, self.mask, self.s)
+            } else {
+                self.t.sample_lanes::<K>(u, v, self.mask, self.s)
+            }
+        }
+    }
+
+    /// Largest difference from the scalar sampler over random cases, per filter, on kernel
+    /// `kind`; nearest and bilinear must be bit-identical.
+    fn compare(kind: KernelKind) -> f32 {
+        let mut rng = Rng(42);
+        let wraps = [Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge];
+        let filters = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear];
+        let mut worst = 0.0f32;
+        let mut lanes = 0;
+        for (w, h) in [
+            (1, 1),
+            (1, 9),
+            (9, 1),
+            (2, 2),
+            (5, 3),
+            (37, 20),
+            (64, 64),
+            (256, 4),
+            (100, 100),
+        ] {
+            for srgb in [true, false] {
+                let t = noise(w, h, srgb, &mut rng);
+                for wrap_u in wraps {
+                    for wrap_v in wraps {
+                        for filter in filters {
+                            let s = Sampler {
+                                wrap_u,
+                                wrap_v,
+                                filter,
+                            };
+                            for _ in 0..40 {
+                                let mut uv = [F8::ZERO; 2];
+                                let mut d = [F8::ZERO; 4];
+                                for i in 0..LANES {
+                                    uv[0].0[i] = coord(&mut rng, w);
+                                    uv[1].0[i] = coord(&mut rng, h);
+                                    for x in &mut d {
+                                        x.0[i] = deriv(&mut rng);
+                                    }
+                                }
+                                let mask = (rng.next() as u32 | rng.next() as u32) & 0xff;
+                                for grad in [false, true] {
+                                    let case = Case {
+                                        t: &t,
+                                        uv,
+                                        d,
+                                        mask,
+                                        s,
+                                        grad,
+                                    };
+                                    let got = dispatch(kind, &case);
+                                    for i in 0..LANES {
+                                        let g = Vec4::new(
+                                            got[0].0[i],
+                                            got[1].0[i],
+                                            got[2].0[i],
+                                            got[3].0[i],
+                                        );
+                                        assert!(g.is_finite(), "lane {i}: {g}");
+                                        if mask >> i & 1 == 0 {
+                                            continue;
+                                        }
+                                        let p = Vec2::new(uv[0].0[i], uv[1].0[i]);
+                                        let want = if grad {
+                                            let dx = Vec2::new(d[0].0[i], d[1].0[i]);
+                                            let dy = Vec2::new(d[2].0[i], d[3].0[i]);
+                                            t.sample_grad_with(p, dx, dy, s)
+                                        } else {
+                                            t.sample_with(p, s)
+                                        };
+                                        let err = (g - want).abs().max_element();
+                                        let exact = !grad || filter != Filter::Trilinear;
+                                        assert!(
+                                            if exact { g == want } else { err < 1e-5 },
+                                            "{kind:?} {w}x{h} srgb {srgb} {s:?} grad {grad} \
+                                             uv {p} d {d:?} lane {i}: {g} vs {want}"
+                                        );
+                                        worst = worst.max(err);
+                                        lanes += 1;
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(lanes > 100_000, "{lanes}");
+        worst
+    }
+
+    #[test]
+    fn lanes_match_the_scalar_sampler_on_every_kernel() {
+        for kind in KernelKind::available_kinds() {
+            let worst = compare(kind);
+            eprintln!("{kind:?}: largest difference {worst:e}");
+            assert!(worst < 1e-5, "{kind:?}: {worst}");
+        }
+    }
+
+    #[test]
+    fn lane_floors_and_remainders() {
+        let xs = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.5,
+            -2.5,
+            1e-30,
+            -1e-30,
+            8388607.5,
+            -8388607.5,
+            8388608.0,
+            -8388609.0,
+            1e30,
+            -1e30,
+            0.49999997,
+            -0.49999997,
+            1.5,
+            -1.5,
+            4194303.5,
+            -4194303.5,
+            3.999,
+            -3.001,
+        ];
+        for c in xs.chunks(LANES) {
+            let x = F8::load(c);
+            let (f, r) = (floor(x), reduce(x, Wrap::MirroredRepeat));
+            for i in 0..LANES {
+                assert_eq!(f.0[i].to_bits(), c[i].floor().to_bits(), "floor {}", c[i]);
+                assert_eq!(r.0[i], c[i].rem_euclid(2.0), "rem {}", c[i]);
+                if c[i].abs() < 4e6 {
+                    assert_eq!(floor_i(x).0[i], c[i].floor() as i32, "{}", c[i]);
+                }
+            }
+        }
+        let nan = floor(F8::splat(f32::NAN));
+        assert!(nan.0[0].is_nan());
+        assert_eq!(floor(F8::splat(f32::INFINITY)).0[0], f32::INFINITY);
+    }
+}
