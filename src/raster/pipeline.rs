@@ -11,7 +11,9 @@ use super::fill::{fill, FillCounters};
 use super::framebuffer::{Target, Tile, TILE};
 use super::kernel::{dispatch, prefetch, KernelJob, KernelKind};
 use super::lanes::Kernel;
-use super::setup::{padded, setup, Corners, Reject, SetupTri, GUARD_BAND_PX};
+use super::setup::{
+    padded, project, setup_projected, Corners, Reject, ScreenVert, SetupTri, GUARD_BAND_PX,
+};
 use super::{FragmentShader, MAX_VARYINGS};
 
 /// Which faces are discarded.
@@ -310,7 +312,67 @@ pub struct RasterScratch {
     chunks: Vec<Chunk>,
     /// First global triangle index of each draw.
     starts: Vec<usize>,
+    /// Every draw's vertices projected once (first vertex of draw `i` at `pre_starts[i]`).
+    pre: Vec<PreVert>,
+    pre_starts: Vec<usize>,
 }
+
+/// A vertex as triangle set-up needs it, computed once per vertex rather than once per
+/// triangle using it: its outcodes against the frustum and the guard band, and (if it is
+/// inside the guard band) its projected, snapped position.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct PreVert {
+    s: ScreenVert,
+    frustum: u8,
+    guard: u8,
+    /// `s` is valid (inside the guard band and w > 0).
+    projected: bool,
+}
+
+impl PreVert {
+    #[inline(always)]
+    fn new(p: Vec4, g: Vec2, hw: f32, hh: f32, bits: u8) -> Self {
+        if !p.is_finite() {
+            return Self::default();
+        }
+        let guard = outcode(p, g);
+        let s = if guard == 0 {
+            project(p, hw, hh, bits)
+        } else {
+            None
+        };
+        Self {
+            s: s.unwrap_or_default(),
+            frustum: outcode(p, Vec2::ONE),
+            guard,
+            projected: s.is_some(),
+        }
+    }
+}
+
+/// Projects a run of vertices, compiled per kernel (the snap's rounding is one
+/// instruction in the kernels that have it).
+struct ProjectJob<'a> {
+    clip: &'a [Vec4],
+    out: &'a mut [PreVert],
+    g: Vec2,
+    half: (f32, f32),
+    bits: u8,
+}
+
+impl KernelJob for ProjectJob<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<K: Kernel>(self) {
+        let (hw, hh) = self.half;
+        for (o, p) in self.out.iter_mut().zip(self.clip) {
+            *o = PreVert::new(*p, self.g, hw, hh, self.bits);
+        }
+    }
+}
+
+/// Vertices projected per parallel task.
+const PROJECT_CHUNK: usize = 4096;
 
 /// Rasterizes `draws` in order into `target` with `shader`. Runs on the current rayon pool;
 /// the image does not depend on its thread count. Allocates its working memory; a caller
@@ -362,16 +424,41 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
     let (w, h, tiles_x) = (target.width, target.height, target.tiles_x);
     let tiles = target.tiles.len();
     bins.fit(tiles);
-    let RasterScratch { chunks, starts } = scratch;
+    let RasterScratch {
+        chunks,
+        starts,
+        pre,
+        pre_starts,
+    } = scratch;
+    let kernel = bins.kernel;
     starts.clear();
+    pre.clear();
+    pre_starts.clear();
     let mut total = 0;
+    let half = (w as f32 * 0.5, h as f32 * 0.5);
     for i in 0..draws.count() {
+        let d = draws.draw(i);
         starts.push(total);
-        total += draws.draw(i).triangles.len();
+        total += d.triangles.len();
+        let first = pre.len();
+        pre_starts.push(first);
+        pre.resize(first + d.clip.len(), PreVert::default());
+        pre[first..]
+            .par_chunks_mut(PROJECT_CHUNK)
+            .zip(d.clip.par_chunks(PROJECT_CHUNK))
+            .for_each(|(out, clip)| {
+                let job = ProjectJob {
+                    clip,
+                    out,
+                    g,
+                    half,
+                    bits: d.state.subpixel_bits,
+                };
+                dispatch(kernel, job);
+            });
     }
     stats.triangles_in += total as u64;
-    let starts = &*starts;
-    let kernel = bins.kernel;
+    let (starts, pre, pre_starts) = (&*starts, &*pre, &*pre_starts);
     let mut complete = true;
     let mut batch = 0;
     while batch < total && complete {
@@ -391,6 +478,8 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
                 let job = SetupJob {
                     draws,
                     starts,
+                    pre,
+                    pre_starts,
                     lo,
                     hi,
                     g,
@@ -414,6 +503,8 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
 struct SetupJob<'a, L: ?Sized> {
     draws: &'a L,
     starts: &'a [usize],
+    pre: &'a [PreVert],
+    pre_starts: &'a [usize],
     lo: usize,
     hi: usize,
     g: Vec2,
@@ -429,6 +520,8 @@ impl<L: DrawList + ?Sized> KernelJob for SetupJob<'_, L> {
         setup_range(
             self.draws,
             self.starts,
+            self.pre,
+            self.pre_starts,
             self.lo,
             self.hi,
             self.g,
@@ -446,6 +539,8 @@ impl<L: DrawList + ?Sized> KernelJob for SetupJob<'_, L> {
 fn setup_range<L: DrawList + ?Sized>(
     draws: &L,
     starts: &[usize],
+    pre: &[PreVert],
+    pre_starts: &[usize],
     lo: usize,
     hi: usize,
     g: Vec2,
@@ -465,7 +560,8 @@ fn setup_range<L: DrawList + ?Sized>(
             chunk.stats.culled_degenerate += take as u64;
         } else {
             for t in &d.triangles[first..first + take] {
-                assemble(&d, t, g, w, h, Some(tiles_x), chunk);
+                let verts = &pre[pre_starts[di]..pre_starts[di] + d.clip.len()];
+                assemble(&d, Some(verts), t, g, w, h, Some(tiles_x), chunk);
             }
         }
         at += take;
@@ -478,8 +574,10 @@ fn setup_range<L: DrawList + ?Sized>(
 /// `tiles_x`, to its tile lists: binned before the triangle is stored, while it is still
 /// in registers).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn assemble(
     d: &Draw<'_>,
+    pre: Option<&[PreVert]>,
     t: &[u32; 3],
     g: Vec2,
     w: u32,
@@ -504,43 +602,47 @@ pub(crate) fn assemble(
         st.culled_degenerate += 1;
         return;
     };
+    // Outcodes (and, inside the guard band, the projected vertices) computed once per
+    // vertex when the pipeline did so, else here.
+    let hw_hh = (w as f32 * 0.5, h as f32 * 0.5);
+    let vert = |i: u32, p: Vec4| match pre.and_then(|pre| pre.get(i as usize)) {
+        Some(v) => *v,
+        None => PreVert::new(p, g, hw_hh.0, hw_hh.1, d.state.subpixel_bits),
+    };
+    let pv = [vert(t[0], a.0), vert(t[1], b.0), vert(t[2], c.0)];
     // Trivial reject against the real frustum; clipping needs against near/far and guard band.
-    let (fa, fb, fc) = (
-        outcode(a.0, Vec2::ONE),
-        outcode(b.0, Vec2::ONE),
-        outcode(c.0, Vec2::ONE),
-    );
-    if fa & fb & fc != 0 {
+    if pv[0].frustum & pv[1].frustum & pv[2].frustum != 0 {
         st.culled_frustum += 1;
         return;
     }
-    let (ga, gb, gc) = (outcode(a.0, g), outcode(b.0, g), outcode(c.0, g));
-    let need = ga | gb | gc;
-    let mut push = |tri: Corners<'_>, ccw: Option<bool>, st: &mut Stats| match setup(
-        tri, w, h, d.id, d.state, ccw, attrs,
-    ) {
-        Ok(s) => {
-            if let Some(tx) = tiles_x {
-                bin(tx, &s, out.len() as u16, bins);
+    let need = pv[0].guard | pv[1].guard | pv[2].guard;
+    let mut push =
+        |s: Option<[ScreenVert; 3]>, var: [&[f32]; 3], ccw: Option<bool>, st: &mut Stats| {
+            let set = match s {
+                Some(s) => setup_projected(s, var, w, h, d.id, d.state, ccw, attrs),
+                None => Err(Reject::Degenerate),
+            };
+            match set {
+                Ok(s) => {
+                    if let Some(tx) = tiles_x {
+                        bin(tx, &s, out.len() as u16, bins);
+                    }
+                    out.push(s);
+                    true
+                }
+                Err(Reject::Backface) => {
+                    st.culled_backface += 1;
+                    false
+                }
+                Err(Reject::Degenerate) => {
+                    st.culled_degenerate += 1;
+                    false
+                }
             }
-            out.push(s);
-            true
-        }
-        Err(Reject::Backface) => {
-            st.culled_backface += 1;
-            false
-        }
-        Err(Reject::Degenerate) => {
-            st.culled_degenerate += 1;
-            false
-        }
-    };
-    if need == 0 {
-        let corners = Corners {
-            pos: [a.0, b.0, c.0],
-            var: [a.1, b.1, c.1],
         };
-        let _ = push(corners, None, st);
+    if need == 0 {
+        let s = pv.iter().all(|v| v.projected).then(|| pv.map(|v| v.s));
+        let _ = push(s, [a.1, b.1, c.1], None, st);
         return;
     }
     st.clipped += 1;
@@ -562,9 +664,16 @@ pub(crate) fn assemble(
     }
     let mut rejected = Stats::default();
     let mut any = false;
+    let (hw, hh) = hw_hh;
     for i in 1..poly.len() - 1 {
-        let corners = Corners::of([&poly[0], &poly[i], &poly[i + 1]], stride);
-        any |= push(corners, ccw, &mut rejected);
+        let c = Corners::of([&poly[0], &poly[i], &poly[i + 1]], stride);
+        let bits = d.state.subpixel_bits;
+        let s = [0, 1, 2].map(|k| project(c.pos[k], hw, hh, bits));
+        let s = s
+            .iter()
+            .all(Option::is_some)
+            .then(|| s.map(Option::unwrap_or_default));
+        any |= push(s, c.var, ccw, &mut rejected);
     }
     // Count the input triangle once: as drawn if any piece survived, else by the first reason.
     if !any {

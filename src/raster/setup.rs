@@ -111,10 +111,40 @@ impl<'a> Corners<'a> {
     }
 }
 
-/// Sets up one (clipped) triangle for a `width` x `height` target; on success its varyings
-/// are appended to `attrs`.
-#[allow(clippy::too_many_arguments)]
+/// A vertex after the perspective divide and snapping: fixed-point screen position, depth
+/// z/w and 1/w.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct ScreenVert {
+    pub x: i64,
+    pub y: i64,
+    pub z: f32,
+    pub iw: f32,
+}
+
+/// Projects and snaps clip-space `p` for a target of half-size `hw` x `hh`; `None` where
+/// w is not positive (clipping leaves w >= near > 0; w <= 0 only reaches here from a
+/// vertex no plane test caught, such as (0, 0, 0, 0)).
 #[inline(always)]
+pub(crate) fn project(p: Vec4, hw: f32, hh: f32, bits: u8) -> Option<ScreenVert> {
+    if p.w.is_nan() || p.w <= 0.0 {
+        return None;
+    }
+    let inv_w = 1.0 / p.w;
+    let sx = (p.x * inv_w + 1.0) * hw;
+    let sy = (1.0 - p.y * inv_w) * hh;
+    Some(ScreenVert {
+        x: snap(sx, bits),
+        y: snap(sy, bits),
+        z: p.z * inv_w,
+        iw: inv_w,
+    })
+}
+
+/// Sets up one (clipped) triangle for a `width` x `height` target; on success its varyings
+/// are appended to `attrs`. (The pipeline projects vertices first and calls
+/// [`setup_projected`]; this is the whole step, for tests.)
+#[cfg(test)]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn setup<'a>(
     v: Corners<'a>,
     width: u32,
@@ -125,24 +155,31 @@ pub(crate) fn setup<'a>(
     attrs: &mut Vec<f32>,
 ) -> Result<SetupTri, Reject> {
     let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
-    let mut x = [0i64; 3];
-    let mut y = [0i64; 3];
-    let mut z = [0f32; 3];
-    let mut iw = [0f32; 3];
-    for k in 0..3 {
-        let p: Vec4 = v.pos[k];
-        // Clipping leaves w >= near > 0; w = 0 can only come from a caller bypassing it.
-        if p.w.is_nan() || p.w <= 0.0 {
-            return Err(Reject::Degenerate);
-        }
-        let inv_w = 1.0 / p.w;
-        let sx = (p.x * inv_w + 1.0) * hw;
-        let sy = (1.0 - p.y * inv_w) * hh;
-        x[k] = snap(sx, state.subpixel_bits);
-        y[k] = snap(sy, state.subpixel_bits);
-        z[k] = p.z * inv_w;
-        iw[k] = inv_w;
+    let mut s = [ScreenVert::default(); 3];
+    for (s, p) in s.iter_mut().zip(v.pos) {
+        *s = project(p, hw, hh, state.subpixel_bits).ok_or(Reject::Degenerate)?;
     }
+    setup_projected(s, v.var, width, height, draw, state, ccw, attrs)
+}
+
+/// [`setup`] of a triangle whose vertices are already projected and snapped (the
+/// pipeline projects each vertex once, not once per triangle using it).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn setup_projected<'a>(
+    s: [ScreenVert; 3],
+    var: [&'a [f32]; 3],
+    width: u32,
+    height: u32,
+    draw: u32,
+    state: DrawState,
+    ccw: Option<bool>,
+    attrs: &mut Vec<f32>,
+) -> Result<SetupTri, Reject> {
+    let x = [s[0].x, s[1].x, s[2].x];
+    let y = [s[0].y, s[1].y, s[2].y];
+    let z = [s[0].z, s[1].z, s[2].z];
+    let iw = [s[0].iw, s[1].iw, s[2].iw];
     let mut order = [0usize, 1, 2];
     let area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
     if area == 0 {
@@ -204,14 +241,14 @@ pub(crate) fn setup<'a>(
         // Reversed-Z: away from the eye is smaller.
         z0 -= state.depth_offset * dzdx.abs().max(dzdy.abs());
     }
-    let (mut stride, mut first) = (v.var[0].len(), 0);
+    let (mut stride, mut first) = (var[0].len(), 0);
     if state.facing_varyings {
         stride /= 2;
         first = if front { 0 } else { stride };
     }
     let attr = attrs.len() as u32;
     let half = |s: &'a [f32]| &s[first..first + stride];
-    let (v0, v1, v2) = (half(v.var[i0]), half(v.var[i1]), half(v.var[i2]));
+    let (v0, v1, v2) = (half(var[i0]), half(var[i1]), half(var[i2]));
     // Each of the three rows padded with zeros to a multiple of 4 floats, so the fill
     // interpolates in fixed groups of four (see `padded`).
     let pad = padded(stride) - stride;

@@ -94,7 +94,7 @@ pub fn setup_all(d: &Draw<'_>, width: u32, height: u32) -> SetupBatch {
         .map(|tris| {
             let mut c = Chunk::default();
             for t in tris {
-                assemble(d, t, g, width, height, None, &mut c);
+                assemble(d, None, t, g, width, height, None, &mut c);
             }
             stats.add(&c.stats);
             c
