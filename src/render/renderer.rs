@@ -19,7 +19,7 @@ use super::passes::{self, Cx};
 use super::pool::Pool;
 use super::prepare::PreparedScene;
 use super::settings::{Output, Settings, View};
-use crate::raster::{Bins, Stats, Target, TileCost, TILE};
+use crate::raster::{Bins, KernelKind, Stats, Target, TileCost, TILE};
 
 /// Wall-clock milliseconds of a frame's stages (summed over supersampling passes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
@@ -120,6 +120,7 @@ impl Renderer {
             None => self.target.insert(Target::new(w, h, bg)),
         };
         self.bins.reset_costs();
+        self.bins.kernel = settings.kernel.unwrap_or_else(KernelKind::best);
         self.output = settings.output;
         let camera = &view.camera;
         let view_m = camera.view();

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use glam::Vec4;
 
+use crate::raster::KernelKind;
 use crate::scene::{Camera, Light, Material};
 use crate::shade::Shading;
 use crate::texture::{Filter, Texture};
@@ -63,6 +64,9 @@ pub struct Settings {
     /// each rendered as a whole pass with the projection shifted by a fraction of a pixel
     /// and averaged in linear light (1 = one sample at the pixel centre). Clamped to 1..=8.
     pub samples: u32,
+    /// The kernel the fill and shaders run with; `None` is [`KernelKind::best`] (a kernel the
+    /// CPU lacks runs as the portable one).
+    pub kernel: Option<KernelKind>,
 }
 
 impl Default for Settings {
@@ -79,6 +83,7 @@ impl Default for Settings {
             lights: Lights::Auto,
             materials: None,
             samples: 1,
+            kernel: None,
         }
     }
 }
