@@ -559,9 +559,9 @@ fn setup_range<L: DrawList + ?Sized>(
         if d.stride > MAX_VARYINGS {
             chunk.stats.culled_degenerate += take as u64;
         } else {
+            let verts = pre.get(pre_starts[di]..pre_starts[di] + d.clip.len());
             for t in &d.triangles[first..first + take] {
-                let verts = &pre[pre_starts[di]..pre_starts[di] + d.clip.len()];
-                assemble(&d, Some(verts), t, g, w, h, Some(tiles_x), chunk);
+                assemble(&d, verts, t, g, w, h, Some(tiles_x), chunk);
             }
         }
         at += take;
