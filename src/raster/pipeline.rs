@@ -12,7 +12,8 @@ use super::framebuffer::{Target, Tile, TILE};
 use super::kernel::{dispatch, prefetch, KernelJob, KernelKind};
 use super::lanes::Kernel;
 use super::setup::{
-    padded, project, setup_projected, Corners, Reject, ScreenVert, SetupTri, GUARD_BAND_PX,
+    padded, project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri,
+    GUARD_BAND_PX,
 };
 use super::{FragmentShader, MAX_VARYINGS};
 
@@ -667,12 +668,7 @@ pub(crate) fn assemble(
     let (hw, hh) = hw_hh;
     for i in 1..poly.len() - 1 {
         let c = Corners::of([&poly[0], &poly[i], &poly[i + 1]], stride);
-        let bits = d.state.subpixel_bits;
-        let s = [0, 1, 2].map(|k| project(c.pos[k], hw, hh, bits));
-        let s = s
-            .iter()
-            .all(Option::is_some)
-            .then(|| s.map(Option::unwrap_or_default));
+        let s = project3(c.pos, hw, hh, d.state.subpixel_bits);
         any |= push(s, c.var, ccw, &mut rejected);
     }
     // Count the input triangle once: as drawn if any piece survived, else by the first reason.

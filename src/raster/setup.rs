@@ -140,6 +140,16 @@ pub(crate) fn project(p: Vec4, hw: f32, hh: f32, bits: u8) -> Option<ScreenVert>
     })
 }
 
+/// [`project`] of a triangle's three vertices; `None` if any has w <= 0.
+#[inline(always)]
+pub(crate) fn project3(pos: [Vec4; 3], hw: f32, hh: f32, bits: u8) -> Option<[ScreenVert; 3]> {
+    Some([
+        project(pos[0], hw, hh, bits)?,
+        project(pos[1], hw, hh, bits)?,
+        project(pos[2], hw, hh, bits)?,
+    ])
+}
+
 /// Sets up one (clipped) triangle for a `width` x `height` target; on success its varyings
 /// are appended to `attrs`. (The pipeline projects vertices first and calls
 /// [`setup_projected`]; this is the whole step, for tests.)
@@ -155,10 +165,7 @@ pub(crate) fn setup<'a>(
     attrs: &mut Vec<f32>,
 ) -> Result<SetupTri, Reject> {
     let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
-    let mut s = [ScreenVert::default(); 3];
-    for (s, p) in s.iter_mut().zip(v.pos) {
-        *s = project(p, hw, hh, state.subpixel_bits).ok_or(Reject::Degenerate)?;
-    }
+    let s = project3(v.pos, hw, hh, state.subpixel_bits).ok_or(Reject::Degenerate)?;
     setup_projected(s, v.var, width, height, draw, state, ccw, attrs)
 }
 
