@@ -128,6 +128,16 @@ fn a_second_frame_allocates_nothing() {
             },
             camera.clone(),
         ),
+        (
+            "4x multisampling with the wireframe overlay",
+            &demo,
+            Settings {
+                msaa: 4,
+                wireframe_overlay: true,
+                ..base.clone()
+            },
+            camera.clone(),
+        ),
         ("textured", &cube, base.clone(), cube_cam.clone()),
         (
             "normals",

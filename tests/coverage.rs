@@ -1,6 +1,6 @@
-//! Coverage properties of the fill rule: meshes that tile the plane cover every pixel exactly
-//! once (additive count buffer), whatever the sub-pixel offset, vertex order, winding, w scale
-//! or thread count.
+//! Coverage properties of the fill rule: meshes that tile the plane cover every pixel (every
+//! sample, multisampled) exactly once (additive count buffer), whatever the sub-pixel offset,
+//! vertex order, winding, w scale, sample count or thread count.
 
 use glam::{Vec2, Vec4};
 use proptest::prelude::*;
@@ -30,10 +30,17 @@ fn counting() -> DrawState {
     }
 }
 
-/// Rasterizes NDC triangles (given as 2D points plus a per-vertex w scale) and returns the
-/// per-pixel count.
-fn count(width: u32, height: u32, points: &[Vec2], w: &[f32], tris: &[[u32; 3]]) -> Vec<u32> {
-    count_with(width, height, points, w, tris, counting())
+/// Rasterizes NDC triangles (given as 2D points plus a per-vertex w scale) with `samples`
+/// per pixel and returns the per-pixel count summed over its samples.
+fn count(
+    width: u32,
+    height: u32,
+    points: &[Vec2],
+    w: &[f32],
+    tris: &[[u32; 3]],
+    samples: u32,
+) -> Vec<u32> {
+    count_with(width, height, points, w, tris, counting(), samples)
 }
 
 fn count_with(
@@ -43,6 +50,7 @@ fn count_with(
     w: &[f32],
     tris: &[[u32; 3]],
     state: DrawState,
+    samples: u32,
 ) -> Vec<u32> {
     let clip: Vec<Vec4> = points
         .iter()
@@ -61,9 +69,17 @@ fn count_with(
     let mut first: Option<Vec<u32>> = None;
     for kernel in KernelKind::available_kinds() {
         let mut target = Target::new(width, height, Vec4::ZERO);
+        target.set_samples(samples, Vec4::ZERO);
+        assert_eq!(target.samples(), samples);
         let mut stats = Stats::default();
         raster::draw_with_kernel(&mut target, &[draw], &Count, &mut stats, kernel);
-        let counts: Vec<u32> = target.resolve().color.iter().map(|c| c.x as u32).collect();
+        // The resolve averages the samples: multiples of 1/samples, exact in f32.
+        let counts: Vec<u32> = target
+            .resolve()
+            .color
+            .iter()
+            .map(|c| (c.x * samples as f32).round() as u32)
+            .collect();
         match &first {
             Some(f) => assert!(*f == counts, "kernel {kernel:?} covers differently"),
             None => first = Some(counts),
@@ -128,6 +144,7 @@ proptest! {
         flips in prop::collection::vec(any::<bool>(), 1..16),
         offset in (-0.05f32..0.05, -0.05f32..0.05),
         wscale in prop::collection::vec(0.01f32..50.0, 4..8),
+        samples in prop::sample::select(vec![1u32, 4]),
     ) {
         let (pts, tris) = grid(n, m, &jitter, Vec2::new(offset.0, offset.1), &[false]);
         // Large jitter can fold a cell over; such a mesh does not tile the plane.
@@ -137,9 +154,9 @@ proptest! {
         }));
         let (_, tris) = grid(n, m, &jitter, Vec2::new(offset.0, offset.1), &flips);
         let w: Vec<f32> = (0..pts.len()).map(|k| wscale[k % wscale.len()]).collect();
-        let counts = count(width, height, &pts, &w, &tris);
+        let counts = count(width, height, &pts, &w, &tris, samples);
         for (k, c) in counts.iter().enumerate() {
-            prop_assert_eq!(*c, 1, "pixel ({}, {}) of {}x{}", k as u32 % width, k as u32 / width, width, height);
+            prop_assert_eq!(*c, samples, "pixel ({}, {}) of {}x{}", k as u32 % width, k as u32 / width, width, height);
         }
     }
 
@@ -152,6 +169,7 @@ proptest! {
         height in 1u32..200,
         reverse in any::<bool>(),
         subpixel_bits in 0u8..=8,
+        samples in prop::sample::select(vec![1u32, 4]),
     ) {
         // A fan around an interior point whose rim lies outside the viewport.
         let mut pts = vec![Vec2::new(center.0, center.1)];
@@ -169,8 +187,8 @@ proptest! {
         }
         // Watertight at every snap precision: shared vertices snap alike.
         let state = DrawState { subpixel_bits, ..counting() };
-        let counts = count_with(width, height, &pts, &vec![1.0; pts.len()], &tris, state);
-        prop_assert!(counts.iter().all(|&c| c == 1), "counts {:?}", counts.iter().filter(|&&c| c != 1).count());
+        let counts = count_with(width, height, &pts, &vec![1.0; pts.len()], &tris, state, samples);
+        prop_assert!(counts.iter().all(|&c| c == samples), "counts {:?}", counts.iter().filter(|&&c| c != samples).count());
     }
 }
 
@@ -203,12 +221,14 @@ fn edges_through_pixel_centres_are_covered_once() {
             tris.push([q(i, j), q(i + 1, j + 1), q(i, j + 1)]);
         }
     }
-    let counts = count(w, h, &pts, &vec![1.0; pts.len()], &tris);
-    assert!(
-        counts.iter().all(|&c| c == 1),
-        "{} pixels not covered exactly once",
-        counts.iter().filter(|&&c| c != 1).count()
-    );
+    for samples in [1, 4] {
+        let counts = count(w, h, &pts, &vec![1.0; pts.len()], &tris, samples);
+        assert!(
+            counts.iter().all(|&c| c == samples),
+            "{samples} samples: {} pixels not covered exactly once",
+            counts.iter().filter(|&&c| c != samples).count()
+        );
+    }
 }
 
 /// Translating a triangle by whole pixels translates its coverage exactly.
@@ -222,17 +242,19 @@ fn integer_translation_moves_coverage_exactly() {
             .map(|&(x, y)| to_ndc(x + dx, y + dy))
             .collect::<Vec<_>>()
     };
-    let a = count(w, h, &at(0.0, 0.0), &[1.0; 3], &[[0, 1, 2]]);
-    let b = count(w, h, &at(17.0, 29.0), &[1.0; 3], &[[0, 1, 2]]);
-    let covered: usize = a.iter().map(|&c| c as usize).sum();
-    assert!(covered > 100);
-    for y in 0..h - 29 {
-        for x in 0..w - 17 {
-            assert_eq!(
-                a[(y * w + x) as usize],
-                b[((y + 29) * w + x + 17) as usize],
-                "pixel ({x}, {y})"
-            );
+    for samples in [1, 4] {
+        let a = count(w, h, &at(0.0, 0.0), &[1.0; 3], &[[0, 1, 2]], samples);
+        let b = count(w, h, &at(17.0, 29.0), &[1.0; 3], &[[0, 1, 2]], samples);
+        let covered: usize = a.iter().map(|&c| c as usize).sum();
+        assert!(covered > 100 * samples as usize);
+        for y in 0..h - 29 {
+            for x in 0..w - 17 {
+                assert_eq!(
+                    a[(y * w + x) as usize],
+                    b[((y + 29) * w + x + 17) as usize],
+                    "{samples} samples, pixel ({x}, {y})"
+                );
+            }
         }
     }
 }

@@ -145,6 +145,10 @@ struct RenderArgs {
     /// Draw every material double-sided (no back-face culling).
     #[arg(long)]
     double_sided: bool,
+    /// Multisampling: 1 (off) or 4 coverage and depth samples per pixel, shaded once per
+    /// pixel and triangle, averaged in linear light.
+    #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
+    msaa: u32,
     #[command(flatten)]
     normals: NormalArgs,
 }
@@ -192,6 +196,22 @@ pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
         return Err("width and height must be between 1 and 16384".into());
     }
     Ok((w, h))
+}
+
+/// `--msaa`: a sample count the rasterizer supports.
+pub(crate) fn parse_msaa(s: &str) -> Result<u32, String> {
+    let n: u32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad sample count '{s}'"))?;
+    if realist::raster::SAMPLE_COUNTS.contains(&n) {
+        Ok(n)
+    } else {
+        Err(format!(
+            "{n} samples per pixel is not supported (choose from {:?})",
+            realist::raster::SAMPLE_COUNTS
+        ))
+    }
 }
 
 fn parse_camera(s: &str) -> Result<(f32, f32, Option<f32>), String> {
@@ -302,6 +322,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
         texture: None,
         stats: false,
         double_sided: false,
+        msaa: 4,
         normals: NormalArgs {
             crease: "60".into(),
             weighting: "angle".into(),
@@ -367,6 +388,7 @@ fn render(args: &RenderArgs) -> Result<()> {
         camera,
         texture,
         double_sided: args.double_sided,
+        msaa: args.msaa,
         ..RenderOptions::default()
     };
     let pool = rayon::ThreadPoolBuilder::new()

@@ -32,6 +32,8 @@ pub struct Setting {
     pub shading: Shading,
     /// Supersampling factor per axis.
     pub ss: u32,
+    /// Multisampling: coverage and depth samples per pixel (1 or 4).
+    pub msaa: u32,
     /// Texture filter forced on every texture (`None`: each texture's own).
     pub filter: Option<Filter>,
     /// Sub-pixel bits of the rasterizer's vertex snap.
@@ -39,7 +41,8 @@ pub struct Setting {
 }
 
 impl Setting {
-    /// A short label, e.g. "phong 64x32 ss2" or "textured bilinear ss1".
+    /// A short label, e.g. "phong 64x32 ss2", "textured bilinear ss1" or "phong 64x32 ss1
+    /// msaa4".
     #[must_use]
     pub fn label(&self) -> String {
         let mut out = self.shading.to_string();
@@ -51,6 +54,9 @@ impl Setting {
             out.push_str(filter_name(f));
         }
         out.push_str(&format!(" ss{}", self.ss));
+        if self.msaa > 1 {
+            out.push_str(&format!(" msaa{}", self.msaa));
+        }
         if u32::from(self.bits) != SUBPIXEL_BITS {
             out.push_str(&format!(" {}bit", self.bits));
         }
@@ -246,6 +252,7 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
             Shading::Phong
         },
         ss: 1,
+        msaa: 1,
         filter: None,
         bits: SUBPIXEL_BITS as u8,
     };
@@ -268,6 +275,7 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
     for ss in [1, 2, 4] {
         out.push(("supersampling", Setting { ss, ..base }));
     }
+    out.push(("multisampling", Setting { msaa: 4, ..base }));
     for bits in [0u8, 2, 4, 8] {
         out.push(("sub-pixel bits", Setting { bits, ..base }));
     }
@@ -296,6 +304,7 @@ fn plane_settings() -> Vec<(&'static str, Setting)> {
                     stacks: 0,
                     shading: Shading::Textured,
                     ss,
+                    msaa: 1,
                     filter: Some(filter),
                     bits: SUBPIXEL_BITS as u8,
                 },
@@ -322,6 +331,7 @@ pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
         stacks: stacks(64),
         shading: Shading::Phong,
         ss: 1,
+        msaa: 1,
         filter: None,
         bits: SUBPIXEL_BITS as u8,
     };
@@ -349,6 +359,10 @@ pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
         out.push(("supersampling", Setting { ss, ..base }));
         out.push(("supersampling", Setting { ss, ..fine }));
     }
+    for msaa in [1, 4] {
+        out.push(("multisampling", Setting { msaa, ..base }));
+        out.push(("multisampling", Setting { msaa, ..fine }));
+    }
     for bits in [0u8, 2, 4, 6, 8] {
         out.push(("sub-pixel bits", Setting { bits, ..fine }));
     }
@@ -375,6 +389,7 @@ pub fn run_setting(
         camera: Some(subject.camera().clone()),
         background: Vec4::new(0.0, 0.0, 0.0, 1.0),
         subpixel_bits: s.bits,
+        msaa: s.msaa,
         ..RenderOptions::default()
     };
     // Frames into one reused renderer, as a viewer renders them (no allocation after the
@@ -416,18 +431,19 @@ pub fn pareto(rows: &[Row]) -> Vec<usize> {
 #[must_use]
 pub fn csv(rows: &[Row], front: &[usize]) -> String {
     let mut out = String::from(
-        "knob,shading,slices,stacks,filter,supersampling,subpixel_bits,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
+        "knob,shading,slices,stacks,filter,supersampling,multisampling,subpixel_bits,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
     );
     for (i, r) in rows.iter().enumerate() {
         let (s, m) = (&r.setting, &r.metrics);
         out.push_str(&format!(
-            "{},{},{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
+            "{},{},{},{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
             r.knob,
             s.shading,
             s.slices,
             s.stacks,
             s.filter.map_or("", filter_name),
             s.ss,
+            s.msaa,
             s.bits,
             r.ms,
             m.rmse,

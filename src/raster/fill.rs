@@ -1,7 +1,14 @@
 //! Per-tile fill: the inner loop.
 //!
 //! - Sample positions: pixel centres, (x + 0.5, y + 0.5) in pixels, i.e. `x * 256 + 128` in
-//!   fixed point ([`SUBPIXEL_BITS`](super::SUBPIXEL_BITS) = 8 sub-pixel bits).
+//!   fixed point ([`SUBPIXEL_BITS`](super::SUBPIXEL_BITS) = 8 sub-pixel bits). A
+//!   multisampled tile ([`Tile::samples`] = 4) adds the offsets of
+//!   [`sample_offsets`](super::framebuffer::sample_offsets) (multiples of 1/16 pixel, so
+//!   exact in fixed point): coverage and depth are tested at each sample, the shader runs
+//!   once per pixel and triangle at the pixel centre (its barycentrics clamped to the
+//!   triangle where the centre lies outside, so the attributes are those of the nearest
+//!   point of the triangle along the clamping), and its colour is written to the samples
+//!   that passed.
 //! - Fill rule: top-left (see `setup`), so a pixel on an edge shared by two triangles is
 //!   filled by exactly one of them.
 //! - The tile is walked in 8x8 blocks. A block is skipped when one edge is negative at all
@@ -27,14 +34,16 @@
 // Lane and edge loops index several arrays by one counter on purpose: that shape vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use super::framebuffer::{Tile, TILE, TILE_PIXELS};
+use super::framebuffer::{sample_offsets, sample_reach, Tile, TILE, TILE_PIXELS};
 use super::lanes::{Kernel, F8, LANES, M8};
-use super::pipeline::{Blend, DepthTest};
+use super::pipeline::{Blend, DepthTest, DrawState};
 use super::setup::{padded, SetupTri, ONE};
 use super::{Colors, FragmentShader, Fragments, MAX_VARYINGS};
 
 const BLOCK: u32 = 8;
 const HALF: i64 = ONE / 2;
+/// Samples per pixel of a multisampled tile.
+const SAMPLES: usize = 4;
 
 /// Fragment counters of one tile, and the lanes' working memory (kept for the whole tile:
 /// zeroing it per row cost more than the interpolation it holds).
@@ -68,6 +77,35 @@ struct Rows<'a> {
     d2: &'a [f32],
     stride: usize,
     grad: Option<(usize, usize, Gradients)>,
+}
+
+/// Per-triangle constants of a multisampled tile: each sample's offsets of the three edge
+/// values and of the depth from those at the pixel centre.
+struct Samples {
+    edge: [[i64; 3]; SAMPLES],
+    z: [F8; SAMPLES],
+}
+
+impl Samples {
+    fn new(tri: &SetupTri) -> Self {
+        // z = z0 + λ1 dz1 + λ2 dz2 with λ_k = E_k / area: per fixed unit along x,
+        // dz/dx = (a_1 dz1 + a_2 dz2) / area; likewise along y with b.
+        let dzdx = (tri.a[1] as f32 * tri.z[1] + tri.a[2] as f32 * tri.z[2]) * tri.inv_area;
+        let dzdy = (tri.b[1] as f32 * tri.z[1] + tri.b[2] as f32 * tri.z[2]) * tri.inv_area;
+        let mut out = Self {
+            edge: [[0; 3]; SAMPLES],
+            z: [F8::ZERO; SAMPLES],
+        };
+        for (s, o) in sample_offsets(SAMPLES as u32).iter().enumerate() {
+            let (dx, dy) = (i64::from(o[0]) * (ONE / 16), i64::from(o[1]) * (ONE / 16));
+            for k in 0..3 {
+                let (a, b) = tri.ab(k);
+                out.edge[s][k] = a * dx + b * dy;
+            }
+            out.z[s] = F8::splat(dzdx * dx as f32 + dzdy * dy as f32);
+        }
+        out
+    }
 }
 
 /// Fills the part of `tri` that lies in `tile`; `attrs` holds its varyings.
@@ -133,6 +171,8 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
         stride,
         grad,
     };
+    let multi = (tile.samples() as usize == SAMPLES).then(|| Samples::new(tri));
+    let reach = sample_reach(tile.samples());
     let mut by = y0 - (y0 - tile.y0) % BLOCK;
     while by <= y1 {
         let mut bx = x0 - (x0 - tile.x0) % BLOCK;
@@ -141,11 +181,20 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
             let (sx1, sy1) = ((bx + BLOCK - 1).min(x1), (by + BLOCK - 1).min(y1));
             // Lanes of the block inside the triangle's (tile-clipped) bounds.
             let span = ((1u32 << (sx1 - bx + 1)) - 1) & !((1u32 << (sx0 - bx)) - 1);
-            match classify(tri, sx0, sy0, sx1, sy1) {
-                Coverage::None => {}
-                Coverage::Full => block::<K, S, false>(tile, &rows, shader, n, bx, sy0, sy1, span),
-                Coverage::Partial => {
+            let cov = classify(tri, reach, sx0, sy0, sx1, sy1);
+            match (&multi, cov) {
+                (_, Coverage::None) => {}
+                (None, Coverage::Full) => {
+                    block::<K, S, false>(tile, &rows, shader, n, bx, sy0, sy1, span);
+                }
+                (None, Coverage::Partial) => {
                     block::<K, S, true>(tile, &rows, shader, n, bx, sy0, sy1, span);
+                }
+                (Some(m), Coverage::Full) => {
+                    block_ms::<K, S, false>(tile, &rows, m, shader, n, bx, sy0, sy1, span);
+                }
+                (Some(m), Coverage::Partial) => {
+                    block_ms::<K, S, true>(tile, &rows, m, shader, n, bx, sy0, sy1, span);
                 }
             }
             bx += BLOCK;
@@ -167,13 +216,16 @@ fn edge_at(tri: &SetupTri, k: usize, x: u32, y: u32) -> i64 {
     a * (i64::from(x) * ONE + HALF) + b * (i64::from(y) * ONE + HALF) + tri.c[k] + tri.bias(k)
 }
 
+/// Coverage of the pixels `x0..=x1` by `y0..=y1`: the extremes of each edge over the box of
+/// their sample points (the pixel centres widened by `reach` fixed units on every side).
 #[inline(always)]
-fn classify(tri: &SetupTri, x0: u32, y0: u32, x1: u32, y1: u32) -> Coverage {
+fn classify(tri: &SetupTri, reach: i64, x0: u32, y0: u32, x1: u32, y1: u32) -> Coverage {
     let mut full = true;
-    let (dx, dy) = (i64::from(x1 - x0) * ONE, i64::from(y1 - y0) * ONE);
+    let dx = i64::from(x1 - x0) * ONE + 2 * reach;
+    let dy = i64::from(y1 - y0) * ONE + 2 * reach;
     for k in 0..3 {
-        let e = edge_at(tri, k, x0, y0);
         let (a, b) = tri.ab(k);
+        let e = edge_at(tri, k, x0, y0) - (a + b) * reach;
         let (ax, by) = (a * dx, b * dy);
         let max = e + ax.max(0) + by.max(0);
         let min = e + ax.min(0) + by.min(0);
@@ -204,7 +256,6 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
 ) {
     let tri = r.tri;
     let st = tri.state;
-    let inv = tri.inv_area;
     let mut row = [
         edge_at(tri, 0, bx, y0),
         edge_at(tri, 1, bx, y0),
@@ -218,56 +269,22 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
     for y in y0..=y1 {
         let mut cover = span;
         if TEST {
-            cover &= if r.narrow {
-                // Exact in i32 (see `narrow`): one 8 x i32 register per edge.
-                let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
-                let row32 = [clamp(row[0]), clamp(row[1]), clamp(row[2])];
-                let mut out = 0u32;
-                for i in 0..LANES {
-                    let v = (row32[0] + r.lane_x32[0][i])
-                        | (row32[1] + r.lane_x32[1][i])
-                        | (row32[2] + r.lane_x32[2][i]);
-                    out |= ((v as u32) >> 31) << i;
-                }
-                !out
-            } else {
-                // A lane is out if any edge value is negative: OR the three values and read
-                // the sign bits.
-                let mut sign = [0u64; LANES];
-                for i in 0..LANES {
-                    let v = (row[0] + r.lane_x[0][i])
-                        | (row[1] + r.lane_x[1][i])
-                        | (row[2] + r.lane_x[2][i]);
-                    // Logical shift: AVX2 has it for 64-bit lanes, the arithmetic one it lacks.
-                    sign[i] = (v as u64) >> 63;
-                }
-                let mut out = 0u32;
-                for i in 0..LANES {
-                    out |= (sign[i] as u32) << i;
-                }
-                !out
-            };
+            cover &= row_mask(r, row);
         }
         let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
         if cover != 0 {
-            // Unbiased edge values -> screen-space barycentrics, each from its own exact
-            // edge value (1 - λ1 - λ2 cancels near vertex 0).
-            let l0 = F8::splat((row[0] - tri.bias(0)) as f32 * inv) + r.l0_lanes;
-            let l1 = F8::splat((row[1] - tri.bias(1)) as f32 * inv) + r.l1_lanes;
-            let l2 = F8::splat((row[2] - tri.bias(2)) as f32 * inv) + r.l2_lanes;
-            let z = K::fma(z2, l2, K::fma(z1, l1, z0));
-            let depth = F8::load(&tile.depth[o..o + LANES]);
-            let pass = match st.depth_test {
-                DepthTest::Greater => z.gt(depth).bits(),
-                DepthTest::GreaterEqual => z.ge(depth).bits(),
-                DepthTest::Always => u32::MAX,
-            };
+            let l = barycentrics(r, row);
+            let z = K::fma(z2, l[2], K::fma(z1, l[1], z0));
+            let pass = depth_pass(st.depth_test, z, &tile.depth[o..o + LANES]);
             let live = cover & pass;
             n.depth_rejected += u64::from((cover & !pass).count_ones());
             if live != 0 {
                 n.shaded += u64::from(live.count_ones());
                 n.calls += 1;
-                shade_row::<K, S>(tile, r, shader, n, bx, y, o, live, [l0, l1, l2], z);
+                let (out, keep) = shade_row::<K, S>(r, shader, n, bx, y, live, l);
+                if keep != 0 {
+                    write::<K>(tile, st, 0, o, keep, &out, z);
+                }
             }
         }
         for k in 0..3 {
@@ -276,23 +293,142 @@ fn block<K: Kernel, S: FragmentShader, const TEST: bool>(
     }
 }
 
-/// Interpolates, shades and writes the live lanes of one row.
+/// [`block`] on a multisampled tile: coverage and depth per sample (`m`), one shader call
+/// per row at the pixel centres, its colour written to the samples that passed.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn block_ms<K: Kernel, S: FragmentShader, const TEST: bool>(
+    tile: &mut Tile,
+    r: &Rows<'_>,
+    m: &Samples,
+    shader: &S,
+    n: &mut FillCounters,
+    bx: u32,
+    y0: u32,
+    y1: u32,
+    span: u32,
+) {
+    let tri = r.tri;
+    let st = tri.state;
+    let mut row = [
+        edge_at(tri, 0, bx, y0),
+        edge_at(tri, 1, bx, y0),
+        edge_at(tri, 2, bx, y0),
+    ];
+    let (z0, z1, z2) = (
+        F8::splat(tri.z[0]),
+        F8::splat(tri.z[1]),
+        F8::splat(tri.z[2]),
+    );
+    for y in y0..=y1 {
+        let mut cover = [span; SAMPLES];
+        if TEST {
+            for (c, e) in cover.iter_mut().zip(&m.edge) {
+                *c &= row_mask(r, [row[0] + e[0], row[1] + e[1], row[2] + e[2]]);
+            }
+        }
+        let any = cover.iter().fold(0, |a, c| a | c);
+        let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
+        if any != 0 {
+            let l = barycentrics(r, row);
+            let zc = K::fma(z2, l[2], K::fma(z1, l[1], z0));
+            let mut z = [zc; SAMPLES];
+            let mut pass = [0u32; SAMPLES];
+            for s in 0..SAMPLES {
+                z[s] = zc + m.z[s];
+                let d = &tile.depth[s * TILE_PIXELS + o..][..LANES];
+                pass[s] = cover[s] & depth_pass(st.depth_test, z[s], d);
+            }
+            let live = pass.iter().fold(0, |a, p| a | p);
+            n.depth_rejected += u64::from((any & !live).count_ones());
+            if live != 0 {
+                n.shaded += u64::from(live.count_ones());
+                n.calls += 1;
+                let (out, keep) = shade_row::<K, S>(r, shader, n, bx, y, live, l);
+                for s in 0..SAMPLES {
+                    if keep & pass[s] != 0 {
+                        write::<K>(tile, st, s, o, keep & pass[s], &out, z[s]);
+                    }
+                }
+            }
+        }
+        for k in 0..3 {
+            row[k] += r.step_y[k];
+        }
+    }
+}
+
+/// Lanes of a row whose (biased) edge values at lane 0 are `row` that lie inside all three
+/// edges: bit `i` for lane `i` (bits above the eighth are set; the caller masks them).
+#[inline(always)]
+fn row_mask(r: &Rows<'_>, row: [i64; 3]) -> u32 {
+    if r.narrow {
+        // Exact in i32 (see `narrow`): one 8 x i32 register per edge.
+        let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
+        let row32 = [clamp(row[0]), clamp(row[1]), clamp(row[2])];
+        let mut out = 0u32;
+        for i in 0..LANES {
+            let v = (row32[0] + r.lane_x32[0][i])
+                | (row32[1] + r.lane_x32[1][i])
+                | (row32[2] + r.lane_x32[2][i]);
+            out |= ((v as u32) >> 31) << i;
+        }
+        !out
+    } else {
+        // A lane is out if any edge value is negative: OR the three values and read
+        // the sign bits.
+        let mut sign = [0u64; LANES];
+        for i in 0..LANES {
+            let v =
+                (row[0] + r.lane_x[0][i]) | (row[1] + r.lane_x[1][i]) | (row[2] + r.lane_x[2][i]);
+            // Logical shift: AVX2 has it for 64-bit lanes, the arithmetic one it lacks.
+            sign[i] = (v as u64) >> 63;
+        }
+        let mut out = 0u32;
+        for i in 0..LANES {
+            out |= (sign[i] as u32) << i;
+        }
+        !out
+    }
+}
+
+/// Screen-space barycentrics of a row's lanes from its biased edge values at lane 0: the
+/// unbiased values, each λ from its own exact edge value (1 - λ1 - λ2 cancels near vertex 0).
+#[inline(always)]
+fn barycentrics(r: &Rows<'_>, row: [i64; 3]) -> [F8; 3] {
+    let (tri, inv) = (r.tri, r.tri.inv_area);
+    [
+        F8::splat((row[0] - tri.bias(0)) as f32 * inv) + r.l0_lanes,
+        F8::splat((row[1] - tri.bias(1)) as f32 * inv) + r.l1_lanes,
+        F8::splat((row[2] - tri.bias(2)) as f32 * inv) + r.l2_lanes,
+    ]
+}
+
+/// Lanes where depth `z` passes `test` against the stored `depth` (eight values).
+#[inline(always)]
+fn depth_pass(test: DepthTest, z: F8, depth: &[f32]) -> u32 {
+    let depth = F8::load(depth);
+    match test {
+        DepthTest::Greater => z.gt(depth).bits(),
+        DepthTest::GreaterEqual => z.ge(depth).bits(),
+        DepthTest::Always => u32::MAX,
+    }
+}
+
+/// Interpolates and shades the live lanes of one row: their colours, and the lanes the
+/// shader keeps (within `live`).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn shade_row<K: Kernel, S: FragmentShader>(
-    tile: &mut Tile,
     r: &Rows<'_>,
     shader: &S,
     n: &mut FillCounters,
     bx: u32,
     y: u32,
-    o: usize,
     live: u32,
     l: [F8; 3],
-    z: F8,
-) {
+) -> (Colors, u32) {
     let tri = r.tri;
-    let st = tri.state;
     // Perspective weights p_k = λ_k (1/w_k) / Σ λ_j (1/w_j). Inside the triangle every λ is
     // >= 0 (clamped against rounding), so every term of D is >= 0: no cancellation, and D > 0
     // even where one 1/w is tiny (a vertex at w = 1e30).
@@ -340,15 +476,29 @@ fn shade_row<K: Kernel, S: FragmentShader>(
     };
     let mut out = Colors::default();
     let keep = shader.shade::<K>(&frag, &mut out) & live;
-    if keep == 0 {
-        return;
-    }
+    (out, keep)
+}
+
+/// Writes colour `out` and depth `z` to the `keep` lanes of sample `s` at offset `o`, as the
+/// draw state says (blend, colour and depth writes).
+#[inline(always)]
+fn write<K: Kernel>(
+    tile: &mut Tile,
+    st: DrawState,
+    s: usize,
+    o: usize,
+    keep: u32,
+    out: &Colors,
+    z: F8,
+) {
     let keep_m = M8::from_bits(keep);
     let (color, depth) = tile.planes_mut();
     if st.color_write {
+        let color = &mut color[4 * s * TILE_PIXELS..];
         let (cr, rest) = color.split_at_mut(TILE_PIXELS);
         let (cg, rest) = rest.split_at_mut(TILE_PIXELS);
-        let (cb, ca) = rest.split_at_mut(TILE_PIXELS);
+        let (cb, rest) = rest.split_at_mut(TILE_PIXELS);
+        let ca = &mut rest[..TILE_PIXELS];
         let (pr, pg, pb, pa) = (
             &mut cr[o..o + LANES],
             &mut cg[o..o + LANES],
@@ -376,9 +526,9 @@ fn shade_row<K: Kernel, S: FragmentShader>(
         pa.copy_from_slice(&F8::select(keep_m, a2, da).0);
     }
     if st.depth_write {
-        let old = F8::load(&depth[o..]);
-        let v = F8::select(keep_m, z, old);
-        depth[o..o + LANES].copy_from_slice(&v.0);
+        let depth = &mut depth[s * TILE_PIXELS + o..][..LANES];
+        let v = F8::select(keep_m, z, F8::load(depth));
+        depth.copy_from_slice(&v.0);
     }
 }
 

@@ -4,6 +4,12 @@
 //!
 //! Colour is linear-light RGBA in f32; depth is f32 reversed-Z (1 = near plane, 0 = far
 //! plane, cleared to 0, nearer wins with `>`).
+//!
+//! Multisampling: a target of 4 samples per pixel stores colour and depth per sample, at the
+//! positions of [`sample_offsets`]; the fill tests coverage and depth per sample and shades
+//! once per pixel and triangle. Every read of a pixel's colour ([`Tile::color_at`], the
+//! encoders, [`Target::resolve`]) is the average of its samples in linear light, and every
+//! read of its depth the nearest of them (what picking wants at a silhouette).
 
 use glam::Vec4;
 use rayon::prelude::*;
@@ -12,8 +18,39 @@ use rayon::prelude::*;
 pub const TILE: u32 = 64;
 pub(crate) const TILE_PIXELS: usize = (TILE * TILE) as usize;
 
+/// The sample counts a target supports.
+pub const SAMPLE_COUNTS: [u32; 2] = [1, 4];
+
+/// Direct3D's standard 4-sample pattern, in 1/16 pixel from the pixel centre (x right, y
+/// down): a rotated grid, four distinct x and four distinct y, so near-vertical and
+/// near-horizontal edges get four coverage levels where an ordered 2x2 grid gives two.
+const MSAA4: [[i32; 2]; 4] = [[-2, -6], [6, -2], [-6, 2], [2, 6]];
+
+/// How far the samples of a pixel lie from its centre along x or y at most, in fixed-point
+/// units (1/256 pixel), with `samples` per pixel.
+#[must_use]
+pub(crate) fn sample_reach(samples: u32) -> i64 {
+    let most = sample_offsets(samples)
+        .iter()
+        .flat_map(|o| [o[0].abs(), o[1].abs()])
+        .max()
+        .unwrap_or(0);
+    i64::from(most) * (super::setup::ONE / 16)
+}
+
+/// Sample positions of a target with `samples` per pixel, in 1/16 pixel from the pixel
+/// centre; one sample is the centre itself.
+#[must_use]
+pub fn sample_offsets(samples: u32) -> &'static [[i32; 2]] {
+    if samples == 4 {
+        &MSAA4
+    } else {
+        &[[0, 0]]
+    }
+}
+
 /// One tile: pixels `x0..x0 + w` by `y0..y0 + h` of the image (w, h <= 64 at the right and
-/// bottom borders). Storage is always 64x64, row stride 64.
+/// bottom borders). Storage is always 64x64 per sample, row stride 64.
 ///
 /// Clearing is lazy: a cleared tile only records its clear colour, and its storage is filled
 /// the first time something is drawn into it ([`Tile::materialize`]), so tiles no geometry
@@ -24,29 +61,41 @@ pub struct Tile {
     pub y0: u32,
     pub w: u32,
     pub h: u32,
-    /// Linear RGBA as four planes of 64x64 (red, green, blue, alpha: plane `c` at
-    /// `c * 4096`), so the fill reads and writes eight pixels of one channel at once; stale
-    /// while `pending_clear` is set. Read and written through [`Tile::color_at`],
-    /// [`Tile::set_color`] and [`Tile::plane_mut`].
+    /// Linear RGBA as four planes of 64x64 per sample (red, green, blue, alpha: channel `c`
+    /// of sample `s` at `(4 s + c) * 4096`), so the fill reads and writes eight pixels of one
+    /// channel at once; stale while `pending_clear` is set. Read and written through
+    /// [`Tile::color_at`], [`Tile::set_color`] and [`Tile::planes_mut`].
     color: Vec<f32>,
-    /// Reversed-Z depth; stale while `pending_clear` is set.
+    /// Reversed-Z depth, one 64x64 plane per sample; stale while `pending_clear` is set.
     pub depth: Vec<f32>,
     /// `Some(c)`: the tile is logically cleared to colour `c` and depth 0.
     pub pending_clear: Option<Vec4>,
+    /// Samples per pixel (one of [`SAMPLE_COUNTS`]).
+    samples: u32,
 }
 
 impl Tile {
-    /// A tile at the origin with zeroed storage (placed by [`Target::reshape`]).
-    fn blank() -> Self {
+    /// A tile at the origin with zeroed storage for `samples` per pixel (placed by
+    /// [`Target::reshape`]).
+    fn blank(samples: u32) -> Self {
+        let n = samples as usize;
         Self {
             x0: 0,
             y0: 0,
             w: TILE,
             h: TILE,
-            color: vec![0.0; 4 * TILE_PIXELS],
-            depth: vec![0.0; TILE_PIXELS],
+            color: vec![0.0; 4 * n * TILE_PIXELS],
+            depth: vec![0.0; n * TILE_PIXELS],
             pending_clear: None,
+            samples,
         }
+    }
+
+    /// Samples per pixel.
+    #[inline(always)]
+    #[must_use]
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// The tile's storage (colour planes, depth), for the fill.
@@ -55,32 +104,55 @@ impl Tile {
         (&mut self.color, &mut self.depth)
     }
 
-    /// Sets the colour of the pixel at storage offset `o` (the tile must be materialised).
+    /// Sets the colour of (every sample of) the pixel at storage offset `o` (the tile must
+    /// be materialised).
     #[inline]
     pub fn set_color(&mut self, o: usize, c: Vec4) {
-        self.color[o] = c.x;
-        self.color[TILE_PIXELS + o] = c.y;
-        self.color[2 * TILE_PIXELS + o] = c.z;
-        self.color[3 * TILE_PIXELS + o] = c.w;
+        for s in 0..self.samples as usize {
+            let p = &mut self.color[4 * s * TILE_PIXELS + o..];
+            p[0] = c.x;
+            p[TILE_PIXELS] = c.y;
+            p[2 * TILE_PIXELS] = c.z;
+            p[3 * TILE_PIXELS] = c.w;
+        }
     }
 
-    /// Stored colour at offset `o`, ignoring a pending clear.
+    /// Stored colour at offset `o` (the average of its samples), ignoring a pending clear.
     #[inline]
     fn stored(&self, o: usize) -> Vec4 {
-        Vec4::new(
-            self.color[o],
-            self.color[TILE_PIXELS + o],
-            self.color[2 * TILE_PIXELS + o],
-            self.color[3 * TILE_PIXELS + o],
-        )
+        let sample = |s: usize| {
+            let p = &self.color[4 * s * TILE_PIXELS + o..];
+            Vec4::new(p[0], p[TILE_PIXELS], p[2 * TILE_PIXELS], p[3 * TILE_PIXELS])
+        };
+        if self.samples == 1 {
+            return sample(0);
+        }
+        let sum = (0..self.samples as usize).fold(Vec4::ZERO, |a, s| a + sample(s));
+        sum / self.samples as f32
+    }
+
+    /// Stored depth at offset `o` (the nearest of its samples), ignoring a pending clear.
+    #[inline]
+    fn stored_depth(&self, o: usize) -> f32 {
+        nearest(&self.depth, o)
+    }
+
+    /// Raises the depth of every sample of the pixel at offset `o` to at least `z` (the tile
+    /// must be materialised).
+    #[inline]
+    pub fn raise_depth(&mut self, o: usize, z: f32) {
+        for d in self.depth[o..].iter_mut().step_by(TILE_PIXELS) {
+            *d = d.max(z);
+        }
     }
 
     /// Applies a pending clear, so `color` and `depth` hold the tile's contents.
     #[inline]
     pub fn materialize(&mut self) {
         if let Some(c) = self.pending_clear.take() {
-            for (plane, v) in self.color.chunks_exact_mut(TILE_PIXELS).zip(c.to_array()) {
-                plane.fill(v);
+            let c = c.to_array();
+            for (i, plane) in self.color.chunks_exact_mut(TILE_PIXELS).enumerate() {
+                plane.fill(c[i % 4]);
             }
             self.depth.fill(0.0);
         }
@@ -100,9 +172,21 @@ impl Tile {
         if self.pending_clear.is_some() {
             0.0
         } else {
-            self.depth[o]
+            self.stored_depth(o)
         }
     }
+}
+
+/// The nearest (largest, reversed-Z) of the sample depths at offset `o` of a tile's depth
+/// planes.
+#[inline]
+fn nearest(depth: &[f32], o: usize) -> f32 {
+    depth[o..]
+        .iter()
+        .step_by(TILE_PIXELS)
+        .copied()
+        .reduce(f32::max)
+        .unwrap_or(0.0)
 }
 
 /// The tiled render target.
@@ -116,6 +200,8 @@ pub struct Target {
     pub tiles: Vec<Tile>,
     /// Tiles kept from a larger size, reused when the target grows again.
     spare: Vec<Tile>,
+    /// Samples per pixel (one of [`SAMPLE_COUNTS`]).
+    samples: u32,
 }
 
 impl Target {
@@ -135,9 +221,8 @@ impl Target {
                     y0,
                     w: TILE.min(width - x0),
                     h: TILE.min(height - y0),
-                    color: vec![0.0; 4 * TILE_PIXELS],
-                    depth: vec![0.0; TILE_PIXELS],
                     pending_clear: Some(clear),
+                    ..Tile::blank(1)
                 }
             })
             .collect();
@@ -148,7 +233,46 @@ impl Target {
             tiles_y,
             tiles,
             spare: Vec::new(),
+            samples: 1,
         }
+    }
+
+    /// Samples per pixel.
+    #[must_use]
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Sets the samples per pixel: 1, or 4 (multisampling; see the module docs). Any other
+    /// count is rounded to the nearest of these. A change reallocates the tiles and clears
+    /// the target to `clear`; the same count again does nothing.
+    pub fn set_samples(&mut self, samples: u32, clear: Vec4) {
+        let samples = if samples >= 3 { 4 } else { 1 };
+        if samples == self.samples {
+            return;
+        }
+        self.samples = samples;
+        self.spare.clear();
+        for t in &mut self.tiles {
+            *t = Tile {
+                pending_clear: Some(clear),
+                ..Tile {
+                    x0: t.x0,
+                    y0: t.y0,
+                    w: t.w,
+                    h: t.h,
+                    ..Tile::blank(samples)
+                }
+            };
+        }
+    }
+
+    /// How far, in fixed-point units (1/256 pixel), the samples lie from the pixel centre
+    /// along x or y at most: what set-up, binning and block classification widen their
+    /// pixel bounds by.
+    #[must_use]
+    pub(crate) fn reach(&self) -> i64 {
+        sample_reach(self.samples)
     }
 
     /// Makes this a `width` x `height` target (each at least 1) cleared to `clear`, keeping
@@ -165,8 +289,9 @@ impl Target {
                 }
             }
             while self.tiles.len() < n {
+                let samples = self.samples;
                 self.tiles
-                    .push(self.spare.pop().unwrap_or_else(Tile::blank));
+                    .push(self.spare.pop().unwrap_or_else(|| Tile::blank(samples)));
             }
             for (i, t) in self.tiles.iter_mut().enumerate() {
                 let (tx, ty) = (i as u32 % tiles_x, i as u32 / tiles_x);
@@ -301,7 +426,9 @@ impl Target {
                         match t.pending_clear {
                             Some(_) => dst.fill(0.0),
                             None => {
-                                dst.copy_from_slice(&t.depth[y * TILE as usize..][..t.w as usize])
+                                for (x, d) in dst.iter_mut().enumerate() {
+                                    *d = t.stored_depth(y * TILE as usize + x);
+                                }
                             }
                         }
                     }
@@ -346,14 +473,16 @@ impl Target {
         if copy.0.len() < self.tiles.len() {
             copy.0.resize_with(self.tiles.len(), || SavedTile {
                 cleared: None,
-                depth: vec![0.0; TILE_PIXELS],
+                depth: Vec::new(),
             });
         }
         copy.0
             .par_iter_mut()
             .zip(self.tiles.par_iter())
             .for_each(|(s, t)| {
+                // Sized as the tile's (its sample count) even when stale: restoring swaps it in.
                 s.cleared = t.pending_clear;
+                s.depth.resize(t.depth.len(), 0.0);
                 if t.pending_clear.is_none() {
                     s.depth.copy_from_slice(&t.depth);
                 }
@@ -405,7 +534,9 @@ impl Target {
                         for (x, c) in fb.color[dst..dst + w].iter_mut().enumerate() {
                             *c = t.stored(src + x);
                         }
-                        fb.depth[dst..dst + w].copy_from_slice(&t.depth[src..src + w]);
+                        for (x, d) in fb.depth[dst..dst + w].iter_mut().enumerate() {
+                            *d = t.stored_depth(src + x);
+                        }
                     }
                 }
             }
@@ -428,7 +559,8 @@ struct SavedTile {
 pub struct DepthCopy(Vec<SavedTile>);
 
 impl DepthCopy {
-    /// Depth at storage offset `o` of tile `t` (0 in a cleared tile).
+    /// Depth at storage offset `o` of tile `t` (the nearest of its samples; 0 in a cleared
+    /// tile).
     #[inline]
     #[must_use]
     pub fn at(&self, t: usize, o: usize) -> f32 {
@@ -436,7 +568,7 @@ impl DepthCopy {
         if s.cleared.is_some() {
             0.0
         } else {
-            s.depth[o]
+            nearest(&s.depth, o)
         }
     }
 }

@@ -141,7 +141,7 @@ fn bresenham(target: &mut Target, depth: Option<&DepthCopy>, a: Vec4, b: Vec4, s
             tile.materialize();
             tile.set_color(o, style.color);
             if style.depth_write {
-                tile.depth[o] = tile.depth[o].max(z);
+                tile.raise_depth(o, z);
             }
         }
         if x == x1 && y == y1 {

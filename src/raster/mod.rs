@@ -42,7 +42,7 @@ mod pipeline;
 mod setup;
 pub mod stages;
 
-pub use framebuffer::{DepthCopy, Framebuffer, Target, TILE};
+pub use framebuffer::{sample_offsets, DepthCopy, Framebuffer, Target, SAMPLE_COUNTS, TILE};
 pub use kernel::KernelKind;
 pub use lanes::{Kernel, F8, LANES, M8, V3};
 pub use line::{draw_lines, LineStyle};

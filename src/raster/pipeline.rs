@@ -12,7 +12,7 @@ use super::framebuffer::{Target, Tile, TILE};
 use super::kernel::{dispatch, prefetch, KernelJob, KernelKind};
 use super::lanes::Kernel;
 use super::setup::{
-    padded, project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri,
+    padded, project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri, Viewport,
     GUARD_BAND_PX,
 };
 use super::{FragmentShader, MAX_VARYINGS};
@@ -423,6 +423,11 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
 ) -> bool {
     let g = guard(target.width, target.height);
     let (w, h, tiles_x) = (target.width, target.height, target.tiles_x);
+    let vp = Viewport {
+        width: w,
+        height: h,
+        reach: target.reach(),
+    };
     let tiles = target.tiles.len();
     bins.fit(tiles);
     let RasterScratch {
@@ -484,7 +489,8 @@ pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
                     lo,
                     hi,
                     g,
-                    size: (w, h, tiles_x),
+                    vp,
+                    tiles_x,
                     chunk,
                 };
                 dispatch(kernel, job);
@@ -509,7 +515,8 @@ struct SetupJob<'a, L: ?Sized> {
     lo: usize,
     hi: usize,
     g: Vec2,
-    size: (u32, u32, u32),
+    vp: Viewport,
+    tiles_x: u32,
     chunk: &'a mut Chunk,
 }
 
@@ -517,7 +524,6 @@ impl<L: DrawList + ?Sized> KernelJob for SetupJob<'_, L> {
     type Output = ();
     #[inline(always)]
     fn run<K: Kernel>(self) {
-        let (w, h, tiles_x) = self.size;
         setup_range(
             self.draws,
             self.starts,
@@ -526,9 +532,8 @@ impl<L: DrawList + ?Sized> KernelJob for SetupJob<'_, L> {
             self.lo,
             self.hi,
             self.g,
-            w,
-            h,
-            tiles_x,
+            self.vp,
+            self.tiles_x,
             self.chunk,
         );
     }
@@ -545,8 +550,7 @@ fn setup_range<L: DrawList + ?Sized>(
     lo: usize,
     hi: usize,
     g: Vec2,
-    w: u32,
-    h: u32,
+    vp: Viewport,
     tiles_x: u32,
     chunk: &mut Chunk,
 ) {
@@ -562,7 +566,7 @@ fn setup_range<L: DrawList + ?Sized>(
         } else {
             let verts = pre.get(pre_starts[di]..pre_starts[di] + d.clip.len());
             for t in &d.triangles[first..first + take] {
-                assemble(&d, verts, t, g, w, h, Some(tiles_x), chunk);
+                assemble(&d, verts, t, g, vp, Some(tiles_x), chunk);
             }
         }
         at += take;
@@ -581,8 +585,7 @@ pub(crate) fn assemble(
     pre: Option<&[PreVert]>,
     t: &[u32; 3],
     g: Vec2,
-    w: u32,
-    h: u32,
+    vp: Viewport,
     tiles_x: Option<u32>,
     chunk: &mut Chunk,
 ) {
@@ -605,7 +608,7 @@ pub(crate) fn assemble(
     };
     // Outcodes (and, inside the guard band, the projected vertices) computed once per
     // vertex when the pipeline did so, else here.
-    let hw_hh = (w as f32 * 0.5, h as f32 * 0.5);
+    let hw_hh = (vp.width as f32 * 0.5, vp.height as f32 * 0.5);
     let vert = |i: u32, p: Vec4| match pre.and_then(|pre| pre.get(i as usize)) {
         Some(v) => *v,
         None => PreVert::new(p, g, hw_hh.0, hw_hh.1, d.state.subpixel_bits),
@@ -620,13 +623,13 @@ pub(crate) fn assemble(
     let mut push =
         |s: Option<[ScreenVert; 3]>, var: [&[f32]; 3], ccw: Option<bool>, st: &mut Stats| {
             let set = match s {
-                Some(s) => setup_projected(s, var, w, h, d.id, d.state, ccw, attrs),
+                Some(s) => setup_projected(s, var, vp, d.id, d.state, ccw, attrs),
                 None => Err(Reject::Degenerate),
             };
             match set {
                 Ok(s) => {
                     if let Some(tx) = tiles_x {
-                        bin(tx, &s, out.len() as u16, bins);
+                        bin(tx, vp.reach, &s, out.len() as u16, bins);
                     }
                     out.push(s);
                     true
@@ -690,14 +693,15 @@ fn homogeneous_orientation(a: Vec4, b: Vec4, c: Vec4) -> f64 {
 }
 
 /// Appends triangle `index` to the list of every tile its bounds touch and its edges do not
-/// exclude (a tile is excluded when one edge is negative at all four of its corners).
+/// exclude (a tile is excluded when one edge is negative at all four corners of the box of
+/// its sample points: its pixel centres widened by `reach`, see [`Viewport::reach`]).
 #[inline(always)]
-pub(crate) fn bin(tiles_x: u32, t: &SetupTri, index: u16, bins: &mut [Vec<u16>]) {
+pub(crate) fn bin(tiles_x: u32, reach: i64, t: &SetupTri, index: u16, bins: &mut [Vec<u16>]) {
     let (tx0, ty0, tx1, ty1) = (t.x0 / TILE, t.y0 / TILE, t.x1 / TILE, t.y1 / TILE);
     let single = tx0 == tx1 && ty0 == ty1;
     for ty in ty0..=ty1 {
         for tx in tx0..=tx1 {
-            if !single && tile_outside(t, tx * TILE, ty * TILE) {
+            if !single && tile_outside(t, reach, tx * TILE, ty * TILE) {
                 continue;
             }
             bins[(ty * tiles_x + tx) as usize].push(index);
@@ -705,10 +709,13 @@ pub(crate) fn bin(tiles_x: u32, t: &SetupTri, index: u16, bins: &mut [Vec<u16>])
     }
 }
 
-fn tile_outside(t: &SetupTri, x: u32, y: u32) -> bool {
+fn tile_outside(t: &SetupTri, reach: i64, x: u32, y: u32) -> bool {
     use super::setup::ONE;
-    let (px, py) = (i64::from(x) * ONE + ONE / 2, i64::from(y) * ONE + ONE / 2);
-    let span = i64::from(TILE - 1) * ONE;
+    let (px, py) = (
+        i64::from(x) * ONE + ONE / 2 - reach,
+        i64::from(y) * ONE + ONE / 2 - reach,
+    );
+    let span = i64::from(TILE - 1) * ONE + 2 * reach;
     (0..3).any(|k| {
         let (a, b) = t.ab(k);
         let e = a * px + b * py + t.c[k] + t.bias(k);

@@ -166,18 +166,33 @@ pub(crate) fn setup<'a>(
 ) -> Result<SetupTri, Reject> {
     let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
     let s = project3(v.pos, hw, hh, state.subpixel_bits).ok_or(Reject::Degenerate)?;
-    setup_projected(s, v.var, width, height, draw, state, ccw, attrs)
+    let vp = Viewport {
+        width,
+        height,
+        reach: 0,
+    };
+    setup_projected(s, v.var, vp, draw, state, ccw, attrs)
+}
+
+/// The target as set-up sees it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Viewport {
+    /// Size in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// How far the target's samples lie from the pixel centre, along x or y at most, in
+    /// fixed-point units (0 with one sample per pixel): a pixel is a candidate when its
+    /// centre is within `reach` of the triangle's bounding box.
+    pub reach: i64,
 }
 
 /// [`setup`] of a triangle whose vertices are already projected and snapped (the
 /// pipeline projects each vertex once, not once per triangle using it).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn setup_projected<'a>(
     s: [ScreenVert; 3],
     var: [&'a [f32]; 3],
-    width: u32,
-    height: u32,
+    vp: Viewport,
     draw: u32,
     state: DrawState,
     ccw: Option<bool>,
@@ -215,11 +230,17 @@ pub(crate) fn setup_projected<'a>(
     let max_x = xs[0].max(xs[1]).max(xs[2]);
     let min_y = ys[0].min(ys[1]).min(ys[2]);
     let max_y = ys[0].max(ys[1]).max(ys[2]);
-    // Pixel p is a candidate if its centre p * ONE + HALF lies within [min, max].
-    let px0 = ceil_div(min_x - HALF, ONE).max(0);
-    let py0 = ceil_div(min_y - HALF, ONE).max(0);
-    let px1 = (max_x - HALF).div_euclid(ONE).min(i64::from(width) - 1);
-    let py1 = (max_y - HALF).div_euclid(ONE).min(i64::from(height) - 1);
+    // Pixel p is a candidate if its centre p * ONE + HALF lies within [min - reach,
+    // max + reach] (one of its samples may lie inside).
+    let r = vp.reach;
+    let px0 = ceil_div(min_x - HALF - r, ONE).max(0);
+    let py0 = ceil_div(min_y - HALF - r, ONE).max(0);
+    let px1 = (max_x - HALF + r)
+        .div_euclid(ONE)
+        .min(i64::from(vp.width) - 1);
+    let py1 = (max_y - HALF + r)
+        .div_euclid(ONE)
+        .min(i64::from(vp.height) - 1);
     if px0 > px1 || py0 > py1 {
         return Err(Reject::Degenerate);
     }

@@ -15,6 +15,7 @@ use glam::Vec2;
 
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
 use super::pipeline::{assemble, bin, flush, guard, Chunk, CHUNK};
+use super::setup::Viewport;
 use super::{Bins, Draw, FragmentShader, KernelKind, Stats, Target};
 
 /// Triangles after setup, in chunks as the pipeline makes them (opaque).
@@ -94,7 +95,12 @@ pub fn setup_all(d: &Draw<'_>, width: u32, height: u32) -> SetupBatch {
         .map(|tris| {
             let mut c = Chunk::default();
             for t in tris {
-                assemble(d, None, t, g, width, height, None, &mut c);
+                let vp = Viewport {
+                    width,
+                    height,
+                    reach: 0,
+                };
+                assemble(d, None, t, g, vp, None, &mut c);
             }
             stats.add(&c.stats);
             c
@@ -110,7 +116,7 @@ pub fn bin_all(target: &Target, batch: &mut SetupBatch) {
         c.bins.resize_with(tiles, Vec::new);
         c.bins.iter_mut().for_each(Vec::clear);
         for (i, t) in c.tris.iter().enumerate() {
-            bin(target.tiles_x, t, i as u16, &mut c.bins);
+            bin(target.tiles_x, target.reach(), t, i as u16, &mut c.bins);
         }
     }
 }

@@ -58,6 +58,8 @@ pub struct RenderOptions {
     /// Sub-pixel bits of the vertex snap (see [`crate::raster::DrawState::subpixel_bits`]);
     /// the default is the rasterizer's full [`crate::raster::SUBPIXEL_BITS`].
     pub subpixel_bits: u8,
+    /// Multisampling: 1 or 4 samples per pixel (see [`Settings::msaa`]).
+    pub msaa: u32,
 }
 
 impl Default for RenderOptions {
@@ -72,6 +74,7 @@ impl Default for RenderOptions {
             background: s.background,
             double_sided: false,
             subpixel_bits: s.subpixel_bits,
+            msaa: s.msaa,
         }
     }
 }
@@ -86,6 +89,7 @@ impl RenderOptions {
             double_sided: self.double_sided,
             subpixel_bits: self.subpixel_bits,
             texture: self.texture.clone(),
+            msaa: self.msaa,
             ..Settings::default()
         }
     }

@@ -45,6 +45,8 @@ pub struct FrameReport {
     pub height: u32,
     /// Samples per pixel along each axis (1, 2, 4...).
     pub samples: u32,
+    /// Multisampling: coverage and depth samples per pixel (1 or 4).
+    pub msaa: u32,
     /// Counters, summed over the `samples * samples` passes.
     pub stats: Stats,
     pub times: StageTimes,
@@ -112,13 +114,9 @@ impl Renderer {
             Output::Shaded => settings.background,
             Output::Overdraw => Vec4::ZERO,
         };
-        let target = match &mut self.target {
-            Some(t) => {
-                t.reshape(w, h, bg);
-                t
-            }
-            None => self.target.insert(Target::new(w, h, bg)),
-        };
+        let target = self.target.get_or_insert_with(|| Target::new(w, h, bg));
+        target.set_samples(settings.msaa, bg);
+        target.reshape(w, h, bg);
         self.bins.reset_costs();
         self.bins.kernel = settings.kernel.unwrap_or_else(KernelKind::best);
         self.output = settings.output;
@@ -206,6 +204,7 @@ impl Renderer {
             width: w,
             height: h,
             samples: n,
+            msaa: target.samples(),
             stats,
             times: StageTimes {
                 setup: t_setup.as_secs_f64() * 1e3,

@@ -64,6 +64,11 @@ pub struct Settings {
     /// each rendered as a whole pass with the projection shifted by a fraction of a pixel
     /// and averaged in linear light (1 = one sample at the pixel centre). Clamped to 1..=8.
     pub samples: u32,
+    /// Multisampling: coverage and depth samples per pixel, 1 or 4 (see
+    /// [`crate::raster::Target::set_samples`]), shaded once per pixel and triangle and
+    /// resolved in linear light. Combines with `samples` (each supersampling pass is
+    /// multisampled).
+    pub msaa: u32,
     /// The kernel the fill and shaders run with; `None` is [`KernelKind::best`] (a kernel the
     /// CPU lacks runs as the portable one).
     pub kernel: Option<KernelKind>,
@@ -83,6 +88,7 @@ impl Default for Settings {
             lights: Lights::Auto,
             materials: None,
             samples: 1,
+            msaa: 1,
             kernel: None,
         }
     }

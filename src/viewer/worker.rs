@@ -55,8 +55,8 @@ impl Level {
     pub fn label(self) -> String {
         match self {
             Level::Reduced(d) => format!("1/{d} resolution (moving)"),
-            Level::Full => "full resolution, 1 sample".into(),
-            Level::Supersampled(n) => format!("{n}x{n} anti-aliased"),
+            Level::Full => "full resolution".into(),
+            Level::Supersampled(n) => format!("{n}x{n} supersampled"),
         }
     }
 

@@ -17,7 +17,7 @@ use realist::shade::Shading;
 
 use super::median;
 use super::peer_scene::{self, CLEAR};
-use crate::cli::parse_size;
+use crate::cli::{parse_msaa, parse_size};
 
 #[derive(Args)]
 pub(crate) struct FrameArgs {
@@ -44,6 +44,9 @@ pub(crate) struct FrameArgs {
     /// sRGB encoding; alpha 0 where nothing was drawn (the peer clears alpha to 0).
     #[arg(long)]
     png: Option<PathBuf>,
+    /// Multisampling: 1 (off, as the peer) or 4 samples per pixel.
+    #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
+    msaa: u32,
 }
 
 /// The peer's shading modes.
@@ -121,6 +124,7 @@ pub(crate) fn frame(args: &FrameArgs) -> Result<()> {
         shading: Some(args.shading.shading()),
         background: CLEAR,
         double_sided: true,
+        msaa: args.msaa,
         ..Settings::default()
     };
     let view = View {

@@ -245,6 +245,9 @@ pub fn act(app: &mut ViewerApp, a: Action) {
                 _ => 1,
             }
         }
+        Action::ToggleMultisampling => {
+            app.settings.msaa = if app.settings.msaa > 1 { 1 } else { 4 };
+        }
         Action::ToggleSplit => app.split.enabled = !app.split.enabled,
         Action::CheatSheet => app.panels.cheat_sheet = !app.panels.cheat_sheet,
         Action::Screenshot => screenshot::quick(app),
@@ -481,6 +484,7 @@ fn cheat_sheet(app: &ViewerApp, ui: &mut egui::Ui) {
             Action::ToggleTileGrid => on(app.panels.tile_grid).into(),
             Action::CycleTileCost => format!("{:?}", app.panels.tile_cost).to_lowercase(),
             Action::CycleAntialias => format!("up to {0}x{0}", app.max_samples),
+            Action::ToggleMultisampling => format!("{}x", app.settings.msaa),
             Action::ToggleSplit => on(app.split.enabled).into(),
             Action::TogglePanels => on(app.panels.visible).into(),
             _ => String::new(),

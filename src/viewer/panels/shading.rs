@@ -1,5 +1,5 @@
 //! The shading section (mode, wireframe overlay, overdraw, background, texture filter,
-//! anti-aliasing, rasterizer overlays) and the split view's section (what B shows, the
+//! multisampling, anti-aliasing, rasterizer overlays) and the split view's section (what B shows, the
 //! ΔE00 map).
 
 use eframe::egui;
@@ -59,6 +59,18 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
         let label = ui.label("sub-pixel bits");
         ui.add(egui::Slider::new(&mut s.subpixel_bits, 0..=8))
             .labelled_by(label.id);
+    });
+    ui.horizontal(|ui| {
+        ui.label("multisampling (Shift+A)");
+        for n in crate::raster::SAMPLE_COUNTS {
+            let name = if n == 1 {
+                "off".to_owned()
+            } else {
+                format!("{n}x")
+            };
+            ui.selectable_value(&mut s.msaa, n, name)
+                .on_hover_text("coverage and depth samples per pixel, shaded once per pixel");
+        }
     });
 }
 

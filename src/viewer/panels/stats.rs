@@ -18,7 +18,10 @@ fn report_grid(ui: &mut egui::Ui, id: &str, r: &FrameReport) {
             row(
                 ui,
                 "size",
-                format!("{}x{}, {2}x{2} samples", r.width, r.height, r.samples),
+                format!(
+                    "{}x{}, {2}x{2} samples, msaa {3}x",
+                    r.width, r.height, r.samples, r.msaa
+                ),
             );
             row(ui, "frame", format!("{:.2} ms", t.total));
             row(ui, "  set-up", format!("{:.2} ms", t.setup));
