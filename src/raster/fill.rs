@@ -492,6 +492,7 @@ fn write<K: Kernel>(
     z: F8,
 ) {
     let keep_m = M8::from_bits(keep);
+    let full = keep & 0xFF == 0xFF;
     let (color, depth) = tile.planes_mut();
     if st.color_write {
         let color = &mut color[4 * s * TILE_PIXELS..];
@@ -505,31 +506,50 @@ fn write<K: Kernel>(
             &mut cb[o..o + LANES],
             &mut ca[o..o + LANES],
         );
-        let (dr, dg, db, da) = (F8::load(pr), F8::load(pg), F8::load(pb), F8::load(pa));
-        let (r2, g2, b2, a2) = match st.blend {
-            Blend::Replace => (out.r, out.g, out.b, out.a),
-            Blend::Alpha => {
-                let a = out.a.clamp(0.0, 1.0);
-                let na = F8::ONE - a;
-                (
-                    K::fma(out.r, a, dr * na),
-                    K::fma(out.g, a, dg * na),
-                    K::fma(out.b, a, db * na),
-                    K::fma(da, na, a),
-                )
-            }
-            Blend::Add => (out.r + dr, out.g + dg, out.b + db, out.a + da),
-        };
-        pr.copy_from_slice(&F8::select(keep_m, r2, dr).0);
-        pg.copy_from_slice(&F8::select(keep_m, g2, dg).0);
-        pb.copy_from_slice(&F8::select(keep_m, b2, db).0);
-        pa.copy_from_slice(&F8::select(keep_m, a2, da).0);
+        if full && st.blend == Blend::Replace {
+            // Every lane replaced: no need to read what was there.
+            pr.copy_from_slice(&out.r.0);
+            pg.copy_from_slice(&out.g.0);
+            pb.copy_from_slice(&out.b.0);
+            pa.copy_from_slice(&out.a.0);
+        } else {
+            blend::<K>(st.blend, keep_m, out, [pr, pg, pb, pa]);
+        }
     }
     if st.depth_write {
         let depth = &mut depth[s * TILE_PIXELS + o..][..LANES];
-        let v = F8::select(keep_m, z, F8::load(depth));
+        let v = if full {
+            z
+        } else {
+            F8::select(keep_m, z, F8::load(depth))
+        };
         depth.copy_from_slice(&v.0);
     }
+}
+
+/// Blends `out` into the eight pixels of the four colour planes `dst` where `keep` is set.
+#[inline(always)]
+fn blend<K: Kernel>(mode: Blend, keep: M8, out: &Colors, dst: [&mut [f32]; 4]) {
+    let [pr, pg, pb, pa] = dst;
+    let (dr, dg, db, da) = (F8::load(pr), F8::load(pg), F8::load(pb), F8::load(pa));
+    let (r2, g2, b2, a2) = match mode {
+        Blend::Replace => (out.r, out.g, out.b, out.a),
+        Blend::Alpha => {
+            let a = out.a.clamp(0.0, 1.0);
+            let na = F8::ONE - a;
+            (
+                K::fma(out.r, a, dr * na),
+                K::fma(out.g, a, dg * na),
+                K::fma(out.b, a, db * na),
+                K::fma(da, na, a),
+            )
+        }
+        Blend::Add => (out.r + dr, out.g + dg, out.b + db, out.a + da),
+    };
+    pr.copy_from_slice(&F8::select(keep, r2, dr).0);
+    pg.copy_from_slice(&F8::select(keep, g2, dg).0);
+    pb.copy_from_slice(&F8::select(keep, b2, db).0);
+    pa.copy_from_slice(&F8::select(keep, a2, da).0);
 }
 
 /// Per-triangle constants of the perspective weights' derivatives (see the module docs).

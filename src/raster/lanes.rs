@@ -176,9 +176,10 @@ impl F8 {
     #[inline(always)]
     #[must_use]
     pub fn select(m: M8, a: Self, b: Self) -> Self {
+        // Bit operations, not `if`: the branchy form compiled to a scalar load per lane.
         let mut r = [0.0; LANES];
         for i in 0..LANES {
-            r[i] = if m.0[i] != 0 { a.0[i] } else { b.0[i] };
+            r[i] = f32::from_bits((m.0[i] & a.0[i].to_bits()) | (!m.0[i] & b.0[i].to_bits()));
         }
         F8(r)
     }
@@ -256,7 +257,7 @@ impl F8 {
 fn cmp(a: F8, b: F8, f: impl Fn(f32, f32) -> bool) -> M8 {
     let mut r = [0u32; LANES];
     for i in 0..LANES {
-        r[i] = if f(a.0[i], b.0[i]) { u32::MAX } else { 0 };
+        r[i] = u32::from(f(a.0[i], b.0[i])).wrapping_neg();
     }
     M8(r)
 }
@@ -280,11 +281,7 @@ impl M8 {
     #[inline(always)]
     #[must_use]
     pub fn bits(self) -> u32 {
-        let mut b = 0;
-        for i in 0..LANES {
-            b |= (self.0[i] >> 31) << i;
-        }
-        b
+        super::kernel::sign_bits(self.0)
     }
 }
 
