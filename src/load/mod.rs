@@ -358,4 +358,4 @@ fn distinct_below_3(corners: &[u32]) -> bool {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -13,7 +13,11 @@
 //! `HashMap` keyed by vertex pair was rejected: slower, and its iteration order is not
 //! deterministic.
 
-use super::{Edge, Facet, NO_FACET};
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use super::{par, Edge, Facet, NO_FACET};
 
 /// Corner-to-facet navigation.
 pub(super) struct Ring<'a> {
@@ -102,6 +106,9 @@ pub(super) struct VertexCorners {
 }
 
 impl VertexCorners {
+    /// A counting sort of the corners by vertex. In parallel, each task owns a range of
+    /// vertices (so a contiguous range of the output) and reads all corners in order, keeping
+    /// those of its vertices: the same result as one pass, for any number of tasks.
     pub fn new(vertex_count: usize, corners: &[u32], ring: &Ring) -> Self {
         let mut start = vec![0u32; vertex_count + 1];
         for &v in corners {
@@ -110,17 +117,33 @@ impl VertexCorners {
         for v in 1..start.len() {
             start[v] += start[v - 1];
         }
-        // Fill with start[v] as the cursor, which leaves it at start[v + 1]; shift back.
         let mut around = vec![0u32; corners.len()];
         let mut sides = vec![[0u32; 2]; corners.len()];
-        for (c, &v) in corners.iter().enumerate() {
-            let slot = start[v as usize] as usize;
-            around[slot] = c as u32;
-            sides[slot] = [corners[ring.next(c)], corners[ring.prev(c)]];
-            start[v as usize] += 1;
-        }
-        start.copy_within(..vertex_count, 1);
-        start[0] = 0;
+        let ranges = par::balanced(&start, par::parts(corners.len(), 1));
+        let lengths = || {
+            ranges
+                .iter()
+                .map(|r| (start[r.end] - start[r.start]) as usize)
+        };
+        let jobs: Vec<_> = ranges
+            .iter()
+            .zip(par::split_lengths(&mut around, lengths()))
+            .zip(par::split_lengths(&mut sides, lengths()))
+            .collect();
+        jobs.into_par_iter().for_each(|((r, around), sides)| {
+            let base = start[r.start];
+            let mut cursor: Vec<u32> = start[r.clone()].iter().map(|&s| s - base).collect();
+            let (lo, count) = (r.start as u32, r.len() as u32);
+            for (c, &v) in corners.iter().enumerate() {
+                let k = v.wrapping_sub(lo);
+                if k < count {
+                    let slot = &mut cursor[k as usize];
+                    around[*slot as usize] = c as u32;
+                    sides[*slot as usize] = [corners[ring.next(c)], corners[ring.prev(c)]];
+                    *slot += 1;
+                }
+            }
+        });
         Self {
             start,
             around,
@@ -143,6 +166,16 @@ impl VertexCorners {
     pub fn vertex_count(&self) -> usize {
         self.start.len() - 1
     }
+
+    /// The corners of the vertices in `vertices`.
+    fn of_range(&self, vertices: &Range<usize>) -> &[u32] {
+        &self.around[self.start[vertices.start] as usize..self.start[vertices.end] as usize]
+    }
+
+    /// Vertex ranges of about equal corner counts, at most `parts` of them.
+    fn ranges(&self, parts: usize) -> Vec<Range<usize>> {
+        par::balanced(&self.start, parts)
+    }
 }
 
 /// Insertion sort: the edges of one vertex are a handful.
@@ -163,17 +196,53 @@ fn sort_small(keys: &mut [u64]) {
 }
 
 /// The edge table and, per corner, the index of the edge to the next corner of its facet.
-pub(super) fn edges(
-    corner_count: usize,
-    ring: &Ring,
-    around: &VertexCorners,
-) -> (Vec<Edge>, Vec<u32>) {
-    let mut edges = Vec::with_capacity(corner_count / 2 + 1);
-    let mut corner_edges = vec![0u32; corner_count];
+///
+/// In parallel: over ranges of vertices, each listing the edges of its vertices in vertex
+/// order (so the concatenation is the table one pass would build), then over corners, each
+/// finding its edge among the few whose smaller vertex is its own or its next corner's.
+pub(super) fn edges(corners: &[u32], ring: &Ring, around: &VertexCorners) -> (Vec<Edge>, Vec<u32>) {
+    let pieces: Vec<(Vec<Edge>, Vec<u32>)> = around
+        .ranges(par::parts(corners.len(), 4))
+        .into_par_iter()
+        .map(|r| edges_of(r, ring, around))
+        .collect();
+    let mut edges = Vec::with_capacity(pieces.iter().map(|p| p.0.len()).sum());
+    // The edges whose smaller vertex is `v` are `edges[first[v]..first[v + 1]]`.
+    let mut first = Vec::with_capacity(around.vertex_count() + 1);
+    let mut at = 0u32;
+    for (piece, counts) in pieces {
+        for n in counts {
+            first.push(at);
+            at += n;
+        }
+        edges.extend(piece);
+    }
+    first.push(at);
+    let corner_edges = (0..corners.len())
+        .into_par_iter()
+        .with_min_len(par::MIN_ITEMS)
+        .map(|c| {
+            let (a, b) = (corners[c], corners[ring.next(c)]);
+            let (lo, hi) = (a.min(b), a.max(b));
+            let from = first[lo as usize] as usize;
+            let to = first[lo as usize + 1] as usize;
+            // Every corner's edge is in the table (it was listed from this very corner).
+            let k = edges[from..to].iter().position(|e| e.vertices[1] == hi);
+            debug_assert!(k.is_some(), "corner {c} has no edge");
+            (from + k.unwrap_or(0)) as u32
+        })
+        .collect();
+    (edges, corner_edges)
+}
+
+/// The edges whose smaller vertex is in `vertices`, in order, and how many each vertex has.
+fn edges_of(vertices: Range<usize>, ring: &Ring, around: &VertexCorners) -> (Vec<Edge>, Vec<u32>) {
+    let mut edges = Vec::with_capacity(around.of_range(&vertices).len() / 2 + 1);
+    let mut counts = Vec::with_capacity(vertices.len());
     // (larger vertex << 32 | corner the edge starts from) for the edges of one vertex.
     let mut local: Vec<u64> = Vec::new();
     let key = |hi: u32, corner: usize| u64::from(hi) << 32 | corner as u64;
-    for lo in 0..around.vertex_count() {
+    for lo in vertices {
         local.clear();
         let lo32 = lo as u32;
         for (&k, &[next, prev]) in around.of(lo).iter().zip(around.sides_of(lo)) {
@@ -187,8 +256,8 @@ pub(super) fn edges(
             }
         }
         sort_small(&mut local);
+        let before = edges.len();
         for group in local.chunk_by(|a, b| a >> 32 == b >> 32) {
-            let index = edges.len() as u32;
             let facet = |i: usize| {
                 group
                     .get(i)
@@ -199,10 +268,8 @@ pub(super) fn edges(
                 facets: [facet(0), facet(1)],
                 facet_count: group.len() as u32,
             });
-            for &e in group {
-                corner_edges[e as u32 as usize] = index;
-            }
         }
+        counts.push((edges.len() - before) as u32);
     }
-    (edges, corner_edges)
+    (edges, counts)
 }

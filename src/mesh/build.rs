@@ -8,7 +8,9 @@
 //! [`DEGENERATE_ASPECT`] times the squared spread of its corners.
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
+use super::par::MIN_ITEMS;
 use super::{Channel, Facet, MeshData, MeshError};
 
 /// Below this ratio of `|vector area| / sum |p_i - p_0|^2` a facet counts as degenerate. For a
@@ -105,7 +107,7 @@ fn validate_channel<T>(
     }
 }
 
-/// The facets of validated data, with normals and areas.
+/// The facets of validated data, with normals and areas (in parallel over facets).
 pub(super) fn facets(positions: &[Vec3], corners: &[u32], sizes: Option<&[u32]>) -> Vec<Facet> {
     let facet = |first: usize, len: usize| {
         let (normal, area) = newell(positions, &corners[first..first + len]);
@@ -118,16 +120,27 @@ pub(super) fn facets(positions: &[Vec3], corners: &[u32], sizes: Option<&[u32]>)
         }
     };
     match sizes {
-        None => (0..corners.len() / 3).map(|f| facet(3 * f, 3)).collect(),
+        None => (0..corners.len() / 3)
+            .into_par_iter()
+            .with_min_len(MIN_ITEMS)
+            .map(|f| facet(3 * f, 3))
+            .collect(),
         Some(sizes) => {
-            let mut first = 0usize;
-            sizes
+            // The first corners (a prefix sum) are cheap; the normals are not.
+            let mut first = 0u32;
+            let firsts: Vec<u32> = sizes
                 .iter()
                 .map(|&len| {
-                    let f = facet(first, len as usize);
-                    first += len as usize;
+                    let f = first;
+                    first += len;
                     f
                 })
+                .collect();
+            firsts
+                .par_iter()
+                .zip(sizes)
+                .with_min_len(MIN_ITEMS)
+                .map(|(&first, &len)| facet(first as usize, len as usize))
                 .collect()
         }
     }

@@ -46,6 +46,7 @@ use adjacency::{Ring, VertexCorners};
 mod adjacency;
 mod build;
 mod normals;
+mod par;
 mod polygon;
 mod primitives;
 mod topology;
@@ -279,7 +280,7 @@ impl Mesh {
         let facets = build::facets(&positions, &corners, facet_sizes.as_deref());
         let ring = Ring::new(&facets, corners.len());
         let around = VertexCorners::new(positions.len(), &corners, &ring);
-        let (edges, corner_edges) = adjacency::edges(corners.len(), &ring, &around);
+        let (edges, corner_edges) = adjacency::edges(&corners, &ring, &around);
         let (normals, normal_source) = match normals {
             Some(read) => (
                 normals::from_file(read, &corners, &ring),

@@ -18,9 +18,10 @@
 //! Corner angles use a polynomial `atan2` (see [`atan2`]) evaluated in `f64`.
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::adjacency::{Ring, VertexCorners};
-use super::{Channel, Facet, NormalPolicy, NormalSource};
+use super::{par, Channel, Facet, NormalPolicy, NormalSource};
 
 /// How adjacent facet normals are weighted when averaged at a vertex.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize)]
@@ -215,20 +216,34 @@ impl Neighbourhood<'_> {
         self.facets[self.ring.facet(c)].normal
     }
 
-    /// Weight of every corner in the average at its vertex; 0 for degenerate facets.
+    /// Weight of every corner in the average at its vertex; 0 for degenerate facets. In
+    /// parallel over ranges of facets (each owns its corners' weights).
     fn weights(&self, weighting: Weighting) -> Vec<f32> {
         let mut weights = vec![0.0f32; self.corners.len()];
         let largest = self.facets.iter().map(|f| f.area).fold(0.0, f32::max);
         // Area weights relative to the largest area, so sums cannot overflow.
         let area_scale = if largest > 0.0 { 1.0 / largest } else { 0.0 };
-        for facet in self.facets.iter().filter(|f| !f.is_degenerate()) {
-            let w = &mut weights[facet.corners()];
-            match weighting {
-                Weighting::Uniform => w.fill(1.0),
-                Weighting::Area => w.fill(facet.area * area_scale),
-                Weighting::Angle => self.corner_angles(facet, w),
+        let ranges = par::facet_ranges(self.facets, par::parts(self.corners.len(), 4));
+        let lengths = ranges.iter().map(|r| {
+            let (a, b) = (&self.facets[r.start], &self.facets[r.end - 1]);
+            (b.first + b.len - a.first) as usize
+        });
+        let jobs: Vec<_> = ranges
+            .iter()
+            .zip(par::split_lengths(&mut weights, lengths))
+            .collect();
+        jobs.into_par_iter().for_each(|(r, weights)| {
+            let base = self.facets[r.start].first as usize;
+            for facet in self.facets[r.clone()].iter().filter(|f| !f.is_degenerate()) {
+                let c = facet.corners();
+                let w = &mut weights[c.start - base..c.end - base];
+                match weighting {
+                    Weighting::Uniform => w.fill(1.0),
+                    Weighting::Area => w.fill(facet.area * area_scale),
+                    Weighting::Angle => self.corner_angles(facet, w),
+                }
             }
-        }
+        });
         weights
     }
 
@@ -273,38 +288,42 @@ impl Neighbourhood<'_> {
         }
     }
 
-    /// Weighted sum of the facet normals at every vertex.
-    fn sums(&self, weights: &[f32]) -> Vec<Vec3> {
-        let mut sums = vec![Vec3::ZERO; self.positions.len()];
-        for (c, &v) in self.corners.iter().enumerate() {
-            if weights[c] > 0.0 {
-                sums[v as usize] += weights[c] * self.normal(c);
-            }
-        }
-        sums
+    /// The unit weighted sum of the facet normals at every vertex (`None` if zero or not
+    /// finite). In parallel over vertices; each sums its corners in corner order, as one pass
+    /// over the corners would.
+    fn sums(&self, weights: &[f32]) -> Vec<Option<Vec3>> {
+        (0..self.positions.len())
+            .into_par_iter()
+            .with_min_len(par::MIN_ITEMS)
+            .map(|v| {
+                let mut sum = Vec3::ZERO;
+                for &c in self.around.of(v) {
+                    let c = c as usize;
+                    if weights[c] > 0.0 {
+                        sum += weights[c] * self.normal(c);
+                    }
+                }
+                unit(sum)
+            })
+            .collect()
     }
 
     /// One normal per vertex.
     fn smooth(&self, weights: &[f32]) -> Vec<Vec3> {
         let sums = self.sums(weights);
-        let mut missing = false;
         let mut normals: Vec<Vec3> = sums
-            .iter()
-            .map(|&s| {
-                unit(s).unwrap_or_else(|| {
-                    missing = true;
-                    FALLBACK_NORMAL
-                })
-            })
+            .par_iter()
+            .with_min_len(par::MIN_ITEMS)
+            .map(|s| s.unwrap_or(FALLBACK_NORMAL))
             .collect();
-        if missing {
+        if sums.iter().any(Option::is_none) {
             // Isolated vertices, all-degenerate neighbourhoods or cancelling normals (two
             // sides of a sheet): take the first non-degenerate facet normal at the vertex.
             let mut fixed = vec![false; normals.len()];
             for (c, &v) in self.corners.iter().enumerate() {
                 let v = v as usize;
                 let n = self.normal(c);
-                if unit(sums[v]).is_none() && !fixed[v] && n != Vec3::ZERO {
+                if sums[v].is_none() && !fixed[v] && n != Vec3::ZERO {
                     (normals[v], fixed[v]) = (n, true);
                 }
             }
@@ -320,13 +339,16 @@ impl Neighbourhood<'_> {
         let mut values = self.smooth(weights);
         // Vertices with a facet normal beyond half the angle from the vertex normal: only
         // they can split (at all others, all pairs are within the angle).
-        let mut split = vec![false; values.len()];
-        for (c, &v) in self.corners.iter().enumerate() {
-            let n = self.normal(c);
-            if n != Vec3::ZERO && n.dot(values[v as usize]) < cos_half {
-                split[v as usize] = true;
-            }
-        }
+        let split: Vec<bool> = (0..values.len())
+            .into_par_iter()
+            .with_min_len(par::MIN_ITEMS)
+            .map(|v| {
+                self.around.of(v).iter().any(|&c| {
+                    let n = self.normal(c as usize);
+                    n != Vec3::ZERO && n.dot(values[v]) < cos_half
+                })
+            })
+            .collect();
         let mut indices: Option<Vec<u32>> = None;
         let mut distinct: Vec<(Vec3, u32)> = Vec::new();
         for v in (0..split.len()).filter(|&v| split[v]) {

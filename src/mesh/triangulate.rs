@@ -13,10 +13,13 @@
 //! (see `polygon.rs`). Every facet of `n` corners gives exactly `n - 2` triangles, so the
 //! count matches [`TopologyReport::triangles`](super::TopologyReport::triangles).
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
 use glam::{Vec2, Vec3, Vec4};
+use rayon::prelude::*;
 
 use super::normals::{unit, FALLBACK_NORMAL};
-use super::{polygon, Channel, Mesh};
+use super::{par, polygon, Channel, Facet, Mesh};
 
 /// Triangles with flattened attributes, ready for the rasterizer.
 #[derive(Clone, Debug, Default)]
@@ -109,8 +112,15 @@ fn render_vertices(mesh: &Mesh) -> RenderVertices {
 
 /// Values of a channel per render vertex; `default` where a per-corner channel has no
 /// corner at an unused vertex.
-fn flatten<T: Copy>(ch: &Channel<T>, rv: &RenderVertices, slot: usize, default: T) -> Vec<T> {
+fn flatten<T: Copy + Send + Sync>(
+    ch: &Channel<T>,
+    rv: &RenderVertices,
+    slot: usize,
+    default: T,
+) -> Vec<T> {
     (0..rv.vertex.len())
+        .into_par_iter()
+        .with_min_len(par::MIN_ITEMS)
         .map(|r| match (&ch.indices, rv.keys[r][slot]) {
             (None, _) => ch.values[rv.vertex[r] as usize],
             (Some(_), UNSET) => default,
@@ -119,64 +129,28 @@ fn flatten<T: Copy>(ch: &Channel<T>, rv: &RenderVertices, slot: usize, default: 
         .collect()
 }
 
+/// In parallel over vertices, ranges of facets (each writes its own triangles: a facet of
+/// `n` corners always gives `n - 2`) and edges; the same result as one pass.
 pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
     let rv = render_vertices(mesh);
     let positions = rv
         .vertex
-        .iter()
+        .par_iter()
+        .with_min_len(par::MIN_ITEMS)
         .map(|&v| mesh.positions[v as usize])
         .collect();
-    let normals = flatten(&mesh.normals, &rv, 0, FALLBACK_NORMAL)
-        .into_iter()
-        .map(|n| unit(n).unwrap_or(FALLBACK_NORMAL))
-        .collect();
+    let mut normals = flatten(&mesh.normals, &rv, 0, FALLBACK_NORMAL);
+    normals
+        .par_iter_mut()
+        .with_min_len(par::MIN_ITEMS)
+        .for_each(|n| *n = unit(*n).unwrap_or(FALLBACK_NORMAL));
     let uvs = mesh.uvs.as_ref().map(|ch| flatten(ch, &rv, 1, Vec2::ZERO));
     let colors = mesh
         .colors
         .as_ref()
         .map(|ch| flatten(ch, &rv, 2, Vec4::ONE));
-
-    let triangle_count = mesh.facets.iter().map(|f| f.len as usize - 2).sum();
-    let mut triangles = Vec::with_capacity(triangle_count);
-    let mut triangle_facets = Vec::with_capacity(triangle_count);
-    let mut local = Vec::new();
-    let mut scratch = polygon::Scratch::default();
-    for (f, facet) in mesh.facets.iter().enumerate() {
-        let corners = facet.corners();
-        let ring = &mesh.corners[corners.clone()];
-        let render = &rv.of_corner[corners];
-        local.clear();
-        polygon::triangulate(
-            &mesh.positions,
-            ring,
-            facet.normal,
-            &mut local,
-            &mut scratch,
-        );
-        for t in &local {
-            triangles.push(t.map(|i| render[i as usize]));
-            triangle_facets.push(f as u32);
-        }
-    }
-
-    let mut edges = vec![[UNSET; 2]; mesh.edges.len()];
-    for facet in &mesh.facets {
-        let corners = facet.corners();
-        for c in corners.clone() {
-            let e = mesh.corner_edges[c] as usize;
-            if edges[e][0] == UNSET {
-                let n = if c + 1 == corners.end {
-                    corners.start
-                } else {
-                    c + 1
-                };
-                let (a, b) = (rv.of_corner[c], rv.of_corner[n]);
-                let forward = mesh.corners[c] == mesh.edges[e].vertices[0];
-                edges[e] = if forward { [a, b] } else { [b, a] };
-            }
-        }
-    }
-
+    let (triangles, triangle_facets) = triangles(mesh, &rv.of_corner);
+    let edges = edges(mesh, &rv.of_corner);
     let (center, radius) = mesh.bounding_sphere().unwrap_or((Vec3::ZERO, -1.0));
     TriMesh {
         positions,
@@ -190,4 +164,85 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
         center,
         radius,
     }
+}
+
+/// The triangles of every facet (as render vertices) and the facet of every triangle.
+fn triangles(mesh: &Mesh, of_corner: &[u32]) -> (Vec<[u32; 3]>, Vec<u32>) {
+    let count = |facets: &[Facet]| facets.iter().map(|f| f.len as usize - 2).sum::<usize>();
+    let mut triangles = vec![[0u32; 3]; count(&mesh.facets)];
+    let mut triangle_facets = vec![0u32; triangles.len()];
+    let ranges = par::facet_ranges(&mesh.facets, par::parts(mesh.corners.len(), 4));
+    let lengths = || ranges.iter().map(|r| count(&mesh.facets[r.clone()]));
+    let jobs: Vec<_> = ranges
+        .iter()
+        .zip(par::split_lengths(&mut triangles, lengths()))
+        .zip(par::split_lengths(&mut triangle_facets, lengths()))
+        .collect();
+    jobs.into_par_iter()
+        .for_each(|((r, triangles), triangle_facets)| {
+            let mut local = Vec::new();
+            let mut scratch = polygon::Scratch::default();
+            let mut out = triangles.iter_mut().zip(triangle_facets);
+            for (f, facet) in mesh.facets[r.clone()].iter().enumerate() {
+                let corners = facet.corners();
+                let ring = &mesh.corners[corners.clone()];
+                let render = &of_corner[corners];
+                local.clear();
+                polygon::triangulate(
+                    &mesh.positions,
+                    ring,
+                    facet.normal,
+                    &mut local,
+                    &mut scratch,
+                );
+                for (t, (slot, slot_facet)) in local.iter().zip(&mut out) {
+                    *slot = t.map(|i| render[i as usize]);
+                    *slot_facet = (r.start + f) as u32;
+                }
+            }
+        });
+    (triangles, triangle_facets)
+}
+
+/// Every mesh edge as render vertices: those of its first use, i.e. of the first corner
+/// (in corner order) whose edge it is, which is in the edge's first facet. The first
+/// corners are found by an atomic minimum per edge (the same whatever the order).
+fn edges(mesh: &Mesh, of_corner: &[u32]) -> Vec<[u32; 2]> {
+    let first: Vec<AtomicU32> = (0..mesh.edges.len())
+        .map(|_| AtomicU32::new(UNSET))
+        .collect();
+    mesh.corner_edges
+        .par_iter()
+        .enumerate()
+        .with_min_len(par::MIN_ITEMS)
+        .for_each(|(c, &e)| {
+            first[e as usize].fetch_min(c as u32, Ordering::Relaxed);
+        });
+    mesh.edges
+        .par_iter()
+        .zip(first)
+        .with_min_len(par::MIN_ITEMS)
+        .map(|(edge, c)| {
+            let c = c.into_inner() as usize;
+            let Some(facet) = mesh.facets.get(edge.facets[0] as usize) else {
+                return [UNSET; 2];
+            };
+            let corners = facet.corners();
+            if !corners.contains(&c) {
+                return [UNSET; 2];
+            }
+            let n = if c + 1 == corners.end {
+                corners.start
+            } else {
+                c + 1
+            };
+            let (a, b) = (of_corner[c], of_corner[n]);
+            let forward = mesh.corners[c] == edge.vertices[0];
+            if forward {
+                [a, b]
+            } else {
+                [b, a]
+            }
+        })
+        .collect()
 }

@@ -255,7 +255,7 @@ fn nan_and_inf_positions_do_not_panic() {
 
 /// Arbitrary small meshes: coordinates include NaN, infinities, huge and tiny values;
 /// indices may be out of range; facets may repeat vertices.
-fn arbitrary_mesh() -> impl Strategy<Value = MeshData> {
+pub(super) fn arbitrary_mesh() -> impl Strategy<Value = MeshData> {
     let coord = || {
         prop_oneof![
             6 => -4.0f32..4.0,

@@ -2,7 +2,9 @@
 
 mod build;
 mod normals;
+mod parallel;
 mod primitives;
+mod reference;
 mod triangulate;
 
 use glam::{Vec2, Vec3};
