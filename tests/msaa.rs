@@ -268,3 +268,35 @@ fn sample_count_round_trips_and_changing_it_clears() {
     t.set_samples(1, Vec4::ZERO);
     assert_eq!(t.resolve().pixel(129, 69), Vec4::ZERO);
 }
+
+#[test]
+fn every_readout_averages_the_samples() {
+    let (w, h) = (70u32, 65u32);
+    let v = [Vec2::new(3.3, 2.6), Vec2::new(66.7, 20.2), Vec2::new(20.1, 63.9)];
+    let clip: Vec<Vec4> = v
+        .iter()
+        .map(|&p| ndc(p, w, h).extend(0.5).extend(1.0))
+        .collect();
+    let d = Draw {
+        id: 1,
+        clip: &clip,
+        varyings: &[],
+        stride: 0,
+        triangles: &[[0, 1, 2]],
+        state: state(),
+    };
+    let mut target = Target::new(w, h, Vec4::new(0.2, 0.0, 0.6, 1.0));
+    target.set_samples(4, Vec4::new(0.2, 0.0, 0.6, 1.0));
+    raster::draw(&mut target, &[d], &ByDraw, &mut Stats::default());
+    let mut rgba = vec![[0u8; 4]; (w * h) as usize];
+    target.write_rgba8(&mut rgba);
+    let rgb = target.to_srgb8();
+    assert!(rgba.iter().zip(rgb.chunks(3)).all(|(a, b)| a[..3] == *b));
+    // Edge pixels are mixtures: some green from the triangle, some blue from the clear.
+    let mixed = rgba.iter().filter(|p| p[1] > 0 && p[2] > 0).count();
+    assert!(mixed > 50, "{mixed} mixed pixels");
+    let fb = target.resolve();
+    let mut depth = vec![0.0; (w * h) as usize];
+    target.write_depth(&mut depth);
+    assert_eq!(depth, fb.depth);
+}

@@ -339,9 +339,27 @@ impl Target {
                         }
                         continue;
                     }
+                    let samples = t.samples as usize;
+                    let mut mean = [0f32; TILE as usize];
                     for y in 0..t.h as usize {
                         for (plane, index) in index.iter_mut().enumerate() {
-                            let src = &t.color[plane * TILE_PIXELS + y * TILE as usize..][..w];
+                            let at = |s: usize| {
+                                &t.color[(4 * s + plane) * TILE_PIXELS + y * TILE as usize..][..w]
+                            };
+                            let src = if samples == 1 {
+                                at(0)
+                            } else {
+                                // The average of the samples, as `Tile::stored` takes it.
+                                mean[..w].fill(0.0);
+                                for s in 0..samples {
+                                    for (m, &v) in mean.iter_mut().zip(at(s)) {
+                                        *m += v;
+                                    }
+                                }
+                                let k = samples as f32;
+                                mean[..w].iter_mut().for_each(|m| *m /= k);
+                                &mean[..w]
+                            };
                             for (i, &v) in index.iter_mut().zip(src) {
                                 *i = encode_index(v);
                             }
