@@ -2,13 +2,15 @@
 //! lane versions of [`Texture::sample_with`] and [`Texture::sample_grad_with`] for shaders
 //! that work on eight pixels at a time (see [`crate::raster::lanes`]).
 //!
-//! Everything but the texel reads is done on all lanes at once: folding the UV for the wrap
-//! modes, the level of detail (with [`F8::log2`]), the level of each lane and its size,
-//! texel coordinates (floors and wraps in integer lanes), bilinear weights and the blend
-//! between levels. Only the texel reads, with their decoding to linear light, are a loop
-//! over the live lanes. Every helper is `#[inline(always)]`, so in a kernel entry point the
-//! lane loops compile to that kernel's vector instructions, and nothing here calls libm
-//! (floors are float-to-integer conversions, remainders are exact subtractions).
+//! Everything but the texel reads and the filtering is done on all lanes at once: folding
+//! the UV for the wrap modes, the level of detail (with [`F8::log2`]), the level of each
+//! lane and its size, texel coordinates (floors and wraps in integer lanes) and bilinear
+//! weights. The texel reads, their decoding and the weighting are a loop over the live
+//! lanes on four-channel texels: base texels are decoded by table, and the levels below
+//! are 16-bit linear RGBA in one array (see `mip.rs`), so a lane's level changes only its
+//! index. Every helper is `#[inline(always)]`, so in a kernel entry point the lane loops
+//! compile to that kernel's vector instructions, and nothing here calls libm (floors are
+//! float-to-integer conversions, remainders are exact subtractions).
 //!
 //! Results equal the scalar sampler's: the arithmetic is the same operation for operation
 //! (no fused multiply-add), except the logarithm of the level of detail, a polynomial here
@@ -20,8 +22,8 @@
 // Lane loops index several arrays by the lane number on purpose: that shape vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use super::mip::{MipLevel, U16_MAX};
-use super::{srgb_table, Filter, Sampler, Texture, Wrap};
+use super::mip::U16_MAX;
+use super::{linear_table, srgb_table, Filter, Sampler, Texture, Wrap};
 use crate::raster::{Kernel, F8, LANES};
 
 /// Eight i32 lanes (texel coordinates, levels, sizes).
@@ -213,54 +215,91 @@ fn lerp4(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
     ]
 }
 
+/// Texel `i` of the levels below the base (an index into [`super::mip::Chain::texels`]) in linear
+/// light, with the operations of [`super::mip::unpack`]. An index outside the chain (never
+/// made: the coordinates are wrapped or clamped) reads zero.
+#[inline(always)]
+fn mip_texel(texels: &[u64], i: i32) -> [f32; 4] {
+    let t = texels.get(i as u32 as usize).copied().unwrap_or(0);
+    let k = 1.0 / U16_MAX;
+    [
+        f32::from(t as u16) * k,
+        f32::from((t >> 16) as u16) * k,
+        f32::from((t >> 32) as u16) * k,
+        f32::from((t >> 48) as u16) * k,
+    ]
+}
+
 /// Where the four texels of a bilinear footprint are, per lane, and their weights.
 #[derive(Clone, Copy)]
 struct Footprint {
     /// Each lane's level (0 = the base).
     level: I8,
-    /// Row-major indices of texels (x0, y0), (x1, y0), (x0, y1), (x1, y1) in that level.
+    /// Indices of texels (x0, y0), (x1, y0), (x0, y1), (x1, y1) of each lane's level: into
+    /// the base's texels on level 0, into [`super::mip::Chain::texels`] below.
     idx: [I8; 4],
     tx: F8,
     ty: F8,
 }
 
-/// A footprint of one texel (nearest): weights 0 read texel `idx` alone, exactly.
+/// The four texels of a footprint, filtered (the same operations as the scalar
+/// `bilinear`).
 #[inline(always)]
-fn single(idx: I8) -> Footprint {
-    Footprint {
-        level: I8::default(),
-        idx: [idx; 4],
-        tx: F8::ZERO,
-        ty: F8::ZERO,
-    }
+fn bilinear(c: [[f32; 4]; 4], tx: f32, ty: f32) -> [f32; 4] {
+    let top = lerp4(c[0], c[1], tx);
+    let bottom = lerp4(c[2], c[3], tx);
+    lerp4(top, bottom, ty)
+}
+
+/// Texel `i` of the base, decoded by the tables `rgb` and `alpha` (the values of
+/// [`Texture::fetch`]); an index outside reads zero (never made).
+#[inline(always)]
+fn base_texel(texels: &[[u8; 4]], rgb: &[f32; 256], alpha: &[f32; 256], i: i32) -> [f32; 4] {
+    let t = texels.get(i as u32 as usize).copied().unwrap_or_default();
+    [
+        rgb[t[0] as usize],
+        rgb[t[1] as usize],
+        rgb[t[2] as usize],
+        alpha[t[3] as usize],
+    ]
 }
 
 impl Texture {
     /// [`Texture::sample_with`] on eight lanes (UVs `u`, `v`): RGBA in linear light, one
-    /// [`F8`] per channel. Only lanes set in `mask` (bit i = lane i) read texels; the others
-    /// are zero. Equal to the scalar sample of each lane (see the module docs).
+    /// [`F8`] per channel, zero on the lanes not set in `mask` (bit i = lane i). Equal to
+    /// the scalar sample of each lane (see the module docs).
     #[must_use]
     #[inline(always)]
     pub fn sample_lanes<K: Kernel>(&self, u: F8, v: F8, mask: u32, s: Sampler) -> [F8; 4] {
         let (u, v) = fold(u, v, s);
-        let f = match s.filter {
+        let c = match s.filter {
             Filter::Nearest => {
                 let (w, h) = (self.width as i32, self.height as i32);
                 let x = floor_i(u * self.width as f32);
                 let y = floor_i(v * self.height as f32);
                 let x = wrap_index(x, I8::splat(w), s.wrap_u);
                 let y = wrap_index(y, I8::splat(h), s.wrap_v);
-                single(y.mul(I8::splat(w)).add(x))
+                let i = y.mul(I8::splat(w)).add(x);
+                Footprint {
+                    level: I8::default(),
+                    idx: [i; 4],
+                    tx: F8::ZERO,
+                    ty: F8::ZERO,
+                }
             }
-            Filter::Bilinear | Filter::Trilinear => self.footprint(I8::default(), u, v, s),
+            Filter::Bilinear | Filter::Trilinear => {
+                let size = (self.width, self.height);
+                footprint(size, &[0; 32], I8::default(), u, v, s)
+            }
         };
-        self.filter(&[], f, None, mask)
+        // A nearest footprint has weights 0: its texel alone, exactly (a * 1 + b * 0).
+        self.filter(&[], &c, None, mask)
     }
 
     /// [`Texture::sample_grad_with`] on eight lanes: UVs `u`, `v` and their screen-space
     /// derivatives per pixel along x (`dudx`, `dvdx`) and y (`dudy`, `dvdy`), which choose
     /// each lane's level of detail for [`Filter::Trilinear`]; the other filters ignore them
-    /// (as [`Texture::sample_lanes`]). Only lanes set in `mask` read texels.
+    /// (as [`Texture::sample_lanes`]). Lanes not set in `mask` are zero.
     #[must_use]
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
@@ -279,21 +318,88 @@ impl Texture {
         if s.filter != Filter::Trilinear || top == 0.0 {
             return self.sample_lanes::<K>(u, v, mask, s);
         }
+        let chain = self.mips();
         let lod = self.lod_lanes::<K>(dudx, dvdx, dudy, dvdy);
         let (u, v) = fold(u, v, s);
         // As `sample_lod_with`: bilinear on level floor(lod), blended towards the next level
         // by the fraction where it is not zero (lod <= 0 is level 0 with no fraction).
         let d = floor_i(lod);
         let t = lod - d.to_f32();
-        let mips = self.mips();
-        let a = self.footprint(d, u, v, s);
+        let a = footprint(chain.size[0], &chain.offset, d, u, v, s);
         let blend = mask & t.gt(F8::ZERO).bits();
         if blend == 0 {
-            return self.filter(mips, a, None, mask);
+            return self.filter(&chain.texels, &a, None, mask);
         }
         let next = d.add(I8::splat(1)).clamp0(I8::splat(top as i32));
-        let b = self.footprint(next, u, v, s);
-        self.filter(mips, a, Some((b, t, blend)), mask)
+        let b = footprint(chain.size[0], &chain.offset, next, u, v, s);
+        self.filter(&chain.texels, &a, Some((&b, t, blend)), mask)
+    }
+
+    /// Filters footprint `a` of each lane in `mask`, and where `blend` = `(b, t, lanes)`
+    /// has a lane, blends it towards footprint `b` by `t`: per live lane, on four-channel
+    /// texels (rows of eight lanes are about half live, so a loop over the live lanes does
+    /// less work than eight-lane arithmetic on all of them). A base texel is decoded by
+    /// table (the values of [`Texture::fetch`]), a texel below by a scale. Lanes outside
+    /// `mask` are zero.
+    #[inline(always)]
+    fn filter(
+        &self,
+        mips: &[u64],
+        a: &Footprint,
+        blend: Option<(&Footprint, F8, u32)>,
+        mask: u32,
+    ) -> [F8; 4] {
+        let alpha = linear_table();
+        let rgb = if self.srgb { srgb_table() } else { alpha };
+        // No closures: one that is not inlined loses the kernel's target features.
+        #[inline(always)]
+        fn sample(
+            t: &Texture,
+            (mips, rgb, alpha): (&[u64], &[f32; 256], &[f32; 256]),
+            f: &Footprint,
+            i: usize,
+        ) -> [f32; 4] {
+            let [a, b, c, d] = f.idx;
+            let (a, b, c, d) = (a.0[i], b.0[i], c.0[i], d.0[i]);
+            let texels = if f.level.0[i] == 0 {
+                let base = &t.texels;
+                [
+                    base_texel(base, rgb, alpha, a),
+                    base_texel(base, rgb, alpha, b),
+                    base_texel(base, rgb, alpha, c),
+                    base_texel(base, rgb, alpha, d),
+                ]
+            } else {
+                [
+                    mip_texel(mips, a),
+                    mip_texel(mips, b),
+                    mip_texel(mips, c),
+                    mip_texel(mips, d),
+                ]
+            };
+            bilinear(texels, f.tx.0[i], f.ty.0[i])
+        }
+        let tabs = (mips, rgb, alpha);
+        let mut aos = [[0.0f32; 4]; LANES];
+        let mut bits = mask & ((1 << LANES) - 1);
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let mut c = sample(self, tabs, a, i);
+            if let Some((b, t, lanes)) = blend {
+                if lanes >> i & 1 != 0 {
+                    c = lerp4(c, sample(self, tabs, b, i), t.0[i]);
+                }
+            }
+            aos[i] = c;
+        }
+        let mut out = [F8::ZERO; 4];
+        for i in 0..LANES {
+            for (ch, o) in out.iter_mut().enumerate() {
+                o.0[i] = aos[i][ch];
+            }
+        }
+        out
     }
 
     /// [`Texture::lod`] on eight lanes (with [`F8::log2`] for the logarithm).
@@ -308,117 +414,49 @@ impl Texture {
         let lod = (rho2.log2::<K>() * 0.5).clamp(0.0, (self.levels() - 1) as f32);
         F8::select(crate::raster::M8::from_bits(ok), lod, F8::ZERO)
     }
+}
 
-    /// The bilinear footprint of each lane's level `level` at folded UVs (the lane version
-    /// of the coordinates and weights of `super::bilinear`).
-    #[inline(always)]
-    fn footprint(&self, level: I8, u: F8, v: F8, s: Sampler) -> Footprint {
-        // Level sizes: each level halves each side, rounding down, to no less than 1.
-        let size = |n: u32| {
-            I8::splat(n as i32).zip(level, |n, l| {
-                let m = (n as u32) >> (l as u32 & 31);
-                m.max(1) as i32
-            })
-        };
-        let (w, h) = (size(self.width), size(self.height));
-        let fx = u * w.to_f32() - 0.5;
-        let fy = v * h.to_f32() - 0.5;
-        let (x0, y0) = (floor_i(fx), floor_i(fy));
-        let one = I8::splat(1);
-        let xa = wrap_index(x0, w, s.wrap_u);
-        let xb = wrap_index(x0.add(one), w, s.wrap_u);
-        let ra = wrap_index(y0, h, s.wrap_v).mul(w);
-        let rb = wrap_index(y0.add(one), h, s.wrap_v).mul(w);
-        Footprint {
-            level,
-            idx: [ra.add(xa), ra.add(xb), rb.add(xa), rb.add(xb)],
-            tx: fx - x0.to_f32(),
-            ty: fy - y0.to_f32(),
-        }
-    }
-
-    /// Filters footprint `a` of each lane in `mask`, and where `blend` = `(b, t, lanes)`
-    /// has a lane, blends it towards footprint `b` by `t`. The texel reads, the bilinear
-    /// weighting and the blend are done per lane on four-channel texels (the same
-    /// operations as the scalar `bilinear` and `Vec4::lerp`); lanes outside `mask` are zero.
-    #[inline(always)]
-    fn filter(
-        &self,
-        mips: &[MipLevel],
-        a: Footprint,
-        blend: Option<(Footprint, F8, u32)>,
-        mask: u32,
-    ) -> [F8; 4] {
-        let tab = srgb_table();
-        // Texel `idx` of level `level` in linear light; an index outside the level (never
-        // made: the coordinates are wrapped or clamped) reads zero.
-        let fetch = |level: i32, idx: i32| -> [f32; 4] {
-            if level <= 0 {
-                let t = self.texels.get(idx as usize).copied().unwrap_or_default();
-                let alpha = f32::from(t[3]) / 255.0;
-                if self.srgb {
-                    [
-                        tab[t[0] as usize],
-                        tab[t[1] as usize],
-                        tab[t[2] as usize],
-                        alpha,
-                    ]
-                } else {
-                    [
-                        f32::from(t[0]) / 255.0,
-                        f32::from(t[1]) / 255.0,
-                        f32::from(t[2]) / 255.0,
-                        alpha,
-                    ]
-                }
-            } else {
-                let t = mips
-                    .get(level as usize - 1)
-                    .and_then(|m| m.texels.get(idx as usize))
-                    .copied()
-                    .unwrap_or_default();
-                let k = 1.0 / U16_MAX;
-                [
-                    f32::from(t[0]) * k,
-                    f32::from(t[1]) * k,
-                    f32::from(t[2]) * k,
-                    f32::from(t[3]) * k,
-                ]
-            }
-        };
-        let bilinear = |f: &Footprint, i: usize| -> [f32; 4] {
-            let l = f.level.0[i];
-            let c = |k: usize| fetch(l, f.idx[k].0[i]);
-            let (tx, ty) = (f.tx.0[i], f.ty.0[i]);
-            if tx == 0.0 && ty == 0.0 {
-                // Exactly the first texel: the others are weighted by zero and texels are
-                // finite and non-negative. Nearest footprints always take this path.
-                return c(0);
-            }
-            let top = lerp4(c(0), c(1), tx);
-            let bottom = lerp4(c(2), c(3), tx);
-            lerp4(top, bottom, ty)
-        };
-        let mut aos = [[0.0f32; 4]; LANES];
-        let mut bits = mask & ((1 << LANES) - 1);
-        while bits != 0 {
-            let i = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let mut c = bilinear(&a, i);
-            if let Some((b, t, lanes)) = &blend {
-                if lanes >> i & 1 != 0 {
-                    c = lerp4(c, bilinear(b, i), t.0[i]);
-                }
-            }
-            aos[i] = c;
-        }
-        let mut out = [F8::ZERO; 4];
-        for i in 0..LANES {
-            for (ch, o) in out.iter_mut().enumerate() {
-                o.0[i] = aos[i][ch];
-            }
-        }
-        out
+/// The bilinear footprint of each lane's level `level` at folded UVs (the lane version of
+/// the coordinates and weights of `super::bilinear`), for a base of `size` and levels
+/// starting at `offset` (see [`super::mip::Chain`]; the base at 0).
+#[inline(always)]
+fn footprint(
+    size: (u32, u32),
+    offset: &[u32; 32],
+    level: I8,
+    u: F8,
+    v: F8,
+    s: Sampler,
+) -> Footprint {
+    // Level sizes: each level halves each side, rounding down, to no less than 1.
+    let side = |n: u32| {
+        I8::splat(n as i32).zip(level, |n, l| {
+            let m = (n as u32) >> (l as u32 & 31);
+            m.max(1) as i32
+        })
+    };
+    let (w, h) = (side(size.0), side(size.1));
+    // First texel of each lane's level: one look-up when the lanes share their level (the
+    // usual case), else one per lane.
+    let l0 = level.0[0];
+    let first = if level.0.iter().all(|&l| l == l0) {
+        I8::splat(offset[l0 as usize & 31] as i32)
+    } else {
+        level.zip(level, |l, _| offset[l as usize & 31] as i32)
+    };
+    let fx = u * w.to_f32() - 0.5;
+    let fy = v * h.to_f32() - 0.5;
+    let (x0, y0) = (floor_i(fx), floor_i(fy));
+    let one = I8::splat(1);
+    let xa = wrap_index(x0, w, s.wrap_u);
+    let xb = wrap_index(x0.add(one), w, s.wrap_u);
+    let ra = wrap_index(y0, h, s.wrap_v).mul(w).add(first);
+    let rb = wrap_index(y0.add(one), h, s.wrap_v).mul(w).add(first);
+    Footprint {
+        level,
+        idx: [ra.add(xa), ra.add(xb), rb.add(xa), rb.add(xb)],
+        tx: fx - x0.to_f32(),
+        ty: fy - y0.to_f32(),
     }
 }
 

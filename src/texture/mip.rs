@@ -152,6 +152,75 @@ fn downsample(
     }
 }
 
+/// The levels below the base in one array, as 16-bit linear RGBA: level k's texels
+/// (row-major) start at `offset[k]` (k >= 1), each packed into a `u64` as
+/// `r | g << 16 | b << 32 | a << 48`. One array makes a texel of any level below the base
+/// the same load and integer-to-float scale, whatever its level: eight lanes on different
+/// levels read with one loop.
+#[derive(Clone, Debug)]
+pub(crate) struct Chain {
+    pub texels: Vec<u64>,
+    /// First texel of each level below the base (`offset[0]` is unused).
+    pub offset: [u32; 32],
+    /// Size of each level, the base's at 0.
+    pub size: [(u32, u32); 32],
+    /// Levels, the base included.
+    pub levels: usize,
+}
+
+/// Packs a 16-bit RGBA texel (see [`Chain`]).
+#[inline]
+pub(crate) fn pack(t: [u16; 4]) -> u64 {
+    u64::from(t[0]) | u64::from(t[1]) << 16 | u64::from(t[2]) << 32 | u64::from(t[3]) << 48
+}
+
+/// A packed texel in linear light: each channel `as f32 * (1 / 65535)` (the lane sampler
+/// decodes with the same operations).
+#[inline(always)]
+pub(crate) fn unpack(t: u64) -> Vec4 {
+    Vec4::new(
+        f32::from(t as u16),
+        f32::from((t >> 16) as u16),
+        f32::from((t >> 32) as u16),
+        f32::from((t >> 48) as u16),
+    ) * (1.0 / U16_MAX)
+}
+
+impl Chain {
+    /// The levels below a `width` x `height` base whose texels (linear light) `row` writes
+    /// one row at a time (see [`build`]).
+    pub fn new(
+        width: u32,
+        height: u32,
+        row: &(dyn Fn(u32, &mut [Vec4]) + Sync),
+        parallel: bool,
+    ) -> Chain {
+        let mips = build(width, height, row, parallel);
+        let mut texels = Vec::with_capacity(mips.iter().map(|m| m.texels.len()).sum());
+        let (mut offset, mut size) = ([0u32; 32], [(1u32, 1u32); 32]);
+        size[0] = (width, height);
+        for (k, m) in mips.iter().enumerate() {
+            offset[k + 1] = texels.len() as u32;
+            size[k + 1] = (m.width, m.height);
+            texels.extend(m.texels.iter().map(|&t| pack(t)));
+        }
+        Chain {
+            texels,
+            offset,
+            size,
+            levels: mips.len() + 1,
+        }
+    }
+
+    /// Texel (x, y) of level `level` (>= 1) in linear light (panics if it does not exist).
+    #[inline]
+    pub fn fetch(&self, level: usize, x: u32, y: u32) -> Vec4 {
+        let (w, h) = self.size[level];
+        assert!(level >= 1 && level < self.levels && x < w && y < h);
+        unpack(self.texels[self.offset[level] as usize + (y * w + x) as usize])
+    }
+}
+
 /// Linear value in [0, 1] -> 16-bit unorm, rounded to nearest (NaN -> 0).
 #[inline]
 fn quantise(v: f32) -> u16 {

@@ -82,7 +82,7 @@ pub struct Texture {
 /// The lazily built mip chain of a texture. Derived data: it takes no part in equality, and
 /// a clone starts empty (the clone's texels may be changed before it is sampled).
 #[derive(Default)]
-struct MipCache(OnceLock<Vec<mip::MipLevel>>);
+struct MipCache(OnceLock<mip::Chain>);
 
 impl Clone for MipCache {
     fn clone(&self) -> Self {
@@ -99,7 +99,7 @@ impl PartialEq for MipCache {
 impl std::fmt::Debug for MipCache {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self.0.get() {
-            Some(levels) => write!(f, "MipCache({} levels below the base)", levels.len()),
+            Some(c) => write!(f, "MipCache({} levels below the base)", c.levels - 1),
             None => f.write_str("MipCache(not built)"),
         }
     }
@@ -112,6 +112,12 @@ pub enum TextureError {
     Empty,
     #[error("texel count {got} does not match {width}x{height}")]
     Size { width: u32, height: u32, got: usize },
+}
+
+/// Linear byte -> [0, 1]: `c / 255` (the same division as [`Texture::fetch`]).
+fn linear_table() -> &'static [f32; 256] {
+    static TABLE: std::sync::OnceLock<[f32; 256]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| std::array::from_fn(|i| i as f32 / 255.0))
 }
 
 /// sRGB-encoded byte -> linear light, exact piecewise sRGB transfer.
@@ -322,12 +328,12 @@ impl Texture {
         if level == 0 {
             return self.fetch(x, y);
         }
-        let l = &self.mips()[level - 1];
+        let c = self.mips();
         assert!(
-            x < l.width && y < l.height,
+            level < c.levels && x < c.size[level].0 && y < c.size[level].1,
             "texel ({x}, {y}) of level {level}"
         );
-        l.fetch(x, y)
+        c.fetch(level, x, y)
     }
 
     /// Builds the mip chain now (rows in parallel on the current rayon pool) if it has not
@@ -343,17 +349,17 @@ impl Texture {
     }
 
     /// Levels 1.., built on first use (serially: see [`Texture::prepare_mips`]).
-    fn mips(&self) -> &[mip::MipLevel] {
+    fn mips(&self) -> &mip::Chain {
         self.mips.0.get_or_init(|| self.build_mips(false))
     }
 
-    fn build_mips(&self, parallel: bool) -> Vec<mip::MipLevel> {
+    fn build_mips(&self, parallel: bool) -> mip::Chain {
         let row = |y: u32, out: &mut [Vec4]| {
             for (x, o) in out.iter_mut().enumerate() {
                 *o = self.fetch(x as u32, y);
             }
         };
-        mip::build(self.width, self.height, &row, parallel)
+        mip::Chain::new(self.width, self.height, &row, parallel)
     }
 
     /// Bilinear sample of level `level` at a folded `uv`.
@@ -362,8 +368,9 @@ impl Texture {
         if level == 0 {
             bilinear(uv, self.width, self.height, s, |x, y| self.fetch(x, y))
         } else {
-            let l = &self.mips()[level - 1];
-            bilinear(uv, l.width, l.height, s, |x, y| l.fetch(x, y))
+            let c = self.mips();
+            let (w, h) = c.size[level];
+            bilinear(uv, w, h, s, |x, y| c.fetch(level, x, y))
         }
     }
 }
