@@ -39,6 +39,15 @@ fn allocations(f: impl FnOnce()) -> usize {
     c.allocations + c.reallocations
 }
 
+/// The fewest [`allocations`] of `f` over three runs. rayon's work-stealing deques grow
+/// and shrink their buffers with the number of queued jobs, which depends on how the OS
+/// schedules the pool's threads: on a loaded machine a frame now and then sees one or two
+/// such allocations inside rayon. A per-frame allocation of the renderer's own shows in
+/// every run.
+fn fewest_allocations(mut f: impl FnMut()) -> usize {
+    (0..3).map(|_| allocations(&mut f)).min().unwrap_or(0)
+}
+
 #[test]
 fn a_second_frame_allocates_nothing() {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -160,7 +169,7 @@ fn a_second_frame_allocates_nothing() {
             let mut pixels = vec![[0u8; 4]; 320 * 200];
             r.render(scene, settings, &view);
             r.write_rgba8(&mut pixels);
-            let n = allocations(|| {
+            let n = fewest_allocations(|| {
                 r.render(scene, settings, &view);
                 r.write_rgba8(&mut pixels);
             });
@@ -182,7 +191,7 @@ fn a_second_frame_allocates_nothing() {
         for v in &views {
             r.render(scene, settings, v);
         }
-        let n = allocations(|| {
+        let n = fewest_allocations(|| {
             for v in views.iter().chain(&views) {
                 r.render(scene, settings, v);
             }

@@ -272,7 +272,11 @@ fn sample_count_round_trips_and_changing_it_clears() {
 #[test]
 fn every_readout_averages_the_samples() {
     let (w, h) = (70u32, 65u32);
-    let v = [Vec2::new(3.3, 2.6), Vec2::new(66.7, 20.2), Vec2::new(20.1, 63.9)];
+    let v = [
+        Vec2::new(3.3, 2.6),
+        Vec2::new(66.7, 20.2),
+        Vec2::new(20.1, 63.9),
+    ];
     let clip: Vec<Vec4> = v
         .iter()
         .map(|&p| ndc(p, w, h).extend(0.5).extend(1.0))
