@@ -29,7 +29,11 @@ const MSAA4: [[i32; 2]; 4] = [[-2, -6], [6, -2], [-6, 2], [2, 6]];
 /// How far the samples of a pixel lie from its centre along x or y at most, in fixed-point
 /// units (1/256 pixel), with `samples` per pixel.
 #[must_use]
+#[inline(always)]
 pub(crate) fn sample_reach(samples: u32) -> i64 {
+    if samples == 1 {
+        return 0;
+    }
     let most = sample_offsets(samples)
         .iter()
         .flat_map(|o| [o[0].abs(), o[1].abs()])
