@@ -436,6 +436,19 @@ fn keys_change_the_view_the_overlays_and_the_panels() {
     assert!(!h.state().settings.wireframe_overlay);
     assert_eq!(differing(&shown_image(&h), &plain), 0);
 
+    // Shift+A: 4x multisampling (the torus's silhouette changes), and off again; plain A is
+    // still the supersampling level.
+    let max_samples = h.state().max_samples;
+    press(&mut h, Modifiers::SHIFT, Key::A);
+    assert_eq!(h.state().settings.msaa, 4);
+    assert_eq!(h.state().max_samples, max_samples);
+    // Only edge pixels change (1,138 of 216,398 measured): the interior is shaded as before.
+    let edges = differing(&shown_image(&h), &plain);
+    assert!(edges > 300, "multisampling changed {edges} pixels");
+    press(&mut h, Modifiers::SHIFT, Key::A);
+    assert_eq!(h.state().settings.msaa, 1);
+    assert_eq!(differing(&shown_image(&h), &plain), 0);
+
     // H: the cheat sheet lists every binding, with the toggles' states.
     assert!(h.query_by_label("Keys and mouse").is_none());
     press(&mut h, Modifiers::NONE, Key::H);
