@@ -156,20 +156,19 @@ fn benches(c: &mut Criterion) {
         sampler: Sampler::default(),
         alpha: AlphaMode::Opaque,
         double_sided: false,
+        lights: (0, 1),
     }];
     let lights = LightSet::new(&[
-        Light::Ambient {
-            color: Vec3::splat(0.1),
-        },
-        Light::Directional {
-            direction: -Vec3::new(0.5, 1.0, 0.8),
-            color: Vec3::splat(0.9),
-        },
+        Light::ambient(Vec3::splat(0.1)),
+        Light::directional(-Vec3::new(0.5, 1.0, 0.8), Vec3::splat(0.9)),
     ]);
     let blinn = LitShader {
         draws: &params,
         lights: &lights,
+        active: &[0],
         eye: Vec3::new(0.0, 0.0, 4.0),
+        forward: -Vec3::Z,
+        fog: None,
         layout: LitLayout::default(),
         blinn: true,
         lod_scale: 1.0,

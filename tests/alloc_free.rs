@@ -68,13 +68,8 @@ fn a_second_frame_allocates_nothing() {
     let cube_cam = realist::render::default_camera(cube.scene(), 4.0 / 3.0);
     let custom = Lights::Custom {
         lights: vec![
-            Light::Ambient {
-                color: Vec3::splat(0.1),
-            },
-            Light::Point {
-                position: Vec3::new(1.0, 2.0, 3.0),
-                color: Vec3::ONE,
-            },
+            Light::ambient(Vec3::splat(0.1)),
+            Light::point(Vec3::new(1.0, 2.0, 3.0), Vec3::ONE),
         ],
         follow_camera: true,
     };

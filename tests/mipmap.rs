@@ -46,10 +46,7 @@ fn quad_scene(corners: [Vec3; 4], uvs: [Vec2; 4], normal: Vec3, texture: Texture
         },
     );
     scene.textures.push(Arc::new(texture));
-    scene.lights = vec![Light::Directional {
-        direction: -normal,
-        color: Vec3::ONE,
-    }];
+    scene.lights = vec![Light::directional(-normal, Vec3::ONE)];
     scene
 }
 

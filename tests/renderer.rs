@@ -321,10 +321,7 @@ fn picking_and_the_probe_agree_with_the_depth_and_normal_buffers() {
 fn custom_lights_follow_the_camera_or_stay_in_the_world() {
     let (setup, scene) = sphere_setup();
     let v = view(&setup.camera, W, H);
-    let head = Light::Directional {
-        direction: -Vec3::Z,
-        color: Vec3::ONE,
-    };
+    let head = Light::directional(-Vec3::Z, Vec3::ONE);
     let follow = Settings {
         lights: render::Lights::Custom {
             lights: vec![head.clone()],

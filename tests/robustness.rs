@@ -73,7 +73,7 @@ fn floor_crossing_the_near_plane_renders_below_the_horizon() {
             ..Material::default()
         },
     );
-    scene.lights = vec![realist::scene::Light::Ambient { color: Vec3::ONE }];
+    scene.lights = vec![realist::scene::Light::ambient(Vec3::ONE)];
     let cam = Camera {
         eye: Vec3::ZERO,
         target: Vec3::new(0.0, 0.0, -1.0),

@@ -62,13 +62,8 @@ pub(super) fn bench(args: &BenchArgs) -> Result<()> {
         },
     )?;
     scene.lights = vec![
-        realist::scene::Light::Ambient {
-            color: Vec3::splat(0.1),
-        },
-        realist::scene::Light::Directional {
-            direction: -Vec3::new(0.5, 1.0, 0.8).normalize(),
-            color: Vec3::splat(0.9),
-        },
+        realist::scene::Light::ambient(Vec3::splat(0.1)),
+        realist::scene::Light::directional(-Vec3::new(0.5, 1.0, 0.8).normalize(), Vec3::splat(0.9)),
     ];
     let camera = peer_camera(&scene);
     let pool = rayon::ThreadPoolBuilder::new()

@@ -69,9 +69,9 @@ use rayon::prelude::*;
 
 use super::LinearImage;
 use crate::mesh::TriMesh;
-use crate::render::{default_camera, RenderOptions};
-use crate::scene::{AlphaMode, Light, Scene, Style};
-use crate::shade::Shading;
+use crate::render::{default_camera, frame_lights, RenderOptions};
+use crate::scene::{AlphaMode, Scene, Style};
+use crate::shade::{illuminate, Fog, LightSet, Shading, Surface};
 use crate::texture::{Filter, Texture, Wrap};
 
 /// Largest number of samples per pixel side.
@@ -224,7 +224,11 @@ struct View {
     /// Projection x view, f64.
     vp: DMat4,
     eye: DVec3,
-    lights: Lights,
+    /// Unit view direction (depth fog).
+    forward: DVec3,
+    lights: LightSet,
+    fog: Option<Fog>,
+    tone: crate::render::ToneMap,
     background: DVec3,
     blinn: bool,
 }
@@ -304,59 +308,29 @@ impl View {
             DVec4::new(0.0, 0.0, -b, -1.0),
             DVec4::new(0.0, 0.0, a, 0.0),
         );
-        let lights = if scene.lights.is_empty() {
-            // Camera -> world rotation: columns right, up, backwards.
-            let cam_to_world = DMat3::from_cols(s, u, -f).as_mat3();
-            Lights::new(&Light::default_rig(cam_to_world))
-        } else {
-            Lights::new(&scene.lights)
-        };
+        // Camera -> world: columns right, up, backwards, eye.
+        let cam_to_world = DMat4::from_cols(
+            s.extend(0.0),
+            u.extend(0.0),
+            (-f).extend(0.0),
+            eye.extend(1.0),
+        )
+        .as_mat4();
+        let mut lights = LightSet::default();
+        frame_lights(&scene.lights, &opts.lights, cam_to_world, &mut lights);
         Ok(Self {
             width: w,
             height: h,
             samples,
             vp: proj * view,
             eye,
+            forward: f,
             lights,
+            fog: opts.fog.filter(Fog::is_valid),
+            tone: opts.tone,
             background: opts.background.truncate().as_dvec3(),
             blinn,
         })
-    }
-}
-
-/// The lights in f64, filtered as `LightSet::new` does (non-finite or zero-length ones
-/// dropped).
-struct Lights {
-    ambient: DVec3,
-    /// (unit direction towards the light, colour)
-    directional: Vec<(DVec3, DVec3)>,
-    /// (position, colour)
-    point: Vec<(DVec3, DVec3)>,
-}
-
-impl Lights {
-    fn new(lights: &[Light]) -> Self {
-        let mut set = Self {
-            ambient: DVec3::ZERO,
-            directional: Vec::new(),
-            point: Vec::new(),
-        };
-        for l in lights {
-            match *l {
-                Light::Ambient { color } if color.is_finite() => set.ambient += color.as_dvec3(),
-                Light::Directional { direction, color } => {
-                    let d = -direction.as_dvec3().normalize_or_zero();
-                    if d != DVec3::ZERO && color.is_finite() {
-                        set.directional.push((d, color.as_dvec3()));
-                    }
-                }
-                Light::Point { position, color } if position.is_finite() && color.is_finite() => {
-                    set.point.push((position.as_dvec3(), color.as_dvec3()));
-                }
-                _ => {}
-            }
-        }
-        set
     }
 }
 
@@ -378,9 +352,8 @@ struct Inst<'a> {
     flip: bool,
     cull: bool,
     base: DVec4,
-    specular: DVec3,
-    ambient: DVec3,
-    shininess: f64,
+    /// The material's Phong constants, as the renderer resolves them.
+    surface: Surface,
     alpha: Alpha,
     texture: Option<&'a Texture>,
 }
@@ -430,13 +403,7 @@ fn instances<'a>(
             } else {
                 DVec4::ONE
             },
-            specular: m.specular.as_dvec3(),
-            ambient: m.ambient.as_dvec3(),
-            shininess: if m.shininess.is_finite() {
-                f64::from(m.shininess).clamp(1.0, 2000.0)
-            } else {
-                1.0
-            },
+            surface: crate::render::material_surface(&m),
             alpha: match m.alpha_mode {
                 AlphaMode::Opaque => Alpha::Opaque,
                 AlphaMode::Mask(c) => Alpha::Mask(f64::from(c)),
@@ -699,7 +666,11 @@ impl Tri {
         if !self.g.front {
             n = -n;
         }
-        let c = illuminate(view, inst, base.truncate(), p, n);
+        let surf = inst.surface.at::<f64>(base.truncate());
+        let mut c = illuminate::<f64>(&view.lights, None, &surf, p, n, view.eye, view.blinn);
+        if let Some(fog) = &view.fog {
+            c = fog.apply::<f64>(c, p, view.eye, view.forward);
+        }
         Some(c.extend(alpha))
     }
 
@@ -710,43 +681,6 @@ impl Tri {
             _ => true,
         }
     }
-}
-
-/// The lighting equation of [`crate::shade::illuminate`] in f64.
-fn illuminate(view: &View, inst: &Inst, kd: DVec3, p: DVec3, n: DVec3) -> DVec3 {
-    let lights = &view.lights;
-    let spec = inst.specular != DVec3::ZERO;
-    let v = if spec {
-        (view.eye - p).normalize_or_zero()
-    } else {
-        DVec3::ZERO
-    };
-    let term = |l: DVec3| {
-        let ndl = n.dot(l);
-        if ndl <= 0.0 {
-            return DVec3::ZERO;
-        }
-        let mut t = kd * ndl;
-        if spec {
-            let base = if view.blinn {
-                n.dot((l + v).normalize_or_zero())
-            } else {
-                (2.0 * ndl * n - l).dot(v)
-            };
-            if base > 0.0 {
-                t += inst.specular * base.powf(inst.shininess);
-            }
-        }
-        t
-    };
-    let mut c = lights.ambient * inst.ambient * kd;
-    for &(l, color) in &lights.directional {
-        c += color * term(l);
-    }
-    for &(pos, color) in &lights.point {
-        c += color * term((pos - p).normalize_or_zero());
-    }
-    c
 }
 
 /// Exact sRGB decoding of the 256 byte values, in f64.
@@ -919,6 +853,13 @@ fn band(view: &View, insts: &[Inst], bin: &[(u32, u32)], r: Rect) -> Vec<[f64; 3
             c = f.truncate() * a + c * (1.0 - a);
             next.next();
         }
+        if view.tone != crate::render::ToneMap::Clamp {
+            c = view
+                .tone
+                .apply(c.as_vec3().extend(1.0))
+                .truncate()
+                .as_dvec3();
+        }
         sum[(sy / su) * pw + sx / su] += c;
     }
     let n = f64::from(s * s);
@@ -936,7 +877,7 @@ mod tests {
     use crate::quality::sphere::SphereSetup;
     use crate::quality::{compare, metrics::DEFAULT_DE_THRESHOLD, Metrics};
     use crate::render::{self, PreparedScene};
-    use crate::scene::{Camera, Instance, Material, TextureRef};
+    use crate::scene::{Camera, Instance, Light, Material, TextureRef};
     use crate::texture::Sampler;
 
     /// The rasterizer at `ss` x `ss` supersampling, box-filtered: its samples sit exactly
@@ -1074,7 +1015,8 @@ mod tests {
         let dense = de(&ras, &reference(&scene, &opts, 8, false).unwrap());
         let blinn = de(&ras, &reference(&scene, &opts, 4, true).unwrap());
         let mut dark = scene.clone();
-        dark.lights.retain(|l| matches!(l, Light::Ambient { .. }));
+        dark.lights
+            .retain(|l| l.kind == crate::scene::LightKind::Ambient);
         let unlit = de(&ras, &reference(&dark, &opts, 4, false).unwrap());
         // Same sample positions (the rasterizer's 4x image box-filtered, the reference at
         // 4 x 4): only arithmetic differs. Measured mean 8e-5, 2 pixels above 1: samples
@@ -1234,9 +1176,7 @@ mod tests {
             0,
         );
         place(&mut scene, floor, Mat4::IDENTITY);
-        scene.lights = vec![Light::Ambient {
-            color: Vec3::splat(0.5),
-        }];
+        scene.lights = vec![Light::ambient(Vec3::splat(0.5))];
         let (w, h, s) = (64u32, 90u32, 8u32);
         let (near, far) = (5.0f32, 300.0f32);
         let roll = 20f32.to_radians();
@@ -1311,7 +1251,7 @@ mod tests {
         scene
             .materials
             .push(flat_material(Vec3::ONE, 1.0, AlphaMode::Opaque));
-        scene.lights = vec![Light::Ambient { color: Vec3::ONE }];
+        scene.lights = vec![Light::ambient(Vec3::ONE)];
         let mesh = Mesh::new(
             MeshData {
                 name: "nan".into(),
@@ -1403,13 +1343,8 @@ mod tests {
         scene.materials.push(mat.clone());
         place(&mut scene, square(0.0, 1.0, None, 0), Mat4::IDENTITY);
         scene.lights = vec![
-            Light::Directional {
-                direction: Vec3::Z,
-                color: Vec3::splat(0.8),
-            },
-            Light::Ambient {
-                color: Vec3::splat(0.1),
-            },
+            Light::directional(Vec3::Z, Vec3::splat(0.8)),
+            Light::ambient(Vec3::splat(0.1)),
         ];
         let camera = Camera {
             eye: Vec3::new(0.0, 0.0, -3.0),
@@ -1446,7 +1381,7 @@ mod tests {
         // white square whose vertex alpha runs 0 -> 1 from left to right (cutoff 0.5), so
         // its left half is cut away and shows the red one behind it. Ambient light 1.
         let mut scene = Scene {
-            lights: vec![Light::Ambient { color: Vec3::ONE }],
+            lights: vec![Light::ambient(Vec3::ONE)],
             materials: vec![
                 flat_material(Vec3::X, 1.0, AlphaMode::Opaque),
                 flat_material(Vec3::splat(0.5), 1.0, AlphaMode::Mask(0.5)),
@@ -1500,7 +1435,7 @@ mod tests {
         // once, every sample is 0.5; twice, 0.75; never, 0.
         let r = 2.0;
         let mut scene = Scene {
-            lights: vec![Light::Ambient { color: Vec3::ONE }],
+            lights: vec![Light::ambient(Vec3::ONE)],
             materials: vec![flat_material(Vec3::ONE, 0.5, AlphaMode::Blend)],
             ..Scene::default()
         };

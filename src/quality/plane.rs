@@ -63,13 +63,8 @@ impl PlaneSetup {
             ortho: None,
         };
         let lights = vec![
-            Light::Ambient {
-                color: Vec3::splat(0.15),
-            },
-            Light::Directional {
-                direction: Vec3::new(0.3, -1.0, -0.4).normalize(),
-                color: Vec3::splat(0.85),
-            },
+            Light::ambient(Vec3::splat(0.15)),
+            Light::directional(Vec3::new(0.3, -1.0, -0.4).normalize(), Vec3::splat(0.85)),
         ];
         Self {
             width,
@@ -136,25 +131,28 @@ impl PlaneSetup {
         }
     }
 
-    /// Radiance per unit albedo: ambient plus the directional lights' N·L (N = +Y, no
-    /// highlight), per channel.
+    /// Radiance per unit albedo of the plane (normal +Y, no highlight) by the shared
+    /// lighting model in f64, per channel. Constant over the plane for the standard
+    /// set-up's directional lights.
     fn irradiance(&self) -> [f64; 3] {
-        let mut k = [0.0; 3];
-        for l in &self.lights {
-            let (c, f) = match *l {
-                Light::Ambient { color } => (color, 1.0),
-                Light::Directional { direction, color } => {
-                    let d = direction.as_dvec3().normalize_or_zero();
-                    (color, (-d.y).max(0.0))
-                }
-                // Not used by the standard setup; a point light would make the factor vary.
-                Light::Point { .. } => (Vec3::ZERO, 0.0),
-            };
-            for (kk, cc) in k.iter_mut().zip(c.to_array()) {
-                *kk += f64::from(cc) * f;
-            }
-        }
-        k
+        let set = crate::shade::LightSet::new(&self.lights);
+        let surface = crate::shade::Surface {
+            diffuse: Vec3::ONE,
+            specular: Vec3::ZERO,
+            ambient: Vec3::ONE,
+            shininess: 1.0,
+        };
+        let surf = surface.at::<f64>(glam::DVec3::ONE);
+        let c = crate::shade::illuminate::<f64>(
+            &set,
+            None,
+            &surf,
+            glam::DVec3::ZERO,
+            glam::DVec3::Y,
+            self.camera.eye.as_dvec3(),
+            false,
+        );
+        c.to_array()
     }
 
     /// The exact reference (linear light, black background).

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 use super::LinearImage;
 use crate::mesh::Mesh;
 use crate::scene::{Camera, Instance, Light, Material, Scene, Style};
+use crate::shade::{illuminate, LightSet, Surface};
 
 /// Samples per side in silhouette pixels.
 pub const EDGE_SAMPLES: u32 = 16;
@@ -287,66 +288,37 @@ fn hit(shape: Shape, r: &Rays, x: f64, y: f64) -> Option<(V3, V3, u8)> {
 }
 
 /// The lighting equation in f64 (see [`crate::shade::illuminate`]).
+/// The shared lighting model ([`crate::shade::illuminate`]) in f64 at the sphere's points.
 struct Shade {
-    ambient: V3,
-    directional: Vec<(V3, V3)>,
-    point: Vec<(V3, V3)>,
-    kd: V3,
-    ks: V3,
-    ka: V3,
-    n: f64,
-    eye: V3,
+    lights: LightSet,
+    surface: Surface,
+    kd: glam::DVec3,
+    eye: glam::DVec3,
     blinn: bool,
 }
 
 impl Shade {
     fn new(s: &SphereSetup, blinn: bool) -> Self {
-        let mut sh = Self {
-            ambient: [0.0; 3],
-            directional: Vec::new(),
-            point: Vec::new(),
-            kd: v3(s.material.base_color.truncate()),
-            ks: v3(s.material.specular),
-            ka: v3(s.material.ambient),
-            n: f64::from(s.material.shininess.clamp(1.0, 2000.0)),
-            eye: v3(s.camera.eye),
+        Self {
+            lights: LightSet::new(&s.lights),
+            surface: crate::render::material_surface(&s.material),
+            kd: s.material.base_color.truncate().as_dvec3(),
+            eye: s.camera.eye.as_dvec3(),
             blinn,
-        };
-        for l in &s.lights {
-            match *l {
-                Light::Ambient { color } => sh.ambient = add_scaled(sh.ambient, v3(color), 1.0),
-                Light::Directional { direction, color } => {
-                    sh.directional.push((normalize(v3(-direction)), v3(color)));
-                }
-                Light::Point { position, color } => sh.point.push((v3(position), v3(color))),
-            }
         }
-        sh
     }
 
     fn at(&self, p: V3, n: V3) -> V3 {
-        let v = normalize(sub(self.eye, p));
-        let mut c = [0, 1, 2].map(|k| self.ambient[k] * self.ka[k] * self.kd[k]);
-        let lights = self.directional.iter().map(|&(l, col)| (l, col)).chain(
-            self.point
-                .iter()
-                .map(|&(pos, col)| (normalize(sub(pos, p)), col)),
+        let surf = self.surface.at::<f64>(self.kd);
+        let c = illuminate::<f64>(
+            &self.lights,
+            None,
+            &surf,
+            glam::DVec3::from_array(p),
+            glam::DVec3::from_array(n),
+            self.eye,
+            self.blinn,
         );
-        for (l, col) in lights {
-            let ndl = dot(n, l);
-            if ndl <= 0.0 {
-                continue;
-            }
-            let base = if self.blinn {
-                dot(n, normalize(add_scaled(l, v, 1.0)))
-            } else {
-                dot(add_scaled(l.map(|x| -x), n, 2.0 * ndl), v)
-            };
-            let spec = if base > 0.0 { base.powf(self.n) } else { 0.0 };
-            for k in 0..3 {
-                c[k] += col[k] * (self.kd[k] * ndl + self.ks[k] * spec);
-            }
-        }
-        c
+        c.to_array()
     }
 }

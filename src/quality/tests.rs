@@ -31,7 +31,7 @@ fn sphere_reference_coverage_is_the_projected_disc() {
         eye: Vec3::new(0.0, 0.0, d),
         ..Camera::orbit(Vec3::ZERO, 0.0, 0.0, d, 0.8)
     };
-    setup.lights = vec![Light::Ambient { color: Vec3::ONE }];
+    setup.lights = vec![Light::ambient(Vec3::ONE)];
     setup.material.base_color = glam::Vec4::ONE;
     setup.material.ambient = Vec3::ONE;
     let img = setup.reference(false);
@@ -131,7 +131,7 @@ fn rasterized_cylinder_converges_to_the_reference() {
 /// The plane with a uniform texture under ambient light 1: the reference is the coverage.
 fn uniform_plane(w: u32, h: u32, texel: [u8; 4]) -> PlaneSetup {
     let mut setup = PlaneSetup::standard(w, h);
-    setup.lights = vec![Light::Ambient { color: Vec3::ONE }];
+    setup.lights = vec![Light::ambient(Vec3::ONE)];
     setup.texture = std::sync::Arc::new(
         crate::texture::Texture::new("uniform", 4, 4, vec![texel; 16], true).unwrap(),
     );

@@ -135,6 +135,11 @@ pub struct Stats {
     pub shader_calls: u64,
     pub depth_rejected: u64,
     pub lines_drawn: u64,
+    /// (object, light) pairs skipped because the light cannot reach the object (out of
+    /// range, or its cone misses the bounding sphere); counted by the caller.
+    pub lights_skipped: u64,
+    /// Shadow maps rendered (counted by the caller).
+    pub shadow_maps: u64,
 }
 
 impl Stats {
@@ -152,6 +157,8 @@ impl Stats {
         self.shader_calls += o.shader_calls;
         self.depth_rejected += o.depth_rejected;
         self.lines_drawn += o.lines_drawn;
+        self.lights_skipped += o.lights_skipped;
+        self.shadow_maps += o.shadow_maps;
     }
 }
 

@@ -7,8 +7,8 @@ use glam::{Mat4, Vec3, Vec4};
 use super::prepare::{PreparedInstance, PreparedScene};
 use super::settings::{Lights, Output, Settings};
 use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
-use crate::scene::{AlphaMode, Light, Style};
-use crate::shade::{DrawParams, LightSet, Shading, Surface};
+use crate::scene::{AlphaMode, Light, Material, Style};
+use crate::shade::{DrawParams, Fog, LightSet, Shading, Surface};
 use crate::texture::Filter;
 
 /// One visible instance of this frame.
@@ -40,38 +40,104 @@ pub(super) struct FrameData {
     pub insts: Vec<FrameInst>,
     pub params: Vec<DrawParams>,
     pub lights: LightSet,
+    /// Per instance, the indices of the sources that reach it ([`DrawParams::lights`]).
+    pub active: Vec<u32>,
     /// Blended instances in drawing order.
     pub order: Vec<u32>,
+    /// The frame's fog, if on and valid.
+    pub fog: Option<Fog>,
     /// Wireframe's saved depth.
     pub depth: DepthCopy,
 }
 
-/// Calls `f` with every light of the frame in world space.
+/// Calls `f` with every light of the frame and the matrix that moves it into the world
+/// (`None`: it is in world space already): `scene_lights`, or the default rig attached to
+/// the camera if there are none, or the custom lights of `lights`.
 pub(crate) fn for_each_light(
-    scene: &PreparedScene,
-    settings: &Settings,
+    scene_lights: &[Light],
+    lights: &Lights,
     camera_to_world: Mat4,
-    mut f: impl FnMut(&Light),
+    mut f: impl FnMut(&Light, Option<Mat4>),
 ) {
-    match &settings.lights {
-        Lights::Auto if scene.scene().lights.is_empty() => {
+    match lights {
+        Lights::Auto if scene_lights.is_empty() => {
             let rig = Light::default_rig_array(glam::Mat3::from_mat4(camera_to_world));
-            rig.iter().for_each(f);
+            rig.iter().for_each(|l| f(l, None));
         }
-        Lights::Auto => scene.scene().lights.iter().for_each(f),
+        Lights::Auto => scene_lights.iter().for_each(|l| f(l, None)),
         Lights::Custom {
             lights,
             follow_camera,
         } => {
-            for l in lights {
-                if *follow_camera {
-                    f(&l.transformed(camera_to_world));
-                } else {
-                    f(l);
-                }
-            }
+            let m = follow_camera.then_some(camera_to_world);
+            lights.iter().for_each(|l| f(l, m));
         }
     }
+}
+
+/// Fills `set` (cleared first) with the lights of a frame whose camera-to-world matrix is
+/// `camera_to_world` (see [`Lights`]); shadow maps are left to the renderer.
+pub fn frame_lights(
+    scene_lights: &[Light],
+    lights: &Lights,
+    camera_to_world: Mat4,
+    set: &mut LightSet,
+) {
+    set.clear();
+    let mut index = 0;
+    for_each_light(scene_lights, lights, camera_to_world, |l, m| {
+        set.push(l, m, index);
+        index += 1;
+    });
+}
+
+/// The Phong constants the renderer uses for material `m` (shininess clamped to 1..=2000,
+/// 1 if not finite; non-finite colours become zero).
+#[must_use]
+pub fn material_surface(m: &Material) -> Surface {
+    let fin = |v: Vec3| if v.is_finite() { v } else { Vec3::ZERO };
+    Surface {
+        diffuse: Vec3::ONE,
+        specular: fin(m.specular),
+        ambient: fin(m.ambient),
+        shininess: if m.shininess.is_finite() {
+            m.shininess.clamp(1.0, 2000.0)
+        } else {
+            1.0
+        },
+    }
+}
+
+/// The world-space bounding sphere of an instance (centre, radius; radius scaled by the
+/// world matrix's largest axis scale).
+pub(crate) fn world_sphere(world: Mat4, center: Vec3, radius: f32) -> (Vec3, f32) {
+    let s = world
+        .x_axis
+        .truncate()
+        .length()
+        .max(world.y_axis.truncate().length())
+        .max(world.z_axis.truncate().length());
+    (world.transform_point3(center), radius * s)
+}
+
+/// Appends to `active` the sources of `lights` that can reach the sphere, returning the
+/// range; counts the others in `stats`.
+pub(crate) fn active_lights(
+    lights: &LightSet,
+    center: Vec3,
+    radius: f32,
+    active: &mut Vec<u32>,
+    stats: &mut Stats,
+) -> (u32, u32) {
+    let start = active.len() as u32;
+    for (i, s) in lights.sources.iter().enumerate() {
+        if s.reaches(center, radius) {
+            active.push(i as u32);
+        } else {
+            stats.lights_skipped += 1;
+        }
+    }
+    (start, active.len() as u32)
 }
 
 /// How one instance is drawn under `settings`: its material parameters, mode and state.
@@ -138,16 +204,7 @@ pub(crate) fn resolve(
         } else {
             Vec4::ONE
         },
-        surface: Surface {
-            diffuse: Vec3::ONE,
-            specular: m.specular,
-            ambient: m.ambient,
-            shininess: if m.shininess.is_finite() {
-                m.shininess.clamp(1.0, 2000.0)
-            } else {
-                1.0
-            },
-        },
+        surface: material_surface(m),
         texture,
         sampler,
         alpha: if debug {
@@ -156,6 +213,7 @@ pub(crate) fn resolve(
             m.alpha_mode
         },
         double_sided,
+        lights: (0, 0),
     };
     Resolved {
         textured,
@@ -177,11 +235,16 @@ pub(super) fn set_up(
     eye: Vec3,
     stats: &mut Stats,
 ) {
-    fd.lights.clear();
-    let lights = &mut fd.lights;
-    for_each_light(scene, settings, view.inverse(), |l| lights.push(l));
+    frame_lights(
+        &scene.scene().lights,
+        &settings.lights,
+        view.inverse(),
+        &mut fd.lights,
+    );
+    fd.fog = settings.fog.filter(Fog::is_valid);
     fd.insts.clear();
     fd.params.clear();
+    fd.active.clear();
     let planes = frustum_planes(vp);
     for (k, inst) in scene.instances.iter().enumerate() {
         let tri = &scene.meshes[inst.mesh].tri;
@@ -194,7 +257,9 @@ pub(super) fn set_up(
             stats.triangles_in += tri.triangles.len() as u64;
             continue;
         }
-        let r = resolve(scene, settings, inst);
+        let mut r = resolve(scene, settings, inst);
+        let (c, radius) = world_sphere(inst.world, tri.center, tri.radius);
+        r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
         if let (true, Some(t)) = (r.textured, &r.params.texture) {
             if r.params.sampler.filter == Filter::Trilinear {
                 // Built once (a no-op afterwards), in parallel, so no tile waits for it.

@@ -34,10 +34,11 @@ mod renderer;
 mod settings;
 mod vertex;
 
+pub use frame::{frame_lights, material_surface};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
-pub use settings::{Lights, Output, Settings, View};
+pub use settings::{Ground, Lights, Output, Settings, ToneMap, View};
 
 /// Everything about a one-shot frame: [`Settings`] and [`View`] in one struct, the camera
 /// optional ([`default_camera`] when absent).
@@ -60,6 +61,12 @@ pub struct RenderOptions {
     pub subpixel_bits: u8,
     /// Multisampling: 1 or 4 samples per pixel (see [`Settings::msaa`]).
     pub msaa: u32,
+    /// The lights (see [`Settings::lights`]).
+    pub lights: Lights,
+    /// See [`Settings::fog`].
+    pub fog: Option<crate::shade::Fog>,
+    /// See [`Settings::tone`].
+    pub tone: ToneMap,
 }
 
 impl Default for RenderOptions {
@@ -75,6 +82,9 @@ impl Default for RenderOptions {
             double_sided: false,
             subpixel_bits: s.subpixel_bits,
             msaa: s.msaa,
+            lights: Lights::Auto,
+            fog: None,
+            tone: ToneMap::Clamp,
         }
     }
 }
@@ -90,6 +100,9 @@ impl RenderOptions {
             subpixel_bits: self.subpixel_bits,
             texture: self.texture.clone(),
             msaa: self.msaa,
+            lights: self.lights.clone(),
+            fog: self.fog,
+            tone: self.tone,
             ..Settings::default()
         }
     }

@@ -230,7 +230,10 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
         scene,
         params: &fd.params,
         lights: &fd.lights,
+        active: &fd.active,
         eye: cx.eye,
+        forward: cx.camera.forward(),
+        fog: fd.fog,
     };
     let params: &[DrawParams] = &fd.params;
     let of = |mode: Shading| move |k: usize, fi: &FrameInst| fi.mode == mode && pick(k, fi);
@@ -312,7 +315,10 @@ fn lit_group(
     let shader = LitShader {
         draws: &fd.params,
         lights: &fd.lights,
+        active: &fd.active,
         eye: cx.eye,
+        forward: cx.camera.forward(),
+        fog: fd.fog,
         layout,
         blinn,
         lod_scale: cx.lod_scale,

@@ -2,9 +2,12 @@
 //! alone. A ray through the pixel centre (the rasterizer's sample point) is cast against
 //! every instance's triangles in f64 (back faces skipped where the rasterizer culls them,
 //! hits outside the near/far planes ignored); the nearest hit's barycentric coordinates
-//! give the interpolated normal, UV and vertex colour, which go through
-//! [`crate::shade::illuminate`], the function the shaders call, once per light, so each
-//! light's diffuse and specular share is exact and the shares add up to the shaded colour.
+//! give the interpolated normal, UV and vertex colour, which go through the shared lighting
+//! model ([`crate::shade::arriving`] and [`crate::shade::reflect`], what
+//! [`crate::shade::illuminate`] sums) once per light, so each light's diffuse and specular
+//! share after attenuation, cone and shadow is exact and the shares add up to the shaded
+//! colour. Shadows are found by a shadow ray towards the light (exact; the rendered
+//! shadow map approximates it).
 
 use glam::{DVec3, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -13,15 +16,22 @@ use super::frame::{for_each_light, resolve};
 use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
-use crate::scene::Light;
-use crate::shade::{illuminate, LightSet, Shading, Surface};
+use crate::scene::{Light, LightKind};
+use crate::shade::{arriving, reflect, view_vector, LightSet, Shading, SurfaceAt};
 
 /// One light's contribution at the probed point (linear RGB).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightShare {
     /// Position in the frame's light list (scene, rig or custom lights).
     pub index: usize,
+    /// The light as it was in world space this frame.
     pub light: Light,
+    /// Radiance arriving at the point after attenuation, cone or pyramid and projected
+    /// image, before shadowing (zero when none does).
+    pub arriving: Vec3,
+    /// 1 lit, 0 in shadow: a shadow ray towards the light (the exact answer the shadow map
+    /// approximates); 1 for lights without shadows.
+    pub shadow: f32,
     pub diffuse: Vec3,
     pub specular: Vec3,
 }
@@ -59,8 +69,10 @@ pub struct Probe {
     /// Ambient term (never attenuated).
     pub ambient: Vec3,
     pub lights: Vec<LightShare>,
-    /// Ambient plus every light's share: the colour per-pixel lighting gives here (Blinn's
-    /// highlight for the Blinn and textured modes, Phong's otherwise).
+    /// Fog factor f (0 clear, 1 only fog), if fog is on.
+    pub fog: Option<f32>,
+    /// Ambient plus every light's share, fogged: the colour per-pixel lighting gives here
+    /// (Blinn's highlight for the Blinn and textured modes, Phong's otherwise).
     pub color: Vec3,
 }
 
@@ -85,7 +97,7 @@ pub fn probe(
     // Reversed-Z: z = 1 on the near plane, 0 on the far plane.
     let near = inv.project_point3(ndc.extend(1.0));
     let far = inv.project_point3(ndc.extend(0.0));
-    let hit = cast(scene, settings, near, far)?;
+    let hit = cast(scene, settings, near, far, true)?;
     let inst = &scene.instances[hit.instance];
     let tri = &scene.meshes[inst.mesh].tri;
     let r = resolve(scene, settings, inst);
@@ -113,46 +125,76 @@ pub fn probe(
     }
     let blinn = matches!(r.mode, Shading::Blinn | Shading::Textured);
     let eye = cam.shading_eye();
-    let surface = Surface {
-        diffuse: base.truncate(),
-        ..r.params.surface
+    let surf = r.params.surface.at::<f32>(base.truncate());
+    let v = view_vector(&surf, position, eye);
+    let diffuse_only = SurfaceAt {
+        ks: Vec3::ZERO,
+        ..surf
     };
-    let shade = |set: &LightSet, s: &Surface| {
-        if blinn {
-            illuminate::<true>(set, s, position, normal, eye)
-        } else {
-            illuminate::<false>(set, s, position, normal, eye)
-        }
+    let specular_only = SurfaceAt {
+        kd: Vec3::ZERO,
+        ..surf
     };
-    let diffuse_only = Surface {
-        specular: Vec3::ZERO,
-        ..surface
-    };
-    let specular_only = Surface {
-        diffuse: Vec3::ZERO,
-        ambient: Vec3::ZERO,
-        ..surface
-    };
+    let mut set = LightSet::default();
+    let cam_to_world = view_m.inverse();
     let mut ambient = Vec3::ZERO;
     let mut lights = Vec::new();
-    let mut one = LightSet::default();
-    for_each_light(scene, settings, view_m.inverse(), |l| {
-        one.clear();
-        one.push(l);
-        if matches!(l, Light::Ambient { .. }) {
-            ambient += shade(&one, &diffuse_only);
-        } else {
+    let mut index = 0;
+    let (center, radius) = scene_sphere(scene);
+    for_each_light(
+        &scene.scene().lights,
+        &settings.lights,
+        cam_to_world,
+        |l, m| {
+            set.clear();
+            set.push(l, m, index);
+            index += 1;
+            if l.kind == LightKind::Ambient {
+                ambient += set.ambient * surf.ka * surf.kd;
+                return;
+            }
+            let light = m.map_or_else(|| l.clone(), |m| l.transformed(m));
+            let Some(src) = set.sources.first() else {
+                return;
+            };
+            let (dir, rad) = arriving::<f32>(src, position).unwrap_or((Vec3::ZERO, Vec3::ZERO));
+            let arriving = rad;
+            let lit = normal.dot(dir) > 0.0 && rad != Vec3::ZERO;
+            let shadow = if lit && light.shadow && light.kind.can_shadow() {
+                let to = match light.kind {
+                    LightKind::Directional => {
+                        position + dir * (4.0 * radius + (position - center).length())
+                    }
+                    _ => src.position,
+                };
+                let from = position + normal * (1e-4 * radius.max(1e-3));
+                if cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some() {
+                    0.0
+                } else {
+                    1.0
+                }
+            } else {
+                1.0
+            };
             lights.push(LightShare {
-                index: lights.len(),
-                light: l.clone(),
-                diffuse: shade(&one, &diffuse_only),
-                specular: shade(&one, &specular_only),
+                index: src.index,
+                light,
+                arriving,
+                shadow,
+                diffuse: reflect(&diffuse_only, normal, dir, v, blinn) * rad * shadow,
+                specular: reflect(&specular_only, normal, dir, v, blinn) * rad * shadow,
             });
-        }
-    });
-    let color = lights
+        },
+    );
+    let lit = lights
         .iter()
         .fold(ambient, |acc, s| acc + s.diffuse + s.specular);
+    let fog = settings.fog.filter(|f| f.is_valid());
+    let color = match &fog {
+        Some(f) => f.apply::<f32>(lit, position, eye, cam.forward()),
+        None => lit,
+    };
+    let fog = fog.map(|f| f.factor::<f32>(f.distance::<f32>(position, eye, cam.forward())));
     let clip = vp * position.extend(1.0);
     let mesh = &scene.scene().meshes[inst.mesh];
     Some(Probe {
@@ -176,6 +218,7 @@ pub fn probe(
         base,
         ambient,
         lights,
+        fog,
         color,
     })
 }
@@ -191,8 +234,23 @@ struct Hit {
     front: bool,
 }
 
-/// Casts the segment `near -> far` (world space) against every instance.
-fn cast(scene: &PreparedScene, settings: &Settings, near: DVec3, far: DVec3) -> Option<Hit> {
+/// The world bounding sphere of the whole scene (centre, radius).
+fn scene_sphere(scene: &PreparedScene) -> (Vec3, f32) {
+    match scene.scene().bounds() {
+        Some((lo, hi)) => ((lo + hi) * 0.5, (hi - lo).length() * 0.5),
+        None => (Vec3::ZERO, 1.0),
+    }
+}
+
+/// Casts the segment `near -> far` (world space) against every instance; with `cull`,
+/// back faces are skipped where the rasterizer culls them (a shadow ray sees both sides).
+fn cast(
+    scene: &PreparedScene,
+    settings: &Settings,
+    near: DVec3,
+    far: DVec3,
+    cull: bool,
+) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     for (i, inst) in scene.instances.iter().enumerate() {
         if !inst.drawable {
@@ -212,7 +270,7 @@ fn cast(scene: &PreparedScene, settings: &Settings, near: DVec3, far: DVec3) -> 
         if (o + d * t_closest - cen).length() > f64::from(tri.radius) * (1.0 + 1e-6) + 1e-9 {
             continue;
         }
-        let cull_back = resolve(scene, settings, inst).state.cull == Cull::Back;
+        let cull_back = cull && resolve(scene, settings, inst).state.cull == Cull::Back;
         let limit = best.map_or(1.0, |b| b.t);
         let found = tri
             .triangles

@@ -8,7 +8,7 @@ use glam::Vec4;
 
 use crate::raster::KernelKind;
 use crate::scene::{Camera, Light, Material};
-use crate::shade::Shading;
+use crate::shade::{Fog, Shading, ShadowSettings};
 use crate::texture::{Filter, Texture};
 
 /// The lights a frame uses.
@@ -35,6 +35,93 @@ pub enum Output {
     /// How many fragments each pixel received (every triangle that survives culling and
     /// clipping, depth test off), as a colour ramp: see [`overdraw_color`](super::overdraw_color).
     Overdraw,
+}
+
+/// What happens to colours outside [0, 1] (seed 003 §4.2) before they are encoded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ToneMap {
+    /// Each channel clamped to [0, 1]: (1, 2, 1) becomes white.
+    #[default]
+    Clamp,
+    /// A colour whose largest channel exceeds 1 is divided by it, keeping its hue:
+    /// (1, 2, 1) becomes (0.5, 1, 0.5), light green.
+    ScaleMax,
+    /// Reinhard's operator on luminance, `L / (1 + L)`, applied as a scale to the colour
+    /// (then scaled by the largest channel if one still exceeds 1): every colour stays in
+    /// range and keeps its hue; darkens everything a little.
+    Reinhard,
+}
+
+impl ToneMap {
+    pub const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::ScaleMax, ToneMap::Reinhard];
+
+    /// The name on the command line and in scene files.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            ToneMap::Clamp => "clamp",
+            ToneMap::ScaleMax => "scale-max",
+            ToneMap::Reinhard => "reinhard",
+        }
+    }
+
+    /// Maps one linear colour (alpha kept).
+    #[must_use]
+    #[inline]
+    pub fn apply(self, c: Vec4) -> Vec4 {
+        let rgb = c.truncate();
+        let scale_max = |rgb: glam::Vec3| {
+            let m = rgb.max_element();
+            if m > 1.0 && m.is_finite() {
+                rgb / m
+            } else {
+                rgb
+            }
+        };
+        let out = match self {
+            ToneMap::Clamp => return c,
+            ToneMap::ScaleMax => scale_max(rgb),
+            ToneMap::Reinhard => {
+                let l = rgb.dot(glam::Vec3::new(0.2126, 0.7152, 0.0722));
+                if l > 0.0 && l.is_finite() {
+                    scale_max(rgb / (1.0 + l))
+                } else {
+                    rgb
+                }
+            }
+        };
+        out.extend(c.w)
+    }
+}
+
+impl std::str::FromStr for ToneMap {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        ToneMap::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| {
+                format!("unknown tone map '{s}' (expected clamp, scale-max or reinhard)")
+            })
+    }
+}
+
+/// A ground plane that catches shadows, placed just under the scene's bounds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ground {
+    /// Linear RGB diffuse colour.
+    pub color: glam::Vec3,
+    /// Half-size as a multiple of the scene's bounding radius.
+    pub extent: f32,
+}
+
+impl Default for Ground {
+    fn default() -> Self {
+        Self {
+            color: glam::Vec3::splat(0.5),
+            extent: 4.0,
+        }
+    }
 }
 
 /// Settings that change rarely: everything but the camera and the size.
@@ -72,6 +159,16 @@ pub struct Settings {
     /// The kernel the fill and shaders run with; `None` is [`KernelKind::best`] (a kernel the
     /// CPU lacks runs as the portable one).
     pub kernel: Option<KernelKind>,
+    /// Linear fog: per pixel in the per-pixel modes, per vertex in Gouraud, per facet in
+    /// flat; `None` costs nothing.
+    pub fog: Option<Fog>,
+    /// Out-of-range colour handling.
+    pub tone: ToneMap,
+    /// Shadow-map size and filtering for the lights that cast shadows (each light's
+    /// `shadow` flag turns them on; none costs nothing).
+    pub shadow: ShadowSettings,
+    /// Shows a ground plane under the scene (it catches shadows).
+    pub ground: Option<Ground>,
 }
 
 impl Default for Settings {
@@ -90,6 +187,10 @@ impl Default for Settings {
             samples: 1,
             msaa: 1,
             kernel: None,
+            fog: None,
+            tone: ToneMap::Clamp,
+            shadow: ShadowSettings::default(),
+            ground: None,
         }
     }
 }

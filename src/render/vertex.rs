@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::frame::FrameInst;
 use super::prepare::{PreparedMesh, PreparedScene};
-use crate::shade::{illuminate, Debug, DrawParams, LightSet, LitLayout, Surface};
+use crate::shade::{illuminate, Debug, DrawParams, Fog, LightSet, LitLayout};
 
 const MIN_LEN: usize = 4096;
 
@@ -16,7 +16,13 @@ pub(super) struct Lit<'a> {
     pub scene: &'a PreparedScene,
     pub params: &'a [DrawParams],
     pub lights: &'a LightSet,
+    /// Per-draw light indices ([`DrawParams::lights`]).
+    pub active: &'a [u32],
     pub eye: Vec3,
+    /// Unit view direction (depth fog).
+    pub forward: Vec3,
+    /// Fog, applied per vertex (Gouraud) or per facet (flat).
+    pub fog: Option<Fog>,
 }
 
 /// Appends `n` vertices of `stride` floats to `out`, vertex `k` written by `f(k, floats)`,
@@ -72,14 +78,20 @@ pub(super) fn lit(
     })
 }
 
-/// The lighting equation at a vertex or facet centroid, seen from the side `n` points to.
-fn lit_colour(d: &DrawParams, lights: &LightSet, eye: Vec3, p: Vec3, n: Vec3, c: Vec4) -> Vec4 {
-    let base = d.base * c;
-    let s = Surface {
-        diffuse: base.truncate(),
-        ..d.surface
-    };
-    illuminate::<false>(lights, &s, p, n, eye).extend(base.w)
+impl Lit<'_> {
+    /// The lighting equation at a vertex or facet centroid, seen from the side `n` points
+    /// to, fogged there (Phong's `R·V` highlight, as the seeds' Gouraud shading).
+    #[inline]
+    fn colour(&self, d: &DrawParams, p: Vec3, n: Vec3, c: Vec4) -> Vec4 {
+        let base = d.base * c;
+        let surf = d.surface.at::<f32>(base.truncate());
+        let active = d.active(self.active);
+        let mut rgb = illuminate::<f32>(self.lights, Some(active), &surf, p, n, self.eye, false);
+        if let Some(fog) = &self.fog {
+            rgb = fog.apply::<f32>(rgb, p, self.eye, self.forward);
+        }
+        rgb.extend(base.w)
+    }
 }
 
 impl Lit<'_> {
@@ -95,10 +107,10 @@ impl Lit<'_> {
         per_vertex(out, tri.positions.len(), stride, |k, o| {
             let (p, n) = world(self.scene, fi, mesh, k);
             let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
-            let front = lit_colour(d, self.lights, self.eye, p, n, c);
+            let front = self.colour(d, p, n, c);
             o[..4].copy_from_slice(&front.to_array());
             if d.double_sided {
-                let back = lit_colour(d, self.lights, self.eye, p, -n, c);
+                let back = self.colour(d, p, -n, c);
                 o[4..8].copy_from_slice(&back.to_array());
             }
         })
@@ -120,7 +132,7 @@ impl Lit<'_> {
             if d.double_sided && n.dot(self.eye - p) < 0.0 {
                 n = -n;
             }
-            lit_colour(d, self.lights, self.eye, p, n, flat.first_colors[f])
+            self.colour(d, p, n, flat.first_colors[f])
         });
         let facets = &*facets;
         per_vertex(out, 3 * tri.triangle_facets.len(), 4, |c, o| {

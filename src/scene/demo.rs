@@ -60,19 +60,11 @@ pub fn demo() -> Scene {
         scene.meshes.push(mesh);
     }
     scene.lights = vec![
-        Light::Ambient {
-            color: Vec3::splat(0.08),
-        },
+        Light::ambient(Vec3::splat(0.08)),
         // The floodlight: a bright omni light above, left and in front.
-        Light::Point {
-            position: Vec3::new(-4.0, 6.0, 7.0),
-            color: Vec3::splat(0.95),
-        },
+        Light::point(Vec3::new(-4.0, 6.0, 7.0), Vec3::splat(0.95)),
         // Stand-in for the spotlight: a warmer, dimmer light from the right.
-        Light::Point {
-            position: Vec3::new(6.0, 2.0, 3.0),
-            color: Vec3::new(0.5, 0.42, 0.3),
-        },
+        Light::point(Vec3::new(6.0, 2.0, 3.0), Vec3::new(0.5, 0.42, 0.3)),
     ];
     let mut camera = Camera {
         name: "demo".into(),

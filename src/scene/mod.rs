@@ -14,7 +14,7 @@ mod light;
 
 pub use camera::{clamp_fov, Camera, DEFAULT_YFOV};
 pub use demo::{demo, DEMO_SLICES, DEMO_STACKS};
-pub use light::Light;
+pub use light::{Attenuation, Light, LightKind, MIN_D2};
 
 /// How a material's alpha is used (glTF `alphaMode`; OBJ `d` < 1 maps to `Blend`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]

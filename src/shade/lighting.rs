@@ -1,67 +1,230 @@
-//! The lighting equation of seeds 000-003, evaluated in linear RGB:
+//! The one lighting model of seeds 000-003, in linear RGB:
 //!
-//! `I = g_amb * m_amb + Σ_i I_i * (K_d * max(N·L_i, 0) + K_s * S_i)`
+//! `I = g_amb m_amb + Σ_i att_i cone_i vis_i I_i (K_d max(N·L_i, 0) + K_s S_i)`, then fog,
 //!
 //! with `S_i = max(R·V, 0)^n`, `R = 2N(N·L) - L` (Phong) or `S_i = max(N·H, 0)^n`,
-//! `H = (L + V)/|L + V|` (Blinn). `m_amb = K_a * K_d` (003: the ambient colour follows the
-//! diffuse colour, `K_a` scales it). No specular work is done when `K_s = 0`, and none for a
-//! light the surface faces away from. Attenuation and spot cones arrive with the full
-//! lighting model.
+//! `H = (L + V)/|L + V|` (Blinn). `m_amb = K_a K_d` (003: the ambient colour follows the
+//! diffuse colour, `K_a` scales it). `att_i` is the light's [`Attenuation`], `cone_i` the
+//! spot cone (smoothstep in `cos` between the falloff and hotspot angles) or the
+//! rectangular spot's pyramid times its projected image, `vis_i` the shadow-map visibility
+//! ([`ShadowMap`]). Ambient light is never attenuated or shadowed. No specular work is done
+//! when `K_s = 0`, none for a light the surface faces away from, and none for a light that
+//! cannot reach the object being drawn ([`Source::reaches`]).
+//!
+//! The scalar form ([`illuminate`], [`contribution`], [`arriving`]) is generic over
+//! [`Real`] (`f32` for the vertex stage and the pixel probe, `f64` for the references in
+//! [`crate::quality`]); the eight-lane form ([`illuminate_lanes`]) is what the pixel shaders
+//! run and is tested against it.
 
-use glam::Vec3;
+use std::sync::Arc;
 
-use crate::raster::{Kernel, F8, V3};
-use crate::scene::Light;
+use glam::{Mat4, Vec2, Vec3};
 
-/// Lights converted once per frame into the form the shaders loop over.
+use super::real::Real;
+use super::shadow::ShadowMap;
+use crate::raster::{Kernel, F8, M8, V3};
+use crate::scene::{Attenuation, Light, LightKind};
+use crate::texture::{Filter, Sampler, Texture, Wrap};
+
+/// Largest half-angle of a spot cone or rectangular spot (just under 90 degrees: a wider
+/// one is not a spot).
+pub const MAX_HALF_ANGLE: f32 = 89.0 * std::f32::consts::PI / 180.0;
+
+/// One light converted for shading: unit vectors, cosines and tangents precomputed.
+#[derive(Clone, Debug)]
+pub struct Source {
+    /// Position in the frame's light list (what the probe and the statistics report).
+    pub index: usize,
+    /// Never [`LightKind::Ambient`].
+    pub kind: LightKind,
+    /// `color * intensity`.
+    pub radiance: Vec3,
+    pub position: Vec3,
+    /// Unit direction the light travels (directional, spot, rectangular).
+    pub axis: Vec3,
+    /// Rectangular spot: unit right and up of the image, perpendicular to `axis`.
+    pub right: Vec3,
+    pub up: Vec3,
+    pub attenuation: Attenuation,
+    /// Spot: cosines of the hotspot and falloff half-angles.
+    pub cos_inner: f32,
+    pub cos_outer: f32,
+    /// Rectangular spot: tangents of the half-angles.
+    pub tan: Vec2,
+    pub image: Option<Arc<Texture>>,
+    /// Index into [`LightSet::shadows`] when the light casts shadows this frame.
+    pub shadow: Option<u32>,
+    /// Distance beyond which nothing arrives.
+    pub reach: f32,
+    /// Half-angle of a cone around `axis` that holds all the light (spot, rectangular).
+    pub spread: f32,
+}
+
+/// The sampler of a projected image: bilinear, clamped to its edges.
+pub const IMAGE_SAMPLER: Sampler = Sampler {
+    wrap_u: Wrap::ClampToEdge,
+    wrap_v: Wrap::ClampToEdge,
+    filter: Filter::Bilinear,
+};
+
+impl Source {
+    /// Converts `light` (in world space; `to_world` moves a camera-attached light), or
+    /// `None` for ambient light and for a light that cannot shine: non-finite numbers, a
+    /// zero direction, a spot without a cone, an attenuation that makes no sense.
+    #[must_use]
+    pub fn new(light: &Light, to_world: Option<Mat4>, index: usize) -> Option<Self> {
+        let m = to_world.unwrap_or(Mat4::IDENTITY);
+        let radiance = light.radiance();
+        let position = m.transform_point3(light.position);
+        let axis = m.transform_vector3(light.direction).normalize_or_zero();
+        let kind = light.kind;
+        let ok = kind != LightKind::Ambient
+            && radiance.is_finite()
+            && (!kind.positional() || position.is_finite())
+            && (!kind.directed() || axis != Vec3::ZERO)
+            && (!kind.positional() || light.attenuation.is_valid());
+        if !ok {
+            return None;
+        }
+        let attenuation = if kind.positional() {
+            light.attenuation
+        } else {
+            Attenuation::None
+        };
+        let mut s = Source {
+            index,
+            kind,
+            radiance,
+            position,
+            axis,
+            right: Vec3::X,
+            up: Vec3::Y,
+            attenuation,
+            cos_inner: 1.0,
+            cos_outer: -1.0,
+            tan: Vec2::ONE,
+            image: None,
+            shadow: None,
+            reach: attenuation.reach(),
+            spread: std::f32::consts::PI,
+        };
+        match kind {
+            LightKind::Spot => {
+                if !(light.outer.is_finite() && light.outer > 0.0 && light.inner.is_finite()) {
+                    return None;
+                }
+                let outer = light.outer.min(MAX_HALF_ANGLE);
+                let inner = light.inner.clamp(0.0, outer);
+                s.cos_inner = inner.cos();
+                s.cos_outer = outer.cos();
+                s.spread = outer;
+            }
+            LightKind::Rect => {
+                let r = light.rect;
+                if !(r.is_finite() && r.x > 0.0 && r.y > 0.0) {
+                    return None;
+                }
+                let r = r.min(Vec2::splat(MAX_HALF_ANGLE));
+                s.tan = Vec2::new(r.x.tan(), r.y.tan());
+                s.spread = s.tan.length().atan();
+                let up = m.transform_vector3(light.up);
+                let up = (up - axis * up.dot(axis)).normalize_or_zero();
+                let up = if up == Vec3::ZERO || !up.is_finite() {
+                    axis.any_orthonormal_vector()
+                } else {
+                    up
+                };
+                s.up = up;
+                // Right-handed image frame looking along the axis: right = axis x up.
+                s.right = axis.cross(up);
+                s.image.clone_from(&light.image);
+            }
+            _ => {}
+        }
+        Some(s)
+    }
+
+    /// Whether any light can arrive inside the sphere (`center`, `radius`): false when it is
+    /// beyond the attenuation's reach or outside the spot's cone (the test behind the
+    /// per-object skips that `--stats` counts).
+    #[must_use]
+    pub fn reaches(&self, center: Vec3, radius: f32) -> bool {
+        if self.kind == LightKind::Directional || !center.is_finite() || !radius.is_finite() {
+            return true;
+        }
+        let to = center - self.position;
+        let d = to.length();
+        if d - radius > self.reach {
+            return false;
+        }
+        if self.spread >= std::f32::consts::PI || d <= radius {
+            return true;
+        }
+        // The sphere subtends asin(r / d) around its centre direction.
+        let angle = (to.dot(self.axis) / d).clamp(-1.0, 1.0).acos();
+        angle - (radius / d).asin() <= self.spread * 1.0001 + 1e-5
+    }
+}
+
+/// The light set of a frame: the summed ambient light, the other lights converted, and the
+/// shadow maps of those that cast shadows.
 #[derive(Clone, Debug, Default)]
 pub struct LightSet {
     /// Sum of ambient lights.
     pub ambient: Vec3,
-    /// (unit direction towards the light, colour)
-    pub directional: Vec<(Vec3, Vec3)>,
-    /// (position, colour)
-    pub point: Vec<(Vec3, Vec3)>,
+    pub sources: Vec<Source>,
+    /// Shadow maps, indexed by [`Source::shadow`].
+    pub shadows: Vec<ShadowMap>,
+    /// Lights dropped because they cannot shine (non-finite, zero direction, no cone).
+    pub dropped: u32,
 }
 
 impl LightSet {
-    /// Collects lights; non-finite or zero-length directions are dropped.
+    /// Collects lights in world space.
     #[must_use]
     pub fn new(lights: &[Light]) -> Self {
         let mut set = Self::default();
-        for l in lights {
-            set.push(l);
+        for (i, l) in lights.iter().enumerate() {
+            set.push(l, None, i);
         }
         set
     }
 
-    /// Empties the set, keeping its memory (a renderer refills it every frame).
+    /// Empties the set, keeping its memory (a renderer refills it every frame). Shadow maps
+    /// are kept for reuse; sources no longer point at them.
     pub fn clear(&mut self) {
         self.ambient = Vec3::ZERO;
-        self.directional.clear();
-        self.point.clear();
+        self.sources.clear();
+        self.dropped = 0;
     }
 
-    /// Adds one light; a non-finite one, or a directional light with a zero-length
-    /// direction, is dropped.
-    pub fn push(&mut self, light: &Light) {
-        match *light {
-            Light::Ambient { color } if color.is_finite() => self.ambient += color,
-            Light::Directional { direction, color } => {
-                let d = -direction.normalize_or_zero();
-                if d != Vec3::ZERO && color.is_finite() {
-                    self.directional.push((d, color));
-                }
+    /// Adds light number `index` of the frame, moved by `to_world` if it is attached to the
+    /// camera; one that cannot shine is counted in `dropped`.
+    pub fn push(&mut self, light: &Light, to_world: Option<Mat4>, index: usize) {
+        if light.kind == LightKind::Ambient {
+            let c = light.radiance();
+            if c.is_finite() {
+                self.ambient += c;
+            } else {
+                self.dropped += 1;
             }
-            Light::Point { position, color } if position.is_finite() && color.is_finite() => {
-                self.point.push((position, color));
-            }
-            _ => {}
+            return;
         }
+        match Source::new(light, to_world, index) {
+            Some(s) => self.sources.push(s),
+            None => self.dropped += 1,
+        }
+    }
+
+    /// The shadow map of `s`, if it has one.
+    #[must_use]
+    #[inline(always)]
+    pub fn shadow_of(&self, s: &Source) -> Option<&ShadowMap> {
+        s.shadow.and_then(|i| self.shadows.get(i as usize))
     }
 }
 
-/// Phong parameters of a surface point.
+/// Phong parameters of a material (constant over a draw).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface {
     pub diffuse: Vec3,
@@ -72,242 +235,473 @@ pub struct Surface {
     pub shininess: f32,
 }
 
-/// Evaluates the lighting equation at `p` with unit normal `n`, eye at `eye`.
-#[must_use]
-#[inline(always)]
-pub fn illuminate<const BLINN: bool>(
-    lights: &LightSet,
-    s: &Surface,
-    p: Vec3,
-    n: Vec3,
-    eye: Vec3,
-) -> Vec3 {
-    let spec = s.specular != Vec3::ZERO;
-    // The view vector is only needed for highlights.
-    let v = if spec {
-        (eye - p).normalize_or_zero()
-    } else {
-        Vec3::ZERO
-    };
-    let mut c = lights.ambient * s.ambient * s.diffuse;
-    for &(l, color) in &lights.directional {
-        c += color * term::<BLINN>(s, n, l, v, spec);
+impl Surface {
+    /// The surface at one point whose diffuse colour is `kd` (material times texture and
+    /// vertex colour), in precision `T`.
+    #[must_use]
+    #[inline(always)]
+    pub fn at<T: Real>(&self, kd: T::V) -> SurfaceAt<T> {
+        SurfaceAt {
+            kd,
+            ks: T::vec(self.specular),
+            ka: T::vec(self.ambient),
+            shininess: T::of(self.shininess),
+        }
     }
-    for &(pos, color) in &lights.point {
-        c += color * term::<BLINN>(s, n, (pos - p).normalize_or_zero(), v, spec);
-    }
-    c
 }
 
-/// Diffuse plus specular reflection of one light arriving from unit direction `l`.
+/// The Phong parameters at one point.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceAt<T: Real> {
+    pub kd: T::V,
+    pub ks: T::V,
+    pub ka: T::V,
+    pub shininess: T,
+}
+
+/// The attenuation factor of `a` at distance `d`.
 #[inline(always)]
-fn term<const BLINN: bool>(s: &Surface, n: Vec3, l: Vec3, v: Vec3, spec: bool) -> Vec3 {
-    let ndl = n.dot(l);
-    if ndl <= 0.0 {
-        return Vec3::ZERO;
+#[must_use]
+pub fn attenuate<T: Real>(a: Attenuation, d: T) -> T {
+    match a {
+        Attenuation::None => T::ONE,
+        Attenuation::Linear { near, far } => {
+            let (near, far) = (T::of(near), T::of(far));
+            if d <= near {
+                T::ONE
+            } else if d >= far {
+                T::ZERO
+            } else {
+                (far - d) / (far - near)
+            }
+        }
+        Attenuation::InverseSquare => T::ONE / (d * d).max(T::of64(crate::scene::MIN_D2)),
+        Attenuation::Range(r) => {
+            let q = d / T::of(r);
+            let q2 = q * q;
+            (T::ONE - q2 * q2).clamp01() / (d * d).max(T::of64(crate::scene::MIN_D2))
+        }
     }
-    let mut t = s.diffuse * ndl;
-    if spec {
-        let base = if BLINN {
-            n.dot((l + v).normalize_or_zero())
+}
+
+/// The spot factor for `cos_axis`, the cosine of the angle between the spot's axis and the
+/// ray to the point: 1 inside the hotspot, 0 outside the falloff, smoothstep between.
+#[inline(always)]
+#[must_use]
+pub fn cone<T: Real>(s: &Source, cos_axis: T) -> T {
+    let (ci, co) = (T::of(s.cos_inner), T::of(s.cos_outer));
+    let w = (ci - co).max(T::of(1e-4));
+    let t = ((cos_axis - co) / w).clamp01();
+    t * t * (T::of(3.0) - t - t)
+}
+
+/// Where the ray from a rectangular spot to a point falls on its image, as (u, v) with the
+/// pyramid at |u|, |v| <= 1, or `None` behind the light. `ray` need not be unit.
+#[inline(always)]
+#[must_use]
+pub fn pyramid<T: Real>(s: &Source, ray: T::V) -> Option<(T, T)> {
+    let z = T::dot(ray, T::vec(s.axis));
+    if z <= T::ZERO {
+        return None;
+    }
+    let x = T::dot(ray, T::vec(s.right)) / (z * T::of(s.tan.x));
+    let y = T::dot(ray, T::vec(s.up)) / (z * T::of(s.tan.y));
+    Some((x, y))
+}
+
+/// What arrives at `p` from `s` before shadowing: the unit direction towards the light and
+/// the radiance after attenuation, cone or pyramid and projected image; `None` when nothing
+/// does.
+#[inline(always)]
+#[must_use]
+pub fn arriving<T: Real>(s: &Source, p: T::V) -> Option<(T::V, T::V)> {
+    let rad = T::vec(s.radiance);
+    if s.kind == LightKind::Directional {
+        return Some((-T::vec(s.axis), rad));
+    }
+    let to = T::vec(s.position) - p;
+    let d = T::length(to);
+    if !(d > T::ZERO && d.is_finite()) {
+        return None;
+    }
+    let l = to * (T::ONE / d);
+    let mut f = attenuate(s.attenuation, d);
+    let mut rad = rad;
+    match s.kind {
+        LightKind::Spot => f = f * cone(s, -T::dot(l, T::vec(s.axis))),
+        LightKind::Rect => {
+            let (x, y) = pyramid::<T>(s, -l)?;
+            let one = T::ONE;
+            if !(x >= -one && x <= one && y >= -one && y <= one) {
+                return None;
+            }
+            if let Some(img) = &s.image {
+                let u = (Real::to_f64(x) as f32 + 1.0) * 0.5;
+                let v = (1.0 - Real::to_f64(y) as f32) * 0.5;
+                let c = img.sample_with(Vec2::new(u, v), IMAGE_SAMPLER);
+                rad = rad * T::vec(c.truncate());
+            }
+        }
+        _ => {}
+    }
+    if f > T::ZERO {
+        Some((l, rad * f))
+    } else {
+        None
+    }
+}
+
+/// Diffuse plus specular reflection of unit light direction `l` at unit normal `n`, unit
+/// view vector `v` (zero when `K_s = 0`): `K_d (N·L) + K_s S` with `S` as in the module
+/// documentation; zero when `N·L <= 0`.
+#[inline(always)]
+#[must_use]
+pub fn reflect<T: Real>(s: &SurfaceAt<T>, n: T::V, l: T::V, v: T::V, blinn: bool) -> T::V {
+    let ndl = T::dot(n, l);
+    if ndl <= T::ZERO {
+        return T::splat(T::ZERO);
+    }
+    let mut t = s.kd * ndl;
+    if T::vmax(s.ks) > T::ZERO {
+        let base = if blinn {
+            T::dot(n, T::normalize_or_zero(l + v))
         } else {
-            (2.0 * ndl * n - l).dot(v)
+            T::dot(n * (ndl + ndl) - l, v)
         };
-        if base > 0.0 {
-            t += s.specular * base.powf(s.shininess);
+        if base > T::ZERO {
+            t = t + s.ks * base.powf(s.shininess);
         }
     }
     t
 }
 
+/// Light `s`'s share of the colour at `p` (normal `n`, view vector `v`), shadow included.
+#[inline(always)]
+#[must_use]
+pub fn contribution<T: Real>(
+    set: &LightSet,
+    s: &Source,
+    surf: &SurfaceAt<T>,
+    p: T::V,
+    n: T::V,
+    v: T::V,
+    blinn: bool,
+) -> T::V {
+    let Some((l, rad)) = arriving::<T>(s, p) else {
+        return T::splat(T::ZERO);
+    };
+    let r = reflect(surf, n, l, v, blinn);
+    if T::vmax(r) <= T::ZERO {
+        return r;
+    }
+    let vis = match set.shadow_of(s) {
+        Some(map) => map.visibility::<T>(p, n, l),
+        None => T::ONE,
+    };
+    r * rad * vis
+}
+
+/// The view vector for the specular term: unit towards the eye, or zero when the surface
+/// has no specular colour (none is needed).
+#[inline(always)]
+#[must_use]
+pub fn view_vector<T: Real>(surf: &SurfaceAt<T>, p: T::V, eye: T::V) -> T::V {
+    if T::vmax(surf.ks) > T::ZERO {
+        T::normalize_or_zero(eye - p)
+    } else {
+        T::splat(T::ZERO)
+    }
+}
+
+/// The lighting equation at `p` with unit normal `n` and the eye at `eye`, summed over the
+/// sources `active` (indices into `set.sources`; all of them if `None`). Fog is applied
+/// separately ([`Fog::apply`]).
+#[must_use]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn illuminate<T: Real>(
+    set: &LightSet,
+    active: Option<&[u32]>,
+    surf: &SurfaceAt<T>,
+    p: T::V,
+    n: T::V,
+    eye: T::V,
+    blinn: bool,
+) -> T::V {
+    let v = view_vector(surf, p, eye);
+    let mut c = T::vec(set.ambient) * surf.ka * surf.kd;
+    match active {
+        Some(idx) => {
+            for &i in idx {
+                if let Some(s) = set.sources.get(i as usize) {
+                    c = c + contribution(set, s, surf, p, n, v, blinn);
+                }
+            }
+        }
+        None => {
+            for s in &set.sources {
+                c = c + contribution(set, s, surf, p, n, v, blinn);
+            }
+        }
+    }
+    c
+}
+
+/// How fog measures distance.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub enum FogDistance {
+    /// From the eye (spherical fog; does not change as the camera turns).
+    #[default]
+    Euclidean,
+    /// Camera-space depth (cheaper on old hardware, changes as the camera turns).
+    Depth,
+}
+
+impl FogDistance {
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            FogDistance::Euclidean => "euclidean",
+            FogDistance::Depth => "depth",
+        }
+    }
+}
+
+impl std::str::FromStr for FogDistance {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "euclidean" | "spherical" | "radial" => Ok(FogDistance::Euclidean),
+            "depth" | "z" | "planar" => Ok(FogDistance::Depth),
+            _ => Err(format!(
+                "unknown fog distance '{s}' (expected euclidean or depth)"
+            )),
+        }
+    }
+}
+
+/// Linear fog (003 §5.1): `f = clamp((d - near) / (far - near), 0, 1)`,
+/// `C = C_lit + f (g_fog - C_lit)`; alpha is kept.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fog {
+    /// Linear RGB.
+    pub color: Vec3,
+    /// d_min: no fog nearer.
+    pub near: f32,
+    /// d_max: only fog farther.
+    pub far: f32,
+    pub distance: FogDistance,
+}
+
+impl Default for Fog {
+    fn default() -> Self {
+        Self {
+            color: Vec3::splat(0.6),
+            near: 2.0,
+            far: 12.0,
+            distance: FogDistance::Euclidean,
+        }
+    }
+}
+
+impl Fog {
+    /// Whether its numbers make sense (finite colour and distances, `0 <= near < far`).
+    #[must_use]
+    pub fn is_valid(&self) -> bool {
+        self.color.is_finite()
+            && self.near.is_finite()
+            && self.far.is_finite()
+            && self.near >= 0.0
+            && self.near < self.far
+    }
+
+    /// The fog distance of `p` seen from `eye` looking along unit `forward`.
+    #[inline(always)]
+    #[must_use]
+    pub fn distance<T: Real>(&self, p: T::V, eye: T::V, forward: T::V) -> T {
+        match self.distance {
+            FogDistance::Euclidean => T::length(p - eye),
+            FogDistance::Depth => T::dot(p - eye, forward),
+        }
+    }
+
+    /// The fog factor f at distance `d`.
+    #[inline(always)]
+    #[must_use]
+    pub fn factor<T: Real>(&self, d: T) -> T {
+        ((d - T::of(self.near)) / T::of(self.far - self.near)).clamp01()
+    }
+
+    /// `c` fogged as seen at `p`.
+    #[inline(always)]
+    #[must_use]
+    pub fn apply<T: Real>(&self, c: T::V, p: T::V, eye: T::V, forward: T::V) -> T::V {
+        let f = self.factor(self.distance::<T>(p, eye, forward));
+        c + (T::vec(self.color) - c) * f
+    }
+
+    /// [`Fog::apply`] on eight lanes.
+    #[inline(always)]
+    #[must_use]
+    pub fn apply_lanes<K: Kernel>(&self, c: V3, p: V3, eye: Vec3, forward: Vec3) -> V3 {
+        let rel = p - V3::splat(eye);
+        let d = match self.distance {
+            FogDistance::Euclidean => rel.dot::<K>(rel).sqrt(),
+            FogDistance::Depth => rel.dot::<K>(V3::splat(forward)),
+        };
+        let f = ((d - self.near) * (1.0 / (self.far - self.near))).clamp(0.0, 1.0);
+        c + (V3::splat(self.color) - c).scale(f)
+    }
+}
+
 /// Phong parameters of eight surface points: the diffuse colour per lane (it may come from
-/// a texture or vertex colours), the rest shared.
+/// a texture or vertex colours), the specular colour per lane (it may come from a gloss
+/// map), the rest shared.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceLanes {
     pub diffuse: V3,
-    pub specular: Vec3,
+    pub specular: V3,
+    /// Whether any lane has a specular colour (no specular work otherwise).
+    pub has_specular: bool,
     pub ambient: Vec3,
-    pub shininess: f32,
+    pub shininess: F8,
 }
 
-/// [`illuminate`] on eight lanes at once: the same equation and the same decisions (no
-/// specular term where `N·L <= 0` or `K_s = 0`), evaluated with the kernel's arithmetic and
-/// the lane `pow` ([`F8::powf`]); agrees with [`illuminate`] to float rounding (tested).
-/// Work for a light is skipped when no lane faces it.
+/// [`illuminate`] on eight lanes: the same equation and the same decisions (no specular
+/// term where `N·L <= 0` or `K_s = 0`), evaluated with the kernel's arithmetic and the lane
+/// `pow` ([`F8::powf`]); agrees with [`illuminate`] to float rounding (tested). Work for a
+/// light is skipped when no lane receives it.
 #[must_use]
 #[inline(always)]
 pub fn illuminate_lanes<K: Kernel>(
-    lights: &LightSet,
+    set: &LightSet,
+    active: &[u32],
     s: &SurfaceLanes,
     p: V3,
     n: V3,
     eye: Vec3,
     blinn: bool,
 ) -> V3 {
-    let spec = s.specular != Vec3::ZERO;
-    let v = if spec {
+    let v = if s.has_specular {
         (V3::splat(eye) - p).normalize_or_zero::<K>()
     } else {
         V3::default()
     };
-    let mut c = s.diffuse * (lights.ambient * s.ambient);
-    for &(l, color) in &lights.directional {
-        c = c + term_lanes::<K>(s, n, V3::splat(l), v, spec, blinn) * color;
-    }
-    for &(pos, color) in &lights.point {
-        let l = (V3::splat(pos) - p).normalize_or_zero::<K>();
-        c = c + term_lanes::<K>(s, n, l, v, spec, blinn) * color;
+    let mut c = s.diffuse * (set.ambient * s.ambient);
+    for &i in active {
+        let Some(src) = set.sources.get(i as usize) else {
+            continue;
+        };
+        c = c + contribution_lanes::<K>(set, src, s, p, n, v, blinn);
     }
     c
 }
 
+/// Light `src`'s share on eight lanes ([`contribution`]).
 #[inline(always)]
-fn term_lanes<K: Kernel>(s: &SurfaceLanes, n: V3, l: V3, v: V3, spec: bool, blinn: bool) -> V3 {
+#[must_use]
+pub fn contribution_lanes<K: Kernel>(
+    set: &LightSet,
+    src: &Source,
+    s: &SurfaceLanes,
+    p: V3,
+    n: V3,
+    v: V3,
+    blinn: bool,
+) -> V3 {
+    let Some((l, rad, live)) = arriving_lanes::<K>(src, p) else {
+        return V3::default();
+    };
     let ndl = n.dot::<K>(l);
-    let lit = ndl.gt(F8::ZERO);
+    let lit = ndl.gt(F8::ZERO) & live;
     if lit.bits() == 0 {
         return V3::default();
     }
     let ndl = F8::select(lit, ndl, F8::ZERO);
     let mut t = s.diffuse.scale(ndl);
-    if spec {
+    if s.has_specular {
         let base = if blinn {
             n.dot::<K>((l + v).normalize_or_zero::<K>())
         } else {
             (n.scale(ndl + ndl) - l).dot::<K>(v)
         };
-        let lobe = base.powf::<K>(F8::splat(s.shininess));
+        let lobe = base.powf::<K>(s.shininess);
         let lobe = F8::select(lit, lobe, F8::ZERO);
-        t = t + V3::splat(s.specular).scale(lobe);
+        t = t + s.specular.scale(lobe);
+    }
+    let mut t = V3::new(t.x * rad.x, t.y * rad.y, t.z * rad.z);
+    if let Some(map) = set.shadow_of(src) {
+        t = t.scale(map.visibility_lanes::<K>(p, n, l, lit.bits()));
     }
     t
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn white() -> Surface {
-        Surface {
-            diffuse: Vec3::ONE,
-            specular: Vec3::ONE,
-            ambient: Vec3::ONE,
-            shininess: 10.0,
+/// [`arriving`] on eight lanes: unit direction to the light, arriving radiance, and the
+/// lanes that receive any; `None` when no lane does.
+#[inline(always)]
+#[must_use]
+pub fn arriving_lanes<K: Kernel>(src: &Source, p: V3) -> Option<(V3, V3, M8)> {
+    let all = M8([u32::MAX; 8]);
+    if src.kind == LightKind::Directional {
+        return Some((V3::splat(-src.axis), V3::splat(src.radiance), all));
+    }
+    let to = V3::splat(src.position) - p;
+    let d2 = to.dot::<K>(to);
+    let d = d2.sqrt();
+    let inv = F8::select(d.gt(F8::ZERO), d.recip(), F8::ZERO);
+    let l = to.scale(inv);
+    let mut f = match src.attenuation {
+        Attenuation::None => F8::ONE,
+        Attenuation::Linear { near, far } => {
+            let ramp = (F8::splat(far) - d) * (1.0 / (far - near).max(f32::MIN_POSITIVE));
+            F8::select(d.gt(F8::splat(near)), ramp.clamp(0.0, 1.0), F8::ONE)
         }
-    }
-
-    #[test]
-    fn lambert_and_mirror_highlight() {
-        let lights = LightSet::new(&[Light::Directional {
-            direction: -Vec3::Z,
-            color: Vec3::ONE,
-        }]);
-        // Light and eye straight above the surface: N.L = 1, R.V = 1.
-        let c = illuminate::<false>(&lights, &white(), Vec3::ZERO, Vec3::Z, Vec3::Z * 5.0);
-        assert!((c - Vec3::splat(2.0)).abs().max_element() < 1e-6, "{c}");
-        // Light at 60 degrees: diffuse 0.5; eye on the mirror direction: specular 1.
-        let l = Vec3::new(3f32.sqrt() / 2.0, 0.0, 0.5);
-        let lights = LightSet::new(&[Light::Directional {
-            direction: -l,
-            color: Vec3::ONE,
-        }]);
-        let eye = Vec3::new(-l.x, 0.0, l.z) * 4.0;
-        let c = illuminate::<false>(&lights, &white(), Vec3::ZERO, Vec3::Z, eye);
-        assert!((c.x - 1.5).abs() < 1e-5, "{c}");
-        let b = illuminate::<true>(&lights, &white(), Vec3::ZERO, Vec3::Z, eye);
-        assert!((b.x - 1.5).abs() < 1e-5, "{b}");
-    }
-
-    /// The lane form against the scalar one on random surfaces, lights and views.
-    #[test]
-    fn lanes_agree_with_scalar() {
-        use crate::raster::{kernel::Portable, Kernel};
-        fn check<K: Kernel>() {
-            let mut seed = 7u64;
-            let mut r = move || {
-                seed = seed
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
-            };
-            let mut worst = 0f32;
-            for case in 0..400 {
-                let lights = LightSet::new(&[
-                    Light::Ambient {
-                        color: Vec3::splat(0.1),
-                    },
-                    Light::Directional {
-                        direction: Vec3::new(r(), r(), r()),
-                        color: Vec3::new(0.9, 0.8, 0.7),
-                    },
-                    Light::Point {
-                        position: Vec3::new(r(), r(), r()) * 3.0,
-                        color: Vec3::ONE,
-                    },
-                ]);
-                let s = Surface {
-                    diffuse: Vec3::new(0.8, 0.5, 0.2),
-                    specular: Vec3::splat(0.5),
-                    ambient: Vec3::ONE,
-                    shininess: [1.0, 8.0, 32.0, 200.0][case % 4],
-                };
-                let eye = Vec3::new(r(), r(), r()) * 4.0;
-                let mut p = [Vec3::ZERO; 8];
-                let mut n = [Vec3::ZERO; 8];
-                for i in 0..8 {
-                    p[i] = Vec3::new(r(), r(), r());
-                    n[i] = Vec3::new(r(), r(), r()).normalize_or_zero();
-                }
-                let lanes = |f: &dyn Fn(Vec3) -> f32, v: &[Vec3; 8]| F8(v.map(f));
-                let pv = V3::new(
-                    lanes(&|v| v.x, &p),
-                    lanes(&|v| v.y, &p),
-                    lanes(&|v| v.z, &p),
+        Attenuation::InverseSquare => d2.max(F8::splat(crate::scene::MIN_D2 as f32)).recip(),
+        Attenuation::Range(r) => {
+            let q = d * (1.0 / r);
+            let q2 = q * q;
+            (F8::ONE - q2 * q2).clamp(0.0, 1.0)
+                * d2.max(F8::splat(crate::scene::MIN_D2 as f32)).recip()
+        }
+    };
+    let mut rad = V3::splat(src.radiance);
+    match src.kind {
+        LightKind::Spot => {
+            let cos_axis = -l.dot::<K>(V3::splat(src.axis));
+            let w = (src.cos_inner - src.cos_outer).max(1e-4);
+            let t = ((cos_axis - src.cos_outer) * (1.0 / w)).clamp(0.0, 1.0);
+            f = f * t * t * (F8::splat(3.0) - t - t);
+        }
+        LightKind::Rect => {
+            let ray = -l;
+            let z = ray.dot::<K>(V3::splat(src.axis));
+            let x = ray.dot::<K>(V3::splat(src.right)) / (z * src.tan.x);
+            let y = ray.dot::<K>(V3::splat(src.up)) / (z * src.tan.y);
+            let inside = z.gt(F8::ZERO)
+                & x.ge(F8::splat(-1.0))
+                & F8::splat(1.0).ge(x)
+                & y.ge(F8::splat(-1.0))
+                & F8::splat(1.0).ge(y);
+            f = F8::select(inside, f, F8::ZERO);
+            if let Some(img) = &src.image {
+                let u = (x + 1.0) * 0.5;
+                let w = (F8::ONE - y) * 0.5;
+                let c = img.sample_lanes::<K>(u, w, inside.bits(), IMAGE_SAMPLER);
+                rad = V3::new(
+                    c[0] * src.radiance.x,
+                    c[1] * src.radiance.y,
+                    c[2] * src.radiance.z,
                 );
-                let nv = V3::new(
-                    lanes(&|v| v.x, &n),
-                    lanes(&|v| v.y, &n),
-                    lanes(&|v| v.z, &n),
-                );
-                let sl = SurfaceLanes {
-                    diffuse: V3::splat(s.diffuse),
-                    specular: s.specular,
-                    ambient: s.ambient,
-                    shininess: s.shininess,
-                };
-                for blinn in [false, true] {
-                    let got = illuminate_lanes::<K>(&lights, &sl, pv, nv, eye, blinn);
-                    for i in 0..8 {
-                        let want = if blinn {
-                            illuminate::<true>(&lights, &s, p[i], n[i], eye)
-                        } else {
-                            illuminate::<false>(&lights, &s, p[i], n[i], eye)
-                        };
-                        let g = Vec3::new(got.x.0[i], got.y.0[i], got.z.0[i]);
-                        let err = (g - want).abs().max_element();
-                        worst = worst.max(err);
-                        assert!(err < 2e-5 * (1.0 + want.max_element()), "{g} vs {want}");
-                    }
-                }
             }
-            assert!(worst < 2e-5, "worst {worst}");
         }
-        check::<Portable>();
-        check::<crate::raster::kernel::Avx2>();
+        _ => {}
     }
-
-    #[test]
-    fn back_lit_gets_only_ambient() {
-        let lights = LightSet::new(&[
-            Light::Ambient {
-                color: Vec3::splat(0.1),
-            },
-            Light::Directional {
-                direction: Vec3::Z,
-                color: Vec3::ONE,
-            },
-        ]);
-        let c = illuminate::<true>(&lights, &white(), Vec3::ZERO, Vec3::Z, Vec3::Z);
-        assert!((c - Vec3::splat(0.1)).abs().max_element() < 1e-7);
+    let live = f.gt(F8::ZERO);
+    if live.bits() == 0 {
+        return None;
     }
+    Some((l, rad.scale(f), live))
 }
+
+#[cfg(test)]
+mod tests;

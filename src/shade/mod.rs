@@ -17,12 +17,20 @@
 //! This module never loops over tiles or pixels itself: the rasterizer calls the shaders.
 
 mod lighting;
+mod real;
 mod shaders;
+mod shadow;
 
-pub use lighting::{illuminate, illuminate_lanes, LightSet, Surface, SurfaceLanes};
+pub use lighting::{
+    arriving, arriving_lanes, attenuate, cone, contribution, contribution_lanes, illuminate,
+    illuminate_lanes, pyramid, reflect, view_vector, Fog, FogDistance, LightSet, Source, Surface,
+    SurfaceAt, SurfaceLanes, IMAGE_SAMPLER, MAX_HALF_ANGLE,
+};
+pub use real::Real;
 pub use shaders::{
     ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
 };
+pub use shadow::{ShadowMap, ShadowSettings, MAX_SHADOW_SIZE, SHADOW_SIZE};
 
 /// A shading mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::lighting::{illuminate_lanes, LightSet, Surface, SurfaceLanes};
+use super::lighting::{illuminate_lanes, Fog, LightSet, Surface, SurfaceLanes};
 use crate::raster::{Colors, FragmentShader, Fragments, Kernel, F8, V3};
 use crate::scene::AlphaMode;
 use crate::texture::{srgb_to_linear, Sampler, Texture};
@@ -21,9 +21,21 @@ pub struct DrawParams {
     pub sampler: Sampler,
     pub alpha: AlphaMode,
     pub double_sided: bool,
+    /// This draw's lights: `start..end` in the shader's `active` list (the frame's lights
+    /// that can reach the object).
+    pub lights: (u32, u32),
 }
 
 impl DrawParams {
+    /// This draw's slice of the frame's active-light list.
+    #[inline(always)]
+    #[must_use]
+    pub fn active<'a>(&self, active: &'a [u32]) -> &'a [u32] {
+        active
+            .get(self.lights.0 as usize..self.lights.1 as usize)
+            .unwrap_or(&[])
+    }
+
     /// Applies the alpha mode to lanes `mask` with alpha `a`: returns the alpha to store and
     /// the lanes kept (`Mask` discards those below the cutoff).
     #[inline(always)]
@@ -111,7 +123,13 @@ impl LitLayout {
 pub struct LitShader<'a> {
     pub draws: &'a [DrawParams],
     pub lights: &'a LightSet,
+    /// Indices into `lights.sources`, per draw ([`DrawParams::lights`]).
+    pub active: &'a [u32],
     pub eye: Vec3,
+    /// Unit view direction (for depth fog).
+    pub forward: Vec3,
+    /// Linear fog per pixel; `None` costs nothing.
+    pub fog: Option<Fog>,
     pub layout: LitLayout,
     pub blinn: bool,
     /// Scale of the UV derivatives before the texture's level of detail is chosen: 1 for
@@ -169,12 +187,17 @@ impl FragmentShader for LitShader<'_> {
         }
         let s = SurfaceLanes {
             diffuse: V3::new(base.r, base.g, base.b),
-            specular: d.surface.specular,
+            specular: V3::splat(d.surface.specular),
+            has_specular: d.surface.specular != Vec3::ZERO,
             ambient: d.surface.ambient,
-            shininess: d.surface.shininess,
+            shininess: F8::splat(d.surface.shininess),
         };
         let p = V3::new(v[0], v[1], v[2]);
-        let c = illuminate_lanes::<K>(self.lights, &s, p, n, self.eye, self.blinn);
+        let active = d.active(self.active);
+        let mut c = illuminate_lanes::<K>(self.lights, active, &s, p, n, self.eye, self.blinn);
+        if let Some(fog) = &self.fog {
+            c = fog.apply_lanes::<K>(c, p, self.eye, self.forward);
+        }
         let (a, keep) = d.alpha_lanes(base.a, f.mask);
         *out = Colors {
             r: c.x,

@@ -375,13 +375,8 @@ pub(super) fn scene(name: &str, mesh: PeerMesh, textured: bool) -> Result<Scene>
             style: Style::Inherit,
         }],
         lights: vec![
-            Light::Ambient {
-                color: Vec3::splat(0.1),
-            },
-            Light::Directional {
-                direction: -LIGHT.normalize(),
-                color: Vec3::splat(0.9),
-            },
+            Light::ambient(Vec3::splat(0.1)),
+            Light::directional(-LIGHT.normalize(), Vec3::splat(0.9)),
         ],
         cameras: vec![camera()],
         report: Default::default(),

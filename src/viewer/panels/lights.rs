@@ -80,17 +80,15 @@ pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     remove = Some(i);
                 }
             });
-            ui.horizontal(|ui| match l {
-                Light::Ambient { color } => changed |= colour_intensity(ui, color),
-                Light::Directional { direction, color } => {
-                    changed |= colour_intensity(ui, color);
-                    ui.label("along");
-                    changed |= vec3_edit(ui, direction, 0.01);
-                }
-                Light::Point { position, color } => {
-                    changed |= colour_intensity(ui, color);
+            ui.horizontal(|ui| {
+                changed |= colour_intensity(ui, &mut l.color);
+                if l.kind.positional() {
                     ui.label("at");
-                    changed |= vec3_edit(ui, position, 0.05);
+                    changed |= vec3_edit(ui, &mut l.position, 0.05);
+                }
+                if l.kind.directed() {
+                    ui.label("along");
+                    changed |= vec3_edit(ui, &mut l.direction, 0.01);
                 }
             });
         });
@@ -103,16 +101,14 @@ pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
         ui.label("add");
         let (c, r) = app.scene.bounding_sphere();
         if ui.button("ambient").clicked() {
-            list.push(Light::Ambient {
-                color: Vec3::splat(0.1),
-            });
+            list.push(Light::ambient(Vec3::splat(0.1)));
             changed = true;
         }
         if ui.button("directional").clicked() {
-            list.push(Light::Directional {
-                direction: Vec3::new(-0.3, -1.0, -0.5).normalize(),
-                color: Vec3::splat(0.8),
-            });
+            list.push(Light::directional(
+                Vec3::new(-0.3, -1.0, -0.5).normalize(),
+                Vec3::splat(0.8),
+            ));
             changed = true;
         }
         if ui.button("point").clicked() {
@@ -121,10 +117,7 @@ pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
             } else {
                 c + Vec3::new(r, 2.0 * r, 2.0 * r)
             };
-            list.push(Light::Point {
-                position,
-                color: Vec3::splat(0.8),
-            });
+            list.push(Light::point(position, Vec3::splat(0.8)));
             changed = true;
         }
     });

@@ -238,15 +238,35 @@ fn topology(ui: &mut egui::Ui, i: usize, t: &TopologyReport) {
 #[must_use]
 pub fn describe_light(l: &Light) -> String {
     let c = |v: glam::Vec3| format!("({:.2} {:.2} {:.2})", v.x, v.y, v.z);
-    match l {
-        Light::Ambient { color } => format!("ambient {}", c(*color)),
-        Light::Directional { direction, color } => {
-            format!("directional along {} colour {}", c(*direction), c(*color))
-        }
-        Light::Point { position, color } => {
-            format!("point at {} colour {}", c(*position), c(*color))
-        }
+    let deg = |r: f32| r.to_degrees();
+    let mut out = if l.name.is_empty() {
+        l.kind().to_string()
+    } else {
+        format!("{} '{}'", l.kind(), l.name)
+    };
+    if l.kind.positional() {
+        out += &format!(" at {}", c(l.position));
     }
+    if l.kind.directed() {
+        out += &format!(" along {}", c(l.direction));
+    }
+    match l.kind {
+        crate::scene::LightKind::Spot => {
+            out += &format!(" cone {:.0}/{:.0} deg", deg(l.inner), deg(l.outer));
+        }
+        crate::scene::LightKind::Rect => {
+            out += &format!(" pyramid {:.0}x{:.0} deg", deg(l.rect.x), deg(l.rect.y));
+        }
+        _ => {}
+    }
+    out += &format!(" colour {} x {:.2}", c(l.color), l.intensity);
+    if l.attenuation != crate::scene::Attenuation::None {
+        out += &format!(", {} attenuation", l.attenuation.name());
+    }
+    if l.shadow {
+        out += ", shadows";
+    }
+    out
 }
 
 /// A texture scaled down (nearest texel) to at most [`THUMB`] texels a side.

@@ -1,0 +1,228 @@
+//! Shadow maps: the depth of the nearest occluder seen from a directional light (parallel
+//! projection over the scene's bounds) or a spot / rectangular light (perspective over its
+//! cone), rendered by our own rasterizer ([`crate::render`]) and read here with
+//! percentage-closer filtering and a slope-scaled bias.
+//!
+//! A point at light-space depth `z` is lit by a texel holding occluder depth `d` when
+//! `d >= z - b`, with the bias `b = t (bias + slope tan θ)`: `t` is the world size of one
+//! texel at that depth and θ the angle between the normal and the light, so surfaces seen
+//! at a grazing angle from the light (whose depth changes fastest across a texel) get more
+//! bias and flat surfaces facing the light get little: no acne, and little peter-panning.
+//! Filtering takes `(2r + 1)²` bilinearly weighted comparisons (a tent over
+//! `(2r + 2)²` texels), so an edge fades over about `2r + 1` texels.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::real::Real;
+use crate::raster::{Kernel, F8, V3};
+use crate::scene::Camera;
+
+/// Default shadow-map size (texels per side).
+pub const SHADOW_SIZE: u32 = 1024;
+/// Largest shadow-map size accepted.
+pub const MAX_SHADOW_SIZE: u32 = 8192;
+
+/// How shadow maps are rendered and read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowSettings {
+    /// Texels per side.
+    pub size: u32,
+    /// PCF radius r: `(2r + 1)²` filtered taps; 0 = one bilinear tap (hardest edge).
+    pub pcf: u32,
+    /// Constant bias, in texels.
+    pub bias: f32,
+    /// Slope-scaled bias, in texels per unit `tan θ`.
+    pub slope: f32,
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        Self {
+            size: SHADOW_SIZE,
+            pcf: 1,
+            bias: 1.0,
+            slope: 1.5,
+        }
+    }
+}
+
+/// One light's shadow map.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowMap {
+    /// World -> the light's clip space (the projection the map was rendered with).
+    pub view_proj: Mat4,
+    /// The light's eye (spot) or the parallel view's origin (directional).
+    pub origin: Vec3,
+    /// Unit direction the light looks along.
+    pub axis: Vec3,
+    pub ortho: bool,
+    pub size: u32,
+    /// Light-space depth (distance along `axis` from `origin`) of the nearest occluder per
+    /// texel, row 0 at the top; infinite where there is none.
+    pub depth: Vec<f32>,
+    /// World size of one texel at unit depth (perspective) or everywhere (parallel).
+    pub texel: f32,
+    pub settings: ShadowSettings,
+}
+
+impl ShadowMap {
+    /// The camera a map is rendered with: from `eye` (spot; parallel if `None`) along unit
+    /// `axis`, covering the sphere (`center`, `radius`) that holds every occluder and receiver,
+    /// within half-angle `spread` for a spot. Returns the camera and the world size of a
+    /// texel (at unit depth for a spot).
+    #[must_use]
+    pub fn camera(
+        eye: Option<Vec3>,
+        axis: Vec3,
+        spread: f32,
+        center: Vec3,
+        radius: f32,
+        size: u32,
+    ) -> (Camera, f32) {
+        let radius = radius.max(1e-3);
+        let up = if axis.cross(Vec3::Y).length_squared() < 1e-6 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        match eye {
+            None => {
+                let eye = center - axis * radius * 2.0;
+                let cam = Camera {
+                    name: "shadow".into(),
+                    eye,
+                    target: center,
+                    up,
+                    near: radius * 0.5,
+                    far: radius * 3.5,
+                    ortho: Some(radius * 1.01),
+                    ..Camera::default()
+                };
+                (cam, 2.0 * radius * 1.01 / size as f32)
+            }
+            Some(eye) => {
+                let d = (center - eye).dot(axis);
+                let dist = (center - eye).length();
+                // The cone's half-angle, widened a little so PCF taps at its rim stay inside.
+                let half = (spread * 1.02 + 0.01).min(85f32.to_radians());
+                let far = (d + radius).max(1e-2) * 1.01;
+                let near = (dist - radius).max(far * 1e-3).max(1e-3);
+                let cam = Camera {
+                    name: "shadow".into(),
+                    eye,
+                    target: eye + axis,
+                    up,
+                    yfov: 2.0 * half,
+                    near,
+                    far,
+                    ..Camera::default()
+                };
+                (cam, 2.0 * half.tan() / size as f32)
+            }
+        }
+    }
+
+    /// Converts the rasterizer's reversed depth (1 at `near`, 0 at `far`, 0 where nothing was
+    /// drawn) of `cam` into light-space distance (infinite where nothing was drawn).
+    pub fn depth_from_raster(cam: &Camera, z: &mut [f32]) {
+        let (n, f) = (cam.near, cam.far);
+        let ortho = cam.ortho.is_some();
+        let a = n * f / (f - n);
+        let b = -n / (f - n);
+        for v in z {
+            *v = if *v <= 0.0 || !v.is_finite() {
+                f32::INFINITY
+            } else if ortho {
+                f - *v * (f - n)
+            } else {
+                a / (*v - b)
+            };
+        }
+    }
+
+    /// Visibility of the light at `p` with unit normal `n` and unit direction to the light
+    /// `l`: 1 lit, 0 in shadow, between at a filtered edge.
+    #[must_use]
+    pub fn visibility<T: Real>(&self, p: T::V, n: T::V, l: T::V) -> T {
+        let ndl = T::dot(n, l).to_f64() as f32;
+        T::of(self.lookup(T::to_vec3(p), ndl))
+    }
+
+    /// [`ShadowMap::visibility`] on the lanes of `mask` (others 1).
+    #[must_use]
+    #[inline(always)]
+    pub fn visibility_lanes<K: Kernel>(&self, p: V3, n: V3, l: V3, mask: u32) -> F8 {
+        let ndl = n.dot::<K>(l);
+        let mut out = F8::ONE;
+        let mut m = mask;
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let q = Vec3::new(p.x.0[i], p.y.0[i], p.z.0[i]);
+            out.0[i] = self.lookup(q, ndl.0[i]);
+        }
+        out
+    }
+
+    /// The filtered comparison at world point `p` whose normal makes cosine `ndl` with the
+    /// light.
+    #[must_use]
+    pub fn lookup(&self, p: Vec3, ndl: f32) -> f32 {
+        let size = self.size as usize;
+        if size == 0 || self.depth.len() < size * size || !p.is_finite() {
+            return 1.0;
+        }
+        let c: Vec4 = self.view_proj * p.extend(1.0);
+        if !(c.w > 0.0) {
+            return 1.0;
+        }
+        let s = self.size as f32;
+        let u = (c.x / c.w * 0.5 + 0.5) * s;
+        let v = (0.5 - c.y / c.w * 0.5) * s;
+        if !(u.is_finite() && v.is_finite()) {
+            return 1.0;
+        }
+        let z = (p - self.origin).dot(self.axis);
+        let texel = if self.ortho {
+            self.texel
+        } else {
+            self.texel * z.max(0.0)
+        };
+        let ndl = ndl.clamp(0.05, 1.0);
+        let tan = ((1.0 - ndl * ndl).max(0.0).sqrt() / ndl).min(20.0);
+        let st = &self.settings;
+        let r = st.pcf.min(8) as i64;
+        let z_ref = z - texel * (st.bias + st.slope * tan) * (1.0 + r as f32 * 0.5);
+        let x0 = (u - 0.5).floor();
+        let y0 = (v - 0.5).floor();
+        let (fx, fy) = (u - 0.5 - x0, v - 0.5 - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let weight = |i: i64, f: f32| {
+            if i == -r {
+                1.0 - f
+            } else if i == r + 1 {
+                f
+            } else {
+                1.0
+            }
+        };
+        let mut lit = 0.0;
+        for j in -r..=r + 1 {
+            let y = y0 + j;
+            let wy = weight(j, fy);
+            if y < 0 || y >= size as i64 {
+                lit += wy * (2 * r + 1) as f32;
+                continue;
+            }
+            let row = &self.depth[y as usize * size..][..size];
+            for i in -r..=r + 1 {
+                let x = x0 + i;
+                let w = wy * weight(i, fx);
+                if x < 0 || x >= size as i64 || row[x as usize] >= z_ref {
+                    lit += w;
+                }
+            }
+        }
+        lit / ((2 * r + 1) * (2 * r + 1)) as f32
+    }
+}
