@@ -48,6 +48,9 @@ pub struct Material {
     pub ambient: Vec3,
     /// Specular reflectance `Ks`.
     pub specular: Vec3,
+    /// Gloss map (003 §7, MTL `map_Ks`): its RGB multiplies `specular` per pixel in the
+    /// per-pixel modes (textured, Phong, Blinn on a mesh with UVs).
+    pub specular_texture: Option<TextureRef>,
     /// Phong exponent `Ns` (the seed's n, 1..2000).
     pub shininess: f32,
     pub emissive: Vec3,
@@ -65,6 +68,7 @@ impl Default for Material {
             base_color_texture: None,
             ambient: Vec3::splat(1.0),
             specular: Vec3::splat(0.2),
+            specular_texture: None,
             shininess: 32.0,
             emissive: Vec3::ZERO,
             metallic: 0.0,

@@ -128,6 +128,7 @@ impl Builder<'_> {
             base_color_texture,
             ambient: d.ambient,
             specular: d.specular.lerp(base.truncate(), metallic),
+            specular_texture: None,
             shininess: (2.0 / roughness.powi(4).max(1e-6) - 2.0).clamp(1.0, 2000.0),
             emissive,
             metallic,

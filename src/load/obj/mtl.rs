@@ -225,6 +225,7 @@ impl<'a> Converter<'a> {
             }),
             ambient: rgb(m.ambient, d.ambient),
             specular: rgb(m.specular, d.specular),
+            specular_texture: None,
             shininess,
             emissive: rgb(m.emissive, d.emissive),
             metallic: 0.0,
