@@ -153,6 +153,7 @@ fn benches(c: &mut Criterion) {
             shininess: 32.0,
         },
         texture: None,
+        gloss: None,
         sampler: Sampler::default(),
         alpha: AlphaMode::Opaque,
         double_sided: false,

@@ -356,6 +356,8 @@ struct Inst<'a> {
     surface: Surface,
     alpha: Alpha,
     texture: Option<&'a Texture>,
+    /// Gloss map (multiplies `K_s`), in the per-pixel modes the reference stands for.
+    gloss: Option<&'a Texture>,
 }
 
 fn instances<'a>(
@@ -410,6 +412,11 @@ fn instances<'a>(
                 AlphaMode::Blend => Alpha::Blend,
             },
             texture,
+            gloss: m
+                .specular_texture
+                .and_then(|t| scene.textures.get(t.texture))
+                .filter(|_| tri.uvs.is_some())
+                .map(|t| &**t),
         });
     }
     out
@@ -666,7 +673,12 @@ impl Tri {
         if !self.g.front {
             n = -n;
         }
-        let surf = inst.surface.at::<f64>(base.truncate());
+        let mut surf = inst.surface.at::<f64>(base.truncate());
+        if let (Some(g), Some(uv)) = (inst.gloss, &inst.tri.uvs) {
+            let v = self.g.v.map(|k| k as usize);
+            let at = |k: usize| uv.get(v[k]).map_or(DVec2::ZERO, |u| u.as_dvec2());
+            surf.ks *= sample_texture(g, at(0) * b.x + at(1) * b.y + at(2) * b.z).truncate();
+        }
         let mut c = illuminate::<f64>(&view.lights, None, &surf, p, n, view.eye, view.blinn);
         if let Some(fog) = &view.fog {
             c = fog.apply::<f64>(c, p, view.eye, view.forward);

@@ -195,8 +195,20 @@ pub(crate) fn resolve(
             ..state
         };
     }
-    let textured = mode == Shading::Textured && texture.is_some();
-    let mut sampler = texture.as_ref().map(|t| t.sampler).unwrap_or_default();
+    let per_pixel = matches!(mode, Shading::Phong | Shading::Blinn | Shading::Textured);
+    // The gloss map (specular colour per texel) in the per-pixel modes.
+    let gloss = m
+        .specular_texture
+        .and_then(|t| scene.scene().textures.get(t.texture).cloned())
+        .filter(|_| per_pixel && tri.uvs.is_some());
+    let texture = texture.filter(|_| mode == Shading::Textured);
+    // `textured`: the draw's varyings carry the UV (base-colour texture or gloss map).
+    let textured = texture.is_some() || gloss.is_some();
+    let mut sampler = texture
+        .as_ref()
+        .or(gloss.as_ref())
+        .map(|t| t.sampler)
+        .unwrap_or_default();
     if let Some(f) = settings.filter {
         sampler.filter = f;
     }
@@ -208,6 +220,7 @@ pub(crate) fn resolve(
         },
         surface: material_surface(m),
         texture,
+        gloss,
         sampler,
         alpha: if debug {
             AlphaMode::Opaque
@@ -293,8 +306,8 @@ pub(super) fn set_up(
         }
         let (c, radius) = world_sphere(world, tri.center, tri.radius);
         r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
-        if let (true, Some(t)) = (r.textured, &r.params.texture) {
-            if r.params.sampler.filter == Filter::Trilinear {
+        if r.params.sampler.filter == Filter::Trilinear {
+            for t in [&r.params.texture, &r.params.gloss].into_iter().flatten() {
                 // Built once (a no-op afterwards), in parallel, so no tile waits for it.
                 t.prepare_mips();
             }

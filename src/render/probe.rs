@@ -125,7 +125,10 @@ pub fn probe(
     }
     let blinn = matches!(r.mode, Shading::Blinn | Shading::Textured);
     let eye = cam.shading_eye();
-    let surf = r.params.surface.at::<f32>(base.truncate());
+    let mut surf = r.params.surface.at::<f32>(base.truncate());
+    if let (Some(uv), Some(g)) = (uv, &r.params.gloss) {
+        surf.ks *= g.sample_with(uv, r.params.sampler).truncate();
+    }
     let v = view_vector(&surf, position, eye);
     let diffuse_only = SurfaceAt {
         ks: Vec3::ZERO,

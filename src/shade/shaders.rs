@@ -16,8 +16,12 @@ use crate::texture::{srgb_to_linear, Sampler, Texture};
 pub struct DrawParams {
     pub base: Vec4,
     pub surface: Surface,
+    /// The base-colour texture (textured mode only).
     pub texture: Option<Arc<Texture>>,
-    /// How `texture` is read (its own sampler, or a filter the renderer's settings force).
+    /// The gloss map: its RGB multiplies the specular colour (per-pixel modes, meshes with
+    /// UVs).
+    pub gloss: Option<Arc<Texture>>,
+    /// How `texture` (or, without one, `gloss`) is read (its own sampler, or a filter the renderer's settings force).
     pub sampler: Sampler,
     pub alpha: AlphaMode,
     pub double_sided: bool,
@@ -141,7 +145,8 @@ pub struct LitShader<'a> {
 impl FragmentShader for LitShader<'_> {
     #[inline(always)]
     fn derivatives(&self, draw: u32) -> Option<(usize, usize)> {
-        let textured = self.draws[draw as usize].texture.is_some();
+        let d = &self.draws[draw as usize];
+        let textured = d.texture.is_some() || d.gloss.is_some();
         self.layout.uv_at().filter(|_| textured).map(|k| (k, 2))
     }
 
@@ -159,10 +164,11 @@ impl FragmentShader for LitShader<'_> {
             base.b *= v[k + 2];
             base.a *= v[k + 3];
         }
-        if let (Some(k), Some(t)) = (self.layout.uv_at(), &d.texture) {
+        let sample = |t: &Texture| {
+            let k = self.layout.uv_at().unwrap_or(0);
             let (s, l) = (d.sampler, self.lod_scale);
             let (u, w) = (v[k], v[k + 1]);
-            let c = if let ([dudx, dvdx, ..], [dudy, dvdy, ..]) = (f.ddx, f.ddy) {
+            if let ([dudx, dvdx, ..], [dudy, dvdy, ..]) = (f.ddx, f.ddy) {
                 t.sample_grad_lanes::<K>(
                     u,
                     w,
@@ -175,20 +181,32 @@ impl FragmentShader for LitShader<'_> {
                 )
             } else {
                 t.sample_lanes::<K>(u, w, f.mask, s)
-            };
+            }
+        };
+        let uv = self.layout.uv_at().is_some();
+        if let (true, Some(t)) = (uv, &d.texture) {
+            let c = sample(t);
             base.r *= c[0];
             base.g *= c[1];
             base.b *= c[2];
             base.a *= c[3];
         }
+        let ks = d.surface.specular;
+        let specular = match (uv, &d.gloss) {
+            (true, Some(g)) => {
+                let c = sample(g);
+                V3::new(c[0] * ks.x, c[1] * ks.y, c[2] * ks.z)
+            }
+            _ => V3::splat(ks),
+        };
         let mut n = V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>();
         if !f.tri.front {
             n = -n;
         }
         let s = SurfaceLanes {
             diffuse: V3::new(base.r, base.g, base.b),
-            specular: V3::splat(d.surface.specular),
-            has_specular: d.surface.specular != Vec3::ZERO,
+            specular,
+            has_specular: ks != Vec3::ZERO,
             ambient: d.surface.ambient,
             shininess: F8::splat(d.surface.shininess),
         };
