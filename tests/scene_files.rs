@@ -76,7 +76,11 @@ fn accepted_keys(path: &str) -> Vec<String> {
         .nth(1)
         .unwrap_or_else(|| panic!("{path}: no key list in: {err}"));
     // `a`, `b`, ... `z` at line 1 column 15: the names between backquotes.
-    list.split('`').skip(1).step_by(2).map(str::to_owned).collect()
+    list.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_owned)
+        .collect()
 }
 
 #[test]

@@ -197,14 +197,14 @@ fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
     if let Some(c) = camera {
         setup.camera = c;
     }
-    setup.base = RenderOptions {
+    setup.base = Box::new(RenderOptions {
         double_sided: settings.double_sided,
         texture: settings.texture.clone(),
         lights,
         fog: settings.fog,
         tone: settings.tone,
         ..RenderOptions::default()
-    };
+    });
     Ok(setup)
 }
 

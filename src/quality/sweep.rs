@@ -109,7 +109,7 @@ pub struct ModelSetup {
     /// What every render and reference of the sweep starts from (lights, fog, tone
     /// mapping, sidedness, texture; e.g. from a scene file); size, shading, camera,
     /// background and the knobs are set by the sweep.
-    pub base: RenderOptions,
+    pub base: Box<RenderOptions>,
 }
 
 impl ModelSetup {
@@ -124,7 +124,7 @@ impl ModelSetup {
             height,
             camera,
             samples,
-            base: RenderOptions::default(),
+            base: Box::default(),
         }
     }
 
@@ -149,7 +149,7 @@ impl ModelSetup {
             shading: Some(shading),
             camera: Some(self.camera.clone()),
             background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-            ..self.base.clone()
+            ..(*self.base).clone()
         }
     }
 }
@@ -177,7 +177,7 @@ impl Subject {
     /// The options every render of the subject starts from ([`ModelSetup::base`]).
     fn base_options(&self) -> RenderOptions {
         match self {
-            Subject::Model(m) => m.base.clone(),
+            Subject::Model(m) => (*m.base).clone(),
             _ => RenderOptions::default(),
         }
     }

@@ -130,6 +130,9 @@ pub struct SceneFile {
 pub struct Loaded {
     pub file: SceneFile,
     pub model: ModelSource,
+    /// The factor the model's own lights were scaled by (`light_scale`; pass it back to
+    /// [`SceneFile::from_settings`]).
+    pub light_scale: f32,
     pub scene: Scene,
     pub settings: Settings,
     /// The file's camera (or the default view) at the file's size (or 1280x720).
@@ -222,6 +225,7 @@ impl SceneFile {
         let output = self.output();
         Ok(Loaded {
             model,
+            light_scale: self.doc.light_scale.unwrap_or(1.0) as f32,
             scene,
             settings,
             view: View {

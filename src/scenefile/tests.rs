@@ -429,7 +429,7 @@ fn comparisons_lay_out_labelled_cells() {
     );
     assert_eq!(cmp.variants[2].settings, loaded.settings);
     // Two columns, two rows of 30 + 18 px (label strip), a 23 px title strip.
-    let red = vec![200u8, 0, 0].repeat(40 * 30);
+    let red = [200u8, 0, 0].repeat(40 * 30);
     let img = compose(&cmp, (40, 30), &[red.clone(), red.clone(), red]);
     assert_eq!((img.width, img.height), (80, 23 + 2 * (30 + 18)));
     let px = |x: u32, y: u32| {
