@@ -205,3 +205,27 @@ fn flags_override_the_file_and_errors_name_it() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn bench_accuracy_measures_a_scene_file() {
+    let out = std::env::temp_dir().join(format!("realist-scene-accuracy-{}", std::process::id()));
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lit_stage.json");
+    let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+        .args(["bench", "accuracy"])
+        .arg(&scene)
+        .args(["--size", "48x32", "--runs", "1", "--samples", "2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{stderr}");
+    // The file's lights cast shadows, which the reference does not draw: said, not hidden.
+    assert!(
+        stderr.contains("shadows and the ground plane are not in the f64 reference"),
+        "{stderr}"
+    );
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert!(csv.lines().count() > 4 && csv.contains("blinn"), "{csv}");
+    assert!(out.join("reference.png").is_file());
+    let _ = std::fs::remove_dir_all(&out);
+}
