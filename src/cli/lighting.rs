@@ -36,8 +36,17 @@ pub(crate) struct LightingArgs {
     /// Add a light (repeatable); replaces the default rig, joins the model's or the scene
     /// file's lights.
     #[arg(long = "light", value_name = "KIND[:KEY=VALUE]...", value_parser = scenefile::parse_light,
-          long_help = scenefile::LIGHT_SYNTAX, allow_hyphen_values = true)]
+          long_help = light_help(), allow_hyphen_values = true)]
     pub lights: Vec<Light>,
+}
+
+/// `--light`'s long help: what it does, then the syntax.
+fn light_help() -> String {
+    format!(
+        "Add a light (repeatable). Added lights replace the default rig and join the model's \
+         own lights or the scene file's list, in the same space.\n\n{}",
+        scenefile::LIGHT_SYNTAX
+    )
 }
 
 impl LightingArgs {
