@@ -7,7 +7,9 @@
 //!
 //! - `demo-spheres.obj` + `.mtl`: the demo scene's three latitude/longitude spheres;
 //! - `cylinder.obj`, `cone.obj`, `torus.obj`: one primitive each, with its exact normals;
-//! - `checker-cube.glb`: a unit cube with per-face UVs, normals and an embedded PNG chequer.
+//! - `checker-cube.glb`: a unit cube with per-face UVs, normals and an embedded PNG chequer;
+//! - `lit-stage.glb`: a sphere on a floor slab with `KHR_lights_punctual` lights and a camera;
+//! - `slide.png`: the image the rectangular spotlight example projects.
 //!
 //! OBJ faces keep the builders' polygons (quads, pole triangles, n-gon caps) and their
 //! separate position / UV / normal index streams. glTF vertices cannot do that, so the GLB
@@ -281,6 +283,122 @@ fn textured_glb(mesh: &Mesh, texture: &Texture) -> Result<Vec<u8>> {
     glb(&gltf, &bin.data)
 }
 
+/// Every facet corner of `mesh` as a vertex (position, normal) and every facet as a
+/// counter-clockwise triangle fan: what a glTF primitive needs.
+type Flat = (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<u16>);
+
+fn flatten(mesh: &Mesh) -> Result<Flat> {
+    let (mut positions, mut normals, mut indices) = (vec![], vec![], vec![]);
+    for facet in &mesh.facets {
+        let first = u16::try_from(positions.len())?;
+        for c in facet.corners() {
+            let v = mesh.corners[c];
+            positions.push(mesh.positions[v as usize].to_array());
+            normals.push(mesh.normals.at(c, v).to_array());
+        }
+        let len = u16::try_from(facet.len)?;
+        for k in 1..len - 1 {
+            indices.extend([first, first + k, first + k + 1]);
+        }
+    }
+    Ok((positions, normals, indices))
+}
+
+/// A node rotation (glTF `[x, y, z, w]`) that turns the local -Z (where glTF cameras look
+/// and lights shine) towards `dir`.
+fn aim(dir: Vec3) -> [f32; 4] {
+    glam::Quat::from_rotation_arc(Vec3::NEG_Z, dir.normalize()).to_array()
+}
+
+/// A stage for the lighting experiments: a red sphere on a grey floor slab, lit only by
+/// `KHR_lights_punctual` lights (a spot from above, a blue point light with a range, a dim
+/// sun), seen by one perspective camera.
+fn lit_stage_glb() -> Result<Vec<u8>> {
+    let mut bin = Bin::default();
+    let mut meshes = vec![];
+    for (name, mesh, material) in [
+        ("floor", Mesh::cube(1.0)?, 0),
+        ("ball", Mesh::sphere(1.0, 32, 16)?, 1),
+    ] {
+        let (p, n, i) = flatten(&mesh)?;
+        let (p, n, i) = (
+            bin.floats(&p, "VEC3"),
+            bin.floats(&n, "VEC3"),
+            bin.indices(&i),
+        );
+        meshes.push(json!({"name": name, "primitives": [{
+            "attributes": {"POSITION": p, "NORMAL": n}, "indices": i, "material": material}]}));
+    }
+    let spot = Vec3::new(2.0, 4.0, 2.0);
+    let eye = Vec3::new(0.0, 2.5, 6.0);
+    let gltf = json!({
+        "asset": { "version": "2.0", "generator": "realist make_models" },
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"name": "spot", "type": "spot", "color": [1.0, 0.95, 0.85], "intensity": 30.0,
+             "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.45}},
+            {"name": "blue", "type": "point", "color": [0.3, 0.5, 1.0], "intensity": 4.0, "range": 8.0},
+            {"name": "sun", "type": "directional", "intensity": 0.25}
+        ]}},
+        "scene": 0,
+        "scenes": [{ "nodes": [0, 1, 2, 3, 4, 5] }],
+        "nodes": [
+            {"name": "floor", "mesh": 0, "translation": [0.0, -1.05, 0.0], "scale": [8.0, 0.1, 8.0]},
+            {"name": "ball", "mesh": 1},
+            {"name": "spot", "translation": spot.to_array(), "rotation": aim(-spot),
+             "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"name": "blue", "translation": [-2.5, 1.5, 1.0],
+             "extensions": {"KHR_lights_punctual": {"light": 1}}},
+            {"name": "sun", "rotation": aim(Vec3::new(-1.0, -2.0, -1.5)),
+             "extensions": {"KHR_lights_punctual": {"light": 2}}},
+            {"name": "camera", "camera": 0, "translation": eye.to_array(),
+             "rotation": aim(Vec3::new(0.0, -0.4, 0.0) - eye)}
+        ],
+        "cameras": [{"name": "front", "type": "perspective",
+                     "perspective": {"yfov": 0.7, "znear": 0.1, "zfar": 50.0}}],
+        "meshes": meshes,
+        "materials": [
+            {"name": "floor", "pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.6, 0.6, 1.0],
+             "metallicFactor": 0.0, "roughnessFactor": 0.9}},
+            {"name": "ball", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.1, 0.08, 1.0],
+             "metallicFactor": 0.0, "roughnessFactor": 0.35}}
+        ],
+        "buffers": [{ "byteLength": bin.data.len() }],
+        "bufferViews": bin.views,
+        "accessors": bin.accessors,
+    });
+    glb(&gltf, &bin.data)
+}
+
+/// A 64 x 64 slide for the rectangular spotlight: a warm-to-cool gradient with a white
+/// "F" whose shape shows which way is up and which is left.
+fn slide() -> Texture {
+    let size = 64u32;
+    let texels = (0..size * size)
+        .map(|i| {
+            let (x, y) = (i % size, i / size);
+            let stem = (12..20).contains(&x) && (10..54).contains(&y);
+            let top = (12..50).contains(&x) && (10..18).contains(&y);
+            let mid = (12..40).contains(&x) && (28..36).contains(&y);
+            if stem || top || mid {
+                [255, 255, 255, 255]
+            } else {
+                let t = x as f32 / (size - 1) as f32;
+                [
+                    (230.0 * (1.0 - t) + 30.0 * t) as u8,
+                    60,
+                    (40.0 * (1.0 - t) + 220.0 * t) as u8,
+                    255,
+                ]
+            }
+        })
+        .collect();
+    let mut t = Texture::checker(size, 1, [0; 4], [0; 4]);
+    t.name = "slide".into();
+    t.texels = texels;
+    t
+}
+
 /// Writes `bytes` to `dir/name`, refusing anything that is not small.
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<()> {
     ensure!(
@@ -346,5 +464,7 @@ fn main() -> Result<()> {
     let mut cube = Mesh::cube(1.0)?;
     cube.name = "checker-cube".into();
     let checker = Texture::checker(256, 8, [235, 230, 215, 255], [40, 90, 165, 255]);
-    write(&dir, "checker-cube.glb", &textured_glb(&cube, &checker)?)
+    write(&dir, "checker-cube.glb", &textured_glb(&cube, &checker)?)?;
+    write(&dir, "lit-stage.glb", &lit_stage_glb()?)?;
+    write(&dir, "slide.png", &png(&slide())?)
 }

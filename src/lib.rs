@@ -14,6 +14,7 @@
 //! | [`mesh`] | the vertex/edge/facet model, averaged normals, topology report, primitives |
 //! | [`load`] | OBJ/MTL and glTF/GLB loaders producing a [`scene::Scene`] |
 //! | [`scene`] | scene, instances, materials, lights, camera |
+//! | [`scenefile`] | TOML/JSON scene files: model, camera, lights, materials, fog, shadows, output, comparison layouts |
 //! | [`texture`] | decoded images and samplers |
 //! | [`raster`] | clip-space transform, culling, clipping, fixed-point setup, binning, tile fill |
 //! | [`render`] | the front end: prepared scenes, the reusable renderer (settings, views, passes, supersampling), the pixel probe |
@@ -33,6 +34,7 @@ pub mod quality;
 pub mod raster;
 pub mod render;
 pub mod scene;
+pub mod scenefile;
 pub mod shade;
 pub mod texture;
 #[cfg(feature = "viewer")]

@@ -10,13 +10,21 @@ use realist::quality::plane::PlaneSetup;
 use realist::quality::sphere::{Shape, SphereSetup};
 use realist::quality::sweep::{self, ModelSetup, Subject};
 
+use realist::load::LoadOptions;
+use realist::render::RenderOptions;
+use realist::scenefile::{self, Format, SceneFile};
+
 use super::{load_model, parse_size, NormalArgs};
 
 #[derive(Args)]
 pub(crate) struct AccuracyArgs {
+    /// A scene file (.toml, .json) or model file, as --scene.
+    #[arg(value_name = "SCENE", conflicts_with = "scene")]
+    file: Option<String>,
     /// Scene: sphere, cylinder or plane (textured, at a grazing angle), each with an exact
-    /// reference; or a model file (glTF, GLB, OBJ), measured against the general f64
-    /// reference.
+    /// reference; or a model file (glTF, GLB, OBJ) or a scene file (.toml, .json: its
+    /// model, camera, lights, materials, fog, tone mapping and sidedness), measured against
+    /// the general f64 reference.
     #[arg(long, default_value = "sphere")]
     scene: String,
     /// Samples per pixel side of a model's reference (8 = 64 samples per pixel).
@@ -24,9 +32,9 @@ pub(crate) struct AccuracyArgs {
     samples: u32,
     #[command(flatten)]
     normals: NormalArgs,
-    /// Image size WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    size: (u32, u32),
+    /// Image size WIDTHxHEIGHT (default 1280x720, or a scene file's).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
     /// Output folder for results.csv and pareto.png.
     #[arg(long)]
     out: PathBuf,
@@ -36,11 +44,15 @@ pub(crate) struct AccuracyArgs {
 }
 
 pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
-    let (w, h) = args.size;
-    let subject = match args.scene.as_str() {
+    let name = args.file.as_deref().unwrap_or(&args.scene);
+    let (w, h) = args.size.unwrap_or(scenefile::DEFAULT_SIZE);
+    let subject = match name {
         "sphere" => Subject::Shape(SphereSetup::standard_shape(Shape::Sphere, w, h)),
         "cylinder" => Subject::Shape(SphereSetup::standard_shape(Shape::Cylinder, w, h)),
         "plane" => Subject::Plane(PlaneSetup::standard(w, h)),
+        path if Format::of(Path::new(path)).is_some() => {
+            Subject::Model(scene_file_setup(Path::new(path), args)?)
+        }
         path => {
             let path = Path::new(path);
             if !path.exists() {
@@ -97,10 +109,8 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
     let csv_path = args.out.join("results.csv");
     std::fs::write(&csv_path, sweep::csv(rows, &front))
         .with_context(|| format!("writing {}", csv_path.display()))?;
-    let title = format!(
-        "{} at {w}x{h}: time versus error (one knob at a time)",
-        args.scene
-    );
+    let (w, h) = subject.size();
+    let title = format!("{name} at {w}x{h}: time versus error (one knob at a time)");
     let png = sweep::plot(rows, &front, &title)
         .to_png()
         .map_err(|e| anyhow::anyhow!("encoding plot: {e}"))?;
@@ -144,6 +154,62 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         metrics::HEAT_MAP_MAX_DE
     );
     Ok(())
+}
+
+/// The sweep's subject for a scene file: its model with its material overrides applied,
+/// its camera and size (`--size` wins), and its lights, fog, tone mapping, sidedness and
+/// texture in every render and reference. The sweep varies shading, supersampling,
+/// multisampling, sub-pixel bits and filters itself, so the file's values of those are not
+/// used; nor are shadows and the ground plane, which the f64 reference does not draw.
+fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
+    let file = SceneFile::read(path)?;
+    let opts = LoadOptions {
+        normals: args.normals.options()?,
+        ..LoadOptions::default()
+    };
+    let mut scene = file.load_model(&opts)?;
+    let settings = file.settings(&scene)?;
+    let (w, h) = args
+        .size
+        .or_else(|| file.size())
+        .unwrap_or(scenefile::DEFAULT_SIZE);
+    let camera = file.camera(&scene, w as f32 / h as f32)?;
+    if settings.ground.is_some() || lights_shadow(&settings.lights) {
+        eprintln!(
+            "note: {}: shadows and the ground plane are not in the f64 reference; measured without them",
+            path.display()
+        );
+    }
+    if file.doc.compare.is_some() {
+        eprintln!(
+            "note: {}: [compare] is ignored; the sweep compares its own settings",
+            path.display()
+        );
+    }
+    if let Some(m) = settings.materials.clone() {
+        scene.materials = m;
+    }
+    let mut lights = settings.lights.clone();
+    if let realist::render::Lights::Custom { lights, .. } = &mut lights {
+        lights.iter_mut().for_each(|l| l.shadow = false);
+    }
+    let mut setup = ModelSetup::new(scene, w, h, args.samples);
+    if let Some(c) = camera {
+        setup.camera = c;
+    }
+    setup.base = Box::new(RenderOptions {
+        double_sided: settings.double_sided,
+        texture: settings.texture.clone(),
+        lights,
+        fog: settings.fog,
+        tone: settings.tone,
+        ..RenderOptions::default()
+    });
+    Ok(setup)
+}
+
+fn lights_shadow(lights: &realist::render::Lights) -> bool {
+    matches!(lights, realist::render::Lights::Custom { lights, .. } if lights.iter().any(|l| l.shadow))
 }
 
 /// Removes `reference*.png`, `render-*.png` and `heat-*.png` from `dir`.

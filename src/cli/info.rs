@@ -1,4 +1,4 @@
-//! `realist info`: the load report and the topology of every mesh.
+//! `realist info`: the load report, the topology of every mesh, the cameras and lights.
 
 use anyhow::Result;
 
@@ -21,6 +21,28 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             })
         })
         .collect();
+    let cameras: Vec<_> = scene
+        .cameras
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            serde_json::json!({
+                "index": i, "name": c.name, "eye": c.eye.to_array(), "target": c.target.to_array(),
+                "yfov_degrees": c.yfov.to_degrees(), "ortho": c.ortho,
+            })
+        })
+        .collect();
+    let lights: Vec<_> = scene
+        .lights
+        .iter()
+        .map(|l| {
+            serde_json::json!({
+                "name": l.name, "kind": l.kind.name(), "color": l.color.to_array(),
+                "intensity": l.intensity, "position": l.position.to_array(),
+                "direction": l.direction.to_array(), "attenuation": l.attenuation.name(),
+            })
+        })
+        .collect();
     let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
         topologies.iter().map(f).sum()
     };
@@ -31,6 +53,8 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             "materials": scene.materials.len(),
             "textures": scene.textures.len(),
             "cameras": scene.cameras.len(),
+            "camera_list": cameras,
+            "lights": lights,
             "meshes": meshes,
         });
         say!("{}", serde_json::to_string_pretty(&json)?);
@@ -71,6 +95,30 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             t.euler_characteristic_used,
             t.genus.map_or("n/a".to_string(), |g| g.to_string()),
             m.normal_source
+        );
+    }
+    for (i, c) in scene.cameras.iter().enumerate() {
+        say!(
+            "  camera {i} '{}' (--camera gltf:{i}): eye {}, target {}, {}",
+            c.name,
+            c.eye,
+            c.target,
+            match c.ortho {
+                Some(h) => format!("orthographic, half height {h}"),
+                None => format!("vertical fov {:.1} degrees", c.yfov.to_degrees()),
+            }
+        );
+    }
+    for l in &scene.lights {
+        say!(
+            "  light '{}': {} colour {} x {}, position {}, direction {}, attenuation {}",
+            l.name,
+            l.kind.name(),
+            l.color,
+            l.intensity,
+            l.position,
+            l.direction,
+            l.attenuation.name()
         );
     }
     for w in &scene.report.warnings {

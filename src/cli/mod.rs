@@ -2,8 +2,6 @@
 //! with just a model file) the viewer opens; without a display it renders to a PNG instead.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 
@@ -15,24 +13,24 @@ macro_rules! say {
     }};
 }
 use clap::{Args, Parser, Subcommand};
-use glam::Vec3;
 
 use realist::load::{self, LoadOptions};
 use realist::mesh::NormalOptions;
-use realist::render::{self, PreparedScene, RenderOptions};
-use realist::scene::{self, Camera, Scene};
-use realist::shade::Shading;
+use realist::scene::Scene;
 
 mod accuracy;
 mod bench;
 mod chroma;
 mod color;
 mod info;
+mod lighting;
+mod render;
 
 use bench::bench;
 use chroma::{chroma, ChromaArgs};
 use color::{color, ColorArgs};
 use info::info;
+use render::{render, RenderArgs};
 
 #[derive(Parser)]
 #[command(
@@ -106,54 +104,6 @@ pub(crate) enum BenchCommand {
 }
 
 #[derive(Args)]
-struct RenderArgs {
-    /// Model file (.obj, .gltf, .glb).
-    #[arg(required_unless_present = "demo", conflicts_with = "demo")]
-    model: Option<PathBuf>,
-    /// Render the built-in demo scene (the seed's three spheres).
-    #[arg(long)]
-    demo: bool,
-    /// Output PNG.
-    #[arg(short, long)]
-    output: PathBuf,
-    /// Image size WIDTHxHEIGHT.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    size: (u32, u32),
-    /// wireframe, flat, gouraud, phong, blinn, textured, normals, depth or uv (default: phong;
-    /// the demo keeps its per-sphere styles unless a mode is given).
-    #[arg(long)]
-    shading: Option<Shading>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
-    /// Orbit camera: azimuth,elevation in degrees, optionally ,distance in scene units
-    /// (default distance frames the scene).
-    #[arg(long, value_parser = parse_camera)]
-    camera: Option<(f32, f32, Option<f32>)>,
-    /// Vertical field of view in degrees (default 45).
-    #[arg(long, conflicts_with = "zoom")]
-    fov: Option<f32>,
-    /// The seed's zoom factor, zoom = 1/tan(fov/2) (1 = 90 degrees, 2.414 = 45 degrees).
-    #[arg(long)]
-    zoom: Option<f32>,
-    /// Texture applied to meshes that have UVs but no material texture (e.g. spot.obj).
-    #[arg(long)]
-    texture: Option<PathBuf>,
-    /// Print one JSON object with counters and per-stage milliseconds.
-    #[arg(long)]
-    stats: bool,
-    /// Draw every material double-sided (no back-face culling).
-    #[arg(long)]
-    double_sided: bool,
-    /// Multisampling: 1 (off) or 4 coverage and depth samples per pixel, shaded once per
-    /// pixel and triangle, averaged in linear light.
-    #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
-    msaa: u32,
-    #[command(flatten)]
-    normals: NormalArgs,
-}
-
-#[derive(Args)]
 pub(crate) struct NormalArgs {
     /// Crease angle in degrees for averaged normals, or "off" to average across every edge.
     #[arg(long, default_value = "60")]
@@ -211,26 +161,6 @@ pub(crate) fn parse_msaa(s: &str) -> Result<u32, String> {
             "{n} samples per pixel is not supported (choose from {:?})",
             realist::raster::SAMPLE_COUNTS
         ))
-    }
-}
-
-fn parse_camera(s: &str) -> Result<(f32, f32, Option<f32>), String> {
-    let parts: Vec<f32> = s
-        .split(',')
-        .map(|p| {
-            p.trim()
-                .parse::<f32>()
-                .map_err(|_| format!("bad number '{p}' in --camera"))
-        })
-        .collect::<Result<_, _>>()?;
-    if parts.iter().any(|p| !p.is_finite()) {
-        return Err("--camera values must be finite".into());
-    }
-    match parts[..] {
-        [a, e] => Ok((a, e, None)),
-        [a, e, d] if d > 0.0 => Ok((a, e, Some(d))),
-        [_, _, _] => Err("--camera distance must be positive".into()),
-        _ => Err("expected --camera azimuth,elevation[,distance]".into()),
     }
 }
 
@@ -312,8 +242,8 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
     let args = RenderArgs {
         demo: model.is_none(),
         model,
-        output: out.clone(),
-        size: (1280, 720),
+        output: Some(out.clone()),
+        size: None,
         shading: None,
         threads: None,
         camera: None,
@@ -322,7 +252,9 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
         texture: None,
         stats: false,
         double_sided: false,
-        msaa: 4,
+        msaa: Some(4),
+        samples: None,
+        lighting: lighting::LightingArgs::default(),
         normals: NormalArgs {
             crease: "60".into(),
             weighting: "angle".into(),
@@ -342,153 +274,4 @@ pub(crate) fn load_model(path: &Path, normals: &NormalArgs) -> Result<Scene> {
         ..LoadOptions::default()
     };
     Ok(load::load(path, &opts)?)
-}
-
-fn render(args: &RenderArgs) -> Result<()> {
-    // One pool for the whole command: the load's parallel parse and mesh building use it
-    // too (rather than rayon's global pool, which would be a second set of threads).
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .context("could not start worker threads")?;
-    pool.install(|| render_in(args, &pool))
-}
-
-fn render_in(args: &RenderArgs, pool: &rayon::ThreadPool) -> Result<()> {
-    let t0 = Instant::now();
-    let scene = match &args.model {
-        Some(path) => load_model(path, &args.normals)?,
-        None => scene::demo(),
-    };
-    for w in &scene.report.warnings {
-        eprintln!("warning: {w}");
-    }
-    if args.texture.is_some() && args.shading.is_some_and(|m| m != Shading::Textured) {
-        eprintln!(
-            "warning: --texture is only drawn in textured mode (the default for models with UVs)"
-        );
-    }
-    let texture = match &args.texture {
-        Some(p) => Some(Arc::new(load::load_texture(p)?)),
-        None => None,
-    };
-    let t_load = t0.elapsed();
-    let (w, h) = args.size;
-    let aspect = w as f32 / h as f32;
-    let yfov = match (args.fov, args.zoom) {
-        (Some(f), _) if f.is_finite() && f > 0.0 && f < 180.0 => Some(f.to_radians()),
-        (Some(f), _) => bail!("--fov {f}: expected degrees between 0 and 180"),
-        (None, Some(z)) if z.is_finite() && z > 0.0 => Some(2.0 * (1.0 / z).atan()),
-        (None, Some(z)) => bail!("--zoom {z}: expected a positive number"),
-        (None, None) => None,
-    };
-    let camera = match (args.camera, yfov) {
-        (Some((az, el, dist)), _) => Some(orbit_camera(&scene, aspect, az, el, dist, yfov)),
-        (None, _) if args.demo => scene.cameras.first().cloned().map(|mut c| {
-            c.yfov = yfov.unwrap_or(c.yfov);
-            c
-        }),
-        (None, Some(_)) => Some(orbit_camera(&scene, aspect, 35.0, 25.0, None, yfov)),
-        (None, None) => None,
-    };
-    let opts = RenderOptions {
-        width: w,
-        height: h,
-        shading: args.shading,
-        camera,
-        texture,
-        double_sided: args.double_sided,
-        msaa: args.msaa,
-        ..RenderOptions::default()
-    };
-    let (prepared, t_prepare, frame, t_raster) = pool.install(|| {
-        let t = Instant::now();
-        let prepared = PreparedScene::new(scene);
-        let t_prepare = t.elapsed();
-        let t = Instant::now();
-        let frame = render::render(&prepared, &opts);
-        (prepared, t_prepare, frame, t.elapsed())
-    });
-    let t = Instant::now();
-    // The scene is freed on another thread while the image is encoded (freeing its large
-    // buffers took about 1 ms; the PNG encoder leaves a core idle).
-    let written = std::thread::scope(|scope| {
-        scope.spawn(move || drop(prepared));
-        write_image(&args.output, &frame)
-    });
-    written.with_context(|| format!("could not write {}", args.output.display()))?;
-    let t_encode = t.elapsed();
-    if args.stats {
-        let s = &frame.stats;
-        let ms = |d: std::time::Duration| (d.as_secs_f64() * 1e6).round() / 1e3;
-        let json = serde_json::json!({
-            "triangles_in": s.triangles_in,
-            "culled": s.culled_frustum + s.culled_backface + s.culled_degenerate,
-            "clipped": s.clipped,
-            "drawn": s.drawn,
-            "tiles": s.tiles,
-            "pixels_shaded": s.pixels_shaded,
-            "shader_calls": s.shader_calls,
-            "counters": s,
-            "ms": {
-                "load": ms(t_load),
-                "prepare": ms(t_prepare),
-                "raster_shade": ms(t_raster),
-                "encode": ms(t_encode),
-            },
-        });
-        say!("{json}");
-    }
-    Ok(())
-}
-
-/// Writes the frame as 8-bit sRGB: PNG (fast deflate, `Up` filter, see below) for a `.png`
-/// name, else the format the extension names.
-fn write_image(path: &Path, frame: &render::Frame) -> Result<()> {
-    let (w, h) = (frame.target.width, frame.target.height);
-    let rgb = frame.srgb8();
-    let png = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if !png {
-        let img = image::RgbImage::from_raw(w, h, rgb).context("framebuffer size mismatch")?;
-        return Ok(img.save(path)?);
-    }
-    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-    use image::ImageEncoder;
-    // Measured on the bunny at 1920x1080 (PNG part only; the sRGB encode is another 7.7
-    // ms): adaptive filtering 6.3 ms for 226 KB, `Up` 2.5 ms for 278 KB, `Sub` 3.7 ms for
-    // 261 KB, `Paeth` 5 ms for 223 KB; no filter is slower (6 MB to write).
-    let filter = FilterType::Up;
-    let file = std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(path)?);
-    PngEncoder::new_with_quality(file, CompressionType::Fast, filter).write_image(
-        &rgb,
-        w,
-        h,
-        image::ExtendedColorType::Rgb8,
-    )?;
-    Ok(())
-}
-
-/// An orbit camera around the scene's bounding sphere.
-fn orbit_camera(
-    scene: &Scene,
-    aspect: f32,
-    az: f32,
-    el: f32,
-    dist: Option<f32>,
-    yfov: Option<f32>,
-) -> Camera {
-    let (lo, hi) = scene.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-    let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6));
-    let yfov = yfov.unwrap_or(realist::scene::DEFAULT_YFOV);
-    let framed = Camera::frame_box_fov(lo, hi, aspect, az, el, yfov);
-    match dist {
-        None => framed,
-        Some(d) => {
-            let mut cam = Camera::orbit(center, az, el, d, framed.yfov);
-            cam.fit(center, radius);
-            cam
-        }
-    }
 }

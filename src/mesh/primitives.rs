@@ -412,5 +412,4 @@ impl Mesh {
         }
         Ok(b.finish("grid"))
     }
-
 }

@@ -106,6 +106,10 @@ pub struct ModelSetup {
     pub camera: Camera,
     /// Samples per pixel side of the reference.
     pub samples: u32,
+    /// What every render and reference of the sweep starts from (lights, fog, tone
+    /// mapping, sidedness, texture; e.g. from a scene file); size, shading, camera,
+    /// background and the knobs are set by the sweep.
+    pub base: Box<RenderOptions>,
 }
 
 impl ModelSetup {
@@ -120,6 +124,7 @@ impl ModelSetup {
             height,
             camera,
             samples,
+            base: Box::default(),
         }
     }
 
@@ -144,7 +149,7 @@ impl ModelSetup {
             shading: Some(shading),
             camera: Some(self.camera.clone()),
             background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-            ..RenderOptions::default()
+            ..(*self.base).clone()
         }
     }
 }
@@ -166,6 +171,14 @@ impl Subject {
             Subject::Shape(s) => (s.width, s.height),
             Subject::Plane(p) => (p.width, p.height),
             Subject::Model(m) => (m.width, m.height),
+        }
+    }
+
+    /// The options every render of the subject starts from ([`ModelSetup::base`]).
+    fn base_options(&self) -> RenderOptions {
+        match self {
+            Subject::Model(m) => (*m.base).clone(),
+            _ => RenderOptions::default(),
         }
     }
 
@@ -390,7 +403,7 @@ pub fn run_setting(
         background: Vec4::new(0.0, 0.0, 0.0, 1.0),
         subpixel_bits: s.bits,
         msaa: s.msaa,
-        ..RenderOptions::default()
+        ..subject.base_options()
     };
     // Frames into one reused renderer, as a viewer renders them (no allocation after the
     // warm-up), timed alone: resolving to f64 is the metric's cost, not the renderer's.

@@ -257,8 +257,7 @@ pub(super) fn set_up(
         &mut fd.lights,
     );
     fd.fog = settings.fog.filter(Fog::is_valid);
-    let shadows =
-        settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
+    let shadows = settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
     fd.casters.clear();
     fd.insts.clear();
     fd.params.clear();

@@ -136,8 +136,7 @@ impl Renderer {
             eye,
             &mut stats,
         );
-        if self.frame.lights.sources.iter().any(|s| s.casts) && settings.output == Output::Shaded
-        {
+        if self.frame.lights.sources.iter().any(|s| s.casts) && settings.output == Output::Shaded {
             let done = self.shadows.render(
                 scene,
                 &mut self.frame,

@@ -45,8 +45,7 @@ impl ShadowTargets {
                 continue;
             }
             let eye = (src.kind != crate::scene::LightKind::Directional).then_some(src.position);
-            let (cam, texel) =
-                ShadowMap::camera(eye, src.axis, src.spread, center, radius, size);
+            let (cam, texel) = ShadowMap::camera(eye, src.axis, src.spread, center, radius, size);
             let vp: Mat4 = cam.projection(1.0) * cam.view();
             if used == self.targets.len() {
                 self.targets.push(Target::new(size, size, Vec4::ZERO));

@@ -17,6 +17,7 @@ use realist::shade::Shading;
 
 use super::median;
 use super::peer_scene::{self, CLEAR};
+use crate::cli::lighting::LightingArgs;
 use crate::cli::{parse_msaa, parse_size};
 
 #[derive(Args)]
@@ -47,6 +48,10 @@ pub(crate) struct FrameArgs {
     /// Multisampling: 1 (off, as the peer) or 4 samples per pixel.
     #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
     msaa: u32,
+    /// Fog, tone mapping, shadows, ground plane and extra lights (as for `render`; the
+    /// peer has none of them, so a frame with them is not comparable to the peer's).
+    #[command(flatten)]
+    lighting: LightingArgs,
 }
 
 /// The peer's shading modes.
@@ -111,6 +116,7 @@ pub(crate) fn frame(args: &FrameArgs) -> Result<()> {
         );
     }
     let scene = peer_scene::scene(&name, mesh, textured)?;
+    let scene_lights = scene.lights.clone();
     let t_load = t0.elapsed();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
@@ -120,13 +126,14 @@ pub(crate) fn frame(args: &FrameArgs) -> Result<()> {
     let prepared = pool.install(|| PreparedScene::new(scene));
     let t_prepare = t.elapsed();
     let (w, h) = args.size;
-    let settings = Settings {
+    let mut settings = Settings {
         shading: Some(args.shading.shading()),
         background: CLEAR,
         double_sided: true,
         msaa: args.msaa,
         ..Settings::default()
     };
+    args.lighting.apply(&mut settings, &scene_lights)?;
     let view = View {
         camera: peer_scene::camera(),
         width: w,
@@ -187,6 +194,8 @@ pub(crate) fn frame(args: &FrameArgs) -> Result<()> {
         "frame_read_ms": round3(median(&mut frame_reads)),
         "pixels_shaded": report.stats.pixels_shaded,
         "shader_calls": report.stats.shader_calls,
+        "lights_skipped": report.stats.lights_skipped,
+        "shadow_maps": report.stats.shadow_maps,
         "load_ms": round3(t_load.as_secs_f64() * 1e3),
         "prepare_ms": round3(t_prepare.as_secs_f64() * 1e3),
         "png": args.png.as_ref().map(|p| p.display().to_string()),

@@ -3,11 +3,9 @@
 //! every (image, sampler) pair becomes one scene texture.
 //!
 //! The Phong parameters are derived so that Phong shading and PBR shading of the same
-//! material agree roughly: shininess n = 2 / roughness^4 - 2 (the inverse of the Blinn-Phong
-//! to GGX mapping used for OBJ), clamped to 1..=2000, and specular blended from the default
-//! grey towards the base colour by `metallic`. Broken factors (NaN, out of range) are
-//! clamped or defaulted with a warning; a texture or image that cannot be used is a
-//! warning and the material is drawn without it.
+//! material agree roughly ([`phong_from_pbr`]); the PBR factors are kept in the material
+//! too. Broken factors (NaN, out of range) are clamped or defaulted with a warning; a
+//! texture or image that cannot be used is a warning and the material is drawn without it.
 
 use std::borrow::Cow;
 use std::sync::Arc;
@@ -38,6 +36,36 @@ fn sampler_filter(min: Option<Checked<MinFilter>>, mag: Option<Checked<MagFilter
         // The four *_MIPMAP_* filters, no minFilter, or an invalid one.
         _ => Filter::Trilinear,
     }
+}
+
+/// Reflectance at normal incidence of a dielectric (glTF's fixed F0 = 0.04, an index of
+/// refraction of 1.5).
+pub const DIELECTRIC_F0: f32 = 0.04;
+
+/// The Phong diffuse colour `K_d`, specular colour `K_s` and exponent `n` that approximate
+/// glTF's metallic-roughness material of base colour `base`:
+///
+/// - `n = 2 / α² - 2` with `α = roughness²` (the Blinn-Phong exponent whose lobe matches a
+///   GGX lobe of width α, Walter et al. 2007), clamped to 1..=2000;
+/// - `F0 = mix(0.04, base, metallic)`: dielectrics reflect 4% at normal incidence, metals
+///   reflect their base colour;
+/// - `K_s = F0 (n + 8) / 8`, each channel at most 1: the normalised Blinn-Phong lobe
+///   `(n + 8) / 8π` times π, the same factor by which this renderer's Lambert term
+///   `K_d (N·L)` omits the BRDF's `1/π` — so a smooth surface gets a small bright highlight
+///   and a rough one a faint broad sheen of the same energy, where a constant `K_s` would
+///   wash rough plastics with a flat 20% highlight;
+/// - `K_d = base (1 - metallic)`: metals have no diffuse reflection, their colour is in the
+///   highlight.
+///
+/// The exponent is Blinn's (N·H); the Phong (R·V) mode draws a highlight about half as
+/// wide for the same `n`. No Fresnel rise at grazing angles, no geometry term.
+#[must_use]
+pub fn phong_from_pbr(base: Vec3, metallic: f32, roughness: f32) -> (Vec3, Vec3, f32) {
+    let alpha = roughness * roughness;
+    let n = (2.0 / (alpha * alpha).max(1e-7) - 2.0).clamp(1.0, 2000.0);
+    let f0 = Vec3::splat(DIELECTRIC_F0).lerp(base, metallic);
+    let specular = (f0 * (n + 8.0) / 8.0).min(Vec3::ONE);
+    (base * (1.0 - metallic), specular, n)
 }
 
 impl Builder<'_> {
@@ -109,6 +137,7 @@ impl Builder<'_> {
             .as_ref()
             .map(|t| (t.index.value(), t.tex_coord));
         let double_sided = m.double_sided;
+        let textured = pbr.metallic_roughness_texture.is_some();
         let base_color_texture = match texture_info {
             Some((t, tex_coord)) => {
                 if tex_coord != 0 {
@@ -122,14 +151,22 @@ impl Builder<'_> {
             None => None,
         };
         let d = Material::default();
+        // The metallic-roughness texture is not read, so with one the factors are only an
+        // upper bound: the material is then taken as a dielectric (diffuse kept), rather
+        // than blackening e.g. a helmet whose texture marks a few parts as metal.
+        let (diffuse, specular, shininess) = phong_from_pbr(
+            base.truncate(),
+            if textured { 0.0 } else { metallic },
+            roughness,
+        );
         self.scene.materials.push(Material {
             name,
-            base_color: base,
+            base_color: diffuse.extend(base.w),
             base_color_texture,
             ambient: d.ambient,
-            specular: d.specular.lerp(base.truncate(), metallic),
+            specular,
             specular_texture: None,
-            shininess: (2.0 / roughness.powi(4).max(1e-6) - 2.0).clamp(1.0, 2000.0),
+            shininess,
             emissive,
             metallic,
             roughness,
@@ -259,5 +296,40 @@ impl Builder<'_> {
         };
         self.images.insert(i, decoded.clone());
         Ok(decoded)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pbr_to_phong_keeps_energy_where_it_belongs() {
+        let red = Vec3::new(0.8, 0.1, 0.1);
+        // Rough plastic: all diffuse, a faint sheen, the broadest lobe.
+        let (kd, ks, n) = phong_from_pbr(red, 0.0, 1.0);
+        assert_eq!((kd, n), (red, 1.0));
+        assert!((ks - Vec3::splat(0.04 * 9.0 / 8.0)).length() < 1e-6, "{ks}");
+        // Smooth plastic: same diffuse, a tight white highlight.
+        let (kd, ks, n) = phong_from_pbr(red, 0.0, 0.3);
+        assert_eq!(kd, red);
+        assert!(
+            (n - (2.0 / 0.3f32.powi(4) - 2.0)).abs() < 1e-2 && n > 200.0,
+            "{n}"
+        );
+        assert!(ks.x == ks.y && ks.x > 0.9, "{ks}");
+        // Metal: no diffuse; the highlight has the base colour (each channel at most 1).
+        let gold = Vec3::new(1.0, 0.78, 0.34);
+        let (kd, ks, _) = phong_from_pbr(gold, 1.0, 0.7);
+        assert_eq!(kd, Vec3::ZERO);
+        assert!(
+            ks.x >= ks.y && ks.y > ks.z && ks.max_element() <= 1.0,
+            "{ks}"
+        );
+        // Half metal: half the diffuse.
+        let (kd, _, _) = phong_from_pbr(gold, 0.5, 0.5);
+        assert_eq!(kd, gold * 0.5);
+        // Roughness 0 stays finite.
+        assert_eq!(phong_from_pbr(red, 0.0, 0.0).2, 2000.0);
     }
 }

@@ -19,10 +19,11 @@
 //! `instance.world.determinant() < 0` and flips its back-face test for that instance.
 //!
 //! Not loaded (each noted in the report): points and lines primitives, skins (drawn in the
-//! bind pose), morph targets (base shape), animations (rest pose), orthographic cameras,
-//! `KHR_lights_punctual` lights (not yet), textures other than the base colour. The only
-//! extension supported is `KHR_mesh_quantization`; a file that *requires* any other is
-//! refused, naming it.
+//! bind pose), morph targets (base shape), animations (rest pose), textures other than the
+//! base colour. Cameras (perspective and orthographic) go to [`Scene::cameras`] and
+//! `KHR_lights_punctual` lights to [`Scene::lights`] (see [`lights`] for the units). The
+//! extensions supported are `KHR_mesh_quantization` and `KHR_lights_punctual`; a file that
+//! *requires* any other is refused, naming it.
 
 use std::borrow::Cow;
 use std::cell::OnceCell;
@@ -40,6 +41,7 @@ use crate::texture::Texture;
 
 mod accessor;
 pub(super) mod glb;
+mod lights;
 mod material;
 mod nodes;
 mod primitive;
@@ -240,6 +242,8 @@ pub(super) struct Builder<'a> {
     pub textures: HashMap<(usize, Option<usize>), Option<usize>>,
     /// Decoded images (`None`: failed, already reported).
     pub images: HashMap<usize, Option<std::sync::Arc<Texture>>>,
+    /// `KHR_lights_punctual` lights and the nodes that place them.
+    lights: lights::PunctualLights,
 }
 
 /// Where reading and parsing end on the progress bar; the rest is geometry (in units of
@@ -293,6 +297,16 @@ pub(crate) fn load_gltf(
         ..LoadReport::default()
     };
     note_unsupported(&json, &mut report);
+    let punctual = if lights::used(&json) {
+        // The narrow second parse keeps little, but serde_json's values for the light
+        // entries and node extensions are charged as the first parse was.
+        budget.charge((json_bytes.len() as u64).saturating_mul(2), || {
+            format!("{} (second parse)", lights::EXTENSION)
+        })?;
+        lights::parse(json_bytes, &mut report.warnings)
+    } else {
+        lights::PunctualLights::default()
+    };
     let buffers = json.buffers.iter().map(|_| OnceCell::new()).collect();
     let doc = Doc {
         path,
@@ -313,6 +327,7 @@ pub(crate) fn load_gltf(
         materials: HashMap::new(),
         textures: HashMap::new(),
         images: HashMap::new(),
+        lights: punctual,
     };
     b.walk()?;
     if b.scene.instances.is_empty() {
@@ -354,11 +369,13 @@ fn geometry_units(json: &Json) -> u64 {
     .fold(0u64, u64::saturating_add)
 }
 
-/// The one extension supported: integer vertex attributes (read and converted to floats).
+/// Integer vertex attributes (read and converted to floats).
 const QUANTIZATION: &str = "KHR_mesh_quantization";
 
-/// Refuses files that are not glTF 2.x or that require an extension other than
-/// [`QUANTIZATION`].
+/// The extensions supported: [`QUANTIZATION`] and punctual lights.
+const SUPPORTED: [&str; 2] = [QUANTIZATION, lights::EXTENSION];
+
+/// Refuses files that are not glTF 2.x or that require an extension not in [`SUPPORTED`].
 fn check_header(path: &Path, json: &Json) -> Result<(), LoadError> {
     let version = &json.asset.version;
     if version.split('.').next() != Some("2") {
@@ -368,7 +385,11 @@ fn check_header(path: &Path, json: &Json) -> Result<(), LoadError> {
         }
         .into());
     }
-    if let Some(name) = json.extensions_required.iter().find(|e| *e != QUANTIZATION) {
+    if let Some(name) = json
+        .extensions_required
+        .iter()
+        .find(|e| !SUPPORTED.contains(&e.as_str()))
+    {
         return Err(GltfError::Extension {
             path: path.to_owned(),
             name: name.clone(),
@@ -396,7 +417,7 @@ fn note_unsupported(json: &Json, report: &mut LoadReport) {
         .extensions_used
         .iter()
         .map(String::as_str)
-        .filter(|e| *e != QUANTIZATION)
+        .filter(|e| !SUPPORTED.contains(e))
         .collect();
     if !ignored.is_empty() {
         report.skipped.push(format!(

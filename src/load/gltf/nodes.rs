@@ -1,6 +1,6 @@
 //! The node graph: which scene is drawn, the iterative walk that composes world matrices
 //! (TRS or matrix, parent * local), instances for nodes with meshes and cameras for nodes
-//! with (perspective) cameras.
+//! with cameras, and `KHR_lights_punctual` lights for nodes that carry one.
 //!
 //! The walk uses an explicit stack and visits every node at most once, so a cycle or a
 //! node listed under two parents (both invalid glTF) cannot loop or blow up the instance
@@ -158,6 +158,7 @@ impl Builder<'_> {
         if let Some(c) = camera {
             self.camera(c, world, &name);
         }
+        self.node_light(n, world, &name);
         Ok(())
     }
 

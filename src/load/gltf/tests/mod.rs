@@ -379,4 +379,5 @@ fn cameras_come_from_their_nodes() {
 }
 
 mod hostile;
+mod lights;
 mod rules;

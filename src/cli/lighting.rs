@@ -1,0 +1,162 @@
+//! The lighting flags shared by `render` and `bench frame`: fog, tone mapping, shadows,
+//! the ground plane and extra lights. Each flag given overrides the scene file.
+
+use anyhow::{bail, Result};
+use clap::Args;
+use glam::Vec3;
+
+use realist::render::{Ground, Settings, ToneMap};
+use realist::scene::Light;
+use realist::scenefile::{self, MAX_PCF};
+use realist::shade::{Fog, FogDistance, MAX_SHADOW_SIZE};
+
+#[derive(Args, Clone, Debug, Default)]
+pub(crate) struct LightingArgs {
+    /// Linear fog: NEAR,FAR[,euclidean|depth][,COLOUR] with COLOUR as R,G,B (linear) or
+    /// #rrggbb (sRGB), e.g. 2,12,depth,0.6,0.6,0.7 (distance default euclidean, colour 0.6 grey).
+    #[arg(long, value_parser = parse_fog, allow_hyphen_values = true)]
+    pub fog: Option<Fog>,
+    /// Out-of-range colour: clamp (default), scale-max (divide by the largest channel) or
+    /// reinhard.
+    #[arg(long)]
+    pub tone: Option<ToneMap>,
+    /// Shadows for every light that can cast them (directional, spot, rect); the default
+    /// rig or the model's lights become explicit.
+    #[arg(long)]
+    pub shadows: bool,
+    /// Shadow-map size in texels per side (16 to 8192, default 1024).
+    #[arg(long)]
+    pub shadow_size: Option<u32>,
+    /// Percentage-closer filtering radius r: (2r+1)^2 taps (0 to 16, default 1).
+    #[arg(long)]
+    pub pcf: Option<u32>,
+    /// Show a ground plane under the model (it catches shadows).
+    #[arg(long)]
+    pub ground: bool,
+    /// Add a light (repeatable); replaces the default rig, joins the model's or the scene
+    /// file's lights.
+    #[arg(long = "light", value_name = "KIND[:KEY=VALUE]...", value_parser = scenefile::parse_light,
+          long_help = light_help(), allow_hyphen_values = true)]
+    pub lights: Vec<Light>,
+}
+
+/// `--light`'s long help: what it does, then the syntax.
+fn light_help() -> String {
+    format!(
+        "Add a light (repeatable). Added lights replace the default rig and join the model's \
+         own lights or the scene file's list, in the same space.\n\n{}",
+        scenefile::LIGHT_SYNTAX
+    )
+}
+
+impl LightingArgs {
+    /// Applies the flags given to `s` (`scene_lights`: the model's own lights).
+    pub fn apply(&self, s: &mut Settings, scene_lights: &[Light]) -> Result<()> {
+        if let Some(f) = self.fog {
+            s.fog = Some(f);
+        }
+        if let Some(t) = self.tone {
+            s.tone = t;
+        }
+        if let Some(n) = self.shadow_size {
+            if !(16..=MAX_SHADOW_SIZE).contains(&n) {
+                bail!("--shadow-size {n}: expected 16 to {MAX_SHADOW_SIZE}");
+            }
+            s.shadow.size = n;
+        }
+        if let Some(r) = self.pcf {
+            if r > MAX_PCF {
+                bail!("--pcf {r}: expected 0 to {MAX_PCF}");
+            }
+            s.shadow.pcf = r;
+        }
+        if self.ground && s.ground.is_none() {
+            s.ground = Some(Ground::default());
+        }
+        if !self.lights.is_empty() {
+            s.lights = scenefile::add_lights(&s.lights, scene_lights, &self.lights);
+        }
+        if self.shadows {
+            s.lights = scenefile::shadow_every_light(&s.lights, scene_lights);
+        }
+        Ok(())
+    }
+}
+
+/// `--fog NEAR,FAR[,euclidean|depth][,R,G,B | ,#rrggbb]`.
+pub(crate) fn parse_fog(s: &str) -> Result<Fog, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let num = |p: &str| {
+        p.parse::<f32>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("--fog: bad number '{p}'"))
+    };
+    let (Some(near), Some(far)) = (parts.first(), parts.get(1)) else {
+        return Err("expected --fog NEAR,FAR[,euclidean|depth][,COLOUR]".into());
+    };
+    let mut fog = Fog {
+        near: num(near)?,
+        far: num(far)?,
+        ..Fog::default()
+    };
+    let mut rest = &parts[2..];
+    if let Some(d) = rest.first().and_then(|p| p.parse::<FogDistance>().ok()) {
+        fog.distance = d;
+        rest = &rest[1..];
+    }
+    match rest {
+        [] => {}
+        [hex] if hex.starts_with('#') => {
+            let c = realist::overlay::Color::hex(hex)
+                .ok_or_else(|| format!("--fog: bad colour '{hex}'"))?;
+            let lin = |b: u8| realist::color::srgb_decode(f64::from(b) / 255.0) as f32;
+            fog.color = Vec3::new(lin(c.r), lin(c.g), lin(c.b));
+        }
+        [r, g, b] => fog.color = Vec3::new(num(r)?, num(g)?, num(b)?),
+        _ => {
+            return Err(format!(
+                "--fog {s}: after NEAR,FAR expected euclidean or depth, then R,G,B or #rrggbb"
+            ))
+        }
+    }
+    if !(fog.near >= 0.0 && fog.near < fog.far) {
+        return Err(format!("--fog {s}: need 0 <= NEAR < FAR"));
+    }
+    if fog.color.min_element() < 0.0 {
+        return Err(format!("--fog {s}: the colour must not be negative"));
+    }
+    Ok(fog)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fog_flag_forms() {
+        let f = parse_fog("2,12").unwrap();
+        assert_eq!(
+            (f.near, f.far, f.distance),
+            (2.0, 12.0, FogDistance::Euclidean)
+        );
+        let f = parse_fog("1,5,depth,0.1,0.2,0.3").unwrap();
+        assert_eq!(
+            (f.distance, f.color),
+            (FogDistance::Depth, Vec3::new(0.1, 0.2, 0.3))
+        );
+        let f = parse_fog("1,5,#ffffff").unwrap();
+        assert!((f.color - Vec3::ONE).abs().max_element() < 1e-6);
+        for bad in [
+            "5,1",
+            "1",
+            "1,x",
+            "1,5,fuzzy",
+            "1,5,0.1,0.2",
+            "-1,5",
+            "1,5,#zz0000",
+        ] {
+            assert!(parse_fog(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,243 @@
+//! Renderer state to a file ([`super::SceneFile::from_settings`]): every setting written
+//! explicitly (so the experiment does not change when defaults do), numbers as the
+//! shortest decimals that read back to the same `f32`, angles in degrees.
+
+use glam::{Vec3, Vec4};
+
+use super::schema::{
+    AlphaKind, AttenuationMode, AttenuationSpec, CameraSpec, FogSpec, GroundSpec, Kw, LightSpec,
+    LightsMode, MaterialSpec, Rgba, SceneDoc, ShadowSpec,
+};
+use super::ModelSource;
+use crate::render::{Lights, Output, Settings, View};
+use crate::scene::{AlphaMode, Attenuation, Light, Material};
+use crate::shade::MAX_HALF_ANGLE;
+use crate::texture::Texture;
+
+/// The shortest decimal that reads back (as `f64`, then `as f32`) to `v`.
+pub(super) fn tidy(v: f32) -> f64 {
+    // Rust's `Display` for f32 is the shortest round-tripping form.
+    format!("{v}").parse().unwrap_or(f64::from(v))
+}
+
+/// Radians to the shortest degrees that convert back (`to_radians() as f32`) to `rad`.
+pub(super) fn tidy_degrees(rad: f32) -> f64 {
+    let exact = f64::from(rad).to_degrees();
+    for digits in 0..=17 {
+        let d: f64 = format!("{exact:.digits$}").parse().unwrap_or(exact);
+        if d.to_radians() as f32 == rad {
+            return d;
+        }
+    }
+    exact
+}
+
+fn v3(v: Vec3) -> [f64; 3] {
+    [tidy(v.x), tidy(v.y), tidy(v.z)]
+}
+
+fn rgb(v: Vec3) -> Rgba {
+    Rgba(v3(v).to_vec())
+}
+
+fn rgba(v: Vec4) -> Rgba {
+    Rgba(vec![tidy(v.x), tidy(v.y), tidy(v.z), tidy(v.w)])
+}
+
+/// The path of an image (its texture's name) if it names an existing file.
+fn image_path(t: &Texture) -> Option<String> {
+    let p = std::path::Path::new(&t.name);
+    (p.is_absolute() && p.is_file()).then(|| t.name.clone())
+}
+
+/// The document for a renderer state, and notes on what could not be written.
+pub(super) fn doc(
+    model: &ModelSource,
+    light_scale: f32,
+    s: &Settings,
+    view: &View,
+) -> (SceneDoc, Vec<String>) {
+    let mut notes = Vec::new();
+    let mut d = SceneDoc {
+        size: Some([view.width, view.height]),
+        camera: Some(camera(&view.camera)),
+        shading: s.shading.map(Kw),
+        msaa: Some(s.msaa),
+        samples: Some(s.samples),
+        background: Some(rgba(s.background)),
+        double_sided: Some(s.double_sided),
+        wireframe_overlay: Some(s.wireframe_overlay),
+        overdraw: Some(s.output == Output::Overdraw),
+        subpixel_bits: Some(u32::from(s.subpixel_bits)),
+        filter: s.filter.map(Kw),
+        tone: Some(Kw(s.tone)),
+        light_scale: (light_scale != 1.0).then(|| tidy(light_scale)),
+        ..SceneDoc::default()
+    };
+    match model {
+        ModelSource::Demo => d.model = Some("demo".into()),
+        ModelSource::File(p) => {
+            d.model = Some(
+                std::fs::canonicalize(p)
+                    .unwrap_or_else(|_| p.clone())
+                    .display()
+                    .to_string(),
+            );
+        }
+        ModelSource::Primitive(p) => d.primitive = Some(p.clone()),
+    }
+    if let Some(t) = &s.texture {
+        d.texture = image_path(t);
+        if d.texture.is_none() {
+            notes.push(format!(
+                "the texture '{}' is not an image file; left out",
+                t.name
+            ));
+        }
+    }
+    if s.kernel.is_some() {
+        notes.push("the kernel choice is not saved (it depends on the machine)".into());
+    }
+    match &s.lights {
+        Lights::Auto => d.lights = Some(Kw(LightsMode::Auto)),
+        Lights::Custom {
+            lights,
+            follow_camera,
+        } => {
+            d.lights = Some(Kw(LightsMode::Custom));
+            d.lights_follow_camera = Some(*follow_camera);
+            d.light = lights
+                .iter()
+                .enumerate()
+                .map(|(i, l)| light(i, l, &mut notes))
+                .collect();
+        }
+    }
+    if let Some(ms) = &s.materials {
+        d.material = ms.iter().enumerate().map(|(i, m)| material(i, m)).collect();
+    }
+    d.fog = s.fog.map(|f| FogSpec {
+        color: Some(rgb(f.color)),
+        near: tidy(f.near),
+        far: tidy(f.far),
+        distance: Some(Kw(f.distance)),
+    });
+    d.shadow = Some(ShadowSpec {
+        size: Some(s.shadow.size),
+        pcf: Some(s.shadow.pcf),
+        bias: Some(tidy(s.shadow.bias)),
+        slope: Some(tidy(s.shadow.slope)),
+        all_lights: None,
+    });
+    d.ground = s.ground.map(|g| GroundSpec {
+        on: Some(true),
+        color: Some(rgb(g.color)),
+        extent: Some(tidy(g.extent)),
+    });
+    (d, notes)
+}
+
+fn camera(c: &crate::scene::Camera) -> CameraSpec {
+    CameraSpec {
+        eye: Some(v3(c.eye)),
+        target: Some(v3(c.target)),
+        up: Some(v3(c.up)),
+        yfov: Some(tidy_degrees(c.yfov)),
+        near: Some(tidy(c.near)),
+        far: Some(tidy(c.far)),
+        ortho: c.ortho.map(tidy),
+        ..CameraSpec::default()
+    }
+}
+
+fn light(i: usize, l: &Light, notes: &mut Vec<String>) -> LightSpec {
+    let clamp = |a: f32, what: &str, notes: &mut Vec<String>| {
+        if a > MAX_HALF_ANGLE {
+            notes.push(format!(
+                "light {i}: {what} {} degrees written as the largest, {}",
+                a.to_degrees(),
+                MAX_HALF_ANGLE.to_degrees()
+            ));
+            MAX_HALF_ANGLE
+        } else {
+            a.max(0.0)
+        }
+    };
+    let image = l.image.as_ref().and_then(|t| {
+        let p = image_path(t);
+        if p.is_none() {
+            notes.push(format!(
+                "light {i}: its image '{}' is not an image file; left out",
+                t.name
+            ));
+        }
+        p
+    });
+    let attenuation = match l.attenuation {
+        Attenuation::None => None,
+        a => Some(AttenuationSpec {
+            mode: Kw(match a {
+                Attenuation::None => AttenuationMode::None,
+                Attenuation::Linear { .. } => AttenuationMode::Linear,
+                Attenuation::InverseSquare => AttenuationMode::InverseSquare,
+                Attenuation::Range(_) => AttenuationMode::Range,
+            }),
+            near: match a {
+                Attenuation::Linear { near, .. } => Some(tidy(near)),
+                _ => None,
+            },
+            far: match a {
+                Attenuation::Linear { far, .. } => Some(tidy(far)),
+                _ => None,
+            },
+            range: match a {
+                Attenuation::Range(r) => Some(tidy(r)),
+                _ => None,
+            },
+        }),
+    };
+    LightSpec {
+        kind: Kw(l.kind),
+        name: (!l.name.is_empty()).then(|| l.name.to_string()),
+        color: Some(rgb(l.color)),
+        intensity: Some(tidy(l.intensity)),
+        position: Some(v3(l.position)),
+        direction: Some(v3(l.direction)),
+        target: None,
+        inner: Some(tidy_degrees(clamp(l.inner.min(l.outer), "inner", notes))),
+        outer: Some(tidy_degrees(clamp(l.outer, "outer", notes))),
+        rect: Some([
+            tidy_degrees(clamp(l.rect.x, "rect", notes)),
+            tidy_degrees(clamp(l.rect.y, "rect", notes)),
+        ]),
+        up: Some(v3(l.up)),
+        image,
+        attenuation,
+        shadow: Some(l.shadow),
+    }
+}
+
+fn material(i: usize, m: &Material) -> MaterialSpec {
+    let (alpha_mode, alpha_cutoff) = match m.alpha_mode {
+        AlphaMode::Opaque => (AlphaKind::Opaque, None),
+        AlphaMode::Blend => (AlphaKind::Blend, None),
+        // A cutoff above 1 discards what 1 discards but alpha exactly 1.
+        AlphaMode::Mask(c) => (AlphaKind::Mask, Some(tidy(c.clamp(0.0, 1.0)))),
+    };
+    MaterialSpec {
+        index: Some(i),
+        name: None,
+        base_color: Some(rgba(m.base_color)),
+        specular: Some(rgb(m.specular)),
+        // The renderer clamps the exponent to 1..=2000 (and so does the file).
+        shininess: Some(tidy(if m.shininess.is_finite() {
+            m.shininess.clamp(1.0, 2000.0)
+        } else {
+            1.0
+        })),
+        ambient: Some(rgb(m.ambient)),
+        double_sided: Some(m.double_sided),
+        alpha_mode: Some(Kw(alpha_mode)),
+        alpha_cutoff,
+    }
+}

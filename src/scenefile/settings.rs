@@ -1,0 +1,342 @@
+//! A checked file to [`Settings`]: [`SceneFile::check`] (everything that needs no model),
+//! [`SceneFile::settings`] and the light-list helpers the command line shares.
+
+use super::convert::{self, color, ranged, Bad};
+use super::schema::LightsMode;
+use super::{
+    ModelSource, SceneFile, SceneFileError, MAX_LIGHTS, MAX_PIXELS, MAX_SIDE, MAX_VARIANTS,
+};
+use crate::render::{Ground, Lights, Output, Settings};
+use crate::scene::{Light, Scene};
+use crate::shade::{Fog, ShadowSettings, MAX_SHADOW_SIZE};
+
+/// Largest PCF radius (`(2r + 1)²` taps per pixel and light).
+pub const MAX_PCF: u32 = 16;
+/// Largest supersampling factor (samples per pixel side).
+pub const MAX_SAMPLES: u32 = 8;
+/// Largest ground extent (multiples of the scene's radius).
+pub const MAX_GROUND_EXTENT: f64 = 1000.0;
+
+impl SceneFile {
+    /// What the file draws, with a model path resolved against the file's folder.
+    ///
+    /// # Errors
+    /// Neither or both of `model` and `[primitive]`, or an empty model path.
+    pub fn model(&self) -> Result<ModelSource, SceneFileError> {
+        match (&self.doc.model, &self.doc.primitive) {
+            (Some(_), Some(_)) => Err(self.invalid("model", "give model or [primitive], not both")),
+            (None, None) => Err(self.invalid(
+                "model",
+                "missing: set model = \"PATH\" (relative to this file) or \"demo\", or a [primitive] table",
+            )),
+            (Some(m), None) if m.trim().is_empty() => Err(self.invalid("model", "is empty")),
+            (Some(m), None) if m == "demo" => Ok(ModelSource::Demo),
+            (Some(m), None) => Ok(ModelSource::File(self.resolve_path(m))),
+            (None, Some(p)) => Ok(ModelSource::Primitive(p.clone())),
+        }
+    }
+
+    /// Checks everything that does not need the model.
+    pub(super) fn check(&self) -> Result<(), SceneFileError> {
+        let err = |(key, reason): Bad| self.invalid(key, reason);
+        let d = &self.doc;
+        self.model()?;
+        if let Some(p) = &d.primitive {
+            convert::check_primitive(p).map_err(|r| self.invalid("primitive", r))?;
+        }
+        if let Some(s) = d.light_scale {
+            ranged("light_scale", s, 0.0, 1e9).map_err(err)?;
+        }
+        if let Some([w, h]) = d.size {
+            if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
+                return Err(self.invalid(
+                    "size",
+                    format!("{w}x{h}: each side must be 1 to {MAX_SIDE}"),
+                ));
+            }
+            let px = u64::from(w) * u64::from(h) * u64::from(d.msaa.unwrap_or(1).max(1));
+            if px > MAX_PIXELS {
+                return Err(self.invalid(
+                    "size",
+                    format!(
+                        "{w}x{h} with {}x multisampling is {px} samples; at most {MAX_PIXELS}",
+                        d.msaa.unwrap_or(1)
+                    ),
+                ));
+            }
+        }
+        if let Some(o) = &d.output {
+            if o.trim().is_empty() {
+                return Err(self.invalid("output", "is empty"));
+            }
+        }
+        if let Some(c) = &d.camera {
+            convert::check_camera(c).map_err(|(k, r)| self.invalid(format!("camera.{k}"), r))?;
+        }
+        if d.light.len() > MAX_LIGHTS {
+            return Err(self.invalid(
+                "light",
+                format!("{} lights; at most {MAX_LIGHTS}", d.light.len()),
+            ));
+        }
+        for (i, l) in d.light.iter().enumerate() {
+            convert::light(&format!("light[{i}]"), l).map_err(err)?;
+        }
+        if d.lights.map(|m| m.0) == Some(LightsMode::Auto) && !d.light.is_empty() {
+            return Err(self.invalid("lights", "is \"auto\" (the model's lights or the default rig), but the file lists [[light]]s"));
+        }
+        if d.lights_follow_camera.is_some() && self.lights_mode() == LightsMode::Auto {
+            return Err(self.invalid(
+                "lights_follow_camera",
+                "needs lights = \"custom\" or a [[light]]",
+            ));
+        }
+        for (i, m) in d.material.iter().enumerate() {
+            convert::check_material(&format!("material[{i}]"), m).map_err(err)?;
+        }
+        self.base_settings(false)?;
+        if let Some(c) = &d.compare {
+            self.check_compare(c)?;
+        }
+        Ok(())
+    }
+
+    /// `auto` unless the file says `custom` or lists lights.
+    fn lights_mode(&self) -> LightsMode {
+        match self.doc.lights {
+            Some(m) => m.0,
+            None if self.doc.light.is_empty() => LightsMode::Auto,
+            None => LightsMode::Custom,
+        }
+    }
+
+    /// The settings the file describes, with material overrides applied to `scene`'s
+    /// materials and images loaded.
+    ///
+    /// # Errors
+    /// A material override the model cannot take, or an image that cannot be loaded.
+    pub fn settings(&self, scene: &Scene) -> Result<Settings, SceneFileError> {
+        let mut s = self.base_settings(true)?;
+        if !self.doc.material.is_empty() {
+            let mut materials = scene.materials.clone();
+            convert::materials("material", &self.doc.material, &mut materials)
+                .map_err(|(k, r)| self.invalid(k, format!("{r} (model {})", scene.report.file)))?;
+            s.materials = Some(materials);
+        }
+        if self.doc.shadow.as_ref().and_then(|s| s.all_lights) == Some(true) {
+            s.lights = shadow_every_light(&s.lights, &scene.lights);
+        }
+        Ok(s)
+    }
+
+    /// Everything but the materials; images are loaded only with `load_images`.
+    fn base_settings(&self, load_images: bool) -> Result<Settings, SceneFileError> {
+        let err = |(key, reason): Bad| self.invalid(key, reason);
+        let d = &self.doc;
+        let mut s = Settings {
+            shading: d.shading.map(|m| m.0),
+            wireframe_overlay: d.wireframe_overlay.unwrap_or(false),
+            double_sided: d.double_sided.unwrap_or(false),
+            filter: d.filter.map(|f| f.0),
+            tone: d.tone.map_or_else(Default::default, |t| t.0),
+            ..Settings::default()
+        };
+        if d.overdraw == Some(true) {
+            s.output = Output::Overdraw;
+        }
+        if let Some(b) = &d.background {
+            s.background = color("background", b, 1.0, true).map_err(err)?;
+        }
+        if let Some(bits) = d.subpixel_bits {
+            let max = crate::raster::SUBPIXEL_BITS;
+            if bits > max {
+                return Err(self.invalid("subpixel_bits", format!("{bits} is above {max}")));
+            }
+            s.subpixel_bits = bits as u8;
+        }
+        if let Some(n) = d.samples {
+            if !(1..=MAX_SAMPLES).contains(&n) {
+                return Err(
+                    self.invalid("samples", format!("{n} is not between 1 and {MAX_SAMPLES}"))
+                );
+            }
+            s.samples = n;
+        }
+        if let Some(n) = d.msaa {
+            if !crate::raster::SAMPLE_COUNTS.contains(&n) {
+                return Err(self.invalid(
+                    "msaa",
+                    format!(
+                        "{n} samples per pixel is not supported (choose from {:?})",
+                        crate::raster::SAMPLE_COUNTS
+                    ),
+                ));
+            }
+            s.msaa = n;
+        }
+        let load = |written: &str, key: &str| {
+            convert::image(&self.resolve_path(written))
+                .map_err(|source| SceneFileError::Load {
+                    path: self.path.clone(),
+                    source,
+                })
+                .map_err(|e| match e {
+                    SceneFileError::Load { source, .. } => self.invalid(key, source.to_string()),
+                    other => other,
+                })
+        };
+        if let (Some(t), true) = (&d.texture, load_images) {
+            s.texture = Some(load(t, "texture")?);
+        }
+        if self.lights_mode() == LightsMode::Custom {
+            let mut lights = Vec::with_capacity(d.light.len());
+            for (i, spec) in d.light.iter().enumerate() {
+                let key = format!("light[{i}]");
+                let mut l = convert::light(&key, spec).map_err(err)?;
+                if let (Some(p), true) = (&spec.image, load_images) {
+                    l.image = Some(load(p, &format!("{key}.image"))?);
+                }
+                lights.push(l);
+            }
+            s.lights = Lights::Custom {
+                lights,
+                follow_camera: d.lights_follow_camera.unwrap_or(false),
+            };
+        }
+        if let Some(f) = &d.fog {
+            let mut fog = Fog {
+                near: ranged("fog.near", f.near, 0.0, 1e7).map_err(err)?,
+                far: ranged("fog.far", f.far, 0.0, 1e7).map_err(err)?,
+                distance: f.distance.map_or_else(Default::default, |k| k.0),
+                ..Fog::default()
+            };
+            if fog.near >= fog.far {
+                return Err(self.invalid(
+                    "fog.near",
+                    format!("{} is not below far ({})", f.near, f.far),
+                ));
+            }
+            if let Some(c) = &f.color {
+                fog.color = color("fog.color", c, 1.0, false).map_err(err)?.truncate();
+            }
+            s.fog = Some(fog);
+        }
+        if let Some(sh) = &d.shadow {
+            let dflt = ShadowSettings::default();
+            let size = sh.size.unwrap_or(dflt.size);
+            if !(16..=MAX_SHADOW_SIZE).contains(&size) {
+                return Err(self.invalid(
+                    "shadow.size",
+                    format!("{size} is not between 16 and {MAX_SHADOW_SIZE}"),
+                ));
+            }
+            let pcf = sh.pcf.unwrap_or(dflt.pcf);
+            if pcf > MAX_PCF {
+                return Err(self.invalid("shadow.pcf", format!("{pcf} is above {MAX_PCF}")));
+            }
+            s.shadow = ShadowSettings {
+                size,
+                pcf,
+                bias: sh
+                    .bias
+                    .map_or(Ok(dflt.bias), |b| ranged("shadow.bias", b, 0.0, 1e4))
+                    .map_err(err)?,
+                slope: sh
+                    .slope
+                    .map_or(Ok(dflt.slope), |b| ranged("shadow.slope", b, 0.0, 1e4))
+                    .map_err(err)?,
+            };
+        }
+        if let Some(g) = &d.ground {
+            let dflt = Ground::default();
+            let ground = Ground {
+                color: g
+                    .color
+                    .as_ref()
+                    .map_or(Ok(dflt.color), |c| {
+                        color("ground.color", c, 1.0, false).map(|c| c.truncate())
+                    })
+                    .map_err(err)?,
+                extent: g
+                    .extent
+                    .map_or(Ok(dflt.extent), |e| {
+                        ranged("ground.extent", e, 0.0, MAX_GROUND_EXTENT)
+                    })
+                    .map_err(err)?,
+            };
+            if ground.extent <= 0.0 {
+                return Err(self.invalid("ground.extent", "must be above 0"));
+            }
+            s.ground = g.on.unwrap_or(true).then_some(ground);
+        }
+        Ok(s)
+    }
+
+    fn check_compare(&self, c: &super::schema::CompareSpec) -> Result<(), SceneFileError> {
+        let n = c.variant.len();
+        if !(1..=MAX_VARIANTS).contains(&n) {
+            return Err(self.invalid(
+                "compare.variant",
+                format!("{n} variants; 1 to {MAX_VARIANTS} are drawn"),
+            ));
+        }
+        let layout = super::compare::Layout::new(c, self.size().unwrap_or(super::DEFAULT_SIZE))
+            .map_err(|(k, r)| self.invalid(format!("compare.{k}"), r))?;
+        let _ = layout;
+        for (i, v) in c.variant.iter().enumerate() {
+            let key = format!("compare.variant[{i}]");
+            if v.label.trim().is_empty() {
+                return Err(self.invalid(format!("{key}.label"), "is empty"));
+            }
+            for (j, m) in v.material.iter().enumerate() {
+                convert::check_material(&format!("{key}.material[{j}]"), m)
+                    .map_err(|(k, r)| self.invalid(k, r))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `lights` with shadows turned on for every light that can cast them. The automatic
+/// choice becomes explicit: the scene's own lights (world space), or the default rig
+/// attached to the camera when the scene has none.
+#[must_use]
+pub fn shadow_every_light(lights: &Lights, scene_lights: &[Light]) -> Lights {
+    let (mut lights, follow_camera) = explicit(lights, scene_lights);
+    for l in lights.iter_mut().filter(|l| l.kind.can_shadow()) {
+        l.shadow = true;
+    }
+    Lights::Custom {
+        lights,
+        follow_camera,
+    }
+}
+
+/// `lights` with `extra` added (in the space of the list: world, or camera space when it
+/// follows the camera). Added to an automatic choice, they join the scene's own lights, or
+/// replace the default rig when the scene has none.
+#[must_use]
+pub fn add_lights(lights: &Lights, scene_lights: &[Light], extra: &[Light]) -> Lights {
+    let (mut lights, follow_camera) = match lights {
+        Lights::Auto if scene_lights.is_empty() => (Vec::new(), false),
+        other => explicit(other, scene_lights),
+    };
+    lights.extend_from_slice(extra);
+    Lights::Custom {
+        lights,
+        follow_camera,
+    }
+}
+
+/// [`Lights::Auto`] spelled out as a list and whether it follows the camera: the scene's
+/// lights, or the camera-attached rig.
+fn explicit(lights: &Lights, scene_lights: &[Light]) -> (Vec<Light>, bool) {
+    match lights {
+        Lights::Custom {
+            lights,
+            follow_camera,
+        } => (lights.clone(), *follow_camera),
+        Lights::Auto if scene_lights.is_empty() => (Light::default_rig(glam::Mat3::IDENTITY), true),
+        Lights::Auto => (scene_lights.to_vec(), false),
+    }
+}

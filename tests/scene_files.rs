@@ -1,0 +1,231 @@
+//! The committed example scenes (`examples/scenes/`): together they use every key of the
+//! scene-file format, and `realist render` draws each of them.
+//!
+//! The format's keys are not listed here by hand: each table's keys are read from the
+//! parser itself (a table holding an unknown key makes serde list the keys it accepts),
+//! so a key added to the format without an example fails this test.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use realist::scenefile::{Format, SceneFile};
+
+fn examples() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| Format::of(p).is_some())
+        .collect();
+    files.sort();
+    assert!(files.len() >= 2, "no examples in {}", dir.display());
+    files
+}
+
+/// The file as a JSON value (TOML converted), for walking its keys.
+fn value(path: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(path).unwrap();
+    match Format::of(path) {
+        Some(Format::Toml) => {
+            let v: toml::Value = toml::from_str(&text).unwrap();
+            serde_json::to_value(v).unwrap()
+        }
+        _ => serde_json::from_str(&text).unwrap(),
+    }
+}
+
+/// Every key path in `v` (`light[].attenuation.mode`), tables in arrays as `[]`.
+fn key_paths(v: &serde_json::Value, prefix: &str, out: &mut BTreeSet<String>) {
+    if let Some(map) = v.as_object() {
+        for (k, child) in map {
+            let path = if prefix.is_empty() {
+                k.clone()
+            } else {
+                format!("{prefix}.{k}")
+            };
+            out.insert(path.clone());
+            match child {
+                serde_json::Value::Array(items) if items.iter().all(|i| i.is_object()) => {
+                    for item in items {
+                        key_paths(item, &format!("{path}[]"), out);
+                    }
+                }
+                other => key_paths(other, &path, out),
+            }
+        }
+    }
+}
+
+/// The keys the parser accepts in the table at `path` (e.g. `light[].attenuation`),
+/// from its error for an unknown key.
+fn accepted_keys(path: &str) -> Vec<String> {
+    // The unknown key, placed in a document holding only the tables on the way to it.
+    let mut doc = serde_json::json!({ "zzz_unknown": 1 });
+    for part in path.split('.').filter(|p| !p.is_empty()).rev() {
+        doc = match part.strip_suffix("[]") {
+            Some(name) => serde_json::json!({ name: [doc] }),
+            None => serde_json::json!({ part: doc }),
+        };
+    }
+    let text = doc.to_string();
+    let err = SceneFile::parse(&text, Format::Json, Path::new("probe.json"))
+        .expect_err("an unknown key is refused")
+        .to_string();
+    let list = err
+        .split("expected one of ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("{path}: no key list in: {err}"));
+    // `a`, `b`, ... `z` at line 1 column 15: the names between backquotes.
+    list.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_owned)
+        .collect()
+}
+
+#[test]
+fn the_examples_use_every_key_of_the_format() {
+    let mut used = BTreeSet::new();
+    for f in examples() {
+        key_paths(&value(&f), "", &mut used);
+        SceneFile::read(&f).unwrap_or_else(|e| panic!("{e}"));
+    }
+    // Walk the format from the root: every key it accepts must be used, and every key
+    // that is a table (or an array of tables) in the examples is walked in turn.
+    let mut missing = Vec::new();
+    let mut tables = vec![String::new()];
+    let mut walked = 0;
+    let mut seen = Vec::new();
+    while let Some(table) = tables.pop() {
+        walked += 1;
+        seen.push(table.clone());
+        for key in accepted_keys(&table) {
+            let path = if table.is_empty() {
+                key
+            } else {
+                format!("{table}.{key}")
+            };
+            if !used.contains(&path) {
+                missing.push(path.clone());
+            }
+            let array = format!("{path}[]");
+            if used.iter().any(|u| u.starts_with(&format!("{array}."))) {
+                tables.push(array);
+            } else if used.iter().any(|u| u.starts_with(&format!("{path}."))) {
+                tables.push(path);
+            }
+        }
+    }
+    assert!(walked >= 12, "only {walked} tables walked: {seen:?}");
+    assert!(
+        missing.is_empty(),
+        "keys of the format no example uses: {missing:?}"
+    );
+}
+
+#[test]
+fn every_example_renders_from_the_command_line() {
+    let out = std::env::temp_dir().join(format!("realist-scene-examples-{}", std::process::id()));
+    std::fs::create_dir_all(&out).unwrap();
+    for f in examples() {
+        let png = out.join(format!("{}.png", f.file_stem().unwrap().to_string_lossy()));
+        let result = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .args(["render", f.to_str().unwrap(), "--size", "96x64", "-o"])
+            .arg(&png)
+            .args(["--stats"])
+            .output()
+            .unwrap();
+        assert!(
+            result.status.success(),
+            "{}: {}",
+            f.display(),
+            String::from_utf8_lossy(&result.stderr)
+        );
+        let stats: serde_json::Value = serde_json::from_slice(&result.stdout).unwrap();
+        for key in ["lights_skipped", "shadow_maps", "drawn"] {
+            assert!(stats[key].is_u64(), "{}: {key} in {stats}", f.display());
+        }
+        let img = image::open(&png).unwrap();
+        let file = SceneFile::read(&f).unwrap();
+        // A comparison is wider than one frame; a single frame has the size asked for.
+        if file.doc.compare.is_some() {
+            assert!(
+                img.width() >= 96 * 2 && img.height() > 64,
+                "{}",
+                f.display()
+            );
+        } else {
+            assert_eq!((img.width(), img.height()), (96, 64), "{}", f.display());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn flags_override_the_file_and_errors_name_it() {
+    let dir = std::env::temp_dir().join(format!("realist-scene-flags-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("s.toml");
+    std::fs::write(
+        &scene,
+        "model = \"demo\"\nsize = [50, 40]\noutput = \"from-file.png\"\n",
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .arg("render")
+            .arg(&scene)
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap()
+    };
+    let r = run(&[]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let img = image::open(dir.join("from-file.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (50, 40));
+    let r = run(&[
+        "--size", "30x20", "-o", "flag.png", "--fog", "1,5", "--tone", "reinhard",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let img = image::open(dir.join("flag.png")).unwrap();
+    assert_eq!((img.width(), img.height()), (30, 20));
+    let r = run(&["--camera", "gltf:4", "-o", "x.png"]);
+    let e = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        !r.status.success() && e.contains("gltf:4") && e.contains("the demo scene has 1 camera"),
+        "{e}"
+    );
+    std::fs::write(&scene, "model = \"demo\"\n[fog]\nnear = 3\nfar = 1\n").unwrap();
+    let r = run(&["-o", "x.png"]);
+    let e = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        !r.status.success() && e.contains("s.toml: fog.near: 3 is not below far (1)"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bench_accuracy_measures_a_scene_file() {
+    let out = std::env::temp_dir().join(format!("realist-scene-accuracy-{}", std::process::id()));
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/lit_stage.json");
+    let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+        .args(["bench", "accuracy"])
+        .arg(&scene)
+        .args(["--size", "48x32", "--runs", "1", "--samples", "2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{stderr}");
+    // The file's lights cast shadows, which the reference does not draw: said, not hidden.
+    assert!(
+        stderr.contains("shadows and the ground plane are not in the f64 reference"),
+        "{stderr}"
+    );
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert!(csv.lines().count() > 4 && csv.contains("blinn"), "{csv}");
+    assert!(out.join("reference.png").is_file());
+    let _ = std::fs::remove_dir_all(&out);
+}
