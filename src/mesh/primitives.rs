@@ -377,4 +377,40 @@ impl Mesh {
         }
         Ok(b.finish("cube"))
     }
+
+    /// A flat grid in the XZ plane at y = 0 facing +Y, `2 half_x` by `2 half_z`, cut into
+    /// `nx` x `nz` quads (so per-vertex lighting can show a spotlight's pool on it), UVs
+    /// from (0, 0) at (-x, -z) to (1, 1).
+    ///
+    /// # Errors
+    ///
+    /// A negative or non-finite size, or a count above [`MAX_SEGMENTS`] (0 is raised to 1).
+    pub fn grid(half_x: f32, half_z: f32, nx: u32, nz: u32) -> Result<Mesh, MeshError> {
+        let hx = dimension("grid", "half_x", half_x)?;
+        let hz = dimension("grid", "half_z", half_z)?;
+        let nx = segments("grid", "nx", nx)?.min(nx.max(1));
+        let nz = segments("grid", "nz", nz)?.min(nz.max(1));
+        let mut b = Builder {
+            normals: vec![Vec3::Y],
+            ..Builder::default()
+        };
+        for j in 0..=nz {
+            for i in 0..=nx {
+                let (u, v) = (i as f32 / nx as f32, j as f32 / nz as f32);
+                b.positions
+                    .push(Vec3::new((2.0 * u - 1.0) * hx, 0.0, (2.0 * v - 1.0) * hz));
+                b.uvs.push(Vec2::new(u, v));
+            }
+        }
+        let at = |i: u32, j: u32| j * (nx + 1) + i;
+        for j in 0..nz {
+            for i in 0..nx {
+                // Counter-clockwise seen from +Y: (i, j+1), (i+1, j+1), (i+1, j), (i, j).
+                let quad = [at(i, j + 1), at(i + 1, j + 1), at(i + 1, j), at(i, j)];
+                b.facet(quad.map(|v| [v, 0, v]));
+            }
+        }
+        Ok(b.finish("grid"))
+    }
+
 }

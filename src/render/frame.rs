@@ -46,6 +46,8 @@ pub(super) struct FrameData {
     pub order: Vec<u32>,
     /// The frame's fog, if on and valid.
     pub fog: Option<Fog>,
+    /// Shadow casters outside the view frustum (filled only when a light casts shadows).
+    pub casters: Vec<FrameInst>,
     /// Wireframe's saved depth.
     pub depth: DepthCopy,
 }
@@ -242,6 +244,9 @@ pub(super) fn set_up(
         &mut fd.lights,
     );
     fd.fog = settings.fog.filter(Fog::is_valid);
+    let shadows =
+        settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
+    fd.casters.clear();
     fd.insts.clear();
     fd.params.clear();
     fd.active.clear();
@@ -252,6 +257,23 @@ pub(super) fn set_up(
             continue;
         }
         if tri.radius < 0.0 || !sphere_visible(&planes, inst.world, tri.center, tri.radius) {
+            if shadows && tri.radius >= 0.0 {
+                let r = resolve(scene, settings, inst);
+                fd.casters.push(FrameInst {
+                    inst: k as u32,
+                    mesh: inst.mesh as u32,
+                    mvp: vp * inst.world,
+                    world: inst.world,
+                    model_view: view * inst.world,
+                    state: r.state,
+                    param: 0,
+                    mode: r.mode,
+                    textured: false,
+                    colors: false,
+                    blend: r.blend,
+                    distance: 0.0,
+                });
+            }
             stats.objects_culled += 1;
             stats.culled_frustum += tri.triangles.len() as u64;
             stats.triangles_in += tri.triangles.len() as u64;

@@ -32,6 +32,7 @@ mod prepare;
 mod probe;
 mod renderer;
 mod settings;
+mod shadows;
 mod vertex;
 
 pub use frame::{frame_lights, material_surface};

@@ -40,6 +40,8 @@ pub(super) struct Cx<'a> {
     pub stop: &'a (dyn Fn() -> bool + Sync),
     /// Nanoseconds spent in the vertex stage.
     pub vertex_nanos: u64,
+    /// World -> clip of a shadow map being rendered (replaces each instance's `mvp`).
+    pub light: Option<Mat4>,
 }
 
 /// Which positions a group's draws use.
@@ -101,7 +103,7 @@ fn group<S: raster::FragmentShader>(
     mut vertex: impl FnMut(&FrameInst, &mut Vec<f32>) -> usize,
     shader: &S,
 ) -> bool {
-    let (done, g) = group_with(cx, fd, pick, geometry, &mut vertex, shader, |s| s);
+    let (done, g) = group_with(cx, &fd.insts, pick, geometry, &mut vertex, shader, |s| s);
     cx.pool.put(g);
     done
 }
@@ -110,7 +112,7 @@ fn group<S: raster::FragmentShader>(
 /// the pool) for a caller that needs the clip positions afterwards (wireframe).
 fn group_with<S: raster::FragmentShader>(
     cx: &mut Cx,
-    fd: &FrameData,
+    insts: &[FrameInst],
     pick: &dyn Fn(usize, &FrameInst) -> bool,
     geometry: Geometry,
     vertex: &mut VertexFn<'_>,
@@ -120,7 +122,7 @@ fn group_with<S: raster::FragmentShader>(
     let mut g = cx.pool.take::<GroupScratch>();
     g.clear();
     let start = Instant::now();
-    for (k, fi) in fd.insts.iter().enumerate() {
+    for (k, fi) in insts.iter().enumerate() {
         if !pick(k, fi) {
             continue;
         }
@@ -131,7 +133,11 @@ fn group_with<S: raster::FragmentShader>(
         };
         let first = g.clip.len();
         let var_start = g.var.len();
-        raster::transform_positions_into(cx.jitter * fi.mvp, positions, &mut g.clip);
+        let mvp = match cx.light {
+            Some(light) => light * fi.world,
+            None => cx.jitter * fi.mvp,
+        };
+        raster::transform_positions_into(mvp, positions, &mut g.clip);
         let stride = vertex(fi, &mut g.var);
         let len = g.clip.len() - first;
         debug_assert_eq!(g.var.len() - var_start, len * stride);
@@ -155,7 +161,7 @@ fn group_with<S: raster::FragmentShader>(
     } = &mut *g;
     let list = GroupDraws {
         scene: cx.scene,
-        insts: &fd.insts,
+        insts,
         items,
         clip,
         var,
@@ -207,7 +213,7 @@ pub(super) fn centre_depth(cx: &mut Cx, fd: &FrameData) -> bool {
     let opaque = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;
     let (done, g) = group_with(
         cx,
-        fd,
+        &fd.insts,
         &opaque,
         Geometry::Indexed,
         &mut |fi, out| vertex::unit(scene, fi, out),
@@ -220,6 +226,42 @@ pub(super) fn centre_depth(cx: &mut Cx, fd: &FrameData) -> bool {
     // Not part of the frame's counters: the passes already counted this geometry.
     *cx.stats = saved;
     cx.pool.put(g);
+    done
+}
+
+/// The depth of every shadow caster seen from a light (`cx.light`): the frame's opaque,
+/// non-wireframe instances and `culled` (casters outside the view frustum), both faces, into
+/// a depth-only target. Not counted in the frame's counters. Returns false if stopped.
+pub(super) fn shadow_depth(cx: &mut Cx, fd: &FrameData, culled: &[FrameInst]) -> bool {
+    let scene = cx.scene;
+    let saved = *cx.stats;
+    let caster = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;
+    let state = |s: DrawState| DrawState {
+        color_write: false,
+        cull: Cull::None,
+        depth_test: raster::DepthTest::Greater,
+        depth_write: true,
+        blend: raster::Blend::Replace,
+        ..s
+    };
+    let mut done = true;
+    for insts in [&fd.insts[..], culled] {
+        if !done {
+            break;
+        }
+        let (d, g) = group_with(
+            cx,
+            insts,
+            &caster,
+            Geometry::Indexed,
+            &mut |fi, out| vertex::unit(scene, fi, out),
+            &DepthOnly,
+            state,
+        );
+        cx.pool.put(g);
+        done = d;
+    }
+    *cx.stats = saved;
     done
 }
 
@@ -253,7 +295,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     // Double-sided materials (no culling) get both sides' colours (`Lit::gouraud`).
     let (done, g) = group_with(
         cx,
-        fd,
+        &fd.insts,
         &of(Shading::Gouraud),
         Geometry::Indexed,
         &mut |fi, out| lit.gouraud(fi, out),
@@ -377,7 +419,7 @@ fn wireframe(
     let saved = *cx.stats;
     let (done, g) = group_with(
         cx,
-        fd,
+        &fd.insts,
         pick,
         Geometry::Indexed,
         &mut |fi, out| vertex::unit(scene, fi, out),

@@ -72,6 +72,7 @@ pub struct Renderer {
     output: Output,
     /// The last frame completed (an interrupted frame leaves a partial target).
     complete: bool,
+    shadows: super::shadows::ShadowTargets,
 }
 
 impl Renderer {
@@ -135,6 +136,21 @@ impl Renderer {
             eye,
             &mut stats,
         );
+        if self.frame.lights.sources.iter().any(|s| s.casts) && settings.output == Output::Shaded
+        {
+            let done = self.shadows.render(
+                scene,
+                &mut self.frame,
+                &settings.shadow,
+                &mut self.bins,
+                &mut self.pool,
+                &mut stats,
+                stop,
+            );
+            if !done {
+                return Err(Interrupted);
+            }
+        }
         let t_setup = t0.elapsed();
         let passes = n * n;
         if passes > 1 {
@@ -176,6 +192,7 @@ impl Renderer {
                 stats: &mut stats,
                 stop,
                 vertex_nanos: 0,
+                light: None,
             };
             let done = if k < passes {
                 let overdraw = settings.output == Output::Overdraw;

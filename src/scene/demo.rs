@@ -1,6 +1,7 @@
 //! The built-in demo scene: the seed program's signature figure (seed 000, figure 9-8), three
-//! latitude/longitude spheres side by side - wireframe, faceted, smooth - under a floodlight
-//! and a second light (a point light standing in for the spotlight until spot lights exist).
+//! latitude/longitude spheres side by side - wireframe, faceted, smooth - standing on a
+//! floor, under a floodlight (an omni light) and a spotlight whose cone draws a pool of
+//! light on the floor (hotspot and falloff visible) and throws the spheres' shadows.
 
 use glam::{Mat4, Vec3, Vec4};
 
@@ -59,12 +60,43 @@ pub fn demo() -> Scene {
         });
         scene.meshes.push(mesh);
     }
+    // The floor the spheres stand on: dark, matte, finely cut so Gouraud shading (when
+    // forced) still shows the spotlight's pool.
+    let mut floor = Mesh::grid(10.0, 7.0, 80, 56).expect("demo floor parameters are valid");
+    floor.name = "floor".into();
+    floor.material = Some(scene.materials.len());
+    scene.materials.push(Material {
+        name: "floor".into(),
+        base_color: Vec4::new(0.3, 0.3, 0.32, 1.0),
+        specular: Vec3::splat(0.04),
+        shininess: 8.0,
+        ..Material::default()
+    });
+    scene.instances.push(Instance {
+        mesh: scene.meshes.len(),
+        world: Mat4::from_translation(Vec3::new(0.0, -1.0, -3.0)),
+        name: "floor".into(),
+        style: Style::Inherit,
+    });
+    scene.meshes.push(floor);
+    let spot_at = Vec3::new(3.5, 7.5, 4.0);
+    let spot_to = Vec3::new(0.9, -1.0, -0.6);
     scene.lights = vec![
-        Light::ambient(Vec3::splat(0.08)),
-        // The floodlight: a bright omni light above, left and in front.
-        Light::point(Vec3::new(-4.0, 6.0, 7.0), Vec3::splat(0.95)),
-        // Stand-in for the spotlight: a warmer, dimmer light from the right.
-        Light::point(Vec3::new(6.0, 2.0, 3.0), Vec3::new(0.5, 0.42, 0.3)),
+        Light::ambient(Vec3::splat(0.06)).with_name("ambient"),
+        // The floodlight: a soft omni light above, left and in front.
+        Light::point(Vec3::new(-5.0, 5.0, 6.0), Vec3::new(0.42, 0.44, 0.5)).with_name("floodlight"),
+        // The spotlight: warm white from above right, aimed between the faceted and the
+        // smooth sphere, 14 degree hotspot inside a 22 degree falloff, casting shadows.
+        Light::spot(
+            spot_at,
+            spot_to - spot_at,
+            Vec3::new(1.0, 0.93, 0.8),
+            14f32.to_radians(),
+            22f32.to_radians(),
+        )
+        .with_intensity(1.3)
+        .with_shadow(true)
+        .with_name("spotlight"),
     ];
     let mut camera = Camera {
         name: "demo".into(),

@@ -52,6 +52,8 @@ pub struct Source {
     /// Rectangular spot: tangents of the half-angles.
     pub tan: Vec2,
     pub image: Option<Arc<Texture>>,
+    /// The light asks for shadows (its `shadow` flag, for a kind that can cast them).
+    pub casts: bool,
     /// Index into [`LightSet::shadows`] when the light casts shadows this frame.
     pub shadow: Option<u32>,
     /// Distance beyond which nothing arrives.
@@ -104,6 +106,7 @@ impl Source {
             cos_outer: -1.0,
             tan: Vec2::ONE,
             image: None,
+            casts: light.shadow && kind.can_shadow(),
             shadow: None,
             reach: attenuation.reach(),
             spread: std::f32::consts::PI,
