@@ -729,7 +729,7 @@ fn a_light_turned_into_a_spot_keeps_its_values_and_its_cone_follows_the_editor()
     h.get_by_label("1: key (spot)");
 
     // Aimed from the eye at the torus, the 30-degree falloff takes it all in.
-    activate(&mut h, "aim at the scene's centre");
+    activate(&mut h, "aim at the centre");
     let key = custom_lights(h.state()).0[1].clone();
     assert_eq!(key.position, Vec3::ZERO, "at the eye (camera space)");
     let centre = h
@@ -1265,7 +1265,8 @@ fn a_rect_light_projects_a_chosen_image_and_a_bad_file_shows_its_error() {
         e.starts_with(&bad.display().to_string()) && !e.contains('\n'),
         "{e}"
     );
-    h.get_by_label(&e);
+    // In the light editor and in the status bar.
+    assert_eq!(h.get_all_by_label(&e).count(), 2, "{e}");
     assert!(custom_lights(h.state()).0[4].image.is_none());
     let missing = dir.join("missing.png");
     realist::viewer::panels::lights::read_image(h.state_mut(), 4, missing);

@@ -46,6 +46,7 @@ pub fn drag_with(
             egui::DragValue::new(&mut x)
                 .range(range)
                 .speed(speed)
+                .max_decimals(3)
                 .suffix(suffix),
         )
         .accessible_name(name);

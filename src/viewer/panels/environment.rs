@@ -80,7 +80,8 @@ fn fog(app: &mut ViewerApp, ui: &mut egui::Ui) {
         ui.label("colour");
         edit::colour(ui, &mut f.color, "fog colour");
         ui.end_row();
-        ui.label("clear within, only fog beyond");
+        ui.label("near / far")
+            .on_hover_text("no fog within near, only fog beyond far, linear between");
         let (mut near, mut far) = (f.near, f.far);
         let (cn, cf) = ui
             .horizontal(|ui| {
@@ -193,7 +194,8 @@ fn shadows(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 s.pcf = pcf;
             }
             ui.end_row();
-            ui.label("bias, slope bias (texels)");
+            ui.label("bias / slope")
+                .on_hover_text("constant and slope-scaled depth bias, in texels");
             ui.horizontal(|ui| {
                 edit::drag(ui, &mut s.bias, 0.0..=50.0, 0.05, "shadow bias");
                 edit::drag(ui, &mut s.slope, 0.0..=50.0, 0.05, "shadow slope bias");
@@ -222,7 +224,7 @@ fn ground(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 g.color = c;
             }
             ui.end_row();
-            ui.label("half-size (scene radii)");
+            ui.label("half-size").on_hover_text("in scene radii");
             edit::drag(ui, &mut g.extent, 0.1..=100.0, 0.05, "ground extent");
             ui.end_row();
         });

@@ -327,7 +327,7 @@ fn light_editor(
                 changed = true;
             }
             ui.end_row();
-            ui.label("colour, intensity");
+            ui.label("colour");
             ui.horizontal(|ui| {
                 changed |= edit::colour(ui, &mut l.color, &id("colour"));
                 changed |= edit::drag(ui, &mut l.intensity, 0.0..=1e6, 0.01, &id("intensity"));
@@ -360,7 +360,7 @@ fn light_editor(
                 ui.end_row();
             }
         });
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         if ui
             .small_button("duplicate")
             .accessible_name(id("duplicate"))
@@ -377,7 +377,10 @@ fn light_editor(
         }
         if l.kind.positional()
             && l.kind.directed()
-            && ui.small_button("aim at the scene's centre").clicked()
+            && ui
+                .small_button("aim at the centre")
+                .on_hover_text("point it at the centre of the scene's bounding sphere")
+                .clicked()
         {
             l.direction = (s.center - l.position).normalize_or(l.direction);
             changed = true;
@@ -394,7 +397,7 @@ fn direction_rows(ui: &mut egui::Ui, id: &str, l: &mut Light, s: &Space) -> bool
         changed |= edit::vec3(ui, &mut l.direction, 0.01, &format!("{id}direction"))
     });
     ui.end_row();
-    ui.label("azimuth, elevation");
+    ui.label("az / el");
     ui.horizontal(|ui| {
         let (mut az, mut el) = edit::azimuth_elevation(l.direction, s.compass).unwrap_or((0.0, -90.0));
         let a = edit::drag_with(ui, &mut az, -180.0..=180.0, 0.5, &format!("{id}azimuth"), "°");
@@ -416,10 +419,12 @@ fn direction_rows(ui: &mut egui::Ui, id: &str, l: &mut Light, s: &Space) -> bool
 fn cone_rows(ui: &mut egui::Ui, id: &str, l: &mut Light) -> bool {
     let max = max_degrees();
     let (mut inner, mut outer) = (l.inner, l.outer);
-    ui.label("hotspot (inner)");
+    ui.label("hotspot")
+        .on_hover_text("inner half-angle: full strength inside");
     let ci = edit::degrees(ui, &mut inner, 0.0..=max, &format!("{id}inner"));
     ui.end_row();
-    ui.label("falloff (outer)");
+    ui.label("falloff")
+        .on_hover_text("outer half-angle: no light outside, a smooth fall between");
     let co = edit::degrees(ui, &mut outer, 0.1..=max, &format!("{id}outer"));
     ui.end_row();
     if !(ci || co) {
@@ -467,18 +472,18 @@ fn pyramid_rows(
         );
     });
     ui.end_row();
-    ui.label("image up");
+    ui.label("up")
+        .on_hover_text("the projected image's up direction");
     ui.horizontal(|ui| changed |= edit::vec3(ui, &mut l.up, 0.01, &format!("{id}up")));
     ui.end_row();
     ui.label("image");
-    ui.horizontal_wrapped(|ui| {
-        match &l.image {
-            Some(t) => ui.label(format!("{} ({}x{})", t.name, t.width, t.height)),
-            None => ui.label("none (plain colour)"),
-        };
-        if loading {
-            ui.label("reading…");
-        }
+    match &l.image {
+        Some(t) => ui.label(format!("{} ({}x{})", t.name, t.width, t.height)),
+        None => ui.label("none (plain colour)"),
+    };
+    ui.end_row();
+    ui.label("");
+    ui.horizontal(|ui| {
         if ui
             .small_button("choose…")
             .accessible_name(format!("{id}choose image"))
@@ -494,6 +499,9 @@ fn pyramid_rows(
         {
             l.image = None;
             changed = true;
+        }
+        if loading {
+            ui.label("reading…");
         }
     });
     ui.end_row();
@@ -538,7 +546,8 @@ fn attenuation_rows(ui: &mut egui::Ui, id: &str, i: usize, l: &mut Light, s: &Sp
     match &mut l.attenuation {
         Attenuation::Linear { near, far } => {
             let (mut n, mut f) = (*near, *far);
-            ui.label("full within, none beyond");
+            ui.label("near / far")
+                .on_hover_text("full strength within near, none beyond far, linear between");
             let (cn, cf) = ui
                 .horizontal(|ui| {
                     let cn = edit::drag(ui, &mut n, 0.0..=f32::MAX, speed, &format!("{id}near"));
@@ -566,14 +575,15 @@ fn attenuation_rows(ui: &mut egui::Ui, id: &str, i: usize, l: &mut Light, s: &Sp
         Attenuation::None | Attenuation::InverseSquare => {}
     }
     let factor = l.attenuation.factor(f64::from(d)) as f32;
-    ui.label("at the scene's centre");
+    ui.label("at centre")
+        .on_hover_text("distance from the light to the scene's centre, and the attenuation there");
     ui.horizontal(|ui| {
-        ui.label(format!("d {d:.3}: x {factor:.4}"));
+        ui.label(format!("d {d:.2}: x {factor:.3}"));
         if factor > 0.0
             && factor.is_finite()
             && (factor - 1.0).abs() > 1e-6
             && ui
-                .small_button("intensity for x 1 there")
+                .small_button("set x 1")
                 .on_hover_text(
                     "sets the intensity so the light arrives at the centre at its colour",
                 )
@@ -620,6 +630,8 @@ pub fn install_image(app: &mut ViewerApp, light: usize, out: slide::Outcome) {
     let texture = match out {
         Ok(t) => t,
         Err(e) => {
+            // Also in the status bar: the editor may be scrolled away or shut.
+            app.notice = Some(e.clone());
             app.panels.lights.slide_error = Some(e);
             return;
         }

@@ -421,12 +421,10 @@ pub fn status_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
 pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
     egui::Panel::left("controls")
         .resizable(true)
-        .default_size(290.0)
+        .default_size(320.0)
         .size_range(200.0..=420.0)
         .show(ui, |ui| {
-            // Both ways, as on the right: a wide editor row scrolls rather than growing the
-            // panel, which would shrink the viewport and re-render the frame.
-            egui::ScrollArea::both().show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
                 egui::CollapsingHeader::new("Shading")
                     .default_open(true)
                     .show(ui, |ui| shading::show(app, ui));

@@ -191,7 +191,8 @@ fn light_shares(ui: &mut egui::Ui, p: &crate::render::Probe) {
         .num_columns(5)
         .striped(true)
         .show(ui, |ui| {
-            for h in ["light", "arriving", "shadow", "diffuse", "specular"] {
+            // The shares first: the columns to the right may need a sideways scroll.
+            for h in ["light", "diffuse", "specular", "shadow", "arriving"] {
                 ui.label(RichText::new(h).italics());
             }
             ui.end_row();
@@ -203,22 +204,22 @@ fn light_shares(ui: &mut egui::Ui, p: &crate::render::Probe) {
                     format!("light {}: {} '{}'", s.index, l.kind(), l.name)
                 };
                 ui.label(name);
-                ui.monospace(v3(s.arriving));
+                ui.monospace(v3(s.diffuse));
+                ui.monospace(v3(s.specular));
                 ui.monospace(if l.shadow && l.kind.can_shadow() {
                     format!("{:.2}", s.shadow)
                 } else {
                     "-".into()
                 })
                 .on_hover_text("1 lit, 0 in shadow (a ray towards the light); - casts none");
-                ui.monospace(v3(s.diffuse));
-                ui.monospace(v3(s.specular));
+                ui.monospace(v3(s.arriving)).on_hover_text(
+                    "radiance arriving after attenuation, cone or pyramid and image, before shadow",
+                );
                 ui.end_row();
             }
             ui.label("ambient");
-            ui.label("");
-            ui.label("");
-            ui.monospace(v3(p.ambient));
-            ui.label("");
+            ui.monospace(v3(p.ambient))
+                .on_hover_text("every ambient light x Ka x Kd; never attenuated");
             ui.end_row();
             if let Some(f) = p.fog {
                 ui.label("fog factor");
