@@ -1311,3 +1311,35 @@ fn a_rect_light_projects_a_chosen_image_and_a_bad_file_shows_its_error() {
     assert!(custom_lights(h.state()).0[4].image.is_none());
     assert_eq!(differing(&shown_image(&h), &white), 0);
 }
+
+#[test]
+fn the_demo_spotlight_shadow_follows_the_editor_and_the_shadow_settings() {
+    let dir = temp_dir("shadows");
+    let mut h = viewer(None, &dir, 1);
+    activate(&mut h, "Lights");
+    activate(&mut h, "2: spotlight (spot)");
+    let shadowed = shown_image(&h);
+    assert_eq!(h.state().settings.lights, Lights::Auto);
+    // The demo's spotlight casts shadows: off, the frame changes; on again, it is back.
+    activate(&mut h, "light 2 shadows");
+    let (lights, follow) = custom_lights(h.state());
+    assert!(!follow, "the scene's lights are in the world");
+    assert!(!lights[2].shadow);
+    assert_current_frame(h.state());
+    let lit = shown_image(&h);
+    let n = differing(&lit, &shadowed);
+    assert!(n > 100, "only {n} pixels changed without the shadow");
+    activate(&mut h, "light 2 shadows");
+    assert_eq!(differing(&shown_image(&h), &shadowed), 0);
+
+    // Hard edges (one tap) and a coarse map move the shadow's edge pixels.
+    activate(&mut h, "Fog, tone map, shadows, ground");
+    h.get_by_label("Shadows cast by: 2 spotlight");
+    set_value(&mut h, "shadow PCF radius", 0.0);
+    assert_eq!(h.state().settings.shadow.pcf, 0);
+    assert!(differing(&shown_image(&h), &shadowed) > 0, "PCF 1 -> 0");
+    let hard = shown_image(&h);
+    choose(&mut h, "shadow map size", "256x256");
+    assert_eq!(h.state().settings.shadow.size, 256);
+    assert!(differing(&shown_image(&h), &hard) > 0, "1024 -> 256 texels");
+}
