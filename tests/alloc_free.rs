@@ -124,6 +124,18 @@ fn a_second_frame_allocates_nothing() {
             camera.clone(),
         ),
         (
+            "fog, tone mapping, ground plane (the demo's spotlight casts shadows)",
+            &demo,
+            Settings {
+                fog: Some(realist::shade::Fog::default()),
+                tone: realist::render::ToneMap::Reinhard,
+                ground: Some(realist::render::Ground::default()),
+                shading: Some(Shading::Gouraud),
+                ..base.clone()
+            },
+            camera.clone(),
+        ),
+        (
             "2x2 supersampling",
             &demo,
             Settings {

@@ -317,6 +317,27 @@ impl Target {
         }
     }
 
+    /// Replaces every stored colour (each sample of each pixel, and a pending clear colour)
+    /// by `f(colour)`, in parallel over tiles: a per-pixel operator such as tone mapping,
+    /// applied before samples are averaged.
+    pub fn map_colors(&mut self, f: impl Fn(Vec4) -> Vec4 + Sync) {
+        self.tiles.par_iter_mut().for_each(|t| {
+            if let Some(c) = t.pending_clear.as_mut() {
+                *c = f(*c);
+                return;
+            }
+            for plane in t.color.chunks_exact_mut(4 * TILE_PIXELS) {
+                let (r, rest) = plane.split_at_mut(TILE_PIXELS);
+                let (g, rest) = rest.split_at_mut(TILE_PIXELS);
+                let (b, a) = rest.split_at_mut(TILE_PIXELS);
+                for i in 0..TILE_PIXELS {
+                    let c = f(Vec4::new(r[i], g[i], b[i], a[i]));
+                    (r[i], g[i], b[i], a[i]) = (c.x, c.y, c.z, c.w);
+                }
+            }
+        });
+    }
+
     /// 8-bit sRGB-encoded RGB, row-major, straight from the tiles (in parallel over tile
     /// rows); out-of-range values are clamped and NaN becomes 0.
     ///

@@ -253,18 +253,21 @@ pub(super) fn set_up(
     let planes = frustum_planes(vp);
     for (k, inst) in scene.instances.iter().enumerate() {
         let tri = &scene.meshes[inst.mesh].tri;
-        if !inst.drawable {
-            continue;
-        }
-        if tri.radius < 0.0 || !sphere_visible(&planes, inst.world, tri.center, tri.radius) {
+        let world = match (inst.ground, &settings.ground) {
+            (true, Some(g)) => scene.ground_world(g),
+            (true, None) => continue,
+            (false, _) if !inst.drawable => continue,
+            (false, _) => inst.world,
+        };
+        if tri.radius < 0.0 || !sphere_visible(&planes, world, tri.center, tri.radius) {
             if shadows && tri.radius >= 0.0 {
                 let r = resolve(scene, settings, inst);
                 fd.casters.push(FrameInst {
                     inst: k as u32,
                     mesh: inst.mesh as u32,
-                    mvp: vp * inst.world,
-                    world: inst.world,
-                    model_view: view * inst.world,
+                    mvp: vp * world,
+                    world,
+                    model_view: view * world,
                     state: r.state,
                     param: 0,
                     mode: r.mode,
@@ -280,7 +283,15 @@ pub(super) fn set_up(
             continue;
         }
         let mut r = resolve(scene, settings, inst);
-        let (c, radius) = world_sphere(inst.world, tri.center, tri.radius);
+        if let (true, Some(g)) = (inst.ground, &settings.ground) {
+            let c = if g.color.is_finite() {
+                g.color
+            } else {
+                Vec3::splat(0.5)
+            };
+            r.params.base = c.extend(1.0);
+        }
+        let (c, radius) = world_sphere(world, tri.center, tri.radius);
         r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
         if let (true, Some(t)) = (r.textured, &r.params.texture) {
             if r.params.sampler.filter == Filter::Trilinear {
@@ -288,13 +299,13 @@ pub(super) fn set_up(
                 t.prepare_mips();
             }
         }
-        let center = inst.world.transform_point3(tri.center);
+        let center = world.transform_point3(tri.center);
         fd.insts.push(FrameInst {
             inst: k as u32,
             mesh: inst.mesh as u32,
-            mvp: vp * inst.world,
-            world: inst.world,
-            model_view: view * inst.world,
+            mvp: vp * world,
+            world,
+            model_view: view * world,
             state: r.state,
             param: fd.params.len() as u32,
             mode: r.mode,

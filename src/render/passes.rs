@@ -42,6 +42,9 @@ pub(super) struct Cx<'a> {
     pub vertex_nanos: u64,
     /// World -> clip of a shadow map being rendered (replaces each instance's `mvp`).
     pub light: Option<Mat4>,
+    /// Draw each instance's triangles back to front (blended instances, whose triangles
+    /// may overlap each other).
+    pub sort: bool,
 }
 
 /// Which positions a group's draws use.
@@ -58,6 +61,7 @@ struct GroupDraws<'a> {
     scene: &'a PreparedScene,
     insts: &'a [FrameInst],
     items: &'a [Item],
+    sorted: &'a [[u32; 3]],
     clip: &'a [Vec4],
     var: &'a [f32],
     geometry: Geometry,
@@ -80,9 +84,14 @@ impl DrawList for GroupDraws<'_> {
             clip: &self.clip[range],
             varyings: &self.var[vars],
             stride: it.stride as usize,
-            triangles: match self.geometry {
-                Geometry::Indexed => &mesh.tri.triangles,
-                Geometry::Flat => &mesh.flat().triangles,
+            triangles: if it.sorted == u32::MAX {
+                match self.geometry {
+                    Geometry::Indexed => &mesh.tri.triangles,
+                    Geometry::Flat => &mesh.flat().triangles,
+                }
+            } else {
+                let first = it.sorted as usize;
+                &self.sorted[first..first + mesh.tri.triangles.len()]
             },
             state: (self.state)(fi.state),
         }
@@ -147,7 +156,19 @@ fn group_with<S: raster::FragmentShader>(
             len: len as u32,
             var_start: var_start as u32,
             stride: stride as u32,
+            sorted: u32::MAX,
         });
+        if cx.sort {
+            let it = g.items.last_mut().expect("just pushed");
+            it.sorted = g.sorted.len() as u32;
+            sort_back_to_front(
+                &mesh.tri.triangles,
+                geometry,
+                &g.clip[first..],
+                &mut g.keys,
+                &mut g.sorted,
+            );
+        }
     }
     cx.vertex_nanos += start.elapsed().as_nanos() as u64;
     if g.items.is_empty() {
@@ -158,11 +179,14 @@ fn group_with<S: raster::FragmentShader>(
         var,
         items,
         raster: scratch,
+        sorted,
+        ..
     } = &mut *g;
     let list = GroupDraws {
         scene: cx.scene,
         insts,
         items,
+        sorted,
         clip,
         var,
         geometry,
@@ -172,6 +196,39 @@ fn group_with<S: raster::FragmentShader>(
         cx.target, &list, shader, cx.stats, cx.bins, scratch, cx.stop,
     );
     (done, g)
+}
+
+/// Appends an instance's triangles to `out` in back-to-front order of their centroids'
+/// depth (the sum of the corners' clip z, which falls with distance in the reversed-depth
+/// convention of [`Camera::projection`], perspective or parallel), ties in mesh order.
+/// `clip` holds the instance's clip positions (for flat geometry, three per triangle).
+fn sort_back_to_front(
+    triangles: &[[u32; 3]],
+    geometry: Geometry,
+    clip: &[Vec4],
+    keys: &mut Vec<(f32, u32)>,
+    out: &mut Vec<[u32; 3]>,
+) {
+    keys.clear();
+    keys.extend(triangles.iter().enumerate().map(|(t, tri)| {
+        let corners = match geometry {
+            Geometry::Indexed => *tri,
+            Geometry::Flat => {
+                let t = t as u32;
+                [3 * t, 3 * t + 1, 3 * t + 2]
+            }
+        };
+        let z: f32 = corners
+            .iter()
+            .map(|&k| clip.get(k as usize).map_or(0.0, |c| c.z))
+            .sum();
+        (if z.is_nan() { 0.0 } else { z }, t as u32)
+    }));
+    keys.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    out.extend(keys.iter().map(|&(_, t)| match geometry {
+        Geometry::Indexed => triangles[t as usize],
+        Geometry::Flat => [3 * t, 3 * t + 1, 3 * t + 2],
+    }));
 }
 
 /// Draws a whole frame; returns false if stopped.
@@ -194,12 +251,14 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     }
     fd.depth = depth;
     let fdr = &*fd;
+    cx.sort = true;
     for &k in &fdr.order {
         if !done {
             break;
         }
         done = solid(cx, fdr, &|j, _| j == k as usize);
     }
+    cx.sort = false;
     done
 }
 

@@ -46,6 +46,9 @@ pub(super) struct Item {
     /// First float in the varyings, and floats per vertex.
     pub var_start: u32,
     pub stride: u32,
+    /// With sorted triangles: first triangle in [`GroupScratch::sorted`] (the draw has all
+    /// of its mesh's triangles there, farthest first); `u32::MAX` otherwise.
+    pub sorted: u32,
 }
 
 /// The buffers of one group of draws.
@@ -55,6 +58,9 @@ pub(super) struct GroupScratch {
     pub var: Vec<f32>,
     pub items: Vec<Item>,
     pub raster: RasterScratch,
+    /// Triangles sorted back to front (blended instances), and the sort keys.
+    pub sorted: Vec<[u32; 3]>,
+    pub keys: Vec<(f32, u32)>,
 }
 
 impl GroupScratch {
@@ -62,5 +68,6 @@ impl GroupScratch {
         self.clip.clear();
         self.var.clear();
         self.items.clear();
+        self.sorted.clear();
     }
 }

@@ -26,6 +26,9 @@ pub struct PreparedScene {
     bounds: Option<(Vec3, Vec3)>,
 }
 
+/// Quads per side of the ground plane's grid.
+const GROUND_CELLS: u32 = 32;
+
 /// One mesh ready to draw.
 #[derive(Debug)]
 pub struct PreparedMesh {
@@ -57,8 +60,12 @@ pub(crate) struct PreparedInstance {
     /// Index into [`PreparedScene::materials`].
     pub material: usize,
     pub style: Style,
-    /// False if the instance can never draw (no triangles or a non-finite matrix).
+    /// False if the instance can never draw (no triangles or a non-finite matrix); also
+    /// false for the ground plane, which set-up draws only when the settings ask for it.
     pub drawable: bool,
+    /// The ground plane ([`super::Ground`]), last of the instances; its world matrix is
+    /// made per frame by [`PreparedScene::ground_world`].
+    pub ground: bool,
 }
 
 impl PreparedScene {
@@ -95,10 +102,37 @@ impl PreparedScene {
                     material,
                     style: inst.style,
                     drawable: !tri.triangles.is_empty() && inst.world.is_finite(),
+                    ground: false,
                 })
             })
-            .collect();
+            .collect::<Vec<_>>();
         let bounds = scene.bounds();
+        // The ground plane: a unit grid (cut so per-vertex lighting shows pools of light),
+        // with a material of its own after the default one.
+        let mut meshes = meshes;
+        let mut instances = instances;
+        let ground = crate::mesh::Mesh::grid(1.0, 1.0, GROUND_CELLS, GROUND_CELLS)
+            .expect("the ground grid's parameters are valid");
+        meshes.push(PreparedMesh {
+            tri: ground.triangulate(),
+            flat: OnceLock::new(),
+        });
+        materials.push(Material {
+            name: "ground".into(),
+            specular: Vec3::splat(0.03),
+            shininess: 8.0,
+            ..Material::default()
+        });
+        instances.push(PreparedInstance {
+            mesh: meshes.len() - 1,
+            world: Mat4::IDENTITY,
+            normal: Mat3::IDENTITY,
+            mirrored: false,
+            material: materials.len() - 1,
+            style: Style::Inherit,
+            drawable: false,
+            ground: true,
+        });
         Self {
             scene,
             meshes,
@@ -136,11 +170,28 @@ impl PreparedScene {
         }
     }
 
-    /// Total triangles over the instances.
+    /// Where the ground plane goes: just under the scene's bounds (y up), centred under
+    /// them, `extent` times the bounding radius in each direction.
+    #[must_use]
+    pub fn ground_world(&self, ground: &super::Ground) -> Mat4 {
+        let (c, r) = self.bounding_sphere();
+        let floor = self.bounds.map_or(c.y - r, |(lo, _)| lo.y);
+        let extent = if ground.extent.is_finite() {
+            ground.extent.clamp(0.01, 1e4)
+        } else {
+            4.0
+        };
+        let half = r * extent;
+        Mat4::from_translation(Vec3::new(c.x, floor - r * 1e-4, c.z))
+            * Mat4::from_scale(Vec3::new(half, 1.0, half))
+    }
+
+    /// Total triangles over the instances (the ground plane not included).
     #[must_use]
     pub fn triangle_count(&self) -> u64 {
         self.instances
             .iter()
+            .filter(|i| !i.ground)
             .map(|i| self.meshes[i.mesh].tri.triangles.len() as u64)
             .sum()
     }

@@ -193,6 +193,7 @@ impl Renderer {
                 stop,
                 vertex_nanos: 0,
                 light: None,
+                sort: false,
             };
             let done = if k < passes {
                 let overdraw = settings.output == Output::Overdraw;
@@ -215,6 +216,12 @@ impl Renderer {
                 accumulate(target, &mut self.accum, last.then_some(1.0 / passes as f32));
                 resolve += t.elapsed();
             }
+        }
+        if settings.tone != super::ToneMap::Clamp && settings.output == Output::Shaded {
+            let t = Instant::now();
+            let tone = settings.tone;
+            target.map_colors(|c| tone.apply(c));
+            resolve += t.elapsed();
         }
         let ms = |nanos: u64| nanos as f64 * 1e-6;
         self.report = FrameReport {

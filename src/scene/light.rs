@@ -336,7 +336,7 @@ impl Light {
             |x: f32, y: f32, z: f32| -(camera_to_world * Vec3::new(x, y, z)).normalize_or(Vec3::Y);
         [
             Light::ambient(Vec3::splat(0.08)).with_name("ambient"),
-            Light::directional(towards(0.35, 0.55, 0.75), Vec3::new(1.0, 0.97, 0.92))
+            Light::directional(towards(0.55, 0.25, 0.8), Vec3::new(0.9, 0.87, 0.82))
                 .with_name("key"),
             Light::directional(towards(-0.8, 0.0, 0.45), Vec3::new(0.22, 0.24, 0.28))
                 .with_name("fill"),

@@ -64,12 +64,12 @@ impl Default for Material {
     fn default() -> Self {
         Self {
             name: "default".into(),
-            base_color: Vec4::new(0.6, 0.6, 0.6, 1.0),
+            base_color: Vec4::new(0.3, 0.32, 0.36, 1.0),
             base_color_texture: None,
             ambient: Vec3::splat(1.0),
-            specular: Vec3::splat(0.2),
+            specular: Vec3::splat(0.6),
             specular_texture: None,
-            shininess: 32.0,
+            shininess: 80.0,
             emissive: Vec3::ZERO,
             metallic: 0.0,
             roughness: 0.5,
