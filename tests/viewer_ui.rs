@@ -1072,8 +1072,19 @@ fn fog_tone_map_shadows_and_ground_from_the_panel() {
     activate(&mut h, "fog (linear, seed 003 §4.9)");
     assert_eq!(h.state().settings.fog, kept);
 
+    // Tone maps: with the key light ten times as strong, much of the torus is above 1.
+    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, "Lights");
+    activate(&mut h, "1: key (directional)");
+    set_value(&mut h, "light 1 intensity", 10.0);
+    let clamped = shown_image(&h);
     choose(&mut h, "tone map A", "scale-max");
     assert_eq!(h.state().settings.tone, ToneMap::ScaleMax);
+    assert_eq!(h.state().split.b.tone, ToneMap::Clamp, "B keeps its own");
+    assert_frame_changed(h.state(), &clamped, "clamp -> scale by the largest");
+    let scaled = shown_image(&h);
+    choose(&mut h, "tone map A", "reinhard");
+    assert_frame_changed(h.state(), &scaled, "scale-max -> Reinhard");
 
     choose(&mut h, "shadow map size", "512x512");
     assert_eq!(h.state().settings.shadow.size, 512);
@@ -1084,8 +1095,11 @@ fn fog_tone_map_shadows_and_ground_from_the_panel() {
     assert_eq!(h.state().split.b.shadow, h.state().settings.shadow);
 
     assert_eq!(h.state().settings.ground, None);
+    let bare = shown_image(&h);
     activate(&mut h, "ground plane under the scene (catches shadows)");
     let g = h.state().settings.ground.expect("a ground plane");
+    assert_current_frame(h.state());
+    assert_frame_changed(h.state(), &bare, "a ground plane");
     set_value(&mut h, "ground extent", 2.0);
     assert_eq!(
         h.state().settings.ground.unwrap().extent,
