@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
 use eframe::egui::{self, accesskit::Role, ColorImage, Key, Modifiers, Pos2, Vec2};
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 use egui_kittest::Harness;
 use glam::Vec3;
 
@@ -642,4 +642,718 @@ fn probe_a_pixel_against_the_renderer_buffers() {
     let pv = h.state().panels.probe.as_ref().expect("the probe panel");
     assert_eq!(pv.pixel, [1, 1]);
     assert!(pv.probe.is_none() && pv.buffer_depth.is_none());
+}
+
+// ---------------------------------------------------------------------------------------
+// Lights, gizmos, environment, materials and the probe's light shares (issue 12).
+
+use realist::render::{Lights, ToneMap};
+use realist::scene::{Attenuation, Light, LightKind};
+use realist::shade::FogDistance;
+use realist::viewer::gizmos::{clip_2d, Projector, NEAR_FRACTION};
+
+/// Activates the widget labelled `label` (through accessibility, so it need not be
+/// scrolled into view) and lets the viewer settle.
+fn activate(h: &mut App, label: &str) {
+    h.get_by_label(label).click_accesskit();
+    h.run();
+}
+
+/// Sets the drag value or slider named `label` as a screen reader would.
+fn set_value(h: &mut App, label: &str, value: f64) {
+    h.get_by_label(label).set_value_accesskit(value);
+    h.run();
+}
+
+/// Picks `entry` in the combo box named `combo`. (A click through accessibility does not
+/// close the popup as a mouse click does: Escape does.)
+fn choose(h: &mut App, combo: &str, entry: &str) {
+    h.get_by_role_and_label(Role::ComboBox, combo)
+        .click_accesskit();
+    h.run();
+    activate(h, entry);
+    h.key_press(Key::Escape);
+    h.run();
+    assert!(
+        !egui::Popup::is_any_open(&h.ctx),
+        "{combo}: the popup closed"
+    );
+}
+
+/// The custom light list the editor made.
+fn custom_lights(app: &ViewerApp) -> (Vec<Light>, bool) {
+    match &app.settings.lights {
+        Lights::Custom {
+            lights,
+            follow_camera,
+        } => (lights.clone(), *follow_camera),
+        Lights::Auto => panic!("the editor left the lights on Auto"),
+    }
+}
+
+fn degrees(radians: f32) -> f32 {
+    radians.to_degrees()
+}
+
+#[test]
+fn a_light_turned_into_a_spot_keeps_its_values_and_its_cone_follows_the_editor() {
+    let dir = temp_dir("spot");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    // The torus has no lights: the default rig, attached to the camera.
+    activate(&mut h, "Lights");
+    activate(&mut h, "1: key (directional)");
+    assert_eq!(
+        h.state().settings.lights,
+        Lights::Auto,
+        "opening the editor changes nothing"
+    );
+    let rig_key = Light::default_rig(glam::Mat3::IDENTITY)[1].clone();
+    let directional = shown_image(&h);
+
+    choose(&mut h, "light 1 kind", "spot");
+    let (lights, follow) = custom_lights(h.state());
+    assert!(follow, "the rig follows the camera");
+    assert_eq!(lights.len(), 4);
+    let key = &lights[1];
+    assert_eq!(key.kind, LightKind::Spot);
+    assert_eq!(
+        Light {
+            kind: LightKind::Directional,
+            ..key.clone()
+        },
+        rig_key,
+        "only the kind changed"
+    );
+    assert_current_frame(h.state());
+    assert_frame_changed(h.state(), &directional, "directional -> spot");
+    h.get_by_label("1: key (spot)");
+
+    // Aimed from the eye at the torus, the 30-degree falloff takes it all in.
+    activate(&mut h, "aim at the centre");
+    let key = custom_lights(h.state()).0[1].clone();
+    assert_eq!(key.position, Vec3::ZERO, "at the eye (camera space)");
+    let centre = h
+        .state()
+        .current_view()
+        .camera
+        .view()
+        .transform_point3(h.state().scene.bounding_sphere().0);
+    assert!(key.direction.angle_between(centre).abs() < 1e-4);
+    // The falloff below the hotspot pulls the hotspot in with it.
+    // Half the angle the scene's bounding sphere subtends from the eye: the torus's outer
+    // part falls outside the cone.
+    let wide = shown_image(&h);
+    let (radius, distance) = (h.state().scene.bounding_sphere().1, centre.length());
+    let narrow = f64::from((radius / distance).asin().to_degrees() * 0.5);
+    assert!(f64::from(degrees(key.inner)) > narrow);
+    set_value(&mut h, "light 1 outer", narrow);
+    let key = custom_lights(h.state()).0[1].clone();
+    let close = |a: f32| (f64::from(degrees(a)) - narrow).abs() < 1e-3;
+    assert!(close(key.outer), "outer {}", degrees(key.outer));
+    assert!(close(key.inner), "inner {}", degrees(key.inner));
+    assert_current_frame(h.state());
+    assert_frame_changed(h.state(), &wide, "a narrower cone");
+
+    // A hotspot beyond the falloff pushes the falloff out.
+    set_value(&mut h, "light 1 inner", 40.0);
+    let key = custom_lights(h.state()).0[1].clone();
+    assert!((degrees(key.inner) - 40.0).abs() < 1e-3);
+    assert!((degrees(key.outer) - 40.0).abs() < 1e-3);
+    // Beyond what the renderer accepts: held at its limit.
+    set_value(&mut h, "light 1 outer", 150.0);
+    let key = custom_lights(h.state()).0[1].clone();
+    assert!(key.outer <= realist::shade::MAX_HALF_ANGLE + 1e-6);
+    assert!(key.inner <= key.outer);
+
+    // To a point light and back: the cone is still there.
+    let cone = (key.inner, key.outer);
+    choose(&mut h, "light 1 kind", "point");
+    assert_eq!(custom_lights(h.state()).0[1].kind, LightKind::Point);
+    assert!(
+        h.query_by_label("light 1 outer").is_none(),
+        "a point light has no cone"
+    );
+    choose(&mut h, "light 1 kind", "spot");
+    let key = custom_lights(h.state()).0[1].clone();
+    assert_eq!((key.inner, key.outer), cone);
+
+    // Attenuation: linear with its two distances kept in order.
+    choose(&mut h, "light 1 attenuation", "linear");
+    let Attenuation::Linear { near, far } = custom_lights(h.state()).0[1].attenuation else {
+        panic!("linear attenuation expected");
+    };
+    assert!(near < far && far > 0.0, "near {near} far {far}");
+    set_value(&mut h, "light 1 near", f64::from(far) * 2.0);
+    let a = custom_lights(h.state()).0[1].attenuation;
+    assert!(a.is_valid(), "{a:?}");
+    let Attenuation::Linear { near: n2, far: f2 } = a else {
+        panic!("still linear");
+    };
+    assert!((n2 - far * 2.0).abs() < 1e-3 * far && n2 <= f2);
+    choose(&mut h, "light 1 attenuation", "range");
+    assert!(matches!(custom_lights(h.state()).0[1].attenuation, Attenuation::Range(r) if r > 0.0));
+
+    // Shadows: a spot can cast them.
+    activate(&mut h, "light 1 shadows");
+    assert!(custom_lights(h.state()).0[1].shadow);
+
+    // Back to the rig.
+    activate(&mut h, "back to the scene's lights (or the default rig)");
+    assert_eq!(h.state().settings.lights, Lights::Auto);
+    assert_eq!(differing(&shown_image(&h), &directional), 0);
+}
+
+#[test]
+fn lights_are_added_duplicated_removed_and_follow_the_camera_or_not() {
+    let dir = temp_dir("light-list");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    activate(&mut h, "Lights");
+    let before = shown_image(&h);
+    activate(&mut h, "+ point");
+    let added = shown_image(&h);
+    let (lights, follow) = custom_lights(h.state());
+    assert_eq!(lights.len(), 5);
+    assert_eq!(lights[4].kind, LightKind::Point);
+    assert!(follow);
+    assert_frame_changed(h.state(), &before, "a point light added");
+
+    // Out of camera space: the lights stay where they are in the world.
+    let camera = h.state().current_view().camera;
+    let world_before = camera.view().inverse().transform_point3(lights[4].position);
+    activate(
+        &mut h,
+        "follow the camera (positions and directions in camera space)",
+    );
+    let (lights, follow) = custom_lights(h.state());
+    assert!(!follow);
+    assert!(
+        (lights[4].position - world_before).length() < 1e-4,
+        "{} vs {world_before}",
+        lights[4].position
+    );
+    // The same lights in the world: the same frame, but for rounding in a few pixels.
+    let moved = differing(&shown_image(&h), &added);
+    assert!(moved * 1000 < added.pixels.len(), "{moved} pixels changed");
+
+    activate(&mut h, "4: point 4 (point)");
+    activate(&mut h, "light 4 duplicate");
+    let lights = custom_lights(h.state()).0;
+    assert_eq!(lights.len(), 6);
+    assert_eq!(lights[5].position, lights[4].position);
+    assert_eq!(lights[5].name, "point 4 copy");
+    activate(&mut h, "light 4 remove");
+    let lights = custom_lights(h.state()).0;
+    assert_eq!(lights.len(), 5);
+    assert_eq!(lights[4].name, "point 4 copy");
+}
+
+#[test]
+fn odd_light_values_show_without_panicking_and_unchanged() {
+    let dir = temp_dir("odd-lights");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    let nan = f32::NAN;
+    let odd = vec![
+        Light::spot(Vec3::splat(nan), Vec3::ZERO, Vec3::ONE, 1.0, 0.2),
+        Light {
+            inner: nan,
+            outer: f32::INFINITY,
+            ..Light::spot(Vec3::new(0.0, 0.0, 5.0), Vec3::NEG_Z, Vec3::ONE, 0.0, 0.0)
+        },
+        Light::rect(
+            Vec3::new(0.0, 3.0, 0.0),
+            Vec3::NEG_Y,
+            Vec3::NEG_Y,
+            glam::Vec2::new(nan, -1.0),
+            Vec3::splat(f32::INFINITY),
+        )
+        .with_attenuation(Attenuation::Linear {
+            near: 5.0,
+            far: 1.0,
+        }),
+        Light::directional(Vec3::splat(nan), Vec3::ONE).with_intensity(nan),
+        Light::point(Vec3::new(1e30, 0.0, 0.0), Vec3::ONE),
+        // Valid but odd: the renderer holds the hotspot at the falloff.
+        Light::spot(Vec3::new(0.0, 0.0, 5.0), Vec3::NEG_Z, Vec3::ONE, 1.0, 0.2)
+            .with_attenuation(Attenuation::Range(nan)),
+        Light::spot(Vec3::new(0.0, 0.0, 5.0), Vec3::NEG_Z, Vec3::ONE, 1.0, 0.2),
+    ];
+    let custom = Lights::Custom {
+        lights: odd,
+        follow_camera: false,
+    };
+    h.state_mut().settings.lights = custom;
+    // The viewer settles although these settings never equal themselves (NaN).
+    h.run();
+    let settings = h.state().settings.clone();
+    activate(&mut h, "Lights");
+    for i in 0..7 {
+        let prefix = format!("{i}: ");
+        let header = h
+            .query_all_by(|n| text_of(n).is_some_and(|l| l.starts_with(&prefix)))
+            .next()
+            .and_then(|n| text_of(&n.accesskit_node()))
+            .expect("a header per light");
+        activate(&mut h, &header);
+    }
+    h.run();
+    assert!(
+        realist::viewer::same::same(&h.state().settings, &settings),
+        "showing odd values changes nothing"
+    );
+    // Every gizmo point is finite; the lights that cannot shine are not drawn at all.
+    let gizmos = &h.state().viewport.gizmos;
+    assert_eq!(
+        gizmos.iter().map(|g| g.index).collect::<Vec<_>>(),
+        [4, 6],
+        "{gizmos:?}"
+    );
+    for g in gizmos {
+        for p in g.lines.iter().chain(&g.faint).flatten().chain(&g.anchor) {
+            assert!(p.x.is_finite() && p.y.is_finite(), "{g:?}");
+        }
+    }
+    // Editing one odd value writes a sane one.
+    set_value(&mut h, "light 1 outer", 20.0);
+    let l = &custom_lights(h.state()).0[1];
+    assert!(l.inner.is_finite() && l.inner <= l.outer, "{l:?}");
+}
+
+#[test]
+fn gizmos_show_each_light_where_the_camera_sees_it_and_toggle() {
+    let dir = temp_dir("gizmos");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    // The rig's key, fill and rim lights are arrows; ambient light is not drawn.
+    let g = h.state().viewport.gizmos.clone();
+    assert_eq!(
+        g.iter().map(|g| g.index).collect::<Vec<_>>(),
+        [1, 2, 3],
+        "{g:?}"
+    );
+    assert!(g
+        .iter()
+        .all(|g| g.kind == LightKind::Directional && g.lines.len() == 3));
+    h.key_press(Key::L);
+    h.run();
+    assert!(!h.state().panels.lights.gizmos);
+    assert!(h.state().viewport.gizmos.is_empty(), "L hides them");
+    h.key_press(Key::L);
+    h.run();
+    assert_eq!(h.state().viewport.gizmos.len(), 3, "L shows them again");
+
+    // A spot placed by the editor: its apex where the camera projects it, a cone around it.
+    activate(&mut h, "Lights");
+    activate(&mut h, "+ spot");
+    let app = h.state();
+    let spot = custom_lights(app).0[4].clone();
+    let view = app.shown.as_ref().unwrap().view.clone();
+    let world = view.camera.view().inverse().transform_point3(spot.position);
+    let expected = Projector::new(&view, app.viewport.rect)
+        .point(world)
+        .expect("in front of the camera");
+    let g = app
+        .viewport
+        .gizmos
+        .iter()
+        .find(|g| g.index == 4)
+        .expect("the spot's gizmo");
+    assert_eq!(g.kind, LightKind::Spot);
+    let apex = g.anchor.expect("the apex is in view");
+    assert!((apex - expected).length() < 1e-3);
+    assert!(app.viewport.rect.contains(apex), "the apex is on screen");
+    // 48 segments of the falloff circle and 4 generators, all on screen here.
+    assert_eq!(g.lines.len(), 52);
+    assert!(g.faint.len() > 48, "axis and hotspot circle");
+
+    activate(&mut h, "show the lights and their cones in the view (L)");
+    assert!(
+        h.state().viewport.gizmos.is_empty(),
+        "the checkbox hides them"
+    );
+}
+
+#[test]
+fn gizmo_segments_are_clipped_at_the_near_plane() {
+    let camera = realist::scene::Camera {
+        eye: Vec3::new(0.0, 0.0, 5.0),
+        target: Vec3::ZERO,
+        near: 0.5,
+        far: 100.0,
+        ..realist::scene::Camera::default()
+    };
+    let view = realist::render::View {
+        camera,
+        width: 800,
+        height: 600,
+    };
+    let rect = egui::Rect::from_min_size(Pos2::new(10.0, 20.0), Vec2::new(400.0, 300.0));
+    let p = Projector::new(&view, rect);
+    // The target projects to the centre.
+    assert!((p.point(Vec3::ZERO).unwrap() - rect.center()).length() < 1e-3);
+    // Behind the eye: no point; a segment entirely behind: nothing.
+    assert_eq!(p.point(Vec3::new(0.0, 0.0, 6.0)), None);
+    assert_eq!(
+        p.segment(Vec3::new(0.0, 0.0, 6.0), Vec3::new(1.0, 0.0, 7.0)),
+        None
+    );
+    // From behind the camera to the origin, off the axis: cut where it crosses the clipping
+    // plane just in front of the eye, which projects to where that point would.
+    let near = NEAR_FRACTION * 5.0;
+    let (a, b) = (Vec3::new(1.0, 0.5, 8.0), Vec3::ZERO);
+    let seg = p.segment(a, b).expect("the front part");
+    let t = (8.0 - (5.0 - near)) / 8.0;
+    let crossing = a + (b - a) * t;
+    assert!((p.depth(crossing) - near).abs() < 1e-5);
+    let expected = p.point(crossing + (b - a) * 1e-6).unwrap();
+    // That is far off screen (next to the eye): the segment is cut again where it leaves the
+    // viewport grown by its size (400 x 300 points) on every side, on the same line.
+    let outer = rect.expand(400.0);
+    assert!(!outer.contains(expected), "{expected:?}");
+    let (got, want) = (
+        (seg[0] - rect.center()).normalized(),
+        (expected - rect.center()).normalized(),
+    );
+    assert!((got - want).length() < 1e-3, "{seg:?} vs {expected:?}");
+    assert!(
+        (seg[0].x - outer.right()).abs() < 1e-3 || (seg[0].y - outer.top()).abs() < 1e-3,
+        "on the grown viewport's edge: {seg:?}"
+    );
+    assert!((seg[1] - rect.center()).length() < 1e-3);
+    for q in seg {
+        assert!(q.x.is_finite() && q.y.is_finite());
+    }
+    // Non-finite points draw nothing.
+    assert_eq!(p.segment(Vec3::splat(f32::NAN), Vec3::ZERO), None);
+    assert_eq!(p.point(Vec3::new(f32::INFINITY, 0.0, 0.0)), None);
+    // 2-D: a segment crossing the rectangle is cut at its sides; one outside is dropped.
+    let r = egui::Rect::from_min_max(Pos2::ZERO, Pos2::new(10.0, 10.0));
+    let c = clip_2d(Pos2::new(-10.0, 5.0), Pos2::new(20.0, 5.0), r).unwrap();
+    assert_eq!(c, [Pos2::new(0.0, 5.0), Pos2::new(10.0, 5.0)]);
+    assert_eq!(
+        clip_2d(Pos2::new(-5.0, -5.0), Pos2::new(-1.0, 20.0), r),
+        None
+    );
+}
+
+#[test]
+fn fog_tone_map_shadows_and_ground_from_the_panel() {
+    let dir = temp_dir("environment");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    activate(&mut h, "Fog, tone map, shadows, ground");
+    let clear = shown_image(&h);
+    assert_eq!(h.state().settings.fog, None);
+    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    let fog = h.state().settings.fog.expect("fog is on");
+    assert!(fog.is_valid(), "{fog:?}");
+    assert_eq!(h.state().split.b.fog, Some(fog), "B follows A's fog");
+    assert_current_frame(h.state());
+    assert_frame_changed(h.state(), &clear, "fog on");
+
+    // near past far: far moves out of the way.
+    set_value(&mut h, "fog near", f64::from(fog.far) + 1.0);
+    let f = h.state().settings.fog.unwrap();
+    assert!(
+        (f.near - (fog.far + 1.0)).abs() < 1e-3 && f.near < f.far,
+        "{f:?}"
+    );
+    // far before near: near moves.
+    set_value(&mut h, "fog far", 0.5);
+    let f = h.state().settings.fog.unwrap();
+    assert!(
+        (f.far - 0.5).abs() < 1e-4 && f.near < f.far && f.near >= 0.0,
+        "{f:?}"
+    );
+    activate(&mut h, "camera depth");
+    assert_eq!(h.state().settings.fog.unwrap().distance, FogDistance::Depth);
+    // Off and on again: the same fog comes back.
+    let kept = h.state().settings.fog;
+    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    assert_eq!(h.state().settings.fog, None);
+    assert_eq!(differing(&shown_image(&h), &clear), 0, "fog off again");
+    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    assert_eq!(h.state().settings.fog, kept);
+
+    // Tone maps: with the key light ten times as strong, much of the torus is above 1.
+    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, "Lights");
+    activate(&mut h, "1: key (directional)");
+    set_value(&mut h, "light 1 intensity", 10.0);
+    let clamped = shown_image(&h);
+    choose(&mut h, "tone map A", "scale-max");
+    assert_eq!(h.state().settings.tone, ToneMap::ScaleMax);
+    assert_eq!(h.state().split.b.tone, ToneMap::Clamp, "B keeps its own");
+    assert_frame_changed(h.state(), &clamped, "clamp -> scale by the largest");
+    let scaled = shown_image(&h);
+    choose(&mut h, "tone map A", "reinhard");
+    assert_frame_changed(h.state(), &scaled, "scale-max -> Reinhard");
+
+    choose(&mut h, "shadow map size", "512x512");
+    assert_eq!(h.state().settings.shadow.size, 512);
+    set_value(&mut h, "shadow PCF radius", 3.0);
+    assert_eq!(h.state().settings.shadow.pcf, 3);
+    set_value(&mut h, "shadow slope bias", 4.0);
+    assert!((h.state().settings.shadow.slope - 4.0).abs() < 1e-6);
+    assert_eq!(h.state().split.b.shadow, h.state().settings.shadow);
+
+    assert_eq!(h.state().settings.ground, None);
+    let bare = shown_image(&h);
+    activate(&mut h, "ground plane under the scene (catches shadows)");
+    let g = h.state().settings.ground.expect("a ground plane");
+    assert_current_frame(h.state());
+    assert_frame_changed(h.state(), &bare, "a ground plane");
+    set_value(&mut h, "ground extent", 2.0);
+    assert_eq!(
+        h.state().settings.ground.unwrap().extent,
+        2.0,
+        "was {}",
+        g.extent
+    );
+}
+
+#[test]
+fn material_editor_sets_the_new_parameters() {
+    let dir = temp_dir("materials");
+    let mut h = viewer(Some(model("checker-cube.glb")), &dir, 1);
+    activate(&mut h, "Materials");
+    assert_eq!(
+        h.state().settings.materials,
+        None,
+        "opening the editor changes nothing"
+    );
+    let before = shown_image(&h);
+    activate(&mut h, "alpha mode mask");
+    let m = h.state().settings.materials.clone().expect("an override")[0].clone();
+    assert_eq!(m.alpha_mode, realist::scene::AlphaMode::Mask(0.5));
+    set_value(&mut h, "material alpha cutoff", 0.8);
+    let m = h.state().settings.materials.clone().unwrap()[0].clone();
+    assert_eq!(m.alpha_mode, realist::scene::AlphaMode::Mask(0.8));
+    activate(&mut h, "alpha mode blend");
+    set_value(&mut h, "material alpha", 0.4);
+    let m = h.state().settings.materials.clone().unwrap()[0].clone();
+    assert_eq!(m.alpha_mode, realist::scene::AlphaMode::Blend);
+    assert!((m.base_color.w - 0.4).abs() < 1e-6);
+    assert_frame_changed(h.state(), &before, "a see-through cube");
+    set_value(&mut h, "material shininess", 500.0);
+    let m = h.state().settings.materials.clone().unwrap()[0].clone();
+    assert!((m.shininess - 500.0).abs() < 1e-3);
+    activate(&mut h, "lit on both sides, not culled");
+    assert!(h.state().settings.materials.clone().unwrap()[0].double_sided);
+    activate(&mut h, "restore the file's materials");
+    assert_eq!(h.state().settings.materials, None);
+    assert_eq!(differing(&shown_image(&h), &before), 0);
+}
+
+/// The text a node shows: a label's value, any other widget's label.
+fn text_of(n: &egui_kittest::kittest::AccessKitNode<'_>) -> Option<String> {
+    if n.role() == Role::Label {
+        n.value()
+    } else {
+        n.label()
+    }
+}
+
+/// Probe rows of the lights: "light N: KIND ...".
+fn probe_light_rows(h: &App) -> Vec<String> {
+    h.query_all_by(|n| text_of(n).is_some_and(|l| l.starts_with("light ") && l.contains(": ")))
+        .filter_map(|n| text_of(&n.accesskit_node()))
+        .collect()
+}
+
+#[test]
+fn the_probe_lists_every_light_with_its_share() {
+    let dir = temp_dir("probe-lights");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    let centre_of_torus_ring = |app: &ViewerApp| {
+        // A pixel on the torus: the nearest drawn pixel left of the centre.
+        let s = app.shown.as_ref().unwrap();
+        let (w, hh) = (s.view.width, s.view.height);
+        let y = hh / 2;
+        let x = (0..w / 2)
+            .rev()
+            .find(|&x| s.depth[(y * w + x) as usize] > 0.0)
+            .expect("the torus crosses the middle row");
+        let x = x.saturating_sub(10);
+        app.viewport.rect.min
+            + Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / app.viewport.pixels_per_point
+    };
+    let at = centre_of_torus_ring(h.state());
+    click_at(&mut h, at);
+    let probe = h
+        .state()
+        .panels
+        .probe
+        .clone()
+        .unwrap()
+        .probe
+        .expect("a hit");
+    assert_eq!(probe.lights.len(), 3, "key, fill and rim");
+    assert_eq!(
+        probe_light_rows(&h),
+        [
+            "light 1: directional 'key'",
+            "light 2: directional 'fill'",
+            "light 3: directional 'rim'"
+        ]
+    );
+    h.get_by_label("ambient");
+    assert!(h.query_by_label("fog factor").is_none());
+
+    // One more light, and fog: a row each.
+    activate(&mut h, "Lights");
+    activate(&mut h, "+ spot");
+    activate(&mut h, "Fog, tone map, shadows, ground");
+    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    let at = centre_of_torus_ring(h.state());
+    click_at(&mut h, at);
+    let probe = h
+        .state()
+        .panels
+        .probe
+        .clone()
+        .unwrap()
+        .probe
+        .expect("a hit");
+    assert_eq!(probe.lights.len(), 4);
+    let rows = probe_light_rows(&h);
+    assert_eq!(rows.len(), 4, "{rows:?}");
+    assert_eq!(rows[3], "light 4: spot 'spot 4'");
+    let f = probe.fog.expect("a fog factor");
+    h.get_by_label(&format!("{f:.4}"));
+    h.get_by_label("fog factor");
+    // The shares add up to the colour before fog.
+    let sum = probe
+        .lights
+        .iter()
+        .fold(probe.ambient, |a, s| a + s.diffuse + s.specular);
+    let fog = h.state().settings.fog.unwrap();
+    let fogged = sum + (fog.color - sum) * f;
+    assert!(
+        (fogged - probe.color).length() < 1e-4,
+        "{fogged} vs {}",
+        probe.color
+    );
+}
+
+/// A PNG of one colour.
+fn write_png(path: &Path, rgb: [u8; 3]) {
+    let img = image::RgbaImage::from_pixel(8, 6, image::Rgba([rgb[0], rgb[1], rgb[2], 255]));
+    img.save(path).expect("PNG written");
+}
+
+#[test]
+fn a_rect_light_projects_a_chosen_image_and_a_bad_file_shows_its_error() {
+    let dir = temp_dir("slide");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    activate(&mut h, "Lights");
+    activate(&mut h, "+ rect");
+    let white = shown_image(&h);
+    let rect = custom_lights(h.state()).0[4].clone();
+    assert_eq!(rect.kind, LightKind::Rect);
+    assert!(rect.image.is_none());
+    activate(&mut h, "4: rect 4 (rect)");
+
+    // The picker opens (an egui window, so it works anywhere). Its icons are emoji that
+    // egui's default fonts lack: drawn as boxes, which the harness would take for a bug;
+    // and its text fields have no accessible names, which `run` would: one step, then shut.
+    h.ctx
+        .set_missing_glyph_policy(egui::MissingGlyphPolicy::Tofu);
+    h.get_by_label("light 4 choose image").click_accesskit();
+    h.run_steps(4);
+    assert!(matches!(h.state().panels.lights.slide_picker, Some((4, _))));
+    h.get_by_label_contains("Image for the rectangular spotlight");
+    h.state_mut().panels.lights.slide_picker = None;
+    h.run();
+
+    // A file that is not an image: the error, one line, and nothing else changes.
+    let bad = dir.join("bad.png");
+    std::fs::write(&bad, b"not a png at all").unwrap();
+    realist::viewer::panels::lights::read_image(h.state_mut(), 4, bad.clone());
+    h.run();
+    let e = h
+        .state()
+        .panels
+        .lights
+        .slide_error
+        .clone()
+        .expect("an error");
+    assert!(
+        e.starts_with(&bad.display().to_string()) && !e.contains('\n'),
+        "{e}"
+    );
+    // In the light editor and in the status bar.
+    assert_eq!(h.get_all_by_label(&e).count(), 2, "{e}");
+    assert!(custom_lights(h.state()).0[4].image.is_none());
+    let missing = dir.join("missing.png");
+    realist::viewer::panels::lights::read_image(h.state_mut(), 4, missing);
+    h.run();
+    assert!(h
+        .state()
+        .panels
+        .lights
+        .slide_error
+        .clone()
+        .unwrap()
+        .contains("missing.png"));
+    assert_eq!(differing(&shown_image(&h), &white), 0);
+
+    // A red slide: the light's patch turns red.
+    let red = dir.join("red.png");
+    write_png(&red, [255, 0, 0]);
+    realist::viewer::panels::lights::read_image(h.state_mut(), 4, red);
+    h.run();
+    assert_eq!(h.state().panels.lights.slide_error, None);
+    let image = custom_lights(h.state()).0[4]
+        .image
+        .clone()
+        .expect("an image");
+    assert_eq!((image.width, image.height), (8, 6));
+    h.get_by_label("red.png (8x6)");
+    assert_current_frame(h.state());
+    let now = shown_image(&h);
+    assert_frame_changed(h.state(), &white, "a red slide");
+    // Changed pixels lost green and blue (the slide multiplies the light's colour).
+    let redder = now
+        .pixels
+        .iter()
+        .zip(&white.pixels)
+        .filter(|(a, b)| a != b)
+        .all(|(a, b)| a.g() <= b.g() && a.b() <= b.b());
+    assert!(
+        redder,
+        "the slide only takes light away from green and blue"
+    );
+    activate(&mut h, "light 4 clear image");
+    assert!(custom_lights(h.state()).0[4].image.is_none());
+    assert_eq!(differing(&shown_image(&h), &white), 0);
+}
+
+#[test]
+fn the_demo_spotlight_shadow_follows_the_editor_and_the_shadow_settings() {
+    let dir = temp_dir("shadows");
+    let mut h = viewer(None, &dir, 1);
+    activate(&mut h, "Lights");
+    activate(&mut h, "2: spotlight (spot)");
+    let shadowed = shown_image(&h);
+    assert_eq!(h.state().settings.lights, Lights::Auto);
+    // The demo's spotlight casts shadows: off, the frame changes; on again, it is back.
+    activate(&mut h, "light 2 shadows");
+    let (lights, follow) = custom_lights(h.state());
+    assert!(!follow, "the scene's lights are in the world");
+    assert!(!lights[2].shadow);
+    assert_current_frame(h.state());
+    let lit = shown_image(&h);
+    let n = differing(&lit, &shadowed);
+    assert!(n > 100, "only {n} pixels changed without the shadow");
+    activate(&mut h, "light 2 shadows");
+    assert_eq!(differing(&shown_image(&h), &shadowed), 0);
+
+    // Hard edges (one tap) and a coarse map move the shadow's edge pixels.
+    activate(&mut h, "Fog, tone map, shadows, ground");
+    h.get_by_label("Shadows cast by: 2 spotlight");
+    set_value(&mut h, "shadow PCF radius", 0.0);
+    assert_eq!(h.state().settings.shadow.pcf, 0);
+    assert!(differing(&shown_image(&h), &shadowed) > 0, "PCF 1 -> 0");
+    let hard = shown_image(&h);
+    choose(&mut h, "shadow map size", "256x256");
+    assert_eq!(h.state().settings.shadow.size, 256);
+    assert!(differing(&shown_image(&h), &hard) > 0, "1024 -> 256 texels");
 }

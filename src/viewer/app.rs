@@ -342,8 +342,30 @@ impl ViewerApp {
         }
     }
 
-    /// Loads that finished, and files that changed on disk.
+    /// Whether loads and renders run in the calling thread (UI tests).
+    #[must_use]
+    pub fn is_synchronous(&self) -> bool {
+        self.synchronous
+    }
+
+    /// What wakes the UI from another thread.
+    #[must_use]
+    pub fn repaint_handle(&self) -> Arc<dyn Fn() + Send + Sync> {
+        Arc::clone(&self.repaint)
+    }
+
+    /// Loads that finished (models and slide images), and files that changed on disk.
     fn poll_background(&mut self, _ctx: &egui::Context) {
+        let slide = self
+            .panels
+            .lights
+            .slide_load
+            .as_ref()
+            .and_then(|t| t.poll().map(|o| (t.light, o)));
+        if let Some((light, out)) = slide {
+            self.panels.lights.slide_load = None;
+            panels::lights::install_image(self, light, out);
+        }
         if let Some(out) = self.loading.as_ref().and_then(LoadTask::poll) {
             self.loading = None;
             self.finish_load(out);
@@ -471,8 +493,11 @@ impl ViewerApp {
         let same = self.last_job.as_ref().is_some_and(|j| {
             Arc::ptr_eq(&j.scene, &self.scene)
                 && j.view == view
-                && *j.a == self.settings
-                && j.b.as_deref() == b
+                && super::same::same(&j.a, &self.settings)
+                && match (j.b.as_deref(), b) {
+                    (Some(x), Some(y)) => super::same::same(x, y),
+                    (x, y) => x.is_none() && y.is_none(),
+                }
                 && j.heat == heat
                 && j.max_samples == self.max_samples
         });

@@ -30,6 +30,7 @@ pub enum Action {
     CycleAntialias,
     ToggleMultisampling,
     ToggleSplit,
+    ToggleLightGizmos,
     CheatSheet,
     Screenshot,
     Open,
@@ -123,6 +124,11 @@ pub const BINDINGS: &[Binding] = &[
         "multisampling: off / 4x (shaded once per pixel)",
     ),
     bind(Key::S, Action::ToggleSplit, "split view A | B"),
+    bind(
+        Key::L,
+        Action::ToggleLightGizmos,
+        "lights and their cones in the view",
+    ),
     bind(Key::H, Action::CheatSheet, "this cheat sheet"),
     bind(Key::F12, Action::Screenshot, "screenshot to PNG"),
     bind(

@@ -8,7 +8,9 @@
 //! | [`loader`] | loading and preparing a model off the UI thread, with progress and cancel |
 //! | [`viewport`] | the image, mouse navigation, picking, the probe click, overlays (tile grid and cost, split divider) |
 //! | [`keys`] | the key bindings table behind both the dispatcher and the cheat sheet |
-//! | [`panels`] | shading, split view, scene, lights and materials, probe, colour, stats |
+//! | [`panels`] | shading, split view, scene, lights, fog / tone map / shadows / ground, materials, probe, colour, stats |
+//! | [`gizmos`] | each light's position and cone drawn over the view |
+//! | [`slide`] | reading a rectangular spotlight's projected image off the UI thread |
 //! | [`navigate`] | the camera controller (turntable / trackball, pan, dolly to cursor, framing, named views) |
 //! | [`files`] | recent files, previous / next model in a folder, reload on change |
 //!
@@ -17,10 +19,13 @@
 
 pub mod app;
 pub mod files;
+pub mod gizmos;
 pub mod keys;
 pub mod loader;
 pub mod navigate;
 pub mod panels;
+pub mod same;
+pub mod slide;
 pub mod viewport;
 pub mod worker;
 

@@ -1,6 +1,6 @@
 //! The viewport: the rendered frame as a texture (A | B in split view), mouse navigation,
-//! picking and the probe click, and the rasterizer overlays (64x64 tile grid, per-tile cost,
-//! overdraw legend, split divider).
+//! picking and the probe click, and the overlays (64x64 tile grid, per-tile cost, overdraw
+//! legend, split divider, light gizmos).
 //!
 //! Units: egui lays out in points; the renderer draws physical pixels (`points * pixels per
 //! point`, rounded), so a frame maps one to one onto the screen. A frame of another size
@@ -29,6 +29,8 @@ pub struct ViewportState {
     /// Physical pixels (the render size).
     pub size_px: [u32; 2],
     pub pixels_per_point: f32,
+    /// The light gizmos drawn in the last pass (empty when they are off).
+    pub gizmos: Vec<super::gizmos::Gizmo>,
 }
 
 impl Default for ViewportState {
@@ -37,6 +39,7 @@ impl Default for ViewportState {
             rect: Rect::NOTHING,
             size_px: [0, 0],
             pixels_per_point: 1.0,
+            gizmos: Vec::new(),
         }
     }
 }
@@ -63,15 +66,18 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let (rect, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
     let ppp = ui.ctx().pixels_per_point();
     let size = (rect.size() * ppp).round();
-    app.viewport = ViewportState {
-        rect,
-        size_px: [size.x.max(1.0) as u32, size.y.max(1.0) as u32],
-        pixels_per_point: ppp,
-    };
+    app.viewport.rect = rect;
+    app.viewport.size_px = [size.x.max(1.0) as u32, size.y.max(1.0) as u32];
+    app.viewport.pixels_per_point = ppp;
     let divider = split_divider(app, ui, rect);
     if !divider {
         navigate(app, ui, &resp);
     }
+    app.viewport.gizmos = if app.panels.lights.gizmos && app.settings.output == Output::Shaded {
+        super::gizmos::build(app, rect)
+    } else {
+        Vec::new()
+    };
     paint(app, ui, rect);
 }
 
@@ -283,6 +289,7 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
         }
     }
     tiles(app, &painter, rect);
+    super::gizmos::paint(&painter, &app.viewport.gizmos, app.panels.lights.hovered);
     if app.settings.output == Output::Overdraw {
         super::panels::overdraw_legend(&painter, rect);
     }

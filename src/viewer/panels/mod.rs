@@ -14,7 +14,10 @@ use crate::render::{Output, Settings};
 use crate::shade::Shading;
 
 mod colour;
-mod lights;
+pub mod edit;
+pub mod environment;
+pub mod lights;
+mod materials;
 mod probe;
 mod scene;
 mod screenshot;
@@ -22,6 +25,8 @@ mod shading;
 mod stats;
 
 pub use colour::ColourState;
+pub use environment::EnvironmentUi;
+pub use lights::{light_names, LightsUi};
 pub use screenshot::Screenshot;
 
 /// Which tile cost the viewport shows.
@@ -77,6 +82,10 @@ pub struct Panels {
     pub thumbnails: Vec<Option<egui::TextureHandle>>,
     /// Topology reports of the meshes opened in the scene section.
     pub topology: std::collections::HashMap<usize, crate::mesh::TopologyReport>,
+    /// The light editor and the gizmos.
+    pub lights: LightsUi,
+    /// Fog and ground values kept while they are off.
+    pub environment: EnvironmentUi,
 }
 
 impl Default for Panels {
@@ -94,6 +103,8 @@ impl Default for Panels {
             material: 0,
             thumbnails: Vec::new(),
             topology: std::collections::HashMap::new(),
+            lights: LightsUi::default(),
+            environment: EnvironmentUi::default(),
         }
     }
 }
@@ -106,6 +117,7 @@ impl Panels {
         self.thumbnails.clear();
         self.topology.clear();
         self.colour = ColourState::default();
+        self.lights.hovered = None;
     }
 }
 
@@ -127,6 +139,9 @@ pub fn describe(s: &Settings) -> String {
     }
     if s.wireframe_overlay {
         d += " + wire";
+    }
+    if s.tone != crate::render::ToneMap::Clamp {
+        d += &format!(", {}", s.tone.name());
     }
     if s.output == Output::Overdraw {
         d = "overdraw".into();
@@ -249,6 +264,7 @@ pub fn act(app: &mut ViewerApp, a: Action) {
             app.settings.msaa = if app.settings.msaa > 1 { 1 } else { 4 };
         }
         Action::ToggleSplit => app.split.enabled = !app.split.enabled,
+        Action::ToggleLightGizmos => app.panels.lights.gizmos = !app.panels.lights.gizmos,
         Action::CheatSheet => app.panels.cheat_sheet = !app.panels.cheat_sheet,
         Action::Screenshot => screenshot::quick(app),
         Action::Open => open_picker(app),
@@ -405,7 +421,7 @@ pub fn status_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
 pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
     egui::Panel::left("controls")
         .resizable(true)
-        .default_size(290.0)
+        .default_size(320.0)
         .size_range(200.0..=420.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
@@ -415,7 +431,10 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 egui::CollapsingHeader::new("Split view A | B")
                     .show(ui, |ui| shading::split(app, ui));
                 egui::CollapsingHeader::new("Lights").show(ui, |ui| lights::lights(app, ui));
-                egui::CollapsingHeader::new("Materials").show(ui, |ui| lights::materials(app, ui));
+                egui::CollapsingHeader::new("Fog, tone map, shadows, ground")
+                    .id_salt("environment")
+                    .show(ui, |ui| environment::show(app, ui));
+                egui::CollapsingHeader::new("Materials").show(ui, |ui| materials::show(app, ui));
                 egui::CollapsingHeader::new("Stats").show(ui, |ui| stats::show(app, ui));
             });
         });
@@ -461,6 +480,17 @@ pub fn windows(app: &mut ViewerApp, ctx: &egui::Context) {
             app.panels.picker = None;
         }
     }
+    if let Some((light, dialog)) = &mut app.panels.lights.slide_picker {
+        let light = *light;
+        if dialog.show(ctx).selected() {
+            if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
+                app.panels.lights.slide_picker = None;
+                lights::read_image(app, light, p);
+            }
+        } else if !dialog.visible() {
+            app.panels.lights.slide_picker = None;
+        }
+    }
     screenshot::window(app, ctx);
 }
 
@@ -486,6 +516,7 @@ fn cheat_sheet(app: &ViewerApp, ui: &mut egui::Ui) {
             Action::CycleAntialias => format!("up to {0}x{0}", app.max_samples),
             Action::ToggleMultisampling => format!("{}x", app.settings.msaa),
             Action::ToggleSplit => on(app.split.enabled).into(),
+            Action::ToggleLightGizmos => on(app.panels.lights.gizmos).into(),
             Action::TogglePanels => on(app.panels.visible).into(),
             _ => String::new(),
         }

@@ -180,28 +180,61 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .striped(true)
         .show(ui, |ui| colour_rows(ui, p.color));
     ui.separator();
+    light_shares(ui, p);
+}
+
+/// One row per light of the frame (after attenuation, cone or pyramid, image and shadow),
+/// then the ambient term, the fog factor and the final colour.
+fn light_shares(ui: &mut egui::Ui, p: &crate::render::Probe) {
     ui.label(RichText::new("Each light's share (linear RGB)").strong());
     egui::Grid::new("probe-lights")
-        .num_columns(3)
+        .num_columns(5)
         .striped(true)
         .show(ui, |ui| {
-            ui.label("light");
-            ui.label("diffuse");
-            ui.label("specular");
-            ui.end_row();
-            ui.label("ambient");
-            ui.monospace(v3(p.ambient));
-            ui.label("");
+            // The shares first: the columns to the right may need a sideways scroll.
+            for h in ["light", "diffuse", "specular", "shadow", "arriving"] {
+                ui.label(RichText::new(h).italics());
+            }
             ui.end_row();
             for s in &p.lights {
-                ui.label(format!("{} {}", s.index, s.light.kind()));
+                let l = &s.light;
+                let name = if l.name.is_empty() {
+                    format!("light {}: {}", s.index, l.kind())
+                } else {
+                    format!("light {}: {} '{}'", s.index, l.kind(), l.name)
+                };
+                ui.label(name);
                 ui.monospace(v3(s.diffuse));
                 ui.monospace(v3(s.specular));
+                ui.monospace(if l.shadow && l.kind.can_shadow() {
+                    format!("{:.2}", s.shadow)
+                } else {
+                    "-".into()
+                })
+                .on_hover_text("1 lit, 0 in shadow (a ray towards the light); - casts none");
+                ui.monospace(v3(s.arriving)).on_hover_text(
+                    "radiance arriving after attenuation, cone or pyramid and image, before shadow",
+                );
                 ui.end_row();
             }
-            ui.label("sum");
-            ui.monospace(v3(p.color));
-            ui.label("");
+            ui.label("ambient");
+            ui.monospace(v3(p.ambient))
+                .on_hover_text("every ambient light x Ka x Kd; never attenuated");
+            ui.end_row();
+            if let Some(f) = p.fog {
+                ui.label("fog factor");
+                ui.monospace(format!("{f:.4}"))
+                    .on_hover_text("0 clear, 1 only fog");
+                ui.end_row();
+            }
+            ui.label("colour");
+            ui.horizontal(|ui| {
+                swatch(ui, p.color);
+                ui.monospace(v3(p.color));
+            });
             ui.end_row();
         });
+    if p.lights.is_empty() {
+        ui.label("(no light other than ambient reaches this frame)");
+    }
 }

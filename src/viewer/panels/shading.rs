@@ -120,6 +120,7 @@ pub fn split(app: &mut ViewerApp, ui: &mut egui::Ui) {
     ui.add_enabled_ui(app.split.enabled, |ui| {
         ui.label("A is the shading section above; B:");
         settings_controls(&mut app.split.b, ui, "b");
+        super::environment::tone_map(ui, &mut app.split.b.tone, "b");
         ui.horizontal(|ui| {
             ui.label("divider");
             ui.add(egui::Slider::new(&mut app.split.divider, 0.0..=1.0));
