@@ -59,6 +59,9 @@
 //!   as many as the blended depth complexity makes); the per-band triangle lists take
 //!   8 bytes per triangle and band it touches. Requests above [`MAX_TOTAL_SAMPLES`] samples
 //!   (minutes of work) are refused;
+//! - no shadows: every light reaches every surface facing it. Shadow maps are measured
+//!   against analytic shadow outlines in `tests/lighting.rs`; turn a scene's shadows off
+//!   (or expect the difference) before comparing;
 //! - polygons are split into triangles by [`crate::mesh::Mesh::triangulate`], as for the
 //!   renderer: the triangulation is part of the input, not of what is measured.
 
@@ -1010,8 +1013,10 @@ mod tests {
     }
 
     /// The demo scene, every instance forced to `mode`, with its own camera.
+    /// Its spotlight's shadow is turned off: the reference draws no shadows.
     fn demo(mode: Shading, width: u32, height: u32) -> (Scene, RenderOptions) {
-        let scene = crate::scene::demo();
+        let mut scene = crate::scene::demo();
+        scene.lights.iter_mut().for_each(|l| l.shadow = false);
         let opts = RenderOptions {
             shading: Some(mode),
             ..black(width, height, Some(scene.cameras[0].clone()))

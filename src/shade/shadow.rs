@@ -89,7 +89,7 @@ impl ShadowMap {
             None => {
                 let eye = center - axis * radius * 2.0;
                 let cam = Camera {
-                    name: "shadow".into(),
+                    name: String::new(), // no allocation: a map is made every frame
                     eye,
                     target: center,
                     up,
@@ -108,7 +108,7 @@ impl ShadowMap {
                 let far = (d + radius).max(1e-2) * 1.01;
                 let near = (dist - radius).max(far * 1e-3).max(1e-3);
                 let cam = Camera {
-                    name: "shadow".into(),
+                    name: String::new(), // no allocation: a map is made every frame
                     eye,
                     target: eye + axis,
                     up,
