@@ -112,11 +112,7 @@ fn check(what: &str, got: &[(Vec3, Vec4)], want: impl Fn(DVec3) -> f64) -> usize
         let w = want(p.as_dvec3());
         let e = (f64::from(c.x) - w).abs();
         worst = worst.max(e);
-        assert!(
-            e < TOL,
-            "{what}: at {p} got {} want {w} (error {e})",
-            c.x
-        );
+        assert!(e < TOL, "{what}: at {p} got {} want {w} (error {e})", c.x);
     }
     assert!(got.len() > 500, "{what}: only {} samples", got.len());
     eprintln!("{what}: {} samples, worst error {worst:.2e}", got.len());
@@ -160,7 +156,9 @@ fn directional_and_ambient_light_a_plane_evenly() {
 fn point_light_attenuation_modes_follow_their_formulas() {
     let scene = plane_scene();
     let pos = DVec3::new(0.5, 2.0, -0.3);
-    let modes: [(Attenuation, f32, Box<dyn Fn(f64) -> f64>); 4] = [
+    // Each mode with the light's intensity and the factor it should give at distance d.
+    type Falloff = Box<dyn Fn(f64) -> f64>;
+    let modes: [(Attenuation, f32, Falloff); 4] = [
         (Attenuation::None, 1.0, Box::new(|_| 1.0)),
         (
             Attenuation::Linear {
@@ -186,11 +184,7 @@ fn point_light_attenuation_modes_follow_their_formulas() {
         let light = Light::point(pos.as_vec3(), Vec3::ONE)
             .with_intensity(*intensity)
             .with_attenuation(*att);
-        let got = samples(
-            &scene,
-            &settings(vec![light], Shading::Phong),
-            &top_view(),
-        );
+        let got = samples(&scene, &settings(vec![light], Shading::Phong), &top_view());
         check(&format!("point {}", att.name()), &got, |p| {
             let (c, d) = ndl(p, pos);
             f64::from(KD) * f64::from(*intensity) * c * f(d)
@@ -257,7 +251,11 @@ fn rectangular_spot_lights_its_pyramid_and_projects_its_image() {
     );
     // Half a pixel (0.027 units) of margin around the pyramid's edge.
     let near_edge = |p: DVec3| (p.x.abs() - 2.0).abs() < 0.04 || (p.z.abs() - 1.0).abs() < 0.04;
-    let interior: Vec<_> = got.iter().copied().filter(|(p, _)| !near_edge(p.as_dvec3())).collect();
+    let interior: Vec<_> = got
+        .iter()
+        .copied()
+        .filter(|(p, _)| !near_edge(p.as_dvec3()))
+        .collect();
     check("rect", &interior, |p| {
         if p.x.abs() <= 2.0 && p.z.abs() <= 1.0 {
             let (c, _) = ndl(p, DVec3::new(0.0, 4.0, 0.0));
@@ -361,7 +359,11 @@ fn fog_blends_with_both_distance_kinds_per_pixel_and_per_vertex() {
             .iter()
             .map(|(p, c)| (f64::from(c.x) - (kd + f(p.as_dvec3()) * (1.0 - kd))).abs())
             .fold(0.0, f64::max);
-        assert!(worst < 0.01, "gouraud fog {}: worst {worst}", distance.name());
+        assert!(
+            worst < 0.01,
+            "gouraud fog {}: worst {worst}",
+            distance.name()
+        );
     }
     // The two kinds differ off the view axis.
     let mut a = settings(lights.clone(), Shading::Phong);
@@ -382,7 +384,10 @@ fn fog_blends_with_both_distance_kinds_per_pixel_and_per_vertex() {
         .zip(&gb)
         .filter(|(x, y)| (x.1 - y.1).abs().max_element() > 0.01)
         .count();
-    assert!(differ > 100, "euclidean and depth fog differ at {differ} samples");
+    assert!(
+        differ > 100,
+        "euclidean and depth fog differ at {differ} samples"
+    );
 }
 
 /// A horizontal square of half-size `h` at height `y`.
@@ -471,9 +476,11 @@ fn two_sided_lighting_lights_the_side_that_is_seen() {
         // Two-sided: the underside is lit by the light below, not by the light above.
         let mut s = settings(vec![from_below.clone()], mode);
         s.double_sided = true;
-        check(&format!("two-sided {mode}"), &samples(&scene, &s, &below), |_| {
-            f64::from(KD)
-        });
+        check(
+            &format!("two-sided {mode}"),
+            &samples(&scene, &s, &below),
+            |_| f64::from(KD),
+        );
         let mut s = settings(vec![from_above.clone()], mode);
         s.double_sided = true;
         check(
@@ -540,8 +547,14 @@ fn check_shadow(
             want_dark += usize::from(want);
         }
     }
-    assert!(want_dark > 200, "{what}: the shadow covers only {want_dark} pixels");
-    assert!(agree > 20000, "{what}: {agree} pixels compared, {band} in the band");
+    assert!(
+        want_dark > 200,
+        "{what}: the shadow covers only {want_dark} pixels"
+    );
+    assert!(
+        agree > 20000,
+        "{what}: {agree} pixels compared, {band} in the band"
+    );
     eprintln!("{what}: {agree} pixels agree ({dark} in shadow), {band} within {margin} of the outline (pixel {pixel:.3})");
 }
 
@@ -601,7 +614,10 @@ fn shadows_off_cost_nothing_and_change_nothing_where_nothing_occludes() {
         .zip(&b.color)
         .map(|(x, y)| (*x - *y).abs().max_element())
         .fold(0f32, f32::max);
-    assert!(worst < 1e-6, "shadow map changed an unoccluded plane by {worst}");
+    assert!(
+        worst < 1e-6,
+        "shadow map changed an unoccluded plane by {worst}"
+    );
 }
 
 #[test]
@@ -611,15 +627,11 @@ fn lights_that_cannot_reach_an_object_are_skipped_and_counted() {
     place(&mut scene, m, matte(KD), w);
     // A spot far off to the side aiming away, and a short-range point light far away.
     let lights = vec![
-        Light::spot(
-            Vec3::new(30.0, 1.0, 0.0),
-            Vec3::X,
-            Vec3::ONE,
-            0.2,
-            0.3,
-        ),
-        Light::point(Vec3::new(0.0, 1.0, 40.0), Vec3::ONE)
-            .with_attenuation(Attenuation::Linear { near: 1.0, far: 5.0 }),
+        Light::spot(Vec3::new(30.0, 1.0, 0.0), Vec3::X, Vec3::ONE, 0.2, 0.3),
+        Light::point(Vec3::new(0.0, 1.0, 40.0), Vec3::ONE).with_attenuation(Attenuation::Linear {
+            near: 1.0,
+            far: 5.0,
+        }),
         Light::ambient(Vec3::splat(0.3)),
     ];
     let prepared = PreparedScene::new(scene.clone());

@@ -173,7 +173,8 @@ impl ShadowMap {
             return 1.0;
         }
         let c: Vec4 = self.view_proj * p.extend(1.0);
-        if !(c.w > 0.0) {
+        // Behind the light (or NaN): not in the map.
+        if c.w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return 1.0;
         }
         let s = self.size as f32;
