@@ -1160,6 +1160,50 @@ mod tests {
         assert!(dense.mean_de2000 < 0.05, "{dense:?}");
     }
 
+    #[test]
+    fn gloss_map_modulates_the_highlight_as_in_the_reference() {
+        // A matte blue sphere whose highlight is masked by a chequered gloss map (003 §7).
+        let mut scene = Scene::default();
+        let mut gloss = Texture::checker(64, 8, [255, 255, 255, 255], [0, 0, 0, 255]);
+        gloss.sampler = Sampler {
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+            filter: Filter::Bilinear,
+        };
+        scene.textures.push(Arc::new(gloss));
+        scene.materials.push(Material {
+            base_color: Vec4::new(0.1, 0.15, 0.5, 1.0),
+            specular: Vec3::ONE,
+            specular_texture: Some(TextureRef {
+                texture: 0,
+                tex_coord: 0,
+            }),
+            shininess: 20.0,
+            ..Material::default()
+        });
+        let mut sphere = Mesh::sphere(1.0, 48, 24).unwrap();
+        sphere.material = Some(0);
+        place(&mut scene, sphere, Mat4::IDENTITY);
+        let opts = RenderOptions {
+            shading: Some(Shading::Phong),
+            ..black(160, 120, None)
+        };
+        let ras = raster(&scene, &opts, 4);
+        let same = de(&ras, &reference(&scene, &opts, 4, false).unwrap());
+        let mut plain = scene.clone();
+        plain.materials[0].specular_texture = None;
+        let ungloss = de(&ras, &reference(&plain, &opts, 4, false).unwrap());
+        let unmapped = de(&raster(&plain, &opts, 4), &ras);
+        assert!(
+            same.mean_de2000 < 2e-3 && same.over_threshold < 30,
+            "{same:?}"
+        );
+        // Teeth: the gloss map must change the picture, and the reference must see it.
+        // Measured 0.32 for both (the masked highlight is a small part of the image).
+        assert!(unmapped.mean_de2000 > 0.15, "{unmapped:?}");
+        assert!(ungloss.mean_de2000 > 0.15, "{ungloss:?}");
+    }
+
     /// Camera at the origin looking down -Z, 45 degree field of view.
     fn forward(near: f32, far: f32) -> Camera {
         Camera {

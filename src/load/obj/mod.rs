@@ -71,7 +71,8 @@ pub enum ObjError {
     },
 }
 
-/// Loads an OBJ file (and its MTL libraries and `map_Kd` textures), reporting to `tracker`.
+/// Loads an OBJ file (and its MTL libraries and `map_Kd`/`map_Ks` textures), reporting to
+/// `tracker`.
 pub(crate) fn load_obj(
     path: &Path,
     opts: &LoadOptions,

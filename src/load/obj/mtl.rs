@@ -1,6 +1,6 @@
 //! MTL material libraries: reading them for `tobj` (inside the model's folder, size-capped,
 //! pre-checked so `tobj` cannot panic), converting `tobj` materials into [`Material`]s, and
-//! loading their `map_Kd` textures once each.
+//! loading their `map_Kd` (base colour) and `map_Ks` (gloss) textures once each.
 //!
 //! MTL colours are taken as linear RGB. Problems in an MTL file never fail the load: the
 //! offending line (or library) is skipped and the report says so.
@@ -173,7 +173,8 @@ pub(super) fn sanitize(name: &str, text: &str) -> (String, Vec<String>) {
     (out, warnings)
 }
 
-/// Converts `tobj` materials, decoding each `map_Kd` texture once (by canonical path).
+/// Converts `tobj` materials, decoding each `map_Kd` and `map_Ks` texture once (by
+/// canonical path).
 pub(super) struct Converter<'a> {
     /// Canonical model folder: textures outside it are refused.
     root: &'a Path,
@@ -216,6 +217,11 @@ impl<'a> Converter<'a> {
             Some(value) => self.texture(value, dir, &m.name)?,
             None => None,
         };
+        // `map_Ks`: the gloss map, multiplying `Ks` per pixel.
+        let gloss = match &m.specular_texture {
+            Some(value) => self.texture(value, dir, &m.name)?,
+            None => None,
+        };
         Ok(Material {
             name: m.name.clone(),
             base_color: rgb(m.diffuse, d.base_color.truncate()).extend(alpha),
@@ -225,7 +231,10 @@ impl<'a> Converter<'a> {
             }),
             ambient: rgb(m.ambient, d.ambient),
             specular: rgb(m.specular, d.specular),
-            specular_texture: None,
+            specular_texture: gloss.map(|texture| TextureRef {
+                texture,
+                tex_coord: 0,
+            }),
             shininess,
             emissive: rgb(m.emissive, d.emissive),
             metallic: 0.0,
@@ -239,7 +248,7 @@ impl<'a> Converter<'a> {
         })
     }
 
-    /// The texture for a `map_Kd` value of `material`, decoded on first use. `value` may
+    /// The texture for a `map_Kd` or `map_Ks` value of `material`, decoded on first use. `value` may
     /// carry options before the file name (`-s 1 1 1 wood.png`): if the whole value names
     /// no file, its last word is tried.
     fn texture(

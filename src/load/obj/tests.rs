@@ -98,7 +98,7 @@ fn materials_textures_and_uv_flip() {
         .unwrap();
     dir.write(
         "sub/m.mtl",
-        "newmtl a\nKa 0.1 0.1 0.1\nKd 0.5 0.25 1\nKs 1 1 1\nNs 100\nmap_Kd ../tex.png\n\
+        "newmtl a\nKa 0.1 0.1 0.1\nKd 0.5 0.25 1\nKs 1 1 1\nNs 100\nmap_Kd ../tex.png\nmap_Ks ../tex.png\n\
          newmtl b\nKd 1\nmap_Kd -s 1 1 1 ../tex.png\nnewmtl c\nmap_Kd missing.png\n",
     );
     let scene = load_obj_text(
@@ -128,6 +128,9 @@ fn materials_textures_and_uv_flip() {
         (Vec3::splat(0.1), Vec3::ONE, 100.0)
     );
     assert_eq!(a.base_color_texture.map(|t| t.texture), Some(0));
+    // The gloss map is the same file: decoded once, shared.
+    assert_eq!(a.specular_texture.map(|t| t.texture), Some(0));
+    assert!(scene.materials[1].specular_texture.is_none());
     assert_eq!(
         scene.materials[1].base_color_texture.map(|t| t.texture),
         Some(0)
