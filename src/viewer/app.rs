@@ -283,14 +283,17 @@ impl ViewerApp {
         self.notice = Some(notice);
     }
 
-    /// The scene file's camera for a viewport of `aspect`, if a scene file with a camera is
-    /// open.
+    /// The open scene file's camera for a viewport of `aspect` (without a `[camera]`, the
+    /// demo's own camera for `model = "demo"`, as `realist render` takes it); `None` when no
+    /// scene file is open or it leaves the view to the viewer's framing.
     fn file_camera(&self, aspect: f32) -> Result<Option<scene::Camera>, String> {
-        match &self.scene_file {
-            Some(f) => f
-                .file
-                .camera(self.scene.scene(), aspect)
-                .map_err(|e| e.to_string()),
+        let Some(f) = &self.scene_file else {
+            return Ok(None);
+        };
+        let scene = self.scene.scene();
+        match f.file.camera(scene, aspect).map_err(|e| e.to_string())? {
+            Some(c) => Ok(Some(c)),
+            None if f.model == ModelSource::Demo => Ok(scene.cameras.first().cloned()),
             None => Ok(None),
         }
     }
