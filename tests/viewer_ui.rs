@@ -1375,7 +1375,12 @@ fn assert_same_camera(a: &realist::scene::Camera, b: &realist::scene::Camera, to
             && (screen_up(a) - screen_up(b)).length() <= tol,
         "eye, target, up: {a:?} vs {b:?}"
     );
-    assert!((a.yfov - b.yfov).abs() <= 1e-5, "yfov {} vs {}", a.yfov, b.yfov);
+    assert!(
+        (a.yfov - b.yfov).abs() <= 1e-5,
+        "yfov {} vs {}",
+        a.yfov,
+        b.yfov
+    );
     assert_eq!(a.ortho.is_some(), b.ortho.is_some(), "projection");
     assert!(
         (a.near - b.near).abs() <= tol * scale && (a.far - b.far).abs() <= tol * scale,
@@ -1428,7 +1433,11 @@ fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() 
     assert!(before.fog.is_some() && before.tone == ToneMap::Reinhard);
     assert_eq!(custom_lights(h.state()).0[2].intensity, 2.5);
     assert_eq!(h.state().scene_file.as_ref().map(|f| &f.file.path), None);
-    assert_eq!(h.state().panels.save.path, "scene.toml", "the demo's default");
+    assert_eq!(
+        h.state().panels.save.path,
+        "scene.toml",
+        "the demo's default"
+    );
 
     let path = dir.join("saved.toml");
     save_scene_to(&mut h, &path);
@@ -1448,7 +1457,10 @@ fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() 
     h.get_by_label("saved.toml (demo)");
     assert_eq!(recent_list(&dir).first(), Some(&canonical(&path)));
     let text = std::fs::read_to_string(&path).expect("the file is written");
-    assert!(text.contains("model = \"demo\"") && text.contains("[fog]"), "{text}");
+    assert!(
+        text.contains("model = \"demo\"") && text.contains("[fog]"),
+        "{text}"
+    );
     assert!(text.contains("intensity = 2.5"), "{text}");
     // The library reads it back to the same settings (the viewer's refinement as samples).
     let loaded = SceneFile::load(&path).expect("the saved file loads");
@@ -1473,7 +1485,9 @@ fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() 
     let app = g.state();
     assert_eq!(app.error, None);
     assert!(
-        app.notice.as_deref().is_some_and(|n| n.contains("saved.toml")),
+        app.notice
+            .as_deref()
+            .is_some_and(|n| n.contains("saved.toml")),
         "{:?}",
         app.notice
     );
@@ -1511,7 +1525,13 @@ fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() 
     assert_eq!(g.state().error, None);
     let again = SceneFile::load(&json).expect("the JSON loads");
     assert_eq!(again.model, ModelSource::Demo);
-    assert_eq!(again.settings, Settings { samples: 1, ..before });
+    assert_eq!(
+        again.settings,
+        Settings {
+            samples: 1,
+            ..before
+        }
+    );
 }
 
 #[test]
@@ -1556,7 +1576,11 @@ fn a_scene_file_sets_model_settings_and_camera_and_reloads() {
     assert_same_camera(&want, &view.camera, 1e-4);
     assert_ne!(view.width * 9, view.height * 16, "the viewport is not 16:9");
     assert_current_frame(app);
-    assert_eq!(app.panels.save.path, path.to_str().unwrap(), "saves over it");
+    assert_eq!(
+        app.panels.save.path,
+        path.to_str().unwrap(),
+        "saves over it"
+    );
     let fogged = shown_image(&h);
 
     // Reloading (the watcher does the same on a change) reads the file again.
@@ -1583,7 +1607,11 @@ fn a_bad_scene_file_or_save_path_shows_its_error_and_keeps_the_scene() {
     let cases = [
         ("unknown.toml", "model = \"demo\"\nbogus = 1\n", "bogus"),
         ("syntax.toml", "model = \"demo\"\n[fog\n", "line 2"),
-        ("range.toml", "model = \"demo\"\n[fog]\nnear = 5\nfar = 1\n", "fog"),
+        (
+            "range.toml",
+            "model = \"demo\"\n[fog]\nnear = 5\nfar = 1\n",
+            "fog",
+        ),
         ("missing.toml", "model = \"nowhere.obj\"\n", "nowhere.obj"),
         ("bad.json", "{\"model\": \"demo\", \"msaa\": 3}", "msaa"),
     ];
@@ -1618,7 +1646,11 @@ fn a_bad_scene_file_or_save_path_shows_its_error_and_keeps_the_scene() {
         assert_eq!(app.scene_file.as_ref().map(|f| &f.file.path), Some(&good));
         assert_current_frame(app);
     }
-    assert_eq!(recent_list(&dir), [canonical(&good)], "failures are not recent");
+    assert_eq!(
+        recent_list(&dir),
+        [canonical(&good)],
+        "failures are not recent"
+    );
 
     // Saving where it cannot: the error, and nothing changes (the file stays open).
     for (target, problem) in [
@@ -1628,7 +1660,10 @@ fn a_bad_scene_file_or_save_path_shows_its_error_and_keeps_the_scene() {
         save_scene_to(&mut h, &target);
         let app = h.state();
         let e = app.error.clone().expect("a save error");
-        assert!(e.starts_with(target.to_str().unwrap()) && e.contains(problem), "{e}");
+        assert!(
+            e.starts_with(target.to_str().unwrap()) && e.contains(problem),
+            "{e}"
+        );
         assert!(!target.exists());
         assert_eq!(app.model.as_deref(), Some(good.as_path()));
         assert_eq!(app.scene_file.as_ref().map(|f| &f.file.path), Some(&good));
@@ -1643,6 +1678,9 @@ fn a_bad_scene_file_or_save_path_shows_its_error_and_keeps_the_scene() {
     assert!(app.scene_file.is_none() && app.model.is_none());
     assert_eq!(app.scene.triangle_count(), demo_triangles());
     let e = app.error.clone().expect("the error is shown");
-    assert!(e.starts_with(bad.to_str().unwrap()) && e.contains("bogus"), "{e}");
+    assert!(
+        e.starts_with(bad.to_str().unwrap()) && e.contains("bogus"),
+        "{e}"
+    );
     assert_current_frame(app);
 }

@@ -680,8 +680,10 @@ impl ViewerApp {
     #[must_use]
     pub fn scene_name(&self) -> String {
         let name = |p: &Path| {
-            p.file_name()
-                .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into_owned())
+            p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
         };
         let file = self.model.as_deref().map(name);
         match (&self.scene_file, file) {

@@ -341,7 +341,10 @@ pub fn menu_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     ui.close();
                 }
                 ui.separator();
-                if ui.button("Save scene  (to the Scene file section's path)").clicked() {
+                if ui
+                    .button("Save scene  (to the Scene file section's path)")
+                    .clicked()
+                {
                     save::save(app);
                     ui.close();
                 }
