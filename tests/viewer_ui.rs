@@ -1357,3 +1357,330 @@ fn the_demo_spotlight_shadow_follows_the_editor_and_the_shadow_settings() {
     assert_eq!(h.state().settings.shadow.size, 256);
     assert!(differing(&shown_image(&h), &hard) > 0, "1024 -> 256 texels");
 }
+
+use realist::scenefile::{ModelSource, SceneFile};
+
+/// Two cameras agree to `tol` (relative to the larger of 1 and the eye's distance); their
+/// `up` is compared as the screen's up (a file's need not be perpendicular to the view).
+fn assert_same_camera(a: &realist::scene::Camera, b: &realist::scene::Camera, tol: f32) {
+    let scale = (a.eye - a.target).length().max(1.0);
+    let close = |x: Vec3, y: Vec3| (x - y).length() <= tol * scale;
+    let screen_up = |c: &realist::scene::Camera| {
+        let back = (c.eye - c.target).normalize();
+        (c.up - back * c.up.dot(back)).normalize()
+    };
+    assert!(
+        close(a.eye, b.eye)
+            && close(a.target, b.target)
+            && (screen_up(a) - screen_up(b)).length() <= tol,
+        "eye, target, up: {a:?} vs {b:?}"
+    );
+    assert!(
+        (a.yfov - b.yfov).abs() <= 1e-5,
+        "yfov {} vs {}",
+        a.yfov,
+        b.yfov
+    );
+    assert_eq!(a.ortho.is_some(), b.ortho.is_some(), "projection");
+    assert!(
+        (a.near - b.near).abs() <= tol * scale && (a.far - b.far).abs() <= tol * scale,
+        "near/far {}..{} vs {}..{}",
+        a.near,
+        a.far,
+        b.near,
+        b.far
+    );
+}
+
+/// Pixels whose colour differs by more than `levels` in some channel.
+fn differing_by_more_than(a: &ColorImage, b: &ColorImage, levels: u8) -> usize {
+    assert_eq!(a.size, b.size, "frames of one size");
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| {
+            p.to_array()
+                .iter()
+                .zip(q.to_array())
+                .any(|(x, y)| x.abs_diff(y) > levels)
+        })
+        .count()
+}
+
+/// Types `path` into the scene file section's path field and presses its Save button.
+fn save_scene_to(h: &mut App, path: &Path) {
+    h.get_by_label("scene file path")
+        .set_text_value_accesskit(path.to_str().expect("UTF-8 path"));
+    h.run();
+    assert_eq!(h.state().panels.save.path, path.to_str().unwrap());
+    activate(h, "Save scene");
+}
+
+#[test]
+fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() {
+    let dir = temp_dir("scene-save");
+    let mut h = viewer(None, &dir, 1);
+    // Change what shows: the spotlight's intensity, fog, the tone map, and the camera.
+    activate(&mut h, "Lights");
+    activate(&mut h, "2: spotlight (spot)");
+    set_value(&mut h, "light 2 intensity", 2.5);
+    activate(&mut h, "Fog, tone map, shadows, ground");
+    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    choose(&mut h, "tone map A", "reinhard");
+    h.key_press(Key::Num9);
+    h.run();
+    let before = h.state().settings.clone();
+    assert!(before.fog.is_some() && before.tone == ToneMap::Reinhard);
+    assert_eq!(custom_lights(h.state()).0[2].intensity, 2.5);
+    assert_eq!(h.state().scene_file.as_ref().map(|f| &f.file.path), None);
+    assert_eq!(
+        h.state().panels.save.path,
+        "scene.toml",
+        "the demo's default"
+    );
+
+    let path = dir.join("saved.toml");
+    save_scene_to(&mut h, &path);
+    let app = h.state();
+    assert_eq!(app.error, None);
+    let notice = app.notice.clone().expect("the save is reported");
+    assert!(
+        notice.starts_with("saved scene file") && notice.contains(path.to_str().unwrap()),
+        "{notice}"
+    );
+    // The saved file is the one open now.
+    let open = app.scene_file.as_ref().expect("a scene file is open");
+    assert_eq!(open.file.path, path);
+    assert_eq!(open.model, ModelSource::Demo);
+    assert_eq!(app.model.as_deref(), Some(path.as_path()));
+    assert_eq!(app.scene_name(), "saved.toml (demo)");
+    h.get_by_label("saved.toml (demo)");
+    assert_eq!(recent_list(&dir).first(), Some(&canonical(&path)));
+    let text = std::fs::read_to_string(&path).expect("the file is written");
+    assert!(
+        text.contains("model = \"demo\"") && text.contains("[fog]"),
+        "{text}"
+    );
+    assert!(text.contains("intensity = 2.5"), "{text}");
+    // The library reads it back to the same settings (the viewer's refinement as samples).
+    let loaded = SceneFile::load(&path).expect("the saved file loads");
+    assert_eq!(
+        loaded.settings,
+        Settings {
+            samples: app.max_samples,
+            ..before.clone()
+        }
+    );
+    // The status bar's note is gone before the frame is kept, so the second window's
+    // status bar (with a note of its own) is laid out alike.
+    h.state_mut().notice = None;
+    h.run();
+    assert_current_frame(h.state());
+    let view = h.state().current_view();
+    let frame = shown_image(&h);
+
+    // A fresh viewer on the file: the same settings, camera and frame.
+    let dir2 = temp_dir("scene-open");
+    let mut g = viewer(Some(path.clone()), &dir2, 1);
+    let app = g.state();
+    assert_eq!(app.error, None);
+    assert!(
+        app.notice
+            .as_deref()
+            .is_some_and(|n| n.contains("saved.toml")),
+        "{:?}",
+        app.notice
+    );
+    assert_eq!(app.model.as_deref(), Some(path.as_path()));
+    assert_eq!(
+        app.scene_file.as_ref().map(|f| (&f.file.path, &f.model)),
+        Some((&path, &ModelSource::Demo))
+    );
+    assert_eq!(app.scene.triangle_count(), demo_triangles());
+    assert_eq!(app.settings.samples, 1);
+    assert_eq!(app.settings, before, "the settings came back");
+    assert_eq!(app.split.b.fog, before.fog, "B follows A's fog");
+    g.state_mut().notice = None;
+    g.run();
+    let app = g.state();
+    assert_current_frame(app);
+    let view2 = app.current_view();
+    assert_eq!([view2.width, view2.height], [view.width, view.height]);
+    assert_same_camera(&view.camera, &view2.camera, 1e-4);
+    let frame2 = shown_image(&g);
+    let off = differing_by_more_than(&frame, &frame2, 2);
+    assert!(
+        off * 1000 < frame.pixels.len(),
+        "{off} of {} pixels differ by more than 2 levels",
+        frame.pixels.len()
+    );
+    // And the frame is not the demo as it starts (the test can tell them apart).
+    let plain = viewer(None, &temp_dir("scene-plain"), 1);
+    let demo = shown_image(&plain);
+    assert!(differing_by_more_than(&demo, &frame2, 2) * 100 > frame2.pixels.len());
+
+    // Saved again (as JSON) from the opened file: still the demo, same settings.
+    let json = dir2.join("again.json");
+    save_scene_to(&mut g, &json);
+    assert_eq!(g.state().error, None);
+    let again = SceneFile::load(&json).expect("the JSON loads");
+    assert_eq!(again.model, ModelSource::Demo);
+    assert_eq!(
+        again.settings,
+        Settings {
+            samples: 1,
+            ..before
+        }
+    );
+}
+
+#[test]
+fn a_scene_file_sets_model_settings_and_camera_and_reloads() {
+    let dir = temp_dir("scene-file");
+    let torus = model("torus.obj");
+    let path = dir.join("torus.toml");
+    let write = |extra: &str| {
+        std::fs::write(
+            &path,
+            format!(
+                "model = {:?}\nshading = \"gouraud\"\nbackground = [0.2, 0.1, 0.05]\n\
+                 [camera]\neye = [0.5, 3.0, 2.0]\ntarget = [0, 0, 0]\nyfov = 30\n{extra}",
+                torus.to_str().unwrap()
+            ),
+        )
+        .unwrap();
+    };
+    write("[fog]\nnear = 1\nfar = 6\n");
+    // Dropped on the demo.
+    let mut h = viewer(None, &dir, 1);
+    drop_file(&mut h, &path);
+    let app = h.state();
+    assert_eq!(app.error, None);
+    assert_eq!(app.scene.triangle_count(), triangles(&torus));
+    let loaded = SceneFile::load(&path).unwrap();
+    assert_eq!(app.settings, loaded.settings);
+    assert_eq!(app.settings.shading, Some(Shading::Gouraud));
+    assert!(app.settings.fog.is_some());
+    assert_eq!(
+        app.scene_file.as_ref().map(|f| &f.model),
+        Some(&ModelSource::File(torus.clone()))
+    );
+    h.get_by_label("torus.toml (torus.obj)");
+    // The file's camera at the viewport's aspect (not the file's 16:9).
+    let view = app.current_view();
+    let want = loaded
+        .file
+        .camera(app.scene.scene(), view.width as f32 / view.height as f32)
+        .unwrap()
+        .unwrap();
+    assert_same_camera(&want, &view.camera, 1e-4);
+    assert_ne!(view.width * 9, view.height * 16, "the viewport is not 16:9");
+    assert_current_frame(app);
+    assert_eq!(
+        app.panels.save.path,
+        path.to_str().unwrap(),
+        "saves over it"
+    );
+    let fogged = shown_image(&h);
+
+    // Reloading (the watcher does the same on a change) reads the file again.
+    write("");
+    h.key_press(Key::ArrowUp);
+    h.run();
+    let app = h.state();
+    assert_eq!(app.error, None);
+    assert_eq!(app.settings.fog, None, "the file's fog is gone");
+    assert_current_frame(app);
+    assert_frame_changed(app, &fogged, "reloaded without fog");
+
+    // A model opened next: the scene file is closed.
+    drop_file(&mut h, &torus);
+    assert!(h.state().scene_file.is_none());
+    assert_torus_open(&h, &dir);
+}
+
+#[test]
+fn a_bad_scene_file_or_save_path_shows_its_error_and_keeps_the_scene() {
+    let dir = temp_dir("scene-bad");
+    let good = dir.join("good.toml");
+    std::fs::write(&good, "model = \"demo\"\nshading = \"flat\"\n").unwrap();
+    let cases = [
+        ("unknown.toml", "model = \"demo\"\nbogus = 1\n", "bogus"),
+        ("syntax.toml", "model = \"demo\"\n[fog\n", "line 2"),
+        (
+            "range.toml",
+            "model = \"demo\"\n[fog]\nnear = 5\nfar = 1\n",
+            "fog",
+        ),
+        ("missing.toml", "model = \"nowhere.obj\"\n", "nowhere.obj"),
+        ("bad.json", "{\"model\": \"demo\", \"msaa\": 3}", "msaa"),
+    ];
+    let mut h = viewer(Some(good.clone()), &dir, 1);
+    assert_eq!(h.state().error, None);
+    assert_eq!(h.state().settings.shading, Some(Shading::Flat));
+    // Without a [camera], the demo's own camera (as `realist render` takes it).
+    let demo_camera = realist::scene::demo().cameras[0].clone();
+    let camera = h.state().current_view().camera;
+    assert!(
+        (camera.eye - demo_camera.eye).length() < 1e-4
+            && (camera.target - demo_camera.target).length() < 1e-4,
+        "{camera:?} vs {demo_camera:?}"
+    );
+    let scene = Arc::clone(&h.state().scene);
+    let settings = h.state().settings.clone();
+    let nav = h.state().nav.clone();
+    for (name, text, key) in cases {
+        let bad = dir.join(name);
+        std::fs::write(&bad, text).unwrap();
+        drop_file(&mut h, &bad);
+        let app = h.state();
+        let e = app.error.clone().expect("an error is shown");
+        assert!(e.starts_with(bad.to_str().unwrap()), "names the file: {e}");
+        assert!(e.contains(key), "names the key ({key}): {e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+        h.get_by_label(&e);
+        assert!(Arc::ptr_eq(&app.scene, &scene), "{name}: the scene stays");
+        assert_eq!(app.settings, settings, "{name}: the settings stay");
+        assert_eq!(app.nav, nav, "{name}: the camera stays");
+        assert_eq!(app.model.as_deref(), Some(good.as_path()));
+        assert_eq!(app.scene_file.as_ref().map(|f| &f.file.path), Some(&good));
+        assert_current_frame(app);
+    }
+    assert_eq!(
+        recent_list(&dir),
+        [canonical(&good)],
+        "failures are not recent"
+    );
+
+    // Saving where it cannot: the error, and nothing changes (the file stays open).
+    for (target, problem) in [
+        (dir.join("scene.txt"), "must end in .toml or .json"),
+        (dir.join("no-such-folder").join("s.toml"), "s.toml"),
+    ] {
+        save_scene_to(&mut h, &target);
+        let app = h.state();
+        let e = app.error.clone().expect("a save error");
+        assert!(
+            e.starts_with(target.to_str().unwrap()) && e.contains(problem),
+            "{e}"
+        );
+        assert!(!target.exists());
+        assert_eq!(app.model.as_deref(), Some(good.as_path()));
+        assert_eq!(app.scene_file.as_ref().map(|f| &f.file.path), Some(&good));
+        // In the section and in the status bar.
+        assert_eq!(h.get_all_by_label(&e).count(), 2, "{e}");
+    }
+
+    // A bad scene file on the command line: the demo, with the error.
+    let bad = dir.join("unknown.toml");
+    let h = viewer(Some(bad.clone()), &temp_dir("scene-bad-cli"), 1);
+    let app = h.state();
+    assert!(app.scene_file.is_none() && app.model.is_none());
+    assert_eq!(app.scene.triangle_count(), demo_triangles());
+    let e = app.error.clone().expect("the error is shown");
+    assert!(
+        e.starts_with(bad.to_str().unwrap()) && e.contains("bogus"),
+        "{e}"
+    );
+    assert_current_frame(app);
+}

@@ -42,15 +42,15 @@ use render::{render, RenderArgs};
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// A model to open in the viewer (as `realist view MODEL`).
+    /// A model or scene file to open in the viewer (as `realist view MODEL`).
     #[arg(value_name = "MODEL")]
     model: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
 enum Command {
-    /// Open the viewer on a model (or the built-in demo); without a display, render it to a
-    /// PNG instead.
+    /// Open the viewer on a model or scene file (or the built-in demo); without a display,
+    /// render it to a PNG instead.
     View(ViewArgs),
     /// Render a model (or the built-in demo) headless to a PNG.
     Render(RenderArgs),
@@ -115,7 +115,8 @@ pub(crate) struct NormalArgs {
 
 #[derive(Args)]
 struct ViewArgs {
-    /// Model file (.obj, .gltf, .glb); the built-in demo if absent.
+    /// Model file (.obj, .gltf, .glb) or scene file (.toml, .json); the built-in demo if
+    /// absent.
     model: Option<PathBuf>,
     /// Window's inner size WIDTHxHEIGHT in points.
     #[arg(long, default_value = "1440x900", value_parser = parse_size)]

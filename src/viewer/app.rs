@@ -13,7 +13,7 @@ use std::time::Instant;
 use eframe::egui::{self, ColorImage, TextureHandle, TextureOptions};
 
 use super::files::{sibling_model, FileWatcher, RecentFiles};
-use super::loader::{self, LoadTask, Loaded};
+use super::loader::{self, FromFile, LoadTask, Loaded, OpenScene};
 use super::navigate::Navigator;
 use super::panels::{self, Panels};
 use super::viewport::ViewportState;
@@ -22,11 +22,12 @@ use crate::mesh::NormalOptions;
 use crate::raster::TileCost;
 use crate::render::{FrameReport, PreparedScene, Settings, View};
 use crate::scene;
+use crate::scenefile::{ModelSource, SceneFile};
 
 /// How the viewer starts.
 #[derive(Clone, Debug, Default)]
 pub struct ViewerOptions {
-    /// A model to open (else the built-in demo).
+    /// A model or a scene file (`.toml`, `.json`) to open (else the built-in demo).
     pub model: Option<PathBuf>,
     /// Load and render in the calling thread, each job at its final quality (UI tests).
     pub synchronous: bool,
@@ -75,8 +76,10 @@ pub struct Shown {
 /// The viewer.
 pub struct ViewerApp {
     pub scene: Arc<PreparedScene>,
-    /// The file the scene came from (`None`: the built-in demo).
+    /// The file the scene came from, a model or a scene file (`None`: the built-in demo).
     pub model: Option<PathBuf>,
+    /// The scene file open (then `model` is its path), for saving it again.
+    pub scene_file: Option<OpenScene>,
     pub load_millis: Option<f64>,
     pub settings: Settings,
     pub split: Split,
@@ -103,8 +106,11 @@ pub struct ViewerApp {
     pub viewport: ViewportState,
     /// A short message for the status bar (e.g. where a screenshot went).
     pub notice: Option<String>,
-    /// Frame the scene for the viewport's aspect once its size is known (a new scene).
+    /// Frame the scene (or take the scene file's camera) for the viewport's aspect once its
+    /// size is known (a new scene).
     frame_pending: bool,
+    /// The window title last asked for.
+    title: String,
     /// `REALIST_VIEWER_LOG=FILE`: one JSON line per frame shown and per UI pass, for
     /// measuring frame times and the time from launch to the first frame.
     trace: Option<std::fs::File>,
@@ -142,6 +148,7 @@ impl ViewerApp {
         let mut app = Self {
             scene,
             model: None,
+            scene_file: None,
             load_millis: None,
             settings: Settings::default(),
             split: Split {
@@ -172,17 +179,20 @@ impl ViewerApp {
             viewport: ViewportState::default(),
             notice: recent_problem,
             frame_pending: true,
+            title: String::new(),
             trace: std::env::var_os("REALIST_VIEWER_LOG")
                 .and_then(|p| std::fs::File::create(p).ok()),
         };
         app.panels.visible = !opts.hide_panels;
+        app.panels.save.path = app.default_save_path();
         if let Some(m) = opts.model {
             app.open(m);
         }
         Ok(app)
     }
 
-    /// Starts loading `path` (in the background, or now in synchronous mode).
+    /// Starts loading `path`, a model or a scene file (in the background, or now in
+    /// synchronous mode).
     pub fn open(&mut self, path: PathBuf) {
         if let Some(t) = self.loading.take() {
             t.cancel();
@@ -206,11 +216,19 @@ impl ViewerApp {
                 path,
                 scene,
                 millis,
+                from_file,
             }) => {
                 let (center, radius) = scene.bounding_sphere();
                 let aspect = self.viewport.aspect();
                 let same = self.model.as_deref() == Some(path.as_path());
-                if same {
+                if let Some(f) = from_file {
+                    // A scene file (opened or reloaded) sets everything it names: its
+                    // settings now, its camera once the viewport's aspect is known.
+                    self.nav = Navigator::new(center, radius, aspect);
+                    self.frame_pending = true;
+                    self.panels.on_new_scene();
+                    self.install_file_settings(f, &path);
+                } else if same {
                     // A reload keeps the camera; only the scene's extent may have changed.
                     self.nav.new_scene(center, radius, aspect);
                 } else {
@@ -218,6 +236,9 @@ impl ViewerApp {
                     self.frame_pending = true;
                     self.settings.materials = None;
                     self.panels.on_new_scene();
+                }
+                if self.scene_file.is_some() && !loader::is_scene_file(&path) {
+                    self.scene_file = None;
                 }
                 self.scene = scene;
                 self.load_millis = Some(millis);
@@ -227,6 +248,7 @@ impl ViewerApp {
                 self.watch(&path);
                 self.model = Some(path);
                 self.panels.probe = None;
+                self.panels.save.path = self.default_save_path();
             }
             Err(e) => {
                 if self.model.is_none() && self.scene.scene().instances.is_empty() {
@@ -236,6 +258,105 @@ impl ViewerApp {
                 self.error = Some(e);
             }
         }
+    }
+
+    /// Takes a scene file's settings (the camera follows in the next UI pass).
+    fn install_file_settings(&mut self, f: FromFile, path: &Path) {
+        let FromFile {
+            open,
+            settings,
+            notes,
+        } = f;
+        // The split view's B side follows A's fog, shadows and ground (as the panel keeps
+        // it); fog and ground turned off and on again come back as the file set them.
+        self.split.b.fog = settings.fog;
+        self.split.b.shadow = settings.shadow;
+        self.split.b.ground = settings.ground;
+        self.panels.environment.fog = settings.fog;
+        self.panels.environment.ground = settings.ground;
+        self.settings = settings;
+        self.scene_file = Some(open);
+        let mut notice = format!("opened scene file {}", path.display());
+        for n in notes {
+            notice += &format!("; {n}");
+        }
+        self.notice = Some(notice);
+    }
+
+    /// The open scene file's camera for a viewport of `aspect` (without a `[camera]`, the
+    /// demo's own camera for `model = "demo"`, as `realist render` takes it); `None` when no
+    /// scene file is open or it leaves the view to the viewer's framing.
+    fn file_camera(&self, aspect: f32) -> Result<Option<scene::Camera>, String> {
+        let Some(f) = &self.scene_file else {
+            return Ok(None);
+        };
+        let scene = self.scene.scene();
+        match f.file.camera(scene, aspect).map_err(|e| e.to_string())? {
+            Some(c) => Ok(Some(c)),
+            None if f.model == ModelSource::Demo => Ok(scene.cameras.first().cloned()),
+            None => Ok(None),
+        }
+    }
+
+    /// What [`ViewerApp::save_scene`] writes about the model: the open scene file's model
+    /// and light scale, the model file (absolute), or the demo.
+    #[must_use]
+    pub fn model_source(&self) -> (ModelSource, f32) {
+        match (&self.scene_file, &self.model) {
+            (Some(f), _) => (f.model.clone(), f.light_scale),
+            (None, Some(m)) => (
+                ModelSource::File(std::path::absolute(m).unwrap_or_else(|_| m.clone())),
+                1.0,
+            ),
+            (None, None) => (ModelSource::Demo, 1.0),
+        }
+    }
+
+    /// Where "Save scene" writes unless told otherwise: the open scene file, else
+    /// `scene.toml` next to the model (or in the working folder for the demo).
+    #[must_use]
+    pub fn default_save_path(&self) -> String {
+        let path = match (&self.scene_file, &self.model) {
+            (Some(f), _) => f.file.path.clone(),
+            (None, Some(m)) => match m.parent() {
+                Some(dir) if !dir.as_os_str().is_empty() => dir.join("scene.toml"),
+                _ => PathBuf::from("scene.toml"),
+            },
+            (None, None) => PathBuf::from("scene.toml"),
+        };
+        path.display().to_string()
+    }
+
+    /// Saves the current scene (model, settings, camera at the viewport's size) as a scene
+    /// file at `path` (`.toml` or `.json`), which becomes the open scene file. The viewer's
+    /// refinement (`max_samples`) is saved as the file's `samples`, so `realist render`
+    /// gives the still frame on screen. Returns the notes on what was left out.
+    ///
+    /// # Errors
+    /// The one-line message (naming the file) when the extension is wrong or the file
+    /// cannot be written; nothing changes then.
+    pub fn save_scene(&mut self, path: &Path) -> Result<Vec<String>, String> {
+        let (model, light_scale) = self.model_source();
+        let settings = Settings {
+            samples: self.max_samples,
+            ..self.settings.clone()
+        };
+        let view = self.current_view();
+        let (mut file, notes) = SceneFile::from_settings(&model, light_scale, &settings, &view);
+        file.save(path).map_err(|e| e.to_string())?;
+        // The saved file is now the one open (as "save as" does); the recent list and the
+        // watcher follow, the watcher anew so that this write is not taken for a change.
+        self.scene_file = Some(OpenScene {
+            file,
+            model,
+            light_scale,
+        });
+        self.recent.add(path);
+        self.save_state();
+        self.watch(path);
+        self.file_changed.store(false, Ordering::SeqCst);
+        self.model = Some(path.to_owned());
+        Ok(notes)
     }
 
     /// Watches the current model for changes (reloaded when it changes on disk).
@@ -268,7 +389,9 @@ impl ViewerApp {
         self.scene = scene;
         self.frame_pending = true;
         self.model = None;
+        self.scene_file = None;
         self.watcher = None;
+        self.panels.save.path = self.default_save_path();
         self.settings.materials = None;
         self.panels.on_new_scene();
     }
@@ -314,12 +437,25 @@ impl ViewerApp {
             .show(ui, |ui| super::viewport::show(self, ui));
         panels::windows(self, ui.ctx());
         if self.frame_pending && self.viewport.size_px[0] > 0 {
-            // Framed for the viewport's real aspect (a portrait window needs more distance).
+            // Framed for the viewport's real aspect (a portrait window needs more distance),
+            // or the scene file's camera with that aspect (the window keeps its size).
             let (center, radius) = self.scene.bounding_sphere();
-            self.nav.frame(center, radius, self.viewport.aspect());
-            self.nav.set_home();
+            let aspect = self.viewport.aspect();
+            match self.file_camera(aspect) {
+                Ok(Some(cam)) => {
+                    self.nav = Navigator::from_camera(&cam, center, radius, self.nav.up_axis());
+                }
+                other => {
+                    if let Err(e) = other {
+                        self.error = Some(e);
+                    }
+                    self.nav.frame(center, radius, aspect);
+                    self.nav.set_home();
+                }
+            }
             self.frame_pending = false;
         }
+        self.update_title(ui.ctx());
         self.submit_if_changed();
         if self.loading.is_some() {
             // The progress bar moves: look again in a moment (nothing else polls).
@@ -333,6 +469,15 @@ impl ViewerApp {
             self.interacting
         );
         self.trace_line(&line);
+    }
+
+    /// Names the open file in the window's title when it changes.
+    fn update_title(&mut self, ctx: &egui::Context) {
+        let title = format!("realist: {}", self.scene_name());
+        if title != self.title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
+        }
     }
 
     fn trace_line(&mut self, line: &str) {
@@ -530,12 +675,28 @@ impl ViewerApp {
             && !self.host.busy()
     }
 
-    /// The name shown for the scene (file name or "demo").
+    /// The name shown for the scene: the file name or "demo", for a scene file also what it
+    /// draws ("scene.toml (torus.obj)").
     #[must_use]
     pub fn scene_name(&self) -> String {
-        self.model.as_deref().and_then(Path::file_name).map_or_else(
-            || "demo (seed figure 9-8)".into(),
-            |n| n.to_string_lossy().into_owned(),
-        )
+        let name = |p: &Path| {
+            p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
+        };
+        let file = self.model.as_deref().map(name);
+        match (&self.scene_file, file) {
+            (Some(f), Some(file)) => {
+                let drawn = match &f.model {
+                    ModelSource::Demo => "demo".to_owned(),
+                    ModelSource::File(m) => name(m),
+                    ModelSource::Primitive(_) => "primitive".to_owned(),
+                };
+                format!("{file} ({drawn})")
+            }
+            (_, Some(file)) => file,
+            (_, None) => "demo (seed figure 9-8)".into(),
+        }
     }
 }

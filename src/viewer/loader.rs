@@ -1,6 +1,8 @@
-//! Loading a model off the UI thread: the file is loaded and prepared (triangulated) on a
-//! thread of its own with a [`Progress`] the status bar reads and the user can cancel. The
-//! scene on screen stays until a load succeeds; a failed load only shows its error.
+//! Loading a model or a scene file off the UI thread: the file is loaded and prepared
+//! (triangulated) on a thread of its own with a [`Progress`] the status bar reads and the user
+//! can cancel. A scene file (`.toml`, `.json`) is read and resolved against its model there
+//! too ([`SceneFile::resolve`]), so a slow model never blocks the UI. The scene on screen
+//! stays until a load succeeds; a failed load only shows its error.
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{channel, Receiver, TryRecvError};
@@ -9,7 +11,33 @@ use std::time::Instant;
 
 use crate::load::{self, LoadOptions, Progress, Stage};
 use crate::mesh::NormalOptions;
-use crate::render::PreparedScene;
+use crate::render::{PreparedScene, Settings};
+use crate::scenefile::{Format, ModelSource, SceneFile};
+
+/// An open scene file: what it names besides its settings, kept to save it again.
+#[derive(Clone, Debug)]
+pub struct OpenScene {
+    /// The file as read (its `path`, its camera for the viewport's aspect).
+    pub file: SceneFile,
+    /// What it draws (for [`SceneFile::from_settings`]).
+    pub model: ModelSource,
+    /// The factor the model's own lights were scaled by.
+    pub light_scale: f32,
+}
+
+/// What a scene file sets besides the scene itself.
+pub struct FromFile {
+    pub open: OpenScene,
+    pub settings: Settings,
+    /// What the viewer leaves out (e.g. the file's comparison layout).
+    pub notes: Vec<String>,
+}
+
+/// Whether `path` names a scene file (by its extension: `.toml` or `.json`).
+#[must_use]
+pub fn is_scene_file(path: &Path) -> bool {
+    Format::of(path).is_some()
+}
 
 /// A model loaded and prepared.
 pub struct Loaded {
@@ -17,6 +45,8 @@ pub struct Loaded {
     pub scene: Arc<PreparedScene>,
     /// Wall-clock milliseconds of load + prepare.
     pub millis: f64,
+    /// Set when `path` is a scene file.
+    pub from_file: Option<FromFile>,
 }
 
 /// The outcome of a load: the model, or the one-line error (which names the file).
@@ -30,10 +60,11 @@ pub struct LoadTask {
     started: Instant,
 }
 
-/// Loads and prepares `path` in the calling thread.
+/// Loads and prepares `path` (a model, or a scene file and its model) in the calling
+/// thread.
 ///
 /// # Errors
-/// The loader's one-line message naming the file.
+/// The loader's (or the scene file's) one-line message naming the file.
 pub fn load_now(path: &Path, normals: NormalOptions, progress: Option<Arc<Progress>>) -> Outcome {
     let t = Instant::now();
     let opts = LoadOptions {
@@ -41,12 +72,33 @@ pub fn load_now(path: &Path, normals: NormalOptions, progress: Option<Arc<Progre
         progress,
         ..LoadOptions::default()
     };
-    let scene = load::load(path, &opts).map_err(|e| e.to_string())?;
+    let (scene, from_file) = if is_scene_file(path) {
+        let l = SceneFile::read(path)
+            .and_then(|f| f.resolve(&opts))
+            .map_err(|e| e.to_string())?;
+        let mut notes = Vec::new();
+        if l.comparison.is_some() {
+            notes.push("its [compare] layout is for `realist render`".to_owned());
+        }
+        let from_file = FromFile {
+            open: OpenScene {
+                file: l.file,
+                model: l.model,
+                light_scale: l.light_scale,
+            },
+            settings: l.settings,
+            notes,
+        };
+        (l.scene, Some(from_file))
+    } else {
+        (load::load(path, &opts).map_err(|e| e.to_string())?, None)
+    };
     let scene = Arc::new(PreparedScene::new(scene));
     Ok(Loaded {
         path: path.to_owned(),
         scene,
         millis: t.elapsed().as_secs_f64() * 1e3,
+        from_file,
     })
 }
 

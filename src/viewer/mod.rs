@@ -5,10 +5,10 @@
 //! |---|---|
 //! | [`app`] | [`ViewerApp`]: the state and the whole UI in one method ([`ViewerApp::ui_contents`]) that eframe and the UI tests both drive |
 //! | [`worker`] | the render thread: coalesced jobs, abandoned stale frames, progressive quality |
-//! | [`loader`] | loading and preparing a model off the UI thread, with progress and cancel |
+//! | [`loader`] | loading and preparing a model or a scene file off the UI thread, with progress and cancel |
 //! | [`viewport`] | the image, mouse navigation, picking, the probe click, overlays (tile grid and cost, split divider) |
 //! | [`keys`] | the key bindings table behind both the dispatcher and the cheat sheet |
-//! | [`panels`] | shading, split view, scene, lights, fog / tone map / shadows / ground, materials, probe, colour, stats |
+//! | [`panels`] | shading, split view, saving the scene file, scene, lights, fog / tone map / shadows / ground, materials, probe, colour, stats |
 //! | [`gizmos`] | each light's position and cone drawn over the view |
 //! | [`slide`] | reading a rectangular spotlight's projected image off the UI thread |
 //! | [`navigate`] | the camera controller (turntable / trackball, pan, dolly to cursor, framing, named views) |
@@ -60,8 +60,9 @@ pub fn since_launch_ms() -> f64 {
         * 1e3
 }
 
-/// Opens the viewer window on `model` (or the built-in demo) with an inner size of
-/// `window` points (side panels hidden if asked), and runs until it is closed.
+/// Opens the viewer window on `model`, a model or a scene file (or the built-in demo), with
+/// an inner size of `window` points (side panels hidden if asked), and runs until it is
+/// closed.
 ///
 /// # Errors
 /// If the window cannot be created (no display, no OpenGL).

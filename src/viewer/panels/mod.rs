@@ -1,5 +1,5 @@
 //! The panels around the viewport: the menu bar, the status bar, the side panels (shading,
-//! split view, scene, lights and materials, probe, colour, stats) and the windows (cheat
+//! split view, scene file, scene, lights and materials, probe, colour, stats) and the windows (cheat
 //! sheet, file picker, screenshot). Each section lives in its own file; this one holds the
 //! layout, the keyboard dispatcher and the shared panel state.
 
@@ -19,6 +19,7 @@ pub mod environment;
 pub mod lights;
 mod materials;
 mod probe;
+pub mod save;
 mod scene;
 mod screenshot;
 mod shading;
@@ -27,6 +28,7 @@ mod stats;
 pub use colour::ColourState;
 pub use environment::EnvironmentUi;
 pub use lights::{light_names, LightsUi};
+pub use save::SaveUi;
 pub use screenshot::Screenshot;
 
 /// Which tile cost the viewport shows.
@@ -86,6 +88,8 @@ pub struct Panels {
     pub lights: LightsUi,
     /// Fog and ground values kept while they are off.
     pub environment: EnvironmentUi,
+    /// Saving the scene file.
+    pub save: SaveUi,
 }
 
 impl Default for Panels {
@@ -105,6 +109,7 @@ impl Default for Panels {
             topology: std::collections::HashMap::new(),
             lights: LightsUi::default(),
             environment: EnvironmentUi::default(),
+            save: SaveUi::default(),
         }
     }
 }
@@ -279,13 +284,11 @@ pub fn act(app: &mut ViewerApp, a: Action) {
 /// Opens the file picker (drawn by egui, so it works anywhere, Xvfb included).
 pub fn open_picker(app: &mut ViewerApp) {
     let filter = Box::new(|p: &std::path::Path| {
-        p.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| ["obj", "gltf", "glb"].contains(&e.to_ascii_lowercase().as_str()))
+        super::files::is_model(p) || super::loader::is_scene_file(p)
     });
     let mut dialog = egui_file::FileDialog::open_file()
         .show_files_filter(filter)
-        .title("Open a model (.obj, .gltf, .glb)");
+        .title("Open a model (.obj, .gltf, .glb) or a scene file (.toml, .json)");
     if let Some(dir) = app.model.as_deref().and_then(std::path::Path::parent) {
         dialog = dialog.initial_path(dir);
     }
@@ -338,6 +341,13 @@ pub fn menu_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     ui.close();
                 }
                 ui.separator();
+                if ui
+                    .button("Save scene  (to the Scene file section's path)")
+                    .clicked()
+                {
+                    save::save(app);
+                    ui.close();
+                }
                 if ui.button("Screenshot...  (F12 saves at once)").clicked() {
                     app.panels.screenshot.open = true;
                     ui.close();
@@ -451,6 +461,9 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     .default_open(true)
                     .open(open)
                     .show(ui, |ui| probe::show(app, ui));
+                egui::CollapsingHeader::new("Scene file")
+                    .default_open(true)
+                    .show(ui, |ui| save::show(app, ui));
                 egui::CollapsingHeader::new("Scene")
                     .default_open(true)
                     .show(ui, |ui| scene::show(app, ui));
