@@ -226,21 +226,13 @@ fn png(texture: &Texture) -> Result<Vec<u8>> {
 /// `mesh` with `texture` as a one-node GLB. Every facet corner becomes a vertex (glTF
 /// attributes share one index), and every facet a counter-clockwise triangle fan.
 fn textured_glb(mesh: &Mesh, texture: &Texture) -> Result<Vec<u8>> {
-    let uvs = mesh.uvs.as_ref().context("the mesh has no UVs")?;
-    let (mut positions, mut normals, mut texcoords, mut indices) = (vec![], vec![], vec![], vec![]);
-    for facet in &mesh.facets {
-        let first = u16::try_from(positions.len())?;
-        for c in facet.corners() {
-            let v = mesh.corners[c];
-            positions.push(mesh.positions[v as usize].to_array());
-            normals.push(mesh.normals.at(c, v).to_array());
-            texcoords.push(uvs.at(c, v).to_array());
-        }
-        let len = u16::try_from(facet.len)?;
-        for k in 1..len - 1 {
-            indices.extend([first, first + k, first + k + 1]);
-        }
-    }
+    ensure!(mesh.uvs.is_some(), "the mesh has no UVs");
+    let Flat {
+        positions,
+        normals,
+        texcoords,
+        indices,
+    } = flatten(mesh)?;
     ensure!(
         positions.len() <= usize::from(u16::MAX),
         "too many vertices for u16 indices"
@@ -283,25 +275,39 @@ fn textured_glb(mesh: &Mesh, texture: &Texture) -> Result<Vec<u8>> {
     glb(&gltf, &bin.data)
 }
 
-/// Every facet corner of `mesh` as a vertex (position, normal) and every facet as a
-/// counter-clockwise triangle fan: what a glTF primitive needs.
-type Flat = (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<u16>);
+/// Every facet corner of `mesh` as a vertex (position, normal, UV if the mesh has them)
+/// and every facet as a counter-clockwise triangle fan: what a glTF primitive needs.
+struct Flat {
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    /// Empty when the mesh has no UVs.
+    texcoords: Vec<[f32; 2]>,
+    indices: Vec<u16>,
+}
 
 fn flatten(mesh: &Mesh) -> Result<Flat> {
-    let (mut positions, mut normals, mut indices) = (vec![], vec![], vec![]);
+    let mut f = Flat {
+        positions: vec![],
+        normals: vec![],
+        texcoords: vec![],
+        indices: vec![],
+    };
     for facet in &mesh.facets {
-        let first = u16::try_from(positions.len())?;
+        let first = u16::try_from(f.positions.len())?;
         for c in facet.corners() {
             let v = mesh.corners[c];
-            positions.push(mesh.positions[v as usize].to_array());
-            normals.push(mesh.normals.at(c, v).to_array());
+            f.positions.push(mesh.positions[v as usize].to_array());
+            f.normals.push(mesh.normals.at(c, v).to_array());
+            if let Some(uvs) = &mesh.uvs {
+                f.texcoords.push(uvs.at(c, v).to_array());
+            }
         }
         let len = u16::try_from(facet.len)?;
         for k in 1..len - 1 {
-            indices.extend([first, first + k, first + k + 1]);
+            f.indices.extend([first, first + k, first + k + 1]);
         }
     }
-    Ok((positions, normals, indices))
+    Ok(f)
 }
 
 /// A node rotation (glTF `[x, y, z, w]`) that turns the local -Z (where glTF cameras look
@@ -320,7 +326,12 @@ fn lit_stage_glb() -> Result<Vec<u8>> {
         ("floor", Mesh::cube(1.0)?, 0),
         ("ball", Mesh::sphere(1.0, 32, 16)?, 1),
     ] {
-        let (p, n, i) = flatten(&mesh)?;
+        let Flat {
+            positions: p,
+            normals: n,
+            indices: i,
+            ..
+        } = flatten(&mesh)?;
         let (p, n, i) = (
             bin.floats(&p, "VEC3"),
             bin.floats(&n, "VEC3"),

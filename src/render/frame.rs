@@ -239,6 +239,27 @@ pub(crate) fn resolve(
     }
 }
 
+impl FrameInst {
+    /// Instance `k` of mesh `mesh` placed by `world`, resolved as `r`; no parameters,
+    /// vertex colours or distance yet.
+    fn new(k: usize, mesh: usize, world: Mat4, view: Mat4, vp: Mat4, r: &Resolved) -> Self {
+        Self {
+            inst: k as u32,
+            mesh: mesh as u32,
+            mvp: vp * world,
+            world,
+            model_view: view * world,
+            state: r.state,
+            param: 0,
+            mode: r.mode,
+            textured: r.textured,
+            colors: false,
+            blend: r.blend,
+            distance: 0.0,
+        }
+    }
+}
+
 /// Fills `fd` for one frame: lights, visible instances and their parameters. Counts
 /// objects culled by their bounding sphere into `stats`.
 pub(super) fn set_up(
@@ -274,19 +295,10 @@ pub(super) fn set_up(
         if tri.radius < 0.0 || !sphere_visible(&planes, world, tri.center, tri.radius) {
             if shadows && tri.radius >= 0.0 {
                 let r = resolve(scene, settings, inst);
+                // Drawn only into shadow maps: no parameters, no varyings.
                 fd.casters.push(FrameInst {
-                    inst: k as u32,
-                    mesh: inst.mesh as u32,
-                    mvp: vp * world,
-                    world,
-                    model_view: view * world,
-                    state: r.state,
-                    param: 0,
-                    mode: r.mode,
                     textured: false,
-                    colors: false,
-                    blend: r.blend,
-                    distance: 0.0,
+                    ..FrameInst::new(k, inst.mesh, world, view, vp, &r)
                 });
             }
             stats.objects_culled += 1;
@@ -313,18 +325,10 @@ pub(super) fn set_up(
         }
         let center = world.transform_point3(tri.center);
         fd.insts.push(FrameInst {
-            inst: k as u32,
-            mesh: inst.mesh as u32,
-            mvp: vp * world,
-            world,
-            model_view: view * world,
-            state: r.state,
             param: fd.params.len() as u32,
-            mode: r.mode,
-            textured: r.textured,
             colors: tri.colors.is_some(),
-            blend: r.blend,
             distance: (center - eye).length(),
+            ..FrameInst::new(k, inst.mesh, world, view, vp, &r)
         });
         fd.params.push(r.params);
     }
