@@ -24,6 +24,7 @@ mod scene;
 mod screenshot;
 mod shading;
 mod stats;
+pub mod text;
 
 pub use colour::ColourState;
 pub use environment::EnvironmentUi;
@@ -378,11 +379,14 @@ pub fn menu_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
     });
 }
 
-/// The status bar: file, load progress, quality level, timings, errors.
+/// The status bar: file, load progress, quality level, timings, errors. One line whatever
+/// it shows (a wrapped second line would take its height from the viewport): the file name
+/// is cut in the middle, the message at its end, each whole on hover.
 pub fn status_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
     egui::Panel::bottom("status").show(ui, |ui| {
-        ui.horizontal_wrapped(|ui| {
-            ui.label(egui::RichText::new(app.scene_name()).strong());
+        ui.horizontal(|ui| {
+            let name_width = (ui.available_width() / 3.0).max(80.0);
+            text::elided_middle(ui, &app.scene_name(), name_width, true);
             ui.label(format!("{} triangles", app.scene.triangle_count()));
             if let Some(t) = &app.loading {
                 let (stage, fraction, secs) = t.status();
@@ -391,7 +395,9 @@ pub fn status_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     .file_name()
                     .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
                 ui.separator();
-                ui.label(format!("loading {name}: {} ({secs:.1} s)", stage.name()));
+                ui.label("loading");
+                text::elided_middle(ui, &name, 160.0, false);
+                ui.label(format!("{} ({secs:.1} s)", stage.name()));
                 ui.add(
                     egui::ProgressBar::new(fraction.unwrap_or(0.0))
                         .desired_width(120.0)
@@ -415,13 +421,16 @@ pub fn status_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
             }
             if let Some(e) = app.error.clone() {
                 ui.separator();
-                ui.colored_label(Color32::from_rgb(255, 110, 90), e);
                 if ui.small_button("dismiss").clicked() {
                     app.error = None;
                 }
+                text::elided_end(
+                    ui,
+                    egui::RichText::new(e).color(Color32::from_rgb(255, 110, 90)),
+                );
             } else if let Some(n) = &app.notice {
                 ui.separator();
-                ui.label(n.as_str());
+                text::elided_end(ui, n.as_str());
             }
         });
     });
@@ -434,7 +443,7 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .default_size(320.0)
         .size_range(200.0..=420.0)
         .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
+            text::bounded("controls-scroll").show(ui, |ui| {
                 egui::CollapsingHeader::new("Shading")
                     .default_open(true)
                     .show(ui, |ui| shading::show(app, ui));
@@ -455,7 +464,7 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
         .show(ui, |ui| {
             // Wide rows (the probe's light shares) scroll sideways: growing the panel would
             // shrink the viewport and re-render the frame just probed.
-            egui::ScrollArea::both().show(ui, |ui| {
+            text::bounded("inspect-scroll").show(ui, |ui| {
                 let open = std::mem::take(&mut app.panels.open_probe).then_some(true);
                 egui::CollapsingHeader::new("Pixel probe")
                     .default_open(true)

@@ -4,6 +4,7 @@
 
 use eframe::egui;
 
+use super::text;
 use crate::viewer::app::ViewerApp;
 
 /// The save section's state.
@@ -42,13 +43,20 @@ pub fn save(app: &mut ViewerApp) {
 
 /// The save section.
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    match &app.scene_file {
-        Some(f) => ui.label(format!("open: {}", f.file.path.display())),
-        None => ui.label("open: none (a model or the demo)"),
-    };
+    ui.horizontal(|ui| {
+        ui.label("open:");
+        match &app.scene_file {
+            Some(f) => {
+                text::elided_middle(ui, &f.file.path.display().to_string(), f32::INFINITY, false)
+            }
+            None => ui.label("none (a model or the demo)"),
+        };
+    });
     ui.horizontal(|ui| {
         ui.label("save to");
-        ui.add(egui::TextEdit::singleline(&mut app.panels.save.path).desired_width(220.0))
+        // As wide as the room left, not as the path: the field scrolls its text.
+        let width = ui.available_width();
+        ui.add(egui::TextEdit::singleline(&mut app.panels.save.path).desired_width(width))
             .accessible_name("scene file path");
     });
     let exists = std::path::Path::new(app.panels.save.path.trim()).is_file();
