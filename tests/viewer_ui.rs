@@ -26,6 +26,9 @@ const SIZE: Vec2 = Vec2::new(1100.0, 640.0);
 
 type App = Harness<'static, ViewerApp>;
 
+/// The fog checkbox's label.
+const FOG: &str = "fog (linear, the textbook's pipeline chapter, §5.1)";
+
 /// A model of the repository.
 fn model(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -1039,7 +1042,7 @@ fn fog_tone_map_shadows_and_ground_from_the_panel() {
     activate(&mut h, "Fog, tone map, shadows, ground");
     let clear = shown_image(&h);
     assert_eq!(h.state().settings.fog, None);
-    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, FOG);
     let fog = h.state().settings.fog.expect("fog is on");
     assert!(fog.is_valid(), "{fog:?}");
     assert_eq!(h.state().split.b.fog, Some(fog), "B follows A's fog");
@@ -1064,14 +1067,14 @@ fn fog_tone_map_shadows_and_ground_from_the_panel() {
     assert_eq!(h.state().settings.fog.unwrap().distance, FogDistance::Depth);
     // Off and on again: the same fog comes back.
     let kept = h.state().settings.fog;
-    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, FOG);
     assert_eq!(h.state().settings.fog, None);
     assert_eq!(differing(&shown_image(&h), &clear), 0, "fog off again");
-    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, FOG);
     assert_eq!(h.state().settings.fog, kept);
 
     // Tone maps: with the key light ten times as strong, much of the torus is above 1.
-    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, FOG);
     activate(&mut h, "Lights");
     activate(&mut h, "1: key (directional)");
     set_value(&mut h, "light 1 intensity", 10.0);
@@ -1199,7 +1202,7 @@ fn the_probe_lists_every_light_with_its_share() {
     activate(&mut h, "Lights");
     activate(&mut h, "+ spot");
     activate(&mut h, "Fog, tone map, shadows, ground");
-    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, FOG);
     let at = centre_of_torus_ring(h.state());
     click_at(&mut h, at);
     let probe = h
@@ -1525,7 +1528,7 @@ fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() 
     activate(&mut h, "2: spotlight (spot)");
     set_value(&mut h, "light 2 intensity", 2.5);
     activate(&mut h, "Fog, tone map, shadows, ground");
-    activate(&mut h, "fog (linear, seed 003 §4.9)");
+    activate(&mut h, FOG);
     choose(&mut h, "tone map A", "reinhard");
     h.key_press(Key::Num9);
     h.run();

@@ -108,7 +108,7 @@ pub(crate) struct NormalArgs {
     /// Crease angle in degrees for averaged normals, or "off" to average across every edge.
     #[arg(long, default_value = "60")]
     crease: String,
-    /// Weighting of averaged normals: angle, area or uniform (the seed's plain average).
+    /// Weighting of averaged normals: angle, area or uniform (the textbook's plain average).
     #[arg(long, default_value = "angle")]
     weighting: String,
 }

@@ -23,7 +23,7 @@ pub(crate) struct RenderArgs {
     /// files"); flags given on the command line override the scene file.
     #[arg(required_unless_present = "demo", conflicts_with = "demo")]
     pub model: Option<PathBuf>,
-    /// Render the built-in demo scene (the seed's three spheres).
+    /// Render the built-in demo scene (the textbook's three spheres).
     #[arg(long)]
     pub demo: bool,
     /// Output image (PNG, or the format its extension names). Default: the scene file's
@@ -48,7 +48,7 @@ pub(crate) struct RenderArgs {
     /// Vertical field of view in degrees (default 45).
     #[arg(long, conflicts_with = "zoom")]
     pub fov: Option<f32>,
-    /// The seed's zoom factor, zoom = 1/tan(fov/2) (1 = 90 degrees, 2.414 = 45 degrees).
+    /// The textbook's zoom factor, zoom = 1/tan(fov/2) (1 = 90 degrees, 2.414 = 45 degrees).
     #[arg(long)]
     pub zoom: Option<f32>,
     /// Texture applied to meshes that have UVs but no material texture (e.g. spot.obj).

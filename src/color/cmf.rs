@@ -90,7 +90,7 @@ impl SpectralLocus {
 pub enum Illuminant {
     /// Tungsten-filament light, 2856 K.
     A,
-    /// Average daylight (obsolete, the white of NTSC and of the seed's chapter).
+    /// Average daylight (obsolete, the white of NTSC and of the textbook's chapter).
     C,
     /// Horizon daylight, ~5003 K: the white of print and ICC profile connection.
     D50,

@@ -1,7 +1,7 @@
-//! [`Rgba`]: the float colour with alpha of the seed (its `CFloatColor`), in linear light.
+//! [`Rgba`]: the float colour with alpha of the textbook (its `CFloatColor`), in linear light.
 //!
 //! Lighting sums colours freely, so components may leave [0, 1]. There are three ways back
-//! into range, and the seed's chapter shows why the choice matters: clamping (1, 2, 1) gives
+//! into range, and the textbook's chapter shows why the choice matters: clamping (1, 2, 1) gives
 //! white and loses the hue, dividing by the largest component gives (0.5, 1, 0.5) and keeps
 //! it; tone mapping (Reinhard) compresses all values smoothly.
 

@@ -1,4 +1,4 @@
-//! The vertex/edge/facet model of the seed (its `Object3d`, `Vertex3d`, `Edge`, `Facet`).
+//! The vertex/edge/facet model of the textbook (its `Object3d`, `Vertex3d`, `Edge`, `Facet`).
 //!
 //! A [`Mesh`] is an indexed polygon mesh. Topology lives on *vertices* (unique positions):
 //! every facet lists its corners as vertex indices, every edge knows its two vertices and the
@@ -218,7 +218,7 @@ pub enum MeshError {
 #[derive(Clone, Debug)]
 pub struct Mesh {
     pub name: String,
-    /// Vertex positions (the seed's `Vertex3d`), model space.
+    /// Vertex positions (the textbook's `Vertex3d`), model space.
     pub positions: Vec<Vec3>,
     /// Vertex index of every facet corner; facet `f` owns `corners[f.first..f.first + f.len]`.
     pub corners: Vec<u32>,

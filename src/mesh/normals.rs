@@ -1,4 +1,4 @@
-//! Vertex normals: read from a file, flat, or averaged from facet normals (seed 000 §9.2.2:
+//! Vertex normals: read from a file, flat, or averaged from facet normals (the textbook's §9.2.2:
 //! N_a = (N_1 + ... + N_k) / k), with area and angle weighting and crease-angle splitting.
 //!
 //! Owns the guarantee that every normal a [`Mesh`](super::Mesh) carries is a finite unit
@@ -26,7 +26,7 @@ use super::{par, Channel, Facet, NormalPolicy, NormalSource};
 /// How adjacent facet normals are weighted when averaged at a vertex.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize)]
 pub enum Weighting {
-    /// The seed's plain average.
+    /// The textbook's plain average.
     Uniform,
     /// Weighted by facet area.
     Area,
@@ -41,7 +41,7 @@ pub enum Weighting {
 pub struct NormalOptions {
     pub weighting: Weighting,
     /// Facets whose normals differ by more than this many degrees do not share a vertex
-    /// normal (the vertex is split); `None` = always average (the seed's behaviour).
+    /// normal (the vertex is split); `None` = always average (the textbook's behaviour).
     /// Values of 180 or more, and non-finite values, never split; negative values act as 0.
     pub crease_degrees: Option<f32>,
 }

@@ -1,4 +1,4 @@
-//! Primitive builders: the seed's latitude/longitude sphere, cylinder, cone, torus and cube,
+//! Primitive builders: the textbook's latitude/longitude sphere, cylinder, cone, torus and cube,
 //! with exact (analytic) normals and UVs ([`NormalSource::Analytic`]).
 //!
 //! Conventions shared by all builders:
@@ -140,7 +140,7 @@ fn cap_uv(d: Vec3, from_above: bool) -> Vec2 {
 }
 
 impl Mesh {
-    /// The seed's latitude/longitude sphere: vertex 0 is the north pole (+Y), then
+    /// The textbook's latitude/longitude sphere: vertex 0 is the north pole (+Y), then
     /// `stacks - 1` rings of `slices` vertices from north to south, the last vertex the south
     /// pole. Triangles at the poles, quads elsewhere. Normals per vertex; UVs per corner
     /// (`u = 0/1` seam, one UV per pole triangle).

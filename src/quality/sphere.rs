@@ -24,7 +24,7 @@ pub const INTERIOR_SAMPLES: u32 = 4;
 /// The analytic shape of a reference scene.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Shape {
-    /// Unit sphere at the origin (the seed's latitude/longitude tessellation).
+    /// Unit sphere at the origin (the textbook's latitude/longitude tessellation).
     #[default]
     Sphere,
     /// Capped cylinder of radius 1 from y = -1 to 1 (side normals radial, caps flat).
@@ -73,7 +73,7 @@ impl SphereSetup {
         }
     }
 
-    /// The rasterizer's scene: the seed's latitude/longitude sphere (`slices` x `stacks`),
+    /// The rasterizer's scene: the textbook's latitude/longitude sphere (`slices` x `stacks`),
     /// or the capped cylinder with `slices` sides (`stacks` unused).
     ///
     /// # Errors

@@ -1,4 +1,4 @@
-//! Lines: the seed's Bresenham line primitive with a depth test, for wireframe.
+//! Lines: the textbook's Bresenham line primitive with a depth test, for wireframe.
 //!
 //! A line is clipped in homogeneous space against the near and far planes, projected, clipped
 //! to the viewport (Liang-Barsky), then stepped with integer Bresenham from the pixel holding

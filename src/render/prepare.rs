@@ -38,7 +38,7 @@ pub struct PreparedMesh {
 
 /// Flat shading's form of a mesh: every triangle's corners unindexed (so each corner carries
 /// its facet's colour), and per facet the area-weighted centroid and the colour of its first
-/// vertex (seed 000).
+/// vertex (the textbook's §9.2.2).
 #[derive(Debug, Default)]
 pub struct FlatMesh {
     pub corners: Vec<Vec3>,
@@ -220,7 +220,7 @@ impl FlatMesh {
         for (c, a) in centroids.iter_mut().zip(&area) {
             *c = if *a > 0.0 { *c / *a } else { Vec3::ZERO };
         }
-        // Seed 000: the facet takes the colour of its first vertex.
+        // The textbook's §9.2.2: the facet takes the colour of its first vertex.
         let mut first_colors = vec![Vec4::ONE; nf];
         if let Some(c) = &tri.colors {
             for (t, f) in tri

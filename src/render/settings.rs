@@ -37,7 +37,8 @@ pub enum Output {
     Overdraw,
 }
 
-/// What happens to colours outside [0, 1] (seed 003 §4.2) before they are encoded.
+/// What happens to colours outside [0, 1] (the textbook's pipeline chapter, §4.2) before they are
+/// encoded.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ToneMap {
     /// Each channel clamped to [0, 1]: (1, 2, 1) becomes white.

@@ -80,7 +80,7 @@ pub(super) fn lit(
 
 impl Lit<'_> {
     /// The lighting equation at a vertex or facet centroid, seen from the side `n` points
-    /// to, fogged there (Phong's `R·V` highlight, as the seeds' Gouraud shading).
+    /// to, fogged there (Phong's `R·V` highlight, as the textbook's Gouraud shading).
     #[inline]
     fn colour(&self, d: &DrawParams, p: Vec3, n: Vec3, c: Vec4) -> Vec4 {
         let base = d.base * c;

@@ -1,5 +1,6 @@
-//! The pinhole camera of seed 003: position and orientation, vertical field of view (or the
-//! seed's zoom = 1/tan(fov/2)), aspect ratio from the output window, near and far planes.
+//! The pinhole camera of the textbook's pipeline chapter (§2-§3): position and orientation,
+//! vertical field of view (or the textbook's zoom = 1/tan(fov/2)), aspect ratio from the output
+//! window, near and far planes.
 
 use glam::{Mat4, Vec3, Vec4};
 
@@ -56,7 +57,7 @@ impl Default for Camera {
 }
 
 impl Camera {
-    /// The seed's zoom factor, 1/tan(fov/2).
+    /// The textbook's zoom factor, 1/tan(fov/2).
     #[must_use]
     pub fn zoom(&self) -> f32 {
         1.0 / (self.yfov * 0.5).tan()

@@ -1,7 +1,7 @@
-//! The built-in demo scene: the seed program's signature figure (seed 000, figure 9-8), three
-//! latitude/longitude spheres side by side - wireframe, faceted, smooth - standing on a
-//! floor, under a floodlight (an omni light) and a spotlight whose cone draws a pool of
-//! light on the floor (hotspot and falloff visible) and throws the spheres' shadows.
+//! The built-in demo scene: the textbook program's signature figure (the textbook's §9.7, figure
+//! 9-8), three latitude/longitude spheres side by side - wireframe, faceted, smooth - standing on a
+//! floor, under a floodlight (an omni light) and a spotlight whose cone draws a pool of light on
+//! the floor (hotspot and falloff visible) and throws the spheres' shadows.
 
 use glam::{Mat4, Vec3, Vec4};
 

@@ -1,8 +1,8 @@
-//! Light sources of seeds 000-003 (and glTF `KHR_lights_punctual`): ambient, directional,
-//! point, round spot and the rectangular (pyramid) spot that can project an image. One
-//! struct for every kind, so an editor can switch a light's kind and keep its values; fields
-//! a kind does not use are ignored by it. Colours are linear RGB; what arrives is
-//! `color * intensity` times the attenuation, cone and shadow factors.
+//! Light sources of the textbook (§9.2 and its pipeline chapter's §4.3) (and glTF
+//! `KHR_lights_punctual`): ambient, directional, point, round spot and the rectangular (pyramid)
+//! spot that can project an image. One struct for every kind, so an editor can switch a light's
+//! kind and keep its values; fields a kind does not use are ignored by it. Colours are linear RGB;
+//! what arrives is `color * intensity` times the attenuation, cone and shadow factors.
 
 use std::borrow::Cow;
 use std::sync::Arc;
@@ -19,14 +19,14 @@ pub enum LightKind {
     /// The sun: parallel rays travelling along `direction`, no position, no attenuation.
     #[default]
     Directional,
-    /// An omni light (the seed's floodlight) at `position`.
+    /// An omni light (the textbook's floodlight) at `position`.
     Point,
     /// A round spotlight at `position` shining along `direction`: full strength inside the
     /// hotspot half-angle `inner`, nothing outside the falloff half-angle `outer`, a smooth
     /// transition between.
     Spot,
-    /// The seed's rectangular spotlight (003 §4.3): a pyramid of light with half-angles
-    /// `rect` (horizontal, vertical) around `direction`, oriented by `up`, optionally
+    /// The textbook's rectangular spotlight (its pipeline chapter, §4.3): a pyramid of light with
+    /// half-angles `rect` (horizontal, vertical) around `direction`, oriented by `up`, optionally
     /// projecting `image` like a slide projector.
     Rect,
 }
@@ -96,8 +96,8 @@ pub enum Attenuation {
     /// Full strength at any distance.
     #[default]
     None,
-    /// The seed's practical ramp (003 §4.8): full strength within `near` (d_min), falling
-    /// linearly to zero at `far` (d_max), nothing beyond.
+    /// The textbook's practical ramp (its pipeline chapter, §4.8): full strength within `near`
+    /// (d_min), falling linearly to zero at `far` (d_max), nothing beyond.
     Linear { near: f32, far: f32 },
     /// Physical: `1 / d²` (intensity is then the light's strength at unit distance).
     InverseSquare,

@@ -36,7 +36,7 @@ pub struct TextureRef {
     pub tex_coord: u32,
 }
 
-/// Surface description: the Phong parameters of the seeds plus the glTF PBR core.
+/// Surface description: the Phong parameters of the textbook plus the glTF PBR core.
 /// Colours are linear RGB.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
@@ -51,7 +51,7 @@ pub struct Material {
     /// Gloss map (003 §7, MTL `map_Ks`): its RGB multiplies `specular` per pixel in the
     /// per-pixel modes (textured, Phong, Blinn on a mesh with UVs).
     pub specular_texture: Option<TextureRef>,
-    /// Phong exponent `Ns` (the seed's n, 1..2000).
+    /// Phong exponent `Ns` (the textbook's n, 1..2000).
     pub shininess: f32,
     pub emissive: Vec3,
     pub metallic: f32,

@@ -1,4 +1,4 @@
-//! The one lighting model of seeds 000-003, in linear RGB:
+//! The one lighting model of the textbook (§9.2 and its pipeline chapter's §4), in linear RGB:
 //!
 //! `I = g_amb m_amb + Σ_i att_i cone_i vis_i I_i (K_d max(N·L_i, 0) + K_s S_i)`, then fog,
 //!

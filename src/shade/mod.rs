@@ -1,7 +1,7 @@
 //! Shading: the lighting equation and one fragment shader per shading mode. The renderer
 //! that turns a scene into draws for the rasterizer is [`crate::render`].
 //!
-//! Modes (seed 000 §9.2.2, 001, 003 §5.2):
+//! Modes (the textbook's §9.2.2, its illumination notes and its pipeline chapter's §5.2):
 //! - `wireframe`: mesh edges (not triangulation diagonals) with hidden lines removed;
 //! - `flat`: one lighting evaluation per facet, at its centroid with its plane normal;
 //! - `gouraud`: lighting at the vertices, colour interpolated;

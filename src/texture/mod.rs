@@ -177,7 +177,7 @@ impl Texture {
     }
 
     /// A procedural chequerboard of `n` x `n` squares, `size` texels square (function texture
-    /// of seed 000 §9.5). `size` is clamped to 1..=[`MAX_CHECKER`], `n` to 1..=`size`.
+    /// of the textbook's §9.5). `size` is clamped to 1..=[`MAX_CHECKER`], `n` to 1..=`size`.
     #[must_use]
     pub fn checker(size: u32, n: u32, a: [u8; 4], b: [u8; 4]) -> Self {
         let size = size.clamp(1, MAX_CHECKER);

@@ -696,7 +696,7 @@ impl ViewerApp {
                 format!("{file} ({drawn})")
             }
             (_, Some(file)) => file,
-            (_, None) => "demo (seed figure 9-8)".into(),
+            (_, None) => "demo (the textbook's figure 9-8)".into(),
         }
     }
 }

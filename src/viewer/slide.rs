@@ -1,7 +1,7 @@
-//! The image a rectangular spotlight projects (a slide, seed 003 §4.3), read off the UI
-//! thread: a PNG or JPEG file decoded on a thread of its own, the way [`super::loader`]
-//! loads models. A file that cannot be read or decoded gives a one-line error that starts
-//! with its path; nothing panics and the light keeps the image it had.
+//! The image a rectangular spotlight projects (a slide, the textbook's pipeline chapter, §4.3),
+//! read off the UI thread: a PNG or JPEG file decoded on a thread of its own, the way
+//! [`super::loader`] loads models. A file that cannot be read or decoded gives a one-line error
+//! that starts with its path; nothing panics and the light keeps the image it had.
 
 use std::io::Read as _;
 use std::path::{Path, PathBuf};

@@ -19,7 +19,7 @@
 //! light), and a point or spot light of `I` candela gives `I / d²` lux at distance `d`
 //! (inverse-square attenuation, or glTF's `range` window when `range` is given), so 1 cd at
 //! 1 unit matches the 1 lux sun. The Lambert `1/π` of physically based renderers is left
-//! out, as in the seeds' Phong model. Files authored for real-world exposure (a 100 000 lux
+//! out, as in the textbook's Phong model. Files authored for real-world exposure (a 100 000 lux
 //! sun) come out white; scale them in a scene file (`light_scale`).
 //!
 //! The node's world transform places the light: position = the node's origin, direction =

@@ -200,7 +200,7 @@ impl<'a> Converter<'a> {
         }
     }
 
-    /// Converts a material read from folder `dir`. Shininess is clamped to the seed's range
+    /// Converts a material read from folder `dir`. Shininess is clamped to the textbook's range
     /// 1..=2000; roughness is derived from it as (2 / (Ns + 2))^(1/4) (Blinn-Phong to GGX);
     /// `d` < 1 (or `Tr` > 0) makes the material blended.
     pub fn convert(&mut self, m: &tobj::Material, dir: &Path) -> Result<Material, LoadError> {

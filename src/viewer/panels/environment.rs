@@ -58,7 +58,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
 fn fog(app: &mut ViewerApp, ui: &mut egui::Ui) {
     let mut on = app.settings.fog.is_some();
     if ui
-        .checkbox(&mut on, "fog (linear, seed 003 §4.9)")
+        .checkbox(
+            &mut on,
+            "fog (linear, the textbook's pipeline chapter, §5.1)",
+        )
         .changed()
     {
         app.settings.fog = if on {

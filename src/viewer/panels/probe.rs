@@ -25,7 +25,7 @@ fn swatch(ui: &mut egui::Ui, linear: Vec3) {
     );
 }
 
-/// The colour of a linear RGB value in the models the seeds name.
+/// The colour of a linear RGB value in the models the textbook names.
 fn colour_rows(ui: &mut egui::Ui, linear: Vec3) {
     let lin = linear.to_array().map(f64::from);
     let clipped = lin.map(|v| v.clamp(0.0, 1.0));
