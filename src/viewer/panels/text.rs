@@ -97,7 +97,6 @@ pub fn elided_end(ui: &mut egui::Ui, text: impl Into<egui::WidgetText>) -> egui:
 
 /// A scroll area that takes exactly the room `ui` offers and scrolls (both ways) whatever is
 /// larger, so the panel around it keeps the size the user gave it.
-#[must_use]
 pub fn bounded(id: &str) -> egui::ScrollArea {
     egui::ScrollArea::both()
         .id_salt(id)
