@@ -14,7 +14,6 @@ use realist::raster::{
 };
 use realist::scene::{AlphaMode, Light};
 use realist::shade::{DrawParams, LightSet, LitLayout, LitShader, Surface};
-use realist::texture::Sampler;
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -75,7 +74,7 @@ fn lit_varyings(positions: &[Vec3], normals: &[Vec3]) -> Vec<f32> {
     let layout = LitLayout::default();
     let mut out = vec![0.0; positions.len() * layout.stride()];
     for ((o, p), n) in out.chunks_mut(layout.stride()).zip(positions).zip(normals) {
-        layout.write(o, *p, *n, glam::Vec2::ZERO, Vec4::ONE);
+        layout.write(o, *p, *n, |_| glam::Vec2::ZERO, Vec4::ONE, Vec4::X);
     }
     out
 }
@@ -152,9 +151,14 @@ fn benches(c: &mut Criterion) {
             ambient: Vec3::ONE,
             shininess: 32.0,
         },
-        texture: None,
+        emissive: Vec3::ZERO,
+        base_map: None,
         gloss: None,
-        sampler: Sampler::default(),
+        normal_map: None,
+        occlusion: None,
+        emissive_map: None,
+        layout: LitLayout::default(),
+        blinn: true,
         alpha: AlphaMode::Opaque,
         double_sided: false,
         lights: (0, 1),
@@ -170,8 +174,6 @@ fn benches(c: &mut Criterion) {
         eye: Vec3::new(0.0, 0.0, 4.0),
         forward: -Vec3::Z,
         fog: None,
-        layout: LitLayout::default(),
-        blinn: true,
         lod_scale: 1.0,
     };
     // One fill benchmark per kernel this machine has, with the simplest and the real shader.

@@ -14,7 +14,7 @@ use realist::color::{delta_e_2000, xyz_to_lab, RgbSpace};
 use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 use realist::raster::Framebuffer;
 use realist::render::RenderOptions;
-use realist::scene::{Camera, Light, Material, Scene, TextureRef};
+use realist::scene::{Camera, Light, Material, Scene, TextureSlot};
 use realist::shade::Shading;
 use realist::texture::{Filter, Sampler, Texture, Wrap};
 
@@ -29,7 +29,7 @@ fn quad_scene(corners: [Vec3; 4], uvs: [Vec2; 4], normal: Vec3, texture: Texture
         positions: corners.to_vec(),
         corners: vec![0, 1, 2, 0, 2, 3],
         normals: Some(Channel::per_vertex(vec![normal; 4])),
-        uvs: Some(Channel::per_vertex(uvs.to_vec())),
+        uvs: vec![Channel::per_vertex(uvs.to_vec())],
         ..MeshData::default()
     };
     let mesh = Mesh::new(data, NormalPolicy::default()).expect("quad");
@@ -37,10 +37,7 @@ fn quad_scene(corners: [Vec3; 4], uvs: [Vec2; 4], normal: Vec3, texture: Texture
         mesh,
         Material {
             base_color: Vec4::ONE,
-            base_color_texture: Some(TextureRef {
-                texture: 0,
-                tex_coord: 0,
-            }),
+            base_color_texture: Some(TextureSlot::new(0)),
             specular: Vec3::ZERO,
             ..Material::default()
         },
@@ -64,9 +61,8 @@ fn render(scene: &Scene, w: u32, h: u32, camera: Camera) -> Framebuffer {
 
 fn with_filter(scene: &Scene, filter: Filter) -> Scene {
     let mut scene = scene.clone();
-    let mut t = (*scene.textures[0]).clone();
-    t.sampler.filter = filter;
-    scene.textures[0] = Arc::new(t);
+    let slot = scene.materials[0].base_color_texture.as_mut().expect("textured");
+    slot.sampler.filter = filter;
     scene
 }
 
@@ -130,7 +126,8 @@ fn grazing_checker_converges_to_its_mean_with_trilinear_only() {
         (sum / n as f64, worst, n)
     };
     let trilinear = render(&scene, w, h, camera.clone());
-    assert_eq!(scene.textures[0].sampler.filter, Filter::Trilinear);
+    let slot = scene.materials[0].base_color_texture.expect("textured");
+    assert_eq!(slot.sampler.filter, Filter::Trilinear);
     let (mean, worst, n) = far_field(&trilinear);
     eprintln!("trilinear: far-field ΔE2000 mean {mean:.3}, worst {worst:.3} over {n} pixels");
     assert!(
@@ -169,14 +166,14 @@ fn a_quad_at_half_size_reads_mip_level_1() {
             c
         })
         .collect();
-    let mut texture = Texture::new("noise", n, n, texels, true).unwrap();
-    texture.sampler = Sampler {
+    let texture = Texture::new("noise", n, n, texels, true).unwrap();
+    let sampler = Sampler {
         wrap_u: Wrap::Repeat,
         wrap_v: Wrap::Repeat,
         filter: Filter::Trilinear,
     };
     let s = 0.5 / n as f32;
-    let scene = quad_scene(
+    let mut scene = quad_scene(
         [
             Vec3::new(-0.5, 0.5, 0.0),
             Vec3::new(-0.5, -0.5, 0.0),
@@ -192,6 +189,10 @@ fn a_quad_at_half_size_reads_mip_level_1() {
         Vec3::Z,
         texture,
     );
+    scene.materials[0].base_color_texture = Some(TextureSlot {
+        sampler,
+        ..TextureSlot::new(0)
+    });
     let camera = Camera {
         eye: Vec3::new(0.0, 0.0, 1.0),
         target: Vec3::ZERO,

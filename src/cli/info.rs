@@ -15,7 +15,9 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             serde_json::json!({
                 "name": m.name,
                 "normals": format!("{:?}", m.normal_source),
-                "uvs": m.uvs.is_some(),
+                "uvs": !m.uvs.is_empty(),
+                "uv_sets": m.uvs.len(),
+                "tangents": m.tangents.is_some(),
                 "colors": m.colors.is_some(),
                 "topology": t,
             })

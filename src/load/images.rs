@@ -1,11 +1,17 @@
-//! Image decoding for textures (PNG and JPEG through the `image` crate) under size limits:
-//! at most [`MAX_SIDE`] texels a side, and the decoder may not allocate more than what is
-//! left of the load's [`Budget`].
+//! Image decoding for textures (PNG, JPEG, Radiance HDR and OpenEXR through the `image`
+//! crate) under size limits: at most [`MAX_SIDE`] texels a side, and the decoder may not
+//! allocate more than what is left of the load's [`Budget`].
+//!
+//! The storage follows the image and the slot that reads it ([`Texels`]): 8-bit images stay
+//! 8-bit (sRGB-encoded for colour slots, linear for data); 16-bit images become 16-bit
+//! linear (a colour slot's sRGB decoded through the exact transfer function, data as
+//! stored); float images (HDR, EXR) stay float. PNG and JPEG colour metadata (gamma, ICC) is
+//! ignored, as glTF requires.
 
 use std::path::Path;
 
 use super::{Budget, LoadError};
-use crate::texture::Texture;
+use crate::texture::{srgb_to_linear, Texels, Texture};
 
 /// Largest accepted image width or height, in texels.
 pub const MAX_SIDE: u32 = 16384;
@@ -33,24 +39,36 @@ impl DecodeError {
     }
 }
 
-/// Decodes PNG or JPEG bytes into an sRGB RGBA8 texture named `name` with the default
-/// sampler, charging the texels to `budget`.
-pub(crate) fn decode(bytes: &[u8], name: &str, budget: &Budget) -> Result<Texture, DecodeError> {
+/// Decodes PNG, JPEG, HDR or EXR bytes into a texture named `name` for a slot whose RGB is
+/// sRGB-encoded colour (`srgb`) or linear data, charging the texels to `budget`.
+pub(crate) fn decode(
+    bytes: &[u8],
+    name: &str,
+    budget: &Budget,
+    srgb: bool,
+) -> Result<Texture, DecodeError> {
     let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| DecodeError::Invalid(e.to_string()))?;
     if reader.format().is_none() {
-        return Err(DecodeError::Invalid("not a PNG or JPEG image".into()));
+        return Err(DecodeError::Invalid(
+            "not a PNG, JPEG, Radiance HDR or OpenEXR image".into(),
+        ));
     }
-    let (width, height) = reader
-        .into_dimensions()
-        .map_err(|e| DecodeError::Invalid(e.to_string()))?;
+    let (width, height, per_texel) = {
+        use image::ImageDecoder as _;
+        let decoder = reader
+            .into_decoder()
+            .map_err(|e| DecodeError::Invalid(e.to_string()))?;
+        let (w, h) = decoder.dimensions();
+        (w, h, storage_bytes(decoder.color_type()))
+    };
     if width > MAX_SIDE || height > MAX_SIDE {
         return Err(DecodeError::Invalid(format!(
             "{width}x{height} texels, more than {MAX_SIDE} a side"
         )));
     }
-    let texel_bytes = u64::from(width) * u64::from(height) * 4;
+    let texel_bytes = u64::from(width) * u64::from(height) * per_texel;
     budget
         .charge(texel_bytes, || {
             format!("image '{name}' ({width}x{height} texels)")
@@ -67,17 +85,66 @@ pub(crate) fn decode(bytes: &[u8], name: &str, budget: &Budget) -> Result<Textur
     // just charged (the decoded buffer is dropped before this function returns).
     limits.max_alloc = Some(budget.remaining().saturating_add(texel_bytes));
     reader.limits(limits);
-    let rgba = reader
+    let decoded = reader
         .decode()
-        .map_err(|e| DecodeError::Invalid(e.to_string()))?
-        .into_rgba8();
-    let (w, h) = rgba.dimensions();
-    let texels: Vec<[u8; 4]> = rgba
-        .as_raw()
-        .chunks_exact(4)
-        .map(|c| [c[0], c[1], c[2], c[3]])
-        .collect();
-    Texture::new(name, w, h, texels, true).map_err(|e| DecodeError::Invalid(e.to_string()))
+        .map_err(|e| DecodeError::Invalid(e.to_string()))?;
+    let (w, h) = (decoded.width(), decoded.height());
+    let texels = texels_of(decoded, srgb);
+    Texture::from_texels(name, w, h, texels).map_err(|e| DecodeError::Invalid(e.to_string()))
+}
+
+/// Bytes a texel of an image of colour type `c` takes in its [`Texels`] storage.
+fn storage_bytes(c: image::ColorType) -> u64 {
+    use image::ColorType as C;
+    match c {
+        C::Rgb32F | C::Rgba32F => 16,
+        C::L16 | C::La16 | C::Rgb16 | C::Rgba16 => 8,
+        _ => 4,
+    }
+}
+
+/// The storage for a decoded image read by a slot of colour space `srgb` (see the module
+/// docs).
+fn texels_of(img: image::DynamicImage, srgb: bool) -> Texels {
+    use image::DynamicImage as D;
+    match img {
+        D::ImageRgb32F(_) | D::ImageRgba32F(_) => Texels::Float(
+            img.into_rgba32f()
+                .as_raw()
+                .chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect(),
+        ),
+        D::ImageLuma16(_) | D::ImageLumaA16(_) | D::ImageRgb16(_) | D::ImageRgba16(_) => {
+            let linear = |c: u16| -> u16 {
+                let v = srgb_to_linear(f32::from(c) / 65535.0);
+                (v.clamp(0.0, 1.0) * 65535.0 + 0.5) as u16
+            };
+            Texels::Linear16(
+                img.into_rgba16()
+                    .as_raw()
+                    .chunks_exact(4)
+                    .map(|c| match srgb {
+                        true => [linear(c[0]), linear(c[1]), linear(c[2]), c[3]],
+                        false => [c[0], c[1], c[2], c[3]],
+                    })
+                    .collect(),
+            )
+        }
+        _ => {
+            let bytes: Vec<[u8; 4]> = img
+                .into_rgba8()
+                .as_raw()
+                .chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect();
+            if srgb {
+                Texels::Srgb8(bytes)
+            } else {
+                Texels::Linear8(bytes)
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -121,7 +188,7 @@ mod tests {
     #[test]
     fn header_sizes_are_refused_before_any_texel_is_allocated() {
         let budget = Budget::new(Path::new("t"), 2 << 30);
-        match decode(&lying_png(20_000, 16), "wide.png", &budget) {
+        match decode(&lying_png(20_000, 16), "wide.png", &budget, true) {
             Err(DecodeError::Invalid(reason)) => {
                 assert_eq!(reason, "20000x16 texels, more than 16384 a side");
             }
@@ -129,7 +196,7 @@ mod tests {
         }
         // 16384^2 RGBA is 1 GiB: over a 256 MiB budget, refused from the header alone.
         let small = Budget::new(Path::new("t"), 256 << 20);
-        match decode(&lying_png(16384, 16384), "big.png", &small) {
+        match decode(&lying_png(16384, 16384), "big.png", &small, true) {
             Err(DecodeError::Budget(e)) => assert!(
                 e.to_string()
                     .contains("image 'big.png' (16384x16384 texels) needs 1073741824 bytes"),
@@ -139,7 +206,7 @@ mod tests {
         }
         // Within the limits the header lie is caught by the decoder: an error, not a panic.
         assert!(matches!(
-            decode(&lying_png(64, 64), "short.png", &budget),
+            decode(&lying_png(64, 64), "short.png", &budget, true),
             Err(DecodeError::Invalid(_))
         ));
     }
@@ -148,16 +215,16 @@ mod tests {
     fn decodes_png_and_enforces_budget() {
         let bytes = png(4, 2);
         let budget = Budget::new(Path::new("t"), 1 << 20);
-        let t = decode(&bytes, "t.png", &budget).unwrap();
-        assert_eq!((t.width, t.height, t.texels[0]), (4, 2, [10, 20, 30, 255]));
-        assert!(t.srgb);
+        let t = decode(&bytes, "t.png", &budget, true).unwrap();
+        assert_eq!((t.width, t.height), (4, 2));
+        assert_eq!(t.texels, Texels::Srgb8(vec![[10, 20, 30, 255]; 8]));
         let small = Budget::new(Path::new("t"), 16);
         assert!(matches!(
-            decode(&bytes, "t.png", &small),
+            decode(&bytes, "t.png", &small, true),
             Err(DecodeError::Budget(_))
         ));
         assert!(matches!(
-            decode(b"GIF89a....", "x", &budget),
+            decode(b"GIF89a....", "x", &budget, true),
             Err(DecodeError::Invalid(_))
         ));
     }

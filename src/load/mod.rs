@@ -139,7 +139,9 @@ fn run(loader: Loader, path: &Path, opts: &LoadOptions) -> Result<Scene, LoadErr
     let tracker = Tracker::new(path, opts.progress.as_ref());
     let result = guarded(path, || {
         tracker.check()?;
-        loader(path, opts, &tracker)
+        let mut scene = loader(path, opts, &tracker)?;
+        scene.check_texture_slots();
+        Ok(scene)
     });
     match result {
         Err(e @ LoadError::Panic { .. }) => Err(e),
@@ -155,17 +157,24 @@ fn run(loader: Loader, path: &Path, opts: &LoadOptions) -> Result<Scene, LoadErr
 /// A format's loader.
 type Loader = fn(&Path, &LoadOptions, &Tracker) -> Result<Scene, LoadError>;
 
-/// Loads an image file (PNG or JPEG) as an sRGB colour texture, e.g. for `--texture IMG`.
-/// The file and the decoded texels must fit [`LoadOptions::default`]'s memory budget, and
-/// the image may be at most [`MAX_TEXTURE_SIDE`] texels wide and high.
+/// Loads an image file (PNG, JPEG, Radiance HDR or OpenEXR) as a colour texture, e.g. for
+/// `--texture IMG`: 8-bit images stay sRGB-encoded, 16-bit ones are decoded to linear light,
+/// float ones are kept. The file and the decoded texels must fit [`LoadOptions::default`]'s
+/// memory budget, and the image may be at most [`MAX_TEXTURE_SIDE`] texels wide and high.
 pub fn load_texture(path: &Path) -> Result<Texture, LoadError> {
+    load_image(path, true)
+}
+
+/// Loads an image file for a slot of colour space `srgb` (colour) or linear data (normal,
+/// bump and occlusion maps); see [`load_texture`].
+pub fn load_image(path: &Path, srgb: bool) -> Result<Texture, LoadError> {
     guarded(path, || {
         let budget = Budget::new(path, LoadOptions::default().max_bytes);
         let bytes = files::read_capped(path, &budget, "image file")?;
         let name = path
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        images::decode(&bytes, &name, &budget).map_err(|e| e.into_load_error(path))
+        images::decode(&bytes, &name, &budget, srgb).map_err(|e| e.into_load_error(path))
     })
 }
 
@@ -326,7 +335,10 @@ pub(crate) fn retain_facets(data: &mut MeshData) -> Dropped {
     if let Some(ix) = data.normals.as_mut().and_then(|c| c.indices.as_mut()) {
         filter(ix);
     }
-    if let Some(ix) = data.uvs.as_mut().and_then(|c| c.indices.as_mut()) {
+    for ix in data.uvs.iter_mut().filter_map(|c| c.indices.as_mut()) {
+        filter(ix);
+    }
+    if let Some(ix) = data.tangents.as_mut().and_then(|c| c.indices.as_mut()) {
         filter(ix);
     }
     if let Some(ix) = data.colors.as_mut().and_then(|c| c.indices.as_mut()) {

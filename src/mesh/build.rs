@@ -69,7 +69,10 @@ pub(super) fn validate(data: &MeshData) -> Result<(), MeshError> {
     }
     let vertices = vertex_count;
     validate_channel("normals", data.normals.as_ref(), vertices, corner_count)?;
-    validate_channel("uvs", data.uvs.as_ref(), vertices, corner_count)?;
+    for uv in &data.uvs {
+        validate_channel("uvs", Some(uv), vertices, corner_count)?;
+    }
+    validate_channel("tangents", data.tangents.as_ref(), vertices, corner_count)?;
     validate_channel("colors", data.colors.as_ref(), vertices, corner_count)
 }
 

@@ -49,6 +49,7 @@ mod normals;
 mod par;
 mod polygon;
 mod primitives;
+mod tangents;
 mod topology;
 mod triangulate;
 mod weld;
@@ -60,6 +61,7 @@ pub use build::DEGENERATE_ASPECT;
 pub use normals::{NormalOptions, Weighting, FALLBACK_NORMAL, MAX_CREASE_VALENCE};
 pub use polygon::MAX_EAR_CLIP;
 pub use primitives::{MAX_SEGMENTS, MIN_SEGMENTS};
+pub use tangents::TangentError;
 pub use topology::TopologyReport;
 pub use triangulate::TriMesh;
 
@@ -160,9 +162,12 @@ pub struct MeshData {
     /// Corner count per facet; `None` means every facet is a triangle.
     pub facet_sizes: Option<Vec<u32>>,
     pub normals: Option<Channel<Vec3>>,
-    pub uvs: Option<Channel<Vec2>>,
+    /// Texture coordinate sets (`uvs[n]` = `TEXCOORD_n`).
+    pub uvs: Vec<Channel<Vec2>>,
     /// Linear RGBA vertex colours.
     pub colors: Option<Channel<Vec4>>,
+    /// Tangents with handedness in `w` (see [`Mesh::tangents`]).
+    pub tangents: Option<Channel<Vec4>>,
     /// Index into `Scene::materials`.
     pub material: Option<usize>,
 }
@@ -229,8 +234,14 @@ pub struct Mesh {
     /// Always present: read, averaged, flat or analytic (see `normal_source`).
     pub normals: Channel<Vec3>,
     pub normal_source: NormalSource,
-    pub uvs: Option<Channel<Vec2>>,
+    /// Texture coordinate sets: `uvs[n]` is glTF's `TEXCOORD_n` (OBJ has one set); empty
+    /// when the data has none. glTF's convention: origin at the image's top-left corner.
+    pub uvs: Vec<Channel<Vec2>>,
     pub colors: Option<Channel<Vec4>>,
+    /// Tangents (glTF `TANGENT`): unit `xyz` along +u, `w = ±1` the handedness of the
+    /// bitangent `B = w (N × T)` (which runs along -v, towards the image's top), read from
+    /// the file or generated with MikkTSpace ([`Mesh::generate_tangents`]).
+    pub tangents: Option<Channel<Vec4>>,
     pub material: Option<usize>,
 }
 
@@ -275,6 +286,7 @@ impl Mesh {
             normals,
             uvs,
             colors,
+            tangents,
             material,
         } = data;
         let facets = build::facets(&positions, &corners, facet_sizes.as_deref());
@@ -299,6 +311,7 @@ impl Mesh {
             normal_source,
             uvs,
             colors,
+            tangents,
             material,
         }
     }

@@ -121,8 +121,9 @@ impl Builder {
             corners: self.corners,
             facet_sizes: Some(self.sizes),
             normals: Some(normals),
-            uvs: Some(uvs),
+            uvs: vec![uvs],
             colors: None,
+            tangents: None,
             material: None,
         };
         debug_assert_eq!(super::build::validate(&data), Ok(()));

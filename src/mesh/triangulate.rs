@@ -1,8 +1,8 @@
 //! The render form of a mesh: facets split into triangles, attributes flattened so every
 //! triangle corner indexes one render vertex.
 //!
-//! A render vertex is a distinct tuple (vertex, normal index, uv index, colour index) over the
-//! facet corners. Render vertex `v` is the first tuple seen at mesh vertex `v` (so, when every
+//! A render vertex is a distinct tuple (vertex, normal index, one index per UV set, colour
+//! index, tangent index) over the facet corners. Render vertex `v` is the first tuple seen at mesh vertex `v` (so, when every
 //! channel is per vertex, render vertices *are* the mesh vertices and nothing is hashed or
 //! searched); further tuples of a vertex are appended and found again through a short chain
 //! per vertex, in corner order, so the result depends on the data only.
@@ -27,8 +27,11 @@ pub struct TriMesh {
     pub positions: Vec<Vec3>,
     /// Unit normals, one per render vertex.
     pub normals: Vec<Vec3>,
-    pub uvs: Option<Vec<Vec2>>,
+    /// Texture coordinate sets, one value per render vertex each (`uvs[n]` = `TEXCOORD_n`).
+    pub uvs: Vec<Vec<Vec2>>,
     pub colors: Option<Vec<Vec4>>,
+    /// Tangents (unit `xyz`, handedness in `w`; see [`Mesh::tangents`]).
+    pub tangents: Option<Vec<Vec4>>,
     /// Counter-clockwise triangles (front face) as render-vertex indices.
     pub triangles: Vec<[u32; 3]>,
     /// The facet each triangle came from.
@@ -43,6 +46,14 @@ pub struct TriMesh {
     pub radius: f32,
 }
 
+impl TriMesh {
+    /// UV set `n`, if the mesh has it.
+    #[must_use]
+    pub fn uv_set(&self, n: u32) -> Option<&[Vec2]> {
+        self.uvs.get(n as usize).map(Vec::as_slice)
+    }
+}
+
 /// Marks an unset slot.
 const UNSET: u32 = u32::MAX;
 
@@ -53,49 +64,109 @@ fn key<T>(ch: Option<&Channel<T>>, corner: usize) -> u32 {
         .map_or(UNSET, |ix| ix[corner])
 }
 
+/// The channels that take part in a render vertex's key, in key order: normals, each UV
+/// set, colours, tangents.
+struct Keyed<'a> {
+    normals: &'a Channel<Vec3>,
+    uvs: &'a [Channel<Vec2>],
+    colors: Option<&'a Channel<Vec4>>,
+    tangents: Option<&'a Channel<Vec4>>,
+}
+
+impl<'a> Keyed<'a> {
+    fn of(mesh: &'a Mesh) -> Self {
+        Self {
+            normals: &mesh.normals,
+            uvs: &mesh.uvs,
+            colors: mesh.colors.as_ref(),
+            tangents: mesh.tangents.as_ref(),
+        }
+    }
+
+    /// Keys per render vertex.
+    fn width(&self) -> usize {
+        3 + self.uvs.len()
+    }
+
+    /// Key slot of the colours and of the tangents.
+    fn colors_slot(&self) -> usize {
+        1 + self.uvs.len()
+    }
+
+    fn tangents_slot(&self) -> usize {
+        2 + self.uvs.len()
+    }
+
+    fn all_per_vertex(&self) -> bool {
+        self.normals.indices.is_none()
+            && self.uvs.iter().all(|c| c.indices.is_none())
+            && self.colors.is_none_or(|c| c.indices.is_none())
+            && self.tangents.is_none_or(|c| c.indices.is_none())
+    }
+
+    /// Writes the keys of corner `c` into `out` (`width()` values).
+    fn keys(&self, c: usize, out: &mut [u32]) {
+        out[0] = key(Some(self.normals), c);
+        for (o, uv) in out[1..].iter_mut().zip(self.uvs) {
+            *o = key(Some(uv), c);
+        }
+        out[self.colors_slot()] = key(self.colors, c);
+        out[self.tangents_slot()] = key(self.tangents, c);
+    }
+}
+
 /// Render vertices: for every corner its render vertex, and for every render vertex its mesh
-/// vertex and its channel keys (`[UNSET; 3]` for a vertex no corner uses).
+/// vertex and its channel keys (`width` per render vertex, all `UNSET` for a vertex no
+/// corner uses, none at all when every channel is per vertex).
 struct RenderVertices {
     of_corner: Vec<u32>,
     vertex: Vec<u32>,
-    keys: Vec<[u32; 3]>,
+    keys: Vec<u32>,
+    width: usize,
+}
+
+impl RenderVertices {
+    /// Key `slot` of render vertex `r` (`UNSET` when every channel is per vertex).
+    #[inline]
+    fn key(&self, r: usize, slot: usize) -> u32 {
+        self.keys.get(r * self.width + slot).copied().unwrap_or(UNSET)
+    }
 }
 
 fn render_vertices(mesh: &Mesh) -> RenderVertices {
     let vertex_count = mesh.positions.len();
-    let all_per_vertex = mesh.normals.indices.is_none()
-        && mesh.uvs.as_ref().is_none_or(|c| c.indices.is_none())
-        && mesh.colors.as_ref().is_none_or(|c| c.indices.is_none());
+    let keyed = Keyed::of(mesh);
+    let width = keyed.width();
     let identity: Vec<u32> = (0..vertex_count as u32).collect();
-    if all_per_vertex {
+    if keyed.all_per_vertex() {
         return RenderVertices {
             of_corner: mesh.corners.clone(),
             vertex: identity,
-            keys: vec![[UNSET; 3]; vertex_count],
+            keys: Vec::new(),
+            width,
         };
     }
     let mut vertex = identity;
-    let mut keys = vec![[UNSET; 3]; vertex_count];
+    let mut keys = vec![UNSET; vertex_count * width];
     let mut used = vec![false; vertex_count];
     let mut chain = vec![UNSET; vertex_count];
     let mut of_corner = Vec::with_capacity(mesh.corners.len());
+    let mut k = vec![UNSET; width];
     for (c, &v) in mesh.corners.iter().enumerate() {
-        let k = [
-            key(Some(&mesh.normals), c),
-            key(mesh.uvs.as_ref(), c),
-            key(mesh.colors.as_ref(), c),
-        ];
+        keyed.keys(c, &mut k);
+        let at = |r: u32| r as usize * width..(r as usize + 1) * width;
         if !used[v as usize] {
-            (used[v as usize], keys[v as usize]) = (true, k);
+            used[v as usize] = true;
+            keys[at(v)].copy_from_slice(&k);
             of_corner.push(v);
             continue;
         }
         let mut r = v;
-        while keys[r as usize] != k {
+        while keys[at(r)] != k[..] {
             if chain[r as usize] == UNSET {
                 // Validation keeps vertices + corners below u32::MAX.
-                chain[r as usize] = keys.len() as u32;
-                keys.push(k);
+                chain[r as usize] = vertex.len() as u32;
+                keys.extend_from_slice(&k);
                 vertex.push(v);
                 chain.push(UNSET);
             }
@@ -107,6 +178,7 @@ fn render_vertices(mesh: &Mesh) -> RenderVertices {
         of_corner,
         vertex,
         keys,
+        width,
     }
 }
 
@@ -121,7 +193,7 @@ fn flatten<T: Copy + Send + Sync>(
     (0..rv.vertex.len())
         .into_par_iter()
         .with_min_len(par::MIN_ITEMS)
-        .map(|r| match (&ch.indices, rv.keys[r][slot]) {
+        .map(|r| match (&ch.indices, rv.key(r, slot)) {
             (None, _) => ch.values[rv.vertex[r] as usize],
             (Some(_), UNSET) => default,
             (Some(_), i) => ch.values[i as usize],
@@ -133,6 +205,7 @@ fn flatten<T: Copy + Send + Sync>(
 /// `n` corners always gives `n - 2`) and edges; the same result as one pass.
 pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
     let rv = render_vertices(mesh);
+    let keyed = Keyed::of(mesh);
     let positions = rv
         .vertex
         .par_iter()
@@ -144,11 +217,20 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
         .par_iter_mut()
         .with_min_len(par::MIN_ITEMS)
         .for_each(|n| *n = unit(*n).unwrap_or(FALLBACK_NORMAL));
-    let uvs = mesh.uvs.as_ref().map(|ch| flatten(ch, &rv, 1, Vec2::ZERO));
+    let uvs = mesh
+        .uvs
+        .iter()
+        .enumerate()
+        .map(|(n, ch)| flatten(ch, &rv, 1 + n, Vec2::ZERO))
+        .collect();
     let colors = mesh
         .colors
         .as_ref()
-        .map(|ch| flatten(ch, &rv, 2, Vec4::ONE));
+        .map(|ch| flatten(ch, &rv, keyed.colors_slot(), Vec4::ONE));
+    let tangents = mesh
+        .tangents
+        .as_ref()
+        .map(|ch| flatten(ch, &rv, keyed.tangents_slot(), Vec4::new(1.0, 0.0, 0.0, 1.0)));
     let (triangles, triangle_facets) = triangles(mesh, &rv.of_corner);
     let edges = edges(mesh, &rv.of_corner);
     let (center, radius) = mesh.bounding_sphere().unwrap_or((Vec3::ZERO, -1.0));
@@ -157,6 +239,7 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
         normals,
         uvs,
         colors,
+        tangents,
         triangles,
         triangle_facets,
         facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),

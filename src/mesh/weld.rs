@@ -24,7 +24,8 @@ impl MeshData {
         let old_count = self.positions.len();
         let malformed = self.corners.iter().any(|&v| v as usize >= old_count)
             || !per_vertex_fits(self.normals.as_ref(), old_count)
-            || !per_vertex_fits(self.uvs.as_ref(), old_count)
+            || !self.uvs.iter().all(|ch| per_vertex_fits(Some(ch), old_count))
+            || !per_vertex_fits(self.tangents.as_ref(), old_count)
             || !per_vertex_fits(self.colors.as_ref(), old_count);
         if malformed || old_count > u32::MAX as usize {
             return self;
@@ -40,8 +41,12 @@ impl MeshData {
         self.normals = self
             .normals
             .map(|ch| weld_channel(ch, &remap, positions.len(), &self.corners));
-        self.uvs = self
-            .uvs
+        self.uvs = std::mem::take(&mut self.uvs)
+            .into_iter()
+            .map(|ch| weld_channel(ch, &remap, positions.len(), &self.corners))
+            .collect();
+        self.tangents = self
+            .tangents
             .map(|ch| weld_channel(ch, &remap, positions.len(), &self.corners));
         self.colors = self
             .colors

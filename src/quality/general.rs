@@ -73,9 +73,9 @@ use rayon::prelude::*;
 use super::LinearImage;
 use crate::mesh::TriMesh;
 use crate::render::{default_camera, frame_lights, RenderOptions};
-use crate::scene::{AlphaMode, Scene, Style};
-use crate::shade::{illuminate, Fog, LightSet, Shading, Surface};
-use crate::texture::{Filter, Texture, Wrap};
+use crate::scene::{AlphaMode, Scene, Style, TextureSlot};
+use crate::shade::{illuminate, maps, Fog, LightSet, Shading, Surface};
+use crate::texture::{Filter, Sampler, Texels, Texture, Wrap};
 
 /// Largest number of samples per pixel side.
 pub const MAX_SAMPLES: u32 = 64;
@@ -358,9 +358,40 @@ struct Inst<'a> {
     /// The material's Phong constants, as the renderer resolves them.
     surface: Surface,
     alpha: Alpha,
-    texture: Option<&'a Texture>,
+    /// Emitted light (linear RGB), added after lighting.
+    emissive: DVec3,
+    /// Base-colour texture (textured mode).
+    texture: Option<RefSlot<'a>>,
     /// Gloss map (multiplies `K_s`), in the per-pixel modes the reference stands for.
-    gloss: Option<&'a Texture>,
+    gloss: Option<RefSlot<'a>>,
+    /// Normal map, occlusion and emissive map (textured mode).
+    normal_map: Option<RefSlot<'a>>,
+    occlusion: Option<RefSlot<'a>>,
+    emissive_map: Option<RefSlot<'a>>,
+    /// The handedness of the world matrix (-1 mirrors the tangent frame).
+    handed: f64,
+}
+
+/// A texture slot as the reference reads it: the image, its sampler, the UV set and the
+/// transform of its UVs, and its scalar (normal scale, occlusion strength).
+#[derive(Clone, Copy)]
+struct RefSlot<'a> {
+    texture: &'a Texture,
+    slot: TextureSlot,
+}
+
+impl RefSlot<'_> {
+    /// The slot's value at barycentrics `b` of triangle `v` of `tri`: the UV of its set
+    /// interpolated, transformed (in f64), sampled.
+    fn at(&self, tri: &TriMesh, v: [usize; 3], b: DVec3) -> DVec4 {
+        let Some(uv) = tri.uv_set(self.slot.uv_set) else {
+            return DVec4::ONE;
+        };
+        let at = |k: usize| uv.get(v[k]).map_or(DVec2::ZERO, |u| u.as_dvec2());
+        let uv = at(0) * b.x + at(1) * b.y + at(2) * b.z;
+        let m = self.slot.transform.matrix().as_dmat3();
+        sample_texture(self.texture, m.transform_point2(uv), self.slot.sampler)
+    }
 }
 
 fn instances<'a>(
@@ -378,16 +409,44 @@ fn instances<'a>(
             continue;
         }
         let m = scene.material_of(mesh);
+        // The renderer's choice of maps (`render::frame::resolve`): a slot is read when its
+        // texture exists and the mesh has its UV set; normal maps need tangents; the
+        // textured mode (chosen by default when any map is usable) reads every map, the
+        // other per-pixel modes only the gloss map.
+        let usable = |slot: Option<&TextureSlot>| {
+            let slot = *slot?;
+            tri.uv_set(slot.uv_set)?;
+            let texture = scene.textures.get(slot.texture)?;
+            Some(RefSlot { texture, slot })
+        };
+        let fallback = opts
+            .texture
+            .as_ref()
+            .filter(|_| tri.uv_set(0).is_some())
+            .map(|texture| RefSlot {
+                texture,
+                slot: TextureSlot::new(usize::MAX),
+            });
+        let emissive = m.emissive.as_dvec3();
+        let emissive = if emissive.is_finite() {
+            emissive.max(DVec3::ZERO)
+        } else {
+            DVec3::ZERO
+        };
+        let base_map = usable(m.base_color_texture.as_ref()).or(fallback);
+        let normal = usable(m.normal_texture.as_ref()).filter(|_| tri.tangents.is_some());
+        let occlusion = usable(m.occlusion_texture.as_ref());
+        let emissive_map =
+            usable(m.emissive_texture.as_ref()).filter(|_| emissive != DVec3::ZERO);
+        let mapped = base_map.is_some()
+            || normal.is_some()
+            || occlusion.is_some()
+            || emissive_map.is_some();
         let textured = match opts.shading {
             Some(mode) => mode == Shading::Textured,
-            None => inst.style == Style::Inherit,
+            None => inst.style == Style::Inherit && mapped,
         };
-        let texture = m
-            .base_color_texture
-            .and_then(|t| scene.textures.get(t.texture))
-            .or(opts.texture.as_ref())
-            .filter(|_| textured && tri.uvs.is_some())
-            .map(|t| &**t);
+        let textured_only = |s: Option<RefSlot<'a>>| s.filter(|_| textured);
         let world = inst.world.as_dmat4();
         let m3 = DMat3::from_mat4(world);
         let cof = DMat3::from_cols(
@@ -414,12 +473,13 @@ fn instances<'a>(
                 AlphaMode::Mask(c) => Alpha::Mask(f64::from(c)),
                 AlphaMode::Blend => Alpha::Blend,
             },
-            texture,
-            gloss: m
-                .specular_texture
-                .and_then(|t| scene.textures.get(t.texture))
-                .filter(|_| tri.uvs.is_some())
-                .map(|t| &**t),
+            emissive,
+            texture: textured_only(base_map),
+            gloss: usable(m.specular_texture.as_ref()),
+            normal_map: textured_only(normal),
+            occlusion: textured_only(occlusion),
+            emissive_map: textured_only(emissive_map),
+            handed: if det < 0.0 { -1.0 } else { 1.0 },
         });
     }
     out
@@ -653,9 +713,8 @@ impl Tri {
             let at = |k: usize| c.get(v[k]).map_or(DVec4::ONE, |c| c.as_dvec4());
             base *= at(0) * b.x + at(1) * b.y + at(2) * b.z;
         }
-        if let (Some(t), Some(uv)) = (inst.texture, &inst.tri.uvs) {
-            let at = |k: usize| uv.get(v[k]).map_or(DVec2::ZERO, |u| u.as_dvec2());
-            base *= sample_texture(t, at(0) * b.x + at(1) * b.y + at(2) * b.z);
+        if let Some(t) = &inst.texture {
+            base *= t.at(inst.tri, v, b);
         }
         base
     }
@@ -673,16 +732,30 @@ impl Tri {
         };
         let p = self.p[0] * b.x + self.p[1] * b.y + self.p[2] * b.z;
         let mut n = (self.n[0] * b.x + self.n[1] * b.y + self.n[2] * b.z).normalize_or_zero();
+        let v = self.g.v.map(|k| k as usize);
+        if let (Some(map), Some(ts)) = (&inst.normal_map, &inst.tri.tangents) {
+            let at = |k: usize| ts.get(v[k]).map_or(DVec4::X, |t| t.as_dvec4());
+            let t4 = at(0) * b.x + at(1) * b.y + at(2) * b.z;
+            let t = (DMat3::from_mat4(inst.world) * t4.truncate()).normalize_or_zero();
+            let c = map.at(inst.tri, v, b).truncate().to_array();
+            n = maps::perturb::<f64>(n, t, t4.w * inst.handed, c, f64::from(map.slot.scale));
+        }
         if !self.g.front {
             n = -n;
         }
         let mut surf = inst.surface.at::<f64>(base.truncate());
-        if let (Some(g), Some(uv)) = (inst.gloss, &inst.tri.uvs) {
-            let v = self.g.v.map(|k| k as usize);
-            let at = |k: usize| uv.get(v[k]).map_or(DVec2::ZERO, |u| u.as_dvec2());
-            surf.ks *= sample_texture(g, at(0) * b.x + at(1) * b.y + at(2) * b.z).truncate();
+        if let Some(g) = &inst.gloss {
+            surf.ks *= g.at(inst.tri, v, b).truncate();
+        }
+        if let Some(o) = &inst.occlusion {
+            // On the ambient term only: the equation's ambient is g_amb K_a K_d.
+            surf.ka *= maps::occlusion(o.at(inst.tri, v, b).x, f64::from(o.slot.scale));
         }
         let mut c = illuminate::<f64>(&view.lights, None, &surf, p, n, view.eye, view.blinn);
+        c += match &inst.emissive_map {
+            Some(m) => inst.emissive * m.at(inst.tri, v, b).truncate(),
+            None => inst.emissive,
+        };
         if let Some(fog) = &view.fog {
             c = fog.apply::<f64>(c, p, view.eye, view.forward);
         }
@@ -713,29 +786,40 @@ fn srgb_table() -> &'static [f64; 256] {
     })
 }
 
-/// Texel (x, y) in linear light; transparent black outside the texel array.
-fn fetch(t: &Texture, x: u32, y: u32) -> DVec4 {
-    let Some(p) = t.texels.get(y as usize * t.width as usize + x as usize) else {
+/// Texel (x, y) in linear light, 8-bit sRGB decoded exactly in f64; transparent black
+/// outside the texel array.
+pub(crate) fn texel(t: &Texture, x: u32, y: u32) -> DVec4 {
+    if x >= t.width || y >= t.height {
         return DVec4::ZERO;
-    };
-    let lin = |v: u8| {
-        if t.srgb {
-            srgb_table()[v as usize]
-        } else {
-            f64::from(v) / 255.0
+    }
+    let i = y as usize * t.width as usize + x as usize;
+    match &t.texels {
+        Texels::Srgb8(p) => {
+            let (p, lin) = (p[i], srgb_table());
+            DVec4::new(
+                lin[p[0] as usize],
+                lin[p[1] as usize],
+                lin[p[2] as usize],
+                f64::from(p[3]) / 255.0,
+            )
         }
-    };
-    DVec4::new(lin(p[0]), lin(p[1]), lin(p[2]), f64::from(p[3]) / 255.0)
+        Texels::Linear8(p) => DVec4::from_array(p[i].map(f64::from)) / 255.0,
+        Texels::Linear16(p) => DVec4::from_array(p[i].map(f64::from)) / 65535.0,
+        Texels::Float(p) => DVec4::from_array(p[i].map(f64::from)),
+    }
 }
 
-/// `Texture::sample` in f64: same UV convention (origin at the top-left texel corner, texel
-/// centres at half-integers), wrap modes and filter; non-finite UVs read (0, 0).
-fn sample_texture(t: &Texture, uv: DVec2) -> DVec4 {
+fn fetch(t: &Texture, x: u32, y: u32) -> DVec4 {
+    texel(t, x, y)
+}
+
+/// `Texture::sample_with` in f64: same UV convention (origin at the top-left texel corner,
+/// texel centres at half-integers), wrap modes and filter; non-finite UVs read (0, 0).
+fn sample_texture(t: &Texture, uv: DVec2, s: Sampler) -> DVec4 {
     if t.width == 0 || t.height == 0 {
         return DVec4::ONE;
     }
     let uv = if uv.is_finite() { uv } else { DVec2::ZERO };
-    let s = t.sampler;
     let (u, v) = (reduce(uv.x, s.wrap_u), reduce(uv.y, s.wrap_v));
     let (w, h) = (f64::from(t.width), f64::from(t.height));
     match s.filter {

@@ -22,8 +22,8 @@ use rayon::prelude::*;
 
 use super::LinearImage;
 use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};
-use crate::scene::{Camera, Instance, Light, Material, Scene, Style, TextureRef};
-use crate::texture::{Filter, Texture};
+use crate::scene::{Camera, Instance, Light, Material, Scene, Style, TextureSlot};
+use crate::texture::{Filter, Sampler, Texture};
 
 /// Texels per side of the standard texture.
 pub const TEXELS: u32 = 128;
@@ -98,22 +98,25 @@ impl PlaneSetup {
             corners: vec![0, 1, 2, 3],
             facet_sizes: Some(vec![4]),
             normals: Some(Channel::per_vertex(vec![Vec3::Y; 4])),
-            uvs: Some(Channel::per_vertex(uvs)),
+            uvs: vec![Channel::per_vertex(uvs)],
             colors: None,
+            tangents: None,
             material: Some(0),
         };
         let mesh = Mesh::new(data, NormalPolicy::default())
             .expect("the plane's mesh data is consistent by construction");
-        let mut texture = (*self.texture).clone();
-        texture.sampler.filter = filter;
+        let texture = (*self.texture).clone();
         Scene {
             meshes: vec![mesh],
             materials: vec![Material {
                 name: "floor".into(),
                 base_color: Vec4::ONE,
-                base_color_texture: Some(TextureRef {
-                    texture: 0,
-                    tex_coord: 0,
+                base_color_texture: Some(TextureSlot {
+                    sampler: Sampler {
+                        filter,
+                        ..Sampler::default()
+                    },
+                    ..TextureSlot::new(0)
                 }),
                 ambient: Vec3::ONE,
                 specular: Vec3::ZERO,
@@ -162,19 +165,11 @@ impl PlaneSetup {
         let tex = &self.texture;
         let (tw, th) = (tex.width as usize, tex.height as usize);
         let k = self.irradiance();
-        let albedo: Vec<[f64; 3]> = tex
-            .texels
-            .iter()
-            .map(|t| {
-                let d = |b: u8| {
-                    let c = f64::from(b) / 255.0;
-                    if tex.srgb {
-                        crate::color::srgb_decode(c)
-                    } else {
-                        c
-                    }
-                };
-                [d(t[0]) * k[0], d(t[1]) * k[1], d(t[2]) * k[2]]
+        let albedo: Vec<[f64; 3]> = (0..th as u32)
+            .flat_map(|y| (0..tw as u32).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let c = super::general::texel(tex, x, y);
+                [c.x * k[0], c.y * k[1], c.z * k[2]]
             })
             .collect();
         // Texel grid lines over the whole plane: u columns, v rows (v grows away from the

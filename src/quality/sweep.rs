@@ -134,10 +134,9 @@ impl ModelSetup {
         let s = &self.scene;
         s.instances.iter().any(|i| {
             s.meshes.get(i.mesh).is_some_and(|m| {
-                m.uvs.is_some()
-                    && s.material_of(m)
-                        .base_color_texture
-                        .is_some_and(|t| t.texture < s.textures.len())
+                s.material_of(m).base_color_texture.is_some_and(|t| {
+                    t.texture < s.textures.len() && m.uvs.len() > t.uv_set as usize
+                })
             })
         })
     }
@@ -201,9 +200,11 @@ impl Subject {
             Subject::Model(m) => {
                 let mut scene = m.scene.clone();
                 if let Some(filter) = s.filter {
-                    for t in &mut scene.textures {
-                        if t.sampler.filter != filter {
-                            std::sync::Arc::make_mut(t).sampler.filter = filter;
+                    for m in &mut scene.materials {
+                        for slot in crate::scene::Slot::ALL {
+                            if let Some(t) = m.slot_mut(slot) {
+                                t.sampler.filter = filter;
+                            }
                         }
                     }
                 }

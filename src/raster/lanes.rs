@@ -399,6 +399,17 @@ impl V3 {
         V3::new(self.x * s, self.y * s, self.z * s)
     }
 
+    /// The cross product `self × o`.
+    #[inline(always)]
+    #[must_use]
+    pub fn cross<K: Kernel>(self, o: V3) -> V3 {
+        V3::new(
+            K::fma(self.y, o.z, -(self.z * o.y)),
+            K::fma(self.z, o.x, -(self.x * o.z)),
+            K::fma(self.x, o.y, -(self.y * o.x)),
+        )
+    }
+
     /// Unit length, or zero where the length is zero or not finite.
     #[inline(always)]
     #[must_use]

@@ -2,14 +2,17 @@
 //! sphere against the frustum), shading mode, material parameters and raster state. Memory
 //! is kept in [`FrameData`] from frame to frame.
 
+use std::sync::Arc;
+
 use glam::{Mat4, Vec3, Vec4};
 
 use super::prepare::{PreparedInstance, PreparedScene};
 use super::settings::{Lights, Output, Settings};
+use crate::mesh::TriMesh;
 use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
-use crate::scene::{AlphaMode, Light, Material, Style};
-use crate::shade::{DrawParams, Fog, LightSet, Shading, Surface};
-use crate::texture::Filter;
+use crate::scene::{AlphaMode, Light, Material, Style, TextureSlot};
+use crate::shade::{DrawParams, Fog, LightSet, LitLayout, Shading, SlotParams, Surface};
+use crate::texture::{Filter, Texture};
 
 /// One visible instance of this frame.
 #[derive(Clone, Copy, Debug)]
@@ -26,9 +29,6 @@ pub(super) struct FrameInst {
     /// Index into [`FrameData::params`] (the draw id the shaders see).
     pub param: u32,
     pub mode: Shading,
-    /// Textured mode with a texture to sample.
-    pub textured: bool,
-    pub colors: bool,
     pub blend: bool,
     /// Distance from the eye to the bounding-sphere centre (for back-to-front sorting).
     pub distance: f32,
@@ -146,9 +146,21 @@ pub(crate) fn active_lights(
 pub(crate) struct Resolved {
     pub params: DrawParams,
     pub mode: Shading,
-    pub textured: bool,
     pub blend: bool,
     pub state: DrawState,
+}
+
+/// A slot's texture if the mesh can sample it: the texture exists and the mesh has the UV
+/// set the slot reads.
+fn usable<'a>(
+    scene: &'a PreparedScene,
+    tri: &TriMesh,
+    slot: Option<&TextureSlot>,
+) -> Option<(TextureSlot, &'a Arc<Texture>)> {
+    let slot = slot?;
+    tri.uv_set(slot.uv_set)?;
+    let texture = scene.scene().textures.get(slot.texture)?;
+    Some((*slot, texture))
 }
 
 /// Resolves an instance's material (with the settings' overrides) and mode.
@@ -163,17 +175,25 @@ pub(crate) fn resolve(
         .as_ref()
         .and_then(|ms| ms.get(inst.material))
         .unwrap_or(&scene.materials[inst.material]);
-    let texture = m
-        .base_color_texture
-        .and_then(|t| scene.scene().textures.get(t.texture).cloned())
-        .or_else(|| settings.texture.clone())
-        .filter(|_| tri.uvs.is_some());
+    // `--texture IMG` stands in for a material without a base-colour texture, read from UV
+    // set 0 with the default sampler.
+    let fallback = settings
+        .texture
+        .as_ref()
+        .filter(|_| tri.uv_set(0).is_some())
+        .map(|t| (TextureSlot::new(usize::MAX), t));
+    let base_map = usable(scene, tri, m.base_color_texture.as_ref()).or(fallback);
+    let normal_map = usable(scene, tri, m.normal_texture.as_ref()).filter(|_| tri.tangents.is_some());
+    let occlusion = usable(scene, tri, m.occlusion_texture.as_ref());
+    let emissive = finite_colour(m.emissive);
+    let emissive_map = usable(scene, tri, m.emissive_texture.as_ref()).filter(|_| emissive != Vec3::ZERO);
+    let mapped = base_map.is_some() || normal_map.is_some() || occlusion.is_some() || emissive_map.is_some();
     let mode = match (settings.shading, inst.style) {
         (Some(m), _) => m,
         (None, Style::Wireframe) => Shading::Wireframe,
         (None, Style::Flat) => Shading::Flat,
-        // A model with a texture is shown with it unless a mode is forced.
-        (None, Style::Inherit) if texture.is_some() => Shading::Textured,
+        // A model with textures is shown with them unless a mode is forced.
+        (None, Style::Inherit) if mapped => Shading::Textured,
         (None, Style::Inherit) => Shading::Phong,
     };
     let debug = matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv);
@@ -196,22 +216,33 @@ pub(crate) fn resolve(
         };
     }
     let per_pixel = matches!(mode, Shading::Phong | Shading::Blinn | Shading::Textured);
-    // The gloss map (specular colour per texel) in the per-pixel modes.
-    let gloss = m
-        .specular_texture
-        .and_then(|t| scene.scene().textures.get(t.texture).cloned())
-        .filter(|_| per_pixel && tri.uvs.is_some());
-    let texture = texture.filter(|_| mode == Shading::Textured);
-    // `textured`: the draw's varyings carry the UV (base-colour texture or gloss map).
-    let textured = texture.is_some() || gloss.is_some();
-    let mut sampler = texture
-        .as_ref()
-        .or(gloss.as_ref())
-        .map(|t| t.sampler)
-        .unwrap_or_default();
-    if let Some(f) = settings.filter {
-        sampler.filter = f;
-    }
+    let textured = mode == Shading::Textured;
+    let mut layout = LitLayout {
+        color: tri.colors.is_some(),
+        ..LitLayout::default()
+    };
+    // Each slot the mode samples gets the UV channel of its (set, transform); the gloss map
+    // shows in every per-pixel mode, the other maps in the textured one.
+    let mut params_of = |found: Option<(TextureSlot, &Arc<Texture>)>, on: bool| {
+        let (slot, texture) = found.filter(|_| on)?;
+        let uv_at = layout.channel(slot.uv_set, slot.transform)?;
+        let mut sampler = slot.sampler;
+        if let Some(f) = settings.filter {
+            sampler.filter = f;
+        }
+        Some(SlotParams {
+            texture: Arc::clone(texture),
+            sampler,
+            uv_at,
+            scale: slot.scale,
+        })
+    };
+    let base_map = params_of(base_map, textured);
+    let gloss = params_of(usable(scene, tri, m.specular_texture.as_ref()), per_pixel);
+    let normal_map = params_of(normal_map, textured);
+    let occlusion = params_of(occlusion, textured);
+    let emissive_map = params_of(emissive_map, textured);
+    layout.tangent = normal_map.is_some();
     let params = DrawParams {
         base: if m.base_color.is_finite() {
             m.base_color
@@ -219,9 +250,14 @@ pub(crate) fn resolve(
             Vec4::ONE
         },
         surface: material_surface(m),
-        texture,
+        emissive: if debug { Vec3::ZERO } else { emissive },
+        base_map,
         gloss,
-        sampler,
+        normal_map,
+        occlusion,
+        emissive_map,
+        layout,
+        blinn: matches!(mode, Shading::Blinn | Shading::Textured),
         alpha: if debug {
             AlphaMode::Opaque
         } else {
@@ -231,12 +267,17 @@ pub(crate) fn resolve(
         lights: (0, 0),
     };
     Resolved {
-        textured,
         params,
         mode,
         blend,
         state,
     }
+}
+
+/// A colour with every non-finite or negative channel made zero.
+fn finite_colour(c: Vec3) -> Vec3 {
+    let f = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
+    Vec3::new(f(c.x), f(c.y), f(c.z))
 }
 
 impl FrameInst {
@@ -252,8 +293,6 @@ impl FrameInst {
             state: r.state,
             param: 0,
             mode: r.mode,
-            textured: r.textured,
-            colors: false,
             blend: r.blend,
             distance: 0.0,
         }
@@ -296,10 +335,7 @@ pub(super) fn set_up(
             if shadows && tri.radius >= 0.0 {
                 let r = resolve(scene, settings, inst);
                 // Drawn only into shadow maps: no parameters, no varyings.
-                fd.casters.push(FrameInst {
-                    textured: false,
-                    ..FrameInst::new(k, inst.mesh, world, view, vp, &r)
-                });
+                fd.casters.push(FrameInst::new(k, inst.mesh, world, view, vp, &r));
             }
             stats.objects_culled += 1;
             stats.culled_frustum += tri.triangles.len() as u64;
@@ -317,16 +353,15 @@ pub(super) fn set_up(
         }
         let (c, radius) = world_sphere(world, tri.center, tri.radius);
         r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
-        if r.params.sampler.filter == Filter::Trilinear {
-            for t in [&r.params.texture, &r.params.gloss].into_iter().flatten() {
+        for t in r.params.maps() {
+            if t.sampler.filter == Filter::Trilinear {
                 // Built once (a no-op afterwards), in parallel, so no tile waits for it.
-                t.prepare_mips();
+                t.texture.prepare_mips();
             }
         }
         let center = world.transform_point3(tri.center);
         fd.insts.push(FrameInst {
             param: fd.params.len() as u32,
-            colors: tri.colors.is_some(),
             distance: (center - eye).length(),
             ..FrameInst::new(k, inst.mesh, world, view, vp, &r)
         });

@@ -19,8 +19,7 @@ use crate::raster::{
 };
 use crate::scene::Camera;
 use crate::shade::{
-    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
-    Shading,
+    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, Shading,
 };
 
 /// Everything a pass reads and writes.
@@ -368,21 +367,13 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     if !done {
         return false;
     }
-    for (mode, blinn) in [
-        (Shading::Phong, false),
-        (Shading::Blinn, true),
-        (Shading::Textured, true),
-    ] {
-        for uv in [false, true] {
-            for color in [false, true] {
-                let p = |k: usize, fi: &FrameInst| {
-                    fi.mode == mode && fi.textured == uv && fi.colors == color && pick(k, fi)
-                };
-                if !lit_group(cx, fd, &p, LitLayout { uv, color }, blinn) {
-                    return false;
-                }
-            }
-        }
+    // The per-pixel modes in one group: each draw carries its own varying layout and
+    // highlight (`DrawParams::layout`, `blinn`).
+    let per_pixel = |k: usize, fi: &FrameInst| {
+        matches!(fi.mode, Shading::Phong | Shading::Blinn | Shading::Textured) && pick(k, fi)
+    };
+    if !lit_group(cx, fd, &per_pixel) {
+        return false;
     }
     for (mode, debug) in [
         (Shading::Normals, Debug::Normals),
@@ -406,13 +397,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
 #[derive(Default)]
 struct FacetScratch(Vec<Vec4>);
 
-fn lit_group(
-    cx: &mut Cx,
-    fd: &FrameData,
-    pick: &dyn Fn(usize, &FrameInst) -> bool,
-    layout: LitLayout,
-    blinn: bool,
-) -> bool {
+fn lit_group(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) -> bool {
     let shader = LitShader {
         draws: &fd.params,
         lights: &fd.lights,
@@ -420,8 +405,6 @@ fn lit_group(
         eye: cx.eye,
         forward: cx.camera.forward(),
         fog: fd.fog,
-        layout,
-        blinn,
         lod_scale: cx.lod_scale,
     };
     let scene = cx.scene;
@@ -430,7 +413,7 @@ fn lit_group(
         fd,
         pick,
         Geometry::Indexed,
-        |fi, out| vertex::lit(scene, fi, layout, out),
+        |fi, out| vertex::lit(scene, fi, &fd.params, out),
         &shader,
     )
 }

@@ -17,7 +17,7 @@ use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::{Light, LightKind};
-use crate::shade::{arriving, reflect, view_vector, LightSet, Shading, SurfaceAt};
+use crate::shade::{arriving, maps, reflect, view_vector, LightSet, Shading, SlotParams, SurfaceAt};
 
 /// One light's contribution at the probed point (linear RGB).
 #[derive(Clone, Debug, PartialEq)]
@@ -66,8 +66,10 @@ pub struct Probe {
     pub mode: Shading,
     /// Diffuse colour and alpha at the point (material x vertex colour x texture).
     pub base: Vec4,
-    /// Ambient term (never attenuated).
+    /// Ambient term (never attenuated; times the occlusion map's factor).
     pub ambient: Vec3,
+    /// Emitted light (the material's emissive colour times its emissive map).
+    pub emitted: Vec3,
     pub lights: Vec<LightShare>,
     /// Fog factor f (0 clear, 1 only fog), if fog is on.
     pub fog: Option<f32>,
@@ -109,26 +111,50 @@ pub fn probe(
     let mut normal = (inst.normal * mix3(&tri.normals)).normalize_or_zero();
     let face = (tri.positions[b] - tri.positions[a]).cross(tri.positions[c] - tri.positions[a]);
     let face_normal = (inst.normal * face).normalize_or_zero();
+    let uv = tri
+        .uv_set(0)
+        .map(|u| u[a] * bary.x + u[b] * bary.y + u[c] * bary.z);
+    // Each slot at its own UV channel (set and transform), as the shader reads it.
+    let d = &r.params;
+    let sample = |t: &SlotParams| {
+        let ch = d.layout.channel_at(t.uv_at);
+        let at = tri
+            .uv_set(ch.set)
+            .map_or(Vec2::ZERO, |u| u[a] * bary.x + u[b] * bary.y + u[c] * bary.z);
+        t.texture.sample_with(ch.transform.apply(at), t.sampler)
+    };
+    if let (Some(map), Some(ts)) = (&d.normal_map, &tri.tangents) {
+        let t4 = ts[a] * bary.x + ts[b] * bary.y + ts[c] * bary.z;
+        let m3 = glam::Mat3::from_mat4(inst.world);
+        let handed = if inst.mirrored { -1.0 } else { 1.0 };
+        let t = (m3 * t4.truncate()).normalize_or_zero();
+        let texel = sample(map).truncate().to_array();
+        normal = maps::perturb::<f32>(normal, t, t4.w * handed, texel, map.scale);
+    }
     if !hit.front {
         normal = -normal;
     }
-    let uv = tri
-        .uvs
-        .as_ref()
-        .map(|u| u[a] * bary.x + u[b] * bary.y + u[c] * bary.z);
-    let mut base = r.params.base;
+    let mut base = d.base;
     if let Some(col) = &tri.colors {
         base *= col[a] * bary.x + col[b] * bary.y + col[c] * bary.z;
     }
-    if let (true, Some(uv), Some(t)) = (r.textured, uv, &r.params.texture) {
-        base *= t.sample_with(uv, r.params.sampler);
+    if let Some(t) = &d.base_map {
+        base *= sample(t);
     }
-    let blinn = matches!(r.mode, Shading::Blinn | Shading::Textured);
+    let blinn = d.blinn;
     let eye = cam.shading_eye();
-    let mut surf = r.params.surface.at::<f32>(base.truncate());
-    if let (Some(uv), Some(g)) = (uv, &r.params.gloss) {
-        surf.ks *= g.sample_with(uv, r.params.sampler).truncate();
+    let mut surf = d.surface.at::<f32>(base.truncate());
+    if let Some(g) = &d.gloss {
+        surf.ks *= sample(g).truncate();
     }
+    let occlusion = d
+        .occlusion
+        .as_ref()
+        .map_or(1.0, |o| maps::occlusion(sample(o).x, o.scale));
+    let emitted = match &d.emissive_map {
+        Some(m) => d.emissive * sample(m).truncate(),
+        None => d.emissive,
+    };
     let v = view_vector(&surf, position, eye);
     let diffuse_only = SurfaceAt {
         ks: Vec3::ZERO,
@@ -153,7 +179,7 @@ pub fn probe(
             set.push(l, m, index);
             index += 1;
             if l.kind == LightKind::Ambient {
-                ambient += set.ambient * surf.ka * surf.kd;
+                ambient += set.ambient * surf.ka * surf.kd * occlusion;
                 return;
             }
             let light = m.map_or_else(|| l.clone(), |m| l.transformed(m));
@@ -191,7 +217,7 @@ pub fn probe(
     );
     let lit = lights
         .iter()
-        .fold(ambient, |acc, s| acc + s.diffuse + s.specular);
+        .fold(ambient + emitted, |acc, s| acc + s.diffuse + s.specular);
     let fog = settings.fog.filter(|f| f.is_valid());
     let color = match &fog {
         Some(f) => f.apply::<f32>(lit, position, eye, cam.forward()),
@@ -220,6 +246,7 @@ pub fn probe(
         mode: r.mode,
         base,
         ambient,
+        emitted,
         lights,
         fog,
         color,

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::frame::FrameInst;
 use super::prepare::{PreparedMesh, PreparedScene};
-use crate::shade::{illuminate, Debug, DrawParams, Fog, LightSet, LitLayout};
+use crate::shade::{illuminate, Debug, DrawParams, Fog, LightSet};
 
 const MIN_LEN: usize = 4096;
 
@@ -61,20 +61,32 @@ fn world(scene: &PreparedScene, fi: &FrameInst, mesh: &PreparedMesh, k: usize) -
     (p, n)
 }
 
-/// Per-pixel-lighting varyings in `layout`; returns the stride.
+/// Per-pixel-lighting varyings in the draw's layout ([`DrawParams::layout`]); returns the
+/// stride. Tangents go to the world by the model matrix (not the normal matrix: they lie in
+/// the surface), their handedness flipped under a mirroring one so the bitangent
+/// `w (N × T)` still runs along -v.
 pub(super) fn lit(
     scene: &PreparedScene,
     fi: &FrameInst,
-    layout: LitLayout,
+    params: &[DrawParams],
     out: &mut Vec<f32>,
 ) -> usize {
+    let layout = params[fi.param as usize].layout;
     let mesh = &scene.meshes[fi.mesh as usize];
     let tri = &mesh.tri;
+    let m3 = glam::Mat3::from_mat4(fi.world);
+    let handed = if scene.instances[fi.inst as usize].mirrored {
+        -1.0
+    } else {
+        1.0
+    };
     per_vertex(out, tri.positions.len(), layout.stride(), |k, o| {
         let (p, n) = world(scene, fi, mesh, k);
-        let uv = tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]);
+        let uv = |set: u32| tri.uv_set(set).map_or(Vec2::ZERO, |u| u[k]);
         let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
-        layout.write(o, p, n, uv, c);
+        let t = tri.tangents.as_ref().map_or(Vec4::X, |t| t[k]);
+        let tw = (m3 * t.truncate()).normalize_or_zero();
+        layout.write(o, p, n, uv, c, tw.extend(t.w * handed));
     })
 }
 
@@ -87,6 +99,7 @@ impl Lit<'_> {
         let surf = d.surface.at::<f32>(base.truncate());
         let active = d.active(self.active);
         let mut rgb = illuminate::<f32>(self.lights, Some(active), &surf, p, n, self.eye, false);
+        rgb += d.emissive;
         if let Some(fog) = &self.fog {
             rgb = fog.apply::<f32>(rgb, p, self.eye, self.forward);
         }
@@ -156,7 +169,7 @@ pub(super) fn debug(
         let v = match mode {
             Debug::Normals => world(scene, fi, mesh, k).1,
             Debug::Depth => Vec3::splat(-fi.model_view.transform_point3(tri.positions[k]).z),
-            Debug::Uv => tri.uvs.as_ref().map_or(Vec2::ZERO, |u| u[k]).extend(0.0),
+            Debug::Uv => tri.uv_set(0).map_or(Vec2::ZERO, |u| u[k]).extend(0.0),
         };
         o.copy_from_slice(&v.to_array());
     })

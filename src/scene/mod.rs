@@ -11,10 +11,12 @@ use crate::texture::Texture;
 mod camera;
 mod demo;
 mod light;
+mod slot;
 
 pub use camera::{clamp_fov, Camera, DEFAULT_YFOV};
 pub use demo::{demo, DEMO_SLICES, DEMO_STACKS};
 pub use light::{Attenuation, Light, LightKind, MIN_D2};
+pub use slot::{Slot, TextureSlot, UvTransform};
 
 /// How a material's alpha is used (glTF `alphaMode`; OBJ `d` < 1 maps to `Blend`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -27,15 +29,6 @@ pub enum AlphaMode {
     Blend,
 }
 
-/// A reference to one of the scene's textures.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TextureRef {
-    /// Index into [`Scene::textures`].
-    pub texture: usize,
-    /// Which UV set (only 0 is carried by meshes for now).
-    pub tex_coord: u32,
-}
-
 /// Surface description: the Phong parameters of the textbook plus the glTF PBR core.
 /// Colours are linear RGB.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,21 +36,62 @@ pub struct Material {
     pub name: String,
     /// Base (diffuse) colour `Kd` and alpha (`d` in MTL).
     pub base_color: Vec4,
-    pub base_color_texture: Option<TextureRef>,
+    /// [`Slot::BaseColor`]: multiplies `base_color` (RGB and alpha).
+    pub base_color_texture: Option<TextureSlot>,
     /// Ambient reflectance `Ka`.
     pub ambient: Vec3,
     /// Specular reflectance `Ks`.
     pub specular: Vec3,
-    /// Gloss map (003 §7, MTL `map_Ks`): its RGB multiplies `specular` per pixel in the
-    /// per-pixel modes (textured, Phong, Blinn on a mesh with UVs).
-    pub specular_texture: Option<TextureRef>,
+    /// [`Slot::Specular`], the gloss map (the pipeline chapter's §7, MTL `map_Ks`): its RGB
+    /// multiplies `specular` per pixel in the per-pixel modes.
+    pub specular_texture: Option<TextureSlot>,
     /// Phong exponent `Ns` (the textbook's n, 1..2000).
     pub shininess: f32,
+    /// Emitted light, linear RGB (glTF `emissiveFactor`, MTL `Ke`).
     pub emissive: Vec3,
+    /// [`Slot::Emissive`]: multiplies `emissive`.
+    pub emissive_texture: Option<TextureSlot>,
+    /// [`Slot::Normal`]: a tangent-space normal map, its `scale` on x and y.
+    pub normal_texture: Option<TextureSlot>,
+    /// [`Slot::Occlusion`]: ambient occlusion in R, its `scale` the strength.
+    pub occlusion_texture: Option<TextureSlot>,
+    /// [`Slot::Bump`]: a height map (R), its `scale` the height of 1.0 in UV units.
+    pub bump_texture: Option<TextureSlot>,
     pub metallic: f32,
     pub roughness: f32,
+    /// [`Slot::MetallicRoughness`]: G multiplies `roughness`, B `metallic`.
+    pub metallic_roughness_texture: Option<TextureSlot>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
+}
+
+impl Material {
+    /// The texture of `slot`, if the material has one.
+    #[must_use]
+    pub fn slot(&self, slot: Slot) -> Option<&TextureSlot> {
+        match slot {
+            Slot::BaseColor => self.base_color_texture.as_ref(),
+            Slot::Specular => self.specular_texture.as_ref(),
+            Slot::Normal => self.normal_texture.as_ref(),
+            Slot::Occlusion => self.occlusion_texture.as_ref(),
+            Slot::Emissive => self.emissive_texture.as_ref(),
+            Slot::MetallicRoughness => self.metallic_roughness_texture.as_ref(),
+            Slot::Bump => self.bump_texture.as_ref(),
+        }
+    }
+
+    /// The texture of `slot`, to set or change.
+    pub fn slot_mut(&mut self, slot: Slot) -> &mut Option<TextureSlot> {
+        match slot {
+            Slot::BaseColor => &mut self.base_color_texture,
+            Slot::Specular => &mut self.specular_texture,
+            Slot::Normal => &mut self.normal_texture,
+            Slot::Occlusion => &mut self.occlusion_texture,
+            Slot::Emissive => &mut self.emissive_texture,
+            Slot::MetallicRoughness => &mut self.metallic_roughness_texture,
+            Slot::Bump => &mut self.bump_texture,
+        }
+    }
 }
 
 impl Default for Material {
@@ -71,8 +105,13 @@ impl Default for Material {
             specular_texture: None,
             shininess: 80.0,
             emissive: Vec3::ZERO,
+            emissive_texture: None,
+            normal_texture: None,
+            occlusion_texture: None,
+            bump_texture: None,
             metallic: 0.0,
             roughness: 0.5,
+            metallic_roughness_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
         }
@@ -162,6 +201,42 @@ impl Scene {
             }
         }
         (lo.x <= hi.x).then_some((lo, hi))
+    }
+
+    /// Checks every mesh against its material's texture slots, once after loading: a slot
+    /// that reads a UV set the mesh does not have is named in the load report (it is drawn
+    /// without that texture), and a mesh with a normal map but no tangents gets MikkTSpace
+    /// tangents from the normal map's UV set ([`Mesh::generate_tangents`]), noted as
+    /// generated.
+    pub fn check_texture_slots(&mut self) {
+        for mesh in &mut self.meshes {
+            let Some(m) = mesh.material.and_then(|m| self.materials.get(m)) else {
+                continue;
+            };
+            for slot in Slot::ALL {
+                let Some(s) = m.slot(slot) else { continue };
+                if mesh.uvs.len() <= s.uv_set as usize {
+                    self.report.warnings.push(format!(
+                        "mesh '{}': material '{}' reads its {} texture from TEXCOORD_{}, which \
+                         the mesh does not have (it has {}); drawn without it",
+                        mesh.name,
+                        m.name,
+                        slot.name(),
+                        s.uv_set,
+                        mesh.uvs.len()
+                    ));
+                }
+            }
+            if let (Some(n), None) = (&m.normal_texture, &mesh.tangents) {
+                if mesh.generate_tangents(n.uv_set).is_ok() {
+                    self.report.generated.push(format!(
+                        "mesh '{}': MikkTSpace tangents from TEXCOORD_{} (normal map of \
+                         material '{}')",
+                        mesh.name, n.uv_set, m.name
+                    ));
+                }
+            }
+        }
     }
 
     /// Material of a mesh, falling back to the default material.

@@ -568,6 +568,8 @@ pub struct SurfaceLanes {
     pub has_specular: bool,
     pub ambient: Vec3,
     pub shininess: F8,
+    /// Ambient occlusion per lane (multiplies the ambient term only), if the surface has it.
+    pub occlusion: Option<F8>,
 }
 
 /// [`illuminate`] on eight lanes: the same equation and the same decisions (no specular
@@ -591,6 +593,9 @@ pub fn illuminate_lanes<K: Kernel>(
         V3::default()
     };
     let mut c = s.diffuse * (set.ambient * s.ambient);
+    if let Some(ao) = s.occlusion {
+        c = c.scale(ao);
+    }
     for &i in active {
         let Some(src) = set.sources.get(i as usize) else {
             continue;

@@ -17,6 +17,7 @@
 //! This module never loops over tiles or pixels itself: the rasterizer calls the shaders.
 
 mod lighting;
+pub mod maps;
 mod real;
 mod shaders;
 mod shadow;
@@ -29,6 +30,7 @@ pub use lighting::{
 pub use real::Real;
 pub use shaders::{
     ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
+    SlotParams, UvChannel, MAX_UV_CHANNELS,
 };
 pub use shadow::{ShadowMap, ShadowSettings, MAX_SHADOW_SIZE, SHADOW_SIZE};
 

@@ -41,6 +41,8 @@ pub trait Real:
     fn to_vec3(v: Self::V) -> Vec3;
     fn splat(x: Self) -> Self::V;
     fn dot(a: Self::V, b: Self::V) -> Self;
+    fn cross(a: Self::V, b: Self::V) -> Self::V;
+    fn new3(x: Self, y: Self, z: Self) -> Self::V;
     fn normalize_or_zero(a: Self::V) -> Self::V;
     fn sqrt(self) -> Self;
     fn powf(self, e: Self) -> Self;
@@ -109,6 +111,14 @@ macro_rules! real {
             #[inline(always)]
             fn dot(a: $v, b: $v) -> Self {
                 a.dot(b)
+            }
+            #[inline(always)]
+            fn cross(a: $v, b: $v) -> $v {
+                a.cross(b)
+            }
+            #[inline(always)]
+            fn new3(x: Self, y: Self, z: Self) -> $v {
+                <$v>::new(x, y, z)
             }
             #[inline(always)]
             fn normalize_or_zero(a: $v) -> $v {

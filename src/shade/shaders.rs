@@ -1,28 +1,50 @@
 //! Fragment shaders, one type per shading mode, each shading eight pixels (lanes) at a time
-//! from the varyings the vertex stage laid out (see [`LitLayout`]). Per-draw material
-//! parameters are looked up by `TriInfo::draw`.
+//! from the varyings the vertex stage laid out (see [`LitLayout`], one per draw). Per-draw
+//! material parameters are looked up by `TriInfo::draw`.
 
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
 
 use super::lighting::{illuminate_lanes, Fog, LightSet, Surface, SurfaceLanes};
+use super::maps::perturb_lanes;
 use crate::raster::{Colors, FragmentShader, Fragments, Kernel, F8, V3};
-use crate::scene::AlphaMode;
+use crate::scene::{AlphaMode, UvTransform};
 use crate::texture::{srgb_to_linear, Sampler, Texture};
+
+/// A texture one draw samples: the image, how it is read, and where its UV is among the
+/// draw's varyings (already through the slot's `KHR_texture_transform`).
+#[derive(Clone, Debug)]
+pub struct SlotParams {
+    pub texture: Arc<Texture>,
+    pub sampler: Sampler,
+    /// Index of the UV's first float in the draw's varyings ([`LitLayout::uv_at`]).
+    pub uv_at: u8,
+    /// The slot's scalar: normal scale, occlusion strength (1 for the others).
+    pub scale: f32,
+}
 
 /// Material parameters of one draw.
 #[derive(Clone, Debug)]
 pub struct DrawParams {
     pub base: Vec4,
     pub surface: Surface,
-    /// The base-colour texture (textured mode only).
-    pub texture: Option<Arc<Texture>>,
-    /// The gloss map: its RGB multiplies the specular colour (per-pixel modes, meshes with
-    /// UVs).
-    pub gloss: Option<Arc<Texture>>,
-    /// How `texture` (or, without one, `gloss`) is read (its own sampler, or a filter the renderer's settings force).
-    pub sampler: Sampler,
+    /// Emitted light (linear RGB), added to the lit colour before fog.
+    pub emissive: Vec3,
+    /// Base colour (textured mode): multiplies `base`.
+    pub base_map: Option<SlotParams>,
+    /// The gloss map: its RGB multiplies the specular colour (per-pixel modes).
+    pub gloss: Option<SlotParams>,
+    /// Tangent-space normal map (textured mode; the layout carries the tangent).
+    pub normal_map: Option<SlotParams>,
+    /// Ambient occlusion (R), on the ambient term only (textured mode).
+    pub occlusion: Option<SlotParams>,
+    /// Emissive map: multiplies `emissive` (textured mode).
+    pub emissive_map: Option<SlotParams>,
+    /// Where this draw's varyings are (lit modes).
+    pub layout: LitLayout,
+    /// Blinn's `N·H` highlight (else Phong's `R·V`).
+    pub blinn: bool,
     pub alpha: AlphaMode,
     pub double_sided: bool,
     /// This draw's lights: `start..end` in the shader's `active` list (the frame's lights
@@ -38,6 +60,19 @@ impl DrawParams {
         active
             .get(self.lights.0 as usize..self.lights.1 as usize)
             .unwrap_or(&[])
+    }
+
+    /// The textures the draw samples (for preparing their mip chains).
+    pub fn maps(&self) -> impl Iterator<Item = &SlotParams> {
+        [
+            &self.base_map,
+            &self.gloss,
+            &self.normal_map,
+            &self.occlusion,
+            &self.emissive_map,
+        ]
+        .into_iter()
+        .flatten()
     }
 
     /// Applies the alpha mode to lanes `mask` with alpha `a`: returns the alpha to store and
@@ -79,51 +114,143 @@ impl FragmentShader for ColorShader<'_> {
     }
 }
 
-/// Where a lit draw's varyings are: world position at 0..3, world normal at 3..6, then the
-/// UV (2 floats) if textured, then the vertex colour (4 floats) if the mesh has colours.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+/// Texture coordinate channels a lit draw can carry: one per slot the lit shader samples
+/// (base colour, gloss, normal, occlusion, emissive), so a layout never runs out.
+pub const MAX_UV_CHANNELS: usize = 5;
+
+/// A texture coordinate channel: UV set `set` through `transform`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct UvChannel {
+    pub set: u32,
+    pub transform: UvTransform,
+}
+
+/// Where a lit draw's varyings are: world position at 0..3, world normal at 3..6, then its
+/// texture coordinate channels (2 floats each: a UV set through a slot's transform, one per
+/// distinct pair its slots read), the vertex colour (4 floats) if the mesh has colours, and
+/// the world tangent with its handedness (4 floats) if a normal map needs it. A draw
+/// interpolates only these: a slot the material does not use costs nothing per pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct LitLayout {
-    pub uv: bool,
+    pub channels: [UvChannel; MAX_UV_CHANNELS],
+    /// Channels in use.
+    pub uv_count: u8,
     pub color: bool,
+    pub tangent: bool,
 }
 
 impl LitLayout {
-    /// Floats per vertex.
+    /// Floats per vertex (at most 6 + 2 · 5 + 4 + 4 = 24).
     #[must_use]
     pub fn stride(self) -> usize {
-        6 + if self.uv { 2 } else { 0 } + if self.color { 4 } else { 0 }
+        6 + 2 * self.uv_count as usize + 4 * usize::from(self.color) + 4 * usize::from(self.tangent)
     }
 
-    /// Index of the UV's first float.
+    /// Index of channel `k`'s first float.
     #[must_use]
-    pub fn uv_at(self) -> Option<usize> {
-        self.uv.then_some(6)
+    pub fn uv_at(k: usize) -> usize {
+        6 + 2 * k
     }
 
     /// Index of the colour's first float.
     #[must_use]
     pub fn color_at(self) -> Option<usize> {
-        self.color.then_some(if self.uv { 8 } else { 6 })
+        self.color.then_some(6 + 2 * self.uv_count as usize)
     }
 
-    /// Writes one vertex's varyings into `out` (`stride()` floats).
+    /// Index of the tangent's first float.
+    #[must_use]
+    pub fn tangent_at(self) -> Option<usize> {
+        self.tangent
+            .then_some(6 + 2 * self.uv_count as usize + 4 * usize::from(self.color))
+    }
+
+    /// The varying index of the UV of set `set` through `transform`: an existing channel
+    /// with the same pair, else a new one. `None` only if all [`MAX_UV_CHANNELS`] are taken
+    /// by other pairs.
+    pub fn channel(&mut self, set: u32, transform: UvTransform) -> Option<u8> {
+        let c = UvChannel { set, transform };
+        let n = self.uv_count as usize;
+        let k = match self.channels[..n].iter().position(|x| *x == c) {
+            Some(k) => k,
+            None if n < MAX_UV_CHANNELS => {
+                self.channels[n] = c;
+                self.uv_count += 1;
+                n
+            }
+            None => return None,
+        };
+        Some(Self::uv_at(k) as u8)
+    }
+
+    /// The channel whose UV starts at varying `uv_at` (see [`LitLayout::uv_at`]).
+    #[must_use]
+    pub fn channel_at(&self, uv_at: u8) -> UvChannel {
+        let k = (uv_at as usize).saturating_sub(Self::uv_at(0)) / 2;
+        self.channels.get(k).copied().unwrap_or_default()
+    }
+
+    /// Writes one vertex's varyings into `out` (`stride()` floats): position `p`, normal
+    /// `n`, the UV of each channel from `uv(set)` (transformed), colour `color`, tangent
+    /// `tangent` (xyz and handedness).
     #[inline]
-    pub fn write(self, out: &mut [f32], p: Vec3, n: Vec3, uv: Vec2, color: Vec4) {
+    pub fn write(
+        self,
+        out: &mut [f32],
+        p: Vec3,
+        n: Vec3,
+        uv: impl Fn(u32) -> Vec2,
+        color: Vec4,
+        tangent: Vec4,
+    ) {
         out[..3].copy_from_slice(&p.to_array());
         out[3..6].copy_from_slice(&n.to_array());
-        if let Some(k) = self.uv_at() {
-            out[k..k + 2].copy_from_slice(&uv.to_array());
+        for (k, c) in self.channels[..self.uv_count as usize].iter().enumerate() {
+            let at = Self::uv_at(k);
+            out[at..at + 2].copy_from_slice(&c.transform.apply(uv(c.set)).to_array());
         }
         if let Some(k) = self.color_at() {
             out[k..k + 4].copy_from_slice(&color.to_array());
         }
+        if let Some(k) = self.tangent_at() {
+            out[k..k + 4].copy_from_slice(&tangent.to_array());
+        }
     }
 }
 
-/// Phong (R·V) or Blinn-Phong (N·H, `blinn`) per-pixel lighting; with a UV in the layout,
-/// the base-colour texture modulates the diffuse colour (filtered in linear light by the
-/// texture's sampler: trilinear by default, its level of detail from the UV's exact
-/// screen-space derivatives, which the rasterizer computes only for draws with a texture).
+/// Samples slot `t` on the lanes of `f` from the draw's varyings `v`, with the exact UV
+/// derivatives when the fill computed them (trilinear), scaled by `lod_scale`.
+/// `#[inline(always)]`: a sampler that is not inlined into the kernel's entry point loses
+/// the kernel's target features.
+#[inline(always)]
+fn sample<K: Kernel>(t: &SlotParams, f: &Fragments<'_>, lod_scale: f32) -> [F8; 4] {
+    let k = t.uv_at as usize;
+    let v = f.var;
+    let (u, w) = (v[k], v[k + 1]);
+    // The fill's derivatives start at the first channel (see `LitShader::derivatives`).
+    let d = k - LitLayout::uv_at(0);
+    match (f.ddx.get(d..d + 2), f.ddy.get(d..d + 2)) {
+        (Some([dudx, dvdx]), Some([dudy, dvdy])) => t.texture.sample_grad_lanes::<K>(
+            u,
+            w,
+            *dudx * lod_scale,
+            *dvdx * lod_scale,
+            *dudy * lod_scale,
+            *dvdy * lod_scale,
+            f.mask,
+            t.sampler,
+        ),
+        _ => t.texture.sample_lanes::<K>(u, w, f.mask, t.sampler),
+    }
+}
+
+/// Phong (R·V) or Blinn-Phong (N·H, per draw) per-pixel lighting from the varyings of each
+/// draw's [`LitLayout`]. The slots a draw has modulate it: the base-colour texture the
+/// diffuse colour and alpha, the gloss map the specular colour, the normal map the normal,
+/// occlusion the ambient term, the emissive map the emitted light. Each is filtered in
+/// linear light by its own sampler (trilinear by default, its level of detail from the UV's
+/// exact screen-space derivatives, which the rasterizer computes only for draws that sample
+/// a texture).
 pub struct LitShader<'a> {
     pub draws: &'a [DrawParams],
     pub lights: &'a LightSet,
@@ -134,8 +261,6 @@ pub struct LitShader<'a> {
     pub forward: Vec3,
     /// Linear fog per pixel; `None` costs nothing.
     pub fog: Option<Fog>,
-    pub layout: LitLayout,
-    pub blinn: bool,
     /// Scale of the UV derivatives before the texture's level of detail is chosen: 1 for
     /// one sample per pixel, 1/n for a pass of an n x n supersampled frame (whose samples
     /// are 1/n pixel apart, as if rendered n times larger).
@@ -146,73 +271,82 @@ impl FragmentShader for LitShader<'_> {
     #[inline(always)]
     fn derivatives(&self, draw: u32) -> Option<(usize, usize)> {
         let d = &self.draws[draw as usize];
-        let textured = d.texture.is_some() || d.gloss.is_some();
-        self.layout.uv_at().filter(|_| textured).map(|k| (k, 2))
+        let n = d.layout.uv_count as usize;
+        (n > 0).then_some((LitLayout::uv_at(0), 2 * n))
     }
 
     #[inline(always)]
     fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
         let d = &self.draws[f.tri.draw as usize];
         let v = f.var;
-        if v.len() < self.layout.stride() {
+        if v.len() < d.layout.stride() {
             return 0;
         }
+        // Every slot the draw has, sampled at one call site (the sampler is inlined once,
+        // not once per slot): base colour, gloss, normal, occlusion, emissive.
+        let slots = [
+            &d.base_map,
+            &d.gloss,
+            &d.normal_map,
+            &d.occlusion,
+            &d.emissive_map,
+        ];
+        let mut texel = [[F8::ONE; 4]; 5];
+        for (t, out) in slots.iter().zip(&mut texel) {
+            if let Some(t) = t {
+                *out = sample::<K>(t, f, self.lod_scale);
+            }
+        }
+        let [base_t, gloss_t, normal_t, occlusion_t, emissive_t] = texel;
         let mut base = Colors::splat(d.base);
-        if let Some(k) = self.layout.color_at() {
+        if let Some(k) = d.layout.color_at() {
             base.r *= v[k];
             base.g *= v[k + 1];
             base.b *= v[k + 2];
             base.a *= v[k + 3];
         }
-        let sample = |t: &Texture| {
-            let k = self.layout.uv_at().unwrap_or(0);
-            let (s, l) = (d.sampler, self.lod_scale);
-            let (u, w) = (v[k], v[k + 1]);
-            if let ([dudx, dvdx, ..], [dudy, dvdy, ..]) = (f.ddx, f.ddy) {
-                t.sample_grad_lanes::<K>(
-                    u,
-                    w,
-                    *dudx * l,
-                    *dvdx * l,
-                    *dudy * l,
-                    *dvdy * l,
-                    f.mask,
-                    s,
-                )
-            } else {
-                t.sample_lanes::<K>(u, w, f.mask, s)
-            }
-        };
-        let uv = self.layout.uv_at().is_some();
-        if let (true, Some(t)) = (uv, &d.texture) {
-            let c = sample(t);
-            base.r *= c[0];
-            base.g *= c[1];
-            base.b *= c[2];
-            base.a *= c[3];
+        if d.base_map.is_some() {
+            base.r *= base_t[0];
+            base.g *= base_t[1];
+            base.b *= base_t[2];
+            base.a *= base_t[3];
         }
         let ks = d.surface.specular;
-        let specular = match (uv, &d.gloss) {
-            (true, Some(g)) => {
-                let c = sample(g);
-                V3::new(c[0] * ks.x, c[1] * ks.y, c[2] * ks.z)
-            }
-            _ => V3::splat(ks),
+        let specular = match &d.gloss {
+            Some(_) => V3::new(gloss_t[0] * ks.x, gloss_t[1] * ks.y, gloss_t[2] * ks.z),
+            None => V3::splat(ks),
         };
         let mut n = V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>();
+        if let (Some(map), Some(k)) = (&d.normal_map, d.layout.tangent_at()) {
+            let t = V3::new(v[k], v[k + 1], v[k + 2]);
+            n = perturb_lanes::<K>(n, t, v[k + 3], normal_t, map.scale);
+        }
         if !f.tri.front {
             n = -n;
         }
+        // glTF: ao = 1 + strength (r - 1), on the ambient (indirect) light only.
+        let occlusion = d
+            .occlusion
+            .as_ref()
+            .map(|o| F8::ONE + (occlusion_t[0] - F8::ONE) * o.scale);
         let s = SurfaceLanes {
             diffuse: V3::new(base.r, base.g, base.b),
             specular,
             has_specular: ks != Vec3::ZERO,
             ambient: d.surface.ambient,
             shininess: F8::splat(d.surface.shininess),
+            occlusion,
         };
         let p = V3::new(v[0], v[1], v[2]);
         let active = d.active(self.active);
-        let mut c = illuminate_lanes::<K>(self.lights, active, &s, p, n, self.eye, self.blinn);
+        let mut c = illuminate_lanes::<K>(self.lights, active, &s, p, n, self.eye, d.blinn);
+        if d.emissive != Vec3::ZERO {
+            let e = match &d.emissive_map {
+                Some(_) => V3::new(emissive_t[0], emissive_t[1], emissive_t[2]) * d.emissive,
+                None => V3::splat(d.emissive),
+            };
+            c = c + e;
+        }
         if let Some(fog) = &self.fog {
             c = fog.apply_lanes::<K>(c, p, self.eye, self.forward);
         }

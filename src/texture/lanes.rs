@@ -22,8 +22,8 @@
 // Lane loops index several arrays by the lane number on purpose: that shape vectorises.
 #![allow(clippy::needless_range_loop)]
 
-use super::mip::U16_MAX;
-use super::{linear_table, srgb_table, Filter, Sampler, Texture, Wrap};
+use super::mip::{self, ChainTexels, U16_MAX};
+use super::{linear_table, srgb_table, Filter, Sampler, Texels, Texture, Wrap};
 use crate::raster::{Kernel, F8, LANES};
 
 /// Eight i32 lanes (texel coordinates, levels, sizes).
@@ -215,19 +215,74 @@ fn lerp4(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
     ]
 }
 
-/// Texel `i` of the levels below the base (an index into [`super::mip::Chain::texels`]) in linear
-/// light, with the operations of [`super::mip::unpack`]. An index outside the chain (never
-/// made: the coordinates are wrapped or clamped) reads zero.
-#[inline(always)]
-fn mip_texel(texels: &[u64], i: i32) -> [f32; 4] {
-    let t = texels.get(i as u32 as usize).copied().unwrap_or(0);
-    let k = 1.0 / U16_MAX;
-    [
-        f32::from(t as u16) * k,
-        f32::from((t >> 16) as u16) * k,
-        f32::from((t >> 32) as u16) * k,
-        f32::from((t >> 48) as u16) * k,
-    ]
+/// Where a lane filter reads texels: the base level in one of its storages, or the levels
+/// below it. `texel(i)` is texel `i` in linear light with the operations of the scalar
+/// [`Texture::fetch`] (or [`super::mip::unpack`]); an index outside reads zero (never made:
+/// the coordinates are wrapped or clamped).
+trait Source: Copy {
+    fn texel(self, i: i32) -> [f32; 4];
+}
+
+/// 8-bit texels decoded by two tables (sRGB or linear for RGB, linear for alpha).
+#[derive(Clone, Copy)]
+struct Bytes<'a> {
+    texels: &'a [[u8; 4]],
+    rgb: &'a [f32; 256],
+    alpha: &'a [f32; 256],
+}
+
+impl Source for Bytes<'_> {
+    #[inline(always)]
+    fn texel(self, i: i32) -> [f32; 4] {
+        let t = self.texels.get(i as u32 as usize).copied().unwrap_or_default();
+        [
+            self.rgb[t[0] as usize],
+            self.rgb[t[1] as usize],
+            self.rgb[t[2] as usize],
+            self.alpha[t[3] as usize],
+        ]
+    }
+}
+
+/// 16-bit linear texels.
+#[derive(Clone, Copy)]
+struct Shorts<'a>(&'a [[u16; 4]]);
+
+impl Source for Shorts<'_> {
+    #[inline(always)]
+    fn texel(self, i: i32) -> [f32; 4] {
+        let t = self.0.get(i as u32 as usize).copied().unwrap_or_default();
+        t.map(|c| f32::from(c) * (1.0 / U16_MAX))
+    }
+}
+
+/// 16-bit linear texels packed into a `u64` (the mip chain, see [`super::mip::ChainTexels`]).
+#[derive(Clone, Copy)]
+struct Packed<'a>(&'a [u64]);
+
+impl Source for Packed<'_> {
+    #[inline(always)]
+    fn texel(self, i: i32) -> [f32; 4] {
+        let t = self.0.get(i as u32 as usize).copied().unwrap_or(0);
+        let k = 1.0 / U16_MAX;
+        [
+            f32::from(t as u16) * k,
+            f32::from((t >> 16) as u16) * k,
+            f32::from((t >> 32) as u16) * k,
+            f32::from((t >> 48) as u16) * k,
+        ]
+    }
+}
+
+/// Float texels.
+#[derive(Clone, Copy)]
+struct Floats<'a>(&'a [[f32; 4]]);
+
+impl Source for Floats<'_> {
+    #[inline(always)]
+    fn texel(self, i: i32) -> [f32; 4] {
+        self.0.get(i as u32 as usize).copied().unwrap_or_default()
+    }
 }
 
 /// Where the four texels of a bilinear footprint are, per lane, and their weights.
@@ -251,28 +306,98 @@ fn bilinear(c: [[f32; 4]; 4], tx: f32, ty: f32) -> [f32; 4] {
     lerp4(top, bottom, ty)
 }
 
-/// Texel `i` of the base, decoded by the tables `rgb` and `alpha` (the values of
-/// [`Texture::fetch`]); an index outside reads zero (never made).
+/// Lane `i` of footprint `f`, filtered, from the base `base` or the levels below `mips`.
 #[inline(always)]
-fn base_texel(texels: &[[u8; 4]], rgb: &[f32; 256], alpha: &[f32; 256], i: i32) -> [f32; 4] {
-    let t = texels.get(i as u32 as usize).copied().unwrap_or_default();
-    [
-        rgb[t[0] as usize],
-        rgb[t[1] as usize],
-        rgb[t[2] as usize],
-        alpha[t[3] as usize],
-    ]
+fn footprint_sample<B: Source, M: Source>(base: B, mips: M, f: &Footprint, i: usize) -> [f32; 4] {
+    let [a, b, c, d] = f.idx.map(|x| x.0[i]);
+    let texels = if f.level.0[i] == 0 {
+        [base.texel(a), base.texel(b), base.texel(c), base.texel(d)]
+    } else {
+        [mips.texel(a), mips.texel(b), mips.texel(c), mips.texel(d)]
+    };
+    bilinear(texels, f.tx.0[i], f.ty.0[i])
+}
+
+/// Filters footprint `a` of each lane in `mask`, and where `blend` = `(b, t, lanes)` has a
+/// lane, blends it towards footprint `b` by `t`: per live lane, on four-channel texels (rows
+/// of eight lanes are about half live, so a loop over the live lanes does less work than
+/// eight-lane arithmetic on all of them). Lanes outside `mask` are zero.
+#[inline(always)]
+fn filter<B: Source, M: Source>(
+    base: B,
+    mips: M,
+    a: &Footprint,
+    blend: Option<(&Footprint, F8, u32)>,
+    mask: u32,
+) -> [F8; 4] {
+    let mut aos = [[0.0f32; 4]; LANES];
+    let mut bits = mask & ((1 << LANES) - 1);
+    while bits != 0 {
+        let i = bits.trailing_zeros() as usize;
+        bits &= bits - 1;
+        let mut c = footprint_sample(base, mips, a, i);
+        if let Some((b, t, lanes)) = blend {
+            if lanes >> i & 1 != 0 {
+                c = lerp4(c, footprint_sample(base, mips, b, i), t.0[i]);
+            }
+        }
+        aos[i] = c;
+    }
+    let mut out = [F8::ZERO; 4];
+    for i in 0..LANES {
+        for (ch, o) in out.iter_mut().enumerate() {
+            o.0[i] = aos[i][ch];
+        }
+    }
+    out
+}
+
+/// The footprints a sample filters: `a` for every live lane, blended towards `b` by `t` on
+/// the lanes of `lanes` (trilinear between two levels).
+struct Footprints {
+    a: Footprint,
+    blend: Option<(Footprint, F8, u32)>,
 }
 
 impl Texture {
-    /// [`Texture::sample_with`] on eight lanes (UVs `u`, `v`): RGBA in linear light, one
-    /// [`F8`] per channel, zero on the lanes not set in `mask` (bit i = lane i). Equal to
-    /// the scalar sample of each lane (see the module docs).
-    #[must_use]
+    /// Filters `fp` from this texture's base level and `chain` (the levels below; `None`
+    /// when every lane is on the base). The one place the storage is matched: each storage
+    /// kind is one instantiation of [`filter`] (8-bit sRGB and 8-bit linear differ only by a
+    /// table). Not inlined, and not generic over the kernel: the texel reads are a scalar
+    /// loop over the live lanes whatever the instruction set, so one copy serves every
+    /// kernel and every shader (inlined, the filters of each slot, storage, kernel and fill
+    /// variant multiplied the crate's build time by three).
+    #[inline(never)]
+    fn filter_any(&self, chain: Option<&mip::Chain>, fp: &Footprints, mask: u32) -> [F8; 4] {
+        let blend = fp.blend.as_ref().map(|(b, t, lanes)| (b, *t, *lanes));
+        let (packed, floats): (&[u64], &[[f32; 4]]) = match chain.map(|c| &c.texels) {
+            Some(ChainTexels::Unorm16(m)) => (m, &[]),
+            Some(ChainTexels::Float(m)) => (&[], m),
+            None => (&[], &[]),
+        };
+        match &self.texels {
+            Texels::Srgb8(texels) | Texels::Linear8(texels) => {
+                let rgb = if self.is_srgb() {
+                    srgb_table()
+                } else {
+                    linear_table()
+                };
+                let base = Bytes {
+                    texels,
+                    rgb,
+                    alpha: linear_table(),
+                };
+                filter(base, Packed(packed), &fp.a, blend, mask)
+            }
+            Texels::Linear16(texels) => filter(Shorts(texels), Packed(packed), &fp.a, blend, mask),
+            Texels::Float(texels) => filter(Floats(texels), Floats(floats), &fp.a, blend, mask),
+        }
+    }
+
+    /// The base-level footprint of a nearest or bilinear sample at folded UVs.
     #[inline(always)]
-    pub fn sample_lanes<K: Kernel>(&self, u: F8, v: F8, mask: u32, s: Sampler) -> [F8; 4] {
-        let (u, v) = fold(u, v, s);
-        let c = match s.filter {
+    fn base_footprint(&self, u: F8, v: F8, s: Sampler) -> Footprint {
+        match s.filter {
             Filter::Nearest => {
                 let (w, h) = (self.width as i32, self.height as i32);
                 let x = floor_i(u * self.width as f32);
@@ -280,6 +405,7 @@ impl Texture {
                 let x = wrap_index(x, I8::splat(w), s.wrap_u);
                 let y = wrap_index(y, I8::splat(h), s.wrap_v);
                 let i = y.mul(I8::splat(w)).add(x);
+                // Weights 0: the texel alone, exactly (a * 1 + b * 0).
                 Footprint {
                     level: I8::default(),
                     idx: [i; 4],
@@ -291,9 +417,16 @@ impl Texture {
                 let size = (self.width, self.height);
                 footprint(size, &[0; 32], I8::default(), u, v, s)
             }
-        };
-        // A nearest footprint has weights 0: its texel alone, exactly (a * 1 + b * 0).
-        self.filter(&[], &c, None, mask)
+        }
+    }
+
+    /// [`Texture::sample_with`] on eight lanes (UVs `u`, `v`): RGBA in linear light, one
+    /// [`F8`] per channel, zero on the lanes not set in `mask` (bit i = lane i). Equal to
+    /// the scalar sample of each lane (see the module docs).
+    #[must_use]
+    #[inline(always)]
+    pub fn sample_lanes<K: Kernel>(&self, u: F8, v: F8, mask: u32, s: Sampler) -> [F8; 4] {
+        self.sample_impl::<K>(u, v, None, mask, s)
     }
 
     /// [`Texture::sample_grad_with`] on eight lanes: UVs `u`, `v` and their screen-space
@@ -314,92 +447,47 @@ impl Texture {
         mask: u32,
         s: Sampler,
     ) -> [F8; 4] {
+        self.sample_impl::<K>(u, v, Some([dudx, dvdx, dudy, dvdy]), mask, s)
+    }
+
+    /// Both lane samplers: derivatives `d` (`[dudx, dvdx, dudy, dvdy]`) choose the level of
+    /// a trilinear sample; without them, or for the other filters, the base level is read.
+    #[inline(always)]
+    fn sample_impl<K: Kernel>(
+        &self,
+        u: F8,
+        v: F8,
+        d: Option<[F8; 4]>,
+        mask: u32,
+        s: Sampler,
+    ) -> [F8; 4] {
+        let (u, v) = fold(u, v, s);
         let top = (self.levels() - 1) as f32;
-        if s.filter != Filter::Trilinear || top == 0.0 {
-            return self.sample_lanes::<K>(u, v, mask, s);
-        }
+        let trilinear = match d {
+            Some(d) if s.filter == Filter::Trilinear && top > 0.0 => Some(d),
+            _ => None,
+        };
+        let Some([dudx, dvdx, dudy, dvdy]) = trilinear else {
+            let fp = Footprints {
+                a: self.base_footprint(u, v, s),
+                blend: None,
+            };
+            return self.filter_any(None, &fp, mask);
+        };
         let chain = self.mips();
         let lod = self.lod_lanes::<K>(dudx, dvdx, dudy, dvdy);
-        let (u, v) = fold(u, v, s);
         // As `sample_lod_with`: bilinear on level floor(lod), blended towards the next level
         // by the fraction where it is not zero (lod <= 0 is level 0 with no fraction).
         let d = floor_i(lod);
         let t = lod - d.to_f32();
         let a = footprint(chain.size[0], &chain.offset, d, u, v, s);
-        let blend = mask & t.gt(F8::ZERO).bits();
-        if blend == 0 {
-            return self.filter(&chain.texels, &a, None, mask);
-        }
-        let next = d.add(I8::splat(1)).clamp0(I8::splat(top as i32));
-        let b = footprint(chain.size[0], &chain.offset, next, u, v, s);
-        self.filter(&chain.texels, &a, Some((&b, t, blend)), mask)
-    }
-
-    /// Filters footprint `a` of each lane in `mask`, and where `blend` = `(b, t, lanes)`
-    /// has a lane, blends it towards footprint `b` by `t`: per live lane, on four-channel
-    /// texels (rows of eight lanes are about half live, so a loop over the live lanes does
-    /// less work than eight-lane arithmetic on all of them). A base texel is decoded by
-    /// table (the values of [`Texture::fetch`]), a texel below by a scale. Lanes outside
-    /// `mask` are zero.
-    #[inline(always)]
-    fn filter(
-        &self,
-        mips: &[u64],
-        a: &Footprint,
-        blend: Option<(&Footprint, F8, u32)>,
-        mask: u32,
-    ) -> [F8; 4] {
-        let alpha = linear_table();
-        let rgb = if self.srgb { srgb_table() } else { alpha };
-        // No closures: one that is not inlined loses the kernel's target features.
-        #[inline(always)]
-        fn sample(
-            t: &Texture,
-            (mips, rgb, alpha): (&[u64], &[f32; 256], &[f32; 256]),
-            f: &Footprint,
-            i: usize,
-        ) -> [f32; 4] {
-            let [a, b, c, d] = f.idx;
-            let (a, b, c, d) = (a.0[i], b.0[i], c.0[i], d.0[i]);
-            let texels = if f.level.0[i] == 0 {
-                let base = &t.texels;
-                [
-                    base_texel(base, rgb, alpha, a),
-                    base_texel(base, rgb, alpha, b),
-                    base_texel(base, rgb, alpha, c),
-                    base_texel(base, rgb, alpha, d),
-                ]
-            } else {
-                [
-                    mip_texel(mips, a),
-                    mip_texel(mips, b),
-                    mip_texel(mips, c),
-                    mip_texel(mips, d),
-                ]
-            };
-            bilinear(texels, f.tx.0[i], f.ty.0[i])
-        }
-        let tabs = (mips, rgb, alpha);
-        let mut aos = [[0.0f32; 4]; LANES];
-        let mut bits = mask & ((1 << LANES) - 1);
-        while bits != 0 {
-            let i = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let mut c = sample(self, tabs, a, i);
-            if let Some((b, t, lanes)) = blend {
-                if lanes >> i & 1 != 0 {
-                    c = lerp4(c, sample(self, tabs, b, i), t.0[i]);
-                }
-            }
-            aos[i] = c;
-        }
-        let mut out = [F8::ZERO; 4];
-        for i in 0..LANES {
-            for (ch, o) in out.iter_mut().enumerate() {
-                o.0[i] = aos[i][ch];
-            }
-        }
-        out
+        let lanes = mask & t.gt(F8::ZERO).bits();
+        let blend = (lanes != 0).then(|| {
+            let next = d.add(I8::splat(1)).clamp0(I8::splat(top as i32));
+            let b = footprint(chain.size[0], &chain.offset, next, u, v, s);
+            (b, t, lanes)
+        });
+        self.filter_any(Some(chain), &Footprints { a, blend }, mask)
     }
 
     /// [`Texture::lod`] on eight lanes (with [`F8::log2`] for the logarithm).

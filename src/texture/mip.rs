@@ -10,23 +10,35 @@
 //! level's mean. Filtering is separable, channels are averaged independently (straight
 //! alpha, like the bilinear filter).
 //!
-//! Storage: levels >= 1 hold linear-light RGBA as 16-bit unsigned normalised integers
+//! Storage: levels >= 1 of an image in [0, 1] (8- and 16-bit sources) hold linear-light RGBA
+//! as 16-bit unsigned normalised integers
 //! (8 bytes a texel): the chain costs 2/3 of the RGBA8 base's bytes (sum of 4^-k = 1/3 of
 //! the texels at twice the bytes) instead of the 1/3 an RGBA8 sRGB chain would. In exchange
 //! the levels carry no visible quantisation (a step is 1.5e-5 in linear light, 20 times
 //! finer than the smallest 8-bit sRGB step), a level can be computed from the previous one
 //! without accumulating rounding (no full-size f32 scratch image and no sRGB re-encoding per
 //! texel), and sampling a level is a plain integer-to-float scale, with no decoding table.
+//! Levels of a high-dynamic-range (float) image are float, unclamped ([`MipFormat::Float`]).
 
 use glam::Vec4;
 use rayon::prelude::*;
 
-/// One level of a mip chain below the base (linear light, RGBA16 unorm, row-major).
+/// How the levels below the base are stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MipFormat {
+    /// 16-bit unorm (values clamped to [0, 1]).
+    Unorm16,
+    /// 32-bit float (high dynamic range; non-finite values become 0).
+    Float,
+}
+
+/// One level of a mip chain below the base (linear light, row-major), each value already
+/// what its format stores (a 16-bit level's values are multiples of 1 / 65535).
 #[derive(Clone, Debug)]
 pub(crate) struct MipLevel {
     pub width: u32,
     pub height: u32,
-    pub texels: Vec<[u16; 4]>,
+    pub texels: Vec<[f32; 4]>,
 }
 
 pub(crate) const U16_MAX: f32 = 65535.0;
@@ -35,13 +47,7 @@ impl MipLevel {
     /// Texel (x, y) in linear light.
     #[inline(always)]
     pub fn fetch(&self, x: u32, y: u32) -> Vec4 {
-        let t = self.texels[(y * self.width + x) as usize];
-        Vec4::new(
-            f32::from(t[0]),
-            f32::from(t[1]),
-            f32::from(t[2]),
-            f32::from(t[3]),
-        ) * (1.0 / U16_MAX)
+        Vec4::from_array(self.texels[(y * self.width + x) as usize])
     }
 }
 
@@ -77,26 +83,28 @@ fn taps(i: u32, n: u32) -> ([u32; 3], [f32; 3], usize) {
 }
 
 /// Builds levels 1.. from a `width` x `height` base whose texels (linear light) `row` writes
-/// one row at a time. With `parallel`, rows of a level are filtered on the rayon pool; the
-/// result is identical either way.
+/// one row at a time, each level stored as `format` stores it (and the next computed from
+/// that). With `parallel`, rows of a level are filtered on the rayon pool; the result is
+/// identical either way.
 pub(crate) fn build(
     width: u32,
     height: u32,
     row: &(dyn Fn(u32, &mut [Vec4]) + Sync),
     parallel: bool,
+    format: MipFormat,
 ) -> Vec<MipLevel> {
     let count = level_count(width, height);
     let mut levels: Vec<MipLevel> = Vec::with_capacity(count.saturating_sub(1));
     for _ in 1..count {
         let next = match levels.last() {
-            None => downsample(width, height, row, parallel),
+            None => downsample(width, height, row, parallel, format),
             Some(prev) => {
                 let src = |y: u32, out: &mut [Vec4]| {
                     for (x, o) in out.iter_mut().enumerate() {
                         *o = prev.fetch(x as u32, y);
                     }
                 };
-                downsample(prev.width, prev.height, &src, parallel)
+                downsample(prev.width, prev.height, &src, parallel, format)
             }
         };
         levels.push(next);
@@ -110,11 +118,16 @@ fn downsample(
     sh: u32,
     row: &(dyn Fn(u32, &mut [Vec4]) + Sync),
     parallel: bool,
+    format: MipFormat,
 ) -> MipLevel {
     let (dw, dh) = (half(sw), half(sh));
     let xtaps: Vec<_> = (0..dw).map(|i| taps(i, sw)).collect();
-    let mut texels = vec![[0u16; 4]; dw as usize * dh as usize];
-    let filter_row = |scratch: &mut (Vec<Vec4>, Vec<Vec4>), (j, out): (usize, &mut [[u16; 4]])| {
+    let mut texels = vec![[0f32; 4]; dw as usize * dh as usize];
+    let store = match format {
+        MipFormat::Unorm16 => |v: f32| f32::from(quantise(v)) * (1.0 / U16_MAX),
+        MipFormat::Float => |v: f32| if v.is_finite() { v } else { 0.0 },
+    };
+    let filter_row = |scratch: &mut (Vec<Vec4>, Vec<Vec4>), (j, out): (usize, &mut [[f32; 4]])| {
         let (src, acc) = scratch;
         acc.iter_mut().for_each(|a| *a = Vec4::ZERO);
         let (ys, wys, ny) = taps(j as u32, sh);
@@ -129,7 +142,7 @@ fn downsample(
             }
         }
         for (o, a) in out.iter_mut().zip(acc.iter()) {
-            *o = a.to_array().map(quantise);
+            *o = a.to_array().map(store);
         }
     };
     let init = || (vec![Vec4::ZERO; sw as usize], vec![Vec4::ZERO; dw as usize]);
@@ -152,14 +165,12 @@ fn downsample(
     }
 }
 
-/// The levels below the base in one array, as 16-bit linear RGBA: level k's texels
-/// (row-major) start at `offset[k]` (k >= 1), each packed into a `u64` as
-/// `r | g << 16 | b << 32 | a << 48`. One array makes a texel of any level below the base
-/// the same load and integer-to-float scale, whatever its level: eight lanes on different
-/// levels read with one loop.
+/// The levels below the base in one array: level k's texels (row-major) start at
+/// `offset[k]` (k >= 1). One array makes a texel of any level below the base the same load
+/// and conversion, whatever its level: eight lanes on different levels read with one loop.
 #[derive(Clone, Debug)]
 pub(crate) struct Chain {
-    pub texels: Vec<u64>,
+    pub texels: ChainTexels,
     /// First texel of each level below the base (`offset[0]` is unused).
     pub offset: [u32; 32],
     /// Size of each level, the base's at 0.
@@ -186,24 +197,44 @@ pub(crate) fn unpack(t: u64) -> Vec4 {
     ) * (1.0 / U16_MAX)
 }
 
+/// The texels of a [`Chain`].
+#[derive(Clone, Debug)]
+pub(crate) enum ChainTexels {
+    /// 16-bit linear RGBA, each texel packed into a `u64` as `r | g << 16 | b << 32 | a << 48`.
+    Unorm16(Vec<u64>),
+    /// Float linear RGBA.
+    Float(Vec<[f32; 4]>),
+}
+
 impl Chain {
     /// The levels below a `width` x `height` base whose texels (linear light) `row` writes
-    /// one row at a time (see [`build`]).
+    /// one row at a time (see [`build`]), stored as `format`.
     pub fn new(
         width: u32,
         height: u32,
         row: &(dyn Fn(u32, &mut [Vec4]) + Sync),
         parallel: bool,
+        format: MipFormat,
     ) -> Chain {
-        let mips = build(width, height, row, parallel);
-        let mut texels = Vec::with_capacity(mips.iter().map(|m| m.texels.len()).sum());
+        let mips = build(width, height, row, parallel, format);
+        let count = mips.iter().map(|m| m.texels.len()).sum();
         let (mut offset, mut size) = ([0u32; 32], [(1u32, 1u32); 32]);
         size[0] = (width, height);
+        let mut at = 0;
         for (k, m) in mips.iter().enumerate() {
-            offset[k + 1] = texels.len() as u32;
+            offset[k + 1] = at;
             size[k + 1] = (m.width, m.height);
-            texels.extend(m.texels.iter().map(|&t| pack(t)));
+            at += m.texels.len() as u32;
         }
+        let all = mips.iter().flat_map(|m| m.texels.iter());
+        let texels = match format {
+            MipFormat::Unorm16 => {
+                let mut v = Vec::with_capacity(count);
+                v.extend(all.map(|t| pack(t.map(quantise))));
+                ChainTexels::Unorm16(v)
+            }
+            MipFormat::Float => ChainTexels::Float(all.copied().collect()),
+        };
         Chain {
             texels,
             offset,
@@ -217,7 +248,11 @@ impl Chain {
     pub fn fetch(&self, level: usize, x: u32, y: u32) -> Vec4 {
         let (w, h) = self.size[level];
         assert!(level >= 1 && level < self.levels && x < w && y < h);
-        unpack(self.texels[self.offset[level] as usize + (y * w + x) as usize])
+        let i = self.offset[level] as usize + (y * w + x) as usize;
+        match &self.texels {
+            ChainTexels::Unorm16(t) => unpack(t[i]),
+            ChainTexels::Float(t) => Vec4::from_array(t[i]),
+        }
     }
 }
 

@@ -1,8 +1,10 @@
 //! Decoded images and their samplers.
 //!
-//! Texels are stored as 8-bit RGBA exactly as decoded (4 bytes a texel); colour textures are
-//! sRGB-encoded and decoded to linear light through a 256-entry table at sampling time, so
-//! filtering happens in linear light. UV convention: glTF's, origin at the top-left texel
+//! Texels are stored in the form their slot samples ([`Texels`]): 8-bit colour stays
+//! sRGB-encoded as decoded (4 bytes a texel) and is decoded to linear light, exactly, through
+//! a 256-entry table at sampling time, so filtering happens in linear light; data (normals,
+//! occlusion, heights) is 8- or 16-bit linear; high-dynamic-range images (Radiance `.hdr`,
+//! OpenEXR) are 32-bit float. UV convention: glTF's, origin at the top-left texel
 //! corner, u to the right, v downwards (OBJ loaders flip v on the way in).
 //!
 //! Filters ([`Filter`]): nearest, bilinear on the base level, and trilinear (mipmapped, the
@@ -62,19 +64,70 @@ pub struct Sampler {
 /// Largest procedural chequerboard edge, in texels.
 pub const MAX_CHECKER: u32 = 8192;
 
-/// An RGBA8 image, its sampler, and (built on demand) its mip chain.
+/// How a texture's texels are stored (row-major, top row first, RGBA).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texels {
+    /// 8-bit RGB sRGB-encoded, alpha linear (colour slots), decoded exactly by table.
+    Srgb8(Vec<[u8; 4]>),
+    /// 8-bit linear RGBA (data slots: normals, occlusion, metallic-roughness, heights).
+    Linear8(Vec<[u8; 4]>),
+    /// 16-bit linear RGBA (16-bit images: data as stored, colour decoded from sRGB).
+    Linear16(Vec<[u16; 4]>),
+    /// 32-bit float linear RGBA (high dynamic range: values may exceed 1).
+    Float(Vec<[f32; 4]>),
+}
+
+impl Texels {
+    /// Number of texels.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        match self {
+            Texels::Srgb8(t) | Texels::Linear8(t) => t.len(),
+            Texels::Linear16(t) => t.len(),
+            Texels::Float(t) => t.len(),
+        }
+    }
+
+    /// True if there are no texels.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Bytes of storage.
+    #[must_use]
+    pub fn bytes(&self) -> u64 {
+        let per = match self {
+            Texels::Srgb8(_) | Texels::Linear8(_) => 4,
+            Texels::Linear16(_) => 8,
+            Texels::Float(_) => 16,
+        };
+        self.len() as u64 * per
+    }
+
+    /// The storage's name in reports ("sRGB8", "linear8", "linear16", "float32").
+    #[must_use]
+    pub fn format_name(&self) -> &'static str {
+        match self {
+            Texels::Srgb8(_) => "sRGB8",
+            Texels::Linear8(_) => "linear8",
+            Texels::Linear16(_) => "linear16",
+            Texels::Float(_) => "float32",
+        }
+    }
+}
+
+/// A decoded image and (built on demand) its mip chain. How it is sampled (filters, wrap
+/// modes) belongs to the slot that reads it ([`crate::scene::TextureSlot`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
     pub name: String,
     pub width: u32,
     pub height: u32,
-    /// Row-major, top row first. The mip chain is built from these (and `srgb`) the first
-    /// time it is needed: change them only on a texture that was never sampled with
-    /// [`Filter::Trilinear`], or on a clone (a clone starts without a chain).
-    pub texels: Vec<[u8; 4]>,
-    /// True if RGB is sRGB-encoded (colour data); false for linear data (normals, masks).
-    pub srgb: bool,
-    pub sampler: Sampler,
+    /// The mip chain is built from these the first time it is needed: change them only on
+    /// a texture that was never sampled with [`Filter::Trilinear`], or on a clone (a clone
+    /// starts without a chain).
+    pub texels: Texels,
     /// Levels 1.. (built lazily).
     mips: MipCache,
 }
@@ -147,13 +200,29 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 }
 
 impl Texture {
-    /// A texture from RGBA8 texels (row-major, top row first).
+    /// A texture from RGBA8 texels (row-major, top row first): RGB sRGB-encoded if `srgb`,
+    /// else linear.
     pub fn new(
         name: impl Into<String>,
         width: u32,
         height: u32,
         texels: Vec<[u8; 4]>,
         srgb: bool,
+    ) -> Result<Self, TextureError> {
+        let texels = if srgb {
+            Texels::Srgb8(texels)
+        } else {
+            Texels::Linear8(texels)
+        };
+        Self::from_texels(name, width, height, texels)
+    }
+
+    /// A texture from texels in any storage.
+    pub fn from_texels(
+        name: impl Into<String>,
+        width: u32,
+        height: u32,
+        texels: Texels,
     ) -> Result<Self, TextureError> {
         if width == 0 || height == 0 {
             return Err(TextureError::Empty);
@@ -170,8 +239,66 @@ impl Texture {
             width,
             height,
             texels,
-            srgb,
-            sampler: Sampler::default(),
+            mips: MipCache::default(),
+        })
+    }
+
+    /// The texels as sRGB-encoded RGBA8 (alpha linear): borrowed when they are stored so,
+    /// else encoded (float values clamped to [0, 1]).
+    #[must_use]
+    pub fn to_srgb8(&self) -> std::borrow::Cow<'_, [[u8; 4]]> {
+        if let Texels::Srgb8(t) = &self.texels {
+            return std::borrow::Cow::Borrowed(t);
+        }
+        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let encode = |c: Vec4| {
+            let c = c.clamp(Vec4::ZERO, Vec4::ONE);
+            [
+                byte(linear_to_srgb(c.x)),
+                byte(linear_to_srgb(c.y)),
+                byte(linear_to_srgb(c.z)),
+                byte(c.w),
+            ]
+        };
+        let (w, h) = (self.width, self.height);
+        std::borrow::Cow::Owned(
+            (0..h)
+                .flat_map(|y| (0..w).map(move |x| (x, y)))
+                .map(|(x, y)| encode(self.fetch(x, y)))
+                .collect(),
+        )
+    }
+
+    /// True if the RGB is 8-bit sRGB-encoded colour.
+    #[must_use]
+    pub fn is_srgb(&self) -> bool {
+        matches!(self.texels, Texels::Srgb8(_))
+    }
+
+    /// True if texels may exceed 1 (float storage): such images are never clamped.
+    #[must_use]
+    pub fn is_hdr(&self) -> bool {
+        matches!(self.texels, Texels::Float(_))
+    }
+
+    /// The same image stored as a slot of the other colour space needs it: 8-bit texels
+    /// re-labelled (sRGB-encoded bytes read as linear data, or the reverse), other storage
+    /// converted through the exact transfer function. `srgb` says what the slot wants; the
+    /// texels' bytes are taken to be in that encoding (glTF: the slot decides). Returns
+    /// `None` if this texture already is what the slot wants.
+    #[must_use]
+    pub fn as_slot_wants(&self, srgb: bool) -> Option<Texture> {
+        let texels = match (&self.texels, srgb) {
+            (Texels::Srgb8(_), true) | (Texels::Linear8(_), false) => return None,
+            (Texels::Linear16(_) | Texels::Float(_), _) => return None,
+            (Texels::Srgb8(t), false) => Texels::Linear8(t.clone()),
+            (Texels::Linear8(t), true) => Texels::Srgb8(t.clone()),
+        };
+        Some(Texture {
+            name: self.name.clone(),
+            width: self.width,
+            height: self.height,
+            texels,
             mips: MipCache::default(),
         })
     }
@@ -197,41 +324,38 @@ impl Texture {
             name: format!("checker{n}"),
             width: size,
             height: size,
-            texels,
-            srgb: true,
-            sampler: Sampler::default(),
+            texels: Texels::Srgb8(texels),
             mips: MipCache::default(),
         }
     }
 
-    /// Texel (x, y) in linear light (RGB decoded from sRGB when `srgb`; alpha is linear).
+    /// Texel (x, y) in linear light (RGB decoded from sRGB for [`Texels::Srgb8`]; alpha is
+    /// linear).
     #[must_use]
     #[inline]
     pub fn fetch(&self, x: u32, y: u32) -> Vec4 {
-        let t = self.texels[(y * self.width + x) as usize];
-        if self.srgb {
-            let tab = srgb_table();
-            Vec4::new(
-                tab[t[0] as usize],
-                tab[t[1] as usize],
-                tab[t[2] as usize],
-                f32::from(t[3]) / 255.0,
-            )
-        } else {
-            Vec4::new(
-                f32::from(t[0]),
-                f32::from(t[1]),
-                f32::from(t[2]),
-                f32::from(t[3]),
-            ) / 255.0
+        let i = (y * self.width + x) as usize;
+        match &self.texels {
+            Texels::Srgb8(t) => {
+                let (t, tab) = (t[i], srgb_table());
+                Vec4::new(
+                    tab[t[0] as usize],
+                    tab[t[1] as usize],
+                    tab[t[2] as usize],
+                    f32::from(t[3]) / 255.0,
+                )
+            }
+            Texels::Linear8(t) => Vec4::from_array(t[i].map(f32::from)) / 255.0,
+            Texels::Linear16(t) => Vec4::from_array(t[i].map(f32::from)) * (1.0 / mip::U16_MAX),
+            Texels::Float(t) => Vec4::from_array(t[i]),
         }
     }
 
-    /// Samples at `uv` with the texture's own sampler. Non-finite UVs read texel (0, 0).
-    /// Without derivatives, [`Filter::Trilinear`] reads the base level (as bilinear).
+    /// Samples at `uv` with the default sampler (repeat; trilinear, which without
+    /// derivatives reads the base level as bilinear). Non-finite UVs read texel (0, 0).
     #[must_use]
     pub fn sample(&self, uv: Vec2) -> Vec4 {
-        self.sample_with(uv, self.sampler)
+        self.sample_with(uv, Sampler::default())
     }
 
     /// Samples at `uv` (texel centres at half-integers times the texel size).
@@ -250,15 +374,9 @@ impl Texture {
         }
     }
 
-    /// Samples at `uv` with the texture's own sampler, given the UV's screen-space
-    /// derivatives (per pixel along x and along y), which choose the mip level of
-    /// [`Filter::Trilinear`]; the other filters ignore them.
-    #[must_use]
-    pub fn sample_grad(&self, uv: Vec2, duv_dx: Vec2, duv_dy: Vec2) -> Vec4 {
-        self.sample_grad_with(uv, duv_dx, duv_dy, self.sampler)
-    }
-
-    /// [`Texture::sample_grad`] with an explicit sampler.
+    /// Samples at `uv` with sampler `s`, given the UV's screen-space derivatives (per pixel
+    /// along x and along y), which choose the mip level of [`Filter::Trilinear`]; the other
+    /// filters ignore them.
     #[must_use]
     pub fn sample_grad_with(&self, uv: Vec2, duv_dx: Vec2, duv_dy: Vec2, s: Sampler) -> Vec4 {
         match s.filter {
@@ -359,7 +477,11 @@ impl Texture {
                 *o = self.fetch(x as u32, y);
             }
         };
-        mip::Chain::new(self.width, self.height, &row, parallel)
+        let format = match self.texels {
+            Texels::Float(_) => mip::MipFormat::Float,
+            Texels::Srgb8(_) | Texels::Linear8(_) | Texels::Linear16(_) => mip::MipFormat::Unorm16,
+        };
+        mip::Chain::new(self.width, self.height, &row, parallel, format)
     }
 
     /// Bilinear sample of level `level` at a folded `uv`.
@@ -632,9 +754,7 @@ mod tests {
             "{m}"
         );
         // Linear data is averaged as stored.
-        let mut t = t;
-        t.srgb = false;
-        let t = t.clone(); // a clone starts without a chain
+        let t = t.as_slot_wants(false).expect("re-labelled as linear"); // without a chain
         assert!((t.fetch_level(1, 0, 0).x - 64.0 / 255.0).abs() < 1e-4);
     }
 

@@ -9,7 +9,6 @@ use std::sync::mpsc::{channel, Receiver, TryRecvError};
 use std::sync::Arc;
 
 use crate::load::MAX_TEXTURE_SIDE;
-use crate::shade::IMAGE_SAMPLER;
 use crate::texture::Texture;
 
 /// Largest slide file read, in bytes.
@@ -23,7 +22,7 @@ pub const EXTENSIONS: [&str; 3] = ["png", "jpg", "jpeg"];
 /// A decoded slide, or the one-line error naming the file.
 pub type Outcome = Result<Arc<Texture>, String>;
 
-/// Reads and decodes `path` into an sRGB texture with the projector's sampler (bilinear,
+/// Reads and decodes `path` into an sRGB texture, which the lighting samples with the projector's sampler (bilinear,
 /// clamped to the edges).
 ///
 /// # Errors
@@ -70,9 +69,8 @@ pub fn decode(path: &Path) -> Result<Texture, String> {
     let name = path
         .file_name()
         .map_or_else(|| "slide".into(), |n| n.to_string_lossy().into_owned());
-    let mut t = Texture::new(name, w, h, texels, true).map_err(|e| fail(e.to_string()))?;
-    t.sampler = IMAGE_SAMPLER;
-    Ok(t)
+    // Sampled with the projector's sampler (`IMAGE_SAMPLER`) by the lighting.
+    Texture::new(name, w, h, texels, true).map_err(|e| fail(e.to_string()))
 }
 
 /// A slide being decoded for light `light` of the editor's list.

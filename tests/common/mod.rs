@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3, Vec4};
 use realist::mesh::{Mesh, MeshData, NormalPolicy};
 use realist::raster::{Framebuffer, KernelKind};
 use realist::render::{PreparedScene, RenderOptions, Renderer, Settings};
-use realist::scene::{Camera, Instance, Material, Scene, Style, TextureRef};
+use realist::scene::{Camera, Instance, Material, Scene, Style, TextureSlot};
 use realist::shade::Shading;
 use realist::texture::Texture;
 
@@ -68,10 +68,7 @@ pub fn checker_cube() -> Scene {
         Mesh::cube(1.6).expect("cube"),
         Material {
             base_color: Vec4::ONE,
-            base_color_texture: Some(TextureRef {
-                texture: 0,
-                tex_coord: 0,
-            }),
+            base_color_texture: Some(TextureSlot::new(0)),
             ..Material::default()
         },
     );

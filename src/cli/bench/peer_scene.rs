@@ -21,7 +21,7 @@ use anyhow::{bail, Context, Result};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
-use realist::scene::{Camera, Instance, Light, Material, Scene, Style, TextureRef};
+use realist::scene::{Camera, Instance, Light, Material, Scene, Style, TextureSlot};
 use realist::texture::Texture;
 
 /// Largest `sphere:N` (20 million triangles: about 1.5 GB once prepared).
@@ -339,8 +339,9 @@ pub(super) fn scene(name: &str, mesh: PeerMesh, textured: bool) -> Result<Scene>
         positions: m.positions,
         facet_sizes: None,
         normals: Some(Channel::per_vertex(normals)),
-        uvs: m.uvs.map(Channel::per_vertex),
+        uvs: m.uvs.map(Channel::per_vertex).into_iter().collect(),
         colors: None,
+        tangents: None,
         material: Some(0),
     };
     let mesh = Mesh::new(data, NormalPolicy::default()).context("building the mesh")?;
@@ -354,10 +355,7 @@ pub(super) fn scene(name: &str, mesh: PeerMesh, textured: bool) -> Result<Scene>
     let material = Material {
         name: "peer".into(),
         base_color: base,
-        base_color_texture: textured.then_some(TextureRef {
-            texture: 0,
-            tex_coord: 0,
-        }),
+        base_color_texture: textured.then_some(TextureSlot::new(0)),
         ambient: Vec3::ONE,
         specular: Vec3::splat(0.4 / 0.9),
         shininess: 32.0,

@@ -10,16 +10,67 @@
 use std::borrow::Cow;
 use std::sync::Arc;
 
-use glam::{Vec3, Vec4};
+use serde::Deserialize;
+
+use glam::{Vec2, Vec3, Vec4};
+use gltf::json;
 use gltf::json::material::AlphaMode as JsonAlpha;
 use gltf::json::texture::{MagFilter, MinFilter, WrappingMode};
 use gltf::json::validation::Checked;
+use serde_json::{Map, Value};
 
 use super::{uri, Builder};
 use crate::load::progress::Stage;
 use crate::load::{images, LoadError};
-use crate::scene::{AlphaMode, Material, TextureRef};
+use crate::scene::{AlphaMode, Material, Slot, TextureSlot, UvTransform};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
+
+/// The texture transform extension's name.
+pub const TEXTURE_TRANSFORM: &str = "KHR_texture_transform";
+
+/// A textureInfo of any slot, as the file gives it.
+struct SlotInfo<'a> {
+    texture: usize,
+    tex_coord: u32,
+    /// `normalTexture.scale` or `occlusionTexture.strength`; 1 for the others.
+    scale: f32,
+    /// The textureInfo's extensions.
+    extensions: Option<&'a Map<String, Value>>,
+}
+
+/// `KHR_texture_transform` as the file writes it (every field optional).
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "camelCase", deny_unknown_fields)]
+struct TransformJson {
+    #[serde(default)]
+    offset: Option<[f32; 2]>,
+    #[serde(default)]
+    rotation: Option<f32>,
+    #[serde(default)]
+    scale: Option<[f32; 2]>,
+    #[serde(default)]
+    tex_coord: Option<u32>,
+    #[serde(default)]
+    extensions: Option<Value>,
+    #[serde(default)]
+    extras: Option<Value>,
+}
+
+/// The transform and the `texCoord` override of a `KHR_texture_transform` object.
+fn parse_transform(v: &Value) -> Result<(UvTransform, Option<u32>), String> {
+    let t = TransformJson::deserialize(v).map_err(|e| e.to_string())?;
+    let _ = (&t.extensions, &t.extras);
+    let raw = UvTransform {
+        offset: Vec2::from(t.offset.unwrap_or([0.0, 0.0])),
+        rotation: t.rotation.unwrap_or(0.0),
+        scale: Vec2::from(t.scale.unwrap_or([1.0, 1.0])),
+    };
+    match raw.sanitized() {
+        (t, false) => Ok(t),
+        (_, true) => Err(format!("non-finite numbers in {raw:?}")),
+    }
+    .map(|transform| (transform, t.tex_coord))
+}
 
 /// `v` if finite, else `default`; then clamped to `lo..=hi`.
 fn factor(v: f32, default: f32, lo: f32, hi: f32) -> f32 {
@@ -75,7 +126,8 @@ impl Builder<'_> {
         if let Some(&cached) = self.materials.get(&i) {
             return Ok(cached);
         }
-        let Some(m) = self.doc.json.materials.get(i) else {
+        // A copy: the slots below need the builder mutably.
+        let Some(m) = self.doc.json.materials.get(i).cloned() else {
             let count = self.doc.json.materials.len();
             self.scene.report.warnings.push(format!(
                 "{from}: material {i} does not exist (there are {count}); default used"
@@ -112,106 +164,152 @@ impl Builder<'_> {
                 "material '{name}': baseColorFactor {f:?} clamped to 0..=1"
             ));
         }
-        let unused = [
-            (m.normal_texture.is_some(), "normal"),
-            (m.occlusion_texture.is_some(), "occlusion"),
-            (m.emissive_texture.is_some(), "emissive"),
-            (
-                pbr.metallic_roughness_texture.is_some(),
-                "metallic-roughness",
-            ),
-        ];
-        let unused: Vec<&str> = unused
-            .iter()
-            .filter(|(present, _)| *present)
-            .map(|(_, what)| *what)
-            .collect();
-        if !unused.is_empty() {
-            self.scene.report.skipped.push(format!(
-                "material '{name}': {} texture(s) not used",
-                unused.join(", ")
-            ));
+        // Every slot is read, each with its sampler, texture coordinate set and
+        // KHR_texture_transform; images are decoded once per colour space their slots need.
+        fn info(t: &Option<json::texture::Info>) -> Option<SlotInfo<'_>> {
+            t.as_ref().map(|t| SlotInfo {
+                texture: t.index.value(),
+                tex_coord: t.tex_coord,
+                scale: 1.0,
+                extensions: t.extensions.as_ref().map(|e| &e.others),
+            })
         }
-        let texture_info = pbr
-            .base_color_texture
-            .as_ref()
-            .map(|t| (t.index.value(), t.tex_coord));
+        let normal = m.normal_texture.as_ref().map(|t| SlotInfo {
+            texture: t.index.value(),
+            tex_coord: t.tex_coord,
+            scale: t.scale,
+            extensions: t.extensions.as_ref().map(|e| &e.others),
+        });
+        let occlusion = m.occlusion_texture.as_ref().map(|t| SlotInfo {
+            texture: t.index.value(),
+            tex_coord: t.tex_coord,
+            scale: t.strength.0,
+            extensions: t.extensions.as_ref().map(|e| &e.others),
+        });
+        let infos = [
+            (Slot::BaseColor, info(&pbr.base_color_texture)),
+            (Slot::MetallicRoughness, info(&pbr.metallic_roughness_texture)),
+            (Slot::Normal, normal),
+            (Slot::Occlusion, occlusion),
+            (Slot::Emissive, info(&m.emissive_texture)),
+        ];
+        let mut slots = Vec::with_capacity(infos.len());
+        for (slot, found) in infos {
+            if let Some(found) = found {
+                slots.push((slot, self.slot(slot, &found, &name)?));
+            }
+        }
         let double_sided = m.double_sided;
         let textured = pbr.metallic_roughness_texture.is_some();
-        let base_color_texture = match texture_info {
-            Some((t, tex_coord)) => {
-                if tex_coord != 0 {
-                    self.scene.report.warnings.push(format!(
-                        "material '{name}': base colour texture uses TEXCOORD_{tex_coord}; meshes carry only TEXCOORD_0"
-                    ));
-                }
-                self.texture(t, &name)?
-                    .map(|texture| TextureRef { texture, tex_coord })
-            }
-            None => None,
-        };
         let d = Material::default();
-        // The metallic-roughness texture is not read, so with one the factors are only an
-        // upper bound: the material is then taken as a dielectric (diffuse kept), rather
-        // than blackening e.g. a helmet whose texture marks a few parts as metal.
+        // The metallic-roughness texture is not read by the Phong modes, so with one the
+        // factors are only an upper bound: the material is then taken as a dielectric
+        // (diffuse kept), rather than blackening e.g. a helmet whose texture marks a few
+        // parts as metal.
         let (diffuse, specular, shininess) = phong_from_pbr(
             base.truncate(),
             if textured { 0.0 } else { metallic },
             roughness,
         );
-        self.scene.materials.push(Material {
+        let mut material = Material {
             name,
             base_color: diffuse.extend(base.w),
-            base_color_texture,
             ambient: d.ambient,
             specular,
-            specular_texture: None,
             shininess,
             emissive,
             metallic,
             roughness,
             alpha_mode,
             double_sided,
-        });
+            ..Material::default()
+        };
+        for (slot, texture) in slots {
+            *material.slot_mut(slot) = texture;
+        }
+        self.scene.materials.push(material);
         let index = Some(self.scene.materials.len() - 1);
         self.materials.insert(i, index);
         Ok(index)
     }
 
-    /// The scene texture for glTF texture `t` (of material `material`), or `None` with a
-    /// warning.
-    fn texture(&mut self, t: usize, material: &str) -> Result<Option<usize>, LoadError> {
-        let Some(tex) = self.doc.json.textures.get(t) else {
+    /// The [`TextureSlot`] of `slot` in material `material` from its textureInfo `info`, or
+    /// `None` (with a warning) if its texture or image cannot be used. A malformed
+    /// `KHR_texture_transform` is a warning and the slot is read untransformed.
+    fn slot(
+        &mut self,
+        slot: Slot,
+        info: &SlotInfo,
+        material: &str,
+    ) -> Result<Option<TextureSlot>, LoadError> {
+        let what = format!("material '{material}': {} texture", slot.name());
+        let transform = info.extensions.and_then(|e| e.get(TEXTURE_TRANSFORM));
+        let (transform, tex_coord) = match transform.map(parse_transform) {
+            None => (UvTransform::IDENTITY, None),
+            Some(Ok(t)) => t,
+            Some(Err(e)) => {
+                self.scene
+                    .report
+                    .warnings
+                    .push(format!("{what}: {TEXTURE_TRANSFORM} ignored: {e}"));
+                (UvTransform::IDENTITY, None)
+            }
+        };
+        let uv_set = tex_coord.unwrap_or(info.tex_coord);
+        if uv_set >= super::primitive::MAX_UV_SETS {
+            self.scene.report.warnings.push(format!(
+                "{what} reads TEXCOORD_{uv_set}: only TEXCOORD_0 to TEXCOORD_{} are read; \
+                 drawn without it",
+                super::primitive::MAX_UV_SETS - 1
+            ));
+            return Ok(None);
+        }
+        let scale = if info.scale.is_finite() {
+            info.scale
+        } else {
             self.scene
                 .report
                 .warnings
-                .push(format!("material '{material}': texture {t} does not exist"));
+                .push(format!("{what}: scale {} replaced by 1", info.scale));
+            1.0
+        };
+        let Some(tex) = self.doc.json.textures.get(info.texture) else {
+            self.scene.report.warnings.push(format!(
+                "{what}: texture {} does not exist",
+                info.texture
+            ));
             return Ok(None);
         };
-        let key = (tex.source.value(), tex.sampler.map(|s| s.value()));
-        if let Some(&cached) = self.textures.get(&key) {
+        let (source, sampler) = (tex.source.value(), tex.sampler.map(|s| s.value()));
+        let sampler = self.sampler(sampler);
+        let Some(texture) = self.texture(source, slot.srgb(), material)? else {
+            return Ok(None);
+        };
+        Ok(Some(TextureSlot {
+            texture,
+            sampler,
+            uv_set,
+            transform,
+            scale,
+        }))
+    }
+
+    /// The scene texture for glTF image `image` decoded for a slot of colour space `srgb`,
+    /// or `None` (warned about once) if it cannot be used.
+    fn texture(
+        &mut self,
+        image: usize,
+        srgb: bool,
+        material: &str,
+    ) -> Result<Option<usize>, LoadError> {
+        if let Some(&cached) = self.textures.get(&(image, srgb)) {
             return Ok(cached);
         }
-        let sampler = self.sampler(key.1);
-        let index = match self.image(key.0, material)? {
-            None => None,
-            Some(decoded) => {
-                let texture = if decoded.sampler == sampler {
-                    decoded
-                } else {
-                    let bytes = decoded.texels.len() as u64 * 4;
-                    self.doc.budget.charge(bytes, || {
-                        format!("texture {t} (a copy of image {} for its sampler)", key.0)
-                    })?;
-                    let mut copy = (*decoded).clone();
-                    copy.sampler = sampler;
-                    Arc::new(copy)
-                };
-                self.scene.textures.push(texture);
-                Some(self.scene.textures.len() - 1)
-            }
-        };
-        self.textures.insert(key, index);
+        let index = self.image(image, srgb, material)?.map(|t| {
+            self.scene.textures.push(t);
+            self.scene.textures.len() - 1
+        });
+        self.textures.insert((image, srgb), index);
         Ok(index)
     }
 
@@ -246,10 +344,16 @@ impl Builder<'_> {
         }
     }
 
-    /// glTF image `i`, decoded on first use (`None`: unusable, warned about once).
-    fn image(&mut self, i: usize, material: &str) -> Result<Option<Arc<Texture>>, LoadError> {
-        if let Some(cached) = self.images.get(&i) {
-            return Ok(cached.clone());
+    /// glTF image `i` decoded for a slot of colour space `srgb` (`None`: unusable, warned
+    /// about once). Called once per (image, colour space) through [`Builder::texture`].
+    fn image(
+        &mut self,
+        i: usize,
+        srgb: bool,
+        material: &str,
+    ) -> Result<Option<Arc<Texture>>, LoadError> {
+        if self.failed_images.contains(&i) {
+            return Ok(None);
         }
         let doc = &self.doc;
         let result = match doc.json.images.get(i) {
@@ -276,7 +380,7 @@ impl Builder<'_> {
                     },
                     (None, None) => Err("has neither a uri nor a bufferView".into()),
                 };
-                let decoded = bytes.map(|b| images::decode(&b, &name, doc.budget));
+                let decoded = bytes.map(|b| images::decode(&b, &name, doc.budget, srgb));
                 doc.tracker.label(Stage::Geometry)?;
                 match decoded {
                     Ok(Ok(t)) => Ok(Arc::new(t)),
@@ -285,17 +389,16 @@ impl Builder<'_> {
                 }
             }
         };
-        let decoded = match result {
-            Ok(t) => Some(t),
+        match result {
+            Ok(t) => Ok(Some(t)),
             Err(reason) => {
                 self.scene.report.warnings.push(format!(
                     "image {i}: {reason}; material '{material}' drawn without it"
                 ));
-                None
+                self.failed_images.insert(i);
+                Ok(None)
             }
-        };
-        self.images.insert(i, decoded.clone());
-        Ok(decoded)
+        }
     }
 }
 

@@ -18,11 +18,15 @@
 //! triangles' winding around. The loader leaves the mesh as it is; the renderer checks
 //! `instance.world.determinant() < 0` and flips its back-face test for that instance.
 //!
+//! Materials keep every texture slot (base colour, metallic-roughness, normal, occlusion,
+//! emissive), each with its sampler, `TEXCOORD_n` set and `KHR_texture_transform`
+//! ([`material`]); primitives keep their UV sets and tangents ([`primitive`]).
+//!
 //! Not loaded (each noted in the report): points and lines primitives, skins (drawn in the
-//! bind pose), morph targets (base shape), animations (rest pose), textures other than the
-//! base colour. Cameras (perspective and orthographic) go to [`Scene::cameras`] and
-//! `KHR_lights_punctual` lights to [`Scene::lights`] (see [`lights`] for the units). The
-//! extensions supported are `KHR_mesh_quantization` and `KHR_lights_punctual`; a file that
+//! bind pose), morph targets (base shape), animations (rest pose). Cameras (perspective and
+//! orthographic) go to [`Scene::cameras`] and `KHR_lights_punctual` lights to
+//! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
+//! `KHR_mesh_quantization`, `KHR_lights_punctual` and `KHR_texture_transform`; a file that
 //! *requires* any other is refused, naming it.
 
 use std::borrow::Cow;
@@ -37,7 +41,6 @@ use super::progress::{Stage, Tracker};
 use super::{files, Budget, LoadError, LoadOptions};
 use crate::mesh::MeshError;
 use crate::scene::{LoadReport, Scene};
-use crate::texture::Texture;
 
 mod accessor;
 pub(super) mod glb;
@@ -238,10 +241,10 @@ pub(super) struct Builder<'a> {
     pub meshes: HashMap<(usize, usize), Option<usize>>,
     /// glTF material -> scene material (`None`: unusable, default used).
     pub materials: HashMap<usize, Option<usize>>,
-    /// (image, sampler) -> scene texture.
-    pub textures: HashMap<(usize, Option<usize>), Option<usize>>,
-    /// Decoded images (`None`: failed, already reported).
-    pub images: HashMap<usize, Option<std::sync::Arc<Texture>>>,
+    /// (image, decoded as sRGB) -> scene texture (`None`: unusable, already reported).
+    pub textures: HashMap<(usize, bool), Option<usize>>,
+    /// Images that could not be read or decoded (already reported).
+    pub failed_images: std::collections::HashSet<usize>,
     /// `KHR_lights_punctual` lights and the nodes that place them.
     lights: lights::PunctualLights,
 }
@@ -326,7 +329,7 @@ pub(crate) fn load_gltf(
         meshes: HashMap::new(),
         materials: HashMap::new(),
         textures: HashMap::new(),
-        images: HashMap::new(),
+        failed_images: std::collections::HashSet::new(),
         lights: punctual,
     };
     b.walk()?;
@@ -372,8 +375,12 @@ fn geometry_units(json: &Json) -> u64 {
 /// Integer vertex attributes (read and converted to floats).
 const QUANTIZATION: &str = "KHR_mesh_quantization";
 
-/// The extensions supported: [`QUANTIZATION`] and punctual lights.
-const SUPPORTED: [&str; 2] = [QUANTIZATION, lights::EXTENSION];
+/// The extensions supported: [`QUANTIZATION`], punctual lights and texture transforms.
+const SUPPORTED: [&str; 3] = [
+    QUANTIZATION,
+    lights::EXTENSION,
+    material::TEXTURE_TRANSFORM,
+];
 
 /// Refuses files that are not glTF 2.x or that require an extension not in [`SUPPORTED`].
 fn check_header(path: &Path, json: &Json) -> Result<(), LoadError> {

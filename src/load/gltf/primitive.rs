@@ -1,5 +1,5 @@
-//! One glTF primitive into one scene [`Mesh`]: attributes (POSITION, NORMAL, TEXCOORD_0,
-//! COLOR_0), indices (checked against the vertex count), and triangle strips and fans
+//! One glTF primitive into one scene [`Mesh`]: attributes (POSITION, NORMAL, TANGENT,
+//! TEXCOORD_0.. up to [`MAX_UV_SETS`], COLOR_0), indices (checked against the vertex count), and triangle strips and fans
 //! turned into triangle lists with the winding the spec defines:
 //!
 //! - strip: triangle i is (v_i, v_i+1, v_i+2) for even i and (v_i, v_i+2, v_i+1) for odd i;
@@ -16,11 +16,16 @@ use super::{primitive_units, Builder, Doc, GltfError, QUANTIZATION};
 use crate::load::{mesh_bytes, retain_facets, LoadError};
 use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 
+/// Texture coordinate sets read per primitive (`TEXCOORD_0` to `TEXCOORD_3`); further
+/// sets are named in the load report and not read.
+pub const MAX_UV_SETS: u32 = 4;
+
 /// The vertex attributes of a primitive, read and checked to have one value per vertex.
 struct Attributes {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
-    uvs: Option<Vec<Vec2>>,
+    tangents: Option<Vec<Vec4>>,
+    uvs: Vec<Vec<Vec2>>,
     colors: Option<Vec<Vec4>>,
 }
 
@@ -44,12 +49,14 @@ impl Doc<'_> {
         .into()
     }
 
-    /// Reads POSITION (accessor `position`), NORMAL, TEXCOORD_0 and COLOR_0.
+    /// Reads POSITION (accessor `position`), NORMAL, TANGENT, the TEXCOORD_n sets and
+    /// COLOR_0; sets beyond [`MAX_UV_SETS`] are reported in `warnings`.
     fn attributes(
         &self,
         prim: &Primitive,
         position: usize,
         at: &Site,
+        warnings: &mut Vec<String>,
     ) -> Result<Attributes, LoadError> {
         let attr = |s: Semantic| prim.attributes.get(&Checked::Valid(s)).map(|i| i.value());
         let used = |what: &str| format!("mesh {} primitive {} {what}", at.mesh, at.primitive);
@@ -65,18 +72,38 @@ impl Doc<'_> {
         let (_, pos) = self.read_floats(position, &used("POSITION"), &[3], exact)?;
         let n = pos.len() / 3;
         let normals = read("NORMAL", attr(Semantic::Normals), &[3], exact)?;
-        let uvs = read("TEXCOORD_0", attr(Semantic::TexCoords(0)), &[2], unorm)?;
+        let tangents = read("TANGENT", attr(Semantic::Tangents), &[4], exact)?;
+        let mut uvs = Vec::new();
+        for set in 0..MAX_UV_SETS {
+            let name = format!("TEXCOORD_{set}");
+            match read(&name, attr(Semantic::TexCoords(set)), &[2], unorm)? {
+                Some(found) => uvs.push((name, found)),
+                None => break,
+            }
+        }
+        let more = (MAX_UV_SETS..MAX_UV_SETS + 28)
+            .filter(|&s| attr(Semantic::TexCoords(s)).is_some())
+            .count();
+        if more > 0 {
+            warnings.push(format!(
+                "{}: {more} texture coordinate set(s) beyond TEXCOORD_{} not read",
+                at.label,
+                MAX_UV_SETS - 1
+            ));
+        }
         let colors = read(
             "COLOR_0",
             attr(Semantic::Colors(0)),
             &[3, 4],
             Format::FloatOrUnorm,
         )?;
-        for (name, found) in [
-            ("NORMAL", &normals),
-            ("TEXCOORD_0", &uvs),
-            ("COLOR_0", &colors),
-        ] {
+        let named = [
+            ("NORMAL", normals.as_ref()),
+            ("TANGENT", tangents.as_ref()),
+            ("COLOR_0", colors.as_ref()),
+        ];
+        let sets = uvs.iter().map(|(name, found)| (name.as_str(), Some(found)));
+        for (name, found) in named.into_iter().chain(sets) {
             if let Some((size, values)) = found {
                 let len = values.len() / size;
                 if len != n {
@@ -95,7 +122,11 @@ impl Doc<'_> {
         Ok(Attributes {
             positions: pos.chunks_exact(3).map(Vec3::from_slice).collect(),
             normals: normals.map(|(_, v)| v.chunks_exact(3).map(Vec3::from_slice).collect()),
-            uvs: uvs.map(|(_, v)| v.chunks_exact(2).map(Vec2::from_slice).collect()),
+            tangents: tangents.map(|(_, v)| v.chunks_exact(4).map(Vec4::from_slice).collect()),
+            uvs: uvs
+                .into_iter()
+                .map(|(_, (_, v))| v.chunks_exact(2).map(Vec2::from_slice).collect())
+                .collect(),
             colors: colors.map(rgba),
         })
     }
@@ -186,7 +217,7 @@ impl Builder<'_> {
             primitive: p,
             label: &label,
         };
-        let attrs = doc.attributes(prim, position.value(), &at)?;
+        let attrs = doc.attributes(prim, position.value(), &at, &mut report.warnings)?;
         step(5)?;
         let n = attrs.positions.len();
         let indices = doc.indices(prim, n, &at)?;
@@ -208,14 +239,18 @@ impl Builder<'_> {
             None => None,
         };
         let has_normals = attrs.normals.is_some();
+        // Without NORMAL the normals are flat and tangents given for them MUST be ignored
+        // (the specification, Meshes).
+        let tangents = attrs.tangents.filter(|_| has_normals);
         let mut data = MeshData {
             name: name.unwrap_or_else(|| format!("mesh {m}")),
             positions: attrs.positions,
             corners,
             facet_sizes: None,
             normals: attrs.normals.map(Channel::per_vertex),
-            uvs: attrs.uvs.map(Channel::per_vertex),
+            uvs: attrs.uvs.into_iter().map(Channel::per_vertex).collect(),
             colors: attrs.colors.map(Channel::per_vertex),
+            tangents: tangents.map(Channel::per_vertex),
             material,
         };
         let report = &mut self.scene.report;

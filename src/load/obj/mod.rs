@@ -372,8 +372,9 @@ fn mesh_data(model: tobj::Model, materials: usize) -> MeshData {
         corners: m.indices,
         facet_sizes: (!m.face_arities.is_empty()).then_some(m.face_arities),
         normals,
-        uvs,
+        uvs: uvs.into_iter().collect(),
         colors,
+        tangents: None,
         material: m.material_id.filter(|&i| i < materials),
     }
 }

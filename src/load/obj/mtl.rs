@@ -14,7 +14,7 @@ use glam::Vec3;
 
 use crate::load::progress::Tracker;
 use crate::load::{files, images, Budget, LoadError};
-use crate::scene::{AlphaMode, Material, TextureRef};
+use crate::scene::{AlphaMode, Material, Slot, TextureSlot};
 use crate::texture::Texture;
 
 /// The material loader handed to `tobj`, with what it learnt on the way.
@@ -184,8 +184,9 @@ pub(super) struct Converter<'a> {
     /// The decoded textures, in scene order.
     pub textures: Vec<Arc<Texture>>,
     pub warnings: Vec<String>,
-    /// Texture index by canonical path (`None` = failed, already warned about).
-    by_path: HashMap<PathBuf, Option<usize>>,
+    /// Texture index by canonical path and colour space (`None` = failed, already warned
+    /// about).
+    by_path: HashMap<(PathBuf, bool), Option<usize>>,
 }
 
 impl<'a> Converter<'a> {
@@ -213,28 +214,11 @@ impl<'a> Converter<'a> {
         let alpha = m.dissolve.or(tr.map(|t| 1.0 - t)).filter(|a| a.is_finite());
         let alpha = alpha.unwrap_or(1.0).clamp(0.0, 1.0);
         let shininess = m.shininess.unwrap_or(d.shininess).clamp(1.0, 2000.0);
-        let texture = match &m.diffuse_texture {
-            Some(value) => self.texture(value, dir, &m.name)?,
-            None => None,
-        };
-        // `map_Ks`: the gloss map, multiplying `Ks` per pixel.
-        let gloss = match &m.specular_texture {
-            Some(value) => self.texture(value, dir, &m.name)?,
-            None => None,
-        };
-        Ok(Material {
+        let mut material = Material {
             name: m.name.clone(),
             base_color: rgb(m.diffuse, d.base_color.truncate()).extend(alpha),
-            base_color_texture: texture.map(|texture| TextureRef {
-                texture,
-                tex_coord: 0,
-            }),
             ambient: rgb(m.ambient, d.ambient),
             specular: rgb(m.specular, d.specular),
-            specular_texture: gloss.map(|texture| TextureRef {
-                texture,
-                tex_coord: 0,
-            }),
             shininess,
             emissive: rgb(m.emissive, d.emissive),
             metallic: 0.0,
@@ -245,17 +229,40 @@ impl<'a> Converter<'a> {
                 AlphaMode::Opaque
             },
             double_sided: false,
-        })
+            ..Material::default()
+        };
+        // `map_Kd` the base colour, `map_Ks` the gloss map (multiplying `Ks` per pixel),
+        // `map_Ke` the emissive map, `bump` / `map_Bump` a height map (`-bm` its scale),
+        // `norm` a tangent-space normal map.
+        let unknown = |k: &str| m.unknown_param.get(k);
+        let maps = [
+            (Slot::BaseColor, m.diffuse_texture.as_ref()),
+            (Slot::Specular, m.specular_texture.as_ref()),
+            (Slot::Emissive, unknown("map_Ke")),
+            (Slot::Bump, m.normal_texture.as_ref()),
+            (Slot::Normal, unknown("norm")),
+        ];
+        for (slot, value) in maps {
+            let Some(value) = value else { continue };
+            if let Some(texture) = self.texture(value, dir, &m.name, slot.srgb())? {
+                *material.slot_mut(slot) = Some(TextureSlot {
+                    scale: option_number(value, "-bm").unwrap_or(1.0),
+                    ..TextureSlot::new(texture)
+                });
+            }
+        }
+        Ok(material)
     }
 
-    /// The texture for a `map_Kd` or `map_Ks` value of `material`, decoded on first use. `value` may
-    /// carry options before the file name (`-s 1 1 1 wood.png`): if the whole value names
-    /// no file, its last word is tried.
+    /// The texture for a map value of `material` (`map_Kd`, `bump`, ...), decoded on first
+    /// use for a slot of colour space `srgb`. `value` may carry options before the file name
+    /// (`-s 1 1 1 wood.png`): if the whole value names no file, its last word is tried.
     fn texture(
         &mut self,
         value: &str,
         dir: &Path,
         material: &str,
+        srgb: bool,
     ) -> Result<Option<usize>, LoadError> {
         let resolve = |name: &str| files::resolve_inside(self.root, dir, Path::new(name));
         let resolved = resolve(value).or_else(|reason| {
@@ -271,15 +278,17 @@ impl<'a> Converter<'a> {
                 return Ok(None);
             }
         };
-        if let Some(&cached) = self.by_path.get(&path) {
+        let key = (path, srgb);
+        if let Some(&cached) = self.by_path.get(&key) {
             return Ok(cached);
         }
+        let path = &key.0;
         let name = path
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
         self.tracker.check()?;
-        let decoded = match files::read_capped(&path, self.budget, "texture") {
-            Ok(bytes) => images::decode(&bytes, &name, self.budget),
+        let decoded = match files::read_capped(path, self.budget, "texture") {
+            Ok(bytes) => images::decode(&bytes, &name, self.budget, srgb),
             Err(e @ LoadError::TooLarge { .. }) => return Err(e),
             Err(e) => Err(images::DecodeError::Invalid(e.to_string())),
         };
@@ -295,9 +304,20 @@ impl<'a> Converter<'a> {
                 None
             }
         };
-        self.by_path.insert(path, index);
+        self.by_path.insert(key, index);
         Ok(index)
     }
+}
+
+/// The number after option `flag` in a map value (`-bm 0.5 bumps.png` gives 0.5 for
+/// `-bm`), if it is there and finite.
+fn option_number(value: &str, flag: &str) -> Option<f32> {
+    let mut words = value.split_whitespace();
+    words.find(|w| *w == flag)?;
+    words
+        .next()
+        .and_then(|w| w.parse::<f32>().ok())
+        .filter(|v| v.is_finite())
 }
 
 #[cfg(test)]

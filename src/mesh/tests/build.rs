@@ -170,7 +170,7 @@ fn weld_restores_the_cube_topology_and_keeps_attributes() {
         (0, 2, 1)
     );
     // Nothing lost: every corner sees the same position, normal and UV as before.
-    let (uv0, uv1) = (before.uvs.as_ref().unwrap(), welded.uvs.as_ref().unwrap());
+    let (uv0, uv1) = (before.uvs.first().unwrap(), welded.uvs.first().unwrap());
     for c in 0..24 {
         let (v0, v1) = (before.corners[c], welded.corners[c]);
         assert_eq!(before.positions[v0 as usize], welded.positions[v1 as usize]);
@@ -198,22 +198,22 @@ fn weld_keeps_consistent_channels_per_vertex() {
 fn weld_drops_vertices_no_corner_uses() {
     let p = vec![Vec3::ZERO, Vec3::splat(1e30), Vec3::X, Vec3::Y];
     let mut data = triangles(p, vec![0, 2, 3]);
-    data.uvs = Some(Channel::per_vertex(vec![
+    data.uvs = vec![Channel::per_vertex(vec![
         glam::Vec2::ZERO,
         glam::Vec2::ONE,
         glam::Vec2::X,
         glam::Vec2::Y,
-    ]));
+    ])];
     let welded = data.weld_positions();
     assert_eq!(welded.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
     assert_eq!(welded.corners, vec![0, 1, 2]);
     assert_eq!(
         welded.uvs,
-        Some(Channel::per_vertex(vec![
+        vec![Channel::per_vertex(vec![
             glam::Vec2::ZERO,
             glam::Vec2::X,
             glam::Vec2::Y
-        ]))
+        ])]
     );
 }
 

@@ -74,7 +74,7 @@ fn bare_cube() -> MeshData {
 /// The cube as glTF stores it: 24 vertices, 4 per face, per-vertex normals and UVs.
 fn split_cube() -> MeshData {
     let cube = Mesh::cube(2.0).expect("valid cube");
-    let uvs = cube.uvs.as_ref().expect("cube has UVs");
+    let uvs = cube.uvs.first().expect("cube has UVs");
     let mut data = polygons(Vec::new(), (0..24).collect(), vec![4; 6]);
     let (mut normals, mut texcoords) = (Vec::new(), Vec::<Vec2>::new());
     for (c, &v) in cube.corners.iter().enumerate() {
@@ -83,7 +83,7 @@ fn split_cube() -> MeshData {
         texcoords.push(uvs.at(c, v));
     }
     data.normals = Some(Channel::per_vertex(normals));
-    data.uvs = Some(Channel::per_vertex(texcoords));
+    data.uvs = vec![Channel::per_vertex(texcoords)];
     data
 }
 

@@ -82,7 +82,7 @@ fn sphere_normals_are_exact_and_outward() {
         );
     }
     // UVs: v grows southwards from 0 at the north pole; the seam column reaches u = 1.
-    let uvs = mesh.uvs.as_ref().unwrap();
+    let uvs = mesh.uvs.first().unwrap();
     assert!(uvs.indices.is_some());
     assert_eq!(uvs.at(0, 0).y, 0.0);
     assert!(uvs.values.iter().any(|t| t.x == 1.0));

@@ -137,7 +137,7 @@ fn render_vertices_follow_the_channels() {
     let cube = Mesh::cube(2.0).unwrap();
     let tri = cube.triangulate();
     assert_eq!(tri.positions.len(), 24);
-    assert_eq!(tri.uvs.as_ref().map(Vec::len), Some(24));
+    assert_eq!(tri.uv_set(0).map(<[_]>::len), Some(24));
     for (t, &f) in tri.triangles.iter().zip(&tri.triangle_facets) {
         let facet_normal = tri.facet_normals[f as usize];
         assert!(signed_area(&tri.positions, *t, facet_normal) > 0.0);

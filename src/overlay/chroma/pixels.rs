@@ -67,11 +67,11 @@ pub fn analyse(image: &Texture, gamuts: &[RgbSpace]) -> PixelReport {
         .collect();
     // One partial histogram (16 MiB) per thread, not per rayon job.
     let width = image.width.max(1) as usize;
-    let rows = image.texels.len().div_ceil(width);
+    let texels = image.to_srgb8();
+    let rows = texels.len().div_ceil(width);
     let bands = rayon::current_num_threads().clamp(1, rows.max(1));
     let band_rows = rows.div_ceil(bands).max(1);
-    let part = image
-        .texels
+    let part = texels
         .par_chunks(band_rows * width)
         .map(|band| {
             let mut acc = Partial {

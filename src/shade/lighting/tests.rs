@@ -274,6 +274,7 @@ fn lanes_agree_with_scalar() {
                 has_specular: s.specular != Vec3::ZERO,
                 ambient: s.ambient,
                 shininess: F8::splat(s.shininess),
+                occlusion: None,
             };
             let all: Vec<u32> = (0..lights.sources.len() as u32).collect();
             for blinn in [false, true] {

@@ -119,17 +119,13 @@ fn editor(ui: &mut egui::Ui, m: &mut Material) -> bool {
                 .checkbox(&mut m.double_sided, "lit on both sides, not culled")
                 .changed();
             ui.end_row();
-            let texture = |t: &Option<crate::scene::TextureRef>| {
-                t.as_ref()
-                    .map_or("none".into(), |t| format!("texture {}", t.texture))
-            };
-            ui.label("Kd map, Ks map");
-            ui.label(format!(
-                "{}, {}",
-                texture(&m.base_color_texture),
-                texture(&m.specular_texture)
-            ));
-            ui.end_row();
+            for slot in crate::scene::Slot::ALL {
+                if let Some(t) = m.slot(slot) {
+                    ui.label(format!("{} map", slot.name()));
+                    ui.label(t.describe());
+                    ui.end_row();
+                }
+            }
         });
     changed
 }

@@ -7,7 +7,7 @@ use super::row;
 
 use crate::mesh::{NormalSource, TopologyReport};
 use crate::render::Lights;
-use crate::scene::Light;
+use crate::scene::{Light, Slot};
 use crate::viewer::app::ViewerApp;
 use crate::viewer::navigate::Navigator;
 
@@ -94,9 +94,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     };
                     let yes = |b: bool| if b { "yes" } else { "no" };
                     ui.label(format!(
-                        "normals {normals}; UVs {}; colours {}",
-                        yes(m.uvs.is_some()),
-                        yes(m.colors.is_some())
+                        "normals {normals}; UV sets {}; colours {}; tangents {}",
+                        m.uvs.len(),
+                        yes(m.colors.is_some()),
+                        yes(m.tangents.is_some())
                     ));
                     // The topology report walks the whole mesh: computed when opened, then kept.
                     let report = app.panels.topology.entry(i).or_insert_with(|| m.topology());
@@ -127,6 +128,11 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                         ""
                     },
                 ));
+                for slot in Slot::ALL {
+                    if let Some(t) = m.slot(slot) {
+                        ui.label(format!("    {} map: {}", slot.name(), t.describe()));
+                    }
+                }
             }
             more(ui, scene.materials.len());
         });
@@ -147,12 +153,11 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     });
                     ui.image((thumb.id(), thumb.size_vec2()));
                     ui.label(format!(
-                        "{i}: {}\n{}x{}, {}, {:?}",
+                        "{i}: {}\n{}x{}, {}",
                         t.name,
                         t.width,
                         t.height,
-                        if t.srgb { "sRGB" } else { "linear" },
-                        t.sampler.filter
+                        t.texels.format_name()
                     ));
                 });
             }
@@ -277,12 +282,12 @@ fn thumbnail(t: &crate::texture::Texture) -> ColorImage {
         ((w as f32 * scale) as u32).max(1),
         ((h as f32 * scale) as u32).max(1),
     );
+    let texels = t.to_srgb8();
     let mut px = Vec::with_capacity((tw * th) as usize);
     for y in 0..th {
         for x in 0..tw {
             let (sx, sy) = (x * w / tw, y * h / th);
-            let [r, g, b, a] = t
-                .texels
+            let [r, g, b, a] = texels
                 .get((sy * w + sx) as usize)
                 .copied()
                 .unwrap_or([0; 4]);

@@ -1,5 +1,7 @@
 //! The serial mesh building that the parallel one replaced, kept verbatim (only paths
-//! changed) so tests can require the parallel results to be bit-identical to it.
+//! changed, and the fields of the attribute sets that came after it: the reference handles
+//! meshes with at most one UV set and no tangents) so tests can require the parallel
+//! results to be bit-identical to it.
 
 use crate::mesh::{Mesh, MeshData, NormalPolicy, NormalSource, TriMesh};
 
@@ -20,6 +22,7 @@ pub(super) fn mesh(data: MeshData, policy: NormalPolicy) -> Mesh {
         normals,
         uvs,
         colors,
+        tangents,
         material,
     } = data;
     let facets = build::facets(&positions, &corners, facet_sizes.as_deref());
@@ -44,6 +47,7 @@ pub(super) fn mesh(data: MeshData, policy: NormalPolicy) -> Mesh {
         normal_source,
         uvs,
         colors,
+        tangents,
         material,
     }
 }

@@ -26,7 +26,7 @@ struct RenderVertices {
 fn render_vertices(mesh: &Mesh) -> RenderVertices {
     let vertex_count = mesh.positions.len();
     let all_per_vertex = mesh.normals.indices.is_none()
-        && mesh.uvs.as_ref().is_none_or(|c| c.indices.is_none())
+        && mesh.uvs.first().is_none_or(|c| c.indices.is_none())
         && mesh.colors.as_ref().is_none_or(|c| c.indices.is_none());
     let identity: Vec<u32> = (0..vertex_count as u32).collect();
     if all_per_vertex {
@@ -44,7 +44,7 @@ fn render_vertices(mesh: &Mesh) -> RenderVertices {
     for (c, &v) in mesh.corners.iter().enumerate() {
         let k = [
             key(Some(&mesh.normals), c),
-            key(mesh.uvs.as_ref(), c),
+            key(mesh.uvs.first(), c),
             key(mesh.colors.as_ref(), c),
         ];
         if !used[v as usize] {
@@ -95,7 +95,12 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         .into_iter()
         .map(|n| unit(n).unwrap_or(FALLBACK_NORMAL))
         .collect();
-    let uvs = mesh.uvs.as_ref().map(|ch| flatten(ch, &rv, 1, Vec2::ZERO));
+    let uvs = mesh
+        .uvs
+        .first()
+        .map(|ch| flatten(ch, &rv, 1, Vec2::ZERO))
+        .into_iter()
+        .collect();
     let colors = mesh
         .colors
         .as_ref()
@@ -148,6 +153,7 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         normals,
         uvs,
         colors,
+        tangents: None,
         triangles,
         triangle_facets,
         facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),

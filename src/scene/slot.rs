@@ -1,0 +1,273 @@
+//! Texture slots: which texture a material reads for which of its parameters, and how.
+//!
+//! A [`TextureSlot`] is glTF's `textureInfo` made whole: the decoded image (an index into
+//! [`Scene::textures`](super::Scene::textures)), the sampler (filters and a wrap mode per
+//! axis; glTF keeps it on the texture object, so two slots may sample one image two ways),
+//! the texture coordinate set (`TEXCOORD_n`), the `KHR_texture_transform` of the UVs, and
+//! the slot's scalar (`normalTexture.scale`, `occlusionTexture.strength`, the bump height).
+//!
+//! Which slots exist and what each means is [`Slot`]; the colour space of a slot's image
+//! follows from the slot ([`Slot::srgb`]): colours (base colour, emissive, the gloss map) are
+//! sRGB-encoded, data (normals, occlusion, metallic-roughness, heights) is linear.
+
+use glam::{Mat3, Vec2};
+
+use crate::texture::Sampler;
+
+/// A material parameter that a texture can drive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Slot {
+    /// Diffuse / base colour (`Kd`, `map_Kd`, glTF `baseColorTexture`): RGB and alpha.
+    BaseColor,
+    /// The gloss map (the pipeline chapter's §7, MTL `map_Ks`): RGB multiplies `Ks`.
+    Specular,
+    /// Tangent-space normal map (glTF `normalTexture`, MTL `norm`): RGB = (n + 1) / 2.
+    Normal,
+    /// Ambient occlusion (glTF `occlusionTexture`): R.
+    Occlusion,
+    /// Emitted light (glTF `emissiveTexture`, MTL `map_Ke`): RGB multiplies the factor.
+    Emissive,
+    /// glTF `metallicRoughnessTexture`: G roughness, B metallic.
+    MetallicRoughness,
+    /// A height map for bump mapping (MTL `bump` / `map_Bump`): R is the height.
+    Bump,
+}
+
+impl Slot {
+    /// Every slot, in the order panels and reports list them.
+    pub const ALL: [Slot; 7] = [
+        Slot::BaseColor,
+        Slot::Specular,
+        Slot::Normal,
+        Slot::Occlusion,
+        Slot::Emissive,
+        Slot::MetallicRoughness,
+        Slot::Bump,
+    ];
+
+    /// The slot's name in reports, scene files and the command line.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Slot::BaseColor => "base colour",
+            Slot::Specular => "gloss",
+            Slot::Normal => "normal",
+            Slot::Occlusion => "occlusion",
+            Slot::Emissive => "emissive",
+            Slot::MetallicRoughness => "metallic-roughness",
+            Slot::Bump => "bump",
+        }
+    }
+
+    /// True if the slot's RGB is sRGB-encoded colour (decoded to linear light before
+    /// filtering); false for linear data. Alpha is linear in every slot.
+    #[must_use]
+    pub fn srgb(self) -> bool {
+        match self {
+            Slot::BaseColor | Slot::Specular | Slot::Emissive => true,
+            Slot::Normal | Slot::Occlusion | Slot::MetallicRoughness | Slot::Bump => false,
+        }
+    }
+}
+
+/// `KHR_texture_transform`: `uv' = offset + R(rotation) (scale ⊙ uv)`, with the rotation
+/// turning UVs the way the implementations (and the extension's own example) do:
+/// `u' = cos r · u₁ + sin r · v₁ + oₓ`, `v' = -sin r · u₁ + cos r · v₁ + o_y` where
+/// `(u₁, v₁) = scale ⊙ uv`. (The extension's GLSL snippet turns the other way; glTF issue
+/// #1563. glTF-Sample-Viewer, CesiumJS and gltfpack agree with the formula here.)
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    pub offset: Vec2,
+    /// Radians.
+    pub rotation: f32,
+    pub scale: Vec2,
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+impl UvTransform {
+    pub const IDENTITY: UvTransform = UvTransform {
+        offset: Vec2::ZERO,
+        rotation: 0.0,
+        scale: Vec2::ONE,
+    };
+
+    /// True if it leaves every UV as it is.
+    #[must_use]
+    pub fn is_identity(&self) -> bool {
+        *self == Self::IDENTITY
+    }
+
+    /// The transform as a 3x3 matrix on `(u, v, 1)`.
+    #[must_use]
+    pub fn matrix(&self) -> Mat3 {
+        let (s, c) = self.rotation.sin_cos();
+        let translation = Mat3::from_cols_array(&[
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            self.offset.x,
+            self.offset.y,
+            1.0,
+        ]);
+        // Columns: u' = c u1 + s v1, v' = -s u1 + c v1.
+        let rotation = Mat3::from_cols_array(&[c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0]);
+        let scale = Mat3::from_diagonal(self.scale.extend(1.0));
+        translation * rotation * scale
+    }
+
+    /// Transforms one UV.
+    #[must_use]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        if self.is_identity() {
+            return uv;
+        }
+        self.matrix().transform_point2(uv)
+    }
+
+    /// The transform with every non-finite number replaced by its identity value (offset 0,
+    /// rotation 0, scale 1), and whether anything was replaced.
+    #[must_use]
+    pub fn sanitized(self) -> (UvTransform, bool) {
+        let fix = |v: f32, d: f32| if v.is_finite() { v } else { d };
+        let t = UvTransform {
+            offset: Vec2::new(fix(self.offset.x, 0.0), fix(self.offset.y, 0.0)),
+            rotation: fix(self.rotation, 0.0),
+            scale: Vec2::new(fix(self.scale.x, 1.0), fix(self.scale.y, 1.0)),
+        };
+        let changed = t != self;
+        (t, changed)
+    }
+}
+
+/// One slot's texture and how it is read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureSlot {
+    /// Index into [`Scene::textures`](super::Scene::textures).
+    pub texture: usize,
+    /// Filters and wrap modes (glTF's sampler; OBJ has none: repeat, mipmapped).
+    pub sampler: Sampler,
+    /// Which texture coordinate set the slot reads (`TEXCOORD_n`).
+    pub uv_set: u32,
+    /// Applied to the UVs before sampling.
+    pub transform: UvTransform,
+    /// `normalTexture.scale` (x and y of the tangent-space normal), `occlusionTexture.strength`,
+    /// or the bump map's height scale; 1 for the other slots.
+    pub scale: f32,
+}
+
+impl TextureSlot {
+    /// One line for panels and reports: texture, UV set, sampler, transform, scale (the
+    /// parts at their defaults left out).
+    #[must_use]
+    pub fn describe(&self) -> String {
+        let s = self.sampler;
+        let wrap = |w: crate::texture::Wrap| format!("{w:?}").to_lowercase();
+        let mut d = format!(
+            "texture {}, TEXCOORD_{}, {}",
+            self.texture,
+            self.uv_set,
+            format!("{:?}", s.filter).to_lowercase()
+        );
+        if s.wrap_u == s.wrap_v {
+            d += &format!(", {}", wrap(s.wrap_u));
+        } else {
+            d += &format!(", {} x {}", wrap(s.wrap_u), wrap(s.wrap_v));
+        }
+        let t = self.transform;
+        if !t.is_identity() {
+            d += &format!(
+                ", offset ({}, {}) rotation {:.1}° scale ({}, {})",
+                t.offset.x,
+                t.offset.y,
+                t.rotation.to_degrees(),
+                t.scale.x,
+                t.scale.y
+            );
+        }
+        if self.scale != 1.0 {
+            d += &format!(", scale {}", self.scale);
+        }
+        d
+    }
+
+    /// Texture `texture` read with the default sampler from UV set 0, untransformed.
+    #[must_use]
+    pub fn new(texture: usize) -> Self {
+        Self {
+            texture,
+            sampler: Sampler::default(),
+            uv_set: 0,
+            transform: UvTransform::IDENTITY,
+            scale: 1.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f32::consts::FRAC_PI_2;
+
+    fn near(a: Vec2, b: Vec2) -> bool {
+        (a - b).abs().max_element() < 1e-6
+    }
+
+    #[test]
+    fn the_extensions_own_example_turns_the_lower_left_quadrant_clockwise() {
+        // KHR_texture_transform README: offset [0, 1], rotation π/2, scale [0.5, 0.5] maps
+        // the texture's lower-left quadrant, turned 90° clockwise, onto the whole surface.
+        let t = UvTransform {
+            offset: Vec2::new(0.0, 1.0),
+            rotation: FRAC_PI_2,
+            scale: Vec2::splat(0.5),
+        };
+        assert!(near(t.apply(Vec2::ZERO), Vec2::new(0.0, 1.0)));
+        assert!(near(t.apply(Vec2::ONE), Vec2::new(0.5, 0.5)));
+        assert!(near(t.apply(Vec2::new(1.0, 0.0)), Vec2::new(0.0, 0.5)));
+        assert!(near(t.apply(Vec2::new(0.0, 1.0)), Vec2::new(0.5, 1.0)));
+    }
+
+    #[test]
+    fn scale_comes_before_rotation_and_offset_last() {
+        let t = UvTransform {
+            offset: Vec2::new(0.25, -0.5),
+            rotation: 0.3,
+            scale: Vec2::new(2.0, 3.0),
+        };
+        let (s, c) = 0.3f32.sin_cos();
+        for uv in [Vec2::new(0.1, 0.7), Vec2::new(-2.0, 5.0)] {
+            let (u1, v1) = (2.0 * uv.x, 3.0 * uv.y);
+            let want = Vec2::new(c * u1 + s * v1 + 0.25, -s * u1 + c * v1 - 0.5);
+            assert!(near(t.apply(uv), want), "{uv}");
+        }
+        assert_eq!(UvTransform::IDENTITY.apply(Vec2::new(3.5, -1.0)), Vec2::new(3.5, -1.0));
+    }
+
+    #[test]
+    fn non_finite_parts_fall_back_to_the_identity() {
+        let bad = UvTransform {
+            offset: Vec2::new(f32::NAN, 2.0),
+            rotation: f32::INFINITY,
+            scale: Vec2::new(3.0, f32::NEG_INFINITY),
+        };
+        let (t, changed) = bad.sanitized();
+        assert!(changed);
+        assert_eq!(t.offset, Vec2::new(0.0, 2.0));
+        assert_eq!((t.rotation, t.scale), (0.0, Vec2::new(3.0, 1.0)));
+        assert_eq!(UvTransform::IDENTITY.sanitized(), (UvTransform::IDENTITY, false));
+    }
+
+    #[test]
+    fn colour_slots_are_srgb_and_data_slots_linear() {
+        let srgb: Vec<_> = Slot::ALL.into_iter().filter(|s| s.srgb()).collect();
+        assert_eq!(srgb, [Slot::BaseColor, Slot::Specular, Slot::Emissive]);
+    }
+}

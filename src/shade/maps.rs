@@ -1,0 +1,139 @@
+//! What a material's texture maps do to the surface at a point, beyond colour: the
+//! tangent-space normal map and ambient occlusion (glTF's conventions, the specification's
+//! "Additional Textures"). Written once per precision family: [`perturb`] over [`Real`]
+//! (`f32` for the probe, `f64` for the reference) and [`perturb_lanes`] on eight lanes for
+//! the shaders, with the same steps in the same order.
+
+use super::Real;
+use crate::raster::{Kernel, F8, V3};
+
+/// The unit normal `n` perturbed by a normal-map texel `c` (RGB = (m + 1) / 2, linear) with
+/// scale `scale`, in the frame of the tangent `t` (made orthogonal to `n`, Gram-Schmidt) and
+/// the bitangent `B = w (n × t)`, `w` the tangent's handedness (its sign counts):
+/// `m = normalize(scale (2r - 1), scale (2g - 1), 2b - 1)`, `n' = normalize(mₓ T + m_y B +
+/// m_z n)`. Returns `n` itself where the tangent is degenerate (parallel to `n`, or zero).
+#[must_use]
+#[inline]
+pub fn perturb<T: Real>(n: T::V, t: T::V, w: T, c: [T; 3], scale: T) -> T::V {
+    let t = T::normalize_or_zero(t - n * T::dot(n, t));
+    if T::dot(t, t) == T::ZERO {
+        return n;
+    }
+    let sign = if w < T::ZERO { -T::ONE } else { T::ONE };
+    let b = T::cross(n, t) * sign;
+    let two = T::ONE + T::ONE;
+    let (x, y, z) = (
+        (c[0] * two - T::ONE) * scale,
+        (c[1] * two - T::ONE) * scale,
+        c[2] * two - T::ONE,
+    );
+    let len2 = x * x + y * y + z * z;
+    if !(len2 > T::ZERO && len2.is_finite()) {
+        return n;
+    }
+    let inv = T::ONE / len2.sqrt();
+    T::normalize_or_zero(t * (x * inv) + b * (y * inv) + n * (z * inv))
+}
+
+/// [`perturb`] on eight lanes.
+#[inline(always)]
+#[must_use]
+pub fn perturb_lanes<K: Kernel>(n: V3, t: V3, w: F8, c: [F8; 4], scale: f32) -> V3 {
+    let t = (t - n.scale(n.dot::<K>(t))).normalize_or_zero::<K>();
+    let sign = F8::select(w.lt(F8::ZERO), -F8::ONE, F8::ONE);
+    let b = n.cross::<K>(t).scale(sign);
+    let two = F8::splat(2.0);
+    let x = (c[0] * two - F8::ONE) * scale;
+    let y = (c[1] * two - F8::ONE) * scale;
+    let z = c[2] * two - F8::ONE;
+    let m = V3::new(x, y, z).normalize_or_zero::<K>();
+    let p = (t.scale(m.x) + b.scale(m.y) + n.scale(m.z)).normalize_or_zero::<K>();
+    let ok = t.dot::<K>(t).gt(F8::ZERO);
+    V3::new(
+        F8::select(ok, p.x, n.x),
+        F8::select(ok, p.y, n.y),
+        F8::select(ok, p.z, n.z),
+    )
+}
+
+/// glTF's occlusion: `1 + strength (r - 1)` for the texel's R, applied to the ambient
+/// (indirect) light only.
+#[must_use]
+#[inline]
+pub fn occlusion<T: Real>(r: T, strength: T) -> T {
+    T::ONE + strength * (r - T::ONE)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::kernel::{dispatch, KernelJob};
+    use crate::raster::KernelKind;
+    use glam::{DVec3, Vec3};
+
+    #[test]
+    fn a_flat_texel_keeps_the_normal_and_tilts_follow_the_tangent_frame() {
+        let n = DVec3::Z;
+        let t = DVec3::X;
+        let flat = perturb::<f64>(n, t, 1.0, [0.5, 0.5, 1.0], 1.0);
+        assert!((flat - n).length() < 1e-12, "{flat}");
+        // +x in the map tilts towards +T; +y towards B = w (n × t) = +Y for w = 1, -Y for -1.
+        let x = perturb::<f64>(n, t, 1.0, [1.0, 0.5, 0.5], 1.0);
+        assert!((x - DVec3::X).length() < 1e-12, "{x}");
+        let y = perturb::<f64>(n, t, 1.0, [0.5, 1.0, 0.5], 1.0);
+        assert!((y - DVec3::Y).length() < 1e-12, "{y}");
+        let y = perturb::<f64>(n, t, -1.0, [0.5, 1.0, 0.5], 1.0);
+        assert!((y + DVec3::Y).length() < 1e-12, "{y}");
+        // Scale 0 flattens the map; a tangent along n leaves n.
+        let s0 = perturb::<f64>(n, t, 1.0, [0.9, 0.1, 0.7], 0.0);
+        assert!((s0 - n).length() < 1e-12, "{s0}");
+        assert_eq!(perturb::<f64>(n, n, 1.0, [0.9, 0.1, 0.7], 1.0), n);
+        // A tangent not orthogonal to n is straightened first.
+        let tilted = perturb::<f64>(n, DVec3::new(1.0, 0.0, 0.7), 1.0, [1.0, 0.5, 0.5], 1.0);
+        assert!((tilted - DVec3::X).length() < 1e-12, "{tilted}");
+    }
+
+    struct Job;
+    impl KernelJob for Job {
+        type Output = f32;
+        fn run<K: Kernel>(self) -> f32 {
+            let mut worst = 0.0f32;
+            let mut seed = 3u32;
+            let mut r = move || {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (seed >> 8) as f32 / (1u32 << 24) as f32
+            };
+            for _ in 0..200 {
+                let mut lanes = [[0.0f32; 11]; 8];
+                for l in &mut lanes {
+                    for v in l.iter_mut() {
+                        *v = r();
+                    }
+                }
+                let f = |i: usize| F8(lanes.map(|l| l[i]));
+                let n0 = V3::new(f(0) - 0.5, f(1) - 0.5, f(2) + 0.2).normalize_or_zero::<K>();
+                let t0 = V3::new(f(3) - 0.5, f(4) - 0.5, f(5) - 0.5);
+                let w = f(6) - 0.5;
+                let c = [f(7), f(8), f(9), F8::ONE];
+                let got = perturb_lanes::<K>(n0, t0, w, c, 1.3);
+                for i in 0..8 {
+                    let g = |v: F8| v.0[i];
+                    let n = Vec3::new(g(n0.x), g(n0.y), g(n0.z));
+                    let t = Vec3::new(g(t0.x), g(t0.y), g(t0.z));
+                    let want = perturb::<f32>(n, t, g(w), [g(c[0]), g(c[1]), g(c[2])], 1.3);
+                    let have = Vec3::new(g(got.x), g(got.y), g(got.z));
+                    worst = worst.max((have - want).abs().max_element());
+                }
+            }
+            worst
+        }
+    }
+
+    #[test]
+    fn the_lanes_agree_with_the_scalar_form_on_every_kernel() {
+        for kind in KernelKind::available_kinds() {
+            let worst = dispatch(kind, Job);
+            assert!(worst < 1e-5, "{kind:?}: {worst}");
+        }
+    }
+}
