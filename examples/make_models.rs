@@ -9,7 +9,10 @@
 //! - `cylinder.obj`, `cone.obj`, `torus.obj`: one primitive each, with its exact normals;
 //! - `checker-cube.glb`: a unit cube with per-face UVs, normals and an embedded PNG chequer;
 //! - `lit-stage.glb`: a sphere on a floor slab with `KHR_lights_punctual` lights and a camera;
-//! - `slide.png`: the image the rectangular spotlight example projects.
+//! - `slide.png`: the image the rectangular spotlight example projects;
+//! - `texture/`: the inputs of `tests/texture-models/make.sh` (which writes the texture-mapping
+//!   GLBs there): `grid-torus.obj` + `.mtl` with the `uv-grid.png` test grid, `grid-8.png`,
+//!   `emissive-corner.png` and the linear normal map `normal-bumps.png`.
 //!
 //! OBJ faces keep the builders' polygons (quads, pole triangles, n-gon caps) and their
 //! separate position / UV / normal index streams. glTF vertices cannot do that, so the GLB
@@ -410,6 +413,155 @@ fn slide() -> Texture {
     t
 }
 
+/// Side of one cell of the UV test grid, in texels: 8 x 8 cells make 256 x 256 texels.
+const GRID_CELL: u32 = 32;
+
+/// Colour of cell (`col`, `row`) of the UV test grids (column 0 at the left, row 0 at the
+/// top): red grows to the right, green downwards, blue alternates like a chequerboard.
+fn grid_colour(col: u32, row: u32) -> [u8; 4] {
+    let blue = if (col + row).is_multiple_of(2) {
+        96
+    } else {
+        176
+    };
+    [(24 + 32 * col) as u8, (24 + 32 * row) as u8, blue, 255]
+}
+
+/// 5 x 7 bitmap glyphs (bit 4 = left column, first row at the top) for the grid labels.
+fn glyph(c: char) -> [u8; 7] {
+    match c {
+        'A' => [14, 17, 17, 31, 17, 17, 17],
+        'B' => [30, 17, 17, 30, 17, 17, 30],
+        'C' => [14, 17, 16, 16, 16, 17, 14],
+        'D' => [30, 17, 17, 17, 17, 17, 30],
+        'E' => [31, 16, 16, 30, 16, 16, 31],
+        'F' => [31, 16, 16, 30, 16, 16, 16],
+        'G' => [14, 17, 16, 23, 17, 17, 15],
+        'H' => [17, 17, 17, 31, 17, 17, 17],
+        '1' => [4, 12, 4, 4, 4, 4, 14],
+        '2' => [14, 17, 1, 2, 4, 8, 31],
+        '3' => [30, 1, 1, 14, 1, 1, 30],
+        '4' => [2, 6, 10, 18, 31, 2, 2],
+        '5' => [31, 16, 30, 1, 1, 17, 14],
+        '6' => [6, 8, 16, 30, 17, 17, 14],
+        '7' => [31, 1, 2, 4, 8, 8, 8],
+        '8' => [14, 17, 17, 14, 17, 17, 14],
+        _ => [31; 7],
+    }
+}
+
+/// Whether texel (`x`, `y`) of a grid cell belongs to its label: the column letter `A`..`H`
+/// and the row digit `1`..`8`, 5 x 7 glyphs drawn at 2 x 2 texels per bit, the letter's
+/// top-left corner at (3, 2), the digit's at (15, 2). Rows 16 to 31 of a cell hold no label.
+fn in_label(col: u32, row: u32, x: u32, y: u32) -> bool {
+    let letters = ['A', 'B', 'C', 'D', 'E', 'F', 'G', 'H'];
+    let digits = ['1', '2', '3', '4', '5', '6', '7', '8'];
+    let on = |c: char, left: u32| {
+        let (gx, gy) = (x.wrapping_sub(left) / 2, y.wrapping_sub(2) / 2);
+        gx < 5 && gy < 7 && glyph(c)[gy as usize] & (16 >> gx) != 0
+    };
+    on(letters[col as usize], 3) || on(digits[row as usize], 15)
+}
+
+/// The UV test grid: 256 x 256 texels, 8 x 8 cells of 32 x 32 in [`grid_colour`], each
+/// labelled (see [`in_label`]) in white on dark cells (red + green < 256), black on others.
+fn uv_grid() -> Result<Texture> {
+    let size = 8 * GRID_CELL;
+    let texels = (0..size * size)
+        .map(|i| {
+            let (x, y) = (i % size, i / size);
+            let (col, row) = (x / GRID_CELL, y / GRID_CELL);
+            let [r, g, b, a] = grid_colour(col, row);
+            if in_label(col, row, x % GRID_CELL, y % GRID_CELL) {
+                let ink = if u32::from(r) + u32::from(g) < 256 {
+                    255
+                } else {
+                    0
+                };
+                [ink, ink, ink, a]
+            } else {
+                [r, g, b, a]
+            }
+        })
+        .collect();
+    Ok(Texture::new("uv-grid", size, size, texels, true)?)
+}
+
+/// The same 8 x 8 cells as [`uv_grid`], one texel each and unlabelled: texel (x, y) is
+/// `grid_colour(x, y)`. Small enough that magnification shows every texel.
+fn grid_8() -> Result<Texture> {
+    let texels = (0..64).map(|i| grid_colour(i % 8, i / 8)).collect();
+    Ok(Texture::new("grid-8", 8, 8, texels, true)?)
+}
+
+/// A 64 x 64 emissive mask: black, with a yellow band over the top 8 rows and a cyan band
+/// down the left 8 columns (yellow where they meet), a `Γ` that shows which way is up.
+fn emissive_corner() -> Result<Texture> {
+    let texels = (0..64 * 64)
+        .map(|i| match (i % 64, i / 64) {
+            (_, 0..8) => [255, 200, 0, 255],
+            (0..8, _) => [0, 160, 255, 255],
+            _ => [0, 0, 0, 255],
+        })
+        .collect();
+    Ok(Texture::new("emissive-corner", 64, 64, texels, true)?)
+}
+
+/// A 128 x 128 tangent-space normal map (linear, glTF's +X right, +Y up): 4 x 4 round
+/// bumps, one centred in each 32 x 32 cell. At a texel centre whose offset from its cell
+/// centre is (dx, dy) texels (dy downwards in the image), d = |(dx, dy)| < 14:
+/// `n = normalize(sin(pi d / 14) dx / d, -sin(pi d / 14) dy / d, 1)` (the slope of the height
+/// `(28 / pi) (1 + cos(pi d / 14)) / 2`, at most 45 degrees); elsewhere `n = (0, 0, 1)`. Each
+/// component is stored as `round((n + 1) / 2 * 255)`, so flat texels are (128, 128, 255).
+fn normal_bumps() -> Result<Texture> {
+    const SIZE: u32 = 128;
+    const RADIUS: f64 = 14.0;
+    let texels = (0..SIZE * SIZE)
+        .map(|i| {
+            let (x, y) = (i % SIZE, i / SIZE);
+            let dx = f64::from(x % 32) + 0.5 - 16.0;
+            let dy = f64::from(y % 32) + 0.5 - 16.0;
+            let d = dx.hypot(dy);
+            let n = if d < RADIUS {
+                let slope = (std::f64::consts::PI * d / RADIUS).sin();
+                glam::DVec3::new(slope * dx / d, -slope * dy / d, 1.0).normalize()
+            } else {
+                glam::DVec3::Z
+            };
+            let byte = |c: f64| ((c + 1.0) / 2.0 * 255.0).round() as u8;
+            [byte(n.x), byte(n.y), byte(n.z), 255]
+        })
+        .collect();
+    Ok(Texture::new("normal-bumps", SIZE, SIZE, texels, false)?)
+}
+
+/// The inputs of the texture-mapping models (`tests/texture-models/make.sh`), in `dir`.
+fn texture_inputs(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let mut torus = Mesh::torus(1.0, 0.4, 48, 24)?;
+    torus.name = "grid-torus".into();
+    // The grid goes round the axis three times (u from -1 to 2), so that its cells are nearly
+    // square and the UVs do not start at 0, and once round the tube, upside down (v = 1 at
+    // the outer equator, 0.5 at the inner one) so that it reads upright from outside.
+    for uv in &mut torus.uvs.as_mut().context("the torus has no UVs")?.values {
+        *uv = glam::Vec2::new(3.0 * uv.x - 1.0, 1.0 - uv.y);
+    }
+    let what = "A torus (major radius 1, minor radius 0.4, 48 slices x 24 rings) with the UV \
+                grid three times round the axis (u from -1 to 2)";
+    let mut obj = Obj::new(what, Some("grid-torus.mtl"));
+    obj.object("grid-torus", &torus, Vec3::ZERO, Some("uv-grid"));
+    let mtl = format!(
+        "# Material of grid-torus.obj\n# Generated by realist: {COMMAND}\n\nnewmtl uv-grid\n\
+         Ka 0 0 0\nKd 1 1 1\nKs 0 0 0\nNs 10\nillum 1\nmap_Kd uv-grid.png\n"
+    );
+    write(dir, "grid-torus.mtl", mtl.as_bytes())?;
+    write(dir, "grid-torus.obj", obj.text.as_bytes())?;
+    write(dir, "uv-grid.png", &png(&uv_grid()?)?)?;
+    write(dir, "grid-8.png", &png(&grid_8()?)?)?;
+    write(dir, "emissive-corner.png", &png(&emissive_corner()?)?)?;
+    write(dir, "normal-bumps.png", &png(&normal_bumps()?)?)
+}
+
 /// Writes `bytes` to `dir/name`, refusing anything that is not small.
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<()> {
     ensure!(
@@ -477,5 +629,6 @@ fn main() -> Result<()> {
     let checker = Texture::checker(256, 8, [235, 230, 215, 255], [40, 90, 165, 255]);
     write(&dir, "checker-cube.glb", &textured_glb(&cube, &checker)?)?;
     write(&dir, "lit-stage.glb", &lit_stage_glb()?)?;
-    write(&dir, "slide.png", &png(&slide())?)
+    write(&dir, "slide.png", &png(&slide())?)?;
+    texture_inputs(&dir.join("texture"))
 }
