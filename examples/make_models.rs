@@ -87,7 +87,7 @@ impl Obj {
         for p in mesh.positions.iter().map(|&p| p + offset) {
             let _ = writeln!(t, "v {} {} {}", num(p.x), num(p.y), num(p.z));
         }
-        let uvs = mesh.uvs.as_ref().map_or(&[][..], |c| &c.values[..]);
+        let uvs = mesh.uvs.first().map_or(&[][..], |c| &c.values[..]);
         for uv in uvs {
             let _ = writeln!(t, "vt {} {}", num(uv.x), num(1.0 - uv.y));
         }
@@ -103,7 +103,7 @@ impl Obj {
             for c in facet.corners() {
                 let v = mesh.corners[c];
                 let vn = bn + 1 + slot(&mesh.normals, c, v);
-                let _ = match &mesh.uvs {
+                let _ = match mesh.uvs.first() {
                     Some(uv) => write!(
                         t,
                         " {}/{}/{vn}",
@@ -215,7 +215,7 @@ fn glb(gltf: &Value, bin: &[u8]) -> Result<Vec<u8>> {
 
 /// `texture` as PNG bytes.
 fn png(texture: &Texture) -> Result<Vec<u8>> {
-    let rgba: Vec<u8> = texture.texels.iter().flatten().copied().collect();
+    let rgba: Vec<u8> = texture.to_srgb8().iter().flatten().copied().collect();
     let mut out = Vec::new();
     image::codecs::png::PngEncoder::new(&mut out).write_image(
         &rgba,
@@ -229,7 +229,7 @@ fn png(texture: &Texture) -> Result<Vec<u8>> {
 /// `mesh` with `texture` as a one-node GLB. Every facet corner becomes a vertex (glTF
 /// attributes share one index), and every facet a counter-clockwise triangle fan.
 fn textured_glb(mesh: &Mesh, texture: &Texture) -> Result<Vec<u8>> {
-    ensure!(mesh.uvs.is_some(), "the mesh has no UVs");
+    ensure!(!mesh.uvs.is_empty(), "the mesh has no UVs");
     let Flat {
         positions,
         normals,
@@ -301,7 +301,7 @@ fn flatten(mesh: &Mesh) -> Result<Flat> {
             let v = mesh.corners[c];
             f.positions.push(mesh.positions[v as usize].to_array());
             f.normals.push(mesh.normals.at(c, v).to_array());
-            if let Some(uvs) = &mesh.uvs {
+            if let Some(uvs) = mesh.uvs.first() {
                 f.texcoords.push(uvs.at(c, v).to_array());
             }
         }
@@ -407,10 +407,7 @@ fn slide() -> Texture {
             }
         })
         .collect();
-    let mut t = Texture::checker(size, 1, [0; 4], [0; 4]);
-    t.name = "slide".into();
-    t.texels = texels;
-    t
+    Texture::new("slide", size, size, texels, true).expect("64 x 64 texels")
 }
 
 /// Side of one cell of the UV test grid, in texels: 8 x 8 cells make 256 x 256 texels.
@@ -543,7 +540,12 @@ fn texture_inputs(dir: &Path) -> Result<()> {
     // The grid goes round the axis three times (u from -1 to 2), so that its cells are nearly
     // square and the UVs do not start at 0, and once round the tube, upside down (v = 1 at
     // the outer equator, 0.5 at the inner one) so that it reads upright from outside.
-    for uv in &mut torus.uvs.as_mut().context("the torus has no UVs")?.values {
+    for uv in &mut torus
+        .uvs
+        .first_mut()
+        .context("the torus has no UVs")?
+        .values
+    {
         *uv = glam::Vec2::new(3.0 * uv.x - 1.0, 1.0 - uv.y);
     }
     let what = "A torus (major radius 1, minor radius 0.4, 48 slices x 24 rings) with the UV \

@@ -61,7 +61,10 @@ fn render(scene: &Scene, w: u32, h: u32, camera: Camera) -> Framebuffer {
 
 fn with_filter(scene: &Scene, filter: Filter) -> Scene {
     let mut scene = scene.clone();
-    let slot = scene.materials[0].base_color_texture.as_mut().expect("textured");
+    let slot = scene.materials[0]
+        .base_color_texture
+        .as_mut()
+        .expect("textured");
     slot.sampler.filter = filter;
     scene
 }

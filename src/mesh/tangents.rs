@@ -204,9 +204,17 @@ mod tests {
         m.generate_tangents(0).expect("UV set 0");
         check_frame(&m);
         let t = m.tangents.as_ref().unwrap();
-        assert_eq!(t.values.len(), 1, "one frame for the flat grid: {:?}", t.values);
+        assert_eq!(
+            t.values.len(),
+            1,
+            "one frame for the flat grid: {:?}",
+            t.values
+        );
         let t = t.values[0];
-        assert!((t.truncate() - Vec3::X).length() < 1e-5 && t.w == 1.0, "{t}");
+        assert!(
+            (t.truncate() - Vec3::X).length() < 1e-5 && t.w == 1.0,
+            "{t}"
+        );
         let b = Vec3::Y.cross(t.truncate()) * t.w;
         assert!((b + Vec3::Z).length() < 1e-5, "{b}");
         // The per-facet gradient agrees.
@@ -227,7 +235,10 @@ mod tests {
         m.generate_tangents(0).unwrap();
         let t = m.tangents.as_ref().unwrap().values[0];
         // u now runs along -x: T = -x, and B must still point along -z: w = -1.
-        assert!((t.truncate() + Vec3::X).length() < 1e-5 && t.w == -1.0, "{t}");
+        assert!(
+            (t.truncate() + Vec3::X).length() < 1e-5 && t.w == -1.0,
+            "{t}"
+        );
     }
 
     #[test]

@@ -129,7 +129,10 @@ impl RenderVertices {
     /// Key `slot` of render vertex `r` (`UNSET` when every channel is per vertex).
     #[inline]
     fn key(&self, r: usize, slot: usize) -> u32 {
-        self.keys.get(r * self.width + slot).copied().unwrap_or(UNSET)
+        self.keys
+            .get(r * self.width + slot)
+            .copied()
+            .unwrap_or(UNSET)
     }
 }
 
@@ -227,10 +230,14 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
         .colors
         .as_ref()
         .map(|ch| flatten(ch, &rv, keyed.colors_slot(), Vec4::ONE));
-    let tangents = mesh
-        .tangents
-        .as_ref()
-        .map(|ch| flatten(ch, &rv, keyed.tangents_slot(), Vec4::new(1.0, 0.0, 0.0, 1.0)));
+    let tangents = mesh.tangents.as_ref().map(|ch| {
+        flatten(
+            ch,
+            &rv,
+            keyed.tangents_slot(),
+            Vec4::new(1.0, 0.0, 0.0, 1.0),
+        )
+    });
     let (triangles, triangle_facets) = triangles(mesh, &rv.of_corner);
     let edges = edges(mesh, &rv.of_corner);
     let (center, radius) = mesh.bounding_sphere().unwrap_or((Vec3::ZERO, -1.0));

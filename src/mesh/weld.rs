@@ -24,7 +24,10 @@ impl MeshData {
         let old_count = self.positions.len();
         let malformed = self.corners.iter().any(|&v| v as usize >= old_count)
             || !per_vertex_fits(self.normals.as_ref(), old_count)
-            || !self.uvs.iter().all(|ch| per_vertex_fits(Some(ch), old_count))
+            || !self
+                .uvs
+                .iter()
+                .all(|ch| per_vertex_fits(Some(ch), old_count))
             || !per_vertex_fits(self.tangents.as_ref(), old_count)
             || !per_vertex_fits(self.colors.as_ref(), old_count);
         if malformed || old_count > u32::MAX as usize {

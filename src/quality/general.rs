@@ -436,12 +436,9 @@ fn instances<'a>(
         let base_map = usable(m.base_color_texture.as_ref()).or(fallback);
         let normal = usable(m.normal_texture.as_ref()).filter(|_| tri.tangents.is_some());
         let occlusion = usable(m.occlusion_texture.as_ref());
-        let emissive_map =
-            usable(m.emissive_texture.as_ref()).filter(|_| emissive != DVec3::ZERO);
-        let mapped = base_map.is_some()
-            || normal.is_some()
-            || occlusion.is_some()
-            || emissive_map.is_some();
+        let emissive_map = usable(m.emissive_texture.as_ref()).filter(|_| emissive != DVec3::ZERO);
+        let mapped =
+            base_map.is_some() || normal.is_some() || occlusion.is_some() || emissive_map.is_some();
         let textured = match opts.shading {
             Some(mode) => mode == Shading::Textured,
             None => inst.style == Style::Inherit && mapped,
@@ -976,7 +973,7 @@ mod tests {
     use crate::quality::sphere::SphereSetup;
     use crate::quality::{compare, metrics::DEFAULT_DE_THRESHOLD, Metrics};
     use crate::render::{self, PreparedScene};
-    use crate::scene::{Camera, Instance, Light, Material, TextureRef};
+    use crate::scene::{Camera, Instance, Light, Material};
     use crate::texture::Sampler;
 
     /// The rasterizer at `ss` x `ss` supersampling, box-filtered: its samples sit exactly
@@ -1015,8 +1012,12 @@ mod tests {
                 corners: vec![0, 1, 2, 3],
                 facet_sizes: Some(vec![4]),
                 normals: None,
-                uvs: uv.map(|u| Channel::per_vertex(u.to_vec())),
+                uvs: uv
+                    .map(|u| Channel::per_vertex(u.to_vec()))
+                    .into_iter()
+                    .collect(),
                 colors: color.map(|c| Channel::per_vertex(c.to_vec())),
+                tangents: None,
                 material: Some(mat),
             },
             NormalPolicy::default(),
@@ -1140,21 +1141,22 @@ mod tests {
     }
 
     /// A checkered sphere (material texture, repeat), a mirrored and stretched copy of it,
-    /// and a vertex-coloured quad whose UVs run over -1..2 (mirrored repeat, from
-    /// `opts.texture`); default camera and light rig.
+    /// and a vertex-coloured quad whose UVs run over -1..2 (a grid with mirrored repeat);
+    /// default camera and light rig.
     fn textured() -> (Scene, RenderOptions) {
         let mut scene = Scene::default();
-        let mut checker = Texture::checker(64, 8, [230, 40, 30, 255], [40, 90, 220, 255]);
-        checker.sampler = Sampler {
-            wrap_u: Wrap::Repeat,
-            wrap_v: Wrap::Repeat,
-            filter: Filter::Bilinear,
-        };
+        let checker = Texture::checker(64, 8, [230, 40, 30, 255], [40, 90, 220, 255]);
         scene.textures.push(Arc::new(checker));
+        let grid = Texture::checker(16, 4, [250, 250, 250, 255], [20, 120, 60, 255]);
+        scene.textures.push(Arc::new(grid));
         scene.materials.push(Material {
-            base_color_texture: Some(TextureRef {
-                texture: 0,
-                tex_coord: 0,
+            base_color_texture: Some(TextureSlot {
+                sampler: Sampler {
+                    wrap_u: Wrap::Repeat,
+                    wrap_v: Wrap::Repeat,
+                    filter: Filter::Bilinear,
+                },
+                ..TextureSlot::new(0)
             }),
             specular: Vec3::splat(0.5),
             shininess: 60.0,
@@ -1162,6 +1164,14 @@ mod tests {
         });
         scene.materials.push(Material {
             base_color: Vec4::new(1.0, 1.0, 1.0, 1.0),
+            base_color_texture: Some(TextureSlot {
+                sampler: Sampler {
+                    wrap_u: Wrap::MirroredRepeat,
+                    wrap_v: Wrap::MirroredRepeat,
+                    filter: Filter::Bilinear,
+                },
+                ..TextureSlot::new(1)
+            }),
             double_sided: true,
             ..Material::default()
         });
@@ -1204,16 +1214,7 @@ mod tests {
             ),
             Mat4::IDENTITY,
         );
-        let mut grid = Texture::checker(16, 4, [250, 250, 250, 255], [20, 120, 60, 255]);
-        grid.sampler = Sampler {
-            wrap_u: Wrap::MirroredRepeat,
-            wrap_v: Wrap::MirroredRepeat,
-            filter: Filter::Bilinear,
-        };
-        let opts = RenderOptions {
-            texture: Some(Arc::new(grid)),
-            ..black(320, 180, None)
-        };
+        let opts = black(320, 180, None);
         (scene, opts)
     }
 
@@ -1248,19 +1249,18 @@ mod tests {
     fn gloss_map_modulates_the_highlight_as_in_the_reference() {
         // A matte blue sphere whose highlight is masked by a chequered gloss map (003 §7).
         let mut scene = Scene::default();
-        let mut gloss = Texture::checker(64, 8, [255, 255, 255, 255], [0, 0, 0, 255]);
-        gloss.sampler = Sampler {
-            wrap_u: Wrap::Repeat,
-            wrap_v: Wrap::Repeat,
-            filter: Filter::Bilinear,
-        };
+        let gloss = Texture::checker(64, 8, [255, 255, 255, 255], [0, 0, 0, 255]);
         scene.textures.push(Arc::new(gloss));
         scene.materials.push(Material {
             base_color: Vec4::new(0.1, 0.15, 0.5, 1.0),
             specular: Vec3::ONE,
-            specular_texture: Some(TextureRef {
-                texture: 0,
-                tex_coord: 0,
+            specular_texture: Some(TextureSlot {
+                sampler: Sampler {
+                    wrap_u: Wrap::Repeat,
+                    wrap_v: Wrap::Repeat,
+                    filter: Filter::Bilinear,
+                },
+                ..TextureSlot::new(0)
             }),
             shininess: 20.0,
             ..Material::default()

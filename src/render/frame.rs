@@ -183,11 +183,14 @@ pub(crate) fn resolve(
         .filter(|_| tri.uv_set(0).is_some())
         .map(|t| (TextureSlot::new(usize::MAX), t));
     let base_map = usable(scene, tri, m.base_color_texture.as_ref()).or(fallback);
-    let normal_map = usable(scene, tri, m.normal_texture.as_ref()).filter(|_| tri.tangents.is_some());
+    let normal_map =
+        usable(scene, tri, m.normal_texture.as_ref()).filter(|_| tri.tangents.is_some());
     let occlusion = usable(scene, tri, m.occlusion_texture.as_ref());
     let emissive = finite_colour(m.emissive);
-    let emissive_map = usable(scene, tri, m.emissive_texture.as_ref()).filter(|_| emissive != Vec3::ZERO);
-    let mapped = base_map.is_some() || normal_map.is_some() || occlusion.is_some() || emissive_map.is_some();
+    let emissive_map =
+        usable(scene, tri, m.emissive_texture.as_ref()).filter(|_| emissive != Vec3::ZERO);
+    let mapped =
+        base_map.is_some() || normal_map.is_some() || occlusion.is_some() || emissive_map.is_some();
     let mode = match (settings.shading, inst.style) {
         (Some(m), _) => m,
         (None, Style::Wireframe) => Shading::Wireframe,
@@ -335,7 +338,8 @@ pub(super) fn set_up(
             if shadows && tri.radius >= 0.0 {
                 let r = resolve(scene, settings, inst);
                 // Drawn only into shadow maps: no parameters, no varyings.
-                fd.casters.push(FrameInst::new(k, inst.mesh, world, view, vp, &r));
+                fd.casters
+                    .push(FrameInst::new(k, inst.mesh, world, view, vp, &r));
             }
             stats.objects_culled += 1;
             stats.culled_frustum += tri.triangles.len() as u64;

@@ -17,7 +17,9 @@ use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::{Light, LightKind};
-use crate::shade::{arriving, maps, reflect, view_vector, LightSet, Shading, SlotParams, SurfaceAt};
+use crate::shade::{
+    arriving, maps, reflect, view_vector, LightSet, Shading, SlotParams, SurfaceAt,
+};
 
 /// One light's contribution at the probed point (linear RGB).
 #[derive(Clone, Debug, PartialEq)]
@@ -118,9 +120,9 @@ pub fn probe(
     let d = &r.params;
     let sample = |t: &SlotParams| {
         let ch = d.layout.channel_at(t.uv_at);
-        let at = tri
-            .uv_set(ch.set)
-            .map_or(Vec2::ZERO, |u| u[a] * bary.x + u[b] * bary.y + u[c] * bary.z);
+        let at = tri.uv_set(ch.set).map_or(Vec2::ZERO, |u| {
+            u[a] * bary.x + u[b] * bary.y + u[c] * bary.z
+        });
         t.texture.sample_with(ch.transform.apply(at), t.sampler)
     };
     if let (Some(map), Some(ts)) = (&d.normal_map, &tri.tangents) {

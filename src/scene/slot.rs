@@ -248,7 +248,10 @@ mod tests {
             let want = Vec2::new(c * u1 + s * v1 + 0.25, -s * u1 + c * v1 - 0.5);
             assert!(near(t.apply(uv), want), "{uv}");
         }
-        assert_eq!(UvTransform::IDENTITY.apply(Vec2::new(3.5, -1.0)), Vec2::new(3.5, -1.0));
+        assert_eq!(
+            UvTransform::IDENTITY.apply(Vec2::new(3.5, -1.0)),
+            Vec2::new(3.5, -1.0)
+        );
     }
 
     #[test]
@@ -262,7 +265,10 @@ mod tests {
         assert!(changed);
         assert_eq!(t.offset, Vec2::new(0.0, 2.0));
         assert_eq!((t.rotation, t.scale), (0.0, Vec2::new(3.0, 1.0)));
-        assert_eq!(UvTransform::IDENTITY.sanitized(), (UvTransform::IDENTITY, false));
+        assert_eq!(
+            UvTransform::IDENTITY.sanitized(),
+            (UvTransform::IDENTITY, false)
+        );
     }
 
     #[test]

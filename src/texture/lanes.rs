@@ -234,7 +234,11 @@ struct Bytes<'a> {
 impl Source for Bytes<'_> {
     #[inline(always)]
     fn texel(self, i: i32) -> [f32; 4] {
-        let t = self.texels.get(i as u32 as usize).copied().unwrap_or_default();
+        let t = self
+            .texels
+            .get(i as u32 as usize)
+            .copied()
+            .unwrap_or_default();
         [
             self.rgb[t[0] as usize],
             self.rgb[t[1] as usize],

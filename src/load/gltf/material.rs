@@ -188,7 +188,10 @@ impl Builder<'_> {
         });
         let infos = [
             (Slot::BaseColor, info(&pbr.base_color_texture)),
-            (Slot::MetallicRoughness, info(&pbr.metallic_roughness_texture)),
+            (
+                Slot::MetallicRoughness,
+                info(&pbr.metallic_roughness_texture),
+            ),
             (Slot::Normal, normal),
             (Slot::Occlusion, occlusion),
             (Slot::Emissive, info(&m.emissive_texture)),
@@ -274,10 +277,10 @@ impl Builder<'_> {
             1.0
         };
         let Some(tex) = self.doc.json.textures.get(info.texture) else {
-            self.scene.report.warnings.push(format!(
-                "{what}: texture {} does not exist",
-                info.texture
-            ));
+            self.scene
+                .report
+                .warnings
+                .push(format!("{what}: texture {} does not exist", info.texture));
             return Ok(None);
         };
         let (source, sampler) = (tex.source.value(), tex.sampler.map(|s| s.value()));

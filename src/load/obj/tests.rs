@@ -114,7 +114,7 @@ fn materials_textures_and_uv_flip() {
     );
     // OBJ has no sampler: repeat, mipmapped.
     assert_eq!(
-        scene.textures[0].sampler,
+        scene.materials[0].base_color_texture.unwrap().sampler,
         crate::texture::Sampler {
             wrap_u: crate::texture::Wrap::Repeat,
             wrap_v: crate::texture::Wrap::Repeat,
@@ -138,7 +138,7 @@ fn materials_textures_and_uv_flip() {
     assert_eq!(scene.materials[1].base_color.truncate(), Vec3::ONE);
     assert!(scene.materials[2].base_color_texture.is_none());
     let mesh_a = &scene.meshes[0];
-    assert_eq!(mesh_a.uvs.as_ref().unwrap().values, [Vec2::new(0.25, 0.25)]);
+    assert_eq!(mesh_a.uvs.first().unwrap().values, [Vec2::new(0.25, 0.25)]);
     assert_eq!(mesh_a.normals.values[0], Vec3::Z);
     let w = scene.report.warnings.join("\n");
     assert!(w.contains("material 'c': texture not loaded"), "{w}");

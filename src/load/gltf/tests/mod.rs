@@ -235,18 +235,19 @@ fn materials_textures_and_samplers() {
         "images": [{"uri": png_uri}, {}]
     }));
     let scene = load_text(&TempDir::new("gltf-mat"), &text).unwrap();
-    assert_eq!(scene.textures.len(), 2, "one image, two samplers");
-    assert!(std::sync::Arc::ptr_eq(
-        &scene.textures[0],
-        &scene.textures[0]
-    ));
-    let s = scene.textures[1].sampler;
+    assert_eq!(
+        scene.textures.len(),
+        1,
+        "one image decoded once; its two samplers belong to the slots"
+    );
+    let s = scene.materials[1].base_color_texture.unwrap().sampler;
     assert_eq!(
         (s.filter, s.wrap_u, s.wrap_v),
         (Filter::Nearest, Wrap::ClampToEdge, Wrap::MirroredRepeat)
     );
     // No sampler: the default, mipmapped.
-    assert_eq!(scene.textures[0].sampler.filter, Filter::Trilinear);
+    let s = scene.materials[0].base_color_texture.unwrap().sampler;
+    assert_eq!(s.filter, Filter::Trilinear);
     let m = &scene.materials[0];
     assert_eq!(m.base_color, Vec4::new(1.0, 0.5, 0.25, 1.0));
     assert_eq!(
@@ -257,7 +258,7 @@ fn materials_textures_and_samplers() {
     assert_eq!(m.base_color_texture.map(|t| t.texture), Some(0));
     assert_eq!(scene.materials[1].alpha_mode, AlphaMode::Blend);
     assert!(scene.materials[2].base_color_texture.is_none());
-    let uvs = scene.meshes[0].uvs.as_ref().unwrap();
+    let uvs = scene.meshes[0].uvs.first().unwrap();
     assert_eq!(uvs.values[1], glam::Vec2::new(1.0, 0.0));
     assert_eq!(scene.meshes[3].material, None);
     let w = scene.report.warnings.join("\n");
@@ -330,10 +331,13 @@ fn sampler_filters_map_to_mipmapping() {
         "images": [{"uri": png_uri}]
     }));
     let scene = load_text(&TempDir::new("gltf-filters"), &text).unwrap();
-    assert_eq!(scene.textures.len(), n);
+    assert_eq!(scene.textures.len(), 1, "one image");
     for (i, (mag, min, want)) in cases.iter().enumerate() {
-        let t = scene.materials[i].base_color_texture.unwrap().texture;
-        let got = scene.textures[t].sampler.filter;
+        let got = scene.materials[i]
+            .base_color_texture
+            .unwrap()
+            .sampler
+            .filter;
         assert_eq!(got, *want, "magFilter {mag:?} minFilter {min:?}");
     }
 }
