@@ -18,6 +18,14 @@
 
 mod lanes;
 mod mip;
+pub mod noise;
+mod procedural;
+
+pub use procedural::{
+    Baked, Domain, ParseProceduralError, Procedural, ProceduralTexture, SamplePoint, MAX_AMOUNT,
+    MAX_BAKE, MAX_CHECKER_SQUARES, MAX_FREQUENCY, MAX_GRID_CELLS, MIN_FREQUENCY, MIN_GRADIENT_STEP,
+    PROCEDURAL_NAMES,
+};
 
 use std::sync::OnceLock;
 
