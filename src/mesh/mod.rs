@@ -51,6 +51,7 @@ mod polygon;
 mod primitives;
 mod topology;
 mod triangulate;
+mod uvgen;
 mod weld;
 
 #[cfg(test)]
@@ -62,6 +63,7 @@ pub use polygon::MAX_EAR_CLIP;
 pub use primitives::{MAX_SEGMENTS, MIN_SEGMENTS};
 pub use topology::TopologyReport;
 pub use triangulate::TriMesh;
+pub use uvgen::{generate_uvs, generate_uvs_in, uv_frame, MAX_WRAP_EXTENT};
 
 /// Marks an absent facet in [`Edge::facets`].
 pub const NO_FACET: u32 = u32::MAX;
