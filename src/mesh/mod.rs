@@ -52,6 +52,7 @@ mod primitives;
 mod tangents;
 mod topology;
 mod triangulate;
+mod uvgen;
 mod weld;
 
 #[cfg(test)]
@@ -64,6 +65,7 @@ pub use primitives::{MAX_SEGMENTS, MIN_SEGMENTS};
 pub use tangents::TangentError;
 pub use topology::TopologyReport;
 pub use triangulate::TriMesh;
+pub use uvgen::{generate_uvs, generate_uvs_in, uv_frame, MAX_WRAP_EXTENT};
 
 /// Marks an absent facet in [`Edge::facets`].
 pub const NO_FACET: u32 = u32::MAX;

@@ -20,6 +20,18 @@
 
 mod lanes;
 mod mip;
+pub mod noise;
+mod procedural;
+mod uvgen;
+
+pub use procedural::{
+    Baked, Domain, ParseProceduralError, Procedural, ProceduralTexture, SamplePoint, MAX_AMOUNT,
+    MAX_BAKE, MAX_CHECKER_SQUARES, MAX_FREQUENCY, MAX_GRID_CELLS, MIN_FREQUENCY, MIN_GRADIENT_STEP,
+    PROCEDURAL_NAMES,
+};
+pub use uvgen::{
+    Axis, MappedUv, ParseUvGeneratorError, UvFrame, UvGenerator, MIN_EXTENT_RATIO, SINGULAR_EPS,
+};
 
 use std::sync::OnceLock;
 
