@@ -76,9 +76,9 @@ fn no_triangle_smears_across_the_seam() {
         for g in all_generators().into_iter().filter(UvGenerator::wraps_u) {
             let frame = uv_frame(&mesh);
             let mut textured = mesh.clone();
-            textured.uvs = Some(generate_uvs(&mesh, &g));
+            textured.uvs = vec![generate_uvs(&mesh, &g)];
             let tri = textured.triangulate();
-            let uvs = tri.uvs.as_ref().unwrap();
+            let uvs = &tri.uvs[0];
             for (t, corners) in tri.triangles.iter().enumerate() {
                 let us = corners.map(|v| uvs[v as usize].x);
                 let extent = us.iter().copied().fold(f32::MIN, f32::max)
@@ -91,7 +91,7 @@ fn no_triangle_smears_across_the_seam() {
                 for c in f.corners() {
                     let p = mesh.positions[mesh.corners[c] as usize];
                     let want = g.cap(&frame, p, f.normal);
-                    let got = textured.uvs.as_ref().unwrap().at(c, mesh.corners[c]);
+                    let got = textured.uvs[0].at(c, mesh.corners[c]);
                     assert!(
                         (got - want).length() < EPS,
                         "{} {g}: triangle {t}",
@@ -175,7 +175,7 @@ fn spherical_and_cylindrical_maps_reproduce_the_primitives_uvs() {
         ),
     ];
     for (mesh, g) in cases {
-        let (own, generated) = (mesh.uvs.clone().unwrap(), generate_uvs(&mesh, &g));
+        let (own, generated) = (mesh.uvs[0].clone(), generate_uvs(&mesh, &g));
         let want = corner_uvs(&mesh, &own);
         for (c, got) in corner_uvs(&mesh, &generated).into_iter().enumerate() {
             assert!(
@@ -188,7 +188,7 @@ fn spherical_and_cylindrical_maps_reproduce_the_primitives_uvs() {
     }
     // The torus: longitude only (its v runs around the tube).
     let torus = Mesh::torus(1.0, 0.25, 32, 12).unwrap();
-    let want = corner_uvs(&torus, torus.uvs.as_ref().unwrap());
+    let want = corner_uvs(&torus, &torus.uvs[0]);
     let got = corner_uvs(
         &torus,
         &generate_uvs(&torus, &UvGenerator::Cylindrical { axis: Axis::Y }),
@@ -259,7 +259,7 @@ fn planar_map_of_a_unit_quad() {
 fn box_map_gives_every_cube_face_the_whole_square() {
     let cube = Mesh::cube(3.0).unwrap();
     let ch = generate_uvs(&cube, &UvGenerator::Box);
-    let own = corner_uvs(&cube, cube.uvs.as_ref().unwrap());
+    let own = corner_uvs(&cube, &cube.uvs[0]);
     let got = corner_uvs(&cube, &ch);
     assert_eq!(got, own, "the cube's own upright face UVs");
     for f in &cube.facets {
