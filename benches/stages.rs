@@ -158,6 +158,7 @@ fn benches(c: &mut Criterion) {
         occlusion: None,
         emissive_map: None,
         layout: LitLayout::default(),
+        mapped: false,
         blinn: true,
         alpha: AlphaMode::Opaque,
         double_sided: false,

@@ -52,8 +52,10 @@ pub use pipeline::{
 };
 pub use setup::{GUARD_BAND_PX, SUBPIXEL_BITS};
 
-/// Most varyings (floats per vertex) a draw can carry.
-pub const MAX_VARYINGS: usize = 16;
+/// Most varyings (floats per vertex) a draw can carry: 24 are the most the lit shader's
+/// layout needs (position, normal, five UV channels, colour, tangent), with room to spare.
+/// A draw with more is skipped and counted in [`Stats::draws_too_wide`].
+pub const MAX_VARYINGS: usize = 32;
 
 /// What the fill loop tells the shader about the triangle being filled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

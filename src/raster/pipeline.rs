@@ -105,7 +105,7 @@ pub struct Draw<'a> {
     /// Vertex `i`'s varyings are `varyings[i * stride..(i + 1) * stride]`.
     pub varyings: &'a [f32],
     /// Floats per vertex, at most [`MAX_VARYINGS`] (a draw with more is skipped, its
-    /// triangles counted as degenerate).
+    /// triangles counted in [`Stats::too_wide`]).
     pub stride: usize,
     /// Vertex indices; triangles with an index out of range are dropped as degenerate.
     pub triangles: &'a [[u32; 3]],
@@ -138,6 +138,9 @@ pub struct Stats {
     /// (object, light) pairs skipped because the light cannot reach the object (out of
     /// range, or its cone misses the bounding sphere); counted by the caller.
     pub lights_skipped: u64,
+    /// Triangles of draws with more than [`MAX_VARYINGS`] floats per vertex, not drawn
+    /// (no shader of this crate asks for that many; a custom one might).
+    pub too_wide: u64,
     /// Shadow maps rendered (counted by the caller).
     pub shadow_maps: u64,
 }
@@ -158,6 +161,7 @@ impl Stats {
         self.depth_rejected += o.depth_rejected;
         self.lines_drawn += o.lines_drawn;
         self.lights_skipped += o.lights_skipped;
+        self.too_wide += o.too_wide;
         self.shadow_maps += o.shadow_maps;
     }
 }
@@ -569,7 +573,8 @@ fn setup_range<L: DrawList + ?Sized>(
         let first = at - starts[di];
         let take = (d.triangles.len().saturating_sub(first)).min(hi - at);
         if d.stride > MAX_VARYINGS {
-            chunk.stats.culled_degenerate += take as u64;
+            // Reported, not silently dropped: `Stats::too_wide` (stats, `--stats`).
+            chunk.stats.too_wide += take as u64;
         } else {
             let verts = pre.get(pre_starts[di]..pre_starts[di] + d.clip.len());
             for t in &d.triangles[first..first + take] {

@@ -246,6 +246,9 @@ pub(crate) fn resolve(
     let occlusion = params_of(occlusion, textured);
     let emissive_map = params_of(emissive_map, textured);
     layout.tangent = normal_map.is_some();
+    let mapped = [&base_map, &gloss, &normal_map, &occlusion, &emissive_map]
+        .iter()
+        .any(|m| m.is_some());
     let params = DrawParams {
         base: if m.base_color.is_finite() {
             m.base_color
@@ -260,6 +263,7 @@ pub(crate) fn resolve(
         occlusion,
         emissive_map,
         layout,
+        mapped,
         blinn: matches!(mode, Shading::Blinn | Shading::Textured),
         alpha: if debug {
             AlphaMode::Opaque

@@ -570,6 +570,8 @@ pub struct SurfaceLanes {
     pub shininess: F8,
     /// Ambient occlusion per lane (multiplies the ambient term only), if the surface has it.
     pub occlusion: Option<F8>,
+    /// Light the surface emits, added to what it reflects, if it emits any.
+    pub emitted: Option<V3>,
 }
 
 /// [`illuminate`] on eight lanes: the same equation and the same decisions (no specular
@@ -595,6 +597,9 @@ pub fn illuminate_lanes<K: Kernel>(
     let mut c = s.diffuse * (set.ambient * s.ambient);
     if let Some(ao) = s.occlusion {
         c = c.scale(ao);
+    }
+    if let Some(e) = s.emitted {
+        c = c + e;
     }
     for &i in active {
         let Some(src) = set.sources.get(i as usize) else {

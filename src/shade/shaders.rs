@@ -43,6 +43,9 @@ pub struct DrawParams {
     pub emissive_map: Option<SlotParams>,
     /// Where this draw's varyings are (lit modes).
     pub layout: LitLayout,
+    /// True if any of the maps above is set (see [`DrawParams::maps`]); kept in step by
+    /// the renderer, read by the shader so a draw without maps skips them in one test.
+    pub mapped: bool,
     /// Blinn's `N·H` highlight (else Phong's `R·V`).
     pub blinn: bool,
     pub alpha: AlphaMode,
@@ -244,6 +247,65 @@ fn sample<K: Kernel>(t: &SlotParams, f: &Fragments<'_>, lod_scale: f32) -> [F8; 
     }
 }
 
+/// What a draw's maps change at a pixel, beyond the base colour.
+struct Mapped {
+    specular: V3,
+    /// Unit, not yet flipped for back faces.
+    normal: V3,
+    occlusion: Option<F8>,
+    emitted: V3,
+}
+
+/// Samples every slot of draw `d` on the lanes of `f` at one call site (the sampler is
+/// inlined once, not once per slot) and applies them: the base-colour texture to `base`,
+/// the gloss map, normal map, occlusion and emissive map to `m`.
+#[inline(always)]
+fn apply_maps<K: Kernel>(
+    d: &DrawParams,
+    f: &Fragments<'_>,
+    lod_scale: f32,
+    mut base: Colors,
+    mut m: Mapped,
+) -> (Colors, Mapped) {
+    let slots = [
+        &d.base_map,
+        &d.gloss,
+        &d.normal_map,
+        &d.occlusion,
+        &d.emissive_map,
+    ];
+    let mut texel = [[F8::ONE; 4]; 5];
+    for (t, out) in slots.iter().zip(&mut texel) {
+        if let Some(t) = t {
+            *out = sample::<K>(t, f, lod_scale);
+        }
+    }
+    let [base_t, gloss_t, normal_t, occlusion_t, emissive_t] = texel;
+    if d.base_map.is_some() {
+        base.r *= base_t[0];
+        base.g *= base_t[1];
+        base.b *= base_t[2];
+        base.a *= base_t[3];
+    }
+    if d.gloss.is_some() {
+        let ks = d.surface.specular;
+        m.specular = V3::new(gloss_t[0] * ks.x, gloss_t[1] * ks.y, gloss_t[2] * ks.z);
+    }
+    if let (Some(map), Some(k)) = (&d.normal_map, d.layout.tangent_at()) {
+        let v = f.var;
+        let t = V3::new(v[k], v[k + 1], v[k + 2]);
+        m.normal = perturb_lanes::<K>(m.normal, t, v[k + 3], normal_t, map.scale);
+    }
+    // glTF: ao = 1 + strength (r - 1), on the ambient (indirect) light only.
+    if let Some(o) = &d.occlusion {
+        m.occlusion = Some(F8::ONE + (occlusion_t[0] - F8::ONE) * o.scale);
+    }
+    if d.emissive_map.is_some() {
+        m.emitted = V3::new(emissive_t[0], emissive_t[1], emissive_t[2]) * d.emissive;
+    }
+    (base, m)
+}
+
 /// Phong (R·V) or Blinn-Phong (N·H, per draw) per-pixel lighting from the varyings of each
 /// draw's [`LitLayout`]. The slots a draw has modulate it: the base-colour texture the
 /// diffuse colour and alpha, the gloss map the specular colour, the normal map the normal,
@@ -282,22 +344,6 @@ impl FragmentShader for LitShader<'_> {
         if v.len() < d.layout.stride() {
             return 0;
         }
-        // Every slot the draw has, sampled at one call site (the sampler is inlined once,
-        // not once per slot): base colour, gloss, normal, occlusion, emissive.
-        let slots = [
-            &d.base_map,
-            &d.gloss,
-            &d.normal_map,
-            &d.occlusion,
-            &d.emissive_map,
-        ];
-        let mut texel = [[F8::ONE; 4]; 5];
-        for (t, out) in slots.iter().zip(&mut texel) {
-            if let Some(t) = t {
-                *out = sample::<K>(t, f, self.lod_scale);
-            }
-        }
-        let [base_t, gloss_t, normal_t, occlusion_t, emissive_t] = texel;
         let mut base = Colors::splat(d.base);
         if let Some(k) = d.layout.color_at() {
             base.r *= v[k];
@@ -305,30 +351,28 @@ impl FragmentShader for LitShader<'_> {
             base.b *= v[k + 2];
             base.a *= v[k + 3];
         }
-        if d.base_map.is_some() {
-            base.r *= base_t[0];
-            base.g *= base_t[1];
-            base.b *= base_t[2];
-            base.a *= base_t[3];
-        }
         let ks = d.surface.specular;
-        let specular = match &d.gloss {
-            Some(_) => V3::new(gloss_t[0] * ks.x, gloss_t[1] * ks.y, gloss_t[2] * ks.z),
-            None => V3::splat(ks),
+        let m = Mapped {
+            specular: V3::splat(ks),
+            normal: V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>(),
+            occlusion: None,
+            emitted: V3::splat(d.emissive),
         };
-        let mut n = V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>();
-        if let (Some(map), Some(k)) = (&d.normal_map, d.layout.tangent_at()) {
-            let t = V3::new(v[k], v[k + 1], v[k + 2]);
-            n = perturb_lanes::<K>(n, t, v[k + 3], normal_t, map.scale);
-        }
+        // One flag for a draw without maps: it pays for no slot.
+        let (base, m) = if d.mapped {
+            apply_maps::<K>(d, f, self.lod_scale, base, m)
+        } else {
+            (base, m)
+        };
+        let Mapped {
+            specular,
+            normal: mut n,
+            occlusion,
+            emitted,
+        } = m;
         if !f.tri.front {
             n = -n;
         }
-        // glTF: ao = 1 + strength (r - 1), on the ambient (indirect) light only.
-        let occlusion = d
-            .occlusion
-            .as_ref()
-            .map(|o| F8::ONE + (occlusion_t[0] - F8::ONE) * o.scale);
         let s = SurfaceLanes {
             diffuse: V3::new(base.r, base.g, base.b),
             specular,
@@ -336,17 +380,12 @@ impl FragmentShader for LitShader<'_> {
             ambient: d.surface.ambient,
             shininess: F8::splat(d.surface.shininess),
             occlusion,
+            emitted: (d.emissive != Vec3::ZERO).then_some(emitted),
         };
         let p = V3::new(v[0], v[1], v[2]);
         let active = d.active(self.active);
         let mut c = illuminate_lanes::<K>(self.lights, active, &s, p, n, self.eye, d.blinn);
-        if d.emissive != Vec3::ZERO {
-            let e = match &d.emissive_map {
-                Some(_) => V3::new(emissive_t[0], emissive_t[1], emissive_t[2]) * d.emissive,
-                None => V3::splat(d.emissive),
-            };
-            c = c + e;
-        }
+
         if let Some(fog) = &self.fog {
             c = fog.apply_lanes::<K>(c, p, self.eye, self.forward);
         }

@@ -356,13 +356,6 @@ fn filter<B: Source, M: Source>(
     out
 }
 
-/// The footprints a sample filters: `a` for every live lane, blended towards `b` by `t` on
-/// the lanes of `lanes` (trilinear between two levels).
-struct Footprints {
-    a: Footprint,
-    blend: Option<(Footprint, F8, u32)>,
-}
-
 impl Texture {
     /// Filters `fp` from this texture's base level and `chain` (the levels below; `None`
     /// when every lane is on the base). The one place the storage is matched: each storage
@@ -372,8 +365,13 @@ impl Texture {
     /// kernel and every shader (inlined, the filters of each slot, storage, kernel and fill
     /// variant multiplied the crate's build time by three).
     #[inline(never)]
-    fn filter_any(&self, chain: Option<&mip::Chain>, fp: &Footprints, mask: u32) -> [F8; 4] {
-        let blend = fp.blend.as_ref().map(|(b, t, lanes)| (b, *t, *lanes));
+    fn filter_any(
+        &self,
+        chain: Option<&mip::Chain>,
+        a: &Footprint,
+        blend: Option<(&Footprint, F8, u32)>,
+        mask: u32,
+    ) -> [F8; 4] {
         let (packed, floats): (&[u64], &[[f32; 4]]) = match chain.map(|c| &c.texels) {
             Some(ChainTexels::Unorm16(m)) => (m, &[]),
             Some(ChainTexels::Float(m)) => (&[], m),
@@ -391,10 +389,10 @@ impl Texture {
                     rgb,
                     alpha: linear_table(),
                 };
-                filter(base, Packed(packed), &fp.a, blend, mask)
+                filter(base, Packed(packed), a, blend, mask)
             }
-            Texels::Linear16(texels) => filter(Shorts(texels), Packed(packed), &fp.a, blend, mask),
-            Texels::Float(texels) => filter(Floats(texels), Floats(floats), &fp.a, blend, mask),
+            Texels::Linear16(texels) => filter(Shorts(texels), Packed(packed), a, blend, mask),
+            Texels::Float(texels) => filter(Floats(texels), Floats(floats), a, blend, mask),
         }
     }
 
@@ -472,11 +470,7 @@ impl Texture {
             _ => None,
         };
         let Some([dudx, dvdx, dudy, dvdy]) = trilinear else {
-            let fp = Footprints {
-                a: self.base_footprint(u, v, s),
-                blend: None,
-            };
-            return self.filter_any(None, &fp, mask);
+            return self.filter_any(None, &self.base_footprint(u, v, s), None, mask);
         };
         let chain = self.mips();
         let lod = self.lod_lanes::<K>(dudx, dvdx, dudy, dvdy);
@@ -486,12 +480,12 @@ impl Texture {
         let t = lod - d.to_f32();
         let a = footprint(chain.size[0], &chain.offset, d, u, v, s);
         let lanes = mask & t.gt(F8::ZERO).bits();
-        let blend = (lanes != 0).then(|| {
-            let next = d.add(I8::splat(1)).clamp0(I8::splat(top as i32));
-            let b = footprint(chain.size[0], &chain.offset, next, u, v, s);
-            (b, t, lanes)
-        });
-        self.filter_any(Some(chain), &Footprints { a, blend }, mask)
+        if lanes == 0 {
+            return self.filter_any(Some(chain), &a, None, mask);
+        }
+        let next = d.add(I8::splat(1)).clamp0(I8::splat(top as i32));
+        let b = footprint(chain.size[0], &chain.offset, next, u, v, s);
+        self.filter_any(Some(chain), &a, Some((&b, t, lanes)), mask)
     }
 
     /// [`Texture::lod`] on eight lanes (with [`F8::log2`] for the logarithm).

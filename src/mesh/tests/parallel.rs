@@ -22,6 +22,7 @@ fn fields_mesh(m: &Mesh) -> Vec<(&'static str, String)> {
         ("normal_source", format!("{:?}", m.normal_source)),
         ("uvs", format!("{:?}", m.uvs)),
         ("colors", format!("{:?}", m.colors)),
+        ("tangents", format!("{:?}", m.tangents)),
     ]
 }
 
@@ -31,6 +32,7 @@ fn fields_tri(t: &TriMesh) -> Vec<(&'static str, String)> {
         ("tri.normals", format!("{:?}", t.normals)),
         ("tri.uvs", format!("{:?}", t.uvs)),
         ("tri.colors", format!("{:?}", t.colors)),
+        ("tri.tangents", format!("{:?}", t.tangents)),
         ("tri.triangles", format!("{:?}", t.triangles)),
         ("tri.triangle_facets", format!("{:?}", t.triangle_facets)),
         ("tri.facet_normals", format!("{:?}", t.facet_normals)),
@@ -111,6 +113,7 @@ fn shared_models_build_bit_identical_to_the_serial_build() {
             let mut data = polygons(mesh.positions.clone(), mesh.corners.clone(), sizes);
             data.uvs.clone_from(&mesh.uvs);
             data.colors.clone_from(&mesh.colors);
+            data.tangents.clone_from(&mesh.tangents);
             let what = format!("{} '{}'", file.display(), mesh.name);
             assert_same(&data, &what);
             data.normals = Some(mesh.normals.clone());

@@ -275,6 +275,7 @@ fn lanes_agree_with_scalar() {
                 ambient: s.ambient,
                 shininess: F8::splat(s.shininess),
                 occlusion: None,
+                emitted: None,
             };
             let all: Vec<u32> = (0..lights.sources.len() as u32).collect();
             for blinn in [false, true] {

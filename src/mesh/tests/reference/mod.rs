@@ -1,7 +1,7 @@
 //! The serial mesh building that the parallel one replaced, kept verbatim (only paths
-//! changed, and the fields of the attribute sets that came after it: the reference handles
-//! meshes with at most one UV set and no tangents) so tests can require the parallel
-//! results to be bit-identical to it.
+//! changed, and the attribute sets that came after it: every UV set and the tangents join the
+//! render-vertex key and are flattened as the other channels are) so tests can require the
+//! parallel results to be bit-identical to it.
 
 use crate::mesh::{Mesh, MeshData, NormalPolicy, NormalSource, TriMesh};
 

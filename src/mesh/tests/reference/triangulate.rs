@@ -16,37 +16,45 @@ fn key<T>(ch: Option<&Channel<T>>, corner: usize) -> u32 {
 }
 
 /// Render vertices: for every corner its render vertex, and for every render vertex its mesh
-/// vertex and its channel keys (`[UNSET; 3]` for a vertex no corner uses).
+/// vertex and its channel keys (normals, each UV set, colours, tangents; all `UNSET` for a
+/// vertex no corner uses). The UV sets and tangents were added to the key after the parallel
+/// build, the same way in both.
 struct RenderVertices {
     of_corner: Vec<u32>,
     vertex: Vec<u32>,
-    keys: Vec<[u32; 3]>,
+    keys: Vec<Vec<u32>>,
+}
+
+fn corner_keys(mesh: &Mesh, c: usize) -> Vec<u32> {
+    let mut k = vec![key(Some(&mesh.normals), c)];
+    k.extend(mesh.uvs.iter().map(|uv| key(Some(uv), c)));
+    k.push(key(mesh.colors.as_ref(), c));
+    k.push(key(mesh.tangents.as_ref(), c));
+    k
 }
 
 fn render_vertices(mesh: &Mesh) -> RenderVertices {
     let vertex_count = mesh.positions.len();
     let all_per_vertex = mesh.normals.indices.is_none()
-        && mesh.uvs.first().is_none_or(|c| c.indices.is_none())
-        && mesh.colors.as_ref().is_none_or(|c| c.indices.is_none());
+        && mesh.uvs.iter().all(|c| c.indices.is_none())
+        && mesh.colors.as_ref().is_none_or(|c| c.indices.is_none())
+        && mesh.tangents.as_ref().is_none_or(|c| c.indices.is_none());
+    let width = 3 + mesh.uvs.len();
     let identity: Vec<u32> = (0..vertex_count as u32).collect();
     if all_per_vertex {
         return RenderVertices {
             of_corner: mesh.corners.clone(),
             vertex: identity,
-            keys: vec![[UNSET; 3]; vertex_count],
+            keys: vec![vec![UNSET; width]; vertex_count],
         };
     }
     let mut vertex = identity;
-    let mut keys = vec![[UNSET; 3]; vertex_count];
+    let mut keys = vec![vec![UNSET; width]; vertex_count];
     let mut used = vec![false; vertex_count];
     let mut chain = vec![UNSET; vertex_count];
     let mut of_corner = Vec::with_capacity(mesh.corners.len());
     for (c, &v) in mesh.corners.iter().enumerate() {
-        let k = [
-            key(Some(&mesh.normals), c),
-            key(mesh.uvs.first(), c),
-            key(mesh.colors.as_ref(), c),
-        ];
+        let k = corner_keys(mesh, c);
         if !used[v as usize] {
             (used[v as usize], keys[v as usize]) = (true, k);
             of_corner.push(v);
@@ -57,7 +65,7 @@ fn render_vertices(mesh: &Mesh) -> RenderVertices {
             if chain[r as usize] == UNSET {
                 // Validation keeps vertices + corners below u32::MAX.
                 chain[r as usize] = keys.len() as u32;
-                keys.push(k);
+                keys.push(k.clone());
                 vertex.push(v);
                 chain.push(UNSET);
             }
@@ -97,14 +105,19 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         .collect();
     let uvs = mesh
         .uvs
-        .first()
-        .map(|ch| flatten(ch, &rv, 1, Vec2::ZERO))
-        .into_iter()
+        .iter()
+        .enumerate()
+        .map(|(n, ch)| flatten(ch, &rv, 1 + n, Vec2::ZERO))
         .collect();
+    let colors_slot = 1 + mesh.uvs.len();
     let colors = mesh
         .colors
         .as_ref()
-        .map(|ch| flatten(ch, &rv, 2, Vec4::ONE));
+        .map(|ch| flatten(ch, &rv, colors_slot, Vec4::ONE));
+    let tangents = mesh
+        .tangents
+        .as_ref()
+        .map(|ch| flatten(ch, &rv, colors_slot + 1, Vec4::new(1.0, 0.0, 0.0, 1.0)));
 
     let triangle_count = mesh.facets.iter().map(|f| f.len as usize - 2).sum();
     let mut triangles = Vec::with_capacity(triangle_count);
@@ -153,7 +166,7 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         normals,
         uvs,
         colors,
-        tangents: None,
+        tangents,
         triangles,
         triangle_facets,
         facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),
