@@ -13,7 +13,7 @@ use realist::raster::{
     Stats, Target, F8, V3,
 };
 use realist::scene::{AlphaMode, Light};
-use realist::shade::{DrawParams, LightSet, LitLayout, LitShader, Surface};
+use realist::shade::{DrawParams, LightSet, LitLayout, LitShader, Surface, TexView};
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -74,7 +74,15 @@ fn lit_varyings(positions: &[Vec3], normals: &[Vec3]) -> Vec<f32> {
     let layout = LitLayout::default();
     let mut out = vec![0.0; positions.len() * layout.stride()];
     for ((o, p), n) in out.chunks_mut(layout.stride()).zip(positions).zip(normals) {
-        layout.write(o, *p, *n, |_| glam::Vec2::ZERO, Vec4::ONE, Vec4::X);
+        layout.write(
+            o,
+            *p,
+            *n,
+            |_| glam::Vec2::ZERO,
+            || Vec3::ZERO,
+            Vec4::ONE,
+            Vec4::X,
+        );
     }
     out
 }
@@ -157,6 +165,9 @@ fn benches(c: &mut Criterion) {
         normal_map: None,
         occlusion: None,
         emissive_map: None,
+        bump: None,
+        view: TexView::Lit,
+        measure: None,
         layout: LitLayout::default(),
         mapped: false,
         blinn: true,

@@ -121,12 +121,19 @@ fn spot_shows_its_texture() {
     let scene = load(&root.join("obj/spot.obj"), &LoadOptions::default()).expect("spot");
     let texture = Arc::new(load_texture(&root.join("obj/spot_texture.png")).expect("texture"));
     let prepared = PreparedScene::new(scene);
-    let render = |texture| {
+    let render = |texture: Option<Arc<realist::texture::Texture>>| {
+        let mut slots = realist::scene::SlotOverrides::default();
+        slots.set(
+            realist::scene::Slot::BaseColor,
+            texture.map(|t| {
+                realist::scene::SlotOverride::source(realist::scene::TextureSource::Image(t), 1.0)
+            }),
+        );
         let opts = RenderOptions {
             width: 160,
             height: 120,
             shading: Some(Shading::Textured),
-            texture,
+            slots,
             ..RenderOptions::default()
         };
         realist::render::render(&prepared, &opts).image()

@@ -199,7 +199,7 @@ fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
     }
     setup.base = Box::new(RenderOptions {
         double_sided: settings.double_sided,
-        texture: settings.texture.clone(),
+        slots: settings.slots.clone(),
         lights,
         fog: settings.fog,
         tone: settings.tone,

@@ -45,6 +45,22 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             })
         })
         .collect();
+    let slots: Vec<_> = scene
+        .materials
+        .iter()
+        .enumerate()
+        .flat_map(|(i, m)| {
+            realist::scene::Slot::ALL
+                .into_iter()
+                .filter_map(move |slot| {
+                    let t = m.slot(slot)?;
+                    Some(serde_json::json!({
+                        "material": i, "slot": slot.key(), "texture": t.texture,
+                        "uv_set": t.uv_set, "description": t.describe(),
+                    }))
+                })
+        })
+        .collect();
     let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
         topologies.iter().map(f).sum()
     };
@@ -54,6 +70,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             "instances": scene.instances.len(),
             "materials": scene.materials.len(),
             "textures": scene.textures.len(),
+            "texture_slots": slots,
             "cameras": scene.cameras.len(),
             "camera_list": cameras,
             "lights": lights,
@@ -122,6 +139,18 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             l.direction,
             l.attenuation.name()
         );
+    }
+    for (i, m) in scene.materials.iter().enumerate() {
+        for slot in realist::scene::Slot::ALL {
+            if let Some(t) = m.slot(slot) {
+                say!(
+                    "  material {i} '{}' {} map: {}",
+                    m.name,
+                    slot.name(),
+                    t.describe()
+                );
+            }
+        }
     }
     for w in &scene.report.warnings {
         say!("  warning: {w}");

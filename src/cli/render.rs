@@ -10,7 +10,7 @@ use clap::Args;
 
 use realist::load::{self, LoadOptions};
 use realist::render::{default_camera, PreparedScene, Renderer, Settings, View};
-use realist::scene::{self, Camera, Scene};
+use realist::scene::{self, Camera, Scene, Slot, SlotOverride, TextureSource};
 use realist::scenefile::{self, Format, SceneFile, MAX_SAMPLES};
 use realist::shade::Shading;
 
@@ -51,9 +51,23 @@ pub(crate) struct RenderArgs {
     /// The textbook's zoom factor, zoom = 1/tan(fov/2) (1 = 90 degrees, 2.414 = 45 degrees).
     #[arg(long)]
     pub zoom: Option<f32>,
-    /// Texture applied to meshes that have UVs but no material texture (e.g. spot.obj).
-    #[arg(long)]
-    pub texture: Option<PathBuf>,
+    /// Base-colour texture of every material, replacing the file's: an image file, or a
+    /// procedural texture (the textbook's §9.5): checker[:N], grid[:N] (a UV test grid),
+    /// wood, marble or noise[:OCTAVES]. Images and 2D patterns need UVs (see --uv); wood,
+    /// marble and noise are solid textures read at the object-space position.
+    #[arg(long, value_name = "IMG|checker:N|grid|wood|marble|noise")]
+    pub texture: Option<String>,
+    /// Bump mapping: a height image (its R channel, 1 = a full step over one texel is a 45°
+    /// slope), noise:SCALE (solid fBm noise displaced by SCALE bounding radii), or another
+    /// procedural texture as --texture names them.
+    #[arg(long, value_name = "IMG|noise:SCALE")]
+    pub bump: Option<String>,
+    /// The bump height, replacing the default of --bump's kind.
+    #[arg(long, value_name = "SCALE", requires = "bump")]
+    pub bump_scale: Option<f32>,
+    /// Whether the materials' normal maps are read (default on).
+    #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
+    pub normal_map: Option<bool>,
     /// Print one JSON object with counters and per-stage milliseconds.
     #[arg(long)]
     pub stats: bool,
@@ -71,6 +85,15 @@ pub(crate) struct RenderArgs {
     pub lighting: LightingArgs,
     #[command(flatten)]
     pub normals: NormalArgs,
+}
+
+/// `on` or `off` (also true/false, yes/no, 1/0).
+fn parse_on_off(s: &str) -> Result<bool, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "on" | "true" | "yes" | "1" => Ok(true),
+        "off" | "false" | "no" | "0" => Ok(false),
+        _ => Err(format!("expected on or off, not '{s}'")),
+    }
 }
 
 /// `--camera`.
@@ -192,12 +215,34 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
         }
         s.samples = n;
     }
-    if let Some(p) = &args.texture {
-        s.texture = Some(Arc::new(load::load_texture(p)?));
+    let image = |p: &std::path::Path, srgb: bool| load::load_image(p, srgb).map(Arc::new);
+    if let Some(t) = &args.texture {
+        let source = TextureSource::from_spec(t, Slot::BaseColor, image)
+            .map_err(|e| anyhow::anyhow!("--texture {t}: {e}"))?;
+        s.slots
+            .set(Slot::BaseColor, Some(SlotOverride::source(source, 1.0)));
     }
-    if args.texture.is_some() && s.shading.is_some_and(|m| m != Shading::Textured) {
+    if let Some(b) = &args.bump {
+        let (source, scale) = TextureSource::bump_from_spec(b, image)
+            .map_err(|e| anyhow::anyhow!("--bump {b}: {e}"))?;
+        let scale = match args.bump_scale {
+            Some(x) if x.is_finite() => x,
+            Some(x) => bail!("--bump-scale {x}: expected a finite number"),
+            None => scale,
+        };
+        s.slots
+            .set(Slot::Bump, Some(SlotOverride::source(source, scale)));
+    }
+    match args.normal_map {
+        Some(false) => s.slots.set(Slot::Normal, Some(SlotOverride::Off)),
+        Some(true) => s.slots.set(Slot::Normal, None),
+        None => {}
+    }
+    let maps = args.texture.is_some() || args.bump.is_some();
+    if maps && s.shading.is_some_and(|m| m != Shading::Textured) {
         eprintln!(
-            "warning: --texture is only drawn in textured mode (the default for models with UVs)"
+            "warning: --texture and --bump are drawn in textured mode (the default when a \
+             model has a texture)"
         );
     }
     args.lighting.apply(&mut s, &input.scene.lights)?;

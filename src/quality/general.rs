@@ -73,9 +73,13 @@ use rayon::prelude::*;
 use super::LinearImage;
 use crate::mesh::TriMesh;
 use crate::render::{default_camera, frame_lights, RenderOptions};
-use crate::scene::{AlphaMode, Scene, Style, TextureSlot};
+use crate::scene::{
+    AlphaMode, Material, Scene, Slot, SlotOverride, Style, TextureSource, UvTransform,
+};
 use crate::shade::{illuminate, maps, Fog, LightSet, Shading, Surface};
-use crate::texture::{Filter, Sampler, Texels, Texture, Wrap};
+use crate::texture::{
+    Domain, Filter, ProceduralTexture, SamplePoint, Sampler, Texels, Texture, Wrap,
+};
 
 /// Largest number of samples per pixel side.
 pub const MAX_SAMPLES: u32 = 64;
@@ -368,29 +372,208 @@ struct Inst<'a> {
     normal_map: Option<RefSlot<'a>>,
     occlusion: Option<RefSlot<'a>>,
     emissive_map: Option<RefSlot<'a>>,
+    /// Bump map (textured mode).
+    bump: Option<RefSlot<'a>>,
     /// The handedness of the world matrix (-1 mirrors the tangent frame).
     handed: f64,
 }
 
-/// A texture slot as the reference reads it: the image, its sampler, the UV set and the
-/// transform of its UVs, and its scalar (normal scale, occlusion strength).
+/// Where a slot's values come from, as the reference reads them.
+#[derive(Clone, Copy)]
+enum RefSource<'a> {
+    Image(&'a Texture),
+    Procedural(&'a ProceduralTexture),
+}
+
+/// A texture slot as the reference reads it: the image or procedural texture, its sampler,
+/// the UV set and the transform of its UVs, and its scalar (normal scale, occlusion
+/// strength, bump height).
 #[derive(Clone, Copy)]
 struct RefSlot<'a> {
-    texture: &'a Texture,
-    slot: TextureSlot,
+    source: RefSource<'a>,
+    uv_set: u32,
+    transform: UvTransform,
+    sampler: Sampler,
+    scale: f64,
 }
 
 impl RefSlot<'_> {
-    /// The slot's value at barycentrics `b` of triangle `v` of `tri`: the UV of its set
-    /// interpolated, transformed (in f64), sampled.
+    /// The UV of the slot's set at corner `k` of triangle `v`, transformed (in f64).
+    fn corner_uv(&self, tri: &TriMesh, v: [usize; 3], k: usize) -> DVec2 {
+        let uv = tri
+            .uv_set(self.uv_set)
+            .and_then(|uv| uv.get(v[k]))
+            .map_or(DVec2::ZERO, |u| u.as_dvec2());
+        self.transform.matrix().as_dmat3().transform_point2(uv)
+    }
+
+    /// The slot's UV at barycentrics `b` of triangle `v`.
+    fn uv(&self, tri: &TriMesh, v: [usize; 3], b: DVec3) -> DVec2 {
+        let at = |k| self.corner_uv(tri, v, k);
+        at(0) * b.x + at(1) * b.y + at(2) * b.z
+    }
+
+    /// The slot's value at barycentrics `b` of triangle `v` of `tri`: an image sampled at
+    /// the UV of its set, interpolated and transformed (in f64); a procedural texture
+    /// evaluated at a point (no footprint: the supersampling filters it).
     fn at(&self, tri: &TriMesh, v: [usize; 3], b: DVec3) -> DVec4 {
-        let Some(uv) = tri.uv_set(self.slot.uv_set) else {
-            return DVec4::ONE;
+        match self.source {
+            RefSource::Image(t) => {
+                if tri.uv_set(self.uv_set).is_none() {
+                    return DVec4::ONE;
+                }
+                sample_texture(t, self.uv(tri, v, b), self.sampler)
+            }
+            RefSource::Procedural(p) => p.color(&self.point(tri, v, b)).as_dvec4(),
+        }
+    }
+
+    /// A procedural texture's sample point at barycentrics `b` (no footprint).
+    fn point(&self, tri: &TriMesh, v: [usize; 3], b: DVec3) -> SamplePoint {
+        match self.source {
+            RefSource::Procedural(p) if p.domain() == Domain::Object => {
+                let l = solid_corners(tri, v);
+                SamplePoint::position((l[0] * b.x + l[1] * b.y + l[2] * b.z).as_vec3(), 0.0)
+            }
+            _ => SamplePoint::uv(self.uv(tri, v, b).as_vec2()),
+        }
+    }
+
+    /// The surface gradient of the bump displacement at barycentrics `b` of triangle `v`
+    /// (world corners `p`, unit normal `n`): the renderer's formulas (`shade::texlab`) with
+    /// the triangle's edges in place of the screen-space derivatives, in f64.
+    fn bump_gradient(
+        &self,
+        tri: &TriMesh,
+        v: [usize; 3],
+        p: &[DVec3; 3],
+        b: DVec3,
+        n: DVec3,
+    ) -> Option<DVec3> {
+        let (s1, s2) = (p[1] - p[0], p[2] - p[0]);
+        let uv_slope = |slope: DVec2| {
+            let uv = [0, 1, 2].map(|k| self.corner_uv(tri, v, k));
+            let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+            maps::uv_height_gradient::<f64>(
+                n,
+                s1,
+                s2,
+                (d1.x, d2.x),
+                (d1.y, d2.y),
+                (slope.x, slope.y),
+                self.scale,
+            )
         };
-        let at = |k: usize| uv.get(v[k]).map_or(DVec2::ZERO, |u| u.as_dvec2());
-        let uv = at(0) * b.x + at(1) * b.y + at(2) * b.z;
-        let m = self.slot.transform.matrix().as_dmat3();
-        sample_texture(self.texture, m.transform_point2(uv), self.slot.sampler)
+        match self.source {
+            RefSource::Image(t) => {
+                tri.uv_set(self.uv_set)?;
+                uv_slope(image_height_slope(t, self.uv(tri, v, b), self.sampler))
+            }
+            RefSource::Procedural(pt) => {
+                let g = pt.height_gradient(&self.point(tri, v, b)).as_dvec3();
+                if pt.domain() == Domain::Uv {
+                    return uv_slope(g.truncate());
+                }
+                let l = solid_corners(tri, v);
+                let (l1, l2) = (l[1] - l[0], l[2] - l[0]);
+                let sg = maps::surface_gradient::<f64>(n, s1, s2, g.dot(l1), g.dot(l2))?;
+                let (ws, ls) = if l1.length_squared() >= l2.length_squared() {
+                    (s1.length(), l1.length())
+                } else {
+                    (s2.length(), l2.length())
+                };
+                (ls > 0.0).then(|| sg * (self.scale * ws / ls))
+            }
+        }
+    }
+}
+
+/// The corners of triangle `v` in the solid textures' frame (the mesh's bounding sphere is
+/// the unit sphere), as the renderer's vertex stage computes them.
+fn solid_corners(tri: &TriMesh, v: [usize; 3]) -> [DVec3; 3] {
+    let inv = if tri.radius > 0.0 && tri.radius.is_finite() {
+        1.0 / f64::from(tri.radius)
+    } else {
+        1.0
+    };
+    v.map(|k| {
+        tri.positions.get(k).map_or(DVec3::ZERO, |p| {
+            (p.as_dvec3() - tri.center.as_dvec3()) * inv
+        })
+    })
+}
+
+/// The slope per texel of a height image in f64: central differences one texel apart of its R
+/// channel, read bilinearly (nearest for a nearest sampler) on the base level, as
+/// `shade::texlab::image_height_slope` does.
+fn image_height_slope(t: &Texture, uv: DVec2, s: Sampler) -> DVec2 {
+    let filter = if s.filter == Filter::Nearest {
+        Filter::Nearest
+    } else {
+        Filter::Bilinear
+    };
+    let s = Sampler { filter, ..s };
+    let step = DVec2::new(
+        1.0 / f64::from(t.width.max(1)),
+        1.0 / f64::from(t.height.max(1)),
+    );
+    let h = |uv: DVec2| sample_texture(t, uv, s).x;
+    let g = DVec2::new(
+        (h(uv + DVec2::X * step.x) - h(uv - DVec2::X * step.x)) * 0.5,
+        (h(uv + DVec2::Y * step.y) - h(uv - DVec2::Y * step.y)) * 0.5,
+    );
+    if g.is_finite() {
+        g
+    } else {
+        DVec2::ZERO
+    }
+}
+
+/// What draws of material `m` on mesh `tri` read in `slot`, as `render::frame::found`
+/// decides it: the options' override (an image or a 2D pattern needs the UV set), else the
+/// material's texture if it exists and the mesh has its UV set.
+fn ref_slot<'a>(
+    scene: &'a Scene,
+    opts: &'a RenderOptions,
+    tri: &TriMesh,
+    m: &Material,
+    slot: Slot,
+) -> Option<RefSlot<'a>> {
+    let own = m.slot(slot);
+    match opts.slots.get(slot) {
+        Some(SlotOverride::Off) => None,
+        Some(SlotOverride::Source {
+            source,
+            uv_set,
+            transform,
+            sampler,
+            scale,
+        }) => {
+            if source.needs_uv() {
+                tri.uv_set(*uv_set)?;
+            }
+            Some(RefSlot {
+                source: match source {
+                    TextureSource::Image(t) => RefSource::Image(t),
+                    TextureSource::Procedural(p) => RefSource::Procedural(p),
+                },
+                uv_set: *uv_set,
+                transform: *transform,
+                sampler: sampler.or(own.map(|t| t.sampler)).unwrap_or_default(),
+                scale: f64::from(*scale),
+            })
+        }
+        None => {
+            let t = own?;
+            tri.uv_set(t.uv_set)?;
+            Some(RefSlot {
+                source: RefSource::Image(scene.textures.get(t.texture)?),
+                uv_set: t.uv_set,
+                transform: t.transform,
+                sampler: t.sampler,
+                scale: f64::from(t.scale),
+            })
+        }
     }
 }
 
@@ -413,32 +596,23 @@ fn instances<'a>(
         // texture exists and the mesh has its UV set; normal maps need tangents; the
         // textured mode (chosen by default when any map is usable) reads every map, the
         // other per-pixel modes only the gloss map.
-        let usable = |slot: Option<&TextureSlot>| {
-            let slot = *slot?;
-            tri.uv_set(slot.uv_set)?;
-            let texture = scene.textures.get(slot.texture)?;
-            Some(RefSlot { texture, slot })
-        };
-        let fallback = opts
-            .texture
-            .as_ref()
-            .filter(|_| tri.uv_set(0).is_some())
-            .map(|texture| RefSlot {
-                texture,
-                slot: TextureSlot::new(usize::MAX),
-            });
+        let usable = |slot: Slot| ref_slot(scene, opts, tri, &m, slot);
         let emissive = m.emissive.as_dvec3();
         let emissive = if emissive.is_finite() {
             emissive.max(DVec3::ZERO)
         } else {
             DVec3::ZERO
         };
-        let base_map = usable(m.base_color_texture.as_ref()).or(fallback);
-        let normal = usable(m.normal_texture.as_ref()).filter(|_| tri.tangents.is_some());
-        let occlusion = usable(m.occlusion_texture.as_ref());
-        let emissive_map = usable(m.emissive_texture.as_ref()).filter(|_| emissive != DVec3::ZERO);
-        let mapped =
-            base_map.is_some() || normal.is_some() || occlusion.is_some() || emissive_map.is_some();
+        let base_map = usable(Slot::BaseColor);
+        let normal = usable(Slot::Normal).filter(|_| tri.tangents.is_some());
+        let occlusion = usable(Slot::Occlusion);
+        let emissive_map = usable(Slot::Emissive).filter(|_| emissive != DVec3::ZERO);
+        let bump = usable(Slot::Bump);
+        let mapped = base_map.is_some()
+            || normal.is_some()
+            || occlusion.is_some()
+            || emissive_map.is_some()
+            || bump.is_some();
         let textured = match opts.shading {
             Some(mode) => mode == Shading::Textured,
             None => inst.style == Style::Inherit && mapped,
@@ -472,10 +646,11 @@ fn instances<'a>(
             },
             emissive,
             texture: textured_only(base_map),
-            gloss: usable(m.specular_texture.as_ref()),
+            gloss: usable(Slot::Specular),
             normal_map: textured_only(normal),
             occlusion: textured_only(occlusion),
             emissive_map: textured_only(emissive_map),
+            bump: textured_only(bump),
             handed: if det < 0.0 { -1.0 } else { 1.0 },
         });
     }
@@ -735,7 +910,12 @@ impl Tri {
             let t4 = at(0) * b.x + at(1) * b.y + at(2) * b.z;
             let t = (DMat3::from_mat4(inst.world) * t4.truncate()).normalize_or_zero();
             let c = map.at(inst.tri, v, b).truncate().to_array();
-            n = maps::perturb::<f64>(n, t, t4.w * inst.handed, c, f64::from(map.slot.scale));
+            n = maps::perturb::<f64>(n, t, t4.w * inst.handed, c, map.scale);
+        }
+        if let Some(bm) = &inst.bump {
+            if let Some(g) = bm.bump_gradient(inst.tri, v, &self.p, b, n) {
+                n = maps::bump::<f64>(n, g);
+            }
         }
         if !self.g.front {
             n = -n;
@@ -746,7 +926,7 @@ impl Tri {
         }
         if let Some(o) = &inst.occlusion {
             // On the ambient term only: the equation's ambient is g_amb K_a K_d.
-            surf.ka *= maps::occlusion(o.at(inst.tri, v, b).x, f64::from(o.slot.scale));
+            surf.ka *= maps::occlusion(o.at(inst.tri, v, b).x, o.scale);
         }
         let mut c = illuminate::<f64>(&view.lights, None, &surf, p, n, view.eye, view.blinn);
         c += match &inst.emissive_map {
@@ -967,6 +1147,8 @@ mod tests {
     use std::sync::Arc;
 
     use glam::{Mat4, Vec2, Vec3, Vec4};
+
+    use crate::scene::TextureSlot;
 
     use super::*;
     use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};

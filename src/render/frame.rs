@@ -10,9 +10,11 @@ use super::prepare::{PreparedInstance, PreparedScene};
 use super::settings::{Lights, Output, Settings};
 use crate::mesh::TriMesh;
 use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
-use crate::scene::{AlphaMode, Light, Material, Style, TextureSlot};
-use crate::shade::{DrawParams, Fog, LightSet, LitLayout, Shading, SlotParams, Surface};
-use crate::texture::{Filter, Texture};
+use crate::scene::{
+    AlphaMode, Light, Material, Slot, SlotOverride, Style, TextureSource, UvTransform,
+};
+use crate::shade::{DrawParams, Fog, LightSet, LitLayout, Shading, SlotParams, Surface, TexView};
+use crate::texture::{Filter, Procedural, ProceduralTexture, Sampler};
 
 /// One visible instance of this frame.
 #[derive(Clone, Copy, Debug)]
@@ -150,17 +152,59 @@ pub(crate) struct Resolved {
     pub state: DrawState,
 }
 
-/// A slot's texture if the mesh can sample it: the texture exists and the mesh has the UV
-/// set the slot reads.
-fn usable<'a>(
-    scene: &'a PreparedScene,
+/// A slot as one draw reads it: the material's own texture or the settings' override.
+struct Found {
+    source: TextureSource,
+    uv_set: u32,
+    transform: UvTransform,
+    sampler: Sampler,
+    scale: f32,
+}
+
+/// What draws of material `m` on mesh `tri` read in `slot`: the settings' override if there
+/// is one (an image or a 2D pattern needs the mesh to have its UV set; a solid texture needs
+/// nothing), else the material's texture if it exists and the mesh has its UV set.
+fn found(
+    scene: &PreparedScene,
+    settings: &Settings,
     tri: &TriMesh,
-    slot: Option<&TextureSlot>,
-) -> Option<(TextureSlot, &'a Arc<Texture>)> {
-    let slot = slot?;
-    tri.uv_set(slot.uv_set)?;
-    let texture = scene.scene().textures.get(slot.texture)?;
-    Some((*slot, texture))
+    m: &Material,
+    slot: Slot,
+) -> Option<Found> {
+    let own = m.slot(slot);
+    match settings.slots.get(slot) {
+        Some(SlotOverride::Off) => None,
+        Some(SlotOverride::Source {
+            source,
+            uv_set,
+            transform,
+            sampler,
+            scale,
+        }) => {
+            if source.needs_uv() {
+                tri.uv_set(*uv_set)?;
+            }
+            Some(Found {
+                source: source.clone(),
+                uv_set: *uv_set,
+                transform: *transform,
+                sampler: sampler.or(own.map(|t| t.sampler)).unwrap_or_default(),
+                scale: *scale,
+            })
+        }
+        None => {
+            let t = own?;
+            tri.uv_set(t.uv_set)?;
+            let texture = scene.scene().textures.get(t.texture)?;
+            Some(Found {
+                source: TextureSource::Image(Arc::clone(texture)),
+                uv_set: t.uv_set,
+                transform: t.transform,
+                sampler: t.sampler,
+                scale: t.scale,
+            })
+        }
+    }
 }
 
 /// Resolves an instance's material (with the settings' overrides) and mode.
@@ -175,22 +219,18 @@ pub(crate) fn resolve(
         .as_ref()
         .and_then(|ms| ms.get(inst.material))
         .unwrap_or(&scene.materials[inst.material]);
-    // `--texture IMG` stands in for a material without a base-colour texture, read from UV
-    // set 0 with the default sampler.
-    let fallback = settings
-        .texture
-        .as_ref()
-        .filter(|_| tri.uv_set(0).is_some())
-        .map(|t| (TextureSlot::new(usize::MAX), t));
-    let base_map = usable(scene, tri, m.base_color_texture.as_ref()).or(fallback);
-    let normal_map =
-        usable(scene, tri, m.normal_texture.as_ref()).filter(|_| tri.tangents.is_some());
-    let occlusion = usable(scene, tri, m.occlusion_texture.as_ref());
+    let slot = |s: Slot| found(scene, settings, tri, m, s);
+    let base_map = slot(Slot::BaseColor);
+    let normal_map = slot(Slot::Normal).filter(|_| tri.tangents.is_some());
+    let occlusion = slot(Slot::Occlusion);
     let emissive = finite_colour(m.emissive);
-    let emissive_map =
-        usable(scene, tri, m.emissive_texture.as_ref()).filter(|_| emissive != Vec3::ZERO);
-    let mapped =
-        base_map.is_some() || normal_map.is_some() || occlusion.is_some() || emissive_map.is_some();
+    let emissive_map = slot(Slot::Emissive).filter(|_| emissive != Vec3::ZERO);
+    let bump = slot(Slot::Bump);
+    let mapped = base_map.is_some()
+        || normal_map.is_some()
+        || occlusion.is_some()
+        || emissive_map.is_some()
+        || bump.is_some();
     let mode = match (settings.shading, inst.style) {
         (Some(m), _) => m,
         (None, Style::Wireframe) => Shading::Wireframe,
@@ -199,7 +239,9 @@ pub(crate) fn resolve(
         (None, Style::Inherit) if mapped => Shading::Textured,
         (None, Style::Inherit) => Shading::Phong,
     };
-    let debug = matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv);
+    let view = mode.tex_view().unwrap_or_default();
+    let debug =
+        matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv) || view != TexView::Lit;
     let blend = m.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
     let double_sided = m.double_sided || settings.double_sided;
     let mut state = DrawState {
@@ -218,42 +260,112 @@ pub(crate) fn resolve(
             ..state
         };
     }
-    let per_pixel = matches!(mode, Shading::Phong | Shading::Blinn | Shading::Textured);
-    let textured = mode == Shading::Textured;
+    let per_pixel = mode.per_pixel();
+    // The maps a mode reads: all of them in the textured mode (and the tangent-normal view,
+    // which shows what the normal and bump maps do), the gloss map in every per-pixel mode;
+    // the UV checker replaces the base colour by the UV test grid.
+    let textured = matches!(mode, Shading::Textured | Shading::TangentNormals);
+    let base_map = match mode {
+        Shading::UvChecker => tri.uv_set(0).map(|_| Found {
+            source: TextureSource::Procedural(Arc::clone(uv_grid())),
+            uv_set: 0,
+            transform: UvTransform::IDENTITY,
+            sampler: Sampler::default(),
+            scale: 1.0,
+        }),
+        _ => base_map.filter(|_| textured),
+    };
     let mut layout = LitLayout {
         color: tri.colors.is_some(),
         ..LitLayout::default()
     };
-    // Each slot the mode samples gets the UV channel of its (set, transform); the gloss map
-    // shows in every per-pixel mode, the other maps in the textured one.
-    let mut params_of = |found: Option<(TextureSlot, &Arc<Texture>)>, on: bool| {
-        let (slot, texture) = found.filter(|_| on)?;
-        let uv_at = layout.channel(slot.uv_set, slot.transform)?;
-        let mut sampler = slot.sampler;
-        if let Some(f) = settings.filter {
-            sampler.filter = f;
+    // Each slot the mode samples gets the UV channel of its (set, transform), or the object
+    // position for a solid texture.
+    let mut params_of = |found: Option<Found>, on: bool| {
+        let f = found.filter(|_| on)?;
+        let uv_at = if f.source.needs_uv() {
+            layout.channel(f.uv_set, f.transform)?
+        } else {
+            layout.object = true;
+            0
+        };
+        let mut sampler = f.sampler;
+        if let Some(filter) = settings.filter {
+            sampler.filter = filter;
         }
         Some(SlotParams {
-            texture: Arc::clone(texture),
+            source: f.source,
             sampler,
             uv_at,
-            scale: slot.scale,
+            scale: f.scale,
         })
     };
-    let base_map = params_of(base_map, textured);
-    let gloss = params_of(usable(scene, tri, m.specular_texture.as_ref()), per_pixel);
-    let normal_map = params_of(normal_map, textured);
-    let occlusion = params_of(occlusion, textured);
-    let emissive_map = params_of(emissive_map, textured);
-    layout.tangent = normal_map.is_some();
-    let mapped = [&base_map, &gloss, &normal_map, &occlusion, &emissive_map]
-        .iter()
-        .any(|m| m.is_some());
+    let mut base_map = params_of(base_map, true);
+    let mut gloss = params_of(slot(Slot::Specular), per_pixel && view == TexView::Lit);
+    let mut normal_map = params_of(normal_map, textured);
+    let mut occlusion = params_of(occlusion, textured && view == TexView::Lit);
+    let mut emissive_map = params_of(emissive_map, textured && view == TexView::Lit);
+    let mut bump = params_of(bump, textured);
+    // The object position goes after every UV channel: its index is known only now.
+    if let Some(k) = layout.object_at() {
+        for p in [
+            &mut base_map,
+            &mut gloss,
+            &mut normal_map,
+            &mut occlusion,
+            &mut emissive_map,
+            &mut bump,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            if !p.source.needs_uv() {
+                p.uv_at = k as u8;
+            }
+        }
+    }
+    layout.position_derivatives = bump.is_some();
+    layout.tangent = normal_map.is_some()
+        || (tri.tangents.is_some() && matches!(view, TexView::Tangents | TexView::TangentNormals));
+    // The texture the mip-level, texel-density and anisotropy views measure: the first
+    // image the draw reads, else UV set 0 against a nominal 1024 x 1024 image.
+    let measure = match view {
+        TexView::MipLevel | TexView::TexelDensity | TexView::Anisotropy => {
+            let slots = [
+                Slot::BaseColor,
+                Slot::Specular,
+                Slot::Normal,
+                Slot::Occlusion,
+            ]
+            .into_iter()
+            .chain([Slot::Emissive, Slot::Bump]);
+            let image = slots.filter_map(slot).find_map(|f| match &f.source {
+                TextureSource::Image(t) => Some((f.uv_set, f.transform, [t.width, t.height])),
+                TextureSource::Procedural(_) => None,
+            });
+            let (set, transform, size) =
+                image.unwrap_or((0, UvTransform::IDENTITY, [NOMINAL_SIZE; 2]));
+            tri.uv_set(set)
+                .and_then(|_| layout.channel(set, transform))
+                .map(|at| (at, size.map(|s| s as f32)))
+        }
+        _ => None,
+    };
+    let mapped = [
+        &base_map,
+        &gloss,
+        &normal_map,
+        &occlusion,
+        &emissive_map,
+        &bump,
+    ]
+    .iter()
+    .any(|m| m.is_some());
     let params = DrawParams {
-        base: if m.base_color.is_finite() {
-            m.base_color
-        } else {
-            Vec4::ONE
+        base: match mode {
+            Shading::UvChecker => Vec4::ONE,
+            _ if m.base_color.is_finite() => m.base_color,
+            _ => Vec4::ONE,
         },
         surface: material_surface(m),
         emissive: if debug { Vec3::ZERO } else { emissive },
@@ -262,9 +374,15 @@ pub(crate) fn resolve(
         normal_map,
         occlusion,
         emissive_map,
+        bump,
+        view,
+        measure,
         layout,
         mapped,
-        blinn: matches!(mode, Shading::Blinn | Shading::Textured),
+        blinn: matches!(
+            mode,
+            Shading::Blinn | Shading::Textured | Shading::UvChecker
+        ),
         alpha: if debug {
             AlphaMode::Opaque
         } else {
@@ -279,6 +397,16 @@ pub(crate) fn resolve(
         blend,
         state,
     }
+}
+
+/// The image size the mip-level, texel-density and anisotropy views assume for a draw that
+/// reads no image.
+pub const NOMINAL_SIZE: u32 = 1024;
+
+/// The UV test grid of the UV-checker mode, prepared once.
+fn uv_grid() -> &'static Arc<ProceduralTexture> {
+    static GRID: std::sync::OnceLock<Arc<ProceduralTexture>> = std::sync::OnceLock::new();
+    GRID.get_or_init(|| Arc::new(ProceduralTexture::new(Procedural::grid(8))))
 }
 
 /// A colour with every non-finite or negative channel made zero.
@@ -362,9 +490,10 @@ pub(super) fn set_up(
         let (c, radius) = world_sphere(world, tri.center, tri.radius);
         r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
         for t in r.params.maps() {
-            if t.sampler.filter == Filter::Trilinear {
+            let mipmapped = !matches!(t.sampler.filter, Filter::Nearest | Filter::Bilinear);
+            if let (true, TextureSource::Image(texture)) = (mipmapped, &t.source) {
                 // Built once (a no-op afterwards), in parallel, so no tile waits for it.
-                t.texture.prepare_mips();
+                texture.prepare_mips();
             }
         }
         let center = world.transform_point3(tri.center);

@@ -51,8 +51,8 @@ pub struct RenderOptions {
     pub shading: Option<Shading>,
     /// `None` = [`default_camera`].
     pub camera: Option<Camera>,
-    /// Applied to meshes that have UVs but no base-colour texture.
-    pub texture: Option<std::sync::Arc<crate::texture::Texture>>,
+    /// Per-slot replacements of the materials' textures (see [`Settings::slots`]).
+    pub slots: crate::scene::SlotOverrides,
     /// Linear RGBA.
     pub background: Vec4,
     /// Draw every material double-sided: no back-face culling, back faces lit from behind.
@@ -78,7 +78,7 @@ impl Default for RenderOptions {
             height: 720,
             shading: None,
             camera: None,
-            texture: None,
+            slots: crate::scene::SlotOverrides::default(),
             background: s.background,
             double_sided: false,
             subpixel_bits: s.subpixel_bits,
@@ -99,7 +99,7 @@ impl RenderOptions {
             background: self.background,
             double_sided: self.double_sided,
             subpixel_bits: self.subpixel_bits,
-            texture: self.texture.clone(),
+            slots: self.slots.clone(),
             msaa: self.msaa,
             lights: self.lights.clone(),
             fog: self.fog,

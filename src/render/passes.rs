@@ -369,9 +369,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     }
     // The per-pixel modes in one group: each draw carries its own varying layout and
     // highlight (`DrawParams::layout`, `blinn`).
-    let per_pixel = |k: usize, fi: &FrameInst| {
-        matches!(fi.mode, Shading::Phong | Shading::Blinn | Shading::Textured) && pick(k, fi)
-    };
+    let per_pixel = |k: usize, fi: &FrameInst| fi.mode.per_pixel() && pick(k, fi);
     if !lit_group(cx, fd, &per_pixel) {
         return false;
     }

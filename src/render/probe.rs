@@ -16,9 +16,9 @@ use super::frame::{for_each_light, resolve};
 use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
-use crate::scene::{Light, LightKind};
+use crate::scene::{Light, LightKind, TextureSource};
 use crate::shade::{
-    arriving, maps, reflect, view_vector, LightSet, Shading, SlotParams, SurfaceAt,
+    arriving, maps, reflect, texlab, view_vector, LightSet, Shading, SlotParams, SurfaceAt,
 };
 
 /// One light's contribution at the probed point (linear RGB).
@@ -118,12 +118,30 @@ pub fn probe(
         .map(|u| u[a] * bary.x + u[b] * bary.y + u[c] * bary.z);
     // Each slot at its own UV channel (set and transform), as the shader reads it.
     let d = &r.params;
-    let sample = |t: &SlotParams| {
+    let uv_of = |t: &SlotParams, k: Option<usize>| {
         let ch = d.layout.channel_at(t.uv_at);
-        let at = tri.uv_set(ch.set).map_or(Vec2::ZERO, |u| {
-            u[a] * bary.x + u[b] * bary.y + u[c] * bary.z
+        let at = tri.uv_set(ch.set).map_or(Vec2::ZERO, |u| match k {
+            Some(k) => u[k],
+            None => u[a] * bary.x + u[b] * bary.y + u[c] * bary.z,
         });
-        t.texture.sample_with(ch.transform.apply(at), t.sampler)
+        ch.transform.apply(at)
+    };
+    // Solid textures' frame, as the vertex stage writes it.
+    let inv_radius = if tri.radius > 0.0 {
+        1.0 / tri.radius
+    } else {
+        1.0
+    };
+    let local = |k: usize| (tri.positions[k] - tri.center) * inv_radius;
+    let object = local(a) * bary.x + local(b) * bary.y + local(c) * bary.z;
+    let point = |t: &SlotParams, p: &crate::texture::ProceduralTexture| match p.domain() {
+        crate::texture::Domain::Uv => crate::texture::SamplePoint::uv(uv_of(t, None)),
+        crate::texture::Domain::Object => crate::texture::SamplePoint::position(object, 0.0),
+    };
+    // Point samples: the probe reports the texture at the hit, not over a footprint.
+    let sample = |t: &SlotParams| match &t.source {
+        TextureSource::Image(tex) => tex.sample_with(uv_of(t, None), t.sampler),
+        TextureSource::Procedural(p) => p.color(&point(t, p)),
     };
     if let (Some(map), Some(ts)) = (&d.normal_map, &tri.tangents) {
         let t4 = ts[a] * bary.x + ts[b] * bary.y + ts[c] * bary.z;
@@ -132,6 +150,46 @@ pub fn probe(
         let t = (m3 * t4.truncate()).normalize_or_zero();
         let texel = sample(map).truncate().to_array();
         normal = maps::perturb::<f32>(normal, t, t4.w * handed, texel, map.scale);
+    }
+    if let Some(bm) = &d.bump {
+        // The shader's surface gradient with the triangle's world edges in place of the
+        // screen-space derivatives (as the f64 reference does).
+        let w = [a, b, c].map(|k| inst.world.transform_point3(tri.positions[k]));
+        let (s1, s2) = (w[1] - w[0], w[2] - w[0]);
+        let uv_slope = |slope: Vec2| {
+            let uv = [a, b, c].map(|k| uv_of(bm, Some(k)));
+            let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+            maps::uv_height_gradient::<f32>(
+                normal,
+                s1,
+                s2,
+                (d1.x, d2.x),
+                (d1.y, d2.y),
+                (slope.x, slope.y),
+                bm.scale,
+            )
+        };
+        let g = match &bm.source {
+            TextureSource::Image(tex) => {
+                uv_slope(texlab::image_height_slope(tex, uv_of(bm, None), bm.sampler))
+            }
+            TextureSource::Procedural(p) => {
+                let g = p.height_gradient(&point(bm, p));
+                match p.domain() {
+                    crate::texture::Domain::Uv => uv_slope(g.truncate()),
+                    crate::texture::Domain::Object => texlab::solid_height_gradient(
+                        normal,
+                        (s1, s2),
+                        (local(b) - local(a), local(c) - local(a)),
+                        g,
+                        bm.scale,
+                    ),
+                }
+            }
+        };
+        if let Some(g) = g {
+            normal = maps::bump::<f32>(normal, g);
+        }
     }
     if !hit.front {
         normal = -normal;

@@ -2,14 +2,12 @@
 //! materials, quality), and the per-frame [`View`] (camera and size). A viewer keeps one
 //! `Settings` while the user drags the camera, and sends a new `View` every frame.
 
-use std::sync::Arc;
-
 use glam::Vec4;
 
 use crate::raster::KernelKind;
-use crate::scene::{Camera, Light, Material};
+use crate::scene::{Camera, Light, Material, SlotOverrides};
 use crate::shade::{Fog, Shading, ShadowSettings};
-use crate::texture::{Filter, Texture};
+use crate::texture::Filter;
 
 /// The lights a frame uses.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -140,8 +138,9 @@ pub struct Settings {
     pub double_sided: bool,
     /// Sub-pixel bits of the vertex snap (see [`crate::raster::DrawState::subpixel_bits`]).
     pub subpixel_bits: u8,
-    /// Applied to meshes that have UVs but no base-colour texture.
-    pub texture: Option<Arc<Texture>>,
+    /// Per-slot replacements of every material's textures (`--texture`, `--bump`,
+    /// `--normal-map off`; the viewer's texture panel): a slot's source, or the slot off.
+    pub slots: SlotOverrides,
     /// Reads every texture with this filter instead of its sampler's.
     pub filter: Option<Filter>,
     pub lights: Lights,
@@ -181,7 +180,7 @@ impl Default for Settings {
             background: Vec4::new(0.018, 0.02, 0.026, 1.0),
             double_sided: false,
             subpixel_bits: crate::raster::SUBPIXEL_BITS as u8,
-            texture: None,
+            slots: SlotOverrides::default(),
             filter: None,
             lights: Lights::Auto,
             materials: None,

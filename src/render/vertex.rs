@@ -80,13 +80,20 @@ pub(super) fn lit(
     } else {
         1.0
     };
+    let inv_radius = if tri.radius > 0.0 && tri.radius.is_finite() {
+        1.0 / tri.radius
+    } else {
+        1.0
+    };
     per_vertex(out, tri.positions.len(), layout.stride(), |k, o| {
         let (p, n) = world(scene, fi, mesh, k);
         let uv = |set: u32| tri.uv_set(set).map_or(Vec2::ZERO, |u| u[k]);
         let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
         let t = tri.tangents.as_ref().map_or(Vec4::X, |t| t[k]);
         let tw = (m3 * t.truncate()).normalize_or_zero();
-        layout.write(o, p, n, uv, c, tw.extend(t.w * handed));
+        // Solid textures' frame: the mesh's bounding sphere is the unit sphere.
+        let object = || (tri.positions[k] - tri.center) * inv_radius;
+        layout.write(o, p, n, uv, object, c, tw.extend(t.w * handed));
     })
 }
 

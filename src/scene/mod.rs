@@ -16,7 +16,9 @@ mod slot;
 pub use camera::{clamp_fov, Camera, DEFAULT_YFOV};
 pub use demo::{demo, DEMO_SLICES, DEMO_STACKS};
 pub use light::{Attenuation, Light, LightKind, MIN_D2};
-pub use slot::{Slot, TextureSlot, UvTransform};
+pub use slot::{
+    Slot, SlotOverride, SlotOverrides, TextureSlot, TextureSource, UvTransform, DEFAULT_BUMP_SCALE,
+};
 
 /// How a material's alpha is used (glTF `alphaMode`; OBJ `d` < 1 maps to `Blend`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]

@@ -10,9 +10,11 @@
 //! follows from the slot ([`Slot::srgb`]): colours (base colour, emissive, the gloss map) are
 //! sRGB-encoded, data (normals, occlusion, metallic-roughness, heights) is linear.
 
+use std::sync::Arc;
+
 use glam::{Mat3, Vec2};
 
-use crate::texture::Sampler;
+use crate::texture::{Domain, ProceduralTexture, Sampler, Texture};
 
 /// A material parameter that a texture can drive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -29,7 +31,10 @@ pub enum Slot {
     Emissive,
     /// glTF `metallicRoughnessTexture`: G roughness, B metallic.
     MetallicRoughness,
-    /// A height map for bump mapping (MTL `bump` / `map_Bump`): R is the height.
+    /// A height map for bump mapping (MTL `bump` / `map_Bump`): R is the height, times the
+    /// slot's scale: in texels for an image (MTL's `-bm`: 1 makes a full step over one texel
+    /// a 45° slope), in units of UV for a 2D pattern, and in units of the model's bounding
+    /// radius for a solid texture.
     Bump,
 }
 
@@ -55,6 +60,26 @@ impl Slot {
             Slot::Occlusion => "occlusion",
             Slot::Emissive => "emissive",
             Slot::MetallicRoughness => "metallic-roughness",
+            Slot::Bump => "bump",
+        }
+    }
+
+    /// The slot's position in [`Slot::ALL`].
+    #[must_use]
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The slot's name in scene-file keys (`base_color`, `bump`, ...).
+    #[must_use]
+    pub fn key(self) -> &'static str {
+        match self {
+            Slot::BaseColor => "base_color",
+            Slot::Specular => "gloss",
+            Slot::Normal => "normal",
+            Slot::Occlusion => "occlusion",
+            Slot::Emissive => "emissive",
+            Slot::MetallicRoughness => "metallic_roughness",
             Slot::Bump => "bump",
         }
     }
@@ -208,6 +233,192 @@ impl TextureSlot {
             transform: UvTransform::IDENTITY,
             scale: 1.0,
         }
+    }
+}
+
+/// Where a slot's values come from: a decoded image, or a procedural texture evaluated at
+/// every pixel (the textbook's §9.5: a 2D pattern read at the UV, or a solid texture read
+/// at the object-space position, which needs no UVs at all).
+#[derive(Clone, Debug, PartialEq)]
+pub enum TextureSource {
+    Image(Arc<Texture>),
+    Procedural(Arc<ProceduralTexture>),
+}
+
+impl TextureSource {
+    /// The image's name (its path when loaded from a file) or the procedural's kind.
+    #[must_use]
+    pub fn name(&self) -> String {
+        match self {
+            TextureSource::Image(t) => t.name.clone(),
+            TextureSource::Procedural(p) => p.source().name().to_owned(),
+        }
+    }
+
+    /// True if the source reads texture coordinates (images and 2D patterns); solid
+    /// textures read the object-space position instead.
+    #[must_use]
+    pub fn needs_uv(&self) -> bool {
+        match self {
+            TextureSource::Image(_) => true,
+            TextureSource::Procedural(p) => p.domain() == Domain::Uv,
+        }
+    }
+
+    /// The image, if it is one.
+    #[must_use]
+    pub fn image(&self) -> Option<&Arc<Texture>> {
+        match self {
+            TextureSource::Image(t) => Some(t),
+            TextureSource::Procedural(_) => None,
+        }
+    }
+}
+
+/// The bump height of a height image, a 2D pattern and a solid texture when none is given
+/// (see [`Slot::Bump`] for the units of each).
+pub const DEFAULT_BUMP_SCALE: [f32; 3] = [1.0, 0.05, 0.02];
+
+impl TextureSource {
+    /// The source a command-line or scene-file value names: a procedural texture
+    /// (`checker[:N]`, `grid[:N]`, `wood`, `marble`, `noise[:OCTAVES]`, case-insensitive)
+    /// or else an image file, read by `image(path, srgb)` in the colour space of `slot`
+    /// (write `./wood` for a file called `wood`). Errors are one line, without the value's
+    /// origin (the caller names the flag or key).
+    pub fn from_spec<E: std::fmt::Display>(
+        spec: &str,
+        slot: Slot,
+        image: impl FnOnce(&std::path::Path, bool) -> Result<Arc<Texture>, E>,
+    ) -> Result<TextureSource, String> {
+        use crate::texture::{ParseProceduralError, Procedural};
+        match spec.parse::<Procedural>() {
+            Ok(p) => Ok(TextureSource::Procedural(Arc::new(ProceduralTexture::new(
+                p,
+            )))),
+            Err(e @ ParseProceduralError::Count { .. }) => Err(e.to_string()),
+            Err(ParseProceduralError::Unknown(_)) => {
+                let path = std::path::Path::new(spec);
+                if spec.trim().is_empty() {
+                    return Err("empty texture: give an image file or checker[:N], grid[:N],                                 wood, marble or noise[:OCTAVES]"
+                        .into());
+                }
+                image(path, slot.srgb())
+                    .map(TextureSource::Image)
+                    .map_err(|e| e.to_string())
+            }
+        }
+    }
+
+    /// A bump source and its height: `noise:SCALE` (fBm noise displaced by SCALE), another
+    /// [`from_spec`](Self::from_spec) value with the default height of its kind
+    /// ([`DEFAULT_BUMP_SCALE`]).
+    pub fn bump_from_spec<E: std::fmt::Display>(
+        spec: &str,
+        image: impl FnOnce(&std::path::Path, bool) -> Result<Arc<Texture>, E>,
+    ) -> Result<(TextureSource, f32), String> {
+        use crate::texture::Procedural;
+        let lower = spec.trim().to_ascii_lowercase();
+        if let Some(scale) = lower.strip_prefix("noise:") {
+            let scale: f32 = scale
+                .trim()
+                .parse()
+                .ok()
+                .filter(|s: &f32| s.is_finite())
+                .ok_or_else(|| format!("noise:SCALE: '{scale}' is not a finite number"))?;
+            let p = ProceduralTexture::new(Procedural::noise(5));
+            return Ok((TextureSource::Procedural(Arc::new(p)), scale));
+        }
+        let source = Self::from_spec(spec, Slot::Bump, image)?;
+        let scale = match &source {
+            TextureSource::Image(_) => DEFAULT_BUMP_SCALE[0],
+            TextureSource::Procedural(p) if p.domain() == Domain::Uv => DEFAULT_BUMP_SCALE[1],
+            TextureSource::Procedural(_) => DEFAULT_BUMP_SCALE[2],
+        };
+        Ok((source, scale))
+    }
+
+    /// The value [`from_spec`](Self::from_spec) reads back: the image's name (a path when it
+    /// was loaded from one) or the procedural's name with its count.
+    #[must_use]
+    pub fn spec(&self) -> String {
+        use crate::texture::Procedural;
+        match self {
+            TextureSource::Image(t) => t.name.clone(),
+            TextureSource::Procedural(p) => match p.source() {
+                Procedural::Checker { n, .. } => format!("checker:{n}"),
+                Procedural::Grid { cells } => format!("grid:{cells}"),
+                Procedural::Noise { octaves, .. } => format!("noise:{octaves}"),
+                other => other.name().to_owned(),
+            },
+        }
+    }
+}
+
+/// A replacement for one slot of every material (the command line's `--texture`, `--bump`,
+/// `--normal-map off`, the scene file's keys, the viewer's texture panel).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SlotOverride {
+    /// The slot is off: the materials' textures in it are not read.
+    Off,
+    /// Every material reads `source` in the slot, from UV set `uv_set` through `transform`
+    /// with `sampler` (`None`: the sampler of the material's own texture in the slot, else
+    /// the default), and the slot's scalar `scale`.
+    Source {
+        source: TextureSource,
+        uv_set: u32,
+        transform: UvTransform,
+        sampler: Option<Sampler>,
+        scale: f32,
+    },
+}
+
+impl SlotOverride {
+    /// `source` from UV set 0, untransformed, with the material's sampler and scale `scale`.
+    #[must_use]
+    pub fn source(source: TextureSource, scale: f32) -> Self {
+        SlotOverride::Source {
+            source,
+            uv_set: 0,
+            transform: UvTransform::IDENTITY,
+            sampler: None,
+            scale,
+        }
+    }
+}
+
+/// One optional [`SlotOverride`] per [`Slot`].
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct SlotOverrides([Option<SlotOverride>; Slot::ALL.len()]);
+
+impl SlotOverrides {
+    /// The override of `slot`, if any.
+    #[must_use]
+    pub fn get(&self, slot: Slot) -> Option<&SlotOverride> {
+        self.0[slot.index()].as_ref()
+    }
+
+    /// The override of `slot` to change in place, if any.
+    pub fn get_mut(&mut self, slot: Slot) -> Option<&mut SlotOverride> {
+        self.0[slot.index()].as_mut()
+    }
+
+    /// Sets (or with `None` removes) the override of `slot`.
+    pub fn set(&mut self, slot: Slot, o: Option<SlotOverride>) {
+        self.0[slot.index()] = o;
+    }
+
+    /// True if no slot is overridden.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.0.iter().all(Option::is_none)
+    }
+
+    /// The overridden slots and their overrides, in [`Slot::ALL`] order.
+    pub fn iter(&self) -> impl Iterator<Item = (Slot, &SlotOverride)> {
+        Slot::ALL
+            .into_iter()
+            .zip(&self.0)
+            .filter_map(|(s, o)| Some((s, o.as_ref()?)))
     }
 }
 

@@ -1,5 +1,6 @@
 //! Comparison layouts: `[compare]` renders the scene once per `[[compare.variant]]` (each
-//! overriding the shading mode and materials of the file's settings), with the same camera
+//! overriding the shading mode, materials, texture filter, texture and bump map of the
+//! file's settings), with the same camera
 //! and size, and lays the frames out in a grid, `columns` per row in the file's order, each
 //! with its label centred in a strip below it and an optional title strip above the grid.
 //! Labels are drawn by [`crate::overlay`] (outlines of the embedded DejaVu Sans).
@@ -135,6 +136,16 @@ impl SceneFile {
             if let Some(m) = v.shading {
                 settings.shading = Some(m.0);
             }
+            if let Some(f) = v.filter {
+                settings.filter = Some(f.0);
+            }
+            self.apply_maps(
+                &format!("compare.variant[{i}]."),
+                v.texture.as_deref(),
+                v.bump.as_deref(),
+                v.bump_scale,
+                &mut settings.slots,
+            )?;
             if !v.material.is_empty() {
                 let mut materials = base
                     .materials

@@ -577,7 +577,15 @@ pub(super) fn camera(s: &CameraSpec, scene: &Scene, aspect: f32) -> Result<Camer
 pub(super) fn image(
     path: &std::path::Path,
 ) -> Result<Arc<crate::texture::Texture>, crate::load::LoadError> {
-    let mut t = crate::load::load_texture(path)?;
+    image_as(path, true)
+}
+
+/// [`image`] decoded as colour (`srgb`) or as linear data (heights, normals).
+pub(super) fn image_as(
+    path: &std::path::Path,
+    srgb: bool,
+) -> Result<Arc<crate::texture::Texture>, crate::load::LoadError> {
+    let mut t = crate::load::load_image(path, srgb)?;
     t.name = std::fs::canonicalize(path)
         .unwrap_or_else(|_| path.to_owned())
         .display()

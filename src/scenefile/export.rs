@@ -10,7 +10,7 @@ use super::schema::{
 };
 use super::ModelSource;
 use crate::render::{Lights, Output, Settings, View};
-use crate::scene::{AlphaMode, Attenuation, Light, Material};
+use crate::scene::{AlphaMode, Attenuation, Light, Material, Slot, SlotOverride, TextureSource};
 use crate::shade::MAX_HALF_ANGLE;
 use crate::texture::Texture;
 
@@ -86,13 +86,44 @@ pub(super) fn doc(
         }
         ModelSource::Primitive(p) => d.primitive = Some(p.clone()),
     }
-    if let Some(t) = &s.texture {
-        d.texture = image_path(t);
-        if d.texture.is_none() {
-            notes.push(format!(
-                "the texture '{}' is not an image file; left out",
-                t.name
-            ));
+    // A source is written as its procedural name, or an image by its path.
+    let spec = |src: &TextureSource, notes: &mut Vec<String>| match src {
+        TextureSource::Image(t) => {
+            let p = image_path(t);
+            if p.is_none() {
+                notes.push(format!(
+                    "the texture '{}' is not an image file; left out",
+                    t.name
+                ));
+            }
+            p
+        }
+        TextureSource::Procedural(_) => Some(src.spec()),
+    };
+    for (slot, o) in s.slots.iter() {
+        match (slot, o) {
+            (Slot::BaseColor, SlotOverride::Source { source, .. }) => {
+                d.texture = spec(source, &mut notes);
+            }
+            (Slot::Bump, SlotOverride::Source { source, scale, .. }) => {
+                // In `bump`, `noise:X` means the height X (given by `bump_scale` here):
+                // the noise is written by name, with its default octaves.
+                d.bump = match source {
+                    TextureSource::Procedural(p) if p.source().name() == "noise" => {
+                        if p.source() != &crate::texture::Procedural::noise(5) {
+                            notes.push("the bump noise is saved with its default octaves".into());
+                        }
+                        Some("noise".into())
+                    }
+                    _ => spec(source, &mut notes),
+                };
+                d.bump_scale = d.bump.as_ref().map(|_| *scale);
+            }
+            (Slot::Normal, SlotOverride::Off) => d.normal_map = Some(false),
+            (slot, _) => notes.push(format!(
+                "the {} slot's replacement is not saved (scene files have no key for it)",
+                slot.name()
+            )),
         }
     }
     if s.kernel.is_some() {

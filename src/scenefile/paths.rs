@@ -17,7 +17,13 @@ pub(super) fn rebase(doc: &SceneDoc, from: &Path, dest: &Path) -> SceneDoc {
     if let Some(m) = doc.model.as_mut().filter(|m| *m != "demo") {
         fix(m);
     }
-    doc.texture.iter_mut().for_each(fix);
+    // Procedural names (`checker:8`, `noise:0.02`) are not paths.
+    let image = |p: &&mut String| {
+        p.parse::<crate::texture::Procedural>().is_err()
+            && !p.to_ascii_lowercase().starts_with("noise:")
+    };
+    doc.texture.iter_mut().filter(image).for_each(fix);
+    doc.bump.iter_mut().filter(image).for_each(fix);
     doc.output.iter_mut().for_each(fix);
     for l in &mut doc.light {
         l.image.iter_mut().for_each(fix);

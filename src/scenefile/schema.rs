@@ -200,6 +200,12 @@ pub struct SceneDoc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bump: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bump_scale: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_map: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tone: Option<Kw<ToneMap>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lights: Option<Kw<LightsMode>>,
@@ -418,4 +424,12 @@ pub struct VariantSpec {
     pub shading: Option<Kw<Shading>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub material: Vec<MaterialSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter: Option<Kw<Filter>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bump: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bump_scale: Option<f32>,
 }

@@ -7,7 +7,7 @@ use super::{
     ModelSource, SceneFile, SceneFileError, MAX_LIGHTS, MAX_PIXELS, MAX_SIDE, MAX_VARIANTS,
 };
 use crate::render::{Ground, Lights, Output, Settings};
-use crate::scene::{Light, Scene};
+use crate::scene::{Light, Scene, Slot, SlotOverride, SlotOverrides, TextureSource};
 use crate::shade::{Fog, ShadowSettings, MAX_SHADOW_SIZE};
 
 /// Largest PCF radius (`(2r + 1)²` taps per pixel and light).
@@ -129,6 +129,44 @@ impl SceneFile {
         Ok(s)
     }
 
+    /// The `texture`, `bump` and `bump_scale` keys (under `prefix`, e.g. `compare.variant[2].`)
+    /// into `slots`: each names a procedural texture or an image file (relative to the scene
+    /// file).
+    pub(super) fn apply_maps(
+        &self,
+        prefix: &str,
+        texture: Option<&str>,
+        bump: Option<&str>,
+        bump_scale: Option<f32>,
+        slots: &mut SlotOverrides,
+    ) -> Result<(), SceneFileError> {
+        let key = |k: &str| format!("{prefix}{k}");
+        let image = |written: &str, k: &str, srgb: bool| {
+            convert::image_as(&self.resolve_path(written), srgb)
+                .map_err(|e| self.invalid(key(k), e.to_string()))
+        };
+        if let Some(t) = texture {
+            let source =
+                TextureSource::from_spec(t, Slot::BaseColor, |_, srgb| image(t, "texture", srgb))
+                    .map_err(|e| self.invalid(key("texture"), e))?;
+            slots.set(Slot::BaseColor, Some(SlotOverride::source(source, 1.0)));
+        }
+        if let Some(b) = bump {
+            let (source, scale) =
+                TextureSource::bump_from_spec(b, |_, srgb| image(b, "bump", srgb))
+                    .map_err(|e| self.invalid(key("bump"), e))?;
+            let scale = match bump_scale {
+                Some(x) if x.is_finite() => x,
+                Some(x) => {
+                    return Err(self.invalid(key("bump_scale"), format!("{x} is not finite")))
+                }
+                None => scale,
+            };
+            slots.set(Slot::Bump, Some(SlotOverride::source(source, scale)));
+        }
+        Ok(())
+    }
+
     /// Everything but the materials; images are loaded only with `load_images`.
     fn base_settings(&self, load_images: bool) -> Result<Settings, SceneFileError> {
         let err = |(key, reason): Bad| self.invalid(key, reason);
@@ -185,8 +223,17 @@ impl SceneFile {
                     other => other,
                 })
         };
-        if let (Some(t), true) = (&d.texture, load_images) {
-            s.texture = Some(load(t, "texture")?);
+        if load_images {
+            self.apply_maps(
+                "",
+                d.texture.as_deref(),
+                d.bump.as_deref(),
+                d.bump_scale,
+                &mut s.slots,
+            )?;
+        }
+        if d.normal_map == Some(false) {
+            s.slots.set(Slot::Normal, Some(SlotOverride::Off));
         }
         if self.lights_mode() == LightsMode::Custom {
             let mut lights = Vec::with_capacity(d.light.len());

@@ -5,9 +5,12 @@ use glam::{Vec2, Vec3, Vec4};
 use super::*;
 use crate::load::tests::TempDir;
 use crate::render::{Ground, Lights, Output, ToneMap};
-use crate::scene::{AlphaMode, Attenuation, Light, LightKind};
+use crate::scene::{
+    AlphaMode, Attenuation, Light, LightKind, Slot, SlotOverride, SlotOverrides, TextureSource,
+};
 use crate::shade::{Fog, FogDistance, Shading, ShadowSettings};
-use crate::texture::Filter;
+use crate::texture::{Filter, Texture};
+use std::sync::Arc;
 
 fn toml(text: &str) -> Result<SceneFile, SceneFileError> {
     SceneFile::parse(text, Format::Toml, Path::new("dir/exp.toml"))
@@ -309,7 +312,19 @@ fn everything(dir: &TempDir) -> (Settings, View) {
         background: Vec4::new(0.1, 0.2, 0.3, 0.9),
         double_sided: true,
         subpixel_bits: 4,
-        texture: Some(image),
+        slots: {
+            let mut slots = SlotOverrides::default();
+            slots.set(
+                Slot::BaseColor,
+                Some(SlotOverride::source(TextureSource::Image(image), 1.0)),
+            );
+            let (noise, _) =
+                TextureSource::bump_from_spec("noise:0.25", |_, _| Err::<Arc<Texture>, _>(""))
+                    .unwrap();
+            slots.set(Slot::Bump, Some(SlotOverride::source(noise, 0.125)));
+            slots.set(Slot::Normal, Some(SlotOverride::Off));
+            slots
+        },
         filter: Some(Filter::Nearest),
         lights: Lights::Custom {
             lights,

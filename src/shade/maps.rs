@@ -56,6 +56,65 @@ pub fn perturb_lanes<K: Kernel>(n: V3, t: V3, w: F8, c: [F8; 4], scale: f32) -> 
     )
 }
 
+/// The surface gradient of a scalar field `f` on a surface with unit normal `n`, from its
+/// changes `df1`, `df2` along two vectors `s1`, `s2` that span the tangent plane (the
+/// screen-space derivatives of the position, or two edges of a triangle): the vector `g` in
+/// the plane with `g · s1 = df1`, `g · s2 = df2`, by Mikkelsen's dual basis ("Bump Mapping
+/// Unparametrized Surfaces on the GPU", 2010) `g = (df1 (s2 × n) + df2 (n × s1)) / (s1 ·
+/// (s2 × n))`. Any basis of the plane gives the same `g`. `None` where `s1` and `s2` do not
+/// span a plane (a surface seen edge-on, or a degenerate triangle).
+#[must_use]
+#[inline]
+pub fn surface_gradient<T: Real>(n: T::V, s1: T::V, s2: T::V, df1: T, df2: T) -> Option<T::V> {
+    let r1 = T::cross(s2, n);
+    let r2 = T::cross(n, s1);
+    let det = T::dot(s1, r1);
+    let scale = T::length(s1) * T::length(s2);
+    let magnitude = if det < T::ZERO { -det } else { det };
+    if !(magnitude > scale * T::of(1e-6) && det.is_finite()) {
+        return None;
+    }
+    let g = (r1 * df1 + r2 * df2) * (T::ONE / det);
+    T::dot(g, g).is_finite().then_some(g)
+}
+
+/// Bump mapping (Blinn): the unit normal `n` tilted against the surface gradient `g` of the
+/// displacement, `normalize(n - g)`; `n` itself where that is not finite or zero.
+#[must_use]
+#[inline]
+pub fn bump<T: Real>(n: T::V, g: T::V) -> T::V {
+    let p = T::normalize_or_zero(n - g);
+    if T::dot(p, p) > T::ZERO {
+        p
+    } else {
+        n
+    }
+}
+
+/// The surface gradient of a displacement given as a height field over texture space,
+/// `scale · h(u, v)` measured in units of UV (as if one unit of UV were one unit of length
+/// on the surface, the way a tangent-space normal map is): `scale (h_u û + h_v v̂)` with
+/// `û`, `v̂` the unit surface gradients of u and v (the directions in which they grow), each
+/// from [`surface_gradient`] with the UV's changes `du`, `dv` along `s1`, `s2`. This is the
+/// normal map `(-scale h_u, scale h_v, 1)` in the tangent frame glTF uses (bitangent along
+/// -v), with no tangent attribute needed. `None` where u or v has no gradient.
+#[must_use]
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn uv_height_gradient<T: Real>(
+    n: T::V,
+    s1: T::V,
+    s2: T::V,
+    du: (T, T),
+    dv: (T, T),
+    h_uv: (T, T),
+    scale: T,
+) -> Option<T::V> {
+    let gu = T::normalize_or_zero(surface_gradient::<T>(n, s1, s2, du.0, du.1)?);
+    let gv = T::normalize_or_zero(surface_gradient::<T>(n, s1, s2, dv.0, dv.1)?);
+    Some((gu * h_uv.0 + gv * h_uv.1) * scale)
+}
+
 /// glTF's occlusion: `1 + strength (r - 1)` for the texel's R, applied to the ambient
 /// (indirect) light only.
 #[must_use]

@@ -21,6 +21,7 @@ pub mod maps;
 mod real;
 mod shaders;
 mod shadow;
+pub mod texlab;
 
 pub use lighting::{
     arriving, arriving_lanes, attenuate, cone, contribution, contribution_lanes, illuminate,
@@ -30,7 +31,7 @@ pub use lighting::{
 pub use real::Real;
 pub use shaders::{
     ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
-    SlotParams, UvChannel, MAX_UV_CHANNELS,
+    SlotParams, TexView, UvChannel, MAX_UV_CHANNELS,
 };
 pub use shadow::{ShadowMap, ShadowSettings, MAX_SHADOW_SIZE, SHADOW_SIZE};
 
@@ -46,11 +47,20 @@ pub enum Shading {
     Normals,
     Depth,
     Uv,
+    /// The lit surface with a UV test grid as its base colour (the mesh's UV set 0, or a
+    /// generated one): shows stretching, seams, flips and rotations.
+    UvChecker,
+    /// The texture-mapping debug views ([`TexView`]).
+    MipLevel,
+    TexelDensity,
+    Anisotropy,
+    Tangents,
+    TangentNormals,
 }
 
 impl Shading {
     /// Every mode, in the order the CLI lists them.
-    pub const ALL: [Shading; 9] = [
+    pub const ALL: [Shading; 15] = [
         Shading::Wireframe,
         Shading::Flat,
         Shading::Gouraud,
@@ -60,6 +70,12 @@ impl Shading {
         Shading::Normals,
         Shading::Depth,
         Shading::Uv,
+        Shading::UvChecker,
+        Shading::MipLevel,
+        Shading::TexelDensity,
+        Shading::Anisotropy,
+        Shading::Tangents,
+        Shading::TangentNormals,
     ];
 
     /// The mode's command-line name.
@@ -75,7 +91,38 @@ impl Shading {
             Shading::Normals => "normals",
             Shading::Depth => "depth",
             Shading::Uv => "uv",
+            Shading::UvChecker => "uv-checker",
+            Shading::MipLevel => "mip-level",
+            Shading::TexelDensity => "texel-density",
+            Shading::Anisotropy => "anisotropy",
+            Shading::Tangents => "tangents",
+            Shading::TangentNormals => "tangent-normals",
         }
+    }
+}
+
+impl Shading {
+    /// The texture debug view the mode shows through the lit shader, if it is one.
+    #[must_use]
+    pub fn tex_view(self) -> Option<TexView> {
+        match self {
+            Shading::MipLevel => Some(TexView::MipLevel),
+            Shading::TexelDensity => Some(TexView::TexelDensity),
+            Shading::Anisotropy => Some(TexView::Anisotropy),
+            Shading::Tangents => Some(TexView::Tangents),
+            Shading::TangentNormals => Some(TexView::TangentNormals),
+            _ => None,
+        }
+    }
+
+    /// True for the modes drawn by the per-pixel lit shader (its lighting or its debug
+    /// views).
+    #[must_use]
+    pub fn per_pixel(self) -> bool {
+        matches!(
+            self,
+            Shading::Phong | Shading::Blinn | Shading::Textured | Shading::UvChecker
+        ) || self.tex_view().is_some()
     }
 }
 

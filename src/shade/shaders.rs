@@ -2,26 +2,46 @@
 //! from the varyings the vertex stage laid out (see [`LitLayout`], one per draw). Per-draw
 //! material parameters are looked up by `TriInfo::draw`.
 
-use std::sync::Arc;
-
 use glam::{Vec2, Vec3, Vec4};
 
 use super::lighting::{illuminate_lanes, Fog, LightSet, Surface, SurfaceLanes};
 use super::maps::perturb_lanes;
+use super::texlab;
 use crate::raster::{Colors, FragmentShader, Fragments, Kernel, F8, V3};
-use crate::scene::{AlphaMode, UvTransform};
-use crate::texture::{srgb_to_linear, Sampler, Texture};
+use crate::scene::{AlphaMode, TextureSource, UvTransform};
+use crate::texture::{srgb_to_linear, Sampler};
 
-/// A texture one draw samples: the image, how it is read, and where its UV is among the
-/// draw's varyings (already through the slot's `KHR_texture_transform`).
+/// A texture one draw samples: the image or procedural texture, how it is read, and where
+/// its coordinates are among the draw's varyings: a UV (already through the slot's
+/// `KHR_texture_transform`), or for a solid texture the object-space position.
 #[derive(Clone, Debug)]
 pub struct SlotParams {
-    pub texture: Arc<Texture>,
+    pub source: TextureSource,
     pub sampler: Sampler,
-    /// Index of the UV's first float in the draw's varyings ([`LitLayout::uv_at`]).
+    /// Index of the coordinates' first float in the draw's varyings: a UV channel
+    /// ([`LitLayout::uv_at`]) or the object position ([`LitLayout::object_at`]).
     pub uv_at: u8,
-    /// The slot's scalar: normal scale, occlusion strength (1 for the others).
+    /// The slot's scalar: normal scale, occlusion strength, bump height (1 for the others).
     pub scale: f32,
+}
+
+/// What the lit shader shows: the lit surface, or one of the texture-mapping debug views
+/// (each colour is a display value, see the README's "Debug views").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum TexView {
+    #[default]
+    Lit,
+    /// The mip level the measured texture's trilinear filter reads, one colour per level.
+    MipLevel,
+    /// Texels per pixel of the measured texture: blue magnified, green 1:1, red minified.
+    TexelDensity,
+    /// The pixel footprint's anisotropy in texture space: green 1:1 to red 16:1 and beyond.
+    Anisotropy,
+    /// The world tangent, mapped from [-1, 1] to [0, 1] per channel.
+    Tangents,
+    /// The shading normal (after normal and bump maps) in the tangent frame, mapped as a
+    /// normal map stores it: (0.5, 0.5, 1) where the maps leave the surface as it is.
+    TangentNormals,
 }
 
 /// Material parameters of one draw.
@@ -41,6 +61,13 @@ pub struct DrawParams {
     pub occlusion: Option<SlotParams>,
     /// Emissive map: multiplies `emissive` (textured mode).
     pub emissive_map: Option<SlotParams>,
+    /// Bump map (a height image or a procedural height): tilts the normal (textured mode).
+    pub bump: Option<SlotParams>,
+    /// The lit surface or a debug view.
+    pub view: TexView,
+    /// The UV channel (varying index) and texel size of the texture the mip-level,
+    /// texel-density and anisotropy views measure.
+    pub measure: Option<(u8, [f32; 2])>,
     /// Where this draw's varyings are (lit modes).
     pub layout: LitLayout,
     /// True if any of the maps above is set (see [`DrawParams::maps`]); kept in step by
@@ -73,6 +100,7 @@ impl DrawParams {
             &self.normal_map,
             &self.occlusion,
             &self.emissive_map,
+            &self.bump,
         ]
         .into_iter()
         .flatten()
@@ -130,23 +158,57 @@ pub struct UvChannel {
 
 /// Where a lit draw's varyings are: world position at 0..3, world normal at 3..6, then its
 /// texture coordinate channels (2 floats each: a UV set through a slot's transform, one per
-/// distinct pair its slots read), the vertex colour (4 floats) if the mesh has colours, and
-/// the world tangent with its handedness (4 floats) if a normal map needs it. A draw
+/// distinct pair its slots read), the object-space position in the solid-texture frame (3
+/// floats) if a solid texture is read, the vertex colour (4 floats) if the mesh has colours,
+/// and the world tangent with its handedness (4 floats) if a normal map needs it. A draw
 /// interpolates only these: a slot the material does not use costs nothing per pixel.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct LitLayout {
     pub channels: [UvChannel; MAX_UV_CHANNELS],
     /// Channels in use.
     pub uv_count: u8,
+    /// The object-space position for solid textures.
+    pub object: bool,
+    /// The fill also computes the screen-space derivatives of the world position (bump
+    /// mapping's surface gradient).
+    pub position_derivatives: bool,
     pub color: bool,
     pub tangent: bool,
 }
 
 impl LitLayout {
-    /// Floats per vertex (at most 6 + 2 · 5 + 4 + 4 = 24).
+    /// Floats per vertex (at most 6 + 2 · 5 + 3 + 4 + 4 = 27).
     #[must_use]
     pub fn stride(self) -> usize {
-        6 + 2 * self.uv_count as usize + 4 * usize::from(self.color) + 4 * usize::from(self.tangent)
+        6 + 2 * self.uv_count as usize
+            + 3 * usize::from(self.object)
+            + 4 * usize::from(self.color)
+            + 4 * usize::from(self.tangent)
+    }
+
+    /// End of the UV channels and the object position: the varyings with derivatives.
+    fn coordinates_end(self) -> usize {
+        6 + 2 * self.uv_count as usize + 3 * usize::from(self.object)
+    }
+
+    /// The varyings `(first, count)` whose screen-space derivatives the draw needs: its
+    /// texture coordinates (for the level of detail and procedural footprints), from the
+    /// world position on when it is bump mapped.
+    #[must_use]
+    pub fn derivatives(self) -> Option<(usize, usize)> {
+        let first = if self.position_derivatives {
+            0
+        } else {
+            Self::uv_at(0)
+        };
+        let end = self.coordinates_end();
+        (end > first).then_some((first, end - first))
+    }
+
+    /// Index of the object position's first float.
+    #[must_use]
+    pub fn object_at(self) -> Option<usize> {
+        self.object.then_some(6 + 2 * self.uv_count as usize)
     }
 
     /// Index of channel `k`'s first float.
@@ -158,14 +220,14 @@ impl LitLayout {
     /// Index of the colour's first float.
     #[must_use]
     pub fn color_at(self) -> Option<usize> {
-        self.color.then_some(6 + 2 * self.uv_count as usize)
+        self.color.then_some(self.coordinates_end())
     }
 
     /// Index of the tangent's first float.
     #[must_use]
     pub fn tangent_at(self) -> Option<usize> {
         self.tangent
-            .then_some(6 + 2 * self.uv_count as usize + 4 * usize::from(self.color))
+            .then_some(self.coordinates_end() + 4 * usize::from(self.color))
     }
 
     /// The varying index of the UV of set `set` through `transform`: an existing channel
@@ -194,15 +256,18 @@ impl LitLayout {
     }
 
     /// Writes one vertex's varyings into `out` (`stride()` floats): position `p`, normal
-    /// `n`, the UV of each channel from `uv(set)` (transformed), colour `color`, tangent
-    /// `tangent` (xyz and handedness).
+    /// `n`, the UV of each channel from `uv(set)` (transformed), the object position
+    /// `object()` (called only if the layout has it), colour `color`, tangent `tangent` (xyz
+    /// and handedness).
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub fn write(
         self,
         out: &mut [f32],
         p: Vec3,
         n: Vec3,
         uv: impl Fn(u32) -> Vec2,
+        object: impl Fn() -> Vec3,
         color: Vec4,
         tangent: Vec4,
     ) {
@@ -211,6 +276,9 @@ impl LitLayout {
         for (k, c) in self.channels[..self.uv_count as usize].iter().enumerate() {
             let at = Self::uv_at(k);
             out[at..at + 2].copy_from_slice(&c.transform.apply(uv(c.set)).to_array());
+        }
+        if let Some(k) = self.object_at() {
+            out[k..k + 3].copy_from_slice(&object().to_array());
         }
         if let Some(k) = self.color_at() {
             out[k..k + 4].copy_from_slice(&color.to_array());
@@ -222,18 +290,25 @@ impl LitLayout {
 }
 
 /// Samples slot `t` on the lanes of `f` from the draw's varyings `v`, with the exact UV
-/// derivatives when the fill computed them (trilinear), scaled by `lod_scale`.
-/// `#[inline(always)]`: a sampler that is not inlined into the kernel's entry point loses
-/// the kernel's target features.
+/// derivatives when the fill computed them, scaled by `lod_scale`; `first` is the first
+/// varying with derivatives ([`LitLayout::derivatives`]). `#[inline(always)]`: a sampler
+/// that is not inlined into the kernel's entry point loses the kernel's target features.
+/// Procedural textures are evaluated one live lane at a time, outside the kernel
+/// (`texlab.rs`).
 #[inline(always)]
-fn sample<K: Kernel>(t: &SlotParams, f: &Fragments<'_>, lod_scale: f32) -> [F8; 4] {
+fn sample<K: Kernel>(t: &SlotParams, f: &Fragments<'_>, lod_scale: f32, first: usize) -> [F8; 4] {
     let k = t.uv_at as usize;
+    let texture = match &t.source {
+        TextureSource::Image(texture) => texture,
+        TextureSource::Procedural(p) => {
+            return texlab::procedural_lanes(p, f, k, first, lod_scale);
+        }
+    };
     let v = f.var;
     let (u, w) = (v[k], v[k + 1]);
-    // The fill's derivatives start at the first channel (see `LitShader::derivatives`).
-    let d = k - LitLayout::uv_at(0);
+    let d = k.wrapping_sub(first);
     match (f.ddx.get(d..d + 2), f.ddy.get(d..d + 2)) {
-        (Some([dudx, dvdx]), Some([dudy, dvdy])) => t.texture.sample_grad_lanes::<K>(
+        (Some([dudx, dvdx]), Some([dudy, dvdy])) => texture.sample_grad_lanes::<K>(
             u,
             w,
             *dudx * lod_scale,
@@ -243,7 +318,7 @@ fn sample<K: Kernel>(t: &SlotParams, f: &Fragments<'_>, lod_scale: f32) -> [F8; 
             f.mask,
             t.sampler,
         ),
-        _ => t.texture.sample_lanes::<K>(u, w, f.mask, t.sampler),
+        _ => texture.sample_lanes::<K>(u, w, f.mask, t.sampler),
     }
 }
 
@@ -274,10 +349,14 @@ fn apply_maps<K: Kernel>(
         &d.occlusion,
         &d.emissive_map,
     ];
+    let first = d
+        .layout
+        .derivatives()
+        .map_or(usize::MAX, |(first, _)| first);
     let mut texel = [[F8::ONE; 4]; 5];
     for (t, out) in slots.iter().zip(&mut texel) {
         if let Some(t) = t {
-            *out = sample::<K>(t, f, lod_scale);
+            *out = sample::<K>(t, f, lod_scale, first);
         }
     }
     let [base_t, gloss_t, normal_t, occlusion_t, emissive_t] = texel;
@@ -295,6 +374,9 @@ fn apply_maps<K: Kernel>(
         let v = f.var;
         let t = V3::new(v[k], v[k + 1], v[k + 2]);
         m.normal = perturb_lanes::<K>(m.normal, t, v[k + 3], normal_t, map.scale);
+    }
+    if let Some(b) = &d.bump {
+        m.normal = texlab::bump_lanes(b, f, first, lod_scale, m.normal);
     }
     // glTF: ao = 1 + strength (r - 1), on the ambient (indirect) light only.
     if let Some(o) = &d.occlusion {
@@ -332,9 +414,7 @@ pub struct LitShader<'a> {
 impl FragmentShader for LitShader<'_> {
     #[inline(always)]
     fn derivatives(&self, draw: u32) -> Option<(usize, usize)> {
-        let d = &self.draws[draw as usize];
-        let n = d.layout.uv_count as usize;
-        (n > 0).then_some((LitLayout::uv_at(0), 2 * n))
+        self.draws[draw as usize].layout.derivatives()
     }
 
     #[inline(always)]
@@ -364,6 +444,11 @@ impl FragmentShader for LitShader<'_> {
         } else {
             (base, m)
         };
+        if d.view != TexView::Lit {
+            let n = if f.tri.front { m.normal } else { -m.normal };
+            *out = texlab::debug_lanes(d, f, self.lod_scale, n);
+            return f.mask;
+        }
         let Mapped {
             specular,
             normal: mut n,

@@ -25,6 +25,7 @@ mod screenshot;
 mod shading;
 mod stats;
 pub mod text;
+mod textures;
 
 pub use colour::ColourState;
 pub use environment::EnvironmentUi;
@@ -156,7 +157,7 @@ pub fn describe(s: &Settings) -> String {
 }
 
 /// Shading modes in the order the `M` key cycles them.
-const CYCLE: [Shading; 9] = Shading::ALL;
+const CYCLE: [Shading; Shading::ALL.len()] = Shading::ALL;
 
 /// Key presses (ignored while a text field has the keyboard) and dropped files.
 pub fn keyboard(app: &mut ViewerApp, ui: &egui::Ui) {

@@ -54,6 +54,7 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
             .response
             .labelled_by(label.id);
     });
+    super::textures::controls(s, ui, id);
     ui.checkbox(&mut s.double_sided, "every material double-sided");
     ui.horizontal(|ui| {
         let label = ui.label("sub-pixel bits");

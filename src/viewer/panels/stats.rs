@@ -34,6 +34,10 @@ fn report_grid(ui: &mut egui::Ui, id: &str, r: &FrameReport) {
             row(ui, "  frustum culled", s.culled_frustum.to_string());
             row(ui, "  back faces", s.culled_backface.to_string());
             row(ui, "  degenerate", s.culled_degenerate.to_string());
+            if s.too_wide > 0 {
+                // Never expected: a layout wider than the rasterizer's varyings.
+                row(ui, "  too many varyings", s.too_wide.to_string());
+            }
             row(ui, "  clipped", s.clipped.to_string());
             row(ui, "  drawn (set up)", s.drawn.to_string());
             row(ui, "tiles filled", s.tiles.to_string());
