@@ -99,3 +99,146 @@ fn retangent(mesh: &mut Mesh, material: Option<&Material>) -> Option<String> {
         }
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec2, Vec3, Vec4};
+
+    use super::*;
+    use crate::mesh::{Channel, MeshData, NormalPolicy};
+    use crate::scene::{Instance, Style, TextureSlot};
+    use crate::texture::Axis;
+
+    fn scene_of(data: MeshData, material: Material) -> Scene {
+        let mut mesh = Mesh::new(data, NormalPolicy::default()).unwrap();
+        mesh.material = Some(0);
+        let mut scene = Scene {
+            meshes: vec![mesh],
+            materials: vec![material],
+            ..Scene::default()
+        };
+        scene.instances.push(Instance {
+            mesh: 0,
+            world: glam::Mat4::IDENTITY,
+            name: "quad".into(),
+            style: Style::Inherit,
+        });
+        scene.report.file = "dir/model.gltf".into();
+        scene
+    }
+
+    fn quad(positions: [Vec3; 4]) -> MeshData {
+        MeshData {
+            name: "quad".into(),
+            positions: positions.to_vec(),
+            corners: vec![0, 1, 2, 0, 2, 3],
+            ..MeshData::default()
+        }
+    }
+
+    const SQUARE: [Vec3; 4] = [
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(-1.0, 1.0, 0.0),
+    ];
+
+    #[test]
+    fn set_0_is_replaced_and_other_sets_kept() {
+        let mut data = quad(SQUARE);
+        let first = Channel::per_vertex(vec![Vec2::splat(9.0); 4]);
+        let second = Channel::per_vertex(vec![Vec2::splat(0.25); 4]);
+        data.uvs = vec![first, second.clone()];
+        let mut scene = scene_of(data, Material::default());
+        let g = UvGenerator::Planar { axis: Axis::Z };
+        assert_eq!(scene.apply_uv_generator(&g), vec![UvOutcome::Replaced]);
+        let mesh = &scene.meshes[0];
+        assert_eq!(mesh.uvs.len(), 2);
+        assert_eq!(mesh.uvs[1], second);
+        // planar:z: u left to right, v top to bottom over the square.
+        assert_eq!(mesh.uvs[0].values[0], Vec2::new(0.0, 1.0));
+        assert_eq!(mesh.uvs[0].values[2], Vec2::new(1.0, 0.0));
+        assert_eq!(
+            scene.report.generated.len(),
+            1,
+            "{:?}",
+            scene.report.generated
+        );
+        assert!(scene.report.generated[0].contains("replacing the file's"));
+        assert!(scene.report.warnings.is_empty());
+    }
+
+    #[test]
+    fn tangents_follow_the_new_set_0() {
+        // A normal map on set 0, and tangents from the file along +y (for the old UVs).
+        let mut data = quad(SQUARE);
+        data.uvs = vec![Channel::per_vertex(vec![Vec2::ZERO; 4])];
+        data.tangents = Some(Channel::per_vertex(vec![Vec4::new(0.0, 1.0, 0.0, 1.0); 4]));
+        let material = Material {
+            normal_texture: Some(TextureSlot::new(0)),
+            ..Material::default()
+        };
+        let mut scene = scene_of(data, material);
+        scene.apply_uv_generator(&UvGenerator::Planar { axis: Axis::Z });
+        let t = scene.meshes[0].tangents.as_ref().unwrap();
+        for c in 0..6 {
+            let v = scene.meshes[0].corners[c];
+            assert!(
+                (t.at(c, v).truncate() - Vec3::X).length() < 1e-5,
+                "u runs along +x"
+            );
+        }
+        assert!(
+            scene
+                .report
+                .generated
+                .iter()
+                .any(|g| g.contains("MikkTSpace")),
+            "{:?}",
+            scene.report.generated
+        );
+        // A normal map on set 1 keeps its tangents.
+        let mut data = quad(SQUARE);
+        data.uvs = vec![Channel::per_vertex(vec![Vec2::ZERO; 4]); 2];
+        data.tangents = Some(Channel::per_vertex(vec![Vec4::new(0.0, 1.0, 0.0, 1.0); 4]));
+        let mut slot = TextureSlot::new(0);
+        slot.uv_set = 1;
+        let material = Material {
+            normal_texture: Some(slot),
+            ..Material::default()
+        };
+        let mut scene = scene_of(data, material);
+        scene.apply_uv_generator(&UvGenerator::Box);
+        let t = scene.meshes[0].tangents.as_ref().unwrap();
+        assert_eq!(t.values[0], Vec4::new(0.0, 1.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn a_mesh_without_extent_warns_naming_the_file() {
+        for (positions, problem) in [
+            ([Vec3::NAN; 4], "has no finite position"),
+            ([Vec3::ONE; 4], "all its positions at one point"),
+        ] {
+            let mut scene = scene_of(quad(positions), Material::default());
+            for g in UvGenerator::PRESETS {
+                scene.report.warnings.clear();
+                assert_eq!(scene.apply_uv_generator(&g), vec![UvOutcome::Added]);
+                let w = &scene.report.warnings;
+                assert_eq!(w.len(), 1, "{w:?}");
+                assert!(
+                    w[0].starts_with("dir/model.gltf: mesh 'quad' ")
+                        && w[0].contains(problem)
+                        && w[0].contains(&g.to_string())
+                        && w[0].contains("§9.5"),
+                    "{}",
+                    w[0]
+                );
+                assert!(scene.meshes[0].uvs[0]
+                    .values
+                    .iter()
+                    .all(|uv| uv.is_finite()));
+                scene.meshes[0].uvs.clear();
+            }
+        }
+    }
+}
