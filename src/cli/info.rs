@@ -2,10 +2,40 @@
 
 use anyhow::Result;
 
-use super::{load_model, InfoArgs};
+use realist::load::{self, LoadOptions};
+use realist::mesh::Mesh;
+use realist::scenefile::schema::UvChoice;
+
+use super::InfoArgs;
+
+/// A mesh's texture coordinate sets for the text report, e.g. `TEXCOORD_0 (24 values,
+/// indexed per corner), TEXCOORD_1 (8 values, per vertex)`, or `none`.
+fn uv_sets(m: &Mesh) -> String {
+    if m.uvs.is_empty() {
+        return "none".into();
+    }
+    m.uvs
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let how = if c.indices.is_some() {
+                "indexed per corner"
+            } else {
+                "per vertex"
+            };
+            format!("TEXCOORD_{i} ({} values, {how})", c.values.len())
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
 
 pub(super) fn info(args: &InfoArgs) -> Result<()> {
-    let scene = load_model(&args.model, &args.normals)?;
+    let opts = LoadOptions {
+        normals: args.normals.options()?,
+        uv: args.uv.and_then(UvChoice::generator),
+        ..LoadOptions::default()
+    };
+    let scene = load::load(&args.model, &opts)?;
     let topologies: Vec<_> = scene.meshes.iter().map(|m| m.topology()).collect();
     let meshes: Vec<_> = scene
         .meshes
@@ -17,6 +47,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
                 "normals": format!("{:?}", m.normal_source),
                 "uvs": !m.uvs.is_empty(),
                 "uv_sets": m.uvs.len(),
+                "uv_set_values": m.uvs.iter().map(|c| c.values.len()).collect::<Vec<_>>(),
                 "tangents": m.tangents.is_some(),
                 "colors": m.colors.is_some(),
                 "topology": t,
@@ -98,7 +129,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
         say!(
             "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {} in {} loops, non-manifold edges {}, \
              degenerate facets {}, isolated vertices {}, components {}, V-E+F={} ({} without isolated vertices), \
-             genus {}, normals {:?}",
+             genus {}, normals {:?}, UV sets: {}",
             m.name,
             t.vertices,
             t.edges,
@@ -113,7 +144,8 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             t.euler_characteristic,
             t.euler_characteristic_used,
             t.genus.map_or("n/a".to_string(), |g| g.to_string()),
-            m.normal_source
+            m.normal_source,
+            uv_sets(m)
         );
     }
     for (i, c) in scene.cameras.iter().enumerate() {
@@ -154,6 +186,9 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
     }
     for w in &scene.report.warnings {
         say!("  warning: {w}");
+    }
+    for g in &scene.report.generated {
+        say!("  generated: {g}");
     }
     for s in &scene.report.skipped {
         say!("  skipped: {s}");

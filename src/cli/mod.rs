@@ -133,6 +133,10 @@ pub(crate) struct InfoArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     json: bool,
+    /// Generate texture coordinates as `render --uv` does (the textbook's §9.5) and report
+    /// them.
+    #[arg(long, value_parser = render::parse_uv)]
+    uv: Option<realist::scenefile::schema::UvChoice>,
     #[command(flatten)]
     normals: NormalArgs,
 }
@@ -254,6 +258,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
         bump: None,
         bump_scale: None,
         normal_map: None,
+        uv: None,
         stats: false,
         double_sided: false,
         msaa: Some(4),

@@ -11,6 +11,7 @@ use clap::Args;
 use realist::load::{self, LoadOptions};
 use realist::render::{default_camera, PreparedScene, Renderer, Settings, View};
 use realist::scene::{self, Camera, Scene, Slot, SlotOverride, TextureSource};
+use realist::scenefile::schema::{Kw, UvChoice};
 use realist::scenefile::{self, Format, SceneFile, MAX_SAMPLES};
 use realist::shade::Shading;
 
@@ -68,6 +69,12 @@ pub(crate) struct RenderArgs {
     /// Whether the materials' normal maps are read (default on).
     #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
     pub normal_map: Option<bool>,
+    /// Texture coordinates: mesh (the file's, the default), or generated from an auxiliary
+    /// surface, the textbook's §9.5: planar:x|y|z, cylindrical[:x|y|z], spherical[:x|y|z]
+    /// (about y by default) or box; replaces UV set 0 of every mesh (added where it has
+    /// none). Overrides a scene file's `uv`.
+    #[arg(long, value_parser = parse_uv)]
+    pub uv: Option<UvChoice>,
     /// Print one JSON object with counters and per-stage milliseconds.
     #[arg(long)]
     pub stats: bool,
@@ -101,6 +108,11 @@ fn parse_on_off(s: &str) -> Result<bool, String> {
 pub(crate) enum CameraArg {
     Orbit(f32, f32, Option<f32>),
     Gltf(usize),
+}
+
+/// `--uv` (also `realist info --uv`).
+pub(crate) fn parse_uv(s: &str) -> Result<UvChoice, String> {
+    s.parse()
 }
 
 fn parse_camera(s: &str) -> Result<CameraArg, String> {
@@ -164,11 +176,15 @@ struct Input {
 fn read_input(args: &RenderArgs) -> Result<Input> {
     let opts = LoadOptions {
         normals: args.normals.options()?,
+        uv: args.uv.and_then(UvChoice::generator),
         ..LoadOptions::default()
     };
     match &args.model {
         Some(path) if Format::of(path).is_some() => {
-            let file = SceneFile::read(path)?;
+            let mut file = SceneFile::read(path)?;
+            if let Some(uv) = args.uv {
+                file.doc.uv = Some(Kw(uv)); // `--uv mesh` too overrides the file
+            }
             let scene = file.load_model(&opts)?;
             let source = match file.model()? {
                 scenefile::ModelSource::Demo => "the demo scene".into(),
@@ -187,11 +203,21 @@ fn read_input(args: &RenderArgs) -> Result<Input> {
             source: path.display().to_string(),
         }),
         None => Ok(Input {
-            scene: scene::demo(),
+            scene: demo(opts.uv.as_ref()),
             file: None,
             source: "the demo scene".into(),
         }),
     }
+}
+
+/// The demo scene, with generated texture coordinates if asked for.
+fn demo(uv: Option<&realist::texture::UvGenerator>) -> Scene {
+    let mut scene = scene::demo();
+    if let Some(g) = uv {
+        scene.apply_uv_generator(g);
+        scene.check_texture_slots();
+    }
+    scene
 }
 
 /// The settings: the scene file's (or the defaults), then the flags given.

@@ -34,7 +34,7 @@ use std::sync::Arc;
 
 use crate::mesh::{MeshData, NormalOptions};
 use crate::scene::Scene;
-use crate::texture::Texture;
+use crate::texture::{Texture, UvGenerator};
 
 mod files;
 mod gltf;
@@ -58,6 +58,9 @@ pub struct LoadOptions {
     /// Where the load reports its stage and fraction, and where it can be cancelled from
     /// another thread (`None`: nobody watches; the load behaves the same).
     pub progress: Option<Arc<Progress>>,
+    /// Texture coordinates generated for every mesh after loading, replacing UV set 0 (the
+    /// textbook's §9.5; [`Scene::apply_uv_generator`]); `None` keeps the file's.
+    pub uv: Option<UvGenerator>,
 }
 
 impl Default for LoadOptions {
@@ -66,6 +69,7 @@ impl Default for LoadOptions {
             normals: NormalOptions::default(),
             max_bytes: 2 << 30,
             progress: None,
+            uv: None,
         }
     }
 }
@@ -140,6 +144,9 @@ fn run(loader: Loader, path: &Path, opts: &LoadOptions) -> Result<Scene, LoadErr
     let result = guarded(path, || {
         tracker.check()?;
         let mut scene = loader(path, opts, &tracker)?;
+        if let Some(generator) = &opts.uv {
+            scene.apply_uv_generator(generator);
+        }
         scene.check_texture_slots();
         Ok(scene)
     });

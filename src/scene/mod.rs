@@ -12,6 +12,7 @@ mod camera;
 mod demo;
 mod light;
 mod slot;
+mod uvgen;
 
 pub use camera::{clamp_fov, Camera, DEFAULT_YFOV};
 pub use demo::{demo, DEMO_SLICES, DEMO_STACKS};
@@ -19,6 +20,7 @@ pub use light::{Attenuation, Light, LightKind, MIN_D2};
 pub use slot::{
     Slot, SlotOverride, SlotOverrides, TextureSlot, TextureSource, UvTransform, DEFAULT_BUMP_SCALE,
 };
+pub use uvgen::UvOutcome;
 
 /// How a material's alpha is used (glTF `alphaMode`; OBJ `d` < 1 maps to `Blend`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -156,7 +158,8 @@ pub struct LoadReport {
     pub warnings: Vec<String>,
     /// Primitives skipped (points, lines, unsupported), with the reason.
     pub skipped: Vec<String>,
-    /// Meshes whose normals were generated rather than read, with how.
+    /// What was generated rather than read (normals, tangents, texture coordinates), per
+    /// mesh, with how.
     pub generated: Vec<String>,
 }
 

@@ -9,7 +9,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use crate::render::ToneMap;
 use crate::scene::LightKind;
 use crate::shade::{FogDistance, Shading};
-use crate::texture::Filter;
+use crate::texture::{Axis, Filter, UvGenerator};
 
 /// A type written in the file as one of a fixed set of names.
 pub trait Keyword: Sized + Copy {
@@ -65,6 +65,68 @@ impl Keyword for Filter {
             .ok_or_else(|| {
                 format!("unknown filter '{s}' (expected nearest, bilinear or trilinear)")
             })
+    }
+}
+
+/// `uv` (and `realist render --uv`): where texture coordinates come from: `"mesh"`, the
+/// model's own, or a generator of the textbook's §9.5 that replaces UV set 0 of every mesh
+/// (`planar:x|y|z`, `cylindrical[:x|y|z]`, `spherical[:x|y|z]`, `box`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UvChoice {
+    Mesh,
+    Generated(UvGenerator),
+}
+
+impl UvChoice {
+    /// The generator, `None` for the mesh's own UVs.
+    #[must_use]
+    pub fn generator(self) -> Option<UvGenerator> {
+        match self {
+            UvChoice::Mesh => None,
+            UvChoice::Generated(g) => Some(g),
+        }
+    }
+}
+
+impl std::str::FromStr for UvChoice {
+    type Err = String;
+
+    /// `mesh` or a generator name ([`UvGenerator`]'s `FromStr`), case-insensitive.
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s.trim().eq_ignore_ascii_case("mesh") {
+            return Ok(UvChoice::Mesh);
+        }
+        s.parse().map(UvChoice::Generated).map_err(|_| {
+            format!(
+                "unknown uv '{s}' (expected mesh, planar:x|y|z, cylindrical[:x|y|z], \
+                 spherical[:x|y|z] or box)"
+            )
+        })
+    }
+}
+
+impl Keyword for UvChoice {
+    /// The name [`UvGenerator`]'s `Display` writes (`"mesh"` for the mesh's own).
+    fn keyword(self) -> &'static str {
+        use UvGenerator::{Box, Cylindrical, Planar, Spherical};
+        match self {
+            UvChoice::Mesh => "mesh",
+            UvChoice::Generated(g) => match g {
+                Planar { axis: Axis::X } => "planar:x",
+                Planar { axis: Axis::Y } => "planar:y",
+                Planar { axis: Axis::Z } => "planar:z",
+                Cylindrical { axis: Axis::X } => "cylindrical:x",
+                Cylindrical { axis: Axis::Y } => "cylindrical",
+                Cylindrical { axis: Axis::Z } => "cylindrical:z",
+                Spherical { axis: Axis::X } => "spherical:x",
+                Spherical { axis: Axis::Y } => "spherical",
+                Spherical { axis: Axis::Z } => "spherical:z",
+                Box => "box",
+            },
+        }
+    }
+    fn parse_keyword(s: &str) -> Result<Self, String> {
+        s.parse()
     }
 }
 
@@ -205,6 +267,8 @@ pub struct SceneDoc {
     pub bump_scale: Option<f32>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_map: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uv: Option<Kw<UvChoice>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tone: Option<Kw<ToneMap>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]

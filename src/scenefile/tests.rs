@@ -481,3 +481,85 @@ fn shortest_numbers_read_back_exactly() {
     }
     assert_eq!(export::tidy_degrees(20f64.to_radians() as f32), 20.0);
 }
+
+#[test]
+fn uv_key_generates_texture_coordinates_and_reads_back() {
+    use crate::texture::{Axis, UvGenerator};
+    // Every generator's name reads back to itself, and "mesh" to none.
+    let mut names = vec!["mesh".to_string()];
+    names.extend(UvGenerator::PRESETS.iter().map(|g| g.to_string()));
+    names.extend(["cylindrical:x", "spherical:z"].map(String::from));
+    for name in &names {
+        let file = toml(&format!("model = \"demo\"\nuv = \"{name}\"\n")).unwrap();
+        let kw = file.doc.uv.expect(name).0;
+        assert_eq!(schema::Keyword::keyword(kw), name.as_str());
+        assert_eq!(
+            file.uv().map(|g| g.to_string()),
+            (name != "mesh").then(|| name.clone())
+        );
+    }
+    let e = err("model = \"demo\"\nuv = \"spherical:w\"\n");
+    assert!(
+        e.starts_with("dir/exp.toml: line 2") && e.contains("unknown uv 'spherical:w'"),
+        "{e}"
+    );
+    let e = err("model = \"demo\"\nuv = 3\n");
+    assert!(e.starts_with("dir/exp.toml: line 2"), "{e}");
+
+    // A primitive's own UVs are replaced by the file's generator, and the report says so.
+    let dir = TempDir::new("scenefile-uv");
+    let path = dir.write(
+        "s.toml",
+        "uv = \"planar:z\"\n[primitive]\nshape = \"sphere\"\nslices = 8\nstacks = 4\n",
+    );
+    let loaded = SceneFile::load(&path).unwrap();
+    let mesh = &loaded.scene.meshes[0];
+    assert_eq!(mesh.uvs.len(), 1);
+    let expected = crate::mesh::generate_uvs(mesh, &UvGenerator::Planar { axis: Axis::Z });
+    assert_eq!(mesh.uvs[0], expected);
+    assert!(
+        loaded
+            .scene
+            .report
+            .generated
+            .iter()
+            .any(|g| g.contains("planar:z") && g.contains("§9.5")),
+        "{:?}",
+        loaded.scene.report.generated
+    );
+    // The caller's generator wins over the file's; "mesh" keeps the primitive's UVs.
+    let file = SceneFile::read(&path).unwrap();
+    let opts = LoadOptions {
+        uv: Some(UvGenerator::Box),
+        ..LoadOptions::default()
+    };
+    let boxed = file.load_model(&opts).unwrap();
+    assert_eq!(
+        boxed.meshes[0].uvs[0],
+        crate::mesh::generate_uvs(&boxed.meshes[0], &UvGenerator::Box)
+    );
+    let mut own = file.clone();
+    own.doc.uv = Some(schema::Kw(schema::UvChoice::Mesh));
+    let own = own.load_model(&LoadOptions::default()).unwrap();
+    let plain = crate::mesh::Mesh::sphere(1.0, 8, 4).unwrap();
+    assert_eq!(own.meshes[0].uvs, plain.uvs);
+    assert!(own.report.generated.is_empty());
+
+    // Exported: set_uv writes the key, which reads back; None leaves the model's own.
+    let (mut out, _) = SceneFile::from_settings(&loaded.model, 1.0, &loaded.settings, &loaded.view);
+    assert_eq!(out.uv(), None);
+    out.set_uv(Some(UvGenerator::Cylindrical { axis: Axis::X }));
+    for name in ["e.toml", "e.json"] {
+        out.save(&dir.0.join(name)).unwrap();
+        let back = SceneFile::read(&dir.0.join(name)).unwrap();
+        assert_eq!(
+            back.uv(),
+            Some(UvGenerator::Cylindrical { axis: Axis::X }),
+            "{name}"
+        );
+        let text = std::fs::read_to_string(dir.0.join(name)).unwrap();
+        assert!(text.contains("cylindrical:x"), "{text}");
+    }
+    out.set_uv(None);
+    assert_eq!(out.doc.uv, None);
+}
