@@ -1,6 +1,6 @@
 //! Comparison layouts: `[compare]` renders the scene once per `[[compare.variant]]` (each
-//! overriding the shading mode, materials, texture filter, texture and bump map of the
-//! file's settings), with the same camera
+//! overriding the shading mode, materials, texture filter, texture, bump map and generated
+//! texture coordinates of the file's settings), with the same camera
 //! and size, and lays the frames out in a grid, `columns` per row in the file's order, each
 //! with its label centred in a strip below it and an optional title strip above the grid.
 //! Labels are drawn by [`crate::overlay`] (outlines of the embedded DejaVu Sans).
@@ -20,6 +20,8 @@ pub const LABEL_SIZE: f32 = 20.0;
 pub struct Variant {
     pub label: String,
     pub settings: Settings,
+    /// Texture coordinates generated for this variant (the file's own `uv` otherwise).
+    pub uv: Option<crate::scenefile::schema::UvChoice>,
 }
 
 /// A resolved `[compare]`.
@@ -162,6 +164,7 @@ impl SceneFile {
             variants.push(Variant {
                 label: v.label.clone(),
                 settings,
+                uv: v.uv.map(|u| u.0),
             });
         }
         let layout = Layout::new(spec, self.size().unwrap_or(super::DEFAULT_SIZE))
@@ -192,6 +195,18 @@ impl Comparison {
         let mut stats = crate::raster::Stats::default();
         let mut cells = Vec::with_capacity(self.variants.len());
         for v in &self.variants {
+            // A variant with generated texture coordinates draws a copy of the scene with
+            // them; `uv = "mesh"` draws the scene as loaded.
+            let own;
+            let scene = match v.uv.and_then(|u| u.generator()) {
+                Some(g) => {
+                    let mut copy = Scene::clone(scene.scene());
+                    copy.apply_uv_generator(&g);
+                    own = PreparedScene::new(copy);
+                    &own
+                }
+                None => scene,
+            };
             stats.add(&renderer.render(scene, &v.settings, view).stats);
             if let Some(t) = renderer.target() {
                 cells.push(t.to_srgb8());

@@ -496,4 +496,6 @@ pub struct VariantSpec {
     pub bump: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bump_scale: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uv: Option<Kw<UvChoice>>,
 }
