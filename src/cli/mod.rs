@@ -251,6 +251,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
         fov: None,
         zoom: None,
         texture: None,
+        filter: None,
         stats: false,
         double_sided: false,
         msaa: Some(4),

@@ -13,6 +13,7 @@ use realist::render::{default_camera, PreparedScene, Renderer, Settings, View};
 use realist::scene::{self, Camera, Scene};
 use realist::scenefile::{self, Format, SceneFile, MAX_SAMPLES};
 use realist::shade::Shading;
+use realist::texture::Filter;
 
 use super::lighting::LightingArgs;
 use super::{parse_msaa, parse_size, NormalArgs};
@@ -54,6 +55,10 @@ pub(crate) struct RenderArgs {
     /// Texture applied to meshes that have UVs but no material texture (e.g. spot.obj).
     #[arg(long)]
     pub texture: Option<PathBuf>,
+    /// Read every texture with this filter instead of its sampler's: nearest, bilinear,
+    /// trilinear or aniso:N (N = 2 to 16 trilinear taps along the footprint's long axis).
+    #[arg(long, value_name = "FILTER")]
+    pub filter: Option<Filter>,
     /// Print one JSON object with counters and per-stage milliseconds.
     #[arg(long)]
     pub stats: bool,
@@ -185,6 +190,9 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
     }
     if let Some(m) = args.msaa {
         s.msaa = m;
+    }
+    if args.filter.is_some() {
+        s.filter = args.filter;
     }
     if let Some(n) = args.samples {
         if !(1..=MAX_SAMPLES).contains(&n) {
