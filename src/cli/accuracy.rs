@@ -9,6 +9,7 @@ use realist::quality::metrics;
 use realist::quality::plane::PlaneSetup;
 use realist::quality::sphere::{Shape, SphereSetup};
 use realist::quality::sweep::{self, ModelSetup, Subject};
+use realist::texture::Filter;
 
 use realist::load::LoadOptions;
 use realist::render::RenderOptions;
@@ -96,6 +97,7 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
             if front.contains(&i) { "  *" } else { "" }
         );
     }
+    filter_summary(rows)?;
     say!("Pareto-optimal (fastest first; * above):");
     for &i in &front {
         let r = &rows[i];
@@ -153,6 +155,34 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         "wrote the reference image(s) and render-*.png, heat-*.png (dE00 0 black .. {} white) for the Pareto-optimal settings",
         metrics::HEAT_MAP_MAX_DE
     );
+    Ok(())
+}
+
+/// Every texture filter's time and error without supersampling, time relative to
+/// trilinear's (when the sweep has filter rows).
+fn filter_summary(rows: &[sweep::Row]) -> Result<()> {
+    let single: Vec<&sweep::Row> = rows
+        .iter()
+        .filter(|r| r.knob == "filter" && r.setting.ss == 1 && r.setting.msaa == 1)
+        .collect();
+    let Some(tri) = single
+        .iter()
+        .find(|r| r.setting.filter == Some(Filter::Trilinear))
+    else {
+        return Ok(());
+    };
+    say!("Texture filters (one sample per pixel; time relative to trilinear):");
+    for r in &single {
+        let Some(f) = r.setting.filter else { continue };
+        say!(
+            "  {:<10} {:>8.2} ms  x{:<5.2} mean dE00 {:.4}  rmse {:.5}",
+            f.name(),
+            r.ms,
+            r.ms / tri.ms.max(1e-9),
+            r.metrics.mean_de2000,
+            r.metrics.rmse
+        );
+    }
     Ok(())
 }
 

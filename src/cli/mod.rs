@@ -259,6 +259,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
         bump_scale: None,
         normal_map: None,
         uv: None,
+        filter: None,
         stats: false,
         double_sided: false,
         msaa: Some(4),

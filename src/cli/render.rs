@@ -14,6 +14,7 @@ use realist::scene::{self, Camera, Scene, Slot, SlotOverride, TextureSource};
 use realist::scenefile::schema::{Kw, UvChoice};
 use realist::scenefile::{self, Format, SceneFile, MAX_SAMPLES};
 use realist::shade::Shading;
+use realist::texture::Filter;
 
 use super::lighting::LightingArgs;
 use super::{parse_msaa, parse_size, NormalArgs};
@@ -75,6 +76,10 @@ pub(crate) struct RenderArgs {
     /// none). Overrides a scene file's `uv`.
     #[arg(long, value_parser = parse_uv)]
     pub uv: Option<UvChoice>,
+    /// Read every texture with this filter instead of its sampler's: nearest, bilinear,
+    /// trilinear or aniso:N (N = 2 to 16 trilinear taps along the footprint's long axis).
+    #[arg(long, value_name = "FILTER")]
+    pub filter: Option<Filter>,
     /// Print one JSON object with counters and per-stage milliseconds.
     #[arg(long)]
     pub stats: bool,
@@ -234,6 +239,9 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
     }
     if let Some(m) = args.msaa {
         s.msaa = m;
+    }
+    if args.filter.is_some() {
+        s.filter = args.filter;
     }
     if let Some(n) = args.samples {
         if !(1..=MAX_SAMPLES).contains(&n) {

@@ -1005,9 +1005,10 @@ fn sample_texture(t: &Texture, uv: DVec2, s: Sampler) -> DVec4 {
             wrap_index((u * w).floor(), t.width, s.wrap_u),
             wrap_index((v * h).floor(), t.height, s.wrap_v),
         ),
-        // Mipmapping approximates the footprint filter that the supersampling computes
-        // here, so the ideal of a trilinear texture is its base level, read bilinearly.
-        Filter::Bilinear | Filter::Trilinear => {
+        // Mipmapping (and anisotropic filtering) approximates the footprint filter that the
+        // supersampling computes here, so the ideal of a mipmapped texture is its base
+        // level, read bilinearly.
+        Filter::Bilinear | Filter::Trilinear | Filter::Anisotropic(_) => {
             let (fx, fy) = (u * w - 0.5, v * h - 0.5);
             let (x0, y0) = (fx.floor(), fy.floor());
             let (tx, ty) = (fx - x0, fy - y0);

@@ -5,8 +5,8 @@
 //!
 //! Knobs: tessellation (slices x stacks of the latitude/longitude sphere, or the sides of
 //! the capped cylinder), shading mode (flat, Gouraud, Phong, Blinn; each against the reference of its
-//! own highlight model), and supersampling (1, 2x2, 4x4, resolved by a box filter in linear
-//! light).
+//! own highlight model), texture filter (nearest, bilinear, trilinear, aniso:2/4/8/16),
+//! and supersampling (1, 2x2, 4x4, resolved by a box filter in linear light).
 
 use std::time::Instant;
 
@@ -64,14 +64,10 @@ impl Setting {
     }
 }
 
-/// A texture filter's name in labels and `results.csv`.
+/// A texture filter's name in labels and `results.csv` ([`Filter::name`]).
 #[must_use]
 pub fn filter_name(f: Filter) -> &'static str {
-    match f {
-        Filter::Nearest => "nearest",
-        Filter::Bilinear => "bilinear",
-        Filter::Trilinear => "trilinear",
-    }
+    f.name()
 }
 
 /// The result of one setting.
@@ -272,7 +268,7 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
     };
     let mut out = Vec::new();
     if textured {
-        for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
+        for filter in Filter::COMMON {
             out.push((
                 "filter",
                 Setting {
@@ -304,12 +300,17 @@ const LIT_MODES: [Shading; 4] = [
     Shading::Blinn,
 ];
 
-/// The plane's settings: every texture filter, each without and with 2x2 and 4x4
-/// supersampling.
+/// The plane's settings: every texture filter ([`Filter::COMMON`]: nearest, bilinear,
+/// trilinear, aniso:2/4/8/16), the first three also with 2x2 and 4x4 supersampling.
 fn plane_settings() -> Vec<(&'static str, Setting)> {
     let mut out = Vec::new();
-    for filter in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
-        for ss in [1, 2, 4] {
+    for filter in Filter::COMMON {
+        let supersampled: &[u32] = if matches!(filter, Filter::Anisotropic(_)) {
+            &[1]
+        } else {
+            &[1, 2, 4]
+        };
+        for &ss in supersampled {
             let knob = if ss == 1 { "filter" } else { "supersampling" };
             out.push((
                 knob,

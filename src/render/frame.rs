@@ -14,7 +14,7 @@ use crate::scene::{
     AlphaMode, Light, Material, Slot, SlotOverride, Style, TextureSource, UvTransform,
 };
 use crate::shade::{DrawParams, Fog, LightSet, LitLayout, Shading, SlotParams, Surface, TexView};
-use crate::texture::{Filter, Procedural, ProceduralTexture, Sampler};
+use crate::texture::{Procedural, ProceduralTexture, Sampler};
 
 /// One visible instance of this frame.
 #[derive(Clone, Copy, Debug)]
@@ -490,7 +490,7 @@ pub(super) fn set_up(
         let (c, radius) = world_sphere(world, tri.center, tri.radius);
         r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
         for t in r.params.maps() {
-            let mipmapped = !matches!(t.sampler.filter, Filter::Nearest | Filter::Bilinear);
+            let mipmapped = t.sampler.filter.mipmapped();
             if let (true, TextureSource::Image(texture)) = (mipmapped, &t.source) {
                 // Built once (a no-op afterwards), in parallel, so no tile waits for it.
                 texture.prepare_mips();

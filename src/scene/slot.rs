@@ -199,7 +199,7 @@ impl TextureSlot {
             "texture {}, TEXCOORD_{}, {}",
             self.texture,
             self.uv_set,
-            format!("{:?}", s.filter).to_lowercase()
+            s.filter.name()
         );
         if s.wrap_u == s.wrap_v {
             d += &format!(", {}", wrap(s.wrap_u));

@@ -52,19 +52,12 @@ keyword_by_fromstr!(Shading, ToneMap, FogDistance, LightKind);
 
 impl Keyword for Filter {
     fn keyword(self) -> &'static str {
-        match self {
-            Filter::Nearest => "nearest",
-            Filter::Bilinear => "bilinear",
-            Filter::Trilinear => "trilinear",
-        }
+        self.name()
     }
+    /// `nearest`, `bilinear`, `trilinear` or `aniso:N` ([`Filter`]'s `FromStr`).
     fn parse_keyword(s: &str) -> Result<Self, String> {
-        [Filter::Nearest, Filter::Bilinear, Filter::Trilinear]
-            .into_iter()
-            .find(|f| f.keyword().eq_ignore_ascii_case(s))
-            .ok_or_else(|| {
-                format!("unknown filter '{s}' (expected nearest, bilinear or trilinear)")
-            })
+        s.parse()
+            .map_err(|e: crate::texture::ParseFilterError| e.to_string())
     }
 }
 

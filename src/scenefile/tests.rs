@@ -24,6 +24,23 @@ fn err(text: &str) -> String {
 }
 
 #[test]
+fn filter_key_takes_every_filter_and_names_itself_in_errors() {
+    let scene = crate::scene::demo();
+    for f in Filter::COMMON {
+        let file = toml(&format!("model = \"demo\"\nfilter = \"{}\"\n", f.name())).unwrap();
+        assert_eq!(file.settings(&scene).unwrap().filter, Some(f));
+    }
+    for bad in ["aniso:20", "aniso:1", "aniso", "linear"] {
+        let e = err(&format!("model = \"demo\"\nfilter = \"{bad}\"\n"));
+        assert!(
+            e.contains(&format!("unknown filter '{bad}'")) && e.contains("line 2"),
+            "{e}"
+        );
+        assert!(e.contains("trilinear") && e.contains("aniso:N"), "{e}");
+    }
+}
+
+#[test]
 fn unknown_keys_and_bad_types_name_the_file_and_key() {
     let e = err("model = \"demo\"\n[fog]\nnear = 1\nfar = 2\nnaer = 3\n");
     assert!(
@@ -325,7 +342,7 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             slots.set(Slot::Normal, Some(SlotOverride::Off));
             slots
         },
-        filter: Some(Filter::Nearest),
+        filter: Some(Filter::Anisotropic(8)),
         lights: Lights::Custom {
             lights,
             follow_camera: true,

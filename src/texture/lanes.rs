@@ -3,7 +3,9 @@
 //! that work on eight pixels at a time (see [`crate::raster::lanes`]).
 //!
 //! Everything but the texel reads and the filtering is done on all lanes at once: folding
-//! the UV for the wrap modes, the level of detail (with [`F8::log2`]), the level of each
+//! the UV for the wrap modes, the level of detail (with [`F8::log2`]; for anisotropic
+//! filtering also the taps per lane, whose positions are lanes too: one filter call per
+//! tap for the lanes that have it), the level of each
 //! lane and its size, texel coordinates (floors and wraps in integer lanes) and bilinear
 //! weights. The texel reads, their decoding and the weighting are a loop over the live
 //! lanes on four-channel texels: base texels are decoded by table, and the levels below
@@ -15,7 +17,7 @@
 //! Results equal the scalar sampler's: the arithmetic is the same operation for operation
 //! (no fused multiply-add), except the logarithm of the level of detail, a polynomial here
 //! (error about 1e-7) against libm's `log2f`. Nearest and bilinear samples are therefore
-//! bit-identical, trilinear ones equal within about 1e-6 (the blend between levels is
+//! bit-identical, trilinear and anisotropic ones equal within about 1e-6 (the blend between levels is
 //! continuous in the level of detail); the tests compare them on random and degenerate
 //! inputs for every kernel the machine has.
 
@@ -415,7 +417,7 @@ impl Texture {
                     ty: F8::ZERO,
                 }
             }
-            Filter::Bilinear | Filter::Trilinear => {
+            Filter::Bilinear | Filter::Trilinear | Filter::Anisotropic(_) => {
                 let size = (self.width, self.height);
                 footprint(size, &[0; 32], I8::default(), u, v, s)
             }
@@ -453,7 +455,8 @@ impl Texture {
     }
 
     /// Both lane samplers: derivatives `d` (`[dudx, dvdx, dudy, dvdy]`) choose the level of
-    /// a trilinear sample; without them, or for the other filters, the base level is read.
+    /// a trilinear sample and the taps of an anisotropic one; without them, or for the
+    /// other filters, the base level is read.
     #[inline(always)]
     fn sample_impl<K: Kernel>(
         &self,
@@ -463,29 +466,114 @@ impl Texture {
         mask: u32,
         s: Sampler,
     ) -> [F8; 4] {
-        let (u, v) = fold(u, v, s);
         let top = (self.levels() - 1) as f32;
-        let trilinear = match d {
-            Some(d) if s.filter == Filter::Trilinear && top > 0.0 => Some(d),
+        let mipmapped = match d {
+            Some(d) if s.filter.mipmapped() && top > 0.0 => Some(d),
             _ => None,
         };
-        let Some([dudx, dvdx, dudy, dvdy]) = trilinear else {
+        let Some([dudx, dvdx, dudy, dvdy]) = mipmapped else {
+            let (u, v) = fold(u, v, s);
             return self.filter_any(None, &self.base_footprint(u, v, s), None, mask);
         };
         let chain = self.mips();
         let lod = self.lod_lanes::<K>(dudx, dvdx, dudy, dvdy);
-        // As `sample_lod_with`: bilinear on level floor(lod), blended towards the next level
-        // by the fraction where it is not zero (lod <= 0 is level 0 with no fraction).
-        let d = floor_i(lod);
-        let t = lod - d.to_f32();
-        let a = footprint(chain.size[0], &chain.offset, d, u, v, s);
-        let lanes = mask & t.gt(F8::ZERO).bits();
+        let Filter::Anisotropic(max) = s.filter else {
+            let (u, v) = fold(u, v, s);
+            return self.trilinear(chain, u, v, &Levels::new(lod, top), mask, s);
+        };
+        // As `sample_grad_with`: lanes with one tap are the trilinear sample (level `lod`
+        // at the UV itself); the others average their taps along the major axis.
+        let a = self.aniso_lanes::<K>([dudx, dvdx, dudy, dvdy], super::aniso_ratio(max));
+        let single = crate::raster::M8::from_bits(a.single);
+        let levels = Levels::new(F8::select(single, lod, a.lod), top);
+        let most = (0..LANES)
+            .filter(|&i| mask >> i & 1 != 0)
+            .map(|i| a.taps.0[i])
+            .max()
+            .unwrap_or(1);
+        let n = a.taps.to_f32();
+        let mut sum = [F8::ZERO; 4];
+        for i in 0..most {
+            let lanes = mask
+                & a.taps
+                    .0
+                    .iter()
+                    .enumerate()
+                    .fold(0, |b, (l, &t)| b | (u32::from(t > i) << l));
+            let k = F8::splat(i as f32 + 0.5) / n - F8::splat(0.5);
+            let tu = F8::select(single, u, u + a.axis[0] * k);
+            let tv = F8::select(single, v, v + a.axis[1] * k);
+            let (tu, tv) = fold(tu, tv, s);
+            let c = self.trilinear(chain, tu, tv, &levels, lanes, s);
+            for (acc, c) in sum.iter_mut().zip(c) {
+                *acc += c;
+            }
+        }
+        let inv = F8::ONE / n;
+        sum.map(|c| c * inv)
+    }
+
+    /// A trilinear sample of each lane in `mask` at folded UVs and levels `l` (as
+    /// `sample_lod_with`: bilinear on level floor(lod), blended towards the next level by
+    /// the fraction where it is not zero; lod <= 0 is level 0 with no fraction).
+    #[inline(always)]
+    fn trilinear(
+        &self,
+        chain: &mip::Chain,
+        u: F8,
+        v: F8,
+        l: &Levels,
+        mask: u32,
+        s: Sampler,
+    ) -> [F8; 4] {
+        let a = footprint(chain.size[0], &chain.offset, l.d, u, v, s);
+        let lanes = mask & l.blend;
         if lanes == 0 {
             return self.filter_any(Some(chain), &a, None, mask);
         }
-        let next = d.add(I8::splat(1)).clamp0(I8::splat(top as i32));
-        let b = footprint(chain.size[0], &chain.offset, next, u, v, s);
-        self.filter_any(Some(chain), &a, Some((&b, t, lanes)), mask)
+        let b = footprint(chain.size[0], &chain.offset, l.next, u, v, s);
+        self.filter_any(Some(chain), &a, Some((&b, l.t, lanes)), mask)
+    }
+
+    /// [`Texture::aniso`] on eight lanes: the taps (1 where the derivatives are not
+    /// finite), the level of detail of the lanes with several taps (with [`F8::log2`]) and
+    /// the major axis (zero on single-tap lanes).
+    #[inline(always)]
+    fn aniso_lanes<K: Kernel>(&self, d: [F8; 4], max: u8) -> AnisoLanes {
+        let [dudx, dvdx, dudy, dvdy] = d;
+        let ok = finite(dudx) & finite(dvdx) & finite(dudy) & finite(dvdy);
+        let (w, h) = (self.width as f32, self.height as f32);
+        let (xu, xv) = (dudx * w, dvdx * h);
+        let (yu, yv) = (dudy * w, dvdy * h);
+        let lx = (xu * xu + xv * xv).sqrt();
+        let ly = (yu * yu + yv * yv).sqrt();
+        let x_major = lx.ge(ly);
+        let major = F8::select(x_major, lx, ly);
+        let minor = F8::select(x_major, ly, lx);
+        let mut taps = I8::splat(1);
+        for i in 0..LANES {
+            if ok >> i & 1 != 0 {
+                taps.0[i] = super::aniso_taps(major.0[i], minor.0[i], max) as i32;
+            }
+        }
+        let single = taps.zip(taps, |t, _| -i32::from(t <= 1));
+        let single = single
+            .0
+            .iter()
+            .enumerate()
+            .fold(0u32, |b, (i, &m)| b | (u32::from(m != 0) << i));
+        let top = (self.levels() - 1) as f32;
+        let lod = (major / taps.to_f32()).log2::<K>().clamp(0.0, top);
+        let keep = crate::raster::M8::from_bits(!single);
+        AnisoLanes {
+            taps,
+            single,
+            lod,
+            axis: [
+                F8::select(keep, F8::select(x_major, dudx, dudy), F8::ZERO),
+                F8::select(keep, F8::select(x_major, dvdx, dvdy), F8::ZERO),
+            ],
+        }
     }
 
     /// [`Texture::lod`] on eight lanes (with [`F8::log2`] for the logarithm).
@@ -500,6 +588,41 @@ impl Texture {
         let lod = (rho2.log2::<K>() * 0.5).clamp(0.0, (self.levels() - 1) as f32);
         F8::select(crate::raster::M8::from_bits(ok), lod, F8::ZERO)
     }
+}
+
+/// The levels a trilinear sample reads, per lane: `d` = floor(lod), `next` = the level
+/// below it (clamped to the last), `t` = the fraction, `blend` = the lanes where it is
+/// not zero.
+struct Levels {
+    d: I8,
+    next: I8,
+    t: F8,
+    blend: u32,
+}
+
+impl Levels {
+    /// For levels of detail `lod` in [0, top] (as [`Texture::lod`] gives them).
+    #[inline(always)]
+    fn new(lod: F8, top: f32) -> Self {
+        let d = floor_i(lod);
+        let t = lod - d.to_f32();
+        Levels {
+            d,
+            next: d.add(I8::splat(1)).clamp0(I8::splat(top as i32)),
+            t,
+            blend: t.gt(F8::ZERO).bits(),
+        }
+    }
+}
+
+/// [`super::AnisoTaps`] on eight lanes.
+struct AnisoLanes {
+    taps: I8,
+    /// Lanes with one tap (bit i = lane i).
+    single: u32,
+    lod: F8,
+    /// Major axis, u and v.
+    axis: [F8; 2],
 }
 
 /// The bilinear footprint of each lane's level `level` at folded UVs (the lane version of
@@ -650,7 +773,14 @@ mod tests {
     fn compare(kind: KernelKind) -> f32 {
         let mut rng = Rng(42);
         let wraps = [Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge];
-        let filters = [Filter::Nearest, Filter::Bilinear, Filter::Trilinear];
+        let filters = [
+            Filter::Nearest,
+            Filter::Bilinear,
+            Filter::Trilinear,
+            Filter::Anisotropic(2),
+            Filter::Anisotropic(5),
+            Filter::Anisotropic(16),
+        ];
         let mut worst = 0.0f32;
         let mut lanes = 0;
         for (w, h) in [
@@ -715,7 +845,7 @@ mod tests {
                                             t.sample_with(p, s)
                                         };
                                         let err = (g - want).abs().max_element();
-                                        let exact = !grad || filter != Filter::Trilinear;
+                                        let exact = !grad || !filter.mipmapped();
                                         assert!(
                                             if exact { g == want } else { err < 1e-5 },
                                             "{kind:?} {w}x{h} srgb {srgb} {s:?} grad {grad} \

@@ -7,12 +7,14 @@
 //! OpenEXR) are 32-bit float. UV convention: glTF's, origin at the top-left texel
 //! corner, u to the right, v downwards (OBJ loaders flip v on the way in).
 //!
-//! Filters ([`Filter`]): nearest, bilinear on the base level, and trilinear (mipmapped, the
-//! default). The mip chain (see `mip.rs` for the box filter and the storage of the levels)
+//! Filters ([`Filter`]): nearest, bilinear on the base level, trilinear (mipmapped, the
+//! default) and anisotropic (`aniso:N`: up to N trilinear taps along the long axis of the
+//! pixel's footprint, as GPUs do it). The mip chain (see `mip.rs` for the box filter and the storage of the levels)
 //! is built once per texture, on the first sample that needs a level below the base, or
 //! ahead of time by [`Texture::prepare_mips`] (the renderer does this before filling tiles,
 //! so no tile waits for it). The level of detail comes from the screen-space UV derivatives
-//! ([`Texture::sample_grad`]) with OpenGL's isotropic formula.
+//! ([`Texture::sample_grad`]) with OpenGL's isotropic formula; anisotropic filtering
+//! ([`Texture::aniso`]) takes the level from the footprint's length over its number of taps.
 //!
 //! Shaders that work on eight pixels at once sample with [`Texture::sample_lanes`] and
 //! [`Texture::sample_grad_lanes`] (`lanes.rs`): the same results, the coordinate and weight
@@ -63,6 +65,106 @@ pub enum Filter {
     /// Needs derivatives ([`Texture::sample_grad`]); [`Texture::sample`] reads the base level.
     #[default]
     Trilinear,
+    /// Anisotropic (as GPUs do it, after `EXT_texture_filter_anisotropic`; no elliptical
+    /// weighting): up to `N` trilinear taps spread evenly along the longer axis of the pixel's
+    /// footprint, each at the level of detail of the footprint's length over the number of
+    /// taps, averaged with equal weights. `N` is the largest ratio, [`MIN_ANISO`] to
+    /// [`MAX_ANISO`] (other values are clamped to that range when sampling). Magnified and
+    /// isotropic footprints (one tap) read exactly the trilinear sample. Needs derivatives
+    /// ([`Texture::sample_grad_with`]); [`Texture::sample`] reads the base level.
+    Anisotropic(u8),
+}
+
+/// Smallest and largest ratio of [`Filter::Anisotropic`].
+pub const MIN_ANISO: u8 = 2;
+/// See [`MIN_ANISO`].
+pub const MAX_ANISO: u8 = 16;
+
+/// The names `aniso:2` .. `aniso:16` (index = ratio - [`MIN_ANISO`]).
+const ANISO_NAMES: [&str; (MAX_ANISO - MIN_ANISO + 1) as usize] = [
+    "aniso:2", "aniso:3", "aniso:4", "aniso:5", "aniso:6", "aniso:7", "aniso:8", "aniso:9",
+    "aniso:10", "aniso:11", "aniso:12", "aniso:13", "aniso:14", "aniso:15", "aniso:16",
+];
+
+impl Filter {
+    /// Every filter a user can name, with the anisotropic ratios most often compared (the
+    /// viewer's and the sweep's list): nearest, bilinear, trilinear, aniso:2/4/8/16.
+    pub const COMMON: [Filter; 7] = [
+        Filter::Nearest,
+        Filter::Bilinear,
+        Filter::Trilinear,
+        Filter::Anisotropic(2),
+        Filter::Anisotropic(4),
+        Filter::Anisotropic(8),
+        Filter::Anisotropic(16),
+    ];
+
+    /// The name the command line and scene files use: `nearest`, `bilinear`, `trilinear` or
+    /// `aniso:N` (N clamped to [`MIN_ANISO`]..=[`MAX_ANISO`], as sampling clamps it).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::Nearest => "nearest",
+            Filter::Bilinear => "bilinear",
+            Filter::Trilinear => "trilinear",
+            Filter::Anisotropic(n) => ANISO_NAMES[usize::from(aniso_ratio(n) - MIN_ANISO)],
+        }
+    }
+
+    /// True if the filter reads the mip chain (trilinear and anisotropic): a renderer should
+    /// call [`Texture::prepare_mips`] before drawing with it.
+    #[must_use]
+    pub fn mipmapped(self) -> bool {
+        matches!(self, Filter::Trilinear | Filter::Anisotropic(_))
+    }
+}
+
+/// The largest anisotropic ratio actually used for a requested `n`.
+#[inline]
+fn aniso_ratio(n: u8) -> u8 {
+    n.clamp(MIN_ANISO, MAX_ANISO)
+}
+
+impl std::fmt::Display for Filter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Why a filter name was not understood.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "unknown filter '{0}' (expected nearest, bilinear, trilinear or aniso:N with N from {MIN_ANISO} to {MAX_ANISO})"
+)]
+pub struct ParseFilterError(pub String);
+
+impl std::str::FromStr for Filter {
+    type Err = ParseFilterError;
+
+    /// `nearest`, `bilinear`, `trilinear` or `aniso:N` (N = 2..=16), case-insensitive,
+    /// surrounding spaces ignored.
+    fn from_str(s: &str) -> Result<Self, ParseFilterError> {
+        let t = s.trim().to_ascii_lowercase();
+        let bad = || ParseFilterError(s.to_owned());
+        match t.as_str() {
+            "nearest" => Ok(Filter::Nearest),
+            "bilinear" => Ok(Filter::Bilinear),
+            "trilinear" => Ok(Filter::Trilinear),
+            _ => {
+                let n = t.strip_prefix("aniso:").ok_or_else(bad)?.trim();
+                // Digits only: `u8::from_str` would also take a leading '+'.
+                if n.is_empty() || n.len() > 2 || !n.bytes().all(|b| b.is_ascii_digit()) {
+                    return Err(bad());
+                }
+                let n: u8 = n.parse().map_err(|_| bad())?;
+                if (MIN_ANISO..=MAX_ANISO).contains(&n) {
+                    Ok(Filter::Anisotropic(n))
+                } else {
+                    Err(bad())
+                }
+            }
+        }
+    }
 }
 
 /// How a texture is read.
@@ -382,18 +484,77 @@ impl Texture {
                 let y = wrap_index((uv.y * h as f32).floor(), h, s.wrap_v);
                 self.fetch(x, y)
             }
-            Filter::Bilinear | Filter::Trilinear => bilinear(uv, w, h, s, |x, y| self.fetch(x, y)),
+            Filter::Bilinear | Filter::Trilinear | Filter::Anisotropic(_) => {
+                bilinear(uv, w, h, s, |x, y| self.fetch(x, y))
+            }
         }
     }
 
     /// Samples at `uv` with sampler `s`, given the UV's screen-space derivatives (per pixel
-    /// along x and along y), which choose the mip level of [`Filter::Trilinear`]; the other
-    /// filters ignore them.
+    /// along x and along y), which choose the mip level of [`Filter::Trilinear`] and the
+    /// taps of [`Filter::Anisotropic`]; the other filters ignore them.
     #[must_use]
     pub fn sample_grad_with(&self, uv: Vec2, duv_dx: Vec2, duv_dy: Vec2, s: Sampler) -> Vec4 {
         match s.filter {
             Filter::Nearest | Filter::Bilinear => self.sample_with(uv, s),
             Filter::Trilinear => self.sample_lod_with(uv, self.lod(duv_dx, duv_dy), s),
+            Filter::Anisotropic(max) => {
+                let a = self.aniso(duv_dx, duv_dy, max);
+                if a.taps <= 1 {
+                    return self.sample_lod_with(uv, self.lod(duv_dx, duv_dy), s);
+                }
+                // Taps at the centres of `taps` equal parts of the major axis, through `uv`.
+                let n = a.taps as f32;
+                let mut sum = Vec4::ZERO;
+                for i in 0..a.taps {
+                    let k = (i as f32 + 0.5) / n - 0.5;
+                    let at = Vec2::new(uv.x + a.axis.x * k, uv.y + a.axis.y * k);
+                    sum += self.sample_lod_with(at, a.lod, s);
+                }
+                sum * (1.0 / n)
+            }
+        }
+    }
+
+    /// The taps of an anisotropic sample (see [`Filter::Anisotropic`]) for UV derivatives
+    /// `duv_dx`, `duv_dy` and largest ratio `max` (clamped to 2..=16).
+    ///
+    /// The footprint's axes are the two derivative vectors measured in base-level texels;
+    /// the major axis is the longer (x on a tie), the minor axis's length is taken as at
+    /// least one texel (a footprint thinner than a texel is magnified across, where the
+    /// base level is read). Taps = min(ceil(major / minor), max), and 1 when the major axis
+    /// is at most one texel (magnified), the derivatives are not finite, or the footprint
+    /// is isotropic: then the caller reads the trilinear sample. Otherwise the level of
+    /// detail is log2(major / taps), clamped to [0, levels - 1]: each tap covers its share
+    /// of the major axis, and the minor axis (major / taps <= minor).
+    #[must_use]
+    pub fn aniso(&self, duv_dx: Vec2, duv_dy: Vec2, max: u8) -> AnisoTaps {
+        let one = AnisoTaps {
+            taps: 1,
+            lod: 0.0,
+            axis: Vec2::ZERO,
+        };
+        if !(duv_dx.is_finite() && duv_dy.is_finite()) {
+            return one;
+        }
+        let (w, h) = (self.width as f32, self.height as f32);
+        let (xu, xv) = (duv_dx.x * w, duv_dx.y * h);
+        let (yu, yv) = (duv_dy.x * w, duv_dy.y * h);
+        // The same operations as the lane version (no `length`: it may fuse).
+        let lx = (xu * xu + xv * xv).sqrt();
+        let ly = (yu * yu + yv * yv).sqrt();
+        let x_major = lx >= ly;
+        let (major, minor) = if x_major { (lx, ly) } else { (ly, lx) };
+        let taps = aniso_taps(major, minor, aniso_ratio(max));
+        if taps <= 1 {
+            return one;
+        }
+        let top = (self.levels() - 1) as f32;
+        let lod = (major / taps as f32).log2().clamp(0.0, top);
+        AnisoTaps {
+            taps,
+            lod,
+            axis: if x_major { duv_dx } else { duv_dy },
         }
     }
 
@@ -506,6 +667,41 @@ impl Texture {
             let (w, h) = c.size[level];
             bilinear(uv, w, h, s, |x, y| c.fetch(level, x, y))
         }
+    }
+}
+
+/// Where an anisotropic sample reads ([`Texture::aniso`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AnisoTaps {
+    /// Number of trilinear taps, 1..=16 (1: the plain trilinear sample).
+    pub taps: u32,
+    /// Level of detail of every tap (unused with one tap).
+    pub lod: f32,
+    /// The major axis in UV units: tap i of n is at `uv + axis * ((i + 0.5) / n - 0.5)`.
+    pub axis: Vec2,
+}
+
+/// Number of anisotropic taps for footprint axes `major` >= `minor` (texels) and largest
+/// ratio `max`: 1 if `major` <= 1 (or NaN), else min(ceil(major / max(minor, 1)), max). An
+/// infinite or NaN ratio takes `max`.
+#[inline(always)]
+fn aniso_taps(major: f32, minor: f32, max: u8) -> u32 {
+    // `major <= 1.0` would let NaN through.
+    if major.is_nan() || major <= 1.0 {
+        return 1;
+    }
+    let r = major / minor.max(1.0);
+    let maxf = f32::from(max);
+    if r < maxf {
+        // 1 < r < 16 here, or r <= 1 (isotropic): ceil as an integer.
+        let n = r as u32;
+        if (n as f32) < r {
+            n + 1
+        } else {
+            n
+        }
+    } else {
+        u32::from(max)
     }
 }
 
@@ -891,6 +1087,18 @@ mod tests {
                         for uv in [Vec2::new(0.4, 0.6), Vec2::new(b, a), Vec2::new(a, 0.5)] {
                             let c = t.sample_grad_with(uv, d, d.perp(), s);
                             assert!(c.is_finite(), "{w}x{h} {wrap:?} uv {uv} d {d}: {c}");
+                            for n in [2, 16] {
+                                let an = Sampler {
+                                    filter: Filter::Anisotropic(n),
+                                    ..s
+                                };
+                                for e in [d.perp(), Vec2::new(b, 0.01)] {
+                                    let c = t.sample_grad_with(uv, d, e, an);
+                                    assert!(c.is_finite(), "aniso {n} uv {uv} d {d} {e}: {c}");
+                                    let taps = t.aniso(d, e, n).taps;
+                                    assert!((1..=u32::from(n)).contains(&taps));
+                                }
+                            }
                             let lod = t.lod(d, Vec2::new(b, 0.1));
                             assert!((0.0..=(t.levels() - 1) as f32).contains(&lod));
                             tried += 1;
@@ -903,6 +1111,183 @@ mod tests {
             }
         }
         assert_eq!(tried, 4 * 3 * 12 * 12 * 3);
+    }
+
+    #[test]
+    fn filter_names_parse_and_round_trip() {
+        for f in Filter::COMMON {
+            assert_eq!(f.name().parse::<Filter>(), Ok(f));
+            assert_eq!(f.to_string(), f.name());
+        }
+        for n in MIN_ANISO..=MAX_ANISO {
+            let f = Filter::Anisotropic(n);
+            assert_eq!(f.name(), format!("aniso:{n}"));
+            assert_eq!(f.name().parse::<Filter>(), Ok(f));
+        }
+        assert_eq!(" Aniso:08 ".parse::<Filter>(), Ok(Filter::Anisotropic(8)));
+        assert_eq!("TRILINEAR".parse::<Filter>(), Ok(Filter::Trilinear));
+        // Out-of-range ratios are named (and sampled) clamped.
+        assert_eq!(Filter::Anisotropic(0).name(), "aniso:2");
+        assert_eq!(Filter::Anisotropic(200).name(), "aniso:16");
+        for bad in [
+            "",
+            "aniso",
+            "aniso:",
+            "aniso:1",
+            "aniso:17",
+            "aniso:+4",
+            "aniso:-4",
+            "aniso:4x",
+            "aniso:256",
+            "aniso:999",
+            "aniso4",
+            "linear",
+            "tri",
+            "aniso:٣",
+        ] {
+            let e = bad.parse::<Filter>().expect_err(bad).to_string();
+            for form in ["nearest", "bilinear", "trilinear", "aniso:N", "2", "16"] {
+                assert!(e.contains(form), "{bad}: {e}");
+            }
+        }
+    }
+
+    fn aniso_sampler(n: u8) -> Sampler {
+        Sampler {
+            filter: Filter::Anisotropic(n),
+            ..Sampler::default()
+        }
+    }
+
+    #[test]
+    fn aniso_taps_follow_the_footprint() {
+        let t = noise("n", 64, 64, true, 9); // 7 levels
+        let texel = 1.0 / 64.0;
+        let taps = |dx: Vec2, dy: Vec2, max| {
+            let a = t.aniso(dx * texel, dy * texel, max);
+            (a.taps, a.lod)
+        };
+        // 8 x 1 texels: 8 taps at the base level; along y, the same.
+        assert_eq!(taps(Vec2::new(8.0, 0.0), Vec2::new(0.0, 1.0), 16), (8, 0.0));
+        assert_eq!(taps(Vec2::new(0.0, 1.0), Vec2::new(0.0, 8.0), 16), (8, 0.0));
+        // 64 x 2: ratio 32 capped at 16 taps, each covering 4 texels: lod 2.
+        assert_eq!(
+            taps(Vec2::new(64.0, 0.0), Vec2::new(0.0, 2.0), 16),
+            (16, 2.0)
+        );
+        assert_eq!(taps(Vec2::new(64.0, 0.0), Vec2::new(0.0, 2.0), 4), (4, 4.0));
+        // Ratio 2.5 -> 3 taps; lod log2(10 / 3).
+        let (n, lod) = taps(Vec2::new(0.0, 4.0), Vec2::new(10.0, 0.0), 16);
+        assert_eq!(n, 3);
+        assert!((lod - (10f32 / 3.0).log2()).abs() < 1e-6);
+        // A thinner-than-a-texel minor axis counts as one texel.
+        assert_eq!(
+            taps(Vec2::new(6.0, 0.0), Vec2::ZERO, 16),
+            (6, (6f32 / 6.0).log2())
+        );
+        // Out-of-range ratios clamp: 0 and 1 mean 2, 200 means 16.
+        assert_eq!(taps(Vec2::new(64.0, 0.0), Vec2::ZERO, 0).0, 2);
+        assert_eq!(taps(Vec2::new(64.0, 0.0), Vec2::ZERO, 1).0, 2);
+        assert_eq!(taps(Vec2::new(64.0, 0.0), Vec2::ZERO, 200).0, 16);
+        // Isotropic, magnified, zero or non-finite: one tap.
+        for (dx, dy) in [
+            (Vec2::new(4.0, 0.0), Vec2::new(0.0, 4.0)),
+            (Vec2::new(3.0, 4.0), Vec2::new(-4.0, 3.0)),
+            (Vec2::new(0.9, 0.0), Vec2::ZERO),
+            (Vec2::ZERO, Vec2::ZERO),
+            (Vec2::new(f32::NAN, 0.0), Vec2::new(0.0, 1e3)),
+            (Vec2::new(f32::INFINITY, 0.0), Vec2::ZERO),
+        ] {
+            assert_eq!(taps(dx, dy, 16).0, 1, "{dx} {dy}");
+        }
+        // Derivatives whose length overflows: 16 taps on the last level.
+        let a = t.aniso(Vec2::new(f32::MAX, f32::MAX), Vec2::ZERO, 16);
+        assert_eq!((a.taps, a.lod), (16, 6.0));
+        let a = t.aniso(Vec2::splat(f32::MAX), Vec2::splat(-f32::MAX), 16);
+        assert_eq!((a.taps, a.lod), (16, 6.0));
+    }
+
+    #[test]
+    fn one_tap_aniso_is_exactly_trilinear() {
+        let t = noise("n", 40, 24, true, 4);
+        let texel = Vec2::new(1.0 / 40.0, 1.0 / 24.0);
+        let mut checked = 0;
+        for wrap in [Wrap::Repeat, Wrap::MirroredRepeat, Wrap::ClampToEdge] {
+            for (dx, dy) in [
+                (Vec2::new(0.5, 0.0), Vec2::new(0.0, 0.3)),
+                (Vec2::new(3.0, 0.0), Vec2::new(0.0, 3.0)),
+                (Vec2::new(5.0, 1.0), Vec2::new(-1.0, 5.0)),
+                (Vec2::ZERO, Vec2::ZERO),
+                (Vec2::new(f32::NAN, 1.0), Vec2::new(1.0, 0.0)),
+            ] {
+                let (dx, dy) = (dx * texel, dy * texel);
+                for uv in [Vec2::new(0.31, 0.77), Vec2::new(-2.2, 5.01)] {
+                    let tri = Sampler {
+                        wrap_u: wrap,
+                        wrap_v: wrap,
+                        filter: Filter::Trilinear,
+                    };
+                    for n in [2, 16] {
+                        let an = Sampler {
+                            filter: Filter::Anisotropic(n),
+                            ..tri
+                        };
+                        assert_eq!(
+                            t.sample_grad_with(uv, dx, dy, an),
+                            t.sample_grad_with(uv, dx, dy, tri),
+                            "{wrap:?} {dx} {dy} {uv}"
+                        );
+                        checked += 1;
+                    }
+                }
+                // Without derivatives: the base level, as trilinear.
+                let uv = Vec2::new(0.4, 0.1);
+                assert_eq!(
+                    t.sample_with(uv, aniso_sampler(8)),
+                    t.sample_with(uv, Sampler::default())
+                );
+            }
+        }
+        assert_eq!(checked, 3 * 5 * 2 * 2);
+    }
+
+    #[test]
+    fn aniso_averages_along_the_long_axis_and_keeps_the_short_one_sharp() {
+        // Linear texels: green alternates per column (mean 0.5), red is a ramp down the
+        // rows (smooth along v). A footprint 8 texels along u and 1 along v: anisotropic
+        // filtering averages green to its mean and reads red as sharp as bilinear does;
+        // trilinear (level 3) blurs red across 8 rows.
+        let (w, h) = (64u32, 64u32);
+        let texels = (0..w * h)
+            .map(|i| {
+                let (x, y) = (i % w, i / w);
+                let g = if x % 2 == 0 { 0 } else { 255 };
+                let r = ((y % 32) * 8) as u8;
+                [r, g, 0, 255]
+            })
+            .collect();
+        let t = Texture::new("stripes", w, h, texels, false).unwrap();
+        let (dx, dy) = (Vec2::new(8.0 / 64.0, 0.0), Vec2::new(0.0, 1.0 / 64.0));
+        let bi = Sampler {
+            filter: Filter::Bilinear,
+            ..Sampler::default()
+        };
+        let (mut tri_err, mut checked) = (0f32, 0);
+        for k in 0..32 {
+            // Rows 4..28 of the ramp (away from its wrap from 248 to 0).
+            let uv = Vec2::new(0.37 + 0.011 * k as f32, (4.5 + 0.77 * k as f32) / 64.0);
+            let a = t.sample_grad_with(uv, dx, dy, aniso_sampler(16));
+            let sharp = t.sample_with(uv, bi);
+            assert!((a.y - 0.5).abs() < 1e-5, "{uv}: green {a}");
+            assert!((a.x - sharp.x).abs() < 1e-5, "{uv}: red {a} vs {sharp}");
+            let tri = t.sample_grad_with(uv, dx, dy, Sampler::default());
+            assert!((tri.y - 0.5).abs() < 1e-3, "{uv}: trilinear green {tri}");
+            tri_err = tri_err.max((tri.x - sharp.x).abs());
+            checked += 1;
+        }
+        assert_eq!(checked, 32);
+        // Level 3 averages 8 rows of the ramp: off by at least a step somewhere.
+        assert!(tri_err > 0.02, "{tri_err}");
     }
 
     #[test]

@@ -41,14 +41,11 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
     ui.horizontal(|ui| {
         let label = ui.label("texture filter");
         egui::ComboBox::from_id_salt((id, "filter"))
-            .selected_text(
-                s.filter
-                    .map_or("model's".to_owned(), |f| format!("{f:?}").to_lowercase()),
-            )
+            .selected_text(s.filter.map_or("model's", |f| f.name()))
             .show_ui(ui, |ui| {
                 ui.selectable_value(&mut s.filter, None, "the model's sampler");
-                for f in [Filter::Nearest, Filter::Bilinear, Filter::Trilinear] {
-                    ui.selectable_value(&mut s.filter, Some(f), format!("{f:?}").to_lowercase());
+                for f in Filter::COMMON {
+                    ui.selectable_value(&mut s.filter, Some(f), f.name());
                 }
             })
             .response
