@@ -357,7 +357,17 @@ fn frame(scene: Scene) -> Framebuffer {
             far: 20.0,
             ..Camera::default()
         }),
-        texture: Some(chequer()),
+        slots: {
+            let mut slots = realist::scene::SlotOverrides::default();
+            slots.set(
+                realist::scene::Slot::BaseColor,
+                Some(realist::scene::SlotOverride::source(
+                    realist::scene::TextureSource::Image(chequer()),
+                    1.0,
+                )),
+            );
+            slots
+        },
         shading: Some(Shading::Textured),
         lights: Lights::Custom {
             lights: vec![Light::ambient(Vec3::ONE)],
