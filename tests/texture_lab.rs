@@ -344,3 +344,46 @@ fn the_texel_density_and_anisotropy_views_read_the_footprint() {
     let (major, minor) = footprint_axes(rot(Vec2::new(4.0, 0.0)), rot(Vec2::new(0.0, 1.0)));
     assert!((major - 4.0).abs() < 1e-4 && (minor - 1.0).abs() < 1e-4);
 }
+
+/// Without tangents the tangent-normals view takes its frame from the UVs (the screen-space
+/// derivatives of the position and of UV set 0): the bumps of a height image on the plane
+/// show as they do with MikkTSpace tangents generated for it, not as a flat colour.
+#[test]
+fn the_tangent_normals_view_takes_its_frame_from_the_uvs_without_tangents() {
+    let bare = plane_scene();
+    assert!(bare.meshes.iter().all(|m| m.tangents.is_none()));
+    let mut with_tangents = bare.clone();
+    for m in &mut with_tangents.meshes {
+        m.generate_tangents(0).expect("tangents");
+    }
+    let (w, h) = (96, 72);
+    let bumped = options(
+        bump_slots(TextureSource::Image(bumps()), 1.0),
+        Shading::TangentNormals,
+        w,
+        h,
+    );
+    let derived = rendered(&bare, &bumped);
+    let generated = rendered(&with_tangents, &bumped);
+    let flat = rendered(
+        &bare,
+        &options(SlotOverrides::default(), Shading::TangentNormals, w, h),
+    );
+    let same = compare(&derived, &generated, 1.0);
+    let shown = compare(&derived, &flat, 1.0);
+    eprintln!(
+        "tangent-normals without tangents: mean ΔE00 {:.3} (p95 {:.3}) against MikkTSpace \
+         tangents, {:.2} against the unbumped view",
+        same.mean_de2000, same.p95_de2000, shown.mean_de2000
+    );
+    assert!(
+        same.mean_de2000 < BUMP_MEAN_DE,
+        "mean ΔE00 {}",
+        same.mean_de2000
+    );
+    assert!(
+        shown.mean_de2000 > visible(same.mean_de2000),
+        "the bumps barely show (ΔE00 {} against the unbumped view)",
+        shown.mean_de2000
+    );
+}

@@ -324,13 +324,21 @@ pub(crate) fn resolve(
             }
         }
     }
-    layout.position_derivatives = bump.is_some();
+    // Without tangents the tangent-normals view takes its frame from the screen-space
+    // derivatives of the position and a UV set (as glTF viewers do for such meshes).
+    let uv_frame = view == TexView::TangentNormals && tri.tangents.is_none();
+    layout.position_derivatives = bump.is_some() || uv_frame;
     layout.tangent = normal_map.is_some()
         || (tri.tangents.is_some() && matches!(view, TexView::Tangents | TexView::TangentNormals));
     // The texture the mip-level, texel-density and anisotropy views measure: the first
     // image the draw reads, else UV set 0 against a nominal 1024 x 1024 image.
     let measure = match view {
-        TexView::MipLevel | TexView::TexelDensity | TexView::Anisotropy => {
+        TexView::MipLevel
+        | TexView::TexelDensity
+        | TexView::Anisotropy
+        | TexView::TangentNormals
+            if view != TexView::TangentNormals || uv_frame =>
+        {
             let slots = [
                 Slot::BaseColor,
                 Slot::Specular,

@@ -257,6 +257,38 @@ pub fn footprint_axes(a: Vec2, b: Vec2) -> (f32, f32) {
     (major, minor)
 }
 
+/// A tangent frame for a mesh without tangents, at lane `i`: `T` = dP/du, from the
+/// screen-space derivatives of the position and of the measured UV set (the 2 x 2 system of
+/// the chain rule, as glTF viewers derive it), and the handedness `w` that makes
+/// `B = w (N × T)` run along -v, the convention of [`crate::mesh::Mesh::tangents`]. `None`
+/// where the UVs do not span the pixel (degenerate or missing derivatives).
+fn uv_tangent(
+    d: &DrawParams,
+    f: &Fragments<'_>,
+    first: usize,
+    n: Vec3,
+    i: usize,
+) -> Option<(Vec3, f32)> {
+    let (at, _) = d.measure?;
+    let (sx, sy) = derivs(f, 0, 3, first, i)?;
+    let (dx, dy) = derivs(f, at as usize, 2, first, i)?;
+    let det = dx.x * dy.y - dy.x * dx.y;
+    if !(det.abs() > 0.0 && det.is_finite()) {
+        return None;
+    }
+    let dp_du = (sx * dy.y - sy * dx.y) / det;
+    let dp_dv = (sy * dx.x - sx * dy.x) / det;
+    if !(dp_du.is_finite() && dp_dv.is_finite()) {
+        return None;
+    }
+    let w = if n.cross(dp_du).dot(dp_dv) > 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    Some((dp_du, w))
+}
+
 /// The debug colour of view `view` at one pixel (display values).
 fn debug_colour(d: &DrawParams, f: &Fragments<'_>, lod_scale: f32, n: Vec3, i: usize) -> Vec3 {
     let first = d
@@ -298,7 +330,7 @@ fn debug_colour(d: &DrawParams, f: &Fragments<'_>, lod_scale: f32, n: Vec3, i: u
         TexView::TangentNormals => {
             let geo = lane3(f.var, 3, i).normalize_or_zero();
             let geo = if f.tri.front { geo } else { -geo };
-            let Some((t, w)) = tangent else {
+            let Some((t, w)) = tangent.or_else(|| uv_tangent(d, f, first, geo, i)) else {
                 return Vec3::new(0.5, 0.5, 1.0);
             };
             let t = (t - geo * geo.dot(t)).normalize_or_zero();
