@@ -415,7 +415,8 @@ fn image_row(lab: &mut LabUi, ui: &mut egui::Ui, side: Side, slot: Slot, shown: 
 
 /// The path of a file that could not be used, elided in the middle to the width left.
 fn error_path(ui: &mut egui::Ui, e: &ImageError) {
-    let width = ui.available_width();
+    // A little short of the edge, which a vertical scroll bar may cover.
+    let width = ui.available_width() - 6.0;
     let font = egui::TextStyle::Body.resolve(ui.style());
     let painter = ui.painter().clone();
     let fits = |t: &str| {
