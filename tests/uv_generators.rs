@@ -726,3 +726,41 @@ fn a_model_file_without_uvs_from_the_shared_models() {
         );
     }
 }
+
+#[test]
+fn a_map_applied_after_loading_drops_the_missing_set_0_warning() {
+    // A model whose material reads a texture from TEXCOORD_0 but has no vt: the load says
+    // so; the viewer applies its UV map after loading, and then the warning is wrong.
+    let dir = scratch("late-map");
+    let path = dir.join("textured-torus.obj");
+    write_obj(&torus(), &path);
+    let obj = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, format!("mtllib t.mtl\nusemtl t\n{obj}")).unwrap();
+    std::fs::write(dir.join("t.mtl"), "newmtl t\nKd 1 1 1\nmap_Kd t.png\n").unwrap();
+    image::RgbaImage::from_pixel(4, 4, image::Rgba([200, 100, 50, 255]))
+        .save(dir.join("t.png"))
+        .unwrap();
+    let mut scene = load(&path, &LoadOptions::default()).unwrap();
+    let missing = |s: &Scene| {
+        s.report
+            .warnings
+            .iter()
+            .filter(|w| w.contains("TEXCOORD_0") && w.contains("does not have"))
+            .count()
+    };
+    assert_eq!(missing(&scene), 1, "{:?}", scene.report.warnings);
+    let others = scene.report.warnings.len() - 1;
+    scene.apply_uv_generator(&UvGenerator::Spherical { axis: Axis::Y });
+    assert_eq!(missing(&scene), 0, "{:?}", scene.report.warnings);
+    assert_eq!(
+        scene.report.warnings.len(),
+        others,
+        "only that warning went"
+    );
+    // Loaded with the map, it never appears.
+    let opts = LoadOptions {
+        uv: Some(UvGenerator::Box),
+        ..LoadOptions::default()
+    };
+    assert_eq!(missing(&load(&path, &opts).unwrap()), 0);
+}

@@ -1780,3 +1780,282 @@ fn a_bad_scene_file_or_save_path_shows_its_error_and_keeps_the_scene() {
     );
     assert_current_frame(app);
 }
+
+// The texture lab: procedural and image sources per slot, and the UV map.
+
+use realist::scene::{Slot, SlotOverride, TextureSource};
+use realist::texture::{Axis, UvGenerator};
+
+/// What side A's `slot` reads, in the settings.
+fn slot_source(app: &ViewerApp, slot: Slot) -> Option<TextureSource> {
+    match app.settings.slots.get(slot) {
+        Some(SlotOverride::Source { source, .. }) => Some(source.clone()),
+        _ => None,
+    }
+}
+
+/// A latitude/longitude sphere of radius 1 without texture coordinates (nor normals), as
+/// an OBJ file in `dir`.
+fn sphere_without_uvs(dir: &Path) -> PathBuf {
+    let (slices, stacks) = (32, 16);
+    let mut obj = String::from("# a sphere without vt\n");
+    obj += "v 0 1 0\n";
+    for i in 1..stacks {
+        let theta = std::f32::consts::PI * i as f32 / stacks as f32;
+        for j in 0..slices {
+            let phi = std::f32::consts::TAU * j as f32 / slices as f32;
+            let (x, y, z) = (
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            obj += &format!("v {x} {y} {z}\n");
+        }
+    }
+    obj += "v 0 -1 0\n";
+    let ring = |i: usize, j: usize| 2 + (i - 1) * slices + j % slices;
+    let bottom = 2 + (stacks - 1) * slices;
+    for j in 0..slices {
+        obj += &format!("f 1 {} {}\n", ring(1, j + 1), ring(1, j));
+        obj += &format!(
+            "f {bottom} {} {}\n",
+            ring(stacks - 1, j),
+            ring(stacks - 1, j + 1)
+        );
+        for i in 1..stacks - 1 {
+            obj += &format!(
+                "f {} {} {} {}\n",
+                ring(i, j),
+                ring(i, j + 1),
+                ring(i + 1, j + 1),
+                ring(i + 1, j)
+            );
+        }
+    }
+    let path = dir.join("sphere-without-uvs.obj");
+    std::fs::write(&path, obj).expect("OBJ written");
+    path
+}
+
+/// Luminance of an sRGB pixel, roughly.
+fn luma(c: egui::Color32) -> f32 {
+    0.3 * f32::from(c.r()) + 0.59 * f32::from(c.g()) + 0.11 * f32::from(c.b())
+}
+
+/// Along the middle row, where both frames show the model (differ from the background),
+/// how often the ratio `now / before` crosses the middle of its range: a pattern that
+/// multiplies the shading (a checker) crosses it at every square's edge, plain shading
+/// never.
+fn pattern_edges_on_middle_row(now: &ColorImage, before: &ColorImage) -> usize {
+    let [w, h] = now.size;
+    let y = h / 2;
+    let background = before.pixels[y * w];
+    let ratios: Vec<f32> = (0..w)
+        .map(|x| (now.pixels[y * w + x], before.pixels[y * w + x]))
+        .filter(|(n, b)| *b != background && luma(*b) > 20.0 && *n != background)
+        .map(|(n, b)| luma(n) / luma(b))
+        .collect();
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+    if ratios.len() < 20 || hi - lo < 0.3 {
+        return 0;
+    }
+    let mid = 0.5 * (lo + hi);
+    ratios
+        .windows(2)
+        .filter(|p| (p[0] > mid) != (p[1] > mid))
+        .count()
+}
+
+#[test]
+fn a_procedural_base_colour_from_the_texture_lab_changes_the_frame() {
+    let dir = temp_dir("lab-procedural");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    let plain = shown_image(&h);
+    activate(&mut h, "texture lab");
+    choose(&mut h, "base colour", "wood");
+    let app = h.state();
+    assert!(
+        matches!(slot_source(app, Slot::BaseColor), Some(TextureSource::Procedural(p)) if p.source().name() == "wood"),
+        "{:?}",
+        app.settings.slots
+    );
+    assert_current_frame(app);
+    assert_frame_changed(app, &plain, "wood as the base colour");
+    let wood = shown_image(&h);
+    choose(&mut h, "base colour", "checker");
+    assert_frame_changed(h.state(), &wood, "the checker after the wood");
+    // Back to the model's: the first frame again.
+    choose(&mut h, "base colour", "the model's");
+    assert!(h.state().settings.slots.is_empty());
+    assert_eq!(differing(&shown_image(&h), &plain), 0);
+}
+
+#[test]
+fn a_uv_map_makes_a_model_without_uvs_texturable_and_keeps_the_camera() {
+    let dir = temp_dir("lab-uv-map");
+    let sphere = sphere_without_uvs(&dir);
+    let mut h = viewer(Some(sphere.clone()), &dir, 1);
+    assert_eq!(h.state().scene.scene().meshes[0].uvs.len(), 0, "no UVs");
+    // A slight orbit, so the camera is not just the framing a reload would give.
+    let (rect, _) = viewport_of(&h);
+    let c = rect.center();
+    drag_through(
+        &mut h,
+        &[c, c + Vec2::new(30.0, 0.0), c + Vec2::new(40.0, 12.0)],
+    );
+    let plain = shown_image(&h);
+    let nav = h.state().nav.clone();
+
+    // A checker needs texture coordinates: without them, nothing changes.
+    activate(&mut h, "texture lab");
+    choose(&mut h, "base colour", "checker");
+    assert!(slot_source(h.state(), Slot::BaseColor).is_some());
+    assert_eq!(differing(&shown_image(&h), &plain), 0, "no UVs, no checker");
+
+    // The spherical map: UV set 0 for the mesh, and the checker shows.
+    choose(&mut h, "UV map", "spherical");
+    let app = h.state();
+    let spherical = UvGenerator::Spherical { axis: Axis::Y };
+    assert_eq!((app.uv, app.shown_uv), (Some(spherical), Some(spherical)));
+    assert_eq!(app.scene.scene().meshes[0].uvs.len(), 1, "set 0 added");
+    assert!(
+        app.scene
+            .scene()
+            .report
+            .generated
+            .iter()
+            .any(|g| g.contains("spherical") && g.contains("the file has none")),
+        "{:?}",
+        app.scene.scene().report.generated
+    );
+    assert_current_frame(app);
+    assert_frame_changed(app, &plain, "the checker on spherical UVs");
+    let edges = pattern_edges_on_middle_row(&app.shown.as_ref().unwrap().a, &plain);
+    assert!(edges >= 3, "the checker's squares along a row: {edges}");
+    // What the user had stays: camera, file, settings.
+    assert_eq!(app.nav, nav, "the camera stays");
+    assert_eq!(app.model.as_deref(), Some(sphere.as_path()));
+    assert!(slot_source(app, Slot::BaseColor).is_some());
+    let notice = app.notice.clone().unwrap_or_default();
+    assert!(notice.contains("the spherical map"), "{notice}");
+    assert!(h.query_all_by_label_contains("the spherical map").count() >= 1);
+
+    // Another map, then the file's own again (no UVs: the plain frame).
+    let spherical_frame = shown_image(&h);
+    choose(&mut h, "UV map", "planar:y");
+    assert_eq!(h.state().uv, Some(UvGenerator::Planar { axis: Axis::Y }));
+    assert_frame_changed(h.state(), &spherical_frame, "planar:y after spherical");
+    choose(&mut h, "UV map", "mesh (the file's UVs)");
+    let app = h.state();
+    assert_eq!((app.uv, app.shown_uv), (None, None));
+    assert_eq!(app.scene.scene().meshes[0].uvs.len(), 0);
+    assert_eq!(differing(&shown_image(&h), &plain), 0);
+    assert_eq!(app.nav, nav);
+
+    // A reload keeps the map; a scene saved with it names it, and opens with it.
+    choose(&mut h, "UV map", "box");
+    let boxed = h.state().scene.scene().meshes[0].uvs.clone();
+    h.key_press(Key::ArrowUp);
+    h.run();
+    let app = h.state();
+    assert_eq!(app.uv, Some(UvGenerator::Box), "kept on reload");
+    assert_eq!(app.shown_uv, Some(UvGenerator::Box));
+    assert!(
+        app.scene
+            .scene()
+            .report
+            .generated
+            .iter()
+            .any(|g| g.contains("box")),
+        "{:?}",
+        app.scene.scene().report.generated
+    );
+    // (A reload frames the model anew, so the frame is not compared; the coordinates are.)
+    assert_eq!(app.scene.scene().meshes[0].uvs, boxed, "the same box map");
+    assert_current_frame(app);
+    let saved = dir.join("boxed.toml");
+    save_scene_to(&mut h, &saved);
+    let text = std::fs::read_to_string(&saved).expect("saved");
+    assert!(text.contains("uv = \"box\""), "{text}");
+    let h2 = viewer(Some(saved), &temp_dir("lab-uv-map-reopen"), 1);
+    assert_eq!(h2.state().uv, Some(UvGenerator::Box));
+    assert_eq!(h2.state().scene.scene().meshes[0].uvs.len(), 1);
+}
+
+/// Types `path` into the image field of side A's `slot` and presses its load button.
+fn load_slot_image(h: &mut App, slot: &str, path: &Path) {
+    h.get_by_label(&format!("A {slot} image path"))
+        .set_text_value_accesskit(path.to_str().expect("UTF-8 path"));
+    h.run();
+    activate(h, &format!("A {slot} image load"));
+}
+
+#[test]
+fn a_missing_or_broken_image_file_shows_its_error_and_changes_nothing() {
+    let dir = temp_dir("lab-image");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    activate(&mut h, "texture lab");
+    choose(&mut h, "base colour", "marble");
+    let before = shown_image(&h);
+    let settings = h.state().settings.clone();
+    let (scene, nav) = (Arc::clone(&h.state().scene), h.state().nav.clone());
+    choose(&mut h, "base colour", "image file…");
+
+    let missing = dir.join("no-such-image.png");
+    let broken = dir.join("broken.png");
+    std::fs::write(&broken, b"\x89PNG but not really").unwrap();
+    for (file, name) in [(&missing, "no-such-image.png"), (&broken, "broken.png")] {
+        load_slot_image(&mut h, "base colour", file);
+        let app = h.state();
+        let e = app
+            .panels
+            .lab
+            .errors
+            .get(&(realist::viewer::panels::Side::A, Slot::BaseColor))
+            .map(|e| e.message.clone())
+            .expect("an error for the slot");
+        assert!(
+            e.starts_with(file.to_str().unwrap()) && e.contains(name) && !e.contains('\n'),
+            "names the file, one line: {e}"
+        );
+        assert!(e.len() > file.to_str().unwrap().len() + 3, "says why: {e}");
+        // Under the slot and in the status bar.
+        assert_eq!(h.get_all_by_label(&e).count(), 2, "{e}");
+        assert_eq!(app.settings, settings, "the marble stays");
+        assert!(Arc::ptr_eq(&app.scene, &scene) && app.nav == nav);
+        assert_current_frame(app);
+        assert_eq!(
+            differing(&shown_image(&h), &before),
+            0,
+            "the frame is unchanged"
+        );
+    }
+
+    // A real image works through the same field (and the error goes).
+    let red = dir.join("red.png");
+    write_png(&red, [255, 0, 0]);
+    load_slot_image(&mut h, "base colour", &red);
+    let app = h.state();
+    assert!(
+        app.panels.lab.errors.is_empty(),
+        "{:?}",
+        app.panels.lab.errors
+    );
+    match slot_source(app, Slot::BaseColor) {
+        Some(TextureSource::Image(t)) => {
+            assert_eq!((t.width, t.height), (8, 6));
+            assert!(t.name.ends_with("red.png"), "{}", t.name);
+        }
+        other => panic!("an image in the slot: {other:?}"),
+    }
+    assert_frame_changed(app, &before, "a red image after the marble");
+    let reds = app.shown.as_ref().unwrap().a.pixels.iter();
+    assert!(
+        reds.filter(|c| c.r() > 40 && c.g() < 10 && c.b() < 10)
+            .count()
+            > 1000,
+        "the torus is red"
+    );
+}

@@ -221,14 +221,12 @@ impl Scene {
             for slot in Slot::ALL {
                 let Some(s) = m.slot(slot) else { continue };
                 if mesh.uvs.len() <= s.uv_set as usize {
-                    self.report.warnings.push(format!(
-                        "mesh '{}': material '{}' reads its {} texture from TEXCOORD_{}, which \
-                         the mesh does not have (it has {}); drawn without it",
-                        mesh.name,
-                        m.name,
-                        slot.name(),
+                    self.report.warnings.push(missing_uv_set(
+                        &mesh.name,
+                        &m.name,
+                        slot,
                         s.uv_set,
-                        mesh.uvs.len()
+                        mesh.uvs.len(),
                     ));
                 }
             }
@@ -252,4 +250,21 @@ impl Scene {
             None => std::borrow::Cow::Owned(Material::default()),
         }
     }
+}
+
+/// The load report's warning for a mesh whose material reads its `slot` texture from UV set
+/// `set` when the mesh has only `has` sets ([`Scene::check_texture_slots`]; removed again by
+/// [`Scene::apply_uv_generator`] when it adds set 0).
+pub(crate) fn missing_uv_set(
+    mesh: &str,
+    material: &str,
+    slot: Slot,
+    set: u32,
+    has: usize,
+) -> String {
+    format!(
+        "mesh '{mesh}': material '{material}' reads its {} texture from TEXCOORD_{set}, which \
+         the mesh does not have (it has {has}); drawn without it",
+        slot.name()
+    )
 }

@@ -5,7 +5,7 @@
 use crate::mesh::{generate_uvs, Mesh};
 use crate::texture::UvGenerator;
 
-use super::{Material, Scene};
+use super::{Material, Scene, Slot};
 
 /// What [`Scene::apply_uv_generator`] did to one mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,6 +56,17 @@ impl Scene {
                 }
             ));
             let material = mesh.material.and_then(|m| self.materials.get(m));
+            if let (UvOutcome::Added, Some(m)) = (outcome, material) {
+                // A slot check before this (a scene loaded first, mapped later, as the viewer
+                // does) said set 0 was missing: it is there now.
+                let mesh_name = &mesh.name;
+                let stale: Vec<String> = Slot::ALL
+                    .into_iter()
+                    .filter(|&s| m.slot(s).is_some_and(|t| t.uv_set == 0))
+                    .map(|s| super::missing_uv_set(mesh_name, &m.name, s, 0, 0))
+                    .collect();
+                self.report.warnings.retain(|w| !stale.contains(w));
+            }
             if let Some(note) = retangent(mesh, material) {
                 self.report.generated.push(note);
             }
@@ -211,6 +222,29 @@ mod tests {
         scene.apply_uv_generator(&UvGenerator::Box);
         let t = scene.meshes[0].tangents.as_ref().unwrap();
         assert_eq!(t.values[0], Vec4::new(0.0, 1.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn mapping_after_the_slot_check_drops_its_missing_set_0_warning() {
+        // Loaded without UVs (the check warns), mapped afterwards (as the viewer does).
+        let material = Material {
+            name: "m".into(),
+            base_color_texture: Some(TextureSlot::new(0)),
+            ..Material::default()
+        };
+        let mut scene = scene_of(quad(SQUARE), material);
+        scene.check_texture_slots();
+        assert_eq!(
+            scene.report.warnings.len(),
+            1,
+            "{:?}",
+            scene.report.warnings
+        );
+        assert!(scene.report.warnings[0].contains("TEXCOORD_0"));
+        scene.report.warnings.push("another warning".into());
+        let g = UvGenerator::Spherical { axis: Axis::Y };
+        assert_eq!(scene.apply_uv_generator(&g), vec![UvOutcome::Added]);
+        assert_eq!(scene.report.warnings, ["another warning"]);
     }
 
     #[test]

@@ -13,6 +13,7 @@ use std::time::Instant;
 use eframe::egui::{self, ColorImage, TextureHandle, TextureOptions};
 
 use super::files::{sibling_model, FileWatcher, RecentFiles};
+use super::lab::{self, UvTask};
 use super::loader::{self, FromFile, LoadTask, Loaded, OpenScene};
 use super::navigate::Navigator;
 use super::panels::{self, Panels};
@@ -23,6 +24,7 @@ use crate::raster::TileCost;
 use crate::render::{FrameReport, PreparedScene, Settings, View};
 use crate::scene;
 use crate::scenefile::{ModelSource, SceneFile};
+use crate::texture::UvGenerator;
 
 /// How the viewer starts.
 #[derive(Clone, Debug, Default)]
@@ -75,7 +77,18 @@ pub struct Shown {
 
 /// The viewer.
 pub struct ViewerApp {
+    /// What is drawn: `base` with the texture coordinates of `shown_uv`.
     pub scene: Arc<PreparedScene>,
+    /// The scene as loaded, with its file's own texture coordinates.
+    base: Arc<scene::Scene>,
+    /// The UV generator asked for (the texture lab's "UV map"; `None`: the file's UVs). Kept
+    /// when the model is reloaded; a newly opened file starts with its own (a scene file
+    /// with its `uv` key).
+    pub uv: Option<UvGenerator>,
+    /// The UV generator `scene` was made with (differs from `uv` while `uv_task` runs).
+    pub shown_uv: Option<UvGenerator>,
+    /// Texture coordinates being generated off the UI thread.
+    pub uv_task: Option<UvTask>,
     /// The file the scene came from, a model or a scene file (`None`: the built-in demo).
     pub model: Option<PathBuf>,
     /// The scene file open (then `model` is its path), for saving it again.
@@ -146,7 +159,11 @@ impl ViewerApp {
             None => RecentFiles::load(),
         };
         let mut app = Self {
+            base: Arc::clone(scene.scene()),
             scene,
+            uv: None,
+            shown_uv: None,
+            uv_task: None,
             model: None,
             scene_file: None,
             load_millis: None,
@@ -197,13 +214,17 @@ impl ViewerApp {
         if let Some(t) = self.loading.take() {
             t.cancel();
         }
+        // A reload keeps the UV choice; another file starts with its own coordinates.
+        let same = self.model.as_deref() == Some(path.as_path());
+        let uv = self.uv.filter(|_| same && !loader::is_scene_file(&path));
         if self.synchronous {
-            let out = loader::load_now(&path, self.normals, None);
+            let out = loader::load_now(&path, self.normals, uv, None);
             self.finish_load(out);
         } else {
             self.loading = Some(LoadTask::start(
                 path,
                 self.normals,
+                uv,
                 Arc::clone(&self.repaint),
             ));
         }
@@ -215,6 +236,8 @@ impl ViewerApp {
             Ok(Loaded {
                 path,
                 scene,
+                base,
+                uv,
                 millis,
                 from_file,
             }) => {
@@ -240,7 +263,15 @@ impl ViewerApp {
                 if self.scene_file.is_some() && !loader::is_scene_file(&path) {
                     self.scene_file = None;
                 }
+                // A UV choice made during a reload of this model is generated next.
+                let wanted = self.uv;
+                let again = same && !loader::is_scene_file(&path) && wanted != uv;
                 self.scene = scene;
+                self.base = base;
+                (self.uv, self.shown_uv, self.uv_task) = (uv, uv, None);
+                if again {
+                    self.set_uv_generator(wanted);
+                }
                 self.load_millis = Some(millis);
                 self.error = None;
                 self.recent.add(&path);
@@ -343,6 +374,7 @@ impl ViewerApp {
         };
         let view = self.current_view();
         let (mut file, notes) = SceneFile::from_settings(&model, light_scale, &settings, &view);
+        file.set_uv(self.uv);
         file.save(path).map_err(|e| e.to_string())?;
         // The saved file is now the one open (as "save as" does); the recent list and the
         // watcher follow, the watcher anew so that this write is not taken for a change.
@@ -381,6 +413,8 @@ impl ViewerApp {
             t.cancel();
         }
         let scene = Arc::new(PreparedScene::new(scene::demo()));
+        self.base = Arc::clone(scene.scene());
+        (self.uv, self.shown_uv, self.uv_task) = (None, None, None);
         let (center, radius) = scene.bounding_sphere();
         self.nav = match scene.scene().cameras.first() {
             Some(cam) => Navigator::from_camera(cam, center, radius, Default::default()),
@@ -402,6 +436,46 @@ impl ViewerApp {
             Some(p) => self.open(p),
             None => self.notice = Some("no other model in this folder".into()),
         }
+    }
+
+    /// Draws the model with the texture coordinates of `uv` (the textbook's §9.5; `None`:
+    /// the file's own): generated from the scene as loaded, off the UI thread (now in
+    /// synchronous mode), then drawn in place of the scene on screen. The camera, the
+    /// settings and the split view stay as they are.
+    pub fn set_uv_generator(&mut self, uv: Option<UvGenerator>) {
+        self.uv = uv;
+        if uv == self.shown_uv {
+            self.uv_task = None;
+            return;
+        }
+        if self.uv_task.as_ref().is_some_and(|t| t.uv == uv) {
+            return;
+        }
+        if self.synchronous {
+            let scene = Arc::new(lab::prepare(&self.base, uv));
+            self.install_uv(scene, uv);
+        } else {
+            self.uv_task = Some(UvTask::start(
+                Arc::clone(&self.base),
+                uv,
+                Arc::clone(&self.repaint),
+            ));
+        }
+    }
+
+    /// Draws `scene`, the scene as loaded with the coordinates of `uv`.
+    fn install_uv(&mut self, scene: Arc<PreparedScene>, uv: Option<UvGenerator>) {
+        self.scene = scene;
+        self.shown_uv = uv;
+        self.uv_task = None;
+        // The probe's UV and shading belong to the old coordinates.
+        self.panels.probe = None;
+        self.notice = Some(match uv {
+            None => "texture coordinates: the model's own".to_owned(),
+            Some(g) => {
+                format!("texture coordinates: the {g} map on every mesh (the textbook's §9.5)")
+            }
+        });
     }
 
     /// Reloads the current model.
@@ -515,6 +589,23 @@ impl ViewerApp {
             self.loading = None;
             self.finish_load(out);
         }
+        let uv = self
+            .uv_task
+            .as_ref()
+            .and_then(|t| Some((Arc::clone(&t.base), t.uv, t.poll()?)));
+        if let Some((base, uv, out)) = uv {
+            self.uv_task = None;
+            match out {
+                // Made for a scene since replaced (a load finished meanwhile): dropped.
+                Ok(_) if !Arc::ptr_eq(&base, &self.base) => {}
+                Ok(scene) => self.install_uv(scene, uv),
+                Err(e) => {
+                    self.uv = self.shown_uv;
+                    self.error = Some(e);
+                }
+            }
+        }
+        panels::textures::poll_images(self);
         if self.file_changed.swap(false, Ordering::SeqCst) && self.loading.is_none() {
             self.notice = Some("file changed on disk: reloaded".into());
             self.reload();

@@ -12,7 +12,9 @@ use std::time::Instant;
 use crate::load::{self, LoadOptions, Progress, Stage};
 use crate::mesh::NormalOptions;
 use crate::render::{PreparedScene, Settings};
+use crate::scene::Scene;
 use crate::scenefile::{Format, ModelSource, SceneFile};
+use crate::texture::UvGenerator;
 
 /// An open scene file: what it names besides its settings, kept to save it again.
 #[derive(Clone, Debug)]
@@ -42,7 +44,13 @@ pub fn is_scene_file(path: &Path) -> bool {
 /// A model loaded and prepared.
 pub struct Loaded {
     pub path: PathBuf,
+    /// `base` prepared with the texture coordinates of `uv`.
     pub scene: Arc<PreparedScene>,
+    /// The scene with its file's own texture coordinates (what another UV choice starts
+    /// from).
+    pub base: Arc<Scene>,
+    /// The UV generator `scene` was made with (`None`: the file's coordinates).
+    pub uv: Option<UvGenerator>,
     /// Wall-clock milliseconds of load + prepare.
     pub millis: f64,
     /// Set when `path` is a scene file.
@@ -61,21 +69,31 @@ pub struct LoadTask {
 }
 
 /// Loads and prepares `path` (a model, or a scene file and its model) in the calling
-/// thread.
+/// thread, with the texture coordinates of `uv` (the textbook's §9.5; `None` keeps the
+/// file's). A scene file's own `uv` key takes the place of `uv`.
 ///
 /// # Errors
 /// The loader's (or the scene file's) one-line message naming the file.
-pub fn load_now(path: &Path, normals: NormalOptions, progress: Option<Arc<Progress>>) -> Outcome {
+pub fn load_now(
+    path: &Path,
+    normals: NormalOptions,
+    uv: Option<UvGenerator>,
+    progress: Option<Arc<Progress>>,
+) -> Outcome {
     let t = Instant::now();
     let opts = LoadOptions {
         normals,
         progress,
         ..LoadOptions::default()
     };
-    let (scene, from_file) = if is_scene_file(path) {
-        let l = SceneFile::read(path)
-            .and_then(|f| f.resolve(&opts))
-            .map_err(|e| e.to_string())?;
+    let (scene, uv, from_file) = if is_scene_file(path) {
+        // The model is loaded with its own coordinates (the base the viewer's UV choice
+        // starts from) and the file's `uv` generator applied after, as any other choice.
+        let mut file = SceneFile::read(path).map_err(|e| e.to_string())?;
+        let file_uv = file.uv();
+        file.set_uv(None);
+        let mut l = file.resolve(&opts).map_err(|e| e.to_string())?;
+        l.file.set_uv(file_uv);
         let mut notes = Vec::new();
         if l.comparison.is_some() {
             notes.push("its [compare] layout is for `realist render`".to_owned());
@@ -89,14 +107,21 @@ pub fn load_now(path: &Path, normals: NormalOptions, progress: Option<Arc<Progre
             settings: l.settings,
             notes,
         };
-        (l.scene, Some(from_file))
+        (l.scene, file_uv, Some(from_file))
     } else {
-        (load::load(path, &opts).map_err(|e| e.to_string())?, None)
+        (
+            load::load(path, &opts).map_err(|e| e.to_string())?,
+            uv,
+            None,
+        )
     };
-    let scene = Arc::new(PreparedScene::new(scene));
+    let base = Arc::new(scene);
+    let scene = Arc::new(super::lab::prepare(&base, uv));
     Ok(Loaded {
         path: path.to_owned(),
         scene,
+        base,
+        uv,
         millis: t.elapsed().as_secs_f64() * 1e3,
         from_file,
     })
@@ -106,7 +131,12 @@ impl LoadTask {
     /// Starts loading `path` on a new thread; `done` is called when it finishes (e.g. to
     /// wake the UI).
     #[must_use]
-    pub fn start(path: PathBuf, normals: NormalOptions, done: Arc<dyn Fn() + Send + Sync>) -> Self {
+    pub fn start(
+        path: PathBuf,
+        normals: NormalOptions,
+        uv: Option<UvGenerator>,
+        done: Arc<dyn Fn() + Send + Sync>,
+    ) -> Self {
         let progress = Progress::new();
         let (tx, rx) = channel();
         let (p, pr) = (path.clone(), Arc::clone(&progress));
@@ -115,7 +145,7 @@ impl LoadTask {
         let _ = std::thread::Builder::new()
             .name("realist-load".into())
             .spawn(move || {
-                let out = load_now(&p, normals, Some(pr));
+                let out = load_now(&p, normals, uv, Some(pr));
                 let _ = tx.send(out);
                 done();
             });

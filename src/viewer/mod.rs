@@ -11,6 +11,7 @@
 //! | [`panels`] | shading, split view, saving the scene file, scene, lights, fog / tone map / shadows / ground, materials, probe, colour, stats |
 //! | [`gizmos`] | each light's position and cone drawn over the view |
 //! | [`slide`] | reading a rectangular spotlight's projected image off the UI thread |
+//! | [`lab`] | the texture lab's work off the UI thread: a slot's image file read, a model's UVs generated |
 //! | [`navigate`] | the camera controller (turntable / trackball, pan, dolly to cursor, framing, named views) |
 //! | [`files`] | recent files, previous / next model in a folder, reload on change |
 //!
@@ -21,6 +22,7 @@ pub mod app;
 pub mod files;
 pub mod gizmos;
 pub mod keys;
+pub mod lab;
 pub mod loader;
 pub mod navigate;
 pub mod panels;

@@ -25,7 +25,7 @@ mod screenshot;
 mod shading;
 mod stats;
 pub mod text;
-mod textures;
+pub mod textures;
 
 pub use colour::ColourState;
 pub use environment::EnvironmentUi;
@@ -45,7 +45,7 @@ pub enum CostView {
 }
 
 /// Which half of a split view.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Side {
     A,
     B,
@@ -92,6 +92,8 @@ pub struct Panels {
     pub environment: EnvironmentUi,
     /// Saving the scene file.
     pub save: SaveUi,
+    /// The texture lab's image paths, errors, reads and picker.
+    pub lab: textures::LabUi,
 }
 
 impl Default for Panels {
@@ -112,6 +114,7 @@ impl Default for Panels {
             lights: LightsUi::default(),
             environment: EnvironmentUi::default(),
             save: SaveUi::default(),
+            lab: textures::LabUi::default(),
         }
     }
 }
@@ -125,6 +128,7 @@ impl Panels {
         self.topology.clear();
         self.colour = ColourState::default();
         self.lights.hovered = None;
+        self.lab.on_new_scene();
     }
 }
 
@@ -514,6 +518,7 @@ pub fn windows(app: &mut ViewerApp, ctx: &egui::Context) {
             app.panels.lights.slide_picker = None;
         }
     }
+    textures::after_ui(app, ctx);
     screenshot::window(app, ctx);
 }
 

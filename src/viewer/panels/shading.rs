@@ -4,14 +4,19 @@
 
 use eframe::egui;
 
-use super::CostView;
+use super::textures::{LabUi, UvView};
+use super::{CostView, Side};
 use crate::render::{Output, Settings};
 use crate::shade::Shading;
 use crate::texture::Filter;
 use crate::viewer::app::ViewerApp;
 
 /// The controls every side of a split shares: mode, overlay, filter, sides.
-fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
+fn settings_controls(s: &mut Settings, lab: &mut LabUi, uv: UvView, ui: &mut egui::Ui, side: Side) {
+    let id = match side {
+        Side::A => "a",
+        Side::B => "b",
+    };
     egui::ComboBox::from_id_salt((id, "mode"))
         .selected_text(s.shading.map_or("per model", |m| m.name()))
         .show_ui(ui, |ui| {
@@ -51,7 +56,7 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
             .response
             .labelled_by(label.id);
     });
-    super::textures::controls(s, ui, id);
+    super::textures::controls(s, lab, uv, ui, side);
     ui.checkbox(&mut s.double_sided, "every material double-sided");
     ui.horizontal(|ui| {
         let label = ui.label("sub-pixel bits");
@@ -74,7 +79,8 @@ fn settings_controls(s: &mut Settings, ui: &mut egui::Ui, id: &str) {
 
 /// The shading section.
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    settings_controls(&mut app.settings, ui, "a");
+    let uv = UvView::of(app);
+    settings_controls(&mut app.settings, &mut app.panels.lab, uv, ui, Side::A);
     ui.horizontal(|ui| {
         ui.label("background");
         let mut c = app.settings.background.truncate().to_array();
@@ -117,7 +123,8 @@ pub fn split(app: &mut ViewerApp, ui: &mut egui::Ui) {
     );
     ui.add_enabled_ui(app.split.enabled, |ui| {
         ui.label("A is the shading section above; B:");
-        settings_controls(&mut app.split.b, ui, "b");
+        let uv = UvView::of(app);
+        settings_controls(&mut app.split.b, &mut app.panels.lab, uv, ui, Side::B);
         super::environment::tone_map(ui, &mut app.split.b.tone, "b");
         ui.horizontal(|ui| {
             ui.label("divider");
