@@ -1784,7 +1784,7 @@ fn a_bad_scene_file_or_save_path_shows_its_error_and_keeps_the_scene() {
 // The texture lab: procedural and image sources per slot, and the UV map.
 
 use realist::scene::{Slot, SlotOverride, TextureSource};
-use realist::texture::{Axis, UvGenerator};
+use realist::texture::{Axis, UvGenerator, Wrap};
 
 /// What side A's `slot` reads, in the settings.
 fn slot_source(app: &ViewerApp, slot: Slot) -> Option<TextureSource> {
@@ -2058,4 +2058,62 @@ fn a_missing_or_broken_image_file_shows_its_error_and_changes_nothing() {
             > 1000,
         "the torus is red"
     );
+}
+
+/// A slot's image takes a wrap mode from the texture lab: with the UVs scaled by 3 (so they
+/// run past 1), clamp-to-edge and mirrored repeat each change the frame from the texture's
+/// own repeat, and "the texture's" gives the first frame back.
+#[test]
+fn the_wrap_mode_of_a_slot_image_changes_the_frame_where_uvs_leave_the_image() {
+    let dir = temp_dir("lab-wrap");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    activate(&mut h, "texture lab");
+    choose(&mut h, "base colour", "image file…");
+    // Red on the left half, blue on the right: every wrap mode reads it differently.
+    let halves = dir.join("halves.png");
+    image::RgbaImage::from_fn(8, 8, |x, _| {
+        if x < 4 {
+            image::Rgba([255, 0, 0, 255])
+        } else {
+            image::Rgba([0, 0, 255, 255])
+        }
+    })
+    .save(&halves)
+    .expect("PNG written");
+    load_slot_image(&mut h, "base colour", &halves);
+    if let Some(SlotOverride::Source { transform, .. }) =
+        h.state_mut().settings.slots.get_mut(Slot::BaseColor)
+    {
+        transform.scale = glam::Vec2::splat(3.0);
+    } else {
+        panic!("an image in the base-colour slot");
+    }
+    h.run();
+    let repeat = shown_image(&h);
+    let mut seen = vec![repeat.clone()];
+    for (entry, wrap) in [
+        ("clamp to edge", Wrap::ClampToEdge),
+        ("mirrored repeat", Wrap::MirroredRepeat),
+    ] {
+        choose(&mut h, "wrap", entry);
+        let app = h.state();
+        match app.settings.slots.get(Slot::BaseColor) {
+            Some(SlotOverride::Source {
+                sampler: Some(s), ..
+            }) => assert_eq!((s.wrap_u, s.wrap_v), (wrap, wrap)),
+            other => panic!("{entry}: a sampler in the slot: {other:?}"),
+        }
+        assert_current_frame(app);
+        let now = shown_image(&h);
+        for before in &seen {
+            assert!(differing(&now, before) > 100, "{entry} changes the frame");
+        }
+        seen.push(now);
+    }
+    choose(&mut h, "wrap", "the texture's");
+    assert!(matches!(
+        h.state().settings.slots.get(Slot::BaseColor),
+        Some(SlotOverride::Source { sampler: None, .. })
+    ));
+    assert_eq!(differing(&shown_image(&h), &repeat), 0);
 }

@@ -19,7 +19,9 @@ use eframe::egui;
 use super::Side;
 use crate::render::Settings;
 use crate::scene::{Slot, SlotOverride, TextureSource, UvTransform, DEFAULT_BUMP_SCALE};
-use crate::texture::{Domain, Procedural, ProceduralTexture, UvGenerator, PROCEDURAL_NAMES};
+use crate::texture::{
+    Domain, Filter, Procedural, ProceduralTexture, Sampler, UvGenerator, Wrap, PROCEDURAL_NAMES,
+};
 use crate::viewer::app::ViewerApp;
 use crate::viewer::lab::{self, ImageLoad};
 
@@ -236,14 +238,14 @@ fn slot_row(s: &mut Settings, lab: &mut LabUi, ui: &mut egui::Ui, side: Side, sl
         source,
         uv_set,
         transform,
+        sampler,
         scale,
-        ..
     }) = s.slots.get(slot).cloned()
     else {
         return;
     };
     let mut changed = false;
-    let (mut uv_set, mut t, mut scale) = (uv_set, transform, scale);
+    let (mut uv_set, mut t, mut sampler, mut scale) = (uv_set, transform, sampler, scale);
     ui.indent((id, "slot-detail", slot.key()), |ui| {
         if source.needs_uv() {
             ui.horizontal(|ui| {
@@ -292,6 +294,9 @@ fn slot_row(s: &mut Settings, lab: &mut LabUi, ui: &mut egui::Ui, side: Side, sl
                 }
             });
         }
+        if source.image().is_some() {
+            changed |= wrap_row(ui, id, slot, &mut sampler);
+        }
         if slot == Slot::Bump {
             ui.horizontal(|ui| {
                 let label = ui.label("height");
@@ -315,13 +320,68 @@ fn slot_row(s: &mut Settings, lab: &mut LabUi, ui: &mut egui::Ui, side: Side, sl
         if let Some(SlotOverride::Source {
             uv_set: u,
             transform: tr,
+            sampler: sa,
             scale: sc,
             ..
         }) = s.slots.get_mut(slot)
         {
-            (*u, *tr, *sc) = (uv_set, t, if scale.is_finite() { scale } else { 1.0 });
+            (*u, *tr, *sa) = (uv_set, t, sampler);
+            *sc = if scale.is_finite() { scale } else { 1.0 };
         }
     }
+}
+
+/// The wrap modes an image in a slot can take (glTF's sampler wrap modes), as the menu
+/// names them.
+const WRAPS: [(Wrap, &str); 3] = [
+    (Wrap::Repeat, "repeat"),
+    (Wrap::MirroredRepeat, "mirrored repeat"),
+    (Wrap::ClampToEdge, "clamp to edge"),
+];
+
+/// The wrap menu of an image in a slot: the material's own sampler (`None`) or one wrap
+/// mode on both axes. True when it changed.
+fn wrap_row(ui: &mut egui::Ui, id: &str, slot: Slot, sampler: &mut Option<Sampler>) -> bool {
+    let name = |w: Wrap| WRAPS.iter().find(|(x, _)| *x == w).map_or("?", |(_, n)| *n);
+    let shown = match sampler {
+        None => "the texture's".to_owned(),
+        Some(s) if s.wrap_u == s.wrap_v => name(s.wrap_u).to_owned(),
+        Some(s) => format!("{} x {}", name(s.wrap_u), name(s.wrap_v)),
+    };
+    let mut changed = false;
+    ui.horizontal(|ui| {
+        let label = ui.label("wrap");
+        egui::ComboBox::from_id_salt((id, "wrap", slot.key()))
+            .selected_text(shown)
+            .show_ui(ui, |ui| {
+                if ui
+                    .selectable_label(sampler.is_none(), "the texture's")
+                    .clicked()
+                {
+                    *sampler = None;
+                    changed = true;
+                }
+                for (w, n) in WRAPS {
+                    let on = sampler.is_some_and(|s| s.wrap_u == w && s.wrap_v == w);
+                    if ui.selectable_label(on, n).clicked() && !on {
+                        let filter = sampler.map_or(Filter::default(), |s| s.filter);
+                        *sampler = Some(Sampler {
+                            wrap_u: w,
+                            wrap_v: w,
+                            filter,
+                        });
+                        changed = true;
+                    }
+                }
+            })
+            .response
+            .labelled_by(label.id)
+            .on_hover_text(
+                "how UVs outside 0..1 read the image, on both axes (the filter stays the \
+                 shading panel's, trilinear unless set there)",
+            );
+    });
+    changed
 }
 
 /// A slot's image file: the path (typed, or chosen with "browse…"), "load", and the last
