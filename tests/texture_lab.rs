@@ -172,6 +172,33 @@ fn solid_noise_bumps_under_a_grazing_light_agree_with_the_f64_reference() {
 /// light, against the reference, which perturbs the normal with the same texels in f64.
 #[test]
 fn normal_maps_under_a_grazing_light_agree_with_the_f64_reference() {
+    normal_planes_agree("normal maps", false);
+}
+
+/// The same planes with their tangents taken away (as an OBJ, or an image put in the
+/// normal slot of a mesh that has none): the frame comes from the screen-space derivatives
+/// of position and UV (the reference: from each triangle's edges), and the image is the
+/// one the file's MikkTSpace tangents give.
+#[test]
+fn normal_maps_on_a_mesh_without_tangents_take_their_frame_from_the_uvs() {
+    let with = normal_planes_agree("normal maps without tangents", true);
+    let (scene, opts) = normal_planes(false);
+    let same = compare(&with, &rendered(&scene, &opts), 1.0);
+    eprintln!(
+        "normal maps without tangents: mean ΔE00 {:.3} (p95 {:.3}) against the file's tangents",
+        same.mean_de2000, same.p95_de2000
+    );
+    assert!(
+        same.mean_de2000 < BUMP_MEAN_DE,
+        "mean ΔE00 {}",
+        same.mean_de2000
+    );
+}
+
+/// `models/texture/normal-plane.glb` (tangent-space bumps with the normal scale 1 and 0.5,
+/// the file's MikkTSpace tangents, or none if `strip`), matte, under a light 10° above
+/// the planes, and the options that render it.
+fn normal_planes(strip: bool) -> (Scene, RenderOptions) {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/texture/normal-plane.glb");
     let mut scene = realist::load::load(&path, &realist::load::LoadOptions::default())
@@ -179,6 +206,12 @@ fn normal_maps_under_a_grazing_light_agree_with_the_f64_reference() {
     for m in &mut scene.materials {
         m.specular = Vec3::ZERO;
         m.ambient = Vec3::ONE;
+    }
+    if strip {
+        for m in &mut scene.meshes {
+            assert!(m.tangents.is_some(), "the file has tangents");
+            m.tangents = None;
+        }
     }
     let elevation = 10f32.to_radians();
     // The planes face +Z: the light skims them from the upper right.
@@ -191,41 +224,29 @@ fn normal_maps_under_a_grazing_light_agree_with_the_f64_reference() {
         Light::directional(travel.normalize(), Vec3::ONE),
         Light::ambient(Vec3::splat(0.05)),
     ];
-    let (w, h) = (128, 64);
     let opts = RenderOptions {
         camera: None,
-        ..options(SlotOverrides::default(), Shading::Textured, w, h)
+        ..options(SlotOverrides::default(), Shading::Textured, 128, 64)
     };
+    (scene, opts)
+}
+
+/// The normal-map planes ([`normal_planes`]) against the f64 reference, which perturbs the
+/// normal with the same texels in f64; the normal maps must show. Returns the render.
+fn normal_planes_agree(what: &str, strip: bool) -> LinearImage {
+    let (scene, opts) = normal_planes(strip);
     let ras = rendered(&scene, &opts);
     let reference = general::reference(&scene, &opts, SS, true).expect("reference");
     let same = compare(&ras, &reference, 1.0);
     let mut off = SlotOverrides::default();
     off.set(Slot::Normal, Some(SlotOverride::Off));
-    let flat = compare(
-        &rendered(
-            &scene,
-            &RenderOptions {
-                slots: off,
-                ..opts.clone()
-            },
-        ),
-        &reference,
-        1.0,
-    );
-    eprintln!(
-        "normal maps: mean ΔE00 {:.3} (p95 {:.3}) against the reference, {:.2} without them",
-        same.mean_de2000, same.p95_de2000, flat.mean_de2000
-    );
-    assert!(
-        same.mean_de2000 < BUMP_MEAN_DE,
-        "mean ΔE00 {}",
-        same.mean_de2000
-    );
-    assert!(
-        flat.mean_de2000 > visible(same.mean_de2000),
-        "the normal maps barely show (ΔE00 {} without them)",
-        flat.mean_de2000
-    );
+    let without = RenderOptions {
+        slots: off,
+        ..opts.clone()
+    };
+    let flat = compare(&rendered(&scene, &without), &reference, 1.0);
+    agrees_and_shows(what, "the reference", &same, "without them", &flat);
+    ras
 }
 
 /// Solid wood and marble on a sphere (no UVs needed) against the reference, which evaluates

@@ -439,6 +439,22 @@ impl RefSlot<'_> {
         }
     }
 
+    /// The tangent frame of triangle `v` (world corners `p`, unit normal `n`) for a mesh
+    /// without tangents: [`maps::uv_tangent`] from the triangle's edges and this slot's UVs
+    /// (the renderer's from the screen-space derivatives).
+    fn uv_tangent(
+        &self,
+        tri: &TriMesh,
+        v: [usize; 3],
+        p: &[DVec3; 3],
+        n: DVec3,
+    ) -> Option<(DVec3, f64)> {
+        tri.uv_set(self.uv_set)?;
+        let uv = [0, 1, 2].map(|k| self.corner_uv(tri, v, k));
+        let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+        maps::uv_tangent::<f64>(n, p[1] - p[0], p[2] - p[0], (d1.x, d2.x), (d1.y, d2.y))
+    }
+
     /// The surface gradient of the bump displacement at barycentrics `b` of triangle `v`
     /// (world corners `p`, unit normal `n`): the renderer's formulas (`shade::texlab`) with
     /// the triangle's edges in place of the screen-space derivatives, in f64.
@@ -593,7 +609,8 @@ fn instances<'a>(
         }
         let m = scene.material_of(mesh);
         // The renderer's choice of maps (`render::frame::resolve`): a slot is read when its
-        // texture exists and the mesh has its UV set; normal maps need tangents; the
+        // texture exists and the mesh has its UV set (a normal map on a mesh without
+        // tangents takes its frame from the triangle's edges and UVs); the
         // textured mode (chosen by default when any map is usable) reads every map, the
         // other per-pixel modes only the gloss map.
         let usable = |slot: Slot| ref_slot(scene, opts, tri, &m, slot);
@@ -604,7 +621,7 @@ fn instances<'a>(
             DVec3::ZERO
         };
         let base_map = usable(Slot::BaseColor);
-        let normal = usable(Slot::Normal).filter(|_| tri.tangents.is_some());
+        let normal = usable(Slot::Normal);
         let occlusion = usable(Slot::Occlusion);
         let emissive_map = usable(Slot::Emissive).filter(|_| emissive != DVec3::ZERO);
         let bump = usable(Slot::Bump);
@@ -905,12 +922,20 @@ impl Tri {
         let p = self.p[0] * b.x + self.p[1] * b.y + self.p[2] * b.z;
         let mut n = (self.n[0] * b.x + self.n[1] * b.y + self.n[2] * b.z).normalize_or_zero();
         let v = self.g.v.map(|k| k as usize);
-        if let (Some(map), Some(ts)) = (&inst.normal_map, &inst.tri.tangents) {
-            let at = |k: usize| ts.get(v[k]).map_or(DVec4::X, |t| t.as_dvec4());
-            let t4 = at(0) * b.x + at(1) * b.y + at(2) * b.z;
-            let t = (DMat3::from_mat4(inst.world) * t4.truncate()).normalize_or_zero();
-            let c = map.at(inst.tri, v, b).truncate().to_array();
-            n = maps::perturb::<f64>(n, t, t4.w * inst.handed, c, map.scale);
+        if let Some(map) = &inst.normal_map {
+            let frame = match &inst.tri.tangents {
+                Some(ts) => {
+                    let at = |k: usize| ts.get(v[k]).map_or(DVec4::X, |t| t.as_dvec4());
+                    let t4 = at(0) * b.x + at(1) * b.y + at(2) * b.z;
+                    let t = (DMat3::from_mat4(inst.world) * t4.truncate()).normalize_or_zero();
+                    Some((t, t4.w * inst.handed))
+                }
+                None => map.uv_tangent(inst.tri, v, &self.p, n),
+            };
+            if let Some((t, w)) = frame {
+                let c = map.at(inst.tri, v, b).truncate().to_array();
+                n = maps::perturb::<f64>(n, t, w, c, map.scale);
+            }
         }
         if let Some(bm) = &inst.bump {
             if let Some(g) = bm.bump_gradient(inst.tri, v, &self.p, b, n) {

@@ -221,7 +221,7 @@ pub(crate) fn resolve(
         .unwrap_or(&scene.materials[inst.material]);
     let slot = |s: Slot| found(scene, settings, tri, m, s);
     let base_map = slot(Slot::BaseColor);
-    let normal_map = slot(Slot::Normal).filter(|_| tri.tangents.is_some());
+    let normal_map = slot(Slot::Normal);
     let occlusion = slot(Slot::Occlusion);
     let emissive = finite_colour(m.emissive);
     let emissive_map = slot(Slot::Emissive).filter(|_| emissive != Vec3::ZERO);
@@ -326,10 +326,13 @@ pub(crate) fn resolve(
     }
     // Without tangents the tangent-normals view takes its frame from the screen-space
     // derivatives of the position and a UV set (as glTF viewers do for such meshes).
+    // So does a normal map on a mesh without tangents (an image put in the normal slot of
+    // an OBJ, say), per pixel.
     let uv_frame = view == TexView::TangentNormals && tri.tangents.is_none();
-    layout.position_derivatives = bump.is_some() || uv_frame;
-    layout.tangent = normal_map.is_some()
-        || (tri.tangents.is_some() && matches!(view, TexView::Tangents | TexView::TangentNormals));
+    let derived_frame = normal_map.is_some() && tri.tangents.is_none();
+    layout.position_derivatives = bump.is_some() || uv_frame || derived_frame;
+    layout.tangent = tri.tangents.is_some()
+        && (normal_map.is_some() || matches!(view, TexView::Tangents | TexView::TangentNormals));
     // The texture the mip-level, texel-density and anisotropy views measure: the first
     // image the draw reads, else UV set 0 against a nominal 1024 x 1024 image.
     let measure = match view {

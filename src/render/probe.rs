@@ -143,13 +143,33 @@ pub fn probe(
         TextureSource::Image(tex) => tex.sample_with(uv_of(t, None), t.sampler),
         TextureSource::Procedural(p) => p.color(&point(t, p)),
     };
-    if let (Some(map), Some(ts)) = (&d.normal_map, &tri.tangents) {
-        let t4 = ts[a] * bary.x + ts[b] * bary.y + ts[c] * bary.z;
-        let m3 = glam::Mat3::from_mat4(inst.world);
-        let handed = if inst.mirrored { -1.0 } else { 1.0 };
-        let t = (m3 * t4.truncate()).normalize_or_zero();
-        let texel = sample(map).truncate().to_array();
-        normal = maps::perturb::<f32>(normal, t, t4.w * handed, texel, map.scale);
+    if let Some(map) = &d.normal_map {
+        let frame = match &tri.tangents {
+            Some(ts) => {
+                let t4 = ts[a] * bary.x + ts[b] * bary.y + ts[c] * bary.z;
+                let m3 = glam::Mat3::from_mat4(inst.world);
+                let handed = if inst.mirrored { -1.0 } else { 1.0 };
+                Some(((m3 * t4.truncate()).normalize_or_zero(), t4.w * handed))
+            }
+            // No tangents: the frame from the triangle's world edges and UVs (the shader
+            // takes it from the screen-space derivatives).
+            None => {
+                let w = [a, b, c].map(|k| inst.world.transform_point3(tri.positions[k]));
+                let uv = [a, b, c].map(|k| uv_of(map, Some(k)));
+                let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+                maps::uv_tangent::<f32>(
+                    normal,
+                    w[1] - w[0],
+                    w[2] - w[0],
+                    (d1.x, d2.x),
+                    (d1.y, d2.y),
+                )
+            }
+        };
+        if let Some((t, w)) = frame {
+            let texel = sample(map).truncate().to_array();
+            normal = maps::perturb::<f32>(normal, t, w, texel, map.scale);
+        }
     }
     if let Some(bm) = &d.bump {
         // The shader's surface gradient with the triangle's world edges in place of the

@@ -78,6 +78,39 @@ pub fn surface_gradient<T: Real>(n: T::V, s1: T::V, s2: T::V, df1: T, df2: T) ->
     T::dot(g, g).is_finite().then_some(g)
 }
 
+/// The tangent dP/du and its handedness `w` for a surface without tangents, from two
+/// vectors `s1`, `s2` spanning its tangent plane and the UV's changes along them (`du` =
+/// (du1, du2), `dv` = (dv1, dv2)), by the chain rule's 2 x 2 system: the screen-space
+/// derivatives of the position and UV per pixel in the renderer, a triangle's edges in the
+/// pixel probe and the f64 reference. `w` makes `B = w (N × T)` run along -v, the convention
+/// of [`crate::mesh::Mesh::tangents`]. `None` where the UVs do not span the plane.
+#[must_use]
+#[inline]
+pub fn uv_tangent<T: Real>(
+    n: T::V,
+    s1: T::V,
+    s2: T::V,
+    du: (T, T),
+    dv: (T, T),
+) -> Option<(T::V, T)> {
+    let det = du.0 * dv.1 - du.1 * dv.0;
+    if !(det != T::ZERO && det.is_finite()) {
+        return None;
+    }
+    let inv = T::ONE / det;
+    let dp_du = (s1 * dv.1 - s2 * dv.0) * inv;
+    let dp_dv = (s2 * du.0 - s1 * du.1) * inv;
+    if !(T::dot(dp_du, dp_du).is_finite() && T::dot(dp_dv, dp_dv).is_finite()) {
+        return None;
+    }
+    let w = if T::dot(T::cross(n, dp_du), dp_dv) > T::ZERO {
+        -T::ONE
+    } else {
+        T::ONE
+    };
+    Some((dp_du, w))
+}
+
 /// Bump mapping (Blinn): the unit normal `n` tilted against the surface gradient `g` of the
 /// displacement, `normalize(n - g)`; `n` itself where that is not finite or zero.
 #[must_use]

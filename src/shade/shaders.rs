@@ -370,10 +370,16 @@ fn apply_maps<K: Kernel>(
         let ks = d.surface.specular;
         m.specular = V3::new(gloss_t[0] * ks.x, gloss_t[1] * ks.y, gloss_t[2] * ks.z);
     }
-    if let (Some(map), Some(k)) = (&d.normal_map, d.layout.tangent_at()) {
-        let v = f.var;
-        let t = V3::new(v[k], v[k + 1], v[k + 2]);
-        m.normal = perturb_lanes::<K>(m.normal, t, v[k + 3], normal_t, map.scale);
+    if let Some(map) = &d.normal_map {
+        m.normal = match d.layout.tangent_at() {
+            Some(k) => {
+                let v = f.var;
+                let t = V3::new(v[k], v[k + 1], v[k + 2]);
+                perturb_lanes::<K>(m.normal, t, v[k + 3], normal_t, map.scale)
+            }
+            // A mesh without tangents: the frame from the derivatives, per lane.
+            None => texlab::derived_normal_lanes(map, f, first, &normal_t, m.normal),
+        };
     }
     if let Some(b) = &d.bump {
         m.normal = texlab::bump_lanes(b, f, first, lod_scale, m.normal);

@@ -270,23 +270,44 @@ fn uv_tangent(
     i: usize,
 ) -> Option<(Vec3, f32)> {
     let (at, _) = d.measure?;
+    derived_tangent(f, at as usize, first, n, i)
+}
+
+/// [`maps::uv_tangent`] at lane `i` from the screen-space derivatives of the position and
+/// of the UV channel at `at`.
+fn derived_tangent(
+    f: &Fragments<'_>,
+    at: usize,
+    first: usize,
+    n: Vec3,
+    i: usize,
+) -> Option<(Vec3, f32)> {
     let (sx, sy) = derivs(f, 0, 3, first, i)?;
-    let (dx, dy) = derivs(f, at as usize, 2, first, i)?;
-    let det = dx.x * dy.y - dy.x * dx.y;
-    if !(det.abs() > 0.0 && det.is_finite()) {
-        return None;
+    let (dx, dy) = derivs(f, at, 2, first, i)?;
+    maps::uv_tangent::<f32>(n, sx, sy, (dx.x, dy.x), (dx.y, dy.y))
+}
+
+/// A normal map on a mesh without tangents, on the live lanes of `f`: each lane's frame
+/// from [`derived_tangent`] (the map's UV channel), then [`maps::perturb`] with the
+/// sampled texels `texel`; a lane without a frame keeps `n`.
+#[inline(never)]
+pub(super) fn derived_normal_lanes(
+    map: &SlotParams,
+    f: &Fragments<'_>,
+    first: usize,
+    texel: &[F8; 4],
+    n: V3,
+) -> V3 {
+    let mut out = n;
+    for i in (0..LANES).filter(|i| f.mask >> i & 1 == 1) {
+        let ni = Vec3::new(n.x.0[i], n.y.0[i], n.z.0[i]);
+        if let Some((t, w)) = derived_tangent(f, map.uv_at as usize, first, ni, i) {
+            let c = [texel[0].0[i], texel[1].0[i], texel[2].0[i]];
+            let p = maps::perturb::<f32>(ni, t, w, c, map.scale);
+            (out.x.0[i], out.y.0[i], out.z.0[i]) = (p.x, p.y, p.z);
+        }
     }
-    let dp_du = (sx * dy.y - sy * dx.y) / det;
-    let dp_dv = (sy * dx.x - sx * dy.x) / det;
-    if !(dp_du.is_finite() && dp_dv.is_finite()) {
-        return None;
-    }
-    let w = if n.cross(dp_du).dot(dp_dv) > 0.0 {
-        -1.0
-    } else {
-        1.0
-    };
-    Some((dp_du, w))
+    out
 }
 
 /// The debug colour of view `view` at one pixel (display values).
