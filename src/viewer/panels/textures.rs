@@ -131,36 +131,13 @@ fn procedural(name: &str, slot: Slot, old: Option<&SlotOverride>) -> Option<Slot
     } else {
         1.0
     };
-    let mut o = SlotOverride::source(TextureSource::Procedural(Arc::new(p)), scale);
-    if let (
-        Some(SlotOverride::Source {
-            uv_set, transform, ..
-        }),
-        SlotOverride::Source {
-            uv_set: u,
-            transform: t,
-            ..
-        },
-    ) = (old, &mut o)
-    {
-        (*u, *t) = (*uv_set, *transform);
-    }
-    Some(o)
+    let o = SlotOverride::source(TextureSource::Procedural(Arc::new(p)), scale);
+    Some(keep_uv(o, old))
 }
 
-/// The override for image `texture` in `slot`, keeping the UV set and transform of `old`
-/// if it had them; a bump image gets the height of its kind.
-fn image(
-    texture: Arc<crate::texture::Texture>,
-    slot: Slot,
-    old: Option<&SlotOverride>,
-) -> SlotOverride {
-    let scale = if slot == Slot::Bump {
-        DEFAULT_BUMP_SCALE[0]
-    } else {
-        1.0
-    };
-    let mut o = SlotOverride::source(TextureSource::Image(texture), scale);
+/// `o` with the UV set and transform of `old`, if `old` had them (a new source in a slot
+/// keeps where the user had put its coordinates).
+fn keep_uv(mut o: SlotOverride, old: Option<&SlotOverride>) -> SlotOverride {
     if let (
         Some(SlotOverride::Source {
             uv_set, transform, ..
@@ -175,6 +152,24 @@ fn image(
         (*u, *t) = (*uv_set, *transform);
     }
     o
+}
+
+/// The override for image `texture` in `slot`, keeping the UV set and transform of `old`
+/// if it had them; a bump image gets the height of its kind.
+fn image(
+    texture: Arc<crate::texture::Texture>,
+    slot: Slot,
+    old: Option<&SlotOverride>,
+) -> SlotOverride {
+    let scale = if slot == Slot::Bump {
+        DEFAULT_BUMP_SCALE[0]
+    } else {
+        1.0
+    };
+    keep_uv(
+        SlotOverride::source(TextureSource::Image(texture), scale),
+        old,
+    )
 }
 
 /// The colour of a message about something that went wrong.
