@@ -16,8 +16,9 @@ pub(crate) struct LightingArgs {
     /// #rrggbb (sRGB), e.g. 2,12,depth,0.6,0.6,0.7 (distance default euclidean, colour 0.6 grey).
     #[arg(long, value_parser = parse_fog, allow_hyphen_values = true)]
     pub fog: Option<Fog>,
-    /// Out-of-range colour: clamp (default), scale-max (divide by the largest channel) or
-    /// reinhard.
+    /// Out-of-range colour: clamp (default), scale-max (divide by the largest channel),
+    /// reinhard, pbr-neutral (Khronos PBR Neutral), aces-narkowicz or aces-hill (ACES filmic
+    /// fits).
     #[arg(long)]
     pub tone: Option<ToneMap>,
     /// Shadows for every light that can cast them (directional, spot, rect); the default

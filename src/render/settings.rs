@@ -49,10 +49,26 @@ pub enum ToneMap {
     /// (then scaled by the largest channel if one still exceeds 1): every colour stays in
     /// range and keeps its hue; darkens everything a little.
     Reinhard,
+    /// Khronos PBR Neutral (KhronosGroup/ToneMapping): colours in [0.08, 0.8] lose 0.04
+    /// and keep their hue, brighter ones roll off towards white and desaturate.
+    PbrNeutral,
+    /// ACES filmic, Narkowicz's per-channel fit (2016): 1 becomes about 0.80.
+    AcesNarkowicz,
+    /// ACES filmic, Hill's fit of the RRT and ODT (BakingLab `ACES.hlsl`), in its own
+    /// colour space: 1 becomes about 0.62 (three.js's `ACESFilmicToneMapping` is this on
+    /// x / 0.6).
+    AcesHill,
 }
 
 impl ToneMap {
-    pub const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::ScaleMax, ToneMap::Reinhard];
+    pub const ALL: [ToneMap; 6] = [
+        ToneMap::Clamp,
+        ToneMap::ScaleMax,
+        ToneMap::Reinhard,
+        ToneMap::PbrNeutral,
+        ToneMap::AcesNarkowicz,
+        ToneMap::AcesHill,
+    ];
 
     /// The name on the command line and in scene files.
     #[must_use]
@@ -61,6 +77,9 @@ impl ToneMap {
             ToneMap::Clamp => "clamp",
             ToneMap::ScaleMax => "scale-max",
             ToneMap::Reinhard => "reinhard",
+            ToneMap::PbrNeutral => "pbr-neutral",
+            ToneMap::AcesNarkowicz => "aces-narkowicz",
+            ToneMap::AcesHill => "aces-hill",
         }
     }
 
@@ -88,9 +107,57 @@ impl ToneMap {
                     rgb
                 }
             }
+            ToneMap::PbrNeutral => pbr_neutral(rgb),
+            ToneMap::AcesNarkowicz => rgb.map(aces_narkowicz),
+            ToneMap::AcesHill => aces_hill(rgb),
         };
-        out.extend(c.w)
+        // Non-finite input stays what it was (the operators would turn NaN into NaN and
+        // infinity into NaN or 1 depending on the formula).
+        if rgb.is_finite() {
+            out.extend(c.w)
+        } else {
+            c
+        }
     }
+}
+
+/// Khronos PBR Neutral on one linear colour (the reference GLSL, operation for operation).
+fn pbr_neutral(c: glam::Vec3) -> glam::Vec3 {
+    const START: f32 = 0.8 - 0.04;
+    const DESATURATION: f32 = 0.15;
+    let x = c.min_element();
+    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let c = c - offset;
+    let peak = c.max_element();
+    if peak < START {
+        return c;
+    }
+    let d = 1.0 - START;
+    let new_peak = 1.0 - d * d / (peak + d - START);
+    let c = c * (new_peak / peak);
+    let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    c.lerp(glam::Vec3::splat(new_peak), g)
+}
+
+/// Narkowicz's ACES fit on one channel, clamped to [0, 1].
+fn aces_narkowicz(x: f32) -> f32 {
+    let x = x.max(0.0);
+    (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// Hill's ACES fit: into the fit's colour space, the RRT + ODT rational curve, back out,
+/// clamped to [0, 1].
+fn aces_hill(c: glam::Vec3) -> glam::Vec3 {
+    // Rows of the input and output matrices (glam's from_cols takes columns: transposed).
+    let input = glam::Mat3::from_cols_array(&[
+        0.59719, 0.07600, 0.02840, 0.35458, 0.90834, 0.13383, 0.04823, 0.01566, 0.83777,
+    ]);
+    let output = glam::Mat3::from_cols_array(&[
+        1.60475, -0.10208, -0.00327, -0.53108, 1.10813, -0.07276, -0.07367, -0.00605, 1.07602,
+    ]);
+    let v = input * c.max(glam::Vec3::ZERO);
+    let v = (v * (v + 0.024_578_6) - 0.000_090_537) / (v * (0.983_729 * v + 0.432_951) + 0.238_081);
+    (output * v).clamp(glam::Vec3::ZERO, glam::Vec3::ONE)
 }
 
 impl std::str::FromStr for ToneMap {
@@ -100,7 +167,10 @@ impl std::str::FromStr for ToneMap {
             .into_iter()
             .find(|m| m.name().eq_ignore_ascii_case(s))
             .ok_or_else(|| {
-                format!("unknown tone map '{s}' (expected clamp, scale-max or reinhard)")
+                format!(
+                    "unknown tone map '{s}' (expected clamp, scale-max, reinhard, pbr-neutral, \
+                     aces-narkowicz or aces-hill)"
+                )
             })
     }
 }
@@ -210,5 +280,77 @@ impl View {
     #[must_use]
     pub fn aspect(&self) -> f32 {
         self.width.max(1) as f32 / self.height.max(1) as f32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec3, Vec4};
+
+    fn tone(t: ToneMap, c: Vec3) -> Vec3 {
+        t.apply(c.extend(0.5)).truncate()
+    }
+
+    #[test]
+    fn pbr_neutral_keeps_the_middle_range_and_rolls_off_the_highlights() {
+        // In [0.08, 0.8] - 0.04 per channel: the colour minus 0.04, hue kept.
+        let c = Vec3::new(0.1, 0.4, 0.7);
+        assert!(
+            (tone(ToneMap::PbrNeutral, c) - (c - 0.04))
+                .abs()
+                .max_element()
+                < 1e-6
+        );
+        // Black stays black; the toe is x - 6.25 x^2 below 0.08 (continuous at 0.08).
+        assert_eq!(tone(ToneMap::PbrNeutral, Vec3::ZERO), Vec3::ZERO);
+        let g = 0.05f32;
+        let want = g - (g - 6.25 * g * g);
+        assert!((tone(ToneMap::PbrNeutral, Vec3::splat(g)).x - want).abs() < 1e-7);
+        // Highlights: below 1, increasing, and desaturated towards white.
+        let mut last = 0.0;
+        for k in 1..200 {
+            let v = tone(ToneMap::PbrNeutral, Vec3::splat(k as f32 * 0.1)).x;
+            assert!(v > last && v < 1.0, "{k}: {v}");
+            last = v;
+        }
+        let red = tone(ToneMap::PbrNeutral, Vec3::new(8.0, 0.5, 0.5));
+        assert!(red.x < 1.0 && red.y > 0.5 - 0.04, "desaturated: {red}");
+    }
+
+    #[test]
+    fn the_aces_fits_give_their_published_values() {
+        // Narkowicz: f(1) = 2.54 / 3.16.
+        let n = tone(ToneMap::AcesNarkowicz, Vec3::ONE);
+        assert!(
+            (n - Vec3::splat(2.54 / 3.16)).abs().max_element() < 1e-6,
+            "{n}"
+        );
+        // Hill: the matrices keep grey grey (rows sum to 1), so f(1) is the rational
+        // curve at 1: (1.0245786 - 0.000090537) / (0.983729 + 0.432951 + 0.238081).
+        let h = tone(ToneMap::AcesHill, Vec3::ONE);
+        let want = (1.024_578_6 - 0.000_090_537) / (0.983_729 + 0.432_951 + 0.238_081);
+        assert!((h - Vec3::splat(want)).abs().max_element() < 1e-5, "{h}");
+        for t in [ToneMap::AcesNarkowicz, ToneMap::AcesHill] {
+            assert_eq!(tone(t, Vec3::ZERO), Vec3::ZERO, "{t:?}: black stays black");
+            let big = tone(t, Vec3::splat(1e6));
+            assert!(
+                big.max_element() <= 1.0 && big.min_element() > 0.99,
+                "{t:?}: {big}"
+            );
+        }
+    }
+
+    #[test]
+    fn every_tone_map_keeps_alpha_parses_its_name_and_leaves_non_finite_colours() {
+        for t in ToneMap::ALL {
+            assert_eq!(t.name().parse::<ToneMap>(), Ok(t));
+            let c = t.apply(Vec4::new(2.0, 1.0, 0.5, 0.25));
+            assert_eq!(c.w, 0.25, "{t:?}");
+            assert!(c.truncate().max_element() <= 1.0 + 1e-6 || t == ToneMap::Clamp);
+            let nan = Vec4::new(f32::NAN, 0.5, 0.5, 1.0);
+            assert!(t.apply(nan).x.is_nan(), "{t:?}");
+        }
+        assert!("aces".parse::<ToneMap>().unwrap_err().contains("aces-hill"));
     }
 }

@@ -143,6 +143,14 @@ pub fn tone_map(ui: &mut egui::Ui, tone: &mut ToneMap, id: &str) {
                         ToneMap::Reinhard => {
                             "Reinhard L / (1 + L): everything fits, a little darker"
                         }
+                        ToneMap::PbrNeutral => {
+                            "Khronos PBR Neutral: base colours kept (minus 0.04), highlights \
+                             rolled off to white"
+                        }
+                        ToneMap::AcesNarkowicz => "ACES filmic (Narkowicz's fit): 1 becomes 0.8",
+                        ToneMap::AcesHill => {
+                            "ACES filmic (Hill's RRT + ODT fit): 1 becomes 0.62, contrasty"
+                        }
                     };
                     ui.selectable_value(tone, t, t.name()).on_hover_text(what);
                 }
