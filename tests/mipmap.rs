@@ -7,45 +7,16 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use glam::{Vec2, Vec3, Vec4};
 use realist::color::{delta_e_2000, xyz_to_lab, RgbSpace};
-use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 use realist::raster::Framebuffer;
 use realist::render::RenderOptions;
-use realist::scene::{Camera, Light, Material, Scene, TextureSlot};
+use realist::scene::{Camera, Scene, TextureSlot};
 use realist::shade::Shading;
 use realist::texture::{Filter, Sampler, Texture, Wrap};
 
 /// A background no texture sample can produce, marking uncovered pixels.
 const BACKGROUND: Vec4 = Vec4::new(1.0, 0.0, 1.0, 1.0);
-
-/// One quad (two triangles) with per-vertex UVs and normal `normal`, textured with `texture`
-/// (base colour white, no specular) and lit along `-normal`.
-fn quad_scene(corners: [Vec3; 4], uvs: [Vec2; 4], normal: Vec3, texture: Texture) -> Scene {
-    let data = MeshData {
-        name: "quad".into(),
-        positions: corners.to_vec(),
-        corners: vec![0, 1, 2, 0, 2, 3],
-        normals: Some(Channel::per_vertex(vec![normal; 4])),
-        uvs: vec![Channel::per_vertex(uvs.to_vec())],
-        ..MeshData::default()
-    };
-    let mesh = Mesh::new(data, NormalPolicy::default()).expect("quad");
-    let mut scene = common::scene_of(
-        mesh,
-        Material {
-            base_color: Vec4::ONE,
-            base_color_texture: Some(TextureSlot::new(0)),
-            specular: Vec3::ZERO,
-            ..Material::default()
-        },
-    );
-    scene.textures.push(Arc::new(texture));
-    scene.lights = vec![Light::directional(-normal, Vec3::ONE)];
-    scene
-}
 
 fn render(scene: &Scene, w: u32, h: u32, camera: Camera) -> Framebuffer {
     let opts = RenderOptions {
@@ -87,7 +58,7 @@ fn grazing_checker_converges_to_its_mean_with_trilinear_only() {
     let (w, h) = (160u32, 120u32);
     let checker = Texture::checker(256, 128, [0, 0, 0, 255], [255, 255, 255, 255]);
     let l = 3000.0;
-    let scene = quad_scene(
+    let scene = common::textured_quad(
         [
             Vec3::new(-l, 0.0, l),
             Vec3::new(l, 0.0, l),
@@ -102,6 +73,7 @@ fn grazing_checker_converges_to_its_mean_with_trilinear_only() {
         ],
         Vec3::Y,
         checker,
+        Sampler::default(),
     );
     let camera = Camera {
         eye: Vec3::new(0.0, 1.0, 0.0),
@@ -176,7 +148,7 @@ fn a_quad_at_half_size_reads_mip_level_1() {
         filter: Filter::Trilinear,
     };
     let s = 0.5 / n as f32;
-    let mut scene = quad_scene(
+    let mut scene = common::textured_quad(
         [
             Vec3::new(-0.5, 0.5, 0.0),
             Vec3::new(-0.5, -0.5, 0.0),
@@ -191,6 +163,7 @@ fn a_quad_at_half_size_reads_mip_level_1() {
         ],
         Vec3::Z,
         texture,
+        Sampler::default(),
     );
     scene.materials[0].base_color_texture = Some(TextureSlot {
         sampler,

@@ -16,15 +16,12 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use common::{check_golden, Tolerance};
 use glam::{Vec2, Vec3, Vec4};
 use realist::color::{delta_e_2000, xyz_to_lab, RgbSpace};
-use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 use realist::raster::Framebuffer;
 use realist::render::RenderOptions;
-use realist::scene::{Camera, Light, Material, Scene, TextureSlot};
+use realist::scene::{Camera, Scene};
 use realist::shade::Shading;
 use realist::texture::{Filter, Sampler, Texture, Wrap};
 
@@ -39,41 +36,6 @@ const FILTERED: Tolerance = Tolerance {
 
 /// A background no texture sample can produce, marking uncovered pixels.
 const BACKGROUND: Vec4 = Vec4::new(1.0, 0.0, 1.0, 1.0);
-
-/// One quad (two triangles) with per-vertex UVs and normal `normal`, textured with `texture`
-/// read by `sampler` (base colour white, no specular) and lit along `-normal`.
-fn quad_scene(
-    corners: [Vec3; 4],
-    uvs: [Vec2; 4],
-    normal: Vec3,
-    texture: Texture,
-    sampler: Sampler,
-) -> Scene {
-    let data = MeshData {
-        name: "quad".into(),
-        positions: corners.to_vec(),
-        corners: vec![0, 1, 2, 0, 2, 3],
-        normals: Some(Channel::per_vertex(vec![normal; 4])),
-        uvs: vec![Channel::per_vertex(uvs.to_vec())],
-        ..MeshData::default()
-    };
-    let mesh = Mesh::new(data, NormalPolicy::default()).expect("quad");
-    let mut scene = common::scene_of(
-        mesh,
-        Material {
-            base_color: Vec4::ONE,
-            base_color_texture: Some(TextureSlot {
-                sampler,
-                ..TextureSlot::new(0)
-            }),
-            specular: Vec3::ZERO,
-            ..Material::default()
-        },
-    );
-    scene.textures.push(Arc::new(texture));
-    scene.lights = vec![Light::directional(-normal, Vec3::ONE)];
-    scene
-}
 
 fn render(scene: &Scene, w: u32, h: u32, camera: Camera) -> Framebuffer {
     let opts = RenderOptions {
@@ -121,7 +83,7 @@ fn marked_texture(n: u32) -> Texture {
 fn ground(s: Sampler) -> Scene {
     let (x0, x1, zn, zf) = (-8.0f32, 8.0f32, 1.5f32, -40.0f32);
     let uv = |x: f32, z: f32| Vec2::new(x / 4.0 + 0.5, (zn - z) / 4.0);
-    quad_scene(
+    common::textured_quad(
         [
             Vec3::new(x0, 0.0, zn),
             Vec3::new(x1, 0.0, zn),
@@ -196,7 +158,7 @@ fn lab(c: Vec4) -> [f64; 3] {
 /// along the view and 25.6 / r across it.
 fn horizon_scene(texture: Texture, filter: Filter) -> (Scene, Camera) {
     let l = 3000.0;
-    let scene = quad_scene(
+    let scene = common::textured_quad(
         [
             Vec3::new(-l, 0.0, l),
             Vec3::new(l, 0.0, l),
@@ -329,7 +291,7 @@ fn aniso_keeps_stripes_along_the_view_that_trilinear_blurs() {
 /// pixels 16..48 of a 64 x 64 image, one pixel per 1/32 of its side. `u0..u1` runs left
 /// to right, v from 0 at the top to 1 at the bottom.
 fn facing(u0: f32, u1: f32, texture: Texture, s: Sampler) -> Framebuffer {
-    let scene = quad_scene(
+    let scene = common::textured_quad(
         [
             Vec3::new(-0.5, 0.5, 0.0),
             Vec3::new(-0.5, -0.5, 0.0),

@@ -7,13 +7,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use base64::Engine as _;
-use glam::{Mat4, Vec3, Vec4};
-use realist::mesh::{Mesh, MeshData, NormalPolicy};
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 use realist::raster::{Framebuffer, KernelKind};
 use realist::render::{PreparedScene, RenderOptions, Renderer, Settings};
-use realist::scene::{Camera, Instance, Material, Scene, Style, TextureSlot};
+use realist::scene::{Camera, Instance, Light, Material, Scene, Style, TextureSlot};
 use realist::shade::Shading;
-use realist::texture::Texture;
+use realist::texture::{Sampler, Texture};
 
 /// How far a rendered image may be from its golden.
 #[derive(Clone, Copy, Debug)]
@@ -324,4 +324,39 @@ pub fn colour_reference(what: &str) -> Option<serde_json::Value> {
     let path = std::path::Path::new(&root).join("color/reference.json");
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     Some(serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())))
+}
+
+/// One quad (two triangles) with per-vertex UVs and normal `normal`, textured with `texture`
+/// read by `sampler` (base colour white, no specular) and lit along `-normal`.
+pub fn textured_quad(
+    corners: [Vec3; 4],
+    uvs: [Vec2; 4],
+    normal: Vec3,
+    texture: Texture,
+    sampler: Sampler,
+) -> Scene {
+    let data = MeshData {
+        name: "quad".into(),
+        positions: corners.to_vec(),
+        corners: vec![0, 1, 2, 0, 2, 3],
+        normals: Some(Channel::per_vertex(vec![normal; 4])),
+        uvs: vec![Channel::per_vertex(uvs.to_vec())],
+        ..MeshData::default()
+    };
+    let mesh = Mesh::new(data, NormalPolicy::default()).expect("quad");
+    let mut scene = scene_of(
+        mesh,
+        Material {
+            base_color: Vec4::ONE,
+            base_color_texture: Some(TextureSlot {
+                sampler,
+                ..TextureSlot::new(0)
+            }),
+            specular: Vec3::ZERO,
+            ..Material::default()
+        },
+    );
+    scene.textures.push(Arc::new(texture));
+    scene.lights = vec![Light::directional(-normal, Vec3::ONE)];
+    scene
 }
