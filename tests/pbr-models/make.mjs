@@ -1,0 +1,360 @@
+// Writes the physically based material test files of models/pbr/ (see models/README.md for
+// what each holds and make.sh for the whole pipeline):
+//
+//   node make.mjs DIR
+//
+// writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
+// (and its texture, unlit-4x4.png), ior-specular.glb and unknown-extension.glb. Every piece of
+// geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
+// on the clock or on randomness, so running it twice gives the same bytes.
+
+import { writeFile } from "node:fs/promises";
+import path from "node:path";
+import { Document, NodeIO, TextureInfo, VERSION } from "@gltf-transform/core";
+import {
+  KHRMaterialsClearcoat,
+  KHRMaterialsEmissiveStrength,
+  KHRMaterialsIOR,
+  KHRMaterialsSheen,
+  KHRMaterialsSpecular,
+  KHRMaterialsUnlit,
+} from "@gltf-transform/extensions";
+
+const [dir] = process.argv.slice(2);
+if (!dir || process.argv.length !== 3) {
+  console.error("usage: node make.mjs DIR");
+  process.exit(2);
+}
+
+const io = new NodeIO().registerExtensions([
+  KHRMaterialsClearcoat,
+  KHRMaterialsEmissiveStrength,
+  KHRMaterialsIOR,
+  KHRMaterialsSheen,
+  KHRMaterialsSpecular,
+  KHRMaterialsUnlit,
+]);
+
+/** A new document with one buffer and one scene, its asset naming this script. */
+function newDocument() {
+  const doc = new Document();
+  doc.getRoot().getAsset().generator = `realist tests/pbr-models/make.mjs (glTF-Transform ${VERSION.replace(/^v/, "")})`;
+  doc.createBuffer();
+  doc.getRoot().setDefaultScene(doc.createScene("scene"));
+  return doc;
+}
+
+const buffer = (doc) => doc.getRoot().listBuffers()[0];
+
+function accessor(doc, type, values) {
+  return doc.createAccessor().setType(type).setArray(new Float32Array(values)).setBuffer(buffer(doc));
+}
+
+function indices(doc, values) {
+  return doc.createAccessor().setType("SCALAR").setArray(new Uint16Array(values)).setBuffer(buffer(doc));
+}
+
+/** Adds a node named `name` with `mesh` at `translation` to the document's scene. */
+function place(doc, name, mesh, translation) {
+  const node = doc.createNode(name).setMesh(mesh).setTranslation(translation);
+  doc.getRoot().getDefaultScene().addChild(node);
+  return node;
+}
+
+/** A mesh named `name` with one primitive: `prim` (shared accessors) with `material`. */
+function meshWith(doc, name, prim, material) {
+  return doc.createMesh(name).addPrimitive(prim.clone().setMaterial(material));
+}
+
+async function write(doc, name) {
+  const file = path.join(dir, name);
+  const bytes = await io.writeBinary(doc);
+  await writeFile(file, bytes);
+  console.log(`wrote ${file} (${bytes.length} bytes)`);
+}
+
+/** Formats a factor as in the material names: two decimals (0.25 -> "0.25", 1 -> "1.00"). */
+const two = (x) => x.toFixed(2);
+
+// ---------------------------------------------------------------------------------------
+// Geometry.
+
+export const SPHERE_RADIUS = 0.4;
+export const SPHERE_SLICES = 48;
+export const SPHERE_STACKS = 32;
+
+/**
+ * A latitude/longitude sphere of radius `radius` around the origin, poles on +-Y, as an
+ * indexed primitive without material: per slice j a north pole vertex (u = (j + 0.5) /
+ * slices, v = 0), rings i = 1 .. stacks - 1 of slices + 1 vertices (u = j / slices, v = i /
+ * stacks; the u = 1 column has exactly u = 0's positions and normals), per slice a south pole
+ * vertex (v = 1). Direction of (theta, phi) = (sin theta sin phi, cos theta, sin theta cos phi),
+ * theta = pi v, phi = 2 pi u - pi: u = 0.5 faces +Z (the camera), u grows towards +X (to the
+ * right seen from +Z), and the seam u = 0 / 1 is at the back (-Z). NORMAL = POSITION / radius
+ * (computed from the same direction, unit length up to f32 rounding). Triangles
+ * counter-clockwise seen from outside; u16 indices.
+ */
+function spherePrimitive(doc, radius = SPHERE_RADIUS, slices = SPHERE_SLICES, stacks = SPHERE_STACKS) {
+  const pos = [], nor = [], uv = [], idx = [];
+  const vertex = (n, u, v) => {
+    pos.push(...n.map((c) => radius * c));
+    nor.push(...n);
+    uv.push(u, v);
+    return pos.length / 3 - 1;
+  };
+  const direction = (theta, phi) => [Math.sin(theta) * Math.sin(phi), Math.cos(theta), Math.sin(theta) * Math.cos(phi)];
+  const north = [], south = [], ring = [];
+  for (let j = 0; j < slices; j++) {
+    north.push(vertex([0, 1, 0], (j + 0.5) / slices, 0));
+  }
+  for (let i = 1; i < stacks; i++) {
+    const row = [];
+    for (let j = 0; j <= slices; j++) {
+      const phi = (2 * Math.PI * (j % slices)) / slices - Math.PI;
+      row.push(vertex(direction((Math.PI * i) / stacks, phi), j / slices, i / stacks));
+    }
+    ring.push(row);
+  }
+  for (let j = 0; j < slices; j++) {
+    south.push(vertex([0, -1, 0], (j + 0.5) / slices, 1));
+  }
+  for (let j = 0; j < slices; j++) idx.push(north[j], ring[0][j], ring[0][j + 1]);
+  for (let i = 0; i + 1 < ring.length; i++) {
+    for (let j = 0; j < slices; j++) {
+      const [a, b, c, d] = [ring[i][j], ring[i + 1][j], ring[i + 1][j + 1], ring[i][j + 1]];
+      idx.push(a, b, c, a, c, d);
+    }
+  }
+  const last = ring[ring.length - 1];
+  for (let j = 0; j < slices; j++) idx.push(last[j], south[j], last[j + 1]);
+  return doc
+    .createPrimitive()
+    .setAttribute("POSITION", accessor(doc, "VEC3", pos))
+    .setAttribute("NORMAL", accessor(doc, "VEC3", nor))
+    .setAttribute("TEXCOORD_0", accessor(doc, "VEC2", uv))
+    .setIndices(indices(doc, idx));
+}
+
+/**
+ * A 1 x 1 quad in the XY plane facing +Z, centred on the origin, without material: vertices
+ * top-left, bottom-left, bottom-right, top-right, NORMAL +Z, triangles 0 1 2 and 0 2 3 (u16).
+ * With `uv`, TEXCOORD_0 (0, 0), (0, 1), (1, 1), (1, 0) (upright seen from +Z); with `colors`,
+ * COLOR_0 (f32 VEC3) = those four colours.
+ */
+function quadPrimitive(doc, { uv = false, colors = null } = {}) {
+  const prim = doc
+    .createPrimitive()
+    .setAttribute("POSITION", accessor(doc, "VEC3", [-0.5, 0.5, 0, -0.5, -0.5, 0, 0.5, -0.5, 0, 0.5, 0.5, 0]))
+    .setAttribute("NORMAL", accessor(doc, "VEC3", [0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1]))
+    .setIndices(indices(doc, [0, 1, 2, 0, 2, 3]));
+  if (uv) prim.setAttribute("TEXCOORD_0", accessor(doc, "VEC2", [0, 0, 0, 1, 1, 1, 1, 0]));
+  if (colors) prim.setAttribute("COLOR_0", accessor(doc, "VEC3", colors.flat()));
+  return prim;
+}
+
+// ---------------------------------------------------------------------------------------
+// A minimal PNG writer: RGBA8, no colour metadata, zlib stream of stored (uncompressed)
+// deflate blocks, so the bytes depend on nothing but the pixels (no zlib version involved).
+
+const CRC_TABLE = Array.from({ length: 256 }, (_, n) => {
+  let c = n;
+  for (let k = 0; k < 8; k++) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+  return c >>> 0;
+});
+
+function crc32(bytes) {
+  let c = 0xffffffff;
+  for (const b of bytes) c = CRC_TABLE[(c ^ b) & 0xff] ^ (c >>> 8);
+  return (c ^ 0xffffffff) >>> 0;
+}
+
+function adler32(bytes) {
+  let a = 1, b = 0;
+  for (const x of bytes) {
+    a = (a + x) % 65521;
+    b = (b + a) % 65521;
+  }
+  return ((b << 16) | a) >>> 0;
+}
+
+const u32be = (x) => [(x >>> 24) & 0xff, (x >>> 16) & 0xff, (x >>> 8) & 0xff, x & 0xff];
+
+function chunk(type, data) {
+  const body = [...Buffer.from(type, "ascii"), ...data];
+  return [...u32be(data.length), ...body, ...u32be(crc32(body))];
+}
+
+/** `rgba(x, y)` -> [r, g, b, a] bytes for each texel of a width x height image, row 0 on top. */
+function png(width, height, rgba) {
+  const raw = [];
+  for (let y = 0; y < height; y++) {
+    raw.push(0); // filter type None
+    for (let x = 0; x < width; x++) raw.push(...rgba(x, y));
+  }
+  const zlib = [0x78, 0x01];
+  for (let start = 0; start < raw.length || start === 0; start += 65535) {
+    const block = raw.slice(start, start + 65535);
+    const final = start + 65535 >= raw.length ? 1 : 0;
+    zlib.push(final, block.length & 0xff, block.length >> 8, ~block.length & 0xff, (~block.length >> 8) & 0xff, ...block);
+  }
+  zlib.push(...u32be(adler32(raw)));
+  const ihdr = [...u32be(width), ...u32be(height), 8, 6, 0, 0, 0]; // 8 bits, RGBA, deflate, filter 0, no interlace
+  const sig = [0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a];
+  return new Uint8Array([...sig, ...chunk("IHDR", ihdr), ...chunk("IDAT", zlib), ...chunk("IEND", [])]);
+}
+
+/**
+ * The 4 x 4 texture of unlit.glb (sRGB): texel (x, y) = (85 x, 85 y, B, 255) with B = 255 when
+ * x + y is even, else 0; e.g. (0, 0) = (0, 0, 255), (3, 0) = (255, 0, 0), (3, 3) = (255, 255, 255).
+ */
+export const UNLIT_TEXEL = (x, y) => [85 * x, 85 * y, (x + y) % 2 === 0 ? 255 : 0, 255];
+
+// ---------------------------------------------------------------------------------------
+// sphere-grid.glb, sphere-grid-white.glb.
+
+/**
+ * 5 x 5 spheres, node k = 5 j + i (row j = 0 .. 4 from the top, column i = 0 .. 4 from the
+ * left) at (i - 2, 2 - j, 0), metallicFactor i / 4, roughnessFactor j / 4. Each sphere has its
+ * own mesh and material; every mesh's one primitive shares the same vertex and index accessors.
+ */
+async function sphereGrid(name, baseColor) {
+  const doc = newDocument();
+  const sphere = spherePrimitive(doc);
+  for (let j = 0; j < 5; j++) {
+    for (let i = 0; i < 5; i++) {
+      const [metallic, roughness] = [i / 4, j / 4];
+      const tag = `m${two(metallic)}-r${two(roughness)}`;
+      const material = doc
+        .createMaterial(tag)
+        .setBaseColorFactor(baseColor)
+        .setMetallicFactor(metallic)
+        .setRoughnessFactor(roughness);
+      place(doc, `sphere-${tag}`, meshWith(doc, `sphere-${tag}`, sphere, material), [i - 2, 2 - j, 0]);
+    }
+  }
+  sphere.dispose(); // the template itself is in no mesh; its accessors are shared by the clones
+  await write(doc, name);
+}
+
+// ---------------------------------------------------------------------------------------
+// emissive-strength.glb.
+
+async function emissiveStrength() {
+  const doc = newDocument();
+  const ext = doc.createExtension(KHRMaterialsEmissiveStrength);
+  const quad = quadPrimitive(doc);
+  for (const [name, strength, x] of [["emissive-plain", null, -0.6], ["emissive-strength-4", 4, 0.6]]) {
+    const material = doc
+      .createMaterial(name)
+      .setBaseColorFactor([0, 0, 0, 1])
+      .setMetallicFactor(0)
+      .setRoughnessFactor(1)
+      .setEmissiveFactor([0.2, 0.1, 0.05]);
+    if (strength !== null) material.setExtension("KHR_materials_emissive_strength", ext.createEmissiveStrength().setEmissiveStrength(strength));
+    place(doc, name, meshWith(doc, name, quad, material), [x, 0, 0]);
+  }
+  quad.dispose();
+  await write(doc, "emissive-strength.glb");
+}
+
+// ---------------------------------------------------------------------------------------
+// unlit.glb (and unlit-4x4.png).
+
+/** Vertex colours of the third quad: linear in x, so any triangulation interpolates them alike. */
+export const UNLIT_COLORS_LEFT = [1, 0.5, 0];
+export const UNLIT_COLORS_RIGHT = [0, 0.5, 1];
+
+async function unlit() {
+  const doc = newDocument();
+  const ext = doc.createExtension(KHRMaterialsUnlit);
+  const image = png(4, 4, UNLIT_TEXEL);
+  await writeFile(path.join(dir, "unlit-4x4.png"), image);
+  console.log(`wrote ${path.join(dir, "unlit-4x4.png")} (${image.length} bytes)`);
+  const texture = doc.createTexture("unlit-4x4").setImage(image).setMimeType("image/png");
+  const [L, R] = [UNLIT_COLORS_LEFT, UNLIT_COLORS_RIGHT];
+  const quads = [
+    ["unlit-factor", -0.6, quadPrimitive(doc), false],
+    ["unlit-texture", 0.6, quadPrimitive(doc, { uv: true }), true],
+    ["unlit-vertex-color", 1.8, quadPrimitive(doc, { colors: [L, L, R, R] }), false],
+  ];
+  for (const [name, x, prim, textured] of quads) {
+    // metallic 0 and roughness 0.9: the fallback the KHR_materials_unlit README suggests for
+    // readers without the extension.
+    const material = doc
+      .createMaterial(name)
+      .setBaseColorFactor([0.25, 0.5, 0.75, 1])
+      .setMetallicFactor(0)
+      .setRoughnessFactor(0.9)
+      .setExtension("KHR_materials_unlit", ext.createUnlit());
+    if (textured) {
+      material.setBaseColorTexture(texture);
+      const info = material.getBaseColorTextureInfo();
+      info.setMagFilter(TextureInfo.MagFilter.NEAREST).setMinFilter(TextureInfo.MinFilter.NEAREST);
+      info.setWrapS(TextureInfo.WrapMode.CLAMP_TO_EDGE).setWrapT(TextureInfo.WrapMode.CLAMP_TO_EDGE);
+    }
+    prim.setMaterial(material);
+    place(doc, name, doc.createMesh(name).addPrimitive(prim), [x, 0, 0]);
+  }
+  await write(doc, "unlit.glb");
+}
+
+// ---------------------------------------------------------------------------------------
+// ior-specular.glb.
+
+async function iorSpecular() {
+  const doc = newDocument();
+  const iorExt = doc.createExtension(KHRMaterialsIOR);
+  const specularExt = doc.createExtension(KHRMaterialsSpecular);
+  const sphere = spherePrimitive(doc);
+  const spheres = [
+    ["ior-default", -1.5, null],
+    ["ior-1.0", -0.5, (m) => m.setExtension("KHR_materials_ior", iorExt.createIOR().setIOR(1.0))],
+    ["ior-2.5", 0.5, (m) => m.setExtension("KHR_materials_ior", iorExt.createIOR().setIOR(2.5))],
+    [
+      "specular-0.5",
+      1.5,
+      (m) =>
+        m.setExtension(
+          "KHR_materials_specular",
+          specularExt.createSpecular().setSpecularFactor(0.5).setSpecularColorFactor([1, 0.2, 0.2]),
+        ),
+    ],
+  ];
+  for (const [name, x, extend] of spheres) {
+    const material = doc
+      .createMaterial(name)
+      .setBaseColorFactor([0.5, 0.5, 0.5, 1])
+      .setMetallicFactor(0)
+      .setRoughnessFactor(0.3);
+    if (extend) extend(material);
+    place(doc, name, meshWith(doc, name, sphere, material), [x, 0, 0]);
+  }
+  sphere.dispose();
+  await write(doc, "ior-specular.glb");
+}
+
+// ---------------------------------------------------------------------------------------
+// unknown-extension.glb: extensions realist does not implement (its loader should report them).
+
+async function unknownExtension() {
+  const doc = newDocument();
+  const clearcoat = doc.createExtension(KHRMaterialsClearcoat);
+  const sheen = doc.createExtension(KHRMaterialsSheen);
+  const material = doc
+    .createMaterial("clearcoat-sheen")
+    .setBaseColorFactor([0.8, 0.1, 0.1, 1])
+    .setMetallicFactor(0)
+    .setRoughnessFactor(0.5)
+    .setExtension("KHR_materials_clearcoat", clearcoat.createClearcoat().setClearcoatFactor(1).setClearcoatRoughnessFactor(0.1))
+    .setExtension("KHR_materials_sheen", sheen.createSheen().setSheenColorFactor([0.5, 0.5, 0.5]).setSheenRoughnessFactor(0.5));
+  const prim = spherePrimitive(doc).setMaterial(material);
+  place(doc, "clearcoat-sheen", doc.createMesh("clearcoat-sheen").addPrimitive(prim), [0, 0, 0]);
+  await write(doc, "unknown-extension.glb");
+}
+
+await sphereGrid("sphere-grid.glb", [0.9, 0.55, 0.2, 1]);
+await sphereGrid("sphere-grid-white.glb", [1, 1, 1, 1]);
+await emissiveStrength();
+await unlit();
+await iorSpecular();
+await unknownExtension();
