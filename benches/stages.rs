@@ -9,11 +9,11 @@ use glam::{Mat4, Vec3, Vec4};
 use realist::mesh::Mesh;
 use realist::quality::sphere::SphereSetup;
 use realist::raster::{
-    self, stages, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, Kernel, KernelKind,
-    Stats, Target, F8, V3,
+    self, stages, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, Stats, Target,
 };
 use realist::scene::{AlphaMode, Light};
 use realist::shade::{DrawParams, LightSet, LitLayout, LitShader, Surface, TexView};
+use realist::simd::{Kernel, KernelKind, F8, V3};
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -158,6 +158,7 @@ fn benches(c: &mut Criterion) {
             specular: Vec3::splat(0.4),
             ambient: Vec3::ONE,
             shininess: 32.0,
+            pbr: None,
         },
         emissive: Vec3::ZERO,
         base_map: None,
@@ -166,6 +167,8 @@ fn benches(c: &mut Criterion) {
         occlusion: None,
         emissive_map: None,
         bump: None,
+        metal_rough: None,
+        unlit: false,
         view: TexView::Lit,
         measure: None,
         layout: LitLayout::default(),

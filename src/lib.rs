@@ -36,6 +36,7 @@ pub mod render;
 pub mod scene;
 pub mod scenefile;
 pub mod shade;
+pub mod simd;
 pub mod texture;
 #[cfg(feature = "viewer")]
 pub mod viewer;

@@ -5,9 +5,9 @@
 use glam::{Vec2, Vec4};
 use proptest::prelude::*;
 use realist::raster::{
-    self, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Fragments, Kernel,
-    KernelKind, Stats, Target,
+    self, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Fragments, Stats, Target,
 };
+use realist::simd::{Kernel, KernelKind};
 
 /// Adds 1 to the red channel of every covered pixel.
 struct Count;

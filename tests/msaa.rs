@@ -5,9 +5,9 @@
 
 use glam::{Vec2, Vec4};
 use realist::raster::{
-    self, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Fragments, Kernel,
-    KernelKind, Stats, Target,
+    self, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Fragments, Stats, Target,
 };
+use realist::simd::{Kernel, KernelKind};
 
 /// Direct3D's standard 4-sample pattern in 1/16 pixel (the specification the target follows).
 const PATTERN: [[i64; 2]; 4] = [[-2, -6], [6, -2], [-6, 2], [2, 6]];

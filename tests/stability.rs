@@ -13,9 +13,9 @@
 use glam::Vec4;
 use realist::mesh::{Mesh, MeshData, NormalOptions, NormalPolicy};
 use realist::raster::{
-    self, Blend, Cull, DepthTest, Draw, DrawState, KernelKind, PerPixel, PixelShader, Stats,
-    Target, TriInfo,
+    self, Blend, Cull, DepthTest, Draw, DrawState, PerPixel, PixelShader, Stats, Target, TriInfo,
 };
+use realist::simd::KernelKind;
 
 /// Distance from a pixel centre within which the reference decision is not enforced.
 const AMBIGUOUS_PX: f64 = 0.02;

@@ -21,6 +21,11 @@ pub(crate) struct LightingArgs {
     /// fits).
     #[arg(long)]
     pub tone: Option<ToneMap>,
+    /// Exposure in EV (stops): colours are multiplied by 2^EV before the tone map
+    /// (default 0). glTF lights are in lux and candela: a white surface facing a 1-lux
+    /// light reflects 1/π.
+    #[arg(long, allow_hyphen_values = true)]
+    pub exposure: Option<f32>,
     /// Shadows for every light that can cast them (directional, spot, rect); the default
     /// rig or the model's lights become explicit.
     #[arg(long)]
@@ -58,6 +63,12 @@ impl LightingArgs {
         }
         if let Some(t) = self.tone {
             s.tone = t;
+        }
+        if let Some(ev) = self.exposure {
+            if !(ev.is_finite() && ev.abs() <= 64.0) {
+                bail!("--exposure {ev}: expected a number of stops from -64 to 64");
+            }
+            s.exposure = ev;
         }
         if let Some(n) = self.shadow_size {
             if !(16..=MAX_SHADOW_SIZE).contains(&n) {

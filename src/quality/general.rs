@@ -72,11 +72,9 @@ use rayon::prelude::*;
 
 use super::LinearImage;
 use crate::mesh::TriMesh;
-use crate::render::{default_camera, frame_lights, RenderOptions};
-use crate::scene::{
-    AlphaMode, Material, Scene, Slot, SlotOverride, Style, TextureSource, UvTransform,
-};
-use crate::shade::{illuminate, maps, Fog, LightSet, Shading, Surface};
+use crate::render::{default_camera, frame_lights, Policy, RenderOptions};
+use crate::scene::{AlphaMode, Material, Scene, Slot, SlotOverride, TextureSource, UvTransform};
+use crate::shade::{illuminate, maps, Fog, LightSet, Surface};
 use crate::texture::{
     Domain, Filter, ProceduralTexture, SamplePoint, Sampler, Texels, Texture, Wrap,
 };
@@ -236,6 +234,8 @@ struct View {
     lights: LightSet,
     fog: Option<Fog>,
     tone: crate::render::ToneMap,
+    /// `2^exposure` ([`crate::render::Settings::exposure_scale`]).
+    exposure: f64,
     background: DVec3,
     blinn: bool,
 }
@@ -335,6 +335,7 @@ impl View {
             lights,
             fog: opts.fog.filter(Fog::is_valid),
             tone: opts.tone,
+            exposure: f64::from(opts.settings().exposure_scale()),
             background: opts.background.truncate().as_dvec3(),
             blinn,
         })
@@ -366,8 +367,13 @@ struct Inst<'a> {
     emissive: DVec3,
     /// Base-colour texture (textured mode).
     texture: Option<RefSlot<'a>>,
-    /// Gloss map (multiplies `K_s`), in the per-pixel modes the reference stands for.
+    /// Gloss map (multiplies `K_s`), in the per-pixel modes the reference stands for but
+    /// `pbr`.
     gloss: Option<RefSlot<'a>>,
+    /// Metallic-roughness texture (`pbr`): G multiplies roughness, B metallic.
+    metal_rough: Option<RefSlot<'a>>,
+    /// `KHR_materials_unlit`: the base colour is the colour.
+    unlit: bool,
     /// Normal map, occlusion and emissive map (textured mode).
     normal_map: Option<RefSlot<'a>>,
     occlusion: Option<RefSlot<'a>>,
@@ -614,12 +620,7 @@ fn instances<'a>(
         // textured mode (chosen by default when any map is usable) reads every map, the
         // other per-pixel modes only the gloss map.
         let usable = |slot: Slot| ref_slot(scene, opts, tri, &m, slot);
-        let emissive = m.emissive.as_dvec3();
-        let emissive = if emissive.is_finite() {
-            emissive.max(DVec3::ZERO)
-        } else {
-            DVec3::ZERO
-        };
+        let emissive = crate::render::material_emission(&m).as_dvec3();
         let base_map = usable(Slot::BaseColor);
         let normal = usable(Slot::Normal);
         let occlusion = usable(Slot::Occlusion);
@@ -630,10 +631,8 @@ fn instances<'a>(
             || occlusion.is_some()
             || emissive_map.is_some()
             || bump.is_some();
-        let textured = match opts.shading {
-            Some(mode) => mode == Shading::Textured,
-            None => inst.style == Style::Inherit && mapped,
-        };
+        let policy = Policy::new(opts.shading, inst.style, &m, mapped);
+        let textured = policy.textured;
         let textured_only = |s: Option<RefSlot<'a>>| s.filter(|_| textured);
         let world = inst.world.as_dmat4();
         let m3 = DMat3::from_mat4(world);
@@ -650,12 +649,9 @@ fn instances<'a>(
             mvp: view.vp * world,
             flip: det < 0.0,
             cull: !(m.double_sided || opts.double_sided),
-            base: if m.base_color.is_finite() {
-                m.base_color.as_dvec4()
-            } else {
-                DVec4::ONE
-            },
-            surface: crate::render::material_surface(&m),
+            base: policy.base.as_dvec4(),
+            surface: policy.surface,
+            unlit: policy.unlit,
             alpha: match m.alpha_mode {
                 AlphaMode::Opaque => Alpha::Opaque,
                 AlphaMode::Mask(c) => Alpha::Mask(f64::from(c)),
@@ -663,7 +659,8 @@ fn instances<'a>(
             },
             emissive,
             texture: textured_only(base_map),
-            gloss: usable(Slot::Specular),
+            gloss: usable(Slot::Specular).filter(|_| !policy.pbr),
+            metal_rough: usable(Slot::MetallicRoughness).filter(|_| policy.pbr),
             normal_map: textured_only(normal),
             occlusion: textured_only(occlusion),
             emissive_map: textured_only(emissive_map),
@@ -945,13 +942,21 @@ impl Tri {
         if !self.g.front {
             n = -n;
         }
+        if inst.unlit {
+            return Some(base.truncate().extend(alpha));
+        }
         let mut surf = inst.surface.at::<f64>(base.truncate());
         if let Some(g) = &inst.gloss {
             surf.ks *= g.at(inst.tri, v, b).truncate();
         }
+        if let (Some(mr), Some(p)) = (&inst.metal_rough, &mut surf.pbr) {
+            let t = mr.at(inst.tri, v, b);
+            p.roughness *= t.y;
+            p.metallic *= t.z;
+        }
         if let Some(o) = &inst.occlusion {
-            // On the ambient term only: the equation's ambient is g_amb K_a K_d.
-            surf.ka *= maps::occlusion(o.at(inst.tri, v, b).x, o.scale);
+            // On the ambient (or image-based) term only.
+            surf.occlusion = Some(maps::occlusion(o.at(inst.tri, v, b).x, o.scale));
         }
         let mut c = illuminate::<f64>(&view.lights, None, &surf, p, n, view.eye, view.blinn);
         c += match &inst.emissive_map {
@@ -1155,6 +1160,7 @@ fn band(view: &View, insts: &[Inst], bin: &[(u32, u32)], r: Rect) -> Vec<[f64; 3
             c = f.truncate() * a + c * (1.0 - a);
             next.next();
         }
+        c *= view.exposure;
         if view.tone != crate::render::ToneMap::Clamp {
             c = view
                 .tone
@@ -1174,7 +1180,8 @@ mod tests {
 
     use glam::{Mat4, Vec2, Vec3, Vec4};
 
-    use crate::scene::TextureSlot;
+    use crate::scene::{Style, TextureSlot};
+    use crate::shade::Shading;
 
     use super::*;
     use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};

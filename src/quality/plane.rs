@@ -144,6 +144,7 @@ impl PlaneSetup {
             specular: Vec3::ZERO,
             ambient: Vec3::ONE,
             shininess: 1.0,
+            pbr: None,
         };
         let surf = surface.at::<f64>(glam::DVec3::ONE);
         let c = crate::shade::illuminate::<f64>(

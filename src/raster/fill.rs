@@ -35,10 +35,10 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::framebuffer::{sample_offsets, sample_reach, Tile, TILE, TILE_PIXELS};
-use super::lanes::{Kernel, F8, LANES, M8};
 use super::pipeline::{Blend, DepthTest, DrawState};
 use super::setup::{padded, SetupTri, ONE};
 use super::{Colors, FragmentShader, Fragments, MAX_VARYINGS};
+use crate::simd::lanes::{Kernel, F8, LANES, M8};
 
 const BLOCK: u32 = 8;
 const HALF: i64 = ONE / 2;
@@ -597,10 +597,11 @@ mod tests {
     use glam::{Mat4, Vec2, Vec3, Vec4};
 
     use crate::raster::{
-        draw, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, Kernel, PerPixel,
-        PixelShader, Stats, Target, TriInfo,
+        draw, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, PerPixel, PixelShader,
+        Stats, Target, TriInfo,
     };
     use crate::scene::Camera;
+    use crate::simd::Kernel;
 
     /// Outputs the interpolated varying (alpha 1 marks coverage).
     struct Value;

@@ -317,6 +317,22 @@ impl Target {
         }
     }
 
+    /// Clears depth to 0 (far) and every pixel's colour to `f(x, y)` (pixel centre at
+    /// `(x + 0.5, y + 0.5)`; every sample of the pixel gets it), in parallel over tiles:
+    /// a background that varies over the image, such as an environment.
+    pub fn clear_with(&mut self, f: impl Fn(u32, u32) -> Vec4 + Sync) {
+        self.tiles.par_iter_mut().for_each(|t| {
+            t.pending_clear = Some(Vec4::ZERO);
+            t.materialize();
+            for y in 0..t.h {
+                for x in 0..t.w {
+                    let o = (y * TILE + x) as usize;
+                    t.set_color(o, f(t.x0 + x, t.y0 + y));
+                }
+            }
+        });
+    }
+
     /// Replaces every stored colour (each sample of each pixel, and a pending clear colour)
     /// by `f(colour)`, in parallel over tiles: a per-pixel operator such as tone mapping,
     /// applied before samples are averaged.

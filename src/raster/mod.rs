@@ -35,16 +35,14 @@
 mod clip;
 mod fill;
 mod framebuffer;
-pub mod kernel;
-pub mod lanes;
 mod line;
 mod pipeline;
 mod setup;
 pub mod stages;
 
+use crate::simd::{Kernel, F8, LANES};
+
 pub use framebuffer::{sample_offsets, DepthCopy, Framebuffer, Target, SAMPLE_COUNTS, TILE};
-pub use kernel::KernelKind;
-pub use lanes::{Kernel, F8, LANES, M8, V3};
 pub use line::{draw_lines, LineStyle};
 pub use pipeline::{
     draw, draw_list, draw_with_kernel, transform_positions, transform_positions_into, Bins, Blend,

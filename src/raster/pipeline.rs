@@ -9,13 +9,13 @@ use rayon::prelude::*;
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
 use super::fill::{fill, FillCounters};
 use super::framebuffer::{Target, Tile, TILE};
-use super::kernel::{dispatch, prefetch, KernelJob, KernelKind};
-use super::lanes::Kernel;
 use super::setup::{
     padded, project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri, Viewport,
     GUARD_BAND_PX,
 };
 use super::{FragmentShader, MAX_VARYINGS};
+use crate::simd::kernel::{dispatch, prefetch, KernelJob, KernelKind};
+use crate::simd::lanes::Kernel;
 
 /// Which faces are discarded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

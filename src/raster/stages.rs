@@ -16,7 +16,8 @@ use glam::Vec2;
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
 use super::pipeline::{assemble, bin, flush, guard, Chunk, CHUNK};
 use super::setup::Viewport;
-use super::{Bins, Draw, FragmentShader, KernelKind, Stats, Target};
+use super::{Bins, Draw, FragmentShader, Stats, Target};
+use crate::simd::KernelKind;
 
 /// Triangles after setup, in chunks as the pipeline makes them (opaque).
 pub struct SetupBatch {

@@ -13,7 +13,9 @@ use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
 use crate::scene::{
     AlphaMode, Light, Material, Slot, SlotOverride, Style, TextureSource, UvTransform,
 };
-use crate::shade::{DrawParams, Fog, LightSet, LitLayout, Shading, SlotParams, Surface, TexView};
+use crate::shade::{
+    DrawParams, Fog, LightSet, LitLayout, PbrParams, Shading, SlotParams, Surface, TexView,
+};
 use crate::texture::{Procedural, ProceduralTexture, Sampler};
 
 /// One visible instance of this frame.
@@ -109,6 +111,50 @@ pub fn material_surface(m: &Material) -> Surface {
         } else {
             1.0
         },
+        pbr: None,
+    }
+}
+
+/// The reflection constants of material `m` in the `pbr` mode: [`material_surface`] with
+/// the metallic-roughness parameters (factors clamped to [0, 1], 1 if not finite, as glTF's
+/// defaults). A material not authored that way (an OBJ forced into `pbr`) is a dielectric
+/// whose roughness matches its Phong exponent (`n = 2 / α² - 2`, the inverse of
+/// `phong_from_pbr` in the glTF loader).
+#[must_use]
+pub fn pbr_surface(m: &Material) -> Surface {
+    let unit = |v: f32| {
+        if v.is_finite() {
+            v.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    };
+    let params = match &m.pbr {
+        Some(p) => {
+            let (f0, f90) = p.dielectric_fresnel();
+            PbrParams {
+                metallic: unit(m.metallic),
+                roughness: unit(m.roughness),
+                f0,
+                f90,
+            }
+        }
+        None => {
+            let n = material_surface(m).shininess;
+            PbrParams {
+                metallic: if m.metallic.is_finite() {
+                    m.metallic.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                },
+                roughness: (2.0 / (n + 2.0)).sqrt().sqrt(),
+                ..PbrParams::default()
+            }
+        }
+    };
+    Surface {
+        pbr: Some(params),
+        ..material_surface(m)
     }
 }
 
@@ -142,6 +188,69 @@ pub(crate) fn active_lights(
         }
     }
     (start, active.len() as u32)
+}
+
+/// How an instance is drawn and what its material gives the shaders: decided here once,
+/// for the renderer ([`resolve`]) and the f64 reference ([`crate::quality`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Policy {
+    pub mode: Shading,
+    /// The mode reads every map: textured, the tangent-normals view (which shows what the
+    /// normal and bump maps do) and `pbr`. The other per-pixel modes read the gloss map
+    /// only.
+    pub textured: bool,
+    pub pbr: bool,
+    /// The base colour (RGBA, linear): the material's, its glTF base colour in `pbr`, white
+    /// for the UV checker (whose grid replaces it).
+    pub base: Vec4,
+    pub surface: Surface,
+    /// `KHR_materials_unlit` in `pbr`.
+    pub unlit: bool,
+}
+
+impl Policy {
+    /// The policy for material `m` drawn with style `style` when the settings force
+    /// `shading` (or not), `mapped` telling whether any map of the textured mode is usable
+    /// on the mesh: a forced mode wins, then the style; glTF materials are drawn as
+    /// authored (`pbr`), a model with usable textures textured, anything else Phong.
+    pub fn new(shading: Option<Shading>, style: Style, m: &Material, mapped: bool) -> Self {
+        let mode = match (shading, style) {
+            (Some(m), _) => m,
+            (None, Style::Wireframe) => Shading::Wireframe,
+            (None, Style::Flat) => Shading::Flat,
+            (None, Style::Inherit) if m.pbr.is_some() => Shading::Pbr,
+            (None, Style::Inherit) if mapped => Shading::Textured,
+            (None, Style::Inherit) => Shading::Phong,
+        };
+        let pbr = mode == Shading::Pbr;
+        let finite_or_white = |c: Vec4| if c.is_finite() { c } else { Vec4::ONE };
+        Self {
+            mode,
+            textured: matches!(
+                mode,
+                Shading::Textured | Shading::TangentNormals | Shading::Pbr
+            ),
+            pbr,
+            base: match mode {
+                Shading::UvChecker => Vec4::ONE,
+                Shading::Pbr => finite_or_white(m.pbr.map_or(m.base_color, |p| p.base_color)),
+                _ => finite_or_white(m.base_color),
+            },
+            surface: if pbr {
+                pbr_surface(m)
+            } else {
+                material_surface(m)
+            },
+            unlit: pbr && m.pbr.is_some_and(|p| p.unlit),
+        }
+    }
+}
+
+/// The light material `m` emits: `emissive` times `KHR_materials_emissive_strength`,
+/// non-finite or negative channels made zero.
+#[must_use]
+pub fn material_emission(m: &Material) -> Vec3 {
+    finite_colour(m.emissive * m.pbr.map_or(1.0, |p| p.emissive_strength))
 }
 
 /// How one instance is drawn under `settings`: its material parameters, mode and state.
@@ -223,7 +332,7 @@ pub(crate) fn resolve(
     let base_map = slot(Slot::BaseColor);
     let normal_map = slot(Slot::Normal);
     let occlusion = slot(Slot::Occlusion);
-    let emissive = finite_colour(m.emissive);
+    let emissive = material_emission(m);
     let emissive_map = slot(Slot::Emissive).filter(|_| emissive != Vec3::ZERO);
     let bump = slot(Slot::Bump);
     let mapped = base_map.is_some()
@@ -231,14 +340,8 @@ pub(crate) fn resolve(
         || occlusion.is_some()
         || emissive_map.is_some()
         || bump.is_some();
-    let mode = match (settings.shading, inst.style) {
-        (Some(m), _) => m,
-        (None, Style::Wireframe) => Shading::Wireframe,
-        (None, Style::Flat) => Shading::Flat,
-        // A model with textures is shown with them unless a mode is forced.
-        (None, Style::Inherit) if mapped => Shading::Textured,
-        (None, Style::Inherit) => Shading::Phong,
-    };
+    let policy = Policy::new(settings.shading, inst.style, m, mapped);
+    let mode = policy.mode;
     let view = mode.tex_view().unwrap_or_default();
     let debug =
         matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv) || view != TexView::Lit;
@@ -261,10 +364,7 @@ pub(crate) fn resolve(
         };
     }
     let per_pixel = mode.per_pixel();
-    // The maps a mode reads: all of them in the textured mode (and the tangent-normal view,
-    // which shows what the normal and bump maps do), the gloss map in every per-pixel mode;
-    // the UV checker replaces the base colour by the UV test grid.
-    let textured = matches!(mode, Shading::Textured | Shading::TangentNormals);
+    let Policy { textured, pbr, .. } = policy;
     let base_map = match mode {
         Shading::UvChecker => tri.uv_set(0).map(|_| Found {
             source: TextureSource::Procedural(Arc::clone(uv_grid())),
@@ -301,7 +401,11 @@ pub(crate) fn resolve(
         })
     };
     let mut base_map = params_of(base_map, true);
-    let mut gloss = params_of(slot(Slot::Specular), per_pixel && view == TexView::Lit);
+    let mut gloss = params_of(
+        slot(Slot::Specular),
+        per_pixel && view == TexView::Lit && !pbr,
+    );
+    let mut metal_rough = params_of(slot(Slot::MetallicRoughness), pbr);
     let mut normal_map = params_of(normal_map, textured);
     let mut occlusion = params_of(occlusion, textured && view == TexView::Lit);
     let mut emissive_map = params_of(emissive_map, textured && view == TexView::Lit);
@@ -315,6 +419,7 @@ pub(crate) fn resolve(
             &mut occlusion,
             &mut emissive_map,
             &mut bump,
+            &mut metal_rough,
         ]
         .into_iter()
         .flatten()
@@ -369,16 +474,13 @@ pub(crate) fn resolve(
         &occlusion,
         &emissive_map,
         &bump,
+        &metal_rough,
     ]
     .iter()
     .any(|m| m.is_some());
     let params = DrawParams {
-        base: match mode {
-            Shading::UvChecker => Vec4::ONE,
-            _ if m.base_color.is_finite() => m.base_color,
-            _ => Vec4::ONE,
-        },
-        surface: material_surface(m),
+        base: policy.base,
+        surface: policy.surface,
         emissive: if debug { Vec3::ZERO } else { emissive },
         base_map,
         gloss,
@@ -386,6 +488,8 @@ pub(crate) fn resolve(
         occlusion,
         emissive_map,
         bump,
+        metal_rough,
+        unlit: policy.unlit,
         view,
         measure,
         layout,

@@ -35,7 +35,8 @@ mod settings;
 mod shadows;
 mod vertex;
 
-pub use frame::{frame_lights, material_surface};
+pub(crate) use frame::Policy;
+pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
@@ -66,6 +67,8 @@ pub struct RenderOptions {
     pub lights: Lights,
     /// See [`Settings::fog`].
     pub fog: Option<crate::shade::Fog>,
+    /// See [`Settings::exposure`].
+    pub exposure: f32,
     /// See [`Settings::tone`].
     pub tone: ToneMap,
 }
@@ -85,6 +88,7 @@ impl Default for RenderOptions {
             msaa: s.msaa,
             lights: Lights::Auto,
             fog: None,
+            exposure: 0.0,
             tone: ToneMap::Clamp,
         }
     }
@@ -103,6 +107,7 @@ impl RenderOptions {
             msaa: self.msaa,
             lights: self.lights.clone(),
             fog: self.fog,
+            exposure: self.exposure,
             tone: self.tone,
             ..Settings::default()
         }

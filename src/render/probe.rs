@@ -17,9 +17,7 @@ use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::{Light, LightKind, TextureSource};
-use crate::shade::{
-    arriving, maps, reflect, texlab, view_vector, LightSet, Shading, SlotParams, SurfaceAt,
-};
+use crate::shade::{arriving, maps, reflect, texlab, view_vector, LightSet, Shading, SlotParams};
 
 /// One light's contribution at the probed point (linear RGB).
 #[derive(Clone, Debug, PartialEq)]
@@ -36,6 +34,11 @@ pub struct LightShare {
     pub shadow: f32,
     pub diffuse: Vec3,
     pub specular: Vec3,
+    /// The `pbr` BRDF's terms for this light: GGX `D`, the visibility `Vis = G / (4 NL NV)`
+    /// and the Fresnel colour (zero in the Phong modes).
+    pub d: f32,
+    pub vis: f32,
+    pub fresnel: Vec3,
 }
 
 /// What the probe found at a pixel.
@@ -236,14 +239,6 @@ pub fn probe(
         None => d.emissive,
     };
     let v = view_vector(&surf, position, eye);
-    let diffuse_only = SurfaceAt {
-        ks: Vec3::ZERO,
-        ..surf
-    };
-    let specular_only = SurfaceAt {
-        kd: Vec3::ZERO,
-        ..surf
-    };
     let mut set = LightSet::default();
     let cam_to_world = view_m.inverse();
     let mut ambient = Vec3::ZERO;
@@ -266,7 +261,8 @@ pub fn probe(
             let Some(src) = set.sources.first() else {
                 return;
             };
-            let (dir, rad) = arriving::<f32>(src, position).unwrap_or((Vec3::ZERO, Vec3::ZERO));
+            let (dir, rad, _) =
+                arriving::<f32>(src, position).unwrap_or((Vec3::ZERO, Vec3::ZERO, false));
             let arriving = rad;
             let lit = normal.dot(dir) > 0.0 && rad != Vec3::ZERO;
             let shadow = if lit && light.shadow && light.kind.can_shadow() {
@@ -285,13 +281,18 @@ pub fn probe(
             } else {
                 1.0
             };
+            let ndl = normal.dot(dir);
+            let terms = reflect(&surf, normal, dir, v, lit, ndl, blinn);
             lights.push(LightShare {
                 index: src.index,
                 light,
                 arriving,
                 shadow,
-                diffuse: reflect(&diffuse_only, normal, dir, v, blinn) * rad * shadow,
-                specular: reflect(&specular_only, normal, dir, v, blinn) * rad * shadow,
+                diffuse: terms.diffuse * rad * shadow,
+                specular: terms.specular * rad * shadow,
+                d: terms.d,
+                vis: terms.vis,
+                fresnel: terms.fresnel,
             });
         },
     );

@@ -19,7 +19,8 @@ use super::passes::{self, Cx};
 use super::pool::Pool;
 use super::prepare::PreparedScene;
 use super::settings::{Output, Settings, View};
-use crate::raster::{Bins, KernelKind, Stats, Target, TileCost, TILE};
+use crate::raster::{Bins, Stats, Target, TileCost, TILE};
+use crate::simd::KernelKind;
 
 /// Wall-clock milliseconds of a frame's stages (summed over supersampling passes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
@@ -216,10 +217,13 @@ impl Renderer {
                 resolve += t.elapsed();
             }
         }
-        if settings.tone != super::ToneMap::Clamp && settings.output == Output::Shaded {
+        let scale = settings.exposure_scale();
+        if (settings.tone != super::ToneMap::Clamp || scale != 1.0)
+            && settings.output == Output::Shaded
+        {
             let t = Instant::now();
             let tone = settings.tone;
-            target.map_colors(|c| tone.apply(c));
+            target.map_colors(|c| tone.apply((c.truncate() * scale).extend(c.w)));
             resolve += t.elapsed();
         }
         let ms = |nanos: u64| nanos as f64 * 1e-6;

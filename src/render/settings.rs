@@ -4,9 +4,9 @@
 
 use glam::Vec4;
 
-use crate::raster::KernelKind;
 use crate::scene::{Camera, Light, Material, SlotOverrides};
 use crate::shade::{Fog, Shading, ShadowSettings};
+use crate::simd::KernelKind;
 use crate::texture::Filter;
 
 /// The lights a frame uses.
@@ -232,6 +232,9 @@ pub struct Settings {
     /// Linear fog: per pixel in the per-pixel modes, per vertex in Gouraud, per facet in
     /// flat; `None` costs nothing.
     pub fog: Option<Fog>,
+    /// Exposure in EV: colours are multiplied by `2^exposure` before the tone map (0: as
+    /// rendered). glTF light units (lux, candela) and environments in cd/m² need it.
+    pub exposure: f32,
     /// Out-of-range colour handling.
     pub tone: ToneMap,
     /// Shadow-map size and filtering for the lights that cast shadows (each light's
@@ -239,6 +242,18 @@ pub struct Settings {
     pub shadow: ShadowSettings,
     /// Shows a ground plane under the scene (it catches shadows).
     pub ground: Option<Ground>,
+}
+
+impl Settings {
+    /// `2^exposure`, or 1 when the exposure is not finite or beyond +-64 EV.
+    #[must_use]
+    pub fn exposure_scale(&self) -> f32 {
+        if self.exposure.is_finite() && self.exposure.abs() <= 64.0 {
+            self.exposure.exp2()
+        } else {
+            1.0
+        }
+    }
 }
 
 impl Default for Settings {
@@ -258,6 +273,7 @@ impl Default for Settings {
             msaa: 1,
             kernel: None,
             fog: None,
+            exposure: 0.0,
             tone: ToneMap::Clamp,
             shadow: ShadowSettings::default(),
             ground: None,

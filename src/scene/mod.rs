@@ -67,6 +67,64 @@ pub struct Material {
     pub metallic_roughness_texture: Option<TextureSlot>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
+    /// `Some` for a material authored as glTF metallic-roughness (or an MTL with PBR keys):
+    /// what the `pbr` mode reads beyond `metallic`, `roughness` and the slots.
+    pub pbr: Option<PbrMaterial>,
+}
+
+/// The metallic-roughness parameters of a material that the Phong fields cannot hold
+/// (glTF 2.0 core and the `KHR_materials_*` extensions realist reads).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PbrMaterial {
+    /// `baseColorFactor`, linear RGBA: the colour the `pbr` mode reflects. (The Phong
+    /// modes read [`Material::base_color`], derived from it at load: `base (1 - metallic)`.)
+    pub base_color: Vec4,
+    /// `KHR_materials_ior`: index of refraction (1.5 by default: F0 = 0.04; 0 means
+    /// Fresnel 1 everywhere).
+    pub ior: f32,
+    /// `KHR_materials_specular`: `specularFactor` (F90 of the dielectric lobe, and a
+    /// factor on its F0), 1 by default.
+    pub specular: f32,
+    /// `KHR_materials_specular`: `specularColorFactor`, linear RGB (a factor on F0).
+    pub specular_color: Vec3,
+    /// `KHR_materials_emissive_strength`: multiplies the emission (1 by default).
+    pub emissive_strength: f32,
+    /// `KHR_materials_unlit`: the base colour is shown as it is, without lighting.
+    pub unlit: bool,
+}
+
+impl Default for PbrMaterial {
+    fn default() -> Self {
+        Self {
+            base_color: Vec4::ONE,
+            ior: 1.5,
+            specular: 1.0,
+            specular_color: Vec3::ONE,
+            emissive_strength: 1.0,
+            unlit: false,
+        }
+    }
+}
+
+impl PbrMaterial {
+    /// The dielectric lobe's Fresnel at normal incidence and at grazing incidence:
+    /// `F0 = min(F0_ior · specularColor, 1) · specular`, `F90 = specular`
+    /// (`KHR_materials_specular` over `KHR_materials_ior`).
+    #[must_use]
+    pub fn dielectric_fresnel(&self) -> (Vec3, f32) {
+        let f0 = crate::shade::brdf::f0_of_ior(self.ior);
+        let s = if self.specular.is_finite() {
+            self.specular.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let c = if self.specular_color.is_finite() {
+            self.specular_color.max(Vec3::ZERO)
+        } else {
+            Vec3::ONE
+        };
+        ((c * f0).min(Vec3::ONE) * s, s)
+    }
 }
 
 impl Material {
@@ -118,6 +176,7 @@ impl Default for Material {
             metallic_roughness_texture: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
+            pbr: None,
         }
     }
 }

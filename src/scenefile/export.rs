@@ -71,6 +71,7 @@ pub(super) fn doc(
         subpixel_bits: Some(u32::from(s.subpixel_bits)),
         filter: s.filter.map(Kw),
         tone: Some(Kw(s.tone)),
+        exposure: (s.exposure != 0.0).then_some(s.exposure),
         light_scale: (light_scale != 1.0).then(|| tidy(light_scale)),
         ..SceneDoc::default()
     };

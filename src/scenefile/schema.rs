@@ -265,6 +265,8 @@ pub struct SceneDoc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tone: Option<Kw<ToneMap>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exposure: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lights: Option<Kw<LightsMode>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lights_follow_camera: Option<bool>,

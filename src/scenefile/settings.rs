@@ -179,6 +179,15 @@ impl SceneFile {
             tone: d.tone.map_or_else(Default::default, |t| t.0),
             ..Settings::default()
         };
+        if let Some(ev) = d.exposure {
+            if !(ev.is_finite() && ev.abs() <= 64.0) {
+                return Err(self.invalid(
+                    "exposure",
+                    format!("{ev} is not a number of stops from -64 to 64"),
+                ));
+            }
+            s.exposure = ev;
+        }
         if d.overdraw == Some(true) {
             s.output = Output::Overdraw;
         }

@@ -357,6 +357,7 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             far: 9.75,
             distance: FogDistance::Depth,
         }),
+        exposure: -1.5,
         tone: ToneMap::ScaleMax,
         shadow: ShadowSettings {
             size: 512,

@@ -11,19 +11,25 @@
 //! when `K_s = 0`, none for a light the surface faces away from, and none for a light that
 //! cannot reach the object being drawn ([`Source::reaches`]).
 //!
-//! The scalar form ([`illuminate`], [`contribution`], [`arriving`]) is generic over
-//! [`Real`] (`f32` for the vertex stage and the pixel probe, `f64` for the references in
-//! [`crate::quality`]); the eight-lane form ([`illuminate_lanes`]) is what the pixel shaders
-//! run and is tested against it.
+//! In the `pbr` mode the reflection of each light is the glTF BRDF ([`brdf`]) times
+//! `N·L` (light intensities are irradiance: lux), and the ambient term becomes the split-sum
+//! image-based term of a uniform environment whose radiance is the ambient light
+//! ([`ambient`]).
+//!
+//! Written once, over [`Num`]: `f32` (the vertex stage and the pixel probe), `f64` (the
+//! references in [`crate::quality`]) and [`Lanes`] (the pixel shaders, eight pixels at a
+//! time). Every decision is a mask and a select, with an early exit only when no lane needs
+//! the work; the few reads that differ between scalars and lanes (a projected image, a
+//! shadow map, the BRDF table) are the [`Shade`] trait.
 
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 
-use super::real::Real;
+use super::brdf::{self, Pbr, Terms};
 use super::shadow::ShadowMap;
-use crate::raster::{Kernel, F8, M8, V3};
 use crate::scene::{Attenuation, Light, LightKind};
+use crate::simd::{Kernel, Lanes, Num, M8, V3};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
 
 /// Largest half-angle of a spot cone or rectangular spot (just under 90 degrees: a wider
@@ -227,7 +233,8 @@ impl LightSet {
     }
 }
 
-/// Phong parameters of a material (constant over a draw).
+/// The reflection parameters of a material (constant over a draw): Phong's, and the
+/// metallic-roughness ones when the draw is shaded `pbr`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface {
     pub diffuse: Vec3,
@@ -236,49 +243,158 @@ pub struct Surface {
     pub ambient: Vec3,
     /// Exponent n, clamped to 1..=2000 by the caller.
     pub shininess: f32,
+    /// `Some` in the `pbr` mode: the glTF BRDF replaces Phong's terms, with `diffuse` as the
+    /// base colour.
+    pub pbr: Option<PbrParams>,
+}
+
+/// The metallic-roughness parameters of a material (factors; textures multiply them per
+/// point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PbrParams {
+    pub metallic: f32,
+    pub roughness: f32,
+    /// The dielectric lobe's `F0` per channel (see [`Pbr::f0`]).
+    pub f0: Vec3,
+    /// The dielectric lobe's `F90` (see [`Pbr::f90`]).
+    pub f90: f32,
+}
+
+impl Default for PbrParams {
+    fn default() -> Self {
+        Self {
+            metallic: 1.0,
+            roughness: 1.0,
+            f0: Vec3::splat(0.04),
+            f90: 1.0,
+        }
+    }
 }
 
 impl Surface {
-    /// The surface at one point whose diffuse colour is `kd` (material times texture and
-    /// vertex colour), in precision `T`.
+    /// The surface at one point whose diffuse (or base) colour is `kd` (material times
+    /// texture and vertex colour), in number type `T`.
     #[must_use]
     #[inline(always)]
-    pub fn at<T: Real>(&self, kd: T::V) -> SurfaceAt<T> {
+    pub fn at<T: Num>(&self, kd: T::V) -> SurfaceAt<T> {
         SurfaceAt {
             kd,
             ks: T::vec(self.specular),
             ka: T::vec(self.ambient),
             shininess: T::of(self.shininess),
+            has_specular: self.specular != Vec3::ZERO || self.pbr.is_some(),
+            occlusion: None,
+            emitted: None,
+            pbr: self.pbr.map(|p| Pbr {
+                metallic: T::of(p.metallic),
+                roughness: T::of(p.roughness),
+                f0: T::vec(p.f0),
+                f90: T::of(p.f90),
+            }),
         }
     }
 }
 
-/// The Phong parameters at one point.
+/// The reflection parameters at one point (or eight, on lanes).
 #[derive(Clone, Copy, Debug)]
-pub struct SurfaceAt<T: Real> {
+pub struct SurfaceAt<T: Num> {
+    /// Diffuse colour `K_d` (Phong) or base colour (`pbr`).
     pub kd: T::V,
+    /// Specular colour `K_s` (Phong; unused by `pbr`).
     pub ks: T::V,
+    /// Ambient factor `K_a`.
     pub ka: T::V,
     pub shininess: T,
+    /// Whether any point has a specular term (none is computed otherwise).
+    pub has_specular: bool,
+    /// Ambient occlusion (multiplies the ambient or image-based term only).
+    pub occlusion: Option<T>,
+    /// Light the surface emits, added to what it reflects.
+    pub emitted: Option<T::V>,
+    pub pbr: Option<Pbr<T>>,
+}
+
+/// What a number type needs beyond arithmetic to light a surface: reading a rectangular
+/// spot's projected image and a shadow map at its points. Scalars read one point, lanes
+/// the live lanes.
+pub trait Shade: Num {
+    /// The image's RGB at `(u, v)` (bilinear, clamped to its edges) where `live`.
+    fn image(img: &Texture, u: Self, v: Self, live: Self::M) -> Self::V;
+    /// The fraction of light `l` that reaches `p` (normal `n`) past the shadow map, where
+    /// `live` (1 elsewhere).
+    fn shadow(map: &ShadowMap, p: Self::V, n: Self::V, l: Self::V, live: Self::M) -> Self;
+    /// The split-sum BRDF table's scale and bias `(A, B)` at `NV` and perceptual roughness.
+    fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self);
+}
+
+macro_rules! shade_scalar {
+    ($t:ty) => {
+        impl Shade for $t {
+            #[inline(always)]
+            fn image(img: &Texture, u: $t, v: $t, _live: bool) -> Self::V {
+                let c = img.sample_with(Vec2::new(u as f32, v as f32), IMAGE_SAMPLER);
+                <$t>::vec(c.truncate())
+            }
+            #[inline(always)]
+            fn shadow(map: &ShadowMap, p: Self::V, n: Self::V, l: Self::V, _live: bool) -> $t {
+                map.visibility::<$t>(p, n, l)
+            }
+            #[inline(always)]
+            fn brdf_lut(nv: $t, roughness: $t) -> ($t, $t) {
+                let (a, b) = brdf_table(nv as f32, roughness as f32);
+                (a as $t, b as $t)
+            }
+        }
+    };
+}
+shade_scalar!(f32);
+shade_scalar!(f64);
+
+impl<K: Kernel> Shade for Lanes<K> {
+    #[inline(always)]
+    fn image(img: &Texture, u: Self, v: Self, live: M8) -> V3 {
+        let c = img.sample_lanes::<K>(u.0, v.0, live.bits(), IMAGE_SAMPLER);
+        V3::new(c[0], c[1], c[2])
+    }
+    #[inline(always)]
+    fn shadow(map: &ShadowMap, p: V3, n: V3, l: V3, live: M8) -> Self {
+        Lanes::new(map.visibility_lanes::<K>(p, n, l, live.bits()))
+    }
+    #[inline(always)]
+    fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self) {
+        let (mut a, mut b) = (nv.0, nv.0);
+        for i in 0..crate::simd::LANES {
+            (a.0[i], b.0[i]) = brdf_table(nv.0 .0[i], roughness.0 .0[i]);
+        }
+        (Lanes::new(a), Lanes::new(b))
+    }
+}
+
+/// TEMPORARY: Karis' analytic fit of the split-sum table, until the table lands.
+fn brdf_table(nv: f32, r: f32) -> (f32, f32) {
+    let c0 = [-1.0f32, -0.0275, -0.572, 0.022];
+    let c1 = [1.0f32, 0.0425, 1.04, -0.04];
+    let rr = [
+        r * c0[0] + c1[0],
+        r * c0[1] + c1[1],
+        r * c0[2] + c1[2],
+        r * c0[3] + c1[3],
+    ];
+    let a004 = (rr[0] * rr[0]).min((-9.28 * nv).exp2()) * rr[0] + rr[1];
+    (a004 * -1.04 + rr[2], a004 * 1.04 + rr[3])
 }
 
 /// The attenuation factor of `a` at distance `d`.
 #[inline(always)]
 #[must_use]
-pub fn attenuate<T: Real>(a: Attenuation, d: T) -> T {
+pub fn attenuate<T: Num>(a: Attenuation, d: T) -> T {
     match a {
         Attenuation::None => T::ONE,
         Attenuation::Linear { near, far } => {
-            let (near, far) = (T::of(near), T::of(far));
-            if d <= near {
-                T::ONE
-            } else if d >= far {
-                T::ZERO
-            } else {
-                (far - d) / (far - near)
-            }
+            let ramp = (T::of(far) - d) / T::of((far - near).max(f32::MIN_POSITIVE));
+            T::select(d.gt(T::of(near)), ramp.clamp01(), T::ONE)
         }
-        Attenuation::InverseSquare => T::ONE / (d * d).max(T::of64(crate::scene::MIN_D2)),
+        Attenuation::InverseSquare => (d * d).max(T::of64(crate::scene::MIN_D2)).recip(),
         Attenuation::Range(r) => {
             let q = d / T::of(r);
             let q2 = q * q;
@@ -291,7 +407,7 @@ pub fn attenuate<T: Real>(a: Attenuation, d: T) -> T {
 /// ray to the point: 1 inside the hotspot, 0 outside the falloff, smoothstep between.
 #[inline(always)]
 #[must_use]
-pub fn cone<T: Real>(s: &Source, cos_axis: T) -> T {
+pub fn cone<T: Num>(s: &Source, cos_axis: T) -> T {
     let (ci, co) = (T::of(s.cos_inner), T::of(s.cos_outer));
     let w = (ci - co).max(T::of(1e-4));
     let t = ((cos_axis - co) / w).clamp01();
@@ -299,89 +415,108 @@ pub fn cone<T: Real>(s: &Source, cos_axis: T) -> T {
 }
 
 /// Where the ray from a rectangular spot to a point falls on its image, as (u, v) with the
-/// pyramid at |u|, |v| <= 1, or `None` behind the light. `ray` need not be unit.
+/// pyramid at |u|, |v| <= 1, and where that is inside the pyramid (in front of the light
+/// and within it). `ray` need not be unit.
 #[inline(always)]
 #[must_use]
-pub fn pyramid<T: Real>(s: &Source, ray: T::V) -> Option<(T, T)> {
+pub fn pyramid<T: Num>(s: &Source, ray: T::V) -> (T, T, T::M) {
     let z = T::dot(ray, T::vec(s.axis));
-    if z <= T::ZERO {
-        return None;
-    }
     let x = T::dot(ray, T::vec(s.right)) / (z * T::of(s.tan.x));
     let y = T::dot(ray, T::vec(s.up)) / (z * T::of(s.tan.y));
-    Some((x, y))
+    let one = T::ONE;
+    let inside = z.gt(T::ZERO) & x.ge(-one) & one.ge(x) & y.ge(-one) & one.ge(y);
+    (x, y, inside)
 }
 
-/// What arrives at `p` from `s` before shadowing: the unit direction towards the light and
-/// the radiance after attenuation, cone or pyramid and projected image; `None` when nothing
-/// does.
+/// What arrives at `p` from `s` before shadowing: the unit direction towards the light,
+/// the radiance after attenuation, cone or pyramid and projected image, and where any
+/// arrives; `None` when nothing does anywhere.
 #[inline(always)]
 #[must_use]
-pub fn arriving<T: Real>(s: &Source, p: T::V) -> Option<(T::V, T::V)> {
-    let rad = T::vec(s.radiance);
+pub fn arriving<T: Shade>(s: &Source, p: T::V) -> Option<(T::V, T::V, T::M)> {
+    let mut rad = T::vec(s.radiance);
     if s.kind == LightKind::Directional {
-        return Some((-T::vec(s.axis), rad));
+        return Some((-T::vec(s.axis), rad, T::ONE.gt(T::ZERO)));
     }
     let to = T::vec(s.position) - p;
     let d = T::length(to);
-    if !(d > T::ZERO && d.is_finite()) {
-        return None;
-    }
-    let l = to * (T::ONE / d);
+    let ok = d.gt(T::ZERO) & d.finite();
+    let l = to * T::select(ok, d.recip(), T::ZERO);
     let mut f = attenuate(s.attenuation, d);
-    let mut rad = rad;
     match s.kind {
         LightKind::Spot => f = f * cone(s, -T::dot(l, T::vec(s.axis))),
         LightKind::Rect => {
-            let (x, y) = pyramid::<T>(s, -l)?;
-            let one = T::ONE;
-            if !(x >= -one && x <= one && y >= -one && y <= one) {
-                return None;
-            }
+            let (x, y, inside) = pyramid::<T>(s, -l);
+            f = T::select(inside, f, T::ZERO);
             if let Some(img) = &s.image {
-                let u = (Real::to_f64(x) as f32 + 1.0) * 0.5;
-                let v = (1.0 - Real::to_f64(y) as f32) * 0.5;
-                let c = img.sample_with(Vec2::new(u, v), IMAGE_SAMPLER);
-                rad = rad * T::vec(c.truncate());
+                let half = T::of(0.5);
+                let c = T::image(img, (x + T::ONE) * half, (T::ONE - y) * half, inside & ok);
+                rad = rad * c;
             }
         }
         _ => {}
     }
-    if f > T::ZERO {
-        Some((l, rad * f))
+    let live = f.gt(T::ZERO) & ok;
+    if T::any(live) {
+        Some((l, rad * f, live))
     } else {
         None
     }
 }
 
-/// Diffuse plus specular reflection of unit light direction `l` at unit normal `n`, unit
-/// view vector `v` (zero when `K_s = 0`): `K_d (N·L) + K_s S` with `S` as in the module
-/// documentation; zero when `N·L <= 0`.
+/// Diffuse and specular reflection of unit light direction `l` at unit normal `n`, unit
+/// view vector `v` (zero without a specular term), per unit irradiance, where `lit`
+/// (`ndl = N·L > 0` there): `K_d (N·L)` and `K_s S` with `S` as in the module
+/// documentation, or the glTF BRDF times `N·L` ([`brdf::pbr`]) when the surface has PBR
+/// parameters; zero elsewhere.
 #[inline(always)]
 #[must_use]
-pub fn reflect<T: Real>(s: &SurfaceAt<T>, n: T::V, l: T::V, v: T::V, blinn: bool) -> T::V {
-    let ndl = T::dot(n, l);
-    if ndl <= T::ZERO {
-        return T::splat(T::ZERO);
+pub fn reflect<T: Num>(
+    s: &SurfaceAt<T>,
+    n: T::V,
+    l: T::V,
+    v: T::V,
+    lit: T::M,
+    ndl: T,
+    blinn: bool,
+) -> Terms<T> {
+    let zero = T::splat(T::ZERO);
+    let ndl = T::select(lit, ndl, T::ZERO);
+    if let Some(p) = &s.pbr {
+        let t = brdf::pbr(s, p, brdf::alpha(p.roughness), n, l, v, ndl);
+        return Terms {
+            diffuse: T::vselect(lit, t.diffuse, zero),
+            specular: T::vselect(lit, t.specular, zero),
+            ..t
+        };
     }
-    let mut t = s.kd * ndl;
-    if T::vmax(s.ks) > T::ZERO {
+    let diffuse = s.kd * ndl;
+    let mut specular = zero;
+    if s.has_specular {
         let base = if blinn {
             T::dot(n, T::normalize_or_zero(l + v))
         } else {
             T::dot(n * (ndl + ndl) - l, v)
         };
-        if base > T::ZERO {
-            t = t + s.ks * base.powf(s.shininess);
+        let on = lit & base.gt(T::ZERO);
+        if T::any(on) {
+            let lobe = T::select(on, base.powf(s.shininess), T::ZERO);
+            specular = s.ks * lobe;
         }
     }
-    t
+    Terms {
+        diffuse,
+        specular,
+        d: T::ZERO,
+        vis: T::ZERO,
+        fresnel: zero,
+    }
 }
 
 /// Light `s`'s share of the colour at `p` (normal `n`, view vector `v`), shadow included.
 #[inline(always)]
 #[must_use]
-pub fn contribution<T: Real>(
+pub fn contribution<T: Shade>(
     set: &LightSet,
     s: &Source,
     surf: &SurfaceAt<T>,
@@ -390,39 +525,72 @@ pub fn contribution<T: Real>(
     v: T::V,
     blinn: bool,
 ) -> T::V {
-    let Some((l, rad)) = arriving::<T>(s, p) else {
-        return T::splat(T::ZERO);
+    let zero = T::splat(T::ZERO);
+    let Some((l, rad, live)) = arriving::<T>(s, p) else {
+        return zero;
     };
-    let r = reflect(surf, n, l, v, blinn);
-    if T::vmax(r) <= T::ZERO {
-        return r;
+    let ndl = T::dot(n, l);
+    let lit = ndl.gt(T::ZERO) & live;
+    if !T::any(lit) {
+        return zero;
     }
-    let vis = match set.shadow_of(s) {
-        Some(map) => map.visibility::<T>(p, n, l),
-        None => T::ONE,
-    };
-    r * rad * vis
+    let r = reflect(surf, n, l, v, lit, ndl, blinn);
+    let t = (r.diffuse + r.specular) * rad;
+    match set.shadow_of(s) {
+        Some(map) => t * T::shadow(map, p, n, l, lit),
+        None => t,
+    }
 }
 
 /// The view vector for the specular term: unit towards the eye, or zero when the surface
-/// has no specular colour (none is needed).
+/// has no specular term (none is needed).
 #[inline(always)]
 #[must_use]
-pub fn view_vector<T: Real>(surf: &SurfaceAt<T>, p: T::V, eye: T::V) -> T::V {
-    if T::vmax(surf.ks) > T::ZERO {
+pub fn view_vector<T: Num>(surf: &SurfaceAt<T>, p: T::V, eye: T::V) -> T::V {
+    if surf.has_specular {
         T::normalize_or_zero(eye - p)
     } else {
         T::splat(T::ZERO)
     }
 }
 
+/// The ambient term: `g_amb K_a K_d` times the occlusion (Phong), or for `pbr` the
+/// ambient light as a uniform environment of that radiance, reflected by the split-sum
+/// image-based term ([`brdf::ibl_fresnel`]) and times the occlusion.
+#[inline(always)]
+#[must_use]
+pub fn ambient<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> T::V {
+    let g = T::vec(set.ambient);
+    let c = match &s.pbr {
+        None => g * s.ka * s.kd,
+        Some(p) => {
+            let nv = T::dot(n, v).max(T::of(1e-4));
+            let (a, b) = T::brdf_lut(nv, p.roughness);
+            // Prefiltered radiance along the reflection and irradiance over π: the
+            // ambient light is a uniform environment, where both equal its radiance.
+            let (prefiltered, irradiance) = (g, g);
+            let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(p.f0, p.f90, a, b);
+            let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(s.kd, T::ONE, a, b);
+            // Dielectric: the diffuse term gets the energy the specular lobe leaves.
+            let left = T::splat(T::ONE) - d_ss - d_ms;
+            let diel = s.kd * left * irradiance + d_ss * prefiltered + d_ms * irradiance;
+            let metal = m_ss * prefiltered + m_ms * irradiance;
+            diel * (T::ONE - p.metallic) + metal * p.metallic
+        }
+    };
+    match s.occlusion {
+        Some(ao) => c * ao,
+        None => c,
+    }
+}
+
 /// The lighting equation at `p` with unit normal `n` and the eye at `eye`, summed over the
-/// sources `active` (indices into `set.sources`; all of them if `None`). Fog is applied
-/// separately ([`Fog::apply`]).
+/// sources `active` (indices into `set.sources`; all of them if `None`), plus the
+/// surface's emission. Fog is applied separately ([`Fog::apply`]).
 #[must_use]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub fn illuminate<T: Real>(
+pub fn illuminate<T: Shade>(
     set: &LightSet,
     active: Option<&[u32]>,
     surf: &SurfaceAt<T>,
@@ -432,7 +600,10 @@ pub fn illuminate<T: Real>(
     blinn: bool,
 ) -> T::V {
     let v = view_vector(surf, p, eye);
-    let mut c = T::vec(set.ambient) * surf.ka * surf.kd;
+    let mut c = ambient(set, surf, n, v);
+    if let Some(e) = surf.emitted {
+        c = c + e;
+    }
     match active {
         Some(idx) => {
             for &i in idx {
@@ -521,7 +692,7 @@ impl Fog {
     /// The fog distance of `p` seen from `eye` looking along unit `forward`.
     #[inline(always)]
     #[must_use]
-    pub fn distance<T: Real>(&self, p: T::V, eye: T::V, forward: T::V) -> T {
+    pub fn distance<T: Num>(&self, p: T::V, eye: T::V, forward: T::V) -> T {
         match self.distance {
             FogDistance::Euclidean => T::length(p - eye),
             FogDistance::Depth => T::dot(p - eye, forward),
@@ -531,189 +702,17 @@ impl Fog {
     /// The fog factor f at distance `d`.
     #[inline(always)]
     #[must_use]
-    pub fn factor<T: Real>(&self, d: T) -> T {
+    pub fn factor<T: Num>(&self, d: T) -> T {
         ((d - T::of(self.near)) / T::of(self.far - self.near)).clamp01()
     }
 
     /// `c` fogged as seen at `p`.
     #[inline(always)]
     #[must_use]
-    pub fn apply<T: Real>(&self, c: T::V, p: T::V, eye: T::V, forward: T::V) -> T::V {
+    pub fn apply<T: Num>(&self, c: T::V, p: T::V, eye: T::V, forward: T::V) -> T::V {
         let f = self.factor(self.distance::<T>(p, eye, forward));
         c + (T::vec(self.color) - c) * f
     }
-
-    /// [`Fog::apply`] on eight lanes.
-    #[inline(always)]
-    #[must_use]
-    pub fn apply_lanes<K: Kernel>(&self, c: V3, p: V3, eye: Vec3, forward: Vec3) -> V3 {
-        let rel = p - V3::splat(eye);
-        let d = match self.distance {
-            FogDistance::Euclidean => rel.dot::<K>(rel).sqrt(),
-            FogDistance::Depth => rel.dot::<K>(V3::splat(forward)),
-        };
-        let f = ((d - self.near) * (1.0 / (self.far - self.near))).clamp(0.0, 1.0);
-        c + (V3::splat(self.color) - c).scale(f)
-    }
-}
-
-/// Phong parameters of eight surface points: the diffuse colour per lane (it may come from
-/// a texture or vertex colours), the specular colour per lane (it may come from a gloss
-/// map), the rest shared.
-#[derive(Clone, Copy, Debug)]
-pub struct SurfaceLanes {
-    pub diffuse: V3,
-    pub specular: V3,
-    /// Whether any lane has a specular colour (no specular work otherwise).
-    pub has_specular: bool,
-    pub ambient: Vec3,
-    pub shininess: F8,
-    /// Ambient occlusion per lane (multiplies the ambient term only), if the surface has it.
-    pub occlusion: Option<F8>,
-    /// Light the surface emits, added to what it reflects, if it emits any.
-    pub emitted: Option<V3>,
-}
-
-/// [`illuminate`] on eight lanes: the same equation and the same decisions (no specular
-/// term where `N·L <= 0` or `K_s = 0`), evaluated with the kernel's arithmetic and the lane
-/// `pow` ([`F8::powf`]); agrees with [`illuminate`] to float rounding (tested). Work for a
-/// light is skipped when no lane receives it.
-#[must_use]
-#[inline(always)]
-pub fn illuminate_lanes<K: Kernel>(
-    set: &LightSet,
-    active: &[u32],
-    s: &SurfaceLanes,
-    p: V3,
-    n: V3,
-    eye: Vec3,
-    blinn: bool,
-) -> V3 {
-    let v = if s.has_specular {
-        (V3::splat(eye) - p).normalize_or_zero::<K>()
-    } else {
-        V3::default()
-    };
-    let mut c = s.diffuse * (set.ambient * s.ambient);
-    if let Some(ao) = s.occlusion {
-        c = c.scale(ao);
-    }
-    if let Some(e) = s.emitted {
-        c = c + e;
-    }
-    for &i in active {
-        let Some(src) = set.sources.get(i as usize) else {
-            continue;
-        };
-        c = c + contribution_lanes::<K>(set, src, s, p, n, v, blinn);
-    }
-    c
-}
-
-/// Light `src`'s share on eight lanes ([`contribution`]).
-#[inline(always)]
-#[must_use]
-pub fn contribution_lanes<K: Kernel>(
-    set: &LightSet,
-    src: &Source,
-    s: &SurfaceLanes,
-    p: V3,
-    n: V3,
-    v: V3,
-    blinn: bool,
-) -> V3 {
-    let Some((l, rad, live)) = arriving_lanes::<K>(src, p) else {
-        return V3::default();
-    };
-    let ndl = n.dot::<K>(l);
-    let lit = ndl.gt(F8::ZERO) & live;
-    if lit.bits() == 0 {
-        return V3::default();
-    }
-    let ndl = F8::select(lit, ndl, F8::ZERO);
-    let mut t = s.diffuse.scale(ndl);
-    if s.has_specular {
-        let base = if blinn {
-            n.dot::<K>((l + v).normalize_or_zero::<K>())
-        } else {
-            (n.scale(ndl + ndl) - l).dot::<K>(v)
-        };
-        let lobe = base.powf::<K>(s.shininess);
-        let lobe = F8::select(lit, lobe, F8::ZERO);
-        t = t + s.specular.scale(lobe);
-    }
-    let mut t = V3::new(t.x * rad.x, t.y * rad.y, t.z * rad.z);
-    if let Some(map) = set.shadow_of(src) {
-        t = t.scale(map.visibility_lanes::<K>(p, n, l, lit.bits()));
-    }
-    t
-}
-
-/// [`arriving`] on eight lanes: unit direction to the light, arriving radiance, and the
-/// lanes that receive any; `None` when no lane does.
-#[inline(always)]
-#[must_use]
-pub fn arriving_lanes<K: Kernel>(src: &Source, p: V3) -> Option<(V3, V3, M8)> {
-    let all = M8([u32::MAX; 8]);
-    if src.kind == LightKind::Directional {
-        return Some((V3::splat(-src.axis), V3::splat(src.radiance), all));
-    }
-    let to = V3::splat(src.position) - p;
-    let d2 = to.dot::<K>(to);
-    let d = d2.sqrt();
-    let inv = F8::select(d.gt(F8::ZERO), d.recip(), F8::ZERO);
-    let l = to.scale(inv);
-    let mut f = match src.attenuation {
-        Attenuation::None => F8::ONE,
-        Attenuation::Linear { near, far } => {
-            let ramp = (F8::splat(far) - d) * (1.0 / (far - near).max(f32::MIN_POSITIVE));
-            F8::select(d.gt(F8::splat(near)), ramp.clamp(0.0, 1.0), F8::ONE)
-        }
-        Attenuation::InverseSquare => d2.max(F8::splat(crate::scene::MIN_D2 as f32)).recip(),
-        Attenuation::Range(r) => {
-            let q = d * (1.0 / r);
-            let q2 = q * q;
-            (F8::ONE - q2 * q2).clamp(0.0, 1.0)
-                * d2.max(F8::splat(crate::scene::MIN_D2 as f32)).recip()
-        }
-    };
-    let mut rad = V3::splat(src.radiance);
-    match src.kind {
-        LightKind::Spot => {
-            let cos_axis = -l.dot::<K>(V3::splat(src.axis));
-            let w = (src.cos_inner - src.cos_outer).max(1e-4);
-            let t = ((cos_axis - src.cos_outer) * (1.0 / w)).clamp(0.0, 1.0);
-            f = f * t * t * (F8::splat(3.0) - t - t);
-        }
-        LightKind::Rect => {
-            let ray = -l;
-            let z = ray.dot::<K>(V3::splat(src.axis));
-            let x = ray.dot::<K>(V3::splat(src.right)) / (z * src.tan.x);
-            let y = ray.dot::<K>(V3::splat(src.up)) / (z * src.tan.y);
-            let inside = z.gt(F8::ZERO)
-                & x.ge(F8::splat(-1.0))
-                & F8::splat(1.0).ge(x)
-                & y.ge(F8::splat(-1.0))
-                & F8::splat(1.0).ge(y);
-            f = F8::select(inside, f, F8::ZERO);
-            if let Some(img) = &src.image {
-                let u = (x + 1.0) * 0.5;
-                let w = (F8::ONE - y) * 0.5;
-                let c = img.sample_lanes::<K>(u, w, inside.bits(), IMAGE_SAMPLER);
-                rad = V3::new(
-                    c[0] * src.radiance.x,
-                    c[1] * src.radiance.y,
-                    c[2] * src.radiance.z,
-                );
-            }
-        }
-        _ => {}
-    }
-    let live = f.gt(F8::ZERO);
-    if live.bits() == 0 {
-        return None;
-    }
-    Some((l, rad.scale(f), live))
 }
 
 #[cfg(test)]

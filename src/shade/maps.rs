@@ -5,7 +5,7 @@
 //! the shaders, with the same steps in the same order.
 
 use super::Real;
-use crate::raster::{Kernel, F8, V3};
+use crate::simd::{Kernel, F8, V3};
 
 /// The unit normal `n` perturbed by a normal-map texel `c` (RGB = (m + 1) / 2, linear) with
 /// scale `scale`, in the frame of the tangent `t` (made orthogonal to `n`, Gram-Schmidt) and
@@ -159,8 +159,8 @@ pub fn occlusion<T: Real>(r: T, strength: T) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::kernel::{dispatch, KernelJob};
-    use crate::raster::KernelKind;
+    use crate::simd::kernel::{dispatch, KernelJob};
+    use crate::simd::KernelKind;
     use glam::{DVec3, Vec3};
 
     #[test]

@@ -11,24 +11,28 @@
 //!   texture, filtered in linear light by its sampler: trilinear (mipmapped, level of detail
 //!   from the UV's exact screen-space derivatives) unless the model's sampler asks for
 //!   nearest or non-mipmapped bilinear;
+//! - `pbr`: glTF 2.0 metallic-roughness (the specification's Appendix B, [`brdf`]) per
+//!   pixel, with every map the textured mode reads plus the metallic-roughness texture,
+//!   under the lights and the environment (image-based lighting); `KHR_materials_unlit`
+//!   materials show their base colour. The default for glTF materials;
 //! - `normals`, `depth`, `uv`: debug views.
 //!
 //! Shading happens in linear light; the framebuffer is sRGB-encoded on output.
 //! This module never loops over tiles or pixels itself: the rasterizer calls the shaders.
 
+pub mod brdf;
 mod lighting;
 pub mod maps;
-mod real;
 mod shaders;
 mod shadow;
 pub mod texlab;
 
+pub use crate::simd::{Num, Real};
 pub use lighting::{
-    arriving, arriving_lanes, attenuate, cone, contribution, contribution_lanes, illuminate,
-    illuminate_lanes, pyramid, reflect, view_vector, Fog, FogDistance, LightSet, Source, Surface,
-    SurfaceAt, SurfaceLanes, IMAGE_SAMPLER, MAX_HALF_ANGLE,
+    ambient, arriving, attenuate, cone, contribution, illuminate, pyramid, reflect, view_vector,
+    Fog, FogDistance, LightSet, PbrParams, Shade, Source, Surface, SurfaceAt, IMAGE_SAMPLER,
+    MAX_HALF_ANGLE,
 };
-pub use real::Real;
 pub use shaders::{
     ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
     SlotParams, TexView, UvChannel, MAX_UV_CHANNELS,
@@ -44,6 +48,8 @@ pub enum Shading {
     Phong,
     Blinn,
     Textured,
+    /// glTF metallic-roughness ([`brdf`]).
+    Pbr,
     Normals,
     Depth,
     Uv,
@@ -60,13 +66,14 @@ pub enum Shading {
 
 impl Shading {
     /// Every mode, in the order the CLI lists them.
-    pub const ALL: [Shading; 15] = [
+    pub const ALL: [Shading; 16] = [
         Shading::Wireframe,
         Shading::Flat,
         Shading::Gouraud,
         Shading::Phong,
         Shading::Blinn,
         Shading::Textured,
+        Shading::Pbr,
         Shading::Normals,
         Shading::Depth,
         Shading::Uv,
@@ -88,6 +95,7 @@ impl Shading {
             Shading::Phong => "phong",
             Shading::Blinn => "blinn",
             Shading::Textured => "textured",
+            Shading::Pbr => "pbr",
             Shading::Normals => "normals",
             Shading::Depth => "depth",
             Shading::Uv => "uv",
@@ -121,7 +129,7 @@ impl Shading {
     pub fn per_pixel(self) -> bool {
         matches!(
             self,
-            Shading::Phong | Shading::Blinn | Shading::Textured | Shading::UvChecker
+            Shading::Phong | Shading::Blinn | Shading::Textured | Shading::Pbr | Shading::UvChecker
         ) || self.tex_view().is_some()
     }
 }

@@ -4,11 +4,12 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::lighting::{illuminate_lanes, Fog, LightSet, Surface, SurfaceLanes};
+use super::lighting::{illuminate, Fog, LightSet, Surface};
 use super::maps::perturb_lanes;
 use super::texlab;
-use crate::raster::{Colors, FragmentShader, Fragments, Kernel, F8, V3};
+use crate::raster::{Colors, FragmentShader, Fragments};
 use crate::scene::{AlphaMode, TextureSource, UvTransform};
+use crate::simd::{Kernel, Lanes, F8, V3};
 use crate::texture::{srgb_to_linear, Sampler};
 
 /// A texture one draw samples: the image or procedural texture, how it is read, and where
@@ -63,6 +64,11 @@ pub struct DrawParams {
     pub emissive_map: Option<SlotParams>,
     /// Bump map (a height image or a procedural height): tilts the normal (textured mode).
     pub bump: Option<SlotParams>,
+    /// The metallic-roughness texture (`pbr` mode): G multiplies the roughness, B the
+    /// metallic factor.
+    pub metal_rough: Option<SlotParams>,
+    /// `KHR_materials_unlit` in the `pbr` mode: the base colour is the colour.
+    pub unlit: bool,
     /// The lit surface or a debug view.
     pub view: TexView,
     /// The UV channel (varying index) and texel size of the texture the mip-level,
@@ -101,6 +107,7 @@ impl DrawParams {
             &self.occlusion,
             &self.emissive_map,
             &self.bump,
+            &self.metal_rough,
         ]
         .into_iter()
         .flatten()
@@ -325,6 +332,8 @@ fn sample<K: Kernel>(t: &SlotParams, f: &Fragments<'_>, lod_scale: f32, first: u
 /// What a draw's maps change at a pixel, beyond the base colour.
 struct Mapped {
     specular: V3,
+    /// The metallic-roughness texture's (roughness, metallic) factors.
+    metal_rough: Option<(F8, F8)>,
     /// Unit, not yet flipped for back faces.
     normal: V3,
     occlusion: Option<F8>,
@@ -348,18 +357,22 @@ fn apply_maps<K: Kernel>(
         &d.normal_map,
         &d.occlusion,
         &d.emissive_map,
+        &d.metal_rough,
     ];
     let first = d
         .layout
         .derivatives()
         .map_or(usize::MAX, |(first, _)| first);
-    let mut texel = [[F8::ONE; 4]; 5];
+    let mut texel = [[F8::ONE; 4]; 6];
     for (t, out) in slots.iter().zip(&mut texel) {
         if let Some(t) = t {
             *out = sample::<K>(t, f, lod_scale, first);
         }
     }
-    let [base_t, gloss_t, normal_t, occlusion_t, emissive_t] = texel;
+    let [base_t, gloss_t, normal_t, occlusion_t, emissive_t, mr_t] = texel;
+    if d.metal_rough.is_some() {
+        m.metal_rough = Some((mr_t[1], mr_t[2]));
+    }
     if d.base_map.is_some() {
         base.r *= base_t[0];
         base.g *= base_t[1];
@@ -440,6 +453,7 @@ impl FragmentShader for LitShader<'_> {
         let ks = d.surface.specular;
         let m = Mapped {
             specular: V3::splat(ks),
+            metal_rough: None,
             normal: V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>(),
             occlusion: None,
             emitted: V3::splat(d.emissive),
@@ -455,8 +469,14 @@ impl FragmentShader for LitShader<'_> {
             *out = texlab::debug_lanes(d, f, self.lod_scale, n);
             return f.mask;
         }
+        if d.unlit {
+            let (a, keep) = d.alpha_lanes(base.a, f.mask);
+            *out = Colors { a, ..base };
+            return keep;
+        }
         let Mapped {
             specular,
+            metal_rough,
             normal: mut n,
             occlusion,
             emitted,
@@ -464,21 +484,21 @@ impl FragmentShader for LitShader<'_> {
         if !f.tri.front {
             n = -n;
         }
-        let s = SurfaceLanes {
-            diffuse: V3::new(base.r, base.g, base.b),
-            specular,
-            has_specular: ks != Vec3::ZERO,
-            ambient: d.surface.ambient,
-            shininess: F8::splat(d.surface.shininess),
-            occlusion,
-            emitted: (d.emissive != Vec3::ZERO).then_some(emitted),
-        };
+        let mut s = d.surface.at::<Lanes<K>>(V3::new(base.r, base.g, base.b));
+        s.ks = specular;
+        s.occlusion = occlusion.map(Lanes::new);
+        if let (Some(p), Some((r, m))) = (&mut s.pbr, metal_rough) {
+            p.roughness = p.roughness * Lanes::new(r);
+            p.metallic = p.metallic * Lanes::new(m);
+        }
+        s.emitted = (d.emissive != Vec3::ZERO).then_some(emitted);
         let p = V3::new(v[0], v[1], v[2]);
         let active = d.active(self.active);
-        let mut c = illuminate_lanes::<K>(self.lights, active, &s, p, n, self.eye, d.blinn);
+        let eye = V3::splat(self.eye);
+        let mut c = illuminate::<Lanes<K>>(self.lights, Some(active), &s, p, n, eye, d.blinn);
 
         if let Some(fog) = &self.fog {
-            c = fog.apply_lanes::<K>(c, p, self.eye, self.forward);
+            c = fog.apply::<Lanes<K>>(c, p, eye, V3::splat(self.forward));
         }
         let (a, keep) = d.alpha_lanes(base.a, f.mask);
         *out = Colors {

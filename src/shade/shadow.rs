@@ -13,9 +13,9 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-use super::real::Real;
-use crate::raster::{Kernel, F8, V3};
 use crate::scene::Camera;
+use crate::simd::Real;
+use crate::simd::{Kernel, F8, V3};
 
 /// Default shadow-map size (texels per side).
 pub const SHADOW_SIZE: u32 = 1024;

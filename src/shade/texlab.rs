@@ -15,8 +15,9 @@ use glam::{Vec2, Vec3};
 
 use super::maps;
 use super::shaders::{DrawParams, SlotParams, TexView};
-use crate::raster::{Colors, Fragments, F8, LANES, V3};
+use crate::raster::{Colors, Fragments};
 use crate::scene::TextureSource;
+use crate::simd::{F8, LANES, V3};
 use crate::texture::{srgb_to_linear, Filter, ProceduralTexture, SamplePoint, Sampler, Texture};
 
 /// Lane `i` of three consecutive varyings from `k`.

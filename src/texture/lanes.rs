@@ -1,6 +1,6 @@
 //! Eight-lane sampling: [`Texture::sample_lanes`] and [`Texture::sample_grad_lanes`], the
 //! lane versions of [`Texture::sample_with`] and [`Texture::sample_grad_with`] for shaders
-//! that work on eight pixels at a time (see [`crate::raster::lanes`]).
+//! that work on eight pixels at a time (see [`crate::simd::lanes`]).
 //!
 //! Everything but the texel reads and the filtering is done on all lanes at once: folding
 //! the UV for the wrap modes, the level of detail (with [`F8::log2`]; for anisotropic
@@ -26,60 +26,7 @@
 
 use super::mip::{self, ChainTexels, U16_MAX};
 use super::{linear_table, srgb_table, Filter, Sampler, Texels, Texture, Wrap};
-use crate::raster::{Kernel, F8, LANES};
-
-/// Eight i32 lanes (texel coordinates, levels, sizes).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-#[repr(C, align(32))]
-struct I8([i32; LANES]);
-
-impl I8 {
-    #[inline(always)]
-    fn splat(v: i32) -> Self {
-        I8([v; LANES])
-    }
-
-    #[inline(always)]
-    fn zip(self, o: Self, f: impl Fn(i32, i32) -> i32) -> Self {
-        let mut r = [0; LANES];
-        for i in 0..LANES {
-            r[i] = f(self.0[i], o.0[i]);
-        }
-        I8(r)
-    }
-
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        self.zip(o, i32::wrapping_add)
-    }
-
-    #[inline(always)]
-    fn mul(self, o: Self) -> Self {
-        self.zip(o, i32::wrapping_mul)
-    }
-
-    /// Clamped to `[0, hi]` (per lane).
-    #[inline(always)]
-    fn clamp0(self, hi: Self) -> Self {
-        self.zip(hi, |a, h| {
-            let a = if a < 0 { 0 } else { a };
-            if a > h {
-                h
-            } else {
-                a
-            }
-        })
-    }
-
-    #[inline(always)]
-    fn to_f32(self) -> F8 {
-        let mut r = [0.0; LANES];
-        for i in 0..LANES {
-            r[i] = self.0[i] as f32;
-        }
-        F8(r)
-    }
-}
+use crate::simd::{Kernel, F8, I8, LANES};
 
 /// 2^23: floats at least this large are integers, and adding it to a smaller non-negative
 /// float rounds that float to an integer (round to nearest even).
@@ -170,7 +117,7 @@ fn reduce(t: F8, wrap: Wrap) -> F8 {
 /// [`super::fold`] on lanes: a lane with a non-finite coordinate reads (0, 0).
 #[inline(always)]
 fn fold(u: F8, v: F8, s: Sampler) -> (F8, F8) {
-    let ok = crate::raster::M8::from_bits(finite(u) & finite(v));
+    let ok = crate::simd::M8::from_bits(finite(u) & finite(v));
     let (u, v) = (F8::select(ok, u, F8::ZERO), F8::select(ok, v, F8::ZERO));
     (reduce(u, s.wrap_u), reduce(v, s.wrap_v))
 }
@@ -484,7 +431,7 @@ impl Texture {
         // As `sample_grad_with`: lanes with one tap are the trilinear sample (level `lod`
         // at the UV itself); the others average their taps along the major axis.
         let a = self.aniso_lanes::<K>([dudx, dvdx, dudy, dvdy], super::aniso_ratio(max));
-        let single = crate::raster::M8::from_bits(a.single);
+        let single = crate::simd::M8::from_bits(a.single);
         let levels = Levels::new(F8::select(single, lod, a.lod), top);
         let most = (0..LANES)
             .filter(|&i| mask >> i & 1 != 0)
@@ -564,7 +511,7 @@ impl Texture {
             .fold(0u32, |b, (i, &m)| b | (u32::from(m != 0) << i));
         let top = (self.levels() - 1) as f32;
         let lod = (major / taps.to_f32()).log2::<K>().clamp(0.0, top);
-        let keep = crate::raster::M8::from_bits(!single);
+        let keep = crate::simd::M8::from_bits(!single);
         AnisoLanes {
             taps,
             single,
@@ -586,7 +533,7 @@ impl Texture {
         let rho2 = (xu * xu + xv * xv).max(yu * yu + yv * yv);
         // log2(0) is a large negative number here (not -inf), clamped to 0 all the same.
         let lod = (rho2.log2::<K>() * 0.5).clamp(0.0, (self.levels() - 1) as f32);
-        F8::select(crate::raster::M8::from_bits(ok), lod, F8::ZERO)
+        F8::select(crate::simd::M8::from_bits(ok), lod, F8::ZERO)
     }
 }
 
@@ -672,8 +619,8 @@ fn footprint(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::kernel::{dispatch, KernelJob};
-    use crate::raster::KernelKind;
+    use crate::simd::kernel::{dispatch, KernelJob};
+    use crate::simd::KernelKind;
     use glam::{Vec2, Vec4};
 
     /// splitmix64.

@@ -9,10 +9,11 @@ use std::sync::Arc;
 use base64::Engine as _;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
-use realist::raster::{Framebuffer, KernelKind};
+use realist::raster::Framebuffer;
 use realist::render::{PreparedScene, RenderOptions, Renderer, Settings};
 use realist::scene::{Camera, Instance, Light, Material, Scene, Style, TextureSlot};
 use realist::shade::Shading;
+use realist::simd::KernelKind;
 use realist::texture::{Sampler, Texture};
 
 /// How far a rendered image may be from its golden.

@@ -22,11 +22,100 @@ use serde_json::{Map, Value};
 use super::{uri, Builder};
 use crate::load::progress::Stage;
 use crate::load::{images, LoadError};
-use crate::scene::{AlphaMode, Material, Slot, TextureSlot, UvTransform};
+use crate::scene::{AlphaMode, Material, PbrMaterial, Slot, TextureSlot, UvTransform};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
 
 /// The texture transform extension's name.
 pub const TEXTURE_TRANSFORM: &str = "KHR_texture_transform";
+/// The material extensions read ([`PbrMaterial`]).
+pub const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
+pub const UNLIT: &str = "KHR_materials_unlit";
+pub const IOR: &str = "KHR_materials_ior";
+pub const SPECULAR: &str = "KHR_materials_specular";
+
+/// A number field of an extension object: `default` when absent; `None` (with the problem
+/// in `notes`) when present but not a finite number in `lo..=hi`.
+fn ext_number(
+    obj: &Value,
+    key: &str,
+    default: f32,
+    lo: f32,
+    hi: f32,
+    notes: &mut Vec<String>,
+) -> f32 {
+    match obj.get(key) {
+        None => default,
+        Some(v) => match v.as_f64() {
+            Some(x) if x.is_finite() && (f64::from(lo)..=f64::from(hi)).contains(&x) => x as f32,
+            _ => {
+                notes.push(format!(
+                    "{key} {v} is not a number in {lo}..={hi}; {default} used"
+                ));
+                default
+            }
+        },
+    }
+}
+
+/// The [`PbrMaterial`] of a material with base colour `base` and extension objects `ext`
+/// (by name): the four `KHR_materials_*` extensions realist reads; each other one is named
+/// in `notes` as ignored, and so is a bad field (replaced by its default).
+fn pbr_material(
+    base: Vec4,
+    ext: Option<&Map<String, Value>>,
+    notes: &mut Vec<String>,
+) -> PbrMaterial {
+    let mut p = PbrMaterial {
+        base_color: base,
+        ..PbrMaterial::default()
+    };
+    let Some(ext) = ext else {
+        return p;
+    };
+    for (name, obj) in ext {
+        match name.as_str() {
+            EMISSIVE_STRENGTH => {
+                p.emissive_strength =
+                    ext_number(obj, "emissiveStrength", 1.0, 0.0, f32::MAX, notes);
+            }
+            UNLIT => p.unlit = true,
+            IOR => {
+                let ior = ext_number(obj, "ior", 1.5, 0.0, f32::MAX, notes);
+                // The schema allows 0 (Fresnel 1) or at least 1.
+                p.ior = if ior == 0.0 || ior >= 1.0 {
+                    ior
+                } else {
+                    notes.push(format!("ior {ior} is neither 0 nor at least 1; 1.5 used"));
+                    1.5
+                };
+            }
+            SPECULAR => {
+                p.specular = ext_number(obj, "specularFactor", 1.0, 0.0, 1.0, notes);
+                let c = match obj.get("specularColorFactor") {
+                    None => Some(Vec3::ONE),
+                    Some(v) => serde_json::from_value::<[f32; 3]>(v.clone())
+                        .ok()
+                        .map(Vec3::from_array)
+                        .filter(|c| c.is_finite() && c.min_element() >= 0.0),
+                };
+                p.specular_color = c.unwrap_or_else(|| {
+                    notes.push(
+                        "specularColorFactor is not three non-negative numbers; [1, 1, 1] used"
+                            .into(),
+                    );
+                    Vec3::ONE
+                });
+                for t in ["specularTexture", "specularColorTexture"] {
+                    if obj.get(t).is_some() {
+                        notes.push(format!("{SPECULAR}.{t} ignored (its factor is used)"));
+                    }
+                }
+            }
+            other => notes.push(format!("material extension {other} ignored")),
+        }
+    }
+    p
+}
 
 /// A textureInfo of any slot, as the file gives it.
 struct SlotInfo<'a> {
@@ -214,6 +303,15 @@ impl Builder<'_> {
             if textured { 0.0 } else { metallic },
             roughness,
         );
+        let mut notes = Vec::new();
+        let ext = m.extensions.as_ref().map(|e| &e.others);
+        let pbr_material = pbr_material(base, ext, &mut notes);
+        for n in notes {
+            self.scene
+                .report
+                .warnings
+                .push(format!("material '{name}': {n}"));
+        }
         let mut material = Material {
             name,
             base_color: diffuse.extend(base.w),
@@ -225,6 +323,7 @@ impl Builder<'_> {
             roughness,
             alpha_mode,
             double_sided,
+            pbr: Some(pbr_material),
             ..Material::default()
         };
         for (slot, texture) in slots {

@@ -376,7 +376,15 @@ fn geometry_units(json: &Json) -> u64 {
 const QUANTIZATION: &str = "KHR_mesh_quantization";
 
 /// The extensions supported: [`QUANTIZATION`], punctual lights and texture transforms.
-const SUPPORTED: [&str; 3] = [QUANTIZATION, lights::EXTENSION, material::TEXTURE_TRANSFORM];
+const SUPPORTED: [&str; 7] = [
+    QUANTIZATION,
+    lights::EXTENSION,
+    material::TEXTURE_TRANSFORM,
+    material::EMISSIVE_STRENGTH,
+    material::UNLIT,
+    material::IOR,
+    material::SPECULAR,
+];
 
 /// Refuses files that are not glTF 2.x or that require an extension not in [`SUPPORTED`].
 fn check_header(path: &Path, json: &Json) -> Result<(), LoadError> {

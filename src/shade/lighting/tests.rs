@@ -1,8 +1,8 @@
 use glam::{DVec3, Vec2, Vec3};
 
 use super::*;
-use crate::raster::kernel::{Avx2, Portable};
-use crate::raster::Kernel;
+use crate::simd::kernel::{Avx2, Portable};
+use crate::simd::{Kernel, Lanes, Real, F8, V3};
 
 fn white() -> Surface {
     Surface {
@@ -10,10 +10,18 @@ fn white() -> Surface {
         specular: Vec3::ONE,
         ambient: Vec3::ONE,
         shininess: 10.0,
+        pbr: None,
     }
 }
 
-fn lit<T: Real>(set: &LightSet, s: &Surface, p: Vec3, n: Vec3, eye: Vec3, blinn: bool) -> Vec3 {
+fn lit<T: Real + Shade>(
+    set: &LightSet,
+    s: &Surface,
+    p: Vec3,
+    n: Vec3,
+    eye: Vec3,
+    blinn: bool,
+) -> Vec3 {
     let at = s.at::<T>(T::vec(s.diffuse));
     T::to_vec3(illuminate::<T>(
         set,
@@ -97,7 +105,7 @@ fn spot_cone_is_full_inside_the_hotspot_zero_outside_and_smooth_between() {
     let s = &set.sources[0];
     let at = |deg: f64| {
         let x = 4.0 * deg.to_radians().tan();
-        arriving::<f64>(s, DVec3::new(x, 0.0, 0.0)).map_or(0.0, |(_, r)| r.x)
+        arriving::<f64>(s, DVec3::new(x, 0.0, 0.0)).map_or(0.0, |(_, r, _)| r.x)
     };
     assert!((at(0.0) - 1.0).abs() < 1e-9);
     assert!((at(9.9) - 1.0).abs() < 1e-9);
@@ -136,7 +144,7 @@ fn rect_spot_lights_a_rectangle_and_projects_its_image_upright() {
     let set = LightSet::new(std::slice::from_ref(&light));
     let s = &set.sources[0];
     // On the plane z = 0 the pyramid covers |x| <= 1, |y| <= 0.5.
-    let at = |x: f32, y: f32| arriving::<f32>(s, Vec3::new(x, y, 0.0)).map(|(_, r)| r);
+    let at = |x: f32, y: f32| arriving::<f32>(s, Vec3::new(x, y, 0.0)).map(|(_, r, _)| r);
     assert!(at(1.05, 0.0).is_none() && at(0.0, 0.55).is_none());
     let tl = at(-0.9, 0.45).unwrap();
     let tr = at(0.9, 0.45).unwrap();
@@ -257,6 +265,7 @@ fn lanes_agree_with_scalar() {
                 },
                 ambient: Vec3::ONE,
                 shininess: [1.0, 8.0, 32.0, 200.0][case % 4],
+                pbr: None,
             };
             let eye = Vec3::new(r(), r(), r()) * 4.0;
             let mut p = [Vec3::ZERO; 8];
@@ -268,18 +277,12 @@ fn lanes_agree_with_scalar() {
             let lanes = |f: &dyn Fn(Vec3) -> f32, v: &[Vec3; 8]| F8(v.map(f));
             let v3 =
                 |v: &[Vec3; 8]| V3::new(lanes(&|v| v.x, v), lanes(&|v| v.y, v), lanes(&|v| v.z, v));
-            let sl = SurfaceLanes {
-                diffuse: V3::splat(s.diffuse),
-                specular: V3::splat(s.specular),
-                has_specular: s.specular != Vec3::ZERO,
-                ambient: s.ambient,
-                shininess: F8::splat(s.shininess),
-                occlusion: None,
-                emitted: None,
-            };
+            let sl = s.at::<Lanes<K>>(V3::splat(s.diffuse));
             let all: Vec<u32> = (0..lights.sources.len() as u32).collect();
             for blinn in [false, true] {
-                let got = illuminate_lanes::<K>(&lights, &all, &sl, v3(&p), v3(&n), eye, blinn);
+                let eye8 = V3::splat(eye);
+                let got =
+                    illuminate::<Lanes<K>>(&lights, Some(&all), &sl, v3(&p), v3(&n), eye8, blinn);
                 for i in 0..8 {
                     let want = lit::<f32>(&lights, &s, p[i], n[i], eye, blinn);
                     let want64 = lit::<f64>(&lights, &s, p[i], n[i], eye, blinn);
@@ -344,6 +347,7 @@ fn fog_blends_towards_its_colour_between_near_and_far() {
     assert!((at(&depth, p) - DVec3::ONE).abs().max_element() < 1e-6);
     // The lane form agrees.
     let pv = V3::splat(p);
-    let lanes = fog.apply_lanes::<Portable>(V3::splat(c), pv, Vec3::ZERO, -Vec3::Z);
+    let lanes =
+        fog.apply::<Lanes<Portable>>(V3::splat(c), pv, V3::splat(Vec3::ZERO), V3::splat(-Vec3::Z));
     assert!((lanes.x.0[3] as f64 - half.x).abs() < 1e-6);
 }

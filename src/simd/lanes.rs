@@ -430,6 +430,15 @@ impl Mul<glam::Vec3> for V3 {
     }
 }
 
+/// Component-wise product.
+impl Mul for V3 {
+    type Output = V3;
+    #[inline(always)]
+    fn mul(self, o: V3) -> V3 {
+        V3::new(self.x * o.x, self.y * o.y, self.z * o.z)
+    }
+}
+
 impl Add for V3 {
     type Output = V3;
     #[inline(always)]
@@ -451,6 +460,65 @@ impl Neg for V3 {
     #[inline(always)]
     fn neg(self) -> V3 {
         V3::new(-self.x, -self.y, -self.z)
+    }
+}
+
+/// Eight i32 lanes (texel coordinates, levels, sizes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[repr(C, align(32))]
+pub struct I8(pub [i32; LANES]);
+
+impl I8 {
+    #[inline(always)]
+    #[must_use]
+    pub fn splat(v: i32) -> Self {
+        I8([v; LANES])
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn zip(self, o: Self, f: impl Fn(i32, i32) -> i32) -> Self {
+        let mut r = [0; LANES];
+        for i in 0..LANES {
+            r[i] = f(self.0[i], o.0[i]);
+        }
+        I8(r)
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn add(self, o: Self) -> Self {
+        self.zip(o, i32::wrapping_add)
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn mul(self, o: Self) -> Self {
+        self.zip(o, i32::wrapping_mul)
+    }
+
+    /// Clamped to `[0, hi]` (per lane).
+    #[inline(always)]
+    #[must_use]
+    pub fn clamp0(self, hi: Self) -> Self {
+        self.zip(hi, |a, h| {
+            let a = if a < 0 { 0 } else { a };
+            if a > h {
+                h
+            } else {
+                a
+            }
+        })
+    }
+
+    #[inline(always)]
+    #[must_use]
+    pub fn to_f32(self) -> F8 {
+        let mut r = [0.0; LANES];
+        for i in 0..LANES {
+            r[i] = self.0[i] as f32;
+        }
+        F8(r)
     }
 }
 

@@ -253,7 +253,7 @@ pub(crate) fn sign_bits(lanes: [u32; 8]) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::lanes::F8;
+    use crate::simd::lanes::F8;
 
     struct Fma(F8, F8, F8);
     impl KernelJob for Fma {
