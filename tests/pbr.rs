@@ -11,7 +11,7 @@ use std::path::Path;
 use glam::{DVec3, Vec3, Vec4};
 use realist::color::srgb_decode;
 use realist::quality::{compare, general, LinearImage};
-use realist::render::{render, Lights, PreparedScene, RenderOptions};
+use realist::render::{render, Environment, Lights, PreparedScene, RenderOptions};
 use realist::scene::{Camera, Light, Scene};
 use realist::shade::brdf;
 use realist::shade::{PbrParams, Shading, Surface};
@@ -41,6 +41,7 @@ fn options(w: u32, h: u32, camera: Camera, lights: Vec<Light>) -> RenderOptions 
             lights,
             follow_camera: false,
         },
+        environment: Environment::Off,
         ..RenderOptions::default()
     }
 }
@@ -90,11 +91,11 @@ fn glb_materials_open_in_pbr_with_their_factors() {
     assert_eq!(scene.materials.len(), 25);
     for (k, m) in scene.materials.iter().enumerate() {
         let (i, j) = (k % 5, k / 5);
-        let p = m.pbr.expect("a glTF material is metallic-roughness");
+        assert!(m.pbr.is_some(), "a glTF material is metallic-roughness");
         assert_eq!(m.metallic, i as f32 / 4.0, "{}", m.name);
         assert_eq!(m.roughness, j as f32 / 4.0, "{}", m.name);
         assert!(
-            (p.base_color - Vec4::new(0.9, 0.55, 0.2, 1.0))
+            (m.base_color - Vec4::new(0.9, 0.55, 0.2, 1.0))
                 .abs()
                 .max_element()
                 < 1e-6
@@ -153,6 +154,7 @@ fn the_metal_column_is_not_black() {
     let n = 100;
     let opts = RenderOptions {
         lights: Lights::Auto,
+        environment: Environment::Auto,
         ..options(n, n, grid_camera(), vec![])
     };
     let frame = render(&PreparedScene::new(scene), &opts).image();

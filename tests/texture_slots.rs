@@ -26,10 +26,12 @@ fn load_model(name: &str) -> Scene {
     load(&model(name), &LoadOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
-/// Every material white, matte and not metallic, under one ambient light of 1: the lit
-/// colour is the base-colour texel (and what the material emits).
+/// Every material white, matte and not metallic (Phong materials, so the models open
+/// textured rather than `pbr`), under one ambient light of 1: the lit colour is the
+/// base-colour texel (and what the material emits).
 fn unlit(mut scene: Scene) -> (Scene, Lights) {
     for m in &mut scene.materials {
+        m.pbr = None;
         m.base_color = Vec4::ONE;
         m.specular = Vec3::ZERO;
         m.ambient = Vec3::ONE;

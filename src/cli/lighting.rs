@@ -5,10 +5,11 @@ use anyhow::{bail, Result};
 use clap::Args;
 use glam::Vec3;
 
-use realist::render::{Ground, Settings, ToneMap};
+use realist::render::{Environment, Ground, Settings, ToneMap};
 use realist::scene::Light;
 use realist::scenefile::{self, MAX_PCF};
 use realist::shade::{Fog, FogDistance, MAX_SHADOW_SIZE};
+use realist::texture::env::{default_cache_dir, EnvCache, EnvImage, EnvView};
 
 #[derive(Args, Clone, Debug, Default)]
 pub(crate) struct LightingArgs {
@@ -26,6 +27,22 @@ pub(crate) struct LightingArgs {
     /// light reflects 1/π.
     #[arg(long, allow_hyphen_values = true)]
     pub exposure: Option<f32>,
+    /// The environment that lights the pbr mode (image-based lighting): studio (the
+    /// default), sky, uniform (radiance 1 everywhere), none, or an equirectangular .hdr or
+    /// .exr file (prefiltered once and cached by content).
+    #[arg(long, value_name = "none|studio|sky|uniform|FILE")]
+    pub env: Option<String>,
+    /// Turns the environment about +Y by DEG degrees (default 90: the image centre faces
+    /// +Z, as the Khronos sample viewer does).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub env_rotate: Option<f32>,
+    /// Multiplies the environment's radiance (default 1).
+    #[arg(long, value_name = "X")]
+    pub env_intensity: Option<f32>,
+    /// Shows the environment behind the model, blurred to roughness BLUR (0 to 1, default
+    /// 0: sharp), instead of the background colour.
+    #[arg(long, value_name = "BLUR", num_args = 0..=1, default_missing_value = "0")]
+    pub env_background: Option<f32>,
     /// Shadows for every light that can cast them (directional, spot, rect); the default
     /// rig or the model's lights become explicit.
     #[arg(long)]
@@ -56,6 +73,57 @@ fn light_help() -> String {
 }
 
 impl LightingArgs {
+    /// Applies `--env`, `--env-rotate`, `--env-intensity` and `--env-background`.
+    fn apply_env(&self, s: &mut Settings) -> Result<()> {
+        if let Some(e) = &self.env {
+            s.environment = match e.as_str() {
+                "none" | "off" => Environment::Off,
+                name => {
+                    let env = match Environment::builtin(name) {
+                        Some(env) => env,
+                        None => {
+                            let path = std::path::Path::new(name);
+                            let image = EnvImage::load(path)
+                                .map_err(|err| anyhow::anyhow!("--env {name}: {err}"))?;
+                            let cached = EnvCache::global()
+                                .get_or_build(image, default_cache_dir().as_deref());
+                            if let Some(note) = &cached.disk_note {
+                                eprintln!("note: --env {name}: {note}");
+                            }
+                            cached.env
+                        }
+                    };
+                    Environment::On(EnvView::new(env))
+                }
+            };
+        }
+        if self.env_rotate.is_some() || self.env_intensity.is_some() {
+            let Some(mut view) = s.environment.view() else {
+                bail!("--env-rotate and --env-intensity need an environment (not --env none)");
+            };
+            if let Some(deg) = self.env_rotate {
+                if !deg.is_finite() {
+                    bail!("--env-rotate {deg}: expected degrees");
+                }
+                view.rotation_deg = deg;
+            }
+            if let Some(x) = self.env_intensity {
+                if !(x.is_finite() && x >= 0.0) {
+                    bail!("--env-intensity {x}: expected a number at least 0");
+                }
+                view.intensity = x;
+            }
+            s.environment = Environment::On(view);
+        }
+        if let Some(b) = self.env_background {
+            if !(0.0..=1.0).contains(&b) {
+                bail!("--env-background {b}: expected a blur from 0 to 1");
+            }
+            s.env_background = Some(b);
+        }
+        Ok(())
+    }
+
     /// Applies the flags given to `s` (`scene_lights`: the model's own lights).
     pub fn apply(&self, s: &mut Settings, scene_lights: &[Light]) -> Result<()> {
         if let Some(f) = self.fog {
@@ -64,6 +132,7 @@ impl LightingArgs {
         if let Some(t) = self.tone {
             s.tone = t;
         }
+        self.apply_env(s)?;
         if let Some(ev) = self.exposure {
             if !(ev.is_finite() && ev.abs() <= 64.0) {
                 bail!("--exposure {ev}: expected a number of stops from -64 to 64");

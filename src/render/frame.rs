@@ -233,8 +233,8 @@ impl Policy {
             pbr,
             base: match mode {
                 Shading::UvChecker => Vec4::ONE,
-                Shading::Pbr => finite_or_white(m.pbr.map_or(m.base_color, |p| p.base_color)),
-                _ => finite_or_white(m.base_color),
+                Shading::Pbr => finite_or_white(m.base_color),
+                _ => finite_or_white(phong_base(m)),
             },
             surface: if pbr {
                 pbr_surface(m)
@@ -243,6 +243,22 @@ impl Policy {
             },
             unlit: pbr && m.pbr.is_some_and(|p| p.unlit),
         }
+    }
+}
+
+/// The Phong modes' `K_d` and alpha of material `m`: its base colour, times
+/// `1 - metallic` for a metallic-roughness material (metals have no diffuse colour; see
+/// `phong_from_pbr` in the glTF loader). With a metallic-roughness texture, which the Phong
+/// modes do not read, the factor is only an upper bound, and the material is taken as a
+/// dielectric rather than blackening, say, a helmet whose texture marks a few parts metal.
+#[must_use]
+pub fn phong_base(m: &Material) -> Vec4 {
+    match m.pbr {
+        Some(_) if m.metallic_roughness_texture.is_none() && m.metallic.is_finite() => {
+            let k = 1.0 - m.metallic.clamp(0.0, 1.0);
+            (m.base_color.truncate() * k).extend(m.base_color.w)
+        }
+        _ => m.base_color,
     }
 }
 
@@ -566,6 +582,7 @@ pub(super) fn set_up(
         view.inverse(),
         &mut fd.lights,
     );
+    fd.lights.env = settings.environment.view();
     fd.fog = settings.fog.filter(Fog::is_valid);
     let shadows = settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
     fd.casters.clear();

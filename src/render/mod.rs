@@ -40,7 +40,7 @@ pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
-pub use settings::{Ground, Lights, Output, Settings, ToneMap, View};
+pub use settings::{Environment, Ground, Lights, Output, Settings, ToneMap, View};
 
 /// Everything about a one-shot frame: [`Settings`] and [`View`] in one struct, the camera
 /// optional ([`default_camera`] when absent).
@@ -69,6 +69,8 @@ pub struct RenderOptions {
     pub fog: Option<crate::shade::Fog>,
     /// See [`Settings::exposure`].
     pub exposure: f32,
+    /// See [`Settings::environment`].
+    pub environment: Environment,
     /// See [`Settings::tone`].
     pub tone: ToneMap,
 }
@@ -89,6 +91,7 @@ impl Default for RenderOptions {
             lights: Lights::Auto,
             fog: None,
             exposure: 0.0,
+            environment: Environment::Auto,
             tone: ToneMap::Clamp,
         }
     }
@@ -108,6 +111,7 @@ impl RenderOptions {
             lights: self.lights.clone(),
             fog: self.fog,
             exposure: self.exposure,
+            environment: self.environment.clone(),
             tone: self.tone,
             ..Settings::default()
         }

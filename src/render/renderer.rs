@@ -180,6 +180,25 @@ impl Renderer {
             };
             let jitter =
                 Mat4::from_translation(Vec3::new(2.0 * dx / w as f32, -2.0 * dy / h as f32, 0.0));
+            // The environment as the background: each pixel gets what its camera ray sees
+            // (the ray through the sample this pass shades).
+            if let (true, Some(blur), Some(env)) = (
+                k < passes && settings.output == Output::Shaded,
+                settings.env_background,
+                &self.frame.lights.env,
+            ) {
+                let inv = self.inv_vp;
+                let (wf, hf) = (w as f32, h as f32);
+                target.clear_with(|x, y| {
+                    let nx = (x as f32 + 0.5 - dx) / wf * 2.0 - 1.0;
+                    let ny = 1.0 - (y as f32 + 0.5 - dy) / hf * 2.0;
+                    // Reversed Z: the near plane is at 1.
+                    let near = inv.project_point3(Vec3::new(nx, ny, 1.0));
+                    let mid = inv.project_point3(Vec3::new(nx, ny, 0.5));
+                    env.background((mid - near).normalize_or_zero(), blur)
+                        .extend(1.0)
+                });
+            }
             let mut cx = Cx {
                 scene,
                 camera,

@@ -2,11 +2,14 @@
 //! materials, quality), and the per-frame [`View`] (camera and size). A viewer keeps one
 //! `Settings` while the user drags the camera, and sends a new `View` every frame.
 
+use std::sync::Arc;
+
 use glam::Vec4;
 
 use crate::scene::{Camera, Light, Material, SlotOverrides};
 use crate::shade::{Fog, Shading, ShadowSettings};
 use crate::simd::KernelKind;
+use crate::texture::env::{EnvCache, EnvImage, EnvView, Prefiltered};
 use crate::texture::Filter;
 
 /// The lights a frame uses.
@@ -193,6 +196,57 @@ impl Default for Ground {
     }
 }
 
+/// The environment that lights the `pbr` draws (image-based lighting): diffuse irradiance
+/// from its spherical harmonics, specular from its prefiltered chain (the split sum).
+#[derive(Clone, Debug, Default)]
+pub enum Environment {
+    /// The built-in studio ([`EnvImage::studio`]), prefiltered once per process.
+    #[default]
+    Auto,
+    /// No environment: the lights, and the ambient light as a uniform environment.
+    Off,
+    On(EnvView),
+}
+
+impl PartialEq for Environment {
+    fn eq(&self, o: &Self) -> bool {
+        match (self, o) {
+            (Environment::Auto, Environment::Auto) | (Environment::Off, Environment::Off) => true,
+            (Environment::On(a), Environment::On(b)) => {
+                Arc::ptr_eq(&a.env, &b.env)
+                    && a.rotation_deg == b.rotation_deg
+                    && a.intensity == b.intensity
+            }
+            _ => false,
+        }
+    }
+}
+
+impl Environment {
+    /// The built-in environment `name` ("studio", "sky", "uniform": radiance 1),
+    /// prefiltered on first use and kept for the process.
+    #[must_use]
+    pub fn builtin(name: &str) -> Option<Arc<Prefiltered>> {
+        let image = EnvImage::builtin(name)?;
+        Some(EnvCache::global().get_or_build(image, None).env)
+    }
+
+    /// What the frame lights with: `None` when off.
+    #[must_use]
+    pub fn view(&self) -> Option<EnvView> {
+        match self {
+            Environment::Auto => {
+                static STUDIO: std::sync::OnceLock<Option<Arc<Prefiltered>>> =
+                    std::sync::OnceLock::new();
+                let env = STUDIO.get_or_init(|| Environment::builtin("studio"));
+                env.clone().map(EnvView::new)
+            }
+            Environment::Off => None,
+            Environment::On(v) => Some(v.clone()),
+        }
+    }
+}
+
 /// Settings that change rarely: everything but the camera and the size.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
@@ -237,6 +291,11 @@ pub struct Settings {
     pub exposure: f32,
     /// Out-of-range colour handling.
     pub tone: ToneMap,
+    /// The environment of the `pbr` draws.
+    pub environment: Environment,
+    /// Shows the environment behind the scene, blurred to this roughness (0: sharp), instead
+    /// of the background colour; `None`: the colour.
+    pub env_background: Option<f32>,
     /// Shadow-map size and filtering for the lights that cast shadows (each light's
     /// `shadow` flag turns them on; none costs nothing).
     pub shadow: ShadowSettings,
@@ -275,6 +334,8 @@ impl Default for Settings {
             fog: None,
             exposure: 0.0,
             tone: ToneMap::Clamp,
+            environment: Environment::Auto,
+            env_background: None,
             shadow: ShadowSettings::default(),
             ground: None,
         }

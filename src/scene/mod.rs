@@ -38,7 +38,8 @@ pub enum AlphaMode {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub name: String,
-    /// Base (diffuse) colour `Kd` and alpha (`d` in MTL).
+    /// Base colour and alpha: MTL's `Kd` and `d`, glTF's `baseColorFactor` (the Phong modes
+    /// draw a metallic-roughness material with `K_d = base (1 - metallic)`).
     pub base_color: Vec4,
     /// [`Slot::BaseColor`]: multiplies `base_color` (RGB and alpha).
     pub base_color_texture: Option<TextureSlot>,
@@ -76,9 +77,6 @@ pub struct Material {
 /// (glTF 2.0 core and the `KHR_materials_*` extensions realist reads).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PbrMaterial {
-    /// `baseColorFactor`, linear RGBA: the colour the `pbr` mode reflects. (The Phong
-    /// modes read [`Material::base_color`], derived from it at load: `base (1 - metallic)`.)
-    pub base_color: Vec4,
     /// `KHR_materials_ior`: index of refraction (1.5 by default: F0 = 0.04; 0 means
     /// Fresnel 1 everywhere).
     pub ior: f32,
@@ -96,7 +94,6 @@ pub struct PbrMaterial {
 impl Default for PbrMaterial {
     fn default() -> Self {
         Self {
-            base_color: Vec4::ONE,
             ior: 1.5,
             specular: 1.0,
             specular_color: Vec3::ONE,

@@ -357,6 +357,8 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             far: 9.75,
             distance: FogDistance::Depth,
         }),
+        environment: crate::render::Environment::Auto,
+        env_background: None,
         exposure: -1.5,
         tone: ToneMap::ScaleMax,
         shadow: ShadowSettings {

@@ -29,7 +29,8 @@ use glam::{Mat4, Vec2, Vec3};
 use super::brdf::{self, Pbr, Terms};
 use super::shadow::ShadowMap;
 use crate::scene::{Attenuation, Light, LightKind};
-use crate::simd::{Kernel, Lanes, Num, M8, V3};
+use crate::simd::{Kernel, Lanes, Num, Real, M8, V3};
+use crate::texture::env::{brdf_lut, EnvView};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
 
 /// Largest half-angle of a spot cone or rectangular spot (just under 90 degrees: a wider
@@ -186,6 +187,8 @@ pub struct LightSet {
     pub shadows: Vec<ShadowMap>,
     /// Lights dropped because they cannot shine (non-finite, zero direction, no cone).
     pub dropped: u32,
+    /// The environment that lights `pbr` surfaces (besides the ambient light).
+    pub env: Option<EnvView>,
 }
 
 impl LightSet {
@@ -325,6 +328,9 @@ pub trait Shade: Num {
     fn shadow(map: &ShadowMap, p: Self::V, n: Self::V, l: Self::V, live: Self::M) -> Self;
     /// The split-sum BRDF table's scale and bias `(A, B)` at `NV` and perceptual roughness.
     fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self);
+    /// The environment's prefiltered radiance along `r` for `roughness`, and its
+    /// irradiance at normal `n` over π.
+    fn env(env: &EnvView, n: Self::V, r: Self::V, roughness: Self) -> (Self::V, Self::V);
 }
 
 macro_rules! shade_scalar {
@@ -341,8 +347,15 @@ macro_rules! shade_scalar {
             }
             #[inline(always)]
             fn brdf_lut(nv: $t, roughness: $t) -> ($t, $t) {
-                let (a, b) = brdf_table(nv as f32, roughness as f32);
+                let (a, b) = brdf_lut().lookup(nv as f32, roughness as f32);
                 (a as $t, b as $t)
+            }
+            #[inline(always)]
+            fn env(env: &EnvView, n: Self::V, r: Self::V, roughness: $t) -> (Self::V, Self::V) {
+                let (n, r) = (<$t>::to_vec3(n), <$t>::to_vec3(r));
+                let s = env.specular(r, roughness as f32);
+                let e = env.irradiance(n) * std::f32::consts::FRAC_1_PI;
+                (<$t>::vec(s), <$t>::vec(e))
             }
         }
     };
@@ -362,26 +375,25 @@ impl<K: Kernel> Shade for Lanes<K> {
     }
     #[inline(always)]
     fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self) {
+        let lut = brdf_lut();
         let (mut a, mut b) = (nv.0, nv.0);
         for i in 0..crate::simd::LANES {
-            (a.0[i], b.0[i]) = brdf_table(nv.0 .0[i], roughness.0 .0[i]);
+            (a.0[i], b.0[i]) = lut.lookup(nv.0 .0[i], roughness.0 .0[i]);
         }
         (Lanes::new(a), Lanes::new(b))
     }
-}
-
-/// TEMPORARY: Karis' analytic fit of the split-sum table, until the table lands.
-fn brdf_table(nv: f32, r: f32) -> (f32, f32) {
-    let c0 = [-1.0f32, -0.0275, -0.572, 0.022];
-    let c1 = [1.0f32, 0.0425, 1.04, -0.04];
-    let rr = [
-        r * c0[0] + c1[0],
-        r * c0[1] + c1[1],
-        r * c0[2] + c1[2],
-        r * c0[3] + c1[3],
-    ];
-    let a004 = (rr[0] * rr[0]).min((-9.28 * nv).exp2()) * rr[0] + rr[1];
-    (a004 * -1.04 + rr[2], a004 * 1.04 + rr[3])
+    #[inline(always)]
+    fn env(env: &EnvView, n: V3, r: V3, roughness: Self) -> (V3, V3) {
+        let (mut s, mut e) = (V3::default(), V3::default());
+        for i in 0..crate::simd::LANES {
+            let at = |v: &V3| Vec3::new(v.x.0[i], v.y.0[i], v.z.0[i]);
+            let si = env.specular(at(&r), roughness.0 .0[i]);
+            let ei = env.irradiance(at(&n)) * std::f32::consts::FRAC_1_PI;
+            (s.x.0[i], s.y.0[i], s.z.0[i]) = (si.x, si.y, si.z);
+            (e.x.0[i], e.y.0[i], e.z.0[i]) = (ei.x, ei.y, ei.z);
+        }
+        (s, e)
+    }
 }
 
 /// The attenuation factor of `a` at distance `d`.
@@ -568,7 +580,14 @@ pub fn ambient<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> 
             let (a, b) = T::brdf_lut(nv, p.roughness);
             // Prefiltered radiance along the reflection and irradiance over π: the
             // ambient light is a uniform environment, where both equal its radiance.
-            let (prefiltered, irradiance) = (g, g);
+            let (prefiltered, irradiance) = match &set.env {
+                Some(env) => {
+                    let r = n * (nv + nv) - v;
+                    let (s, e) = T::env(env, n, r, p.roughness);
+                    (s + g, e + g)
+                }
+                None => (g, g),
+            };
             let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(p.f0, p.f90, a, b);
             let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(s.kd, T::ONE, a, b);
             // Dielectric: the diffuse term gets the energy the specular lobe leaves.
@@ -604,18 +623,13 @@ pub fn illuminate<T: Shade>(
     if let Some(e) = surf.emitted {
         c = c + e;
     }
-    match active {
-        Some(idx) => {
-            for &i in idx {
-                if let Some(s) = set.sources.get(i as usize) {
-                    c = c + contribution(set, s, surf, p, n, v, blinn);
-                }
-            }
-        }
-        None => {
-            for s in &set.sources {
-                c = c + contribution(set, s, surf, p, n, v, blinn);
-            }
+    // One loop body for both cases: it is inlined into every shader of every kernel, so a
+    // second copy would double the largest functions the compiler sees.
+    let count = active.map_or(set.sources.len(), <[u32]>::len);
+    for k in 0..count {
+        let i = active.map_or(k, |a| a[k] as usize);
+        if let Some(s) = set.sources.get(i) {
+            c = c + contribution(set, s, surf, p, n, v, blinn);
         }
     }
     c

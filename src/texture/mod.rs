@@ -20,6 +20,7 @@
 //! [`Texture::sample_grad_lanes`] (`lanes.rs`): the same results, the coordinate and weight
 //! arithmetic done on all lanes at once and only the texel reads per lane.
 
+pub mod env;
 mod lanes;
 mod mip;
 pub mod noise;

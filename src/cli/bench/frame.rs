@@ -61,6 +61,9 @@ pub(crate) enum PeerMode {
     Gouraud,
     Flat,
     Textured,
+    /// Not a peer mode: glTF metallic-roughness with the default environment, to compare
+    /// its cost with `phong` on the same scene.
+    Pbr,
 }
 
 impl PeerMode {
@@ -70,6 +73,7 @@ impl PeerMode {
             PeerMode::Gouraud => "gouraud",
             PeerMode::Flat => "flat",
             PeerMode::Textured => "textured",
+            PeerMode::Pbr => "pbr",
         }
     }
 
@@ -82,6 +86,7 @@ impl PeerMode {
             PeerMode::Gouraud => Shading::Gouraud,
             PeerMode::Flat => Shading::Flat,
             PeerMode::Textured => Shading::Textured,
+            PeerMode::Pbr => Shading::Pbr,
         }
     }
 }
@@ -92,9 +97,10 @@ fn parse_mode(s: &str) -> Result<PeerMode, String> {
         "gouraud" => PeerMode::Gouraud,
         "flat" => PeerMode::Flat,
         "textured" | "tex" => PeerMode::Textured,
+        "pbr" => PeerMode::Pbr,
         _ => {
             return Err(format!(
-                "unknown shading '{s}' (expected phong, gouraud, flat or textured)"
+                "unknown shading '{s}' (expected phong, gouraud, flat, textured or pbr)"
             ))
         }
     })

@@ -60,15 +60,8 @@ fn ext_number(
 /// The [`PbrMaterial`] of a material with base colour `base` and extension objects `ext`
 /// (by name): the four `KHR_materials_*` extensions realist reads; each other one is named
 /// in `notes` as ignored, and so is a bad field (replaced by its default).
-fn pbr_material(
-    base: Vec4,
-    ext: Option<&Map<String, Value>>,
-    notes: &mut Vec<String>,
-) -> PbrMaterial {
-    let mut p = PbrMaterial {
-        base_color: base,
-        ..PbrMaterial::default()
-    };
+fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> PbrMaterial {
+    let mut p = PbrMaterial::default();
     let Some(ext) = ext else {
         return p;
     };
@@ -298,14 +291,14 @@ impl Builder<'_> {
         // factors are only an upper bound: the material is then taken as a dielectric
         // (diffuse kept), rather than blackening e.g. a helmet whose texture marks a few
         // parts as metal.
-        let (diffuse, specular, shininess) = phong_from_pbr(
+        let (_, specular, shininess) = phong_from_pbr(
             base.truncate(),
             if textured { 0.0 } else { metallic },
             roughness,
         );
         let mut notes = Vec::new();
         let ext = m.extensions.as_ref().map(|e| &e.others);
-        let pbr_material = pbr_material(base, ext, &mut notes);
+        let pbr_material = pbr_material(ext, &mut notes);
         for n in notes {
             self.scene
                 .report
@@ -314,7 +307,7 @@ impl Builder<'_> {
         }
         let mut material = Material {
             name,
-            base_color: diffuse.extend(base.w),
+            base_color: base,
             ambient: d.ambient,
             specular,
             shininess,

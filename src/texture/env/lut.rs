@@ -1,0 +1,119 @@
+//! The environment-independent half of the split sum: for each (NV, r) the scale `A` of F0
+//! and the bias `B`, so that `∫ F·D·Vis·NL dω ≈ F0·A + f90·B` (Karis 2013; Sample Viewer's
+//! `ibl_filtering.frag`). With `V = (sqrt(1-NV²), 0, NV)`, N = +Z, GGX half vectors from
+//! [`LUT_SAMPLES`] Hammersley points, `L = 2(V·H)H - V`, `Fc = (1-VH)^5`,
+//! `g = Vis·VH·NL/NH` over NL > 0: `A = (4/n)Σ(1-Fc)g`, `B = (4/n)Σ Fc·g`, summed in f64.
+//!
+//! Layout: [`LUT_SIZE`]² entries; row j is r = j/(size-1), column i is NV = i/(size-1)
+//! (NV clamped to [`NV_MIN`] when computing), so both ends of both axes are table points and
+//! [`BrdfLut::lookup`] is bilinear, clamped. `A + B = Ess`, the single-scattering directional
+//! albedo of white metal: 1 - ln 2 head-on at r = 1, → 1 as r → 0.
+//! Built on first use (about 20 ms on one core; rows in parallel).
+
+use std::sync::OnceLock;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::ggx;
+
+/// Entries a side.
+pub const LUT_SIZE: usize = 64;
+/// Hammersley samples per entry.
+pub const LUT_SAMPLES: u32 = 1024;
+/// Smallest NV computed (grazing V has NV = 0).
+pub const NV_MIN: f64 = 1e-3;
+
+/// The split-sum table (module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BrdfLut {
+    size: usize,
+    /// `(A, B)`, row-major, rows by roughness.
+    ab: Vec<[f32; 2]>,
+}
+
+/// The GGX half vectors of roughness `r` for `n` Hammersley points (N = +Z).
+pub(super) fn half_vectors(r: f64, n: u32) -> Vec<DVec3> {
+    let alpha = ggx::alpha(r);
+    (0..n.max(1))
+        .map(|i| ggx::sample_h(ggx::hammersley(i, n.max(1)), alpha))
+        .collect()
+}
+
+/// `(A, B)` at (NV, r) by importance sampling over the half vectors `hs` of
+/// [`half_vectors`]`(r, n)`.
+pub(super) fn split_sum(nv: f64, r: f64, hs: &[DVec3]) -> (f64, f64) {
+    let nv = nv.clamp(NV_MIN, 1.0);
+    let alpha = ggx::alpha(r);
+    let v = DVec3::new((1.0 - nv * nv).sqrt(), 0.0, nv);
+    let (mut a, mut b) = (0.0, 0.0);
+    for &h in hs {
+        let vh = v.dot(h);
+        let l = 2.0 * vh * h - v;
+        let (nl, nh) = (l.z, h.z);
+        if nl <= 0.0 || nh <= 0.0 || vh <= 0.0 {
+            continue;
+        }
+        let g = ggx::vis(nl, nv, alpha) * vh * nl / nh;
+        let fc = (1.0 - vh).powi(5);
+        a += (1.0 - fc) * g;
+        b += fc * g;
+    }
+    let k = 4.0 / hs.len().max(1) as f64;
+    (a * k, b * k)
+}
+
+impl BrdfLut {
+    /// Computes a `size×size` table with `samples` samples per entry (`size >= 2`).
+    #[must_use]
+    pub fn compute(size: usize, samples: u32) -> Self {
+        let size = size.max(2);
+        let step = 1.0 / (size - 1) as f64;
+        let mut ab = vec![[0.0f32; 2]; size * size];
+        ab.par_chunks_mut(size).enumerate().for_each(|(j, row)| {
+            let r = j as f64 * step;
+            let hs = half_vectors(r, samples);
+            for (i, e) in row.iter_mut().enumerate() {
+                let (a, b) = split_sum(i as f64 * step, r, &hs);
+                *e = [a as f32, b as f32];
+            }
+        });
+        Self { size, ab }
+    }
+
+    /// Entries a side.
+    #[must_use]
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// `(A, B)` at `nv` = N·V and perceptual roughness `r`, both clamped to [0, 1],
+    /// bilinear between table points.
+    #[must_use]
+    pub fn lookup(&self, nv: f32, r: f32) -> (f32, f32) {
+        let last = (self.size - 1) as f32;
+        let fx = nv.clamp(0.0, 1.0) * last;
+        let fy = r.clamp(0.0, 1.0) * last;
+        // Saturating casts: NaN reads entry 0.
+        let (x0, y0) = (
+            (fx as usize).min(self.size - 2),
+            (fy as usize).min(self.size - 2),
+        );
+        let (tx, ty) = (fx - x0 as f32, fy - y0 as f32);
+        let at = |x: usize, y: usize| {
+            let [a, b] = self.ab[y * self.size + x];
+            glam::Vec2::new(a, b)
+        };
+        let top = at(x0, y0).lerp(at(x0 + 1, y0), tx);
+        let bottom = at(x0, y0 + 1).lerp(at(x0 + 1, y0 + 1), tx);
+        let v = top.lerp(bottom, ty);
+        (v.x, v.y)
+    }
+}
+
+/// The process-wide table: [`LUT_SIZE`]², [`LUT_SAMPLES`] samples, computed on first use.
+#[must_use]
+pub fn brdf_lut() -> &'static BrdfLut {
+    static LUT: OnceLock<BrdfLut> = OnceLock::new();
+    LUT.get_or_init(|| BrdfLut::compute(LUT_SIZE, LUT_SAMPLES))
+}
