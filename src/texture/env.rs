@@ -44,6 +44,7 @@
 
 mod builtin;
 mod cache;
+mod chain;
 mod equirect;
 mod ggx;
 mod lut;
@@ -59,12 +60,13 @@ use glam::{DVec3, Vec3};
 
 pub use builtin::BUILTIN_NAMES;
 pub use cache::{content_key, default_cache_dir, CacheHit, Cached, EnvCache};
+pub use chain::SPECULAR_LEVELS;
 pub use equirect::{
     dir_to_uv, dir_to_uv_f64, texel_dir, EnvError, EnvImage, MAX_ENV_SIDE, MAX_ENV_TEXELS,
     MAX_RADIANCE,
 };
 pub use lut::{brdf_lut, BrdfLut, LUT_SAMPLES, LUT_SIZE};
-pub use prefilter::{Prefiltered, PREFILTER_VERSION, SPECULAR_LEVELS};
+pub use prefilter::{Prefiltered, PREFILTER_VERSION};
 pub use sh::{SH_C1, SH_C2, SH_C3, SH_C4, SH_C5};
 
 /// Sample Viewer's default environment rotation, in degrees: the image centre faces world +Z.

@@ -21,11 +21,11 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use glam::Vec3;
 
-use super::equirect::{EnvImage, Plane};
-use super::prefilter::{
-    level_dims, Prefiltered, BASE_HEIGHT, BASE_WIDTH, LEVEL_SAMPLES, LEVEL_SHIFT,
-    PREFILTER_VERSION, SPECULAR_LEVELS,
+use super::chain::{
+    level_dims, BASE_HEIGHT, BASE_WIDTH, LEVEL_FILTER, LEVEL_SHIFT, SPECULAR_LEVELS,
 };
+use super::equirect::{EnvImage, Plane};
+use super::prefilter::{Prefiltered, PREFILTER_VERSION};
 
 const MAGIC: &[u8; 8] = b"RLENVPF\0";
 const FORMAT_VERSION: u32 = 1;
@@ -87,8 +87,11 @@ pub fn content_key(image: &EnvImage) -> u64 {
     h.word(SPECULAR_LEVELS as u64);
     h.word(BASE_WIDTH as u64);
     h.word(BASE_HEIGHT as u64);
-    for (s, n) in LEVEL_SHIFT.iter().zip(LEVEL_SAMPLES) {
-        h.word(u64::from(*s) << 32 | u64::from(n));
+    for (s, f) in LEVEL_SHIFT.iter().zip(LEVEL_FILTER) {
+        h.word(u64::from(*s));
+        for w in f.key() {
+            h.word(w);
+        }
     }
     h.word(u64::from(image.width()) << 32 | u64::from(image.height()));
     h.f32s(image.rgb());

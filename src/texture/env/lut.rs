@@ -8,7 +8,9 @@
 //! (NV clamped to [`NV_MIN`] when computing), so both ends of both axes are table points and
 //! [`BrdfLut::lookup`] is bilinear, clamped. `A + B = Ess`, the single-scattering directional
 //! albedo of white metal: 1 - ln 2 head-on at r = 1, → 1 as r → 0.
-//! Built on first use (about 20 ms on one core; rows in parallel).
+//! Built on first use (about 100 ms on two cores, rows in parallel). 8192 samples an entry:
+//! with 1024, the sampling error in A reached 9e-3 at grazing NV (measured against a
+//! quadrature in `tests.rs`); with 8192 the table is within 2.4e-3 of it.
 
 use std::sync::OnceLock;
 
@@ -20,7 +22,7 @@ use super::ggx;
 /// Entries a side.
 pub const LUT_SIZE: usize = 64;
 /// Hammersley samples per entry.
-pub const LUT_SAMPLES: u32 = 1024;
+pub const LUT_SAMPLES: u32 = 8192;
 /// Smallest NV computed (grazing V has NV = 0).
 pub const NV_MIN: f64 = 1e-3;
 
