@@ -273,15 +273,16 @@ fn ior_and_specular_change_fresnel_as_the_formulas_say() {
 }
 
 /// The directional albedo of the single-scattering BRDF (`brdf::pbr` in f64, integrated
-/// over the hemisphere by quadrature) for white metal at normal incidence and NV = 0.5.
-fn metal_albedo(roughness: f64, nv: f64) -> f64 {
+/// over the hemisphere by quadrature) of a white material with `metallic` at view angle
+/// N·V = `nv`.
+fn albedo(metallic: f32, roughness: f64, nv: f64) -> f64 {
     let surface = Surface {
         diffuse: Vec3::ONE,
         specular: Vec3::ZERO,
         ambient: Vec3::ONE,
         shininess: 1.0,
         pbr: Some(PbrParams {
-            metallic: 1.0,
+            metallic,
             roughness: roughness as f32,
             ..PbrParams::default()
         }),
@@ -312,6 +313,11 @@ fn metal_albedo(roughness: f64, nv: f64) -> f64 {
 /// about 0.92 at roughness 0.5), and the renderer's image-based term compensates it
 /// (Fdez-Agüera's multiple scattering): in a uniform white environment (ambient light 1,
 /// no other light) white metal and white dielectric spheres at every roughness reflect 1.
+/// Measured (the README's table): single scattering head-on, metal 0.996, 0.916, 0.627,
+/// 0.307 and dielectric 1.000, 0.997, 0.985, 0.972 at roughness 0.25, 0.5, 0.75, 1
+/// (below 0.25 the quadrature cannot resolve the lobe); rendered, 1.0000 everywhere (the
+/// compensated split sum gives white exactly 1 by construction; the test holds the
+/// renderer to it).
 #[test]
 fn white_furnace() {
     let ess = |mu: f64| 1.0 - mu * (1.0 + 1.0 / mu).ln();
@@ -320,21 +326,48 @@ fn white_furnace() {
         (1.0, 0.5, ess(0.5), 0.003),
         (0.5, 1.0, 0.92, 0.01),
     ] {
-        let got = metal_albedo(r, nv);
+        let got = albedo(1.0, r, nv);
         eprintln!("single scattering, white metal, roughness {r}, N·V {nv}: albedo {got:.4}");
         assert!((got - want).abs() < tol, "{got} against {want}");
     }
+    eprintln!("| roughness | metal, single scattering | dielectric, single scattering |");
+    let mut previous = (2.0, 2.0);
+    for r in [0.25, 0.5, 0.75, 1.0] {
+        let (metal, dielectric) = (albedo(1.0, r, 1.0), albedo(0.0, r, 1.0));
+        eprintln!("| {r} | {metal:.3} | {dielectric:.3} |");
+        // The loss grows with roughness, and no single-scattering albedo exceeds 1.
+        assert!(
+            metal < previous.0 && dielectric < previous.1 + 1e-3,
+            "roughness {r}"
+        );
+        assert!(
+            metal <= 1.0 + 1e-3 && dielectric <= 1.0 + 1e-3,
+            "roughness {r}"
+        );
+        previous = (metal, dielectric);
+    }
     let scene = model("sphere-grid-white.glb");
     let n = 100;
-    let opts = options(n, n, grid_camera(), vec![Light::ambient(Vec3::ONE)]);
+    // One stop down, so a sphere reflecting more than it receives is not hidden by the
+    // clamp at 1 of the default tone map: every sphere must read 0.5.
+    let opts = RenderOptions {
+        exposure: -1.0,
+        ..options(n, n, grid_camera(), vec![Light::ambient(Vec3::ONE)])
+    };
     let frame = render(&PreparedScene::new(scene), &opts).image();
     let mut worst = 0.0f32;
     for j in 0..5 {
+        let mut row = String::new();
         for i in [0, 4] {
             let (x, y) = centre(n, i as f32 - 2.0, 2.0 - j as f32);
             let c = frame.pixel(x, y).truncate();
-            worst = worst.max((c - Vec3::ONE).abs().max_element());
+            row += &format!(" {:.4}", 2.0 * c.x);
+            worst = worst.max((2.0 * c - Vec3::ONE).abs().max_element());
         }
+        eprintln!(
+            "rendered, roughness {}: dielectric and metal{row}",
+            j as f32 / 4.0
+        );
     }
     eprintln!("furnace: white metal and dielectric, worst |albedo - 1| = {worst:.4}");
     assert!(worst < 0.02, "{worst}");
