@@ -487,13 +487,13 @@ impl I8 {
 
     #[inline(always)]
     #[must_use]
-    pub fn add(self, o: Self) -> Self {
+    pub fn wrapping_add(self, o: Self) -> Self {
         self.zip(o, i32::wrapping_add)
     }
 
     #[inline(always)]
     #[must_use]
-    pub fn mul(self, o: Self) -> Self {
+    pub fn wrapping_mul(self, o: Self) -> Self {
         self.zip(o, i32::wrapping_mul)
     }
 

@@ -127,7 +127,7 @@ fn fold(u: F8, v: F8, s: Sampler) -> (F8, F8) {
 /// clamped to `0..n` in every mode, whatever `i` is.
 #[inline(always)]
 fn wrap_index(i: I8, n: I8, wrap: Wrap) -> I8 {
-    let last = n.add(I8::splat(-1));
+    let last = n.wrapping_add(I8::splat(-1));
     let r = match wrap {
         Wrap::ClampToEdge => i,
         Wrap::Repeat => i.zip(n, |i, n| {
@@ -355,7 +355,7 @@ impl Texture {
                 let y = floor_i(v * self.height as f32);
                 let x = wrap_index(x, I8::splat(w), s.wrap_u);
                 let y = wrap_index(y, I8::splat(h), s.wrap_v);
-                let i = y.mul(I8::splat(w)).add(x);
+                let i = y.wrapping_mul(I8::splat(w)).wrapping_add(x);
                 // Weights 0: the texel alone, exactly (a * 1 + b * 0).
                 Footprint {
                     level: I8::default(),
@@ -555,7 +555,7 @@ impl Levels {
         let t = lod - d.to_f32();
         Levels {
             d,
-            next: d.add(I8::splat(1)).clamp0(I8::splat(top as i32)),
+            next: d.wrapping_add(I8::splat(1)).clamp0(I8::splat(top as i32)),
             t,
             blend: t.gt(F8::ZERO).bits(),
         }
@@ -605,12 +605,21 @@ fn footprint(
     let (x0, y0) = (floor_i(fx), floor_i(fy));
     let one = I8::splat(1);
     let xa = wrap_index(x0, w, s.wrap_u);
-    let xb = wrap_index(x0.add(one), w, s.wrap_u);
-    let ra = wrap_index(y0, h, s.wrap_v).mul(w).add(first);
-    let rb = wrap_index(y0.add(one), h, s.wrap_v).mul(w).add(first);
+    let xb = wrap_index(x0.wrapping_add(one), w, s.wrap_u);
+    let ra = wrap_index(y0, h, s.wrap_v)
+        .wrapping_mul(w)
+        .wrapping_add(first);
+    let rb = wrap_index(y0.wrapping_add(one), h, s.wrap_v)
+        .wrapping_mul(w)
+        .wrapping_add(first);
     Footprint {
         level,
-        idx: [ra.add(xa), ra.add(xb), rb.add(xa), rb.add(xb)],
+        idx: [
+            ra.wrapping_add(xa),
+            ra.wrapping_add(xb),
+            rb.wrapping_add(xa),
+            rb.wrapping_add(xb),
+        ],
         tx: fx - x0.to_f32(),
         ty: fy - y0.to_f32(),
     }
