@@ -29,6 +29,7 @@
 pub mod color;
 pub mod load;
 pub mod mesh;
+pub mod microfacet;
 pub mod overlay;
 pub mod quality;
 pub mod raster;

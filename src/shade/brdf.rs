@@ -1,11 +1,9 @@
-//! The glTF 2.0 metallic-roughness BRDF (the specification's Appendix B), the one place its
-//! terms are written, generic over [`Num`] so the same source runs in `f32` (vertex stage,
-//! pixel probe), `f64` (the references) and on eight lanes (the pixel shaders):
+//! The glTF 2.0 metallic-roughness BRDF (the specification's Appendix B), generic over
+//! [`Num`] so the same source runs in `f32` (vertex stage, pixel probe), `f64` (the
+//! references) and on eight lanes (the pixel shaders). Its terms `D` (GGX), `Vis` (Smith,
+//! height-correlated) and `F` (Schlick) are written once, in [`crate::microfacet`], which
+//! the environment prefilter in `texture` also uses; this module mixes them:
 //!
-//! - `D = α² / (π (NH² (α² - 1) + 1)²)`, GGX / Trowbridge-Reitz, `α = roughness²`;
-//! - `Vis = 1 / (2 (NL sqrt(NV² (1 - α²) + α²) + NV sqrt(NL² (1 - α²) + α²)))`, Smith's
-//!   height-correlated masking-shadowing divided by `4 NL NV`;
-//! - `F = F0 + (F90 - F0) (1 - VH)⁵`, Schlick;
 //! - `f = (1 - m) [(1 - max(F_d)) c / π + F_d Vis D] + m F_m Vis D`, the dielectric and
 //!   metal lobes mixed by metallic `m`: `F_d` from the dielectric's `F0` and `F90` (0.04 and
 //!   1, or what `KHR_materials_ior` and `KHR_materials_specular` make them), `F_m` from the
@@ -21,10 +19,8 @@
 //! image-based term compensates it ([`ibl_fresnel`]), the punctual lights do not.
 
 use super::lighting::SurfaceAt;
+pub use crate::microfacet::{alpha, ggx, schlick, schlick_weight, smith_vis, MIN_ALPHA};
 use crate::simd::Num;
-
-/// Smallest α = roughness² used: a roughness of about 0.032.
-pub const MIN_ALPHA: f32 = 1e-3;
 
 /// The dielectric `F0` of index of refraction `ior`: `((ior - 1) / (ior + 1))²` (0.04 at
 /// 1.5); `ior = 0` is `KHR_materials_ior`'s "infinite" (F0 = 1).
@@ -48,50 +44,6 @@ pub struct Pbr<T: Num> {
     pub f0: T::V,
     /// The dielectric lobe's Fresnel at grazing incidence (`specular`, 1 by default).
     pub f90: T,
-}
-
-/// α of perceptual roughness `r`: `r²`, clamped to `[MIN_ALPHA, 1]`.
-#[inline(always)]
-#[must_use]
-pub fn alpha<T: Num>(r: T) -> T {
-    (r * r).max(T::of(MIN_ALPHA)).min(T::ONE)
-}
-
-/// GGX normal distribution `D` at `NH` for α.
-#[inline(always)]
-#[must_use]
-pub fn ggx<T: Num>(nh: T, alpha: T) -> T {
-    let a2 = alpha * alpha;
-    let k = T::mul_add(nh * nh, a2 - T::ONE, T::ONE);
-    a2 / (T::of64(std::f64::consts::PI) * k * k)
-}
-
-/// Smith height-correlated visibility `G / (4 NL NV)` for α (`NL`, `NV` positive).
-#[inline(always)]
-#[must_use]
-pub fn smith_vis<T: Num>(nl: T, nv: T, alpha: T) -> T {
-    let a2 = alpha * alpha;
-    let one_a2 = T::ONE - a2;
-    let gv = nl * T::mul_add(nv * nv, one_a2, a2).sqrt();
-    let gl = nv * T::mul_add(nl * nl, one_a2, a2).sqrt();
-    let den = gv + gl;
-    T::select(den.gt(T::ZERO), T::of(0.5) / den, T::ZERO)
-}
-
-/// Schlick's weight `(1 - VH)⁵` (`VH` clamped to [0, 1]).
-#[inline(always)]
-#[must_use]
-pub fn schlick_weight<T: Num>(vh: T) -> T {
-    let x = T::ONE - vh.clamp01();
-    let x2 = x * x;
-    x2 * x2 * x
-}
-
-/// Schlick's Fresnel `F0 + (F90 - F0) w` per channel.
-#[inline(always)]
-#[must_use]
-pub fn schlick<T: Num>(f0: T::V, f90: T, w: T) -> T::V {
-    f0 + (T::splat(f90) - f0) * w
 }
 
 /// The terms of one light's reflection at a point: what the pixel probe lists.

@@ -57,7 +57,7 @@ pub(super) fn split_sum(nv: f64, r: f64, hs: &[DVec3]) -> (f64, f64) {
             continue;
         }
         let g = ggx::vis(nl, nv, alpha) * vh * nl / nh;
-        let fc = (1.0 - vh).powi(5);
+        let fc = crate::microfacet::schlick_weight::<f64>(vh);
         a += (1.0 - fc) * g;
         b += fc * g;
     }

@@ -104,16 +104,19 @@ fn irradiance_f64(texels: &[(DVec3, DVec3, f64)], n: DVec3) -> DVec3 {
         .sum()
 }
 
-/// SH9 against brute force, error relative to the mean irradiance over the normals.
-/// Measured: studio 6.6 %, sky 13.6 %: nine coefficients cannot hold a small bright source
-/// (the sky's sun, the studio's light boxes), and the truncated lobe rings: too dark just
-/// past the terminator, too bright facing away. The README's environment section gives
-/// these figures; an irradiance map would remove them (noted for later).
-/// `sh_exact_for_band_limited_radiance` checks the projection and evaluation themselves.
+/// Irradiance against brute force, error relative to the mean irradiance over the
+/// normals: the chain's last level (what `irradiance` reads) and, for the record, nine SH
+/// coefficients. Measured: the level, studio 0.17 %, sky 1.3 % (the sun on a 128 x 64 grid);
+/// SH9, studio 6.6 %, sky 13.6 %
+/// (a small bright source, the sky's sun or the studio's light boxes, rings in nine
+/// coefficients: too dark past the terminator, too bright facing away).
 #[test]
-fn sh_irradiance_matches_brute_force() {
+fn irradiance_matches_brute_force() {
     let mut failed = false;
-    for (img, tol) in [(EnvImage::studio(), 0.075), (EnvImage::sky(), 0.15)] {
+    for (img, tol, tol_sh) in [
+        (EnvImage::studio(), 0.005, 0.075),
+        (EnvImage::sky(), 0.02, 0.15),
+    ] {
         let env = Prefiltered::build(img.clone());
         let t = texels(&img);
         let normals = sphere_dirs(20);
@@ -122,17 +125,20 @@ fn sh_irradiance_matches_brute_force() {
             .map(|n| irradiance_f64(&t, n.as_dvec3()))
             .collect();
         let mean = exact.iter().sum::<DVec3>() / exact.len() as f64;
-        let mut worst = 0.0f64;
+        let (mut worst, mut worst_sh) = (0.0f64, 0.0f64);
         for (n, e) in normals.iter().zip(&exact) {
-            let sh = env.irradiance(*n).as_dvec3();
-            worst = worst.max(((sh - *e).abs() / mean).max_element());
+            let map = env.irradiance(*n).as_dvec3();
+            worst = worst.max(((map - *e).abs() / mean).max_element());
+            let sh = env.irradiance_sh(*n).as_dvec3();
+            worst_sh = worst_sh.max(((sh - *e).abs() / mean).max_element());
         }
         eprintln!(
-            "{}: SH9 irradiance worst error {:.2} % of mean",
+            "{}: irradiance worst error {:.2} % of mean (SH9 {:.2} %)",
             img.name(),
-            worst * 100.0
+            worst * 100.0,
+            worst_sh * 100.0
         );
-        failed |= worst >= tol;
+        failed |= worst >= tol || worst_sh >= tol_sh;
     }
     assert!(!failed, "errors over tolerance (printed above)");
 }
@@ -160,7 +166,7 @@ fn sh_exact_for_band_limited_radiance() {
     let mut worst = 0.0f64;
     for n in sphere_dirs(30) {
         let exact = irradiance_f64(&t, n.as_dvec3());
-        let sh = env.irradiance(n).as_dvec3();
+        let sh = env.irradiance_sh(n).as_dvec3();
         worst = worst.max(((sh - exact).abs() / exact).max_element());
     }
     eprintln!("band-limited SH9 worst error {worst:.2e}");
