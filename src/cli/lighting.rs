@@ -9,7 +9,7 @@ use realist::render::{Environment, Ground, Settings, ToneMap};
 use realist::scene::Light;
 use realist::scenefile::{self, MAX_PCF};
 use realist::shade::{Fog, FogDistance, MAX_SHADOW_SIZE};
-use realist::texture::env::{default_cache_dir, EnvCache, EnvImage, EnvView};
+use realist::texture::env::default_cache_dir;
 
 #[derive(Args, Clone, Debug, Default)]
 pub(crate) struct LightingArgs {
@@ -75,46 +75,18 @@ fn light_help() -> String {
 impl LightingArgs {
     /// Applies `--env`, `--env-rotate`, `--env-intensity` and `--env-background`.
     fn apply_env(&self, s: &mut Settings) -> Result<()> {
-        if let Some(e) = &self.env {
-            s.environment = match e.as_str() {
-                "none" | "off" => Environment::Off,
-                name => {
-                    let env = match Environment::builtin(name) {
-                        Some(env) => env,
-                        None => {
-                            let path = std::path::Path::new(name);
-                            let image = EnvImage::load(path)
-                                .map_err(|err| anyhow::anyhow!("--env {name}: {err}"))?;
-                            let cached = EnvCache::global()
-                                .get_or_build(image, default_cache_dir().as_deref());
-                            if let Some(note) = &cached.disk_note {
-                                eprintln!("note: --env {name}: {note}");
-                            }
-                            cached.env
-                        }
-                    };
-                    Environment::On(EnvView::new(env))
-                }
-            };
-        }
-        if self.env_rotate.is_some() || self.env_intensity.is_some() {
-            let Some(mut view) = s.environment.view() else {
-                bail!("--env-rotate and --env-intensity need an environment (not --env none)");
-            };
-            if let Some(deg) = self.env_rotate {
-                if !deg.is_finite() {
-                    bail!("--env-rotate {deg}: expected degrees");
-                }
-                view.rotation_deg = deg;
+        if let Some(name) = &self.env {
+            let (env, note) =
+                Environment::named(name, |n: &str| n.into(), default_cache_dir().as_deref())
+                    .map_err(|err| anyhow::anyhow!("--env {name}: {err}"))?;
+            if let Some(note) = note {
+                eprintln!("note: --env {name}: {note}");
             }
-            if let Some(x) = self.env_intensity {
-                if !(x.is_finite() && x >= 0.0) {
-                    bail!("--env-intensity {x}: expected a number at least 0");
-                }
-                view.intensity = x;
-            }
-            s.environment = Environment::On(view);
+            s.environment = env;
         }
+        s.environment = std::mem::take(&mut s.environment)
+            .adjusted(self.env_rotate, self.env_intensity)
+            .map_err(|err| anyhow::anyhow!("--env-rotate / --env-intensity: {err}"))?;
         if let Some(b) = self.env_background {
             if !(0.0..=1.0).contains(&b) {
                 bail!("--env-background {b}: expected a blur from 0 to 1");

@@ -9,7 +9,7 @@ use super::schema::{
     LightsMode, MaterialSpec, Rgba, SceneDoc, ShadowSpec,
 };
 use super::ModelSource;
-use crate::render::{Lights, Output, Settings, View};
+use crate::render::{Environment, Lights, Output, Settings, View};
 use crate::scene::{AlphaMode, Attenuation, Light, Material, Slot, SlotOverride, TextureSource};
 use crate::shade::MAX_HALF_ANGLE;
 use crate::texture::Texture;
@@ -72,9 +72,31 @@ pub(super) fn doc(
         filter: s.filter.map(Kw),
         tone: Some(Kw(s.tone)),
         exposure: (s.exposure != 0.0).then_some(s.exposure),
+        env_background: s.env_background,
         light_scale: (light_scale != 1.0).then(|| tidy(light_scale)),
         ..SceneDoc::default()
     };
+    match &s.environment {
+        Environment::Auto => {}
+        Environment::Off => d.env = Some("none".into()),
+        Environment::On(view) => {
+            let name = view.env.name();
+            if crate::texture::env::BUILTIN_NAMES.contains(&name) {
+                d.env = Some(name.to_owned());
+            } else {
+                notes.push(format!(
+                    "the environment image '{name}' is not written (its path is not kept); \
+                     add `env = \"PATH\"`"
+                ));
+            }
+            if view.rotation_deg != crate::texture::env::DEFAULT_ROTATION_DEG {
+                d.env_rotate = Some(view.rotation_deg);
+            }
+            if view.intensity != 1.0 {
+                d.env_intensity = Some(view.intensity);
+            }
+        }
+    }
     match model {
         ModelSource::Demo => d.model = Some("demo".into()),
         ModelSource::File(p) => {

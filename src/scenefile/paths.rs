@@ -25,6 +25,10 @@ pub(super) fn rebase(doc: &SceneDoc, from: &Path, dest: &Path) -> SceneDoc {
     doc.texture.iter_mut().filter(image).for_each(fix);
     doc.bump.iter_mut().filter(image).for_each(fix);
     doc.output.iter_mut().for_each(fix);
+    let named = |p: &&mut String| {
+        !matches!(p.as_str(), "none" | "off") && crate::texture::env::EnvImage::builtin(p).is_none()
+    };
+    doc.env.iter_mut().filter(named).for_each(fix);
     for l in &mut doc.light {
         l.image.iter_mut().for_each(fix);
     }

@@ -266,6 +266,16 @@ pub struct SceneDoc {
     pub tone: Option<Kw<ToneMap>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exposure: Option<f32>,
+    /// `none`, `studio`, `sky`, `uniform` or an equirectangular `.hdr` / `.exr` path.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub env: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub env_rotate: Option<f32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub env_intensity: Option<f32>,
+    /// The environment drawn as the background, blurred to this roughness (0 to 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub env_background: Option<f32>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lights: Option<Kw<LightsMode>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]

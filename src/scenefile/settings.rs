@@ -6,7 +6,7 @@ use super::schema::LightsMode;
 use super::{
     ModelSource, SceneFile, SceneFileError, MAX_LIGHTS, MAX_PIXELS, MAX_SIDE, MAX_VARIANTS,
 };
-use crate::render::{Ground, Lights, Output, Settings};
+use crate::render::{Environment, Ground, Lights, Output, Settings};
 use crate::scene::{Light, Scene, Slot, SlotOverride, SlotOverrides, TextureSource};
 use crate::shade::{Fog, ShadowSettings, MAX_SHADOW_SIZE};
 
@@ -187,6 +187,39 @@ impl SceneFile {
                 ));
             }
             s.exposure = ev;
+        }
+        if let Some(name) = &d.env {
+            let builtin = matches!(name.as_str(), "none" | "off")
+                || crate::texture::env::EnvImage::builtin(name).is_some();
+            if builtin || load_images {
+                let cache = crate::texture::env::default_cache_dir();
+                let (env, note) =
+                    Environment::named(name, |p| self.resolve_path(p), cache.as_deref())
+                        .map_err(|e| self.invalid("env", e))?;
+                if let Some(note) = note {
+                    eprintln!("note: {}: env: {note}", self.path.display());
+                }
+                s.environment = env;
+            }
+        }
+        if d.env_rotate.is_some() || d.env_intensity.is_some() {
+            let key = if d.env_rotate.is_some() {
+                "env_rotate"
+            } else {
+                "env_intensity"
+            };
+            s.environment = std::mem::take(&mut s.environment)
+                .adjusted(d.env_rotate, d.env_intensity)
+                .map_err(|e| self.invalid(key, e))?;
+        }
+        if let Some(b) = d.env_background {
+            if !(0.0..=1.0).contains(&b) {
+                return Err(self.invalid(
+                    "env_background",
+                    format!("{b} is not a blur from 0 to 1"),
+                ));
+            }
+            s.env_background = Some(b);
         }
         if d.overdraw == Some(true) {
             s.output = Output::Overdraw;
