@@ -15,7 +15,7 @@ use egui_kittest::Harness;
 use glam::Vec3;
 
 use realist::load::{self, LoadOptions};
-use realist::render::{PreparedScene, Renderer, Settings};
+use realist::render::{Environment, PreparedScene, Renderer, Settings};
 use realist::shade::Shading;
 use realist::viewer::keys::{self, BINDINGS, MOUSE};
 use realist::viewer::navigate::{UpAxis, ORBIT_RADIANS_PER_HEIGHT};
@@ -1039,7 +1039,7 @@ fn gizmo_segments_are_clipped_at_the_near_plane() {
 fn fog_tone_map_shadows_and_ground_from_the_panel() {
     let dir = temp_dir("environment");
     let mut h = viewer(Some(model("torus.obj")), &dir, 1);
-    activate(&mut h, "Fog, tone map, shadows, ground");
+    activate(&mut h, "Environment, exposure, fog, tone map, shadows");
     let clear = shown_image(&h);
     assert_eq!(h.state().settings.fog, None);
     activate(&mut h, FOG);
@@ -1201,7 +1201,7 @@ fn the_probe_lists_every_light_with_its_share() {
     // One more light, and fog: a row each.
     activate(&mut h, "Lights");
     activate(&mut h, "+ spot");
-    activate(&mut h, "Fog, tone map, shadows, ground");
+    activate(&mut h, "Environment, exposure, fog, tone map, shadows");
     activate(&mut h, FOG);
     let at = centre_of_torus_ring(h.state());
     click_at(&mut h, at);
@@ -1348,7 +1348,7 @@ fn the_demo_spotlight_shadow_follows_the_editor_and_the_shadow_settings() {
     assert_eq!(differing(&shown_image(&h), &shadowed), 0);
 
     // Hard edges (one tap) and a coarse map move the shadow's edge pixels.
-    activate(&mut h, "Fog, tone map, shadows, ground");
+    activate(&mut h, "Environment, exposure, fog, tone map, shadows");
     h.get_by_label("Shadows cast by: 2 spotlight");
     set_value(&mut h, "shadow PCF radius", 0.0);
     assert_eq!(h.state().settings.shadow.pcf, 0);
@@ -1527,7 +1527,7 @@ fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() 
     activate(&mut h, "Lights");
     activate(&mut h, "2: spotlight (spot)");
     set_value(&mut h, "light 2 intensity", 2.5);
-    activate(&mut h, "Fog, tone map, shadows, ground");
+    activate(&mut h, "Environment, exposure, fog, tone map, shadows");
     activate(&mut h, FOG);
     choose(&mut h, "tone map A", "reinhard");
     h.key_press(Key::Num9);
@@ -2116,4 +2116,81 @@ fn the_wrap_mode_of_a_slot_image_changes_the_frame_where_uvs_leave_the_image() {
         Some(SlotOverride::Source { sampler: None, .. })
     ));
     assert_eq!(differing(&shown_image(&h), &repeat), 0);
+}
+
+/// The environment picker, rotation, intensity, background and exposure (issue 20): each
+/// changes the pbr sphere grid's frame, and a file that is not an environment shows its
+/// error while the scene and the lighting stay as they were.
+#[test]
+fn environment_rotation_exposure_and_a_bad_file() {
+    let dir = temp_dir("image-lighting");
+    let mut h = viewer(Some(model("pbr/sphere-grid.glb")), &dir, 1);
+    activate(&mut h, "Environment, exposure, fog, tone map, shadows");
+    assert_eq!(h.state().settings.environment, Environment::Auto);
+    let studio = shown_image(&h);
+
+    choose(&mut h, "environment", "sky");
+    let sky = h
+        .state()
+        .settings
+        .environment
+        .view()
+        .expect("an environment");
+    assert_eq!(sky.env.name(), "sky");
+    assert_frame_changed(h.state(), &studio, "studio -> sky");
+    let lit = shown_image(&h);
+
+    set_value(&mut h, "environment rotation", 200.0);
+    let turned = h.state().settings.environment.view().unwrap();
+    assert_eq!(turned.rotation_deg, 200.0);
+    assert_eq!(turned.env.name(), "sky");
+    assert_frame_changed(h.state(), &lit, "the sky turned");
+
+    set_value(&mut h, "environment intensity", 2.0);
+    assert_eq!(
+        h.state().settings.environment.view().unwrap().intensity,
+        2.0
+    );
+    let bright = shown_image(&h);
+    set_value(&mut h, "exposure in stops", -1.0);
+    assert_eq!(h.state().settings.exposure, -1.0);
+    assert_frame_changed(h.state(), &bright, "one stop down");
+
+    let plain = shown_image(&h);
+    activate(&mut h, "shown behind the model");
+    assert_eq!(h.state().settings.env_background, Some(0.0));
+    assert_frame_changed(h.state(), &plain, "the sky behind the grid");
+
+    // A bad file: one line naming it, in the section and the status bar; nothing changes.
+    let before = h.state().settings.clone();
+    let frame = shown_image(&h);
+    let bad = dir.join("bad.hdr");
+    std::fs::write(&bad, b"#?RADIANCE\nnot really\n").unwrap();
+    realist::viewer::panels::environment::read_environment(h.state_mut(), &bad);
+    h.run();
+    let e = h
+        .state()
+        .panels
+        .environment
+        .env_error
+        .clone()
+        .expect("an error");
+    assert!(
+        e.starts_with(&bad.display().to_string()) && !e.contains('\n'),
+        "{e}"
+    );
+    assert_eq!(h.get_all_by_label(&e).count(), 2, "{e}");
+    assert_eq!(h.state().settings, before);
+    assert_eq!(differing(&shown_image(&h), &frame), 0);
+
+    // Rotation and intensity stay when the environment changes; none turns it off.
+    choose(&mut h, "environment", "studio");
+    let v = h.state().settings.environment.view().unwrap();
+    assert_eq!(
+        (v.env.name(), v.rotation_deg, v.intensity),
+        ("studio", 200.0, 2.0)
+    );
+    assert!(h.state().panels.environment.env_error.is_none());
+    choose(&mut h, "environment", "none");
+    assert_eq!(h.state().settings.environment, Environment::Off);
 }

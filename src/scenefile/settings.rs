@@ -214,10 +214,9 @@ impl SceneFile {
         }
         if let Some(b) = d.env_background {
             if !(0.0..=1.0).contains(&b) {
-                return Err(self.invalid(
-                    "env_background",
-                    format!("{b} is not a blur from 0 to 1"),
-                ));
+                return Err(
+                    self.invalid("env_background", format!("{b} is not a blur from 0 to 1"))
+                );
             }
             s.env_background = Some(b);
         }

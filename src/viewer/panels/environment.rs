@@ -1,4 +1,6 @@
-//! The environment section: linear fog (colour, d_min and d_max kept `near < far`, distance
+//! The environment section: the environment that lights `pbr` surfaces (none, a built-in
+//! or an `.hdr` / `.exr` file; turned, scaled, shown behind the model), the exposure,
+//! linear fog (colour, d_min and d_max kept `near < far`, distance
 //! Euclidean or camera depth), the tone map for colours outside [0, 1], shadow-map settings
 //! (size, PCF radius, constant and slope-scaled bias) and the ground plane that catches
 //! shadows. Turning fog or the ground off and on again brings back the values they had.
@@ -9,8 +11,9 @@ use eframe::egui;
 use glam::Vec3;
 
 use super::edit;
-use crate::render::{Ground, ToneMap};
+use crate::render::{Environment, Ground, ToneMap};
 use crate::shade::{Fog, FogDistance, MAX_SHADOW_SIZE};
+use crate::texture::env::{default_cache_dir, BUILTIN_NAMES, DEFAULT_ROTATION_DEG};
 use crate::viewer::app::ViewerApp;
 
 /// Shadow-map sizes offered.
@@ -19,10 +22,14 @@ pub const SHADOW_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
 pub const MAX_PCF: u32 = 4;
 
 /// What the section remembers while fog or the ground is off.
-#[derive(Clone, Debug, Default)]
+#[derive(Default)]
 pub struct EnvironmentUi {
     pub fog: Option<Fog>,
     pub ground: Option<Ground>,
+    /// The open picker for an environment image.
+    pub picker: Option<egui_file::FileDialog>,
+    /// Why the last environment image could not be used.
+    pub env_error: Option<String>,
 }
 
 /// Fog for the current view: from the front of the scene's bounding sphere to its back.
@@ -40,6 +47,8 @@ fn default_fog(app: &ViewerApp) -> Fog {
 
 /// The environment section.
 pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    image_lighting(app, ui);
+    ui.separator();
     fog(app, ui);
     ui.separator();
     tone(app, ui);
@@ -52,6 +61,183 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         b.fog = a.fog;
         b.shadow = a.shadow;
         b.ground = a.ground;
+    }
+}
+
+/// What the environment is called in the picker.
+fn env_label(e: &Environment) -> String {
+    match e {
+        Environment::Auto => "studio (default)".into(),
+        Environment::Off => "none".into(),
+        Environment::On(v) => v.env.name().to_owned(),
+    }
+}
+
+/// The environment, its rotation and intensity, the background and the exposure.
+fn image_lighting(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    ui.label("image-based lighting of pbr surfaces (the split sum)");
+    let s = &mut app.settings;
+    let mut pick = None;
+    ui.horizontal(|ui| {
+        ui.label("environment");
+        egui::ComboBox::from_id_salt("environment")
+            .selected_text(env_label(&s.environment))
+            .show_ui(ui, |ui| {
+                if ui
+                    .selectable_label(s.environment == Environment::Off, "none")
+                    .clicked()
+                {
+                    pick = Some("none");
+                }
+                for name in BUILTIN_NAMES {
+                    let on = matches!(&s.environment, Environment::On(v) if v.env.name() == name)
+                        || (name == "studio" && s.environment == Environment::Auto);
+                    let what = match name {
+                        "studio" => "a neutral photo studio: three soft boxes over a dim room",
+                        "sky" => "a clear blue sky with a sun, over a dark ground",
+                        _ => "radiance 1 from every direction: the white furnace",
+                    };
+                    if ui.selectable_label(on, name).on_hover_text(what).clicked() {
+                        pick = Some(name);
+                    }
+                }
+                if ui.selectable_label(false, "file (.hdr, .exr)...").clicked() {
+                    pick = Some("file");
+                }
+            })
+            .response
+            .accessible_name("environment");
+    });
+    match pick {
+        Some("file") => open_env_picker(app),
+        Some(name) => {
+            let old = app.settings.environment.view();
+            match Environment::named(name, |n: &str| n.into(), None) {
+                Ok((env, _)) => {
+                    // Keep the rotation and intensity the user set.
+                    app.settings.environment = match (env, old) {
+                        (Environment::On(mut v), Some(o)) => {
+                            v.rotation_deg = o.rotation_deg;
+                            v.intensity = o.intensity;
+                            Environment::On(v)
+                        }
+                        (env, _) => env,
+                    };
+                    app.panels.environment.env_error = None;
+                }
+                Err(e) => app.panels.environment.env_error = Some(e),
+            }
+        }
+        None => {}
+    }
+    let s = &mut app.settings;
+    if let Some(mut view) = s.environment.view() {
+        let mut changed = false;
+        egui::Grid::new("env-grid").num_columns(2).show(ui, |ui| {
+            ui.label("rotation about +Y").on_hover_text(format!(
+                "{DEFAULT_ROTATION_DEG}° puts the image centre at +Z, as the Khronos sample viewer"
+            ));
+            changed |= edit::drag_with(
+                ui,
+                &mut view.rotation_deg,
+                -360.0..=360.0,
+                1.0,
+                "environment rotation",
+                "°",
+            );
+            ui.end_row();
+            ui.label("intensity");
+            changed |= edit::slider(
+                ui,
+                &mut view.intensity,
+                0.0..=16.0,
+                true,
+                "environment intensity",
+            );
+            ui.end_row();
+        });
+        if changed {
+            s.environment = Environment::On(view);
+        }
+        let mut shown = s.env_background.is_some();
+        if ui
+            .checkbox(&mut shown, "shown behind the model")
+            .on_hover_text("the environment instead of the background colour, blurred")
+            .changed()
+        {
+            s.env_background = shown.then_some(0.0);
+        }
+        if let Some(blur) = &mut s.env_background {
+            ui.horizontal(|ui| {
+                ui.label("blur (roughness)");
+                edit::slider(ui, blur, 0.0..=1.0, false, "environment background blur");
+            });
+        }
+    }
+    if let Some(e) = &app.panels.environment.env_error {
+        ui.colored_label(ui.visuals().error_fg_color, e);
+    }
+    ui.horizontal(|ui| {
+        ui.label("exposure").on_hover_text(
+            "stops: colours are multiplied by 2^EV before the tone map (lights are in lux: \
+             a sunlit glTF scene wants about -15)",
+        );
+        edit::drag_with(
+            ui,
+            &mut app.settings.exposure,
+            -24.0..=24.0,
+            0.05,
+            "exposure in stops",
+            " EV",
+        );
+    });
+}
+
+/// Opens the picker for an environment image.
+fn open_env_picker(app: &mut ViewerApp) {
+    let filter = Box::new(|p: &std::path::Path| {
+        p.extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "hdr" | "exr"))
+    });
+    let mut dialog = egui_file::FileDialog::open_file()
+        .show_files_filter(filter)
+        .title("Environment (equirectangular .hdr or .exr)");
+    if let Some(dir) = app.model.as_deref().and_then(std::path::Path::parent) {
+        dialog = dialog.initial_path(dir);
+    }
+    dialog.open();
+    app.panels.environment.picker = Some(dialog);
+}
+
+/// Lights the scene with the equirectangular image at `path`, prefiltered once and cached
+/// by content (a second open is instant), or shows why it cannot (in the section and the
+/// status bar); the scene and the other settings stay as they were.
+pub fn read_environment(app: &mut ViewerApp, path: &std::path::Path) {
+    let old = app.settings.environment.view();
+    let cache = default_cache_dir();
+    match Environment::named(
+        &path.display().to_string(),
+        |n: &str| n.into(),
+        cache.as_deref(),
+    ) {
+        Ok((env, note)) => {
+            app.settings.environment = match (env, old) {
+                (Environment::On(mut v), Some(o)) => {
+                    v.rotation_deg = o.rotation_deg;
+                    v.intensity = o.intensity;
+                    Environment::On(v)
+                }
+                (env, _) => env,
+            };
+            app.panels.environment.env_error = None;
+            app.notice = note.map(|n| format!("{}: {n}", path.display()));
+        }
+        Err(e) => {
+            let e = format!("{}: {e}", path.display());
+            app.notice = Some(e.clone());
+            app.panels.environment.env_error = Some(e);
+        }
     }
 }
 

@@ -455,7 +455,7 @@ pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 egui::CollapsingHeader::new("Split view A | B")
                     .show(ui, |ui| shading::split(app, ui));
                 egui::CollapsingHeader::new("Lights").show(ui, |ui| lights::lights(app, ui));
-                egui::CollapsingHeader::new("Fog, tone map, shadows, ground")
+                egui::CollapsingHeader::new("Environment, exposure, fog, tone map, shadows")
                     .id_salt("environment")
                     .show(ui, |ui| environment::show(app, ui));
                 egui::CollapsingHeader::new("Materials").show(ui, |ui| materials::show(app, ui));
@@ -516,6 +516,16 @@ pub fn windows(app: &mut ViewerApp, ctx: &egui::Context) {
             }
         } else if !dialog.visible() {
             app.panels.lights.slide_picker = None;
+        }
+    }
+    if let Some(dialog) = &mut app.panels.environment.picker {
+        if dialog.show(ctx).selected() {
+            if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
+                app.panels.environment.picker = None;
+                environment::read_environment(app, &p);
+            }
+        } else if !dialog.visible() {
+            app.panels.environment.picker = None;
         }
     }
     textures::after_ui(app, ctx);
