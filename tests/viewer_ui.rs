@@ -1138,6 +1138,17 @@ fn material_editor_sets_the_new_parameters() {
     assert!((m.shininess - 500.0).abs() < 1e-3);
     activate(&mut h, "lit on both sides, not culled");
     assert!(h.state().settings.materials.clone().unwrap()[0].double_sided);
+    // The metallic-roughness rows of a glTF material (issue 20).
+    let dielectric = shown_image(&h);
+    set_value(&mut h, "material metallic", 1.0);
+    set_value(&mut h, "material roughness", 0.3);
+    set_value(&mut h, "material ior", 2.0);
+    set_value(&mut h, "material emissive strength", 3.0);
+    let m = h.state().settings.materials.clone().unwrap()[0].clone();
+    let p = m.pbr.expect("a glTF material");
+    assert_eq!((m.metallic, m.roughness), (1.0, 0.3));
+    assert_eq!((p.ior, p.emissive_strength), (2.0, 3.0));
+    assert_frame_changed(h.state(), &dielectric, "metal");
     activate(&mut h, "restore the file's materials");
     assert_eq!(h.state().settings.materials, None);
     assert_eq!(differing(&shown_image(&h), &before), 0);

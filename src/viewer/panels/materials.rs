@@ -57,13 +57,64 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
     }
 }
 
+/// The metallic-roughness rows of a glTF material (what the `pbr` mode reads; the Phong
+/// modes draw it with `Kd = base (1 - metallic)`); true if one changed.
+fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
+    let mut changed = false;
+    ui.label("metallic");
+    changed |= edit::slider(ui, &mut m.metallic, 0.0..=1.0, false, "material metallic");
+    ui.end_row();
+    ui.label("roughness")
+        .on_hover_text("perceptual: the GGX α is its square");
+    changed |= edit::slider(ui, &mut m.roughness, 0.0..=1.0, false, "material roughness");
+    ui.end_row();
+    let Some(p) = &mut m.pbr else {
+        return changed;
+    };
+    ui.label("index of refraction").on_hover_text(
+        "KHR_materials_ior: the dielectric's F0 = ((ior - 1)/(ior + 1))², 0.04 at 1.5",
+    );
+    changed |= edit::drag(ui, &mut p.ior, 1.0..=5.0, 0.01, "material ior");
+    ui.end_row();
+    ui.label("specular")
+        .on_hover_text("KHR_materials_specular: F90 of the dielectric lobe and a factor on its F0");
+    changed |= edit::slider(ui, &mut p.specular, 0.0..=1.0, false, "material specular");
+    ui.end_row();
+    ui.label("specular colour");
+    changed |= edit::colour(ui, &mut p.specular_color, "material specular colour");
+    ui.end_row();
+    ui.label("emissive strength")
+        .on_hover_text("KHR_materials_emissive_strength: multiplies Ke");
+    changed |= edit::drag(
+        ui,
+        &mut p.emissive_strength,
+        0.0..=1000.0,
+        0.05,
+        "material emissive strength",
+    );
+    ui.end_row();
+    ui.label("unlit");
+    changed |= ui
+        .checkbox(
+            &mut p.unlit,
+            "the base colour as it is (KHR_materials_unlit)",
+        )
+        .changed();
+    ui.end_row();
+    changed
+}
+
 /// The controls of one material; true if it changed.
 fn editor(ui: &mut egui::Ui, m: &mut Material) -> bool {
     let mut changed = false;
     egui::Grid::new("material-grid")
         .num_columns(2)
         .show(ui, |ui| {
-            ui.label("Kd (diffuse)");
+            ui.label(if m.pbr.is_some() {
+                "base colour (Kd)"
+            } else {
+                "Kd (diffuse)"
+            });
             let mut kd = m.base_color.truncate();
             if edit::colour(ui, &mut kd, "material Kd") {
                 m.base_color = kd.extend(m.base_color.w);
@@ -73,6 +124,9 @@ fn editor(ui: &mut egui::Ui, m: &mut Material) -> bool {
             ui.label("alpha");
             changed |= edit::slider(ui, &mut m.base_color.w, 0.0..=1.0, false, "material alpha");
             ui.end_row();
+            if m.pbr.is_some() {
+                changed |= pbr_rows(ui, m);
+            }
             ui.label("Ks (specular)");
             changed |= edit::colour(ui, &mut m.specular, "material Ks");
             ui.end_row();
