@@ -2205,3 +2205,55 @@ fn environment_rotation_exposure_and_a_bad_file() {
     choose(&mut h, "environment", "none");
     assert_eq!(h.state().settings.environment, Environment::Off);
 }
+
+/// The probe on a `pbr` pixel (issue 20): the image-based diffuse and specular and the
+/// BRDF terms per light are listed, and the probe's re-shaded colour is the renderer's.
+#[test]
+fn the_probe_lists_the_brdf_terms_of_a_pbr_pixel() {
+    let dir = temp_dir("probe-pbr");
+    let mut h = viewer(Some(model("pbr/sphere-grid.glb")), &dir, 1);
+    let (view, depth, rect, ppp) = {
+        let app = h.state();
+        let s = app.shown.as_ref().unwrap();
+        (
+            s.view.clone(),
+            s.depth.clone(),
+            app.viewport.rect,
+            app.viewport.pixels_per_point,
+        )
+    };
+    let w = view.width;
+    let mut frame = Renderer::new();
+    frame.render(&h.state().scene, &h.state().settings, &view);
+    let frame = frame.target().expect("a frame");
+    // The middle sphere's centre: the first drawn pixel right of the image centre.
+    let y = view.height / 2;
+    let x = (w / 2..w)
+        .find(|&x| depth[(y * w + x) as usize] > 0.0)
+        .expect("a sphere on the middle row");
+    let x = x + 2;
+    click_at(
+        &mut h,
+        rect.min + Vec2::new(x as f32 + 0.5, y as f32 + 0.5) / ppp,
+    );
+    let probe = h
+        .state()
+        .panels
+        .probe
+        .clone()
+        .unwrap()
+        .probe
+        .expect("a hit");
+    let (diffuse, specular) = probe.image_based.expect("a pbr pixel");
+    assert!(diffuse.max_element() > 0.0 && specular.max_element() > 0.0);
+    assert!(probe.lights.iter().any(|l| l.d > 0.0 && l.vis > 0.0));
+    let (c, _) = frame.pixel(x, y).expect("pixel");
+    let c = c.truncate();
+    assert!(
+        (c - probe.color).abs().max_element() <= 0.02 * c.max_element().max(0.05),
+        "renderer {c} vs probe {}",
+        probe.color
+    );
+    h.get_by_label("image-based");
+    h.get_by_label_contains("BRDF terms per light");
+}

@@ -17,7 +17,9 @@ use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::{Light, LightKind, TextureSource};
-use crate::shade::{arriving, maps, reflect, texlab, view_vector, LightSet, Shading, SlotParams};
+use crate::shade::{
+    ambient_split, arriving, maps, reflect, texlab, view_vector, LightSet, Shading, SlotParams,
+};
 
 /// One light's contribution at the probed point (linear RGB).
 #[derive(Clone, Debug, PartialEq)]
@@ -73,6 +75,9 @@ pub struct Probe {
     pub base: Vec4,
     /// Ambient term (never attenuated; times the occlusion map's factor).
     pub ambient: Vec3,
+    /// For a `pbr` surface, the ambient term's diffuse and specular parts (the image-based
+    /// lighting of the environment and the ambient light, after occlusion).
+    pub image_based: Option<(Vec3, Vec3)>,
     /// Emitted light (the material's emissive colour times its emissive map).
     pub emitted: Vec3,
     pub lights: Vec<LightShare>,
@@ -230,6 +235,11 @@ pub fn probe(
     if let Some(g) = &d.gloss {
         surf.ks *= sample(g).truncate();
     }
+    if let (Some(mr), Some(p)) = (&d.metal_rough, &mut surf.pbr) {
+        let t = sample(mr);
+        p.roughness *= t.y;
+        p.metallic *= t.z;
+    }
     let occlusion = d
         .occlusion
         .as_ref()
@@ -241,7 +251,7 @@ pub fn probe(
     let v = view_vector(&surf, position, eye);
     let mut set = LightSet::default();
     let cam_to_world = view_m.inverse();
-    let mut ambient = Vec3::ZERO;
+    let mut ambient_light = Vec3::ZERO;
     let mut lights = Vec::new();
     let mut index = 0;
     let (center, radius) = scene_sphere(scene);
@@ -254,7 +264,7 @@ pub fn probe(
             set.push(l, m, index);
             index += 1;
             if l.kind == LightKind::Ambient {
-                ambient += set.ambient * surf.ka * surf.kd * occlusion;
+                ambient_light += set.ambient;
                 return;
             }
             let light = m.map_or_else(|| l.clone(), |m| l.transformed(m));
@@ -296,13 +306,29 @@ pub fn probe(
             });
         },
     );
+    // The ambient light, and for pbr the environment, as the renderer reflects them.
+    set.clear();
+    set.ambient = ambient_light;
+    set.env = settings.environment.view();
+    let (ambient_diffuse, ambient_specular) = ambient_split::<f32>(&set, &surf, normal, v);
+    let ambient = (ambient_diffuse + ambient_specular) * occlusion;
+    let image_based = surf
+        .pbr
+        .is_some()
+        .then(|| (ambient_diffuse * occlusion, ambient_specular * occlusion));
     let lit = lights
         .iter()
         .fold(ambient + emitted, |acc, s| acc + s.diffuse + s.specular);
+    let (lit, lights) = if d.unlit {
+        // KHR_materials_unlit: the base colour as it is, no light and no fog.
+        (base.truncate(), Vec::new())
+    } else {
+        (lit, lights)
+    };
     let fog = settings.fog.filter(|f| f.is_valid());
     let color = match &fog {
-        Some(f) => f.apply::<f32>(lit, position, eye, cam.forward()),
-        None => lit,
+        Some(f) if !d.unlit => f.apply::<f32>(lit, position, eye, cam.forward()),
+        _ => lit,
     };
     let fog = fog.map(|f| f.factor::<f32>(f.distance::<f32>(position, eye, cam.forward())));
     let clip = vp * position.extend(1.0);
@@ -327,6 +353,7 @@ pub fn probe(
         mode: r.mode,
         base,
         ambient,
+        image_based,
         emitted,
         lights,
         fog,

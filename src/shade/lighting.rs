@@ -572,42 +572,51 @@ pub fn view_vector<T: Num>(surf: &SurfaceAt<T>, p: T::V, eye: T::V) -> T::V {
 #[inline(always)]
 #[must_use]
 pub fn ambient<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> T::V {
-    let g = T::vec(set.ambient);
-    let c = match &s.pbr {
-        None => g * s.ka * s.kd,
-        Some(p) => {
-            let nv = T::dot(n, v).max(T::of(1e-4));
-            let (a, b) = T::brdf_lut(nv, p.roughness);
-            // Prefiltered radiance along the reflection and irradiance over π: the
-            // ambient light is a uniform environment, where both equal its radiance.
-            let (prefiltered, irradiance) = match &set.env {
-                Some(env) => {
-                    // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3):
-                    // a rough lobe's peak leans from the mirror direction toward the
-                    // normal; at grazing views on rough metal, reading the chain along the
-                    // mirror direction measured 18 % too bright against the integral.
-                    let alpha = brdf::alpha(p.roughness);
-                    let smooth = T::ONE - alpha;
-                    let lean = smooth * (smooth.sqrt() + alpha);
-                    let r = n + (n * (nv + nv) - v - n) * lean;
-                    let (s, e) = T::env(env, n, r, p.roughness);
-                    (s + g, e + g)
-                }
-                None => (g, g),
-            };
-            let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(p.f0, p.f90, a, b);
-            let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(s.kd, T::ONE, a, b);
-            // Dielectric: the diffuse term gets the energy the specular lobe leaves.
-            let left = T::splat(T::ONE) - d_ss - d_ms;
-            let diel = s.kd * left * irradiance + d_ss * prefiltered + d_ms * irradiance;
-            let metal = m_ss * prefiltered + m_ms * irradiance;
-            diel * (T::ONE - p.metallic) + metal * p.metallic
-        }
-    };
+    let (diffuse, specular) = ambient_split(set, s, n, v);
+    let c = diffuse + specular;
     match s.occlusion {
         Some(ao) => c * ao,
         None => c,
     }
+}
+
+/// [`ambient`] before the occlusion, as its diffuse and specular parts (the pixel probe
+/// lists both; Phong's is all diffuse).
+#[inline(always)]
+#[must_use]
+pub fn ambient_split<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V) {
+    let g = T::vec(set.ambient);
+    let Some(p) = &s.pbr else {
+        return (g * s.ka * s.kd, T::splat(T::ZERO));
+    };
+    let nv = T::dot(n, v).max(T::of(1e-4));
+    let (a, b) = T::brdf_lut(nv, p.roughness);
+    // Prefiltered radiance along the reflection and irradiance over π: the ambient light
+    // is a uniform environment, where both equal its radiance.
+    let (prefiltered, irradiance) = match &set.env {
+        Some(env) => {
+            // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3): a rough
+            // lobe's peak leans from the mirror direction toward the normal; at grazing
+            // views on rough metal, reading the chain along the mirror direction measured
+            // 18 % too bright against the integral.
+            let alpha = brdf::alpha(p.roughness);
+            let smooth = T::ONE - alpha;
+            let lean = smooth * (smooth.sqrt() + alpha);
+            let r = n + (n * (nv + nv) - v - n) * lean;
+            let (s, e) = T::env(env, n, r, p.roughness);
+            (s + g, e + g)
+        }
+        None => (g, g),
+    };
+    let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(p.f0, p.f90, a, b);
+    let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(s.kd, T::ONE, a, b);
+    // Dielectric: the diffuse term gets the energy the specular lobe leaves.
+    let left = T::splat(T::ONE) - d_ss - d_ms;
+    let dielectric = T::ONE - p.metallic;
+    let diffuse = s.kd * left * irradiance * dielectric;
+    let specular = (d_ss * prefiltered + d_ms * irradiance) * dielectric
+        + (m_ss * prefiltered + m_ms * irradiance) * p.metallic;
+    (diffuse, specular)
 }
 
 /// The lighting equation at `p` with unit normal `n` and the eye at `eye`, summed over the

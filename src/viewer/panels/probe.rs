@@ -217,9 +217,24 @@ fn light_shares(ui: &mut egui::Ui, p: &crate::render::Probe) {
                 );
                 ui.end_row();
             }
-            ui.label("ambient");
-            ui.monospace(v3(p.ambient))
-                .on_hover_text("every ambient light x Ka x Kd; never attenuated");
+            match p.image_based {
+                Some((diffuse, specular)) => {
+                    ui.label("image-based");
+                    ui.monospace(v3(diffuse)).on_hover_text(
+                        "the environment and the ambient light: diffuse (what the specular \
+                         lobe leaves), times the occlusion",
+                    );
+                    ui.monospace(v3(specular)).on_hover_text(
+                        "the environment and the ambient light: the split sum's specular, \
+                         with multiple scattering, times the occlusion",
+                    );
+                }
+                None => {
+                    ui.label("ambient");
+                    ui.monospace(v3(p.ambient))
+                        .on_hover_text("every ambient light x Ka x Kd; never attenuated");
+                }
+            }
             ui.end_row();
             if let Some(f) = p.fog {
                 ui.label("fog factor");
@@ -237,4 +252,36 @@ fn light_shares(ui: &mut egui::Ui, p: &crate::render::Probe) {
     if p.lights.is_empty() {
         ui.label("(no light other than ambient reaches this frame)");
     }
+    if p.image_based.is_some() && !p.lights.is_empty() {
+        brdf_terms(ui, p);
+    }
+}
+
+/// The glTF BRDF's terms for each light at a `pbr` pixel (Appendix B of the specification).
+fn brdf_terms(ui: &mut egui::Ui, p: &crate::render::Probe) {
+    ui.label(RichText::new("BRDF terms per light (pbr)").strong());
+    egui::Grid::new("probe-brdf")
+        .num_columns(4)
+        .striped(true)
+        .show(ui, |ui| {
+            for (h, what) in [
+                ("light", ""),
+                ("D", "GGX normal distribution at N·H"),
+                ("G/(4 NL NV)", "Smith height-correlated visibility"),
+                (
+                    "F",
+                    "Fresnel (Schlick), dielectric and metal mixed by metallic",
+                ),
+            ] {
+                ui.label(RichText::new(h).italics()).on_hover_text(what);
+            }
+            ui.end_row();
+            for s in &p.lights {
+                ui.label(format!("light {}", s.index));
+                ui.monospace(format!("{:.4}", s.d));
+                ui.monospace(format!("{:.4}", s.vis));
+                ui.monospace(v3(s.fresnel));
+                ui.end_row();
+            }
+        });
 }
