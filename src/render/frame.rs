@@ -582,7 +582,6 @@ pub(super) fn set_up(
         view.inverse(),
         &mut fd.lights,
     );
-    fd.lights.env = settings.environment.view();
     fd.fog = settings.fog.filter(Fog::is_valid);
     let shadows = settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
     fd.casters.clear();
@@ -644,6 +643,19 @@ pub(super) fn set_up(
             .filter(|(_, i)| i.blend && settings.output == Output::Shaded)
             .map(|(k, _)| k as u32),
     );
+    // The environment only when something reads it (a `pbr` draw, or the background): the
+    // built-in studio is prefiltered on first use (about 0.2 s), which a Phong render of
+    // an OBJ must not pay.
+    let wanted = settings.env_background.is_some() && settings.output == Output::Shaded
+        || fd
+            .params
+            .iter()
+            .any(|p| p.surface.pbr.is_some() && !p.unlit);
+    fd.lights.env = if wanted {
+        settings.environment.view()
+    } else {
+        None
+    };
     let insts = &fd.insts;
     // Back to front; unstable sort allocates nothing, ties broken by instance order.
     fd.order.sort_unstable_by(|&a, &b| {

@@ -193,6 +193,57 @@ impl F8 {
         F8::select(self.gt(F8::ZERO), p, F8::ZERO)
     }
 
+    /// `acos` of lanes in [-1, 1] (clamped there): Abramowitz & Stegun 4.4.46,
+    /// `acos x = sqrt(1 - x) P(x)` on [0, 1] with a degree-7 `P` (error below 2e-8 in
+    /// exact arithmetic; about 2e-7 in f32), and `acos(-x) = π - acos x`.
+    #[inline(always)]
+    #[must_use]
+    pub fn acos<K: Kernel>(self) -> Self {
+        let x = self.clamp(-1.0, 1.0);
+        let a = x.abs();
+        let mut p = F8::splat(-0.001_262_491_1);
+        for c in [
+            0.006_670_090_1,
+            -0.017_088_125_6,
+            0.030_891_881_0,
+            -0.050_174_304_6,
+            0.088_978_987_4,
+            -0.214_598_801_6,
+            1.570_796_305_0,
+        ] {
+            p = K::fma(p, a, F8::splat(c));
+        }
+        let r = (F8::ONE - a).sqrt() * p;
+        F8::select(x.lt(F8::ZERO), F8::splat(std::f32::consts::PI) - r, r)
+    }
+
+    /// `atan2(self, x)` (self is y), in (-π, π]; 0 where both are 0. The octant is reduced
+    /// to `t = min/max` in [0, 1], `atan t` by a degree-11 odd minimax polynomial (error
+    /// about 1e-5 rad), then reflected back.
+    #[inline(always)]
+    #[must_use]
+    pub fn atan2<K: Kernel>(self, x: F8) -> Self {
+        let (ax, ay) = (x.abs(), self.abs());
+        let hi = ax.max(ay);
+        let lo = ax.min(ay);
+        let t = F8::select(hi.gt(F8::ZERO), lo / hi, F8::ZERO);
+        let t2 = t * t;
+        let mut p = F8::splat(-0.011_721_20);
+        for c in [
+            0.052_653_32,
+            -0.116_432_87,
+            0.193_543_46,
+            -0.332_623_47,
+            0.999_977_26,
+        ] {
+            p = K::fma(p, t2, F8::splat(c));
+        }
+        let mut r = p * t;
+        r = F8::select(ay.gt(ax), F8::splat(std::f32::consts::FRAC_PI_2) - r, r);
+        r = F8::select(x.lt(F8::ZERO), F8::splat(std::f32::consts::PI) - r, r);
+        F8::select(self.lt(F8::ZERO), -r, r)
+    }
+
     /// Base-2 logarithm of positive finite lanes (others: unspecified but finite-safe).
     /// `x = m 2^k` with `m` in [sqrt(1/2), sqrt(2)), `log2 m = 2 atanh(s) / ln 2` with
     /// `s = (m - 1) / (m + 1)`, |s| < 0.1716, summed to s^9 (truncation below 1e-9).
@@ -558,6 +609,31 @@ mod tests {
         assert_eq!(F8::splat(-1.0).powf::<K>(F8::splat(3.0)).0[0], 0.0);
         assert_eq!(F8::splat(1.0).powf::<K>(F8::splat(500.0)).0[0], 1.0);
         assert!(worst > 0.0);
+    }
+
+    #[test]
+    fn acos_and_atan2_match_f64() {
+        let (mut worst_acos, mut worst_atan) = (0.0f64, 0.0f64);
+        for k in 0..=4000 {
+            let x = -1.0 + 2.0 * k as f32 / 4000.0;
+            let a = F8::splat(x).acos::<crate::simd::kernel::Portable>().0[0];
+            worst_acos = worst_acos.max((f64::from(a) - f64::from(x).acos()).abs());
+        }
+        for k in 0..720 {
+            let phi = (k as f64 + 0.25).to_radians() * 0.5 - std::f64::consts::PI;
+            for r in [1e-3f64, 0.5, 1.0, 300.0] {
+                let (y, x) = ((phi.sin() * r) as f32, (phi.cos() * r) as f32);
+                let a = F8::splat(y)
+                    .atan2::<crate::simd::kernel::Portable>(F8::splat(x))
+                    .0[0];
+                let want = f64::from(y).atan2(f64::from(x));
+                worst_atan = worst_atan.max((f64::from(a) - want).abs());
+            }
+        }
+        let zero = F8::ZERO.atan2::<crate::simd::kernel::Portable>(F8::ZERO).0[0];
+        assert_eq!(zero, 0.0);
+        assert!(worst_acos < 1e-6, "acos {worst_acos:e}");
+        assert!(worst_atan < 2e-5, "atan2 {worst_atan:e}");
     }
 
     #[test]

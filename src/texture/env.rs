@@ -114,6 +114,13 @@ impl EnvView {
         Vec3::new(c, 0.0, s)
     }
 
+    /// `(sin θ, cos θ)` of the rotation: a direction `d` is `R_y(θ)·d` in the image, which
+    /// eight-lane callers compute themselves ([`Self::to_image`]).
+    #[must_use]
+    pub fn rotation_sin_cos(&self) -> (f32, f32) {
+        self.rotation_deg.to_radians().sin_cos()
+    }
+
     /// Prefiltered specular radiance around `dir` for perceptual roughness `r` (the first
     /// factor of the split sum); see [`Prefiltered::specular`].
     #[must_use]

@@ -70,6 +70,15 @@ macro_rules! equirect_mapping {
 }
 
 equirect_mapping!(dir_to_uv, texel_dir, f32, Vec3);
+
+/// The unit direction at image coordinates `(u, v)` ([`dir_to_uv`]'s inverse).
+#[must_use]
+pub(super) fn uv_dir(u: f32, v: f32) -> Vec3 {
+    use std::f32::consts::PI;
+    let (st, ct) = (v * PI).sin_cos();
+    let (sp, cp) = ((u - 0.5) * 2.0 * PI).sin_cos();
+    Vec3::new(st * cp, ct, st * sp)
+}
 equirect_mapping!(dir_to_uv_f64, texel_dir_f64, f64, DVec3);
 
 /// Bilinear taps of `(u, v)` on a `w×h` grid of texel centres: indices `(x0, x1, y0, y1)` and
@@ -82,7 +91,12 @@ macro_rules! bilinear_taps {
         let (tx, ty) = (fx - x0, fy - y0);
         let (w, h) = ($w as i64, $h as i64);
         // Float-to-int casts saturate (NaN -> 0), so every index is in range.
-        let xi = (x0 as i64).rem_euclid(w);
+        // The usual case (u in [0, 1]) wraps by one period at most: no division.
+        let xi = match x0 as i64 {
+            x if (0..w).contains(&x) => x,
+            x if (-w..0).contains(&x) => x + w,
+            x => x.rem_euclid(w),
+        };
         let yi = y0 as i64;
         let x1 = if xi + 1 == w { 0 } else { xi + 1 };
         (
@@ -106,6 +120,7 @@ pub(super) struct Plane {
 }
 
 impl Plane {
+    #[inline(always)]
     pub fn texel(&self, x: usize, y: usize) -> Vec3 {
         let i = 3 * (y * self.width + x);
         Vec3::new(self.rgb[i], self.rgb[i + 1], self.rgb[i + 2])
@@ -116,6 +131,7 @@ impl Plane {
     }
 
     /// Bilinear at (u, v).
+    #[inline(always)]
     pub fn bilinear(&self, u: f32, v: f32) -> Vec3 {
         let (x0, x1, y0, y1, tx, ty) = bilinear_taps!(u, v, self.width, self.height, f32);
         let top = self.texel(x0, y0).lerp(self.texel(x1, y0), tx);

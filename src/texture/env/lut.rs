@@ -92,6 +92,7 @@ impl BrdfLut {
     /// `(A, B)` at `nv` = N·V and perceptual roughness `r`, both clamped to [0, 1],
     /// bilinear between table points.
     #[must_use]
+    #[inline(always)]
     pub fn lookup(&self, nv: f32, r: f32) -> (f32, f32) {
         let last = (self.size - 1) as f32;
         let fx = nv.clamp(0.0, 1.0) * last;

@@ -128,6 +128,14 @@ impl Prefiltered {
     #[must_use]
     pub fn specular(&self, dir: Vec3, r: f32) -> Vec3 {
         let (u, v) = dir_to_uv(dir.normalize_or_zero());
+        self.specular_uv(u, v, r)
+    }
+
+    /// [`Self::specular`] at image coordinates `(u, v)` (for callers that compute them
+    /// themselves, eight at a time).
+    #[must_use]
+    #[inline(always)]
+    pub fn specular_uv(&self, u: f32, v: f32, r: f32) -> Vec3 {
         let last = self.levels.len() - 1;
         let f = if r.is_nan() {
             0.0
@@ -153,11 +161,24 @@ impl Prefiltered {
     /// grid under a smooth HDR environment 3 % too bright against the f64 reference.
     #[must_use]
     pub fn irradiance(&self, n: Vec3) -> Vec3 {
-        let Some(level) = self.levels.last() else {
-            return sh::irradiance(&self.sh, n);
-        };
         let (u, v) = dir_to_uv(n.normalize_or_zero());
-        level.bilinear(u, v) * std::f32::consts::PI
+        match self.levels.last() {
+            Some(level) => level.bilinear(u, v) * std::f32::consts::PI,
+            None => sh::irradiance(&self.sh, n),
+        }
+    }
+
+    /// `E/π` at image coordinates `(u, v)`: [`Self::irradiance`] over π.
+    #[must_use]
+    #[inline(always)]
+    pub fn irradiance_uv(&self, u: f32, v: f32) -> Vec3 {
+        match self.levels.last() {
+            Some(level) => level.bilinear(u, v),
+            None => {
+                sh::irradiance(&self.sh, super::equirect::uv_dir(u, v))
+                    * std::f32::consts::FRAC_1_PI
+            }
+        }
     }
 
     /// Irradiance from the nine SH coefficients (Ramamoorthi & Hanrahan 2001): smooth and
