@@ -198,6 +198,7 @@ impl F8 {
     /// exact arithmetic; about 2e-7 in f32), and `acos(-x) = π - acos x`.
     #[inline(always)]
     #[must_use]
+    #[allow(clippy::excessive_precision)] // the coefficients as published
     pub fn acos<K: Kernel>(self) -> Self {
         let x = self.clamp(-1.0, 1.0);
         let a = x.abs();
@@ -222,6 +223,7 @@ impl F8 {
     /// about 1e-5 rad), then reflected back.
     #[inline(always)]
     #[must_use]
+    #[allow(clippy::excessive_precision)] // the coefficients as published
     pub fn atan2<K: Kernel>(self, x: F8) -> Self {
         let (ax, ay) = (x.abs(), self.abs());
         let hi = ax.max(ay);
