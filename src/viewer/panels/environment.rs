@@ -114,15 +114,7 @@ fn image_lighting(app: &mut ViewerApp, ui: &mut egui::Ui) {
             let old = app.settings.environment.view();
             match Environment::named(name, |n: &str| n.into(), None) {
                 Ok((env, _)) => {
-                    // Keep the rotation and intensity the user set.
-                    app.settings.environment = match (env, old) {
-                        (Environment::On(mut v), Some(o)) => {
-                            v.rotation_deg = o.rotation_deg;
-                            v.intensity = o.intensity;
-                            Environment::On(v)
-                        }
-                        (env, _) => env,
-                    };
+                    app.settings.environment = keep_turn(env, old);
                     app.panels.environment.env_error = None;
                 }
                 Err(e) => app.panels.environment.env_error = Some(e),
@@ -193,6 +185,18 @@ fn image_lighting(app: &mut ViewerApp, ui: &mut egui::Ui) {
     });
 }
 
+/// `env` with the rotation and intensity of `old` (the user's), if both are on.
+fn keep_turn(env: Environment, old: Option<crate::texture::env::EnvView>) -> Environment {
+    match (env, old) {
+        (Environment::On(mut v), Some(o)) => {
+            v.rotation_deg = o.rotation_deg;
+            v.intensity = o.intensity;
+            Environment::On(v)
+        }
+        (env, _) => env,
+    }
+}
+
 /// Opens the picker for an environment image.
 fn open_env_picker(app: &mut ViewerApp) {
     let filter = Box::new(|p: &std::path::Path| {
@@ -222,14 +226,7 @@ pub fn read_environment(app: &mut ViewerApp, path: &std::path::Path) {
         cache.as_deref(),
     ) {
         Ok((env, note)) => {
-            app.settings.environment = match (env, old) {
-                (Environment::On(mut v), Some(o)) => {
-                    v.rotation_deg = o.rotation_deg;
-                    v.intensity = o.intensity;
-                    Environment::On(v)
-                }
-                (env, _) => env,
-            };
+            app.settings.environment = keep_turn(env, old);
             app.panels.environment.env_error = None;
             app.notice = note.map(|n| format!("{}: {n}", path.display()));
         }
