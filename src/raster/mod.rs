@@ -66,7 +66,9 @@ pub struct TriInfo {
 }
 
 /// One row of up to eight pixels of one triangle, as the fill hands it to a shader: lane
-/// `i` is pixel `(x + i, y)`.
+/// `i` is pixel `(x + i, y)`; or, for a shader that [packs](FragmentShader::packs), up to
+/// eight pixels anywhere in the tile from triangles of one draw and facing (`x` and `y` are
+/// 0 then).
 #[derive(Clone, Copy, Debug)]
 pub struct Fragments<'a> {
     pub tri: TriInfo,
@@ -128,6 +130,18 @@ pub trait FragmentShader: Sync {
     fn derivatives(&self, draw: u32) -> Option<(usize, usize)> {
         let _ = draw;
         None
+    }
+
+    /// Whether the fill may pack the fragments of draw `draw` into full batches of eight
+    /// lanes across rows and triangles (see `fill.rs`, "Packed shading"): only for a shader
+    /// that never discards a lane of that draw (it returns `f.mask`), and worth it only for
+    /// one that costs more than copying its varyings lane by lane. A packed batch's lanes
+    /// are pixels anywhere in the tile, so `f.x` and `f.y` do not locate them. Default:
+    /// false.
+    #[inline(always)]
+    fn packs(&self, draw: u32) -> bool {
+        let _ = draw;
+        false
     }
 
     /// Shades the live lanes of `f` into `out` (linear-light RGBA) and returns the lanes to

@@ -758,9 +758,15 @@ impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
             shader,
             n,
         } = self;
-        for c in chunks {
+        // The tile's triangles in order, then `None`: the fill shades what it still holds
+        // packed. One call of `fill` (it holds the kernel's only copy of the shader).
+        let mut order = chunks.iter().flat_map(|c| {
             let bin = &c.bins[index];
-            for (k, &i) in bin.iter().enumerate() {
+            bin.iter().enumerate().map(move |(k, &i)| (c, bin, k, i))
+        });
+        loop {
+            let next = order.next();
+            if let Some((c, bin, k, _)) = next {
                 // Most of a small triangle's cost is fetching its set-up data (written by
                 // another thread): prefetch the triangle 2 * AHEAD on, and the varyings of
                 // the one AHEAD on (its triangle, read for their offset, is already here).
@@ -774,7 +780,11 @@ impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
                         prefetch(a);
                     }
                 }
-                fill::<K, S>(tile, &c.tris[i as usize], &c.attrs, shader, n);
+            }
+            let tri = next.map(|(c, _, _, i)| (&c.tris[i as usize], &c.attrs[..]));
+            fill::<K, S>(tile, tri, shader, n);
+            if next.is_none() {
+                break;
             }
         }
     }

@@ -436,6 +436,15 @@ impl FragmentShader for LitShader<'_> {
         self.draws[draw as usize].layout.derivatives()
     }
 
+    /// Every draw but an alpha-tested one (which discards lanes): the lit shader is the
+    /// expensive one, and on small triangles most of a row's lanes are empty.
+    #[inline(always)]
+    fn packs(&self, draw: u32) -> bool {
+        self.draws
+            .get(draw as usize)
+            .is_some_and(|d| !matches!(d.alpha, AlphaMode::Mask(_)))
+    }
+
     #[inline(always)]
     fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
         let d = &self.draws[f.tri.draw as usize];
