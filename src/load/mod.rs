@@ -1,5 +1,5 @@
-//! Loaders: OBJ/MTL (through `tobj`) and glTF 2.0 / GLB (through `gltf`'s JSON types) into
-//! one [`Scene`]. No `tobj` or `gltf` type escapes this module.
+//! Loaders: OBJ/MTL (through `tobj`), glTF 2.0 / GLB (through `gltf`'s JSON types) and STL
+//! (binary and ASCII, `stl.rs`) into one [`Scene`]. No `tobj` or `gltf` type escapes this module.
 //!
 //! Everything a loader reads comes from a file that may be hostile, so the module keeps
 //! these invariants:
@@ -41,12 +41,14 @@ mod gltf;
 mod images;
 mod obj;
 mod progress;
+mod stl;
 
 pub use self::gltf::GltfError;
 pub use self::images::MAX_SIDE as MAX_TEXTURE_SIDE;
 pub use self::obj::ObjError;
 use self::progress::Tracker;
 pub use self::progress::{Progress, Stage};
+pub use self::stl::StlError;
 
 /// Options shared by the loaders.
 #[derive(Clone, Debug)]
@@ -83,7 +85,7 @@ pub enum LoadError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{path}: unknown model format (expected .obj, .gltf or .glb)")]
+    #[error("{path}: unknown model format (expected .obj, .gltf, .glb or .stl)")]
     UnknownFormat { path: PathBuf },
     #[error("{path}: loader panicked: {message}")]
     Panic { path: PathBuf, message: String },
@@ -104,9 +106,12 @@ pub enum LoadError {
     Obj(#[from] ObjError),
     #[error(transparent)]
     Gltf(#[from] GltfError),
+    #[error(transparent)]
+    Stl(#[from] StlError),
 }
 
-/// Loads a model file, choosing the loader by extension (`.obj`, `.gltf`, `.glb`, any case).
+/// Loads a model file, choosing the loader by extension (`.obj`, `.gltf`, `.glb`, `.stl`, any
+/// case).
 ///
 /// A panic inside a loader is caught and returned as [`LoadError::Panic`].
 ///
@@ -123,6 +128,7 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
     let loader: Loader = match ext.as_deref() {
         Some("obj") => obj::load_obj,
         Some("gltf" | "glb") => gltf::load_gltf,
+        Some("stl") => stl::load_stl,
         _ => {
             return Err(LoadError::UnknownFormat {
                 path: path.to_owned(),

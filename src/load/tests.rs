@@ -67,10 +67,10 @@ pub(crate) fn drawn_triangles(scene: &Scene) -> usize {
 
 #[test]
 fn unknown_extension_and_missing_file() {
-    let err = load(Path::new("model.stl"), &LoadOptions::default()).unwrap_err();
+    let err = load(Path::new("model.3ds"), &LoadOptions::default()).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "model.stl: unknown model format (expected .obj, .gltf or .glb)"
+        "model.3ds: unknown model format (expected .obj, .gltf, .glb or .stl)"
     );
     let err = load(
         Path::new("/nonexistent/realist/x.OBJ"),
