@@ -197,7 +197,7 @@ fn sibling_models_in_natural_order_wrap_around() {
         "Model1.GLB",
         "a.gltf",
         "notes.txt",
-        "b.stl",
+        "b.3ds",
     ] {
         dir.write(name, b"x");
     }
