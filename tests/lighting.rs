@@ -40,6 +40,8 @@ fn place(scene: &mut Scene, mut mesh: Mesh, material: Material, world: Mat4) {
         world,
         name: mesh.name.clone(),
         style: Style::Inherit,
+        node: None,
+        skin: None,
     });
     scene.meshes.push(mesh);
 }

@@ -186,6 +186,8 @@ fn squares() -> PreparedScene {
             world: Mat4::from_translation(Vec3::new(x, 0.0, z)),
             name: "cube".into(),
             style: Style::Inherit,
+            node: None,
+            skin: None,
         });
     }
     PreparedScene::new(s)

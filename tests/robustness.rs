@@ -22,6 +22,8 @@ fn one_and_two_threads_are_bit_identical() {
         world: glam::Mat4::from_rotation_x(1.0),
         name: "torus".into(),
         style: realist::scene::Style::Inherit,
+        node: None,
+        skin: None,
     });
     for mode in [
         None,

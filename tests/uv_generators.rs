@@ -328,6 +328,8 @@ fn unlit_scene(mesh: Mesh, world: Mat4) -> Scene {
         world,
         name: "test".into(),
         style: Style::Inherit,
+        node: None,
+        skin: None,
     });
     scene
 }

@@ -92,6 +92,24 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
                 })
         })
         .collect();
+    let animations: Vec<_> = scene
+        .animations
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            let sampling: std::collections::BTreeSet<&str> =
+                a.samplers.iter().map(|s| s.interpolation.name()).collect();
+            serde_json::json!({
+                "index": i, "name": a.name, "duration": a.duration(),
+                "channels": a.channels.len(), "interpolation": sampling,
+            })
+        })
+        .collect();
+    let skins: Vec<_> = scene
+        .skins
+        .iter()
+        .map(|s| serde_json::json!({ "name": s.name, "joints": s.joints.len() }))
+        .collect();
     let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
         topologies.iter().map(f).sum()
     };
@@ -106,6 +124,11 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             "camera_list": cameras,
             "lights": lights,
             "meshes": meshes,
+            "nodes": scene.graph.nodes.len(),
+            "scenes": scene.graph.scenes.iter().map(|s| &s.name).collect::<Vec<_>>(),
+            "scene_drawn": scene.graph.drawn,
+            "skins": skins,
+            "animations": animations,
         });
         say!("{}", serde_json::to_string_pretty(&json)?);
         return Ok(());
@@ -158,6 +181,34 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
                 Some(h) => format!("orthographic, half height {h}"),
                 None => format!("vertical fov {:.1} degrees", c.yfov.to_degrees()),
             }
+        );
+    }
+    if !scene.graph.nodes.is_empty() {
+        say!(
+            "  {} nodes, {} scene(s){}, {} skin(s), {} animation(s)",
+            scene.graph.nodes.len(),
+            scene.graph.scenes.len(),
+            scene
+                .graph
+                .drawn
+                .and_then(|d| scene.graph.scenes.get(d))
+                .map_or(String::new(), |s| format!(" ('{}' drawn)", s.name)),
+            scene.skins.len(),
+            scene.animations.len()
+        );
+    }
+    for s in &scene.skins {
+        say!("  skin '{}': {} joints", s.name, s.joints.len());
+    }
+    for (i, a) in scene.animations.iter().enumerate() {
+        let sampling: std::collections::BTreeSet<&str> =
+            a.samplers.iter().map(|s| s.interpolation.name()).collect();
+        say!(
+            "  animation {i} '{}' (--animation {i}): {:.3} s, {} channel(s), {}",
+            a.name,
+            a.duration(),
+            a.channels.len(),
+            sampling.into_iter().collect::<Vec<_>>().join(", ")
         );
     }
     for l in &scene.lights {

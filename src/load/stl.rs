@@ -137,6 +137,8 @@ pub(crate) fn load_stl(
         world: Mat4::IDENTITY,
         name,
         style: Style::Inherit,
+        node: None,
+        skin: None,
     });
     scene.meshes.push(mesh);
     Ok(scene)

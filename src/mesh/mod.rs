@@ -45,6 +45,7 @@ use adjacency::{Ring, VertexCorners};
 
 mod adjacency;
 mod build;
+mod deform;
 mod normals;
 mod par;
 mod polygon;
@@ -59,6 +60,7 @@ mod weld;
 mod tests;
 
 pub use build::DEGENERATE_ASPECT;
+pub use deform::{cofactor, deform, Deform, MorphTarget, Posing};
 pub use normals::{NormalOptions, Weighting, FALLBACK_NORMAL, MAX_CREASE_VALENCE};
 pub use polygon::MAX_EAR_CLIP;
 pub use primitives::{MAX_SEGMENTS, MIN_SEGMENTS};
@@ -245,6 +247,8 @@ pub struct Mesh {
     /// the file or generated with MikkTSpace ([`Mesh::generate_tangents`]).
     pub tangents: Option<Channel<Vec4>>,
     pub material: Option<usize>,
+    /// Skinning and morph target data (glTF), indexed by vertex; `None` for a rigid mesh.
+    pub deform: Option<Box<Deform>>,
 }
 
 /// What to do when the data has no normals.
@@ -315,6 +319,7 @@ impl Mesh {
             colors,
             tangents,
             material,
+            deform: None,
         }
     }
 
@@ -332,9 +337,7 @@ impl Mesh {
     /// finite), or `None` if there are none.
     #[must_use]
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        let mut finite = self.positions.iter().filter(|p| p.is_finite());
-        let first = *finite.next()?;
-        Some(finite.fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))))
+        bounds_of(&self.positions)
     }
 
     /// A bounding sphere `(centre, radius)` of the finite positions: the centre of
@@ -342,16 +345,7 @@ impl Mesh {
     /// Not the minimal sphere, but never more than `sqrt(3)` times its radius.
     #[must_use]
     pub fn bounding_sphere(&self) -> Option<(Vec3, f32)> {
-        let (lo, hi) = self.bounds()?;
-        let centre = (lo + hi) * 0.5;
-        let radius2 = self
-            .positions
-            .iter()
-            .filter(|p| p.is_finite())
-            .map(|&p| p.distance_squared(centre))
-            .fold(0.0f32, f32::max);
-        // +inf when coordinates come near f32::MAX: still not NaN.
-        Some((centre, radius2.sqrt()))
+        bounding_sphere_of(&self.positions)
     }
 
     /// Triangulates facets and flattens attributes for rendering (see [`TriMesh`]).
@@ -365,4 +359,27 @@ impl Mesh {
     pub fn topology(&self) -> TopologyReport {
         topology::report(self)
     }
+}
+
+/// Axis-aligned bounds `(min, max)` of the finite positions (all three coordinates
+/// finite), or `None` if there are none.
+#[must_use]
+pub fn bounds_of(positions: &[Vec3]) -> Option<(Vec3, Vec3)> {
+    let mut finite = positions.iter().filter(|p| p.is_finite());
+    let first = *finite.next()?;
+    Some(finite.fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))))
+}
+
+/// [`Mesh::bounding_sphere`] of a list of positions.
+#[must_use]
+pub fn bounding_sphere_of(positions: &[Vec3]) -> Option<(Vec3, f32)> {
+    let (lo, hi) = bounds_of(positions)?;
+    let centre = (lo + hi) * 0.5;
+    let radius2 = positions
+        .iter()
+        .filter(|p| p.is_finite())
+        .map(|&p| p.distance_squared(centre))
+        .fold(0.0f32, f32::max);
+    // +inf when coordinates come near f32::MAX: still not NaN.
+    Some((centre, radius2.sqrt()))
 }

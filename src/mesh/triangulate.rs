@@ -41,6 +41,9 @@ pub struct TriMesh {
     /// Edges as render-vertex index pairs (for wireframe), one per mesh edge, in the order of
     /// [`Mesh::edges`]; the render vertices are those of the first facet using the edge.
     pub edges: Vec<[u32; 2]>,
+    /// The mesh vertex ([`Mesh::positions`]) of every render vertex, for meshes whose
+    /// render vertices are not simply the mesh vertices; empty means the identity.
+    pub vertex_of: Vec<u32>,
     /// Bounding sphere of the finite positions (centre, radius); radius < 0 if none.
     pub center: Vec3,
     pub radius: f32,
@@ -251,6 +254,11 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
         triangle_facets,
         facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),
         edges,
+        vertex_of: if rv.keys.is_empty() {
+            Vec::new()
+        } else {
+            rv.vertex
+        },
         center,
         radius,
     }

@@ -1397,6 +1397,8 @@ mod tests {
             world,
             name: mesh.name.clone(),
             style: Style::Inherit,
+            node: None,
+            skin: None,
         });
         scene.meshes.push(mesh);
     }
@@ -1777,6 +1779,8 @@ mod tests {
             world: Mat4::IDENTITY,
             name: "missing".into(),
             style: Style::Inherit,
+            node: None,
+            skin: None,
         });
         let img = reference(&scene, &opts, 4, false).unwrap();
         // Camera at z = 3, 45 degrees: the plane z = 0 spans +-1.243 vertically, so the

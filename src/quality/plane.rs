@@ -128,6 +128,8 @@ impl PlaneSetup {
                 world: glam::Mat4::IDENTITY,
                 name: "plane".into(),
                 style: Style::Inherit,
+                node: None,
+                skin: None,
             }],
             lights: self.lights.clone(),
             ..Scene::default()

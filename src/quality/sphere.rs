@@ -92,6 +92,8 @@ impl SphereSetup {
                 world: glam::Mat4::IDENTITY,
                 name: "sphere".into(),
                 style: Style::Inherit,
+                node: None,
+                skin: None,
             }],
             lights: self.lights.clone(),
             ..Scene::default()

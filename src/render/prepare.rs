@@ -12,8 +12,9 @@ use std::sync::{Arc, OnceLock};
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::mesh::TriMesh;
-use crate::scene::{Material, Scene, Style};
+use crate::mesh::{bounds_of, NormalSource, Posing, TriMesh};
+use crate::scene::anim::{self, Play};
+use crate::scene::{Material, Pose, Scene, Style};
 
 /// A scene with its camera-independent render data.
 #[derive(Debug)]
@@ -24,6 +25,28 @@ pub struct PreparedScene {
     /// The scene's materials followed by [`Material::default`] (for meshes without one).
     pub(crate) materials: Vec<Material>,
     bounds: Option<(Vec3, Vec3)>,
+    /// Model-space bounds of each scene mesh at rest (for bounds of a posed scene).
+    rest_bounds: Vec<Option<(Vec3, Vec3)>>,
+    /// Instances whose meshes skinning or morphing changes, each drawing its own copy.
+    deformers: Vec<Deformer>,
+    /// The pose last applied (reused, so posing allocates nothing).
+    pose: Pose,
+}
+
+/// An instance whose mesh is posed per frame: `rest` is the shared rest mesh, `out` the
+/// instance's own copy that [`crate::mesh::deform`] rewrites.
+#[derive(Debug)]
+struct Deformer {
+    instance: usize,
+    /// The scene mesh (for its [`crate::mesh::Deform`]), which is also the prepared rest
+    /// mesh.
+    rest: usize,
+    out: usize,
+    skin: Option<usize>,
+    node: Option<usize>,
+    flat: bool,
+    /// Joint matrices of the current pose (world x inverse bind), reused.
+    joints: Vec<Mat4>,
 }
 
 /// Quads per side of the ground plane's grid.
@@ -60,6 +83,11 @@ pub(crate) struct PreparedInstance {
     /// Index into [`PreparedScene::materials`].
     pub material: usize,
     pub style: Style,
+    /// The node that places it (posed instances follow it).
+    pub node: Option<usize>,
+    /// The skin ([`Scene::skins`]) that places the vertices; posed, the world matrix is
+    /// then the identity.
+    pub skin: Option<usize>,
     /// False if the instance can never draw (no triangles or a non-finite matrix); also
     /// false for the ground plane, which set-up draws only when the settings ask for it.
     pub drawable: bool,
@@ -101,16 +129,24 @@ impl PreparedScene {
                     mirrored: inst.world.determinant() < 0.0,
                     material,
                     style: inst.style,
+                    node: inst.node,
+                    skin: inst.skin,
                     drawable: !tri.triangles.is_empty() && inst.world.is_finite(),
                     ground: false,
                 })
             })
             .collect::<Vec<_>>();
         let bounds = scene.bounds();
-        // The ground plane: a unit grid (cut so per-vertex lighting shows pools of light),
-        // with a material of its own after the default one.
         let mut meshes = meshes;
         let mut instances = instances;
+        let deformers = deformers(&scene, &mut meshes, &mut instances);
+        let rest_bounds = if scene.graph.nodes.is_empty() {
+            Vec::new()
+        } else {
+            scene.meshes.par_iter().map(|m| m.bounds()).collect()
+        };
+        // The ground plane: a unit grid (cut so per-vertex lighting shows pools of light),
+        // with a material of its own after the default one.
         let ground = crate::mesh::Mesh::grid(1.0, 1.0, GROUND_CELLS, GROUND_CELLS)
             .expect("the ground grid's parameters are valid");
         meshes.push(PreparedMesh {
@@ -130,16 +166,141 @@ impl PreparedScene {
             mirrored: false,
             material: materials.len() - 1,
             style: Style::Inherit,
+            node: None,
+            skin: None,
             drawable: false,
             ground: true,
         });
-        Self {
+        let mut prepared = Self {
             scene,
             meshes,
             instances,
             materials,
             bounds,
+            rest_bounds,
+            deformers,
+            pose: Pose::default(),
+        };
+        if !prepared.deformers.is_empty() {
+            // Skinned meshes are drawn by their joints even at rest.
+            prepared.pose_at(Play::Rest, 0.0, false);
         }
+        prepared
+    }
+
+    /// Poses the scene at playback time `t` (seconds) of the animations `play` chooses
+    /// from [`Scene::animations`], each wrapped into its duration when `looping`. Node
+    /// transforms, skins and morph weights all follow; the bounds are updated. Allocates
+    /// nothing once the buffers have grown.
+    pub fn pose_at(&mut self, play: Play, t: f32, looping: bool) {
+        let scene = Arc::clone(&self.scene);
+        if scene.graph.nodes.is_empty() {
+            return;
+        }
+        let mut pose = std::mem::take(&mut self.pose);
+        anim::pose_at(&scene.graph, &scene.animations, play, t, looping, &mut pose);
+        self.apply_pose(&pose);
+        self.pose = pose;
+    }
+
+    /// Applies `pose` (of this scene's [`Scene::graph`]).
+    pub fn apply_pose(&mut self, pose: &Pose) {
+        let scene = Arc::clone(&self.scene);
+        for inst in self.instances.iter_mut().filter(|i| !i.ground) {
+            let Some(node) = inst.node else { continue };
+            let world = match (inst.skin.is_some(), pose.worlds.get(node)) {
+                (true, _) => Mat4::IDENTITY,
+                (false, Some(w)) => *w,
+                (false, None) => continue,
+            };
+            inst.world = world;
+            inst.normal = normal_matrix(world);
+            inst.mirrored = world.determinant() < 0.0;
+            inst.drawable = !self.meshes[inst.mesh].tri.triangles.is_empty() && world.is_finite();
+        }
+        for d in &mut self.deformers {
+            let Some(deform) = scene.meshes.get(d.rest).and_then(|m| m.deform.as_deref()) else {
+                continue;
+            };
+            d.joints.clear();
+            if let Some(skin) = d.skin.and_then(|s| scene.skins.get(s)) {
+                d.joints.extend(
+                    skin.joints.iter().zip(&skin.inverse_bind).map(|(&j, ibm)| {
+                        pose.worlds.get(j).copied().unwrap_or(Mat4::IDENTITY) * *ibm
+                    }),
+                );
+            }
+            let weights = d
+                .node
+                .and_then(|n| pose.weights.get(n))
+                .map_or(&[][..], Vec::as_slice);
+            let (head, tail) = self.meshes.split_at_mut(d.out);
+            let (rest, out) = (&head[d.rest], &mut tail[0]);
+            let posing = Posing {
+                deform,
+                vertex_of: &rest.tri.vertex_of,
+                weights,
+                joints: d.skin.map(|_| d.joints.as_slice()),
+                flat: d.flat,
+            };
+            crate::mesh::deform(&rest.tri, &mut out.tri, &posing);
+            out.flat = OnceLock::new();
+            let inst = &mut self.instances[d.instance];
+            inst.drawable = !out.tri.triangles.is_empty() && inst.world.is_finite();
+        }
+        self.bounds = self.posed_bounds();
+    }
+
+    /// The world-space positions of every instance's mesh vertices (in the order of
+    /// [`crate::mesh::Mesh::positions`]) as posed now, the ground plane left out: one list
+    /// per instance, in scene order.
+    #[must_use]
+    pub fn world_positions(&self) -> Vec<Vec<Vec3>> {
+        self.instances
+            .iter()
+            .filter(|i| !i.ground)
+            .map(|i| {
+                let tri = &self.meshes[i.mesh].tri;
+                let world = |p: Vec3| i.world.transform_point3(p);
+                if tri.vertex_of.is_empty() {
+                    return tri.positions.iter().map(|&p| world(p)).collect();
+                }
+                let count = tri.vertex_of.iter().max().map_or(0, |&v| v as usize + 1);
+                let mut out = vec![Vec3::ZERO; count];
+                for (&v, &p) in tri.vertex_of.iter().zip(&tri.positions) {
+                    out[v as usize] = world(p);
+                }
+                out
+            })
+            .collect()
+    }
+
+    /// World bounds of the instances as posed now.
+    fn posed_bounds(&self) -> Option<(Vec3, Vec3)> {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        let deformed: Vec<usize> = self.deformers.iter().map(|d| d.instance).collect();
+        for (k, inst) in self.instances.iter().enumerate().filter(|(_, i)| !i.ground) {
+            let b = if deformed.contains(&k) {
+                bounds_of(&self.meshes[inst.mesh].tri.positions)
+            } else {
+                self.rest_bounds.get(inst.mesh).copied().flatten()
+            };
+            let Some((mlo, mhi)) = b else { continue };
+            for i in 0..8 {
+                let c = Vec3::new(
+                    if i & 1 == 0 { mlo.x } else { mhi.x },
+                    if i & 2 == 0 { mlo.y } else { mhi.y },
+                    if i & 4 == 0 { mlo.z } else { mhi.z },
+                );
+                let w = inst.world.transform_point3(c);
+                if w.is_finite() {
+                    lo = lo.min(w);
+                    hi = hi.max(w);
+                }
+            }
+        }
+        (lo.x <= hi.x).then_some((lo, hi))
     }
 
     /// The scene this was prepared from.
@@ -195,6 +356,44 @@ impl PreparedScene {
             .map(|i| self.meshes[i.mesh].tri.triangles.len() as u64)
             .sum()
     }
+}
+
+/// Gives every instance whose mesh skinning or morphing changes a copy of its mesh to pose
+/// (appended to `meshes`), and lists them.
+fn deformers(
+    scene: &Scene,
+    meshes: &mut Vec<PreparedMesh>,
+    instances: &mut [PreparedInstance],
+) -> Vec<Deformer> {
+    let mut out = Vec::new();
+    for (k, inst) in instances.iter_mut().enumerate() {
+        let Some(mesh) = scene.meshes.get(inst.mesh) else {
+            continue;
+        };
+        let Some(deform) = mesh.deform.as_deref() else {
+            continue;
+        };
+        let skin = inst.skin;
+        if skin.is_none() && deform.targets.is_empty() {
+            continue;
+        }
+        let rest = inst.mesh;
+        meshes.push(PreparedMesh {
+            tri: meshes[rest].tri.clone(),
+            flat: OnceLock::new(),
+        });
+        inst.mesh = meshes.len() - 1;
+        out.push(Deformer {
+            instance: k,
+            rest,
+            out: inst.mesh,
+            skin,
+            node: inst.node,
+            flat: matches!(mesh.normal_source, NormalSource::Flat),
+            joints: Vec::new(),
+        });
+    }
+    out
 }
 
 impl PreparedMesh {

@@ -57,6 +57,8 @@ pub fn demo() -> Scene {
             world: Mat4::from_translation(Vec3::new((k as f32 - 1.0) * 2.4, 0.0, 0.0)),
             name: name.into(),
             style,
+            node: None,
+            skin: None,
         });
         scene.meshes.push(mesh);
     }
@@ -77,6 +79,8 @@ pub fn demo() -> Scene {
         world: Mat4::from_translation(Vec3::new(0.0, -1.0, -3.0)),
         name: "floor".into(),
         style: Style::Inherit,
+        node: None,
+        skin: None,
     });
     scene.meshes.push(floor);
     let spot_at = Vec3::new(3.5, 7.5, 4.0);

@@ -8,8 +8,10 @@ use glam::{Mat4, Vec3, Vec4};
 use crate::mesh::Mesh;
 use crate::texture::Texture;
 
+pub mod anim;
 mod camera;
 mod demo;
+pub mod graph;
 mod light;
 mod slot;
 mod uvgen;
@@ -21,6 +23,9 @@ pub use slot::{
     Slot, SlotOverride, SlotOverrides, TextureSlot, TextureSource, UvTransform, DEFAULT_BUMP_SCALE,
 };
 pub use uvgen::UvOutcome;
+
+pub use anim::{Animation, Interpolation, Play, Property};
+pub use graph::{Graph, Local, Node, Pose, Trs};
 
 /// How a material's alpha is used (glTF `alphaMode`; OBJ `d` < 1 maps to `Blend`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -200,6 +205,22 @@ pub struct Instance {
     /// Name of the node it came from (for reports).
     pub name: String,
     pub style: Style,
+    /// The node that places it ([`Scene::graph`]); `None` for formats without nodes.
+    pub node: Option<usize>,
+    /// The skin that deforms it ([`Scene::skins`]); its mesh then has joints and weights,
+    /// and `world` is ignored when posed (the joints place the vertices).
+    pub skin: Option<usize>,
+}
+
+/// A glTF skin: the joints (nodes) whose world matrices, times their inverse bind
+/// matrices, deform the vertices of the meshes bound to it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skin {
+    pub name: String,
+    /// Nodes of [`Scene::graph`].
+    pub joints: Vec<usize>,
+    /// One per joint (the identity where the file gives none).
+    pub inverse_bind: Vec<Mat4>,
 }
 
 /// Something the loader wants the user to know that did not stop the load.
@@ -231,6 +252,10 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Cameras defined by the file (glTF); the renderer may use one of them.
     pub cameras: Vec<Camera>,
+    /// The node tree (empty for formats without nodes).
+    pub graph: Graph,
+    pub skins: Vec<Skin>,
+    pub animations: Vec<Animation>,
     pub report: LoadReport,
 }
 

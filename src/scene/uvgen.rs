@@ -133,6 +133,8 @@ mod tests {
             world: glam::Mat4::IDENTITY,
             name: "quad".into(),
             style: Style::Inherit,
+            node: None,
+            skin: None,
         });
         scene.report.file = "dir/model.gltf".into();
         scene

@@ -367,6 +367,8 @@ pub(super) fn primitive(s: &PrimitiveSpec) -> Result<Scene, String> {
         world: glam::Mat4::IDENTITY,
         name: name.into(),
         style: crate::scene::Style::Inherit,
+        node: None,
+        skin: None,
     });
     scene.report.file = format!("[primitive] {name}");
     scene.report.format = "generated".into();

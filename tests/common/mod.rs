@@ -48,6 +48,8 @@ pub fn scene_of(mut mesh: Mesh, material: Material) -> Scene {
         world: Mat4::IDENTITY,
         name: "test".into(),
         style: Style::Inherit,
+        node: None,
+        skin: None,
     });
     scene
 }

@@ -371,13 +371,15 @@ pub(super) fn scene(name: &str, mesh: PeerMesh, textured: bool) -> Result<Scene>
             world: Mat4::IDENTITY,
             name: name.into(),
             style: Style::Inherit,
+            node: None,
+            skin: None,
         }],
         lights: vec![
             Light::ambient(Vec3::splat(0.1)),
             Light::directional(-LIGHT.normalize(), Vec3::splat(0.9)),
         ],
         cameras: vec![camera()],
-        report: Default::default(),
+        ..Scene::default()
     })
 }
 

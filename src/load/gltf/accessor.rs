@@ -178,6 +178,8 @@ impl Doc<'_> {
             Checked::Valid(Type::Vec2) => 2,
             Checked::Valid(Type::Vec3) => 3,
             Checked::Valid(Type::Vec4) => 4,
+            // Only FLOAT matrices are read (skins' inverse bind matrices): no column padding.
+            Checked::Valid(Type::Mat4) if component == ComponentType::F32 => 16,
             Checked::Valid(t) => {
                 return Err(bad(format!("type {t:?} is not a vertex attribute type")))
             }

@@ -1,8 +1,8 @@
 //! glTF 2.0 (`.gltf` with external or `data:` buffers, and `.glb`) into a [`Scene`].
 //!
 //! The file is parsed into the `gltf` crate's JSON types only, and only the parts that are
-//! drawn ([`Json`]: animations and skins are merely counted, so their quirks cannot reject
-//! a file); the crate's `Document` wrapper and its validation are not used, because they
+//! drawn ([`Json`]: animations and skins are kept as plain JSON and read one at a time, so
+//! their quirks cannot reject a file); the crate's `Document` wrapper and its validation are not used, because they
 //! index without checks and panic on unresolved references. Instead every index is looked up with `get`,
 //! buffers and images are resolved here ([`uri`], GLB chunks by [`glb`]), and accessors are
 //! read by [`accessor`] with checked byte ranges (including sparse accessors and accessors
@@ -22,8 +22,11 @@
 //! emissive), each with its sampler, `TEXCOORD_n` set and `KHR_texture_transform`
 //! ([`material`]); primitives keep their UV sets and tangents ([`primitive`]).
 //!
-//! Not loaded (each noted in the report): points and lines primitives, skins (drawn in the
-//! bind pose), morph targets (base shape), animations (rest pose). Cameras (perspective and
+//! The node tree is kept ([`Scene::graph`], [`nodes`]) with skins, morph targets
+//! ([`skin`]; deformable primitives are not welded) and animations ([`animation`]), so
+//! [`crate::render::PreparedScene::pose_at`] can pose the scene at any time.
+//!
+//! Not loaded (each noted in the report): points and lines primitives. Cameras (perspective and
 //! orthographic) go to [`Scene::cameras`] and `KHR_lights_punctual` lights to
 //! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
 //! `KHR_mesh_quantization`, `KHR_lights_punctual` and `KHR_texture_transform`; a file that
@@ -43,12 +46,14 @@ use crate::mesh::MeshError;
 use crate::scene::{LoadReport, Scene};
 
 mod accessor;
+mod animation;
 pub(super) mod glb;
 mod lights;
 mod material;
 mod nodes;
 mod primitive;
 mod schema;
+mod skin;
 mod uri;
 
 use schema::Json;
@@ -412,18 +417,6 @@ fn check_header(path: &Path, json: &Json) -> Result<(), LoadError> {
 
 /// Notes file-wide features that are not loaded.
 fn note_unsupported(json: &Json, report: &mut LoadReport) {
-    if !json.animations.is_empty() {
-        report.skipped.push(format!(
-            "{} animation(s): the scene is drawn at rest",
-            json.animations.len()
-        ));
-    }
-    if !json.skins.is_empty() {
-        report.skipped.push(format!(
-            "{} skin(s): skinned meshes are drawn in the bind pose",
-            json.skins.len()
-        ));
-    }
     let ignored: Vec<&str> = json
         .extensions_used
         .iter()

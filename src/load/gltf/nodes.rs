@@ -1,37 +1,91 @@
-//! The node graph: which scene is drawn, the iterative walk that composes world matrices
-//! (TRS or matrix, parent * local), instances for nodes with meshes and cameras for nodes
-//! with cameras, and `KHR_lights_punctual` lights for nodes that carry one.
+//! The node tree ([`crate::scene::Graph`]): every node with its parent, children, name and
+//! TRS or matrix, the file's scenes and which is drawn, and an evaluation order; then, at
+//! the rest pose, instances for the drawn nodes with meshes (each knowing its node and
+//! skin), cameras for nodes with cameras, and `KHR_lights_punctual` lights for nodes that
+//! carry one.
 //!
 //! The walk uses an explicit stack and visits every node at most once, so a cycle or a
 //! node listed under two parents (both invalid glTF) cannot loop or blow up the instance
-//! count; such a node is reported and skipped the second time. Nodes deeper than
-//! [`MAX_DEPTH`] and subtrees under a non-finite transform are skipped with a warning.
+//! count; such a node is reported and skipped the second time. The drawn scene's roots are
+//! walked first, then the other parentless nodes (not drawn, but a skin's joints may be
+//! there). Nodes deeper than [`MAX_DEPTH`] and subtrees under a non-finite transform are
+//! skipped with a warning. Cameras and lights stay where the rest pose puts them.
 
 use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 
 use super::{Builder, GltfError};
 use crate::load::LoadError;
-use crate::scene::{Camera, Instance, Style, DEFAULT_YFOV};
+use crate::scene::graph::SceneRoots;
+use crate::scene::{Camera, Graph, Instance, Local, Node, Style, Trs, DEFAULT_YFOV};
 
 /// Deepest node level walked (the root nodes of a scene are at depth 0).
 pub const MAX_DEPTH: usize = 1024;
 
 impl Builder<'_> {
-    /// Walks the chosen scene, filling instances and cameras.
+    /// Builds the node tree ([`Scene::graph`]) and walks the chosen scene, filling
+    /// instances, cameras and lights at the rest pose; then reads skins and animations.
     pub fn walk(&mut self) -> Result<(), LoadError> {
         let roots = self.roots()?;
         let count = self.doc.json.nodes.len();
+        let mut graph = Graph {
+            nodes: self
+                .doc
+                .json
+                .nodes
+                .iter()
+                .enumerate()
+                .map(|(i, n)| node(i, n))
+                .collect(),
+            ..Graph::default()
+        };
+        graph.scenes = self
+            .doc
+            .json
+            .scenes
+            .iter()
+            .enumerate()
+            .map(|(i, sc)| SceneRoots {
+                name: sc.name.clone().unwrap_or_else(|| format!("scene {i}")),
+                roots: sc
+                    .nodes
+                    .iter()
+                    .map(|n| n.value())
+                    .filter(|&n| n < count)
+                    .collect(),
+            })
+            .collect();
+        graph.drawn = match self.doc.json.scene {
+            Some(s) => Some(s.value()),
+            None => (!graph.scenes.is_empty()).then_some(0),
+        };
+        // Parentless nodes outside the drawn scene are walked too (not drawn), so a skin's
+        // joints there still get world matrices.
+        let mut has_parent = vec![false; count];
+        for c in self
+            .doc
+            .json
+            .nodes
+            .iter()
+            .flat_map(|n| n.children.iter().flatten())
+        {
+            if let Some(flag) = has_parent.get_mut(c.value()) {
+                *flag = true;
+            }
+        }
+        let others: Vec<usize> = (0..count)
+            .filter(|&n| !has_parent[n] && !roots.contains(&n))
+            .collect();
         let mut visited = vec![false; count];
-        let mut stack: Vec<(usize, Mat4, usize)> = roots
+        let mut drawn = vec![false; count];
+        // (node, parent, depth, drawn)
+        let mut stack: Vec<(usize, Option<usize>, usize, bool)> = others
             .into_iter()
             .rev()
-            .map(|n| (n, Mat4::IDENTITY, 0))
+            .map(|n| (n, None, 0, false))
+            .chain(roots.into_iter().rev().map(|n| (n, None, 0, true)))
             .collect();
-        while let Some((n, parent, depth)) = stack.pop() {
-            let Some(node) = self.doc.json.nodes.get(n) else {
-                continue;
-            };
+        while let Some((n, parent, depth, draw)) = stack.pop() {
             let Some(seen) = visited.get_mut(n) else {
                 continue;
             };
@@ -45,14 +99,10 @@ impl Builder<'_> {
                 ));
                 continue;
             }
-            let world = parent * local(node);
-            if !world.is_finite() {
-                self.scene.report.warnings.push(format!(
-                    "node {n} has a non-finite transform; skipped with its children"
-                ));
-                continue;
-            }
-            let children = node.children.clone().unwrap_or_default();
+            graph.nodes[n].parent = parent;
+            graph.order.push(n);
+            drawn[n] = draw;
+            let children = self.doc.json.nodes[n].children.clone().unwrap_or_default();
             for &c in children.iter().rev() {
                 if c.value() >= count {
                     return Err(self.doc.missing(
@@ -62,11 +112,51 @@ impl Builder<'_> {
                         count,
                     ));
                 }
-                stack.push((c.value(), world, depth + 1));
+                graph.nodes[n].children.push(c.value());
+                stack.push((c.value(), Some(n), depth + 1, draw));
             }
-            self.node_contents(n, world)?;
+            graph.nodes[n].children.reverse();
         }
+        // Children a node lists but does not own (reached first elsewhere) are not its.
+        for n in 0..count {
+            let mut kids = std::mem::take(&mut graph.nodes[n].children);
+            kids.retain(|&c| graph.nodes[c].parent == Some(n));
+            kids.dedup();
+            graph.nodes[n].children = kids;
+        }
+        let unreached = (0..count).filter(|&n| !visited[n]).count();
+        if unreached > 0 {
+            self.scene.report.warnings.push(format!(
+                "{unreached} node(s) are only reachable through a cycle; they are not drawn"
+            ));
+        }
+        self.morph_weights(&mut graph);
+        let rest = graph.rest_pose();
+        let mut skipped = vec![false; count];
+        for &n in &graph.order {
+            let parent_skipped = graph.nodes[n].parent.is_some_and(|p| skipped[p]);
+            if !drawn[n] || parent_skipped {
+                skipped[n] = parent_skipped;
+                continue;
+            }
+            let world = rest.worlds[n];
+            if !world.is_finite() {
+                self.scene.report.warnings.push(format!(
+                    "node {n} has a non-finite transform; skipped with its children"
+                ));
+                skipped[n] = true;
+                continue;
+            }
+            let first = self.scene.instances.len();
+            self.node_contents(n, world)?;
+            graph.nodes[n].instances = (first..self.scene.instances.len()).collect();
+        }
+        self.scene.graph = graph;
         self.fit_camera_far_planes();
+        let skins = std::mem::take(&mut self.doc.json.skins);
+        self.skins(&skins)?;
+        let animations = std::mem::take(&mut self.doc.json.animations);
+        self.animations(&animations)?;
         Ok(())
     }
 
@@ -117,7 +207,7 @@ impl Builder<'_> {
         let (mesh, camera, skin) = (
             node.mesh.map(|m| m.value()),
             node.camera.map(|c| c.value()),
-            node.skin.is_some(),
+            node.skin.map(|s| s.value()),
         );
         if let Some(m) = mesh {
             let meshes = self.doc.json.meshes.len();
@@ -129,12 +219,6 @@ impl Builder<'_> {
                 .ok_or_else(|| self.doc.missing(format!("node {n}"), "mesh", m, meshes))?
                 .primitives
                 .len();
-            if skin {
-                self.scene
-                    .report
-                    .skipped
-                    .push(format!("node '{name}': skin ignored (bind pose drawn)"));
-            }
             for p in 0..primitives {
                 let mesh = match self.primitive_mesh(m, p) {
                     Err(LoadError::Gltf(GltfError::NoData { buffer, .. })) => {
@@ -151,6 +235,13 @@ impl Builder<'_> {
                         world,
                         name: name.clone(),
                         style: Style::Inherit,
+                        node: Some(n),
+                        skin: skin.filter(|_| {
+                            self.scene.meshes[mesh]
+                                .deform
+                                .as_ref()
+                                .is_some_and(|d| d.influences > 0)
+                        }),
                     });
                 }
             }
@@ -245,14 +336,26 @@ impl Builder<'_> {
     }
 }
 
-/// A node's local matrix: `matrix` if given, else T * R * S.
-fn local(node: &json::scene::Node) -> Mat4 {
-    if let Some(m) = node.matrix {
-        return Mat4::from_cols_array(&m);
+/// Node `i` of the file as a graph node: its name and local transform (`matrix` if given,
+/// else T * R * S with the rotation normalised); parents, children and instances are set
+/// by the walk.
+fn node(i: usize, n: &json::scene::Node) -> Node {
+    let local = match n.matrix {
+        Some(m) => Local::Matrix(Mat4::from_cols_array(&m)),
+        None => Local::Trs(Trs {
+            translation: Vec3::from_array(n.translation.unwrap_or([0.0; 3])),
+            rotation: Quat::from_array(n.rotation.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |q| q.0))
+                .normalize(),
+            scale: Vec3::from_array(n.scale.unwrap_or([1.0; 3])),
+        }),
+    };
+    Node {
+        name: n.name.clone().unwrap_or_else(|| format!("node {i}")),
+        parent: None,
+        children: Vec::new(),
+        local,
+        skin: n.skin.map(|s| s.value()),
+        weights: Vec::new(),
+        instances: Vec::new(),
     }
-    let t = Vec3::from_array(node.translation.unwrap_or([0.0; 3]));
-    let r =
-        Quat::from_array(node.rotation.as_ref().map_or([0.0, 0.0, 0.0, 1.0], |q| q.0)).normalize();
-    let s = Vec3::from_array(node.scale.unwrap_or([1.0; 3]));
-    Mat4::from_scale_rotation_translation(s, r, t)
 }

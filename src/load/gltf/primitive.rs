@@ -224,11 +224,7 @@ impl Builder<'_> {
         step(10)?;
         let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
         step(15)?;
-        if prim.targets.as_ref().is_some_and(|t| !t.is_empty()) {
-            report
-                .skipped
-                .push(format!("{label}: morph targets ignored (base shape drawn)"));
-        }
+        let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
         let facets = corners.len() as u64 / 3;
         doc.budget
             .charge(mesh_bytes(n as u64, corners.len() as u64, facets), || {
@@ -267,7 +263,14 @@ impl Builder<'_> {
                 .generated
                 .push(format!("{label}: flat normals (no NORMAL attribute)"));
         }
-        let mesh = Mesh::new(data.weld_positions(), NormalPolicy::Flat).map_err(|source| {
+        // A deformable primitive keeps its vertices as they are: welding would merge
+        // vertices at one position whose joints, weights or morph deltas differ.
+        let data = if deform.is_some() {
+            data
+        } else {
+            data.weld_positions()
+        };
+        let mut mesh = Mesh::new(data, NormalPolicy::Flat).map_err(|source| {
             let path = self.doc.path.to_owned();
             GltfError::Mesh {
                 path,
@@ -276,6 +279,7 @@ impl Builder<'_> {
                 source,
             }
         })?;
+        mesh.deform = deform.map(Box::new);
         self.scene.meshes.push(mesh);
         Ok(Some(self.scene.meshes.len() - 1))
     }

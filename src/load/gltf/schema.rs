@@ -13,7 +13,7 @@ use serde_json::Value;
 use crate::load::{Budget, LoadError};
 
 /// The part of a glTF document that is loaded (the fields of `gltf::json::Root` that are
-/// used; animations and skins are only counted).
+/// used; animations and skins as plain JSON values, read leniently later).
 #[derive(serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub(crate) struct Json {
@@ -45,10 +45,12 @@ pub(crate) struct Json {
     pub extensions_used: Vec<String>,
     #[serde(default)]
     pub extensions_required: Vec<String>,
+    /// Read one at a time by `animation`, so a malformed one is skipped, not fatal.
     #[serde(default)]
-    pub animations: Vec<serde::de::IgnoredAny>,
+    pub animations: Vec<Value>,
+    /// Read one at a time by `skin`.
     #[serde(default)]
-    pub skins: Vec<serde::de::IgnoredAny>,
+    pub skins: Vec<Value>,
 }
 
 /// Parses the JSON chunk. The outer `Result` is a budget overrun, the inner one the parse
@@ -76,7 +78,7 @@ pub(super) fn parse(
 }
 
 /// Integral floats become integers, `extras` are dropped, scenes get their `nodes`.
-fn normalise(root: &mut Value) {
+pub(super) fn normalise(root: &mut Value) {
     if let Some(scenes) = root.get_mut("scenes").and_then(Value::as_array_mut) {
         for scene in scenes.iter_mut().filter_map(Value::as_object_mut) {
             scene

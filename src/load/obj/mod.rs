@@ -286,6 +286,8 @@ fn add_meshes(
             world: Mat4::IDENTITY,
             name,
             style: Style::Inherit,
+            node: None,
+            skin: None,
         });
         scene.meshes.push(mesh);
     }

@@ -49,6 +49,7 @@ pub(super) fn mesh(data: MeshData, policy: NormalPolicy) -> Mesh {
         colors,
         tangents,
         material,
+        deform: None,
     }
 }
 

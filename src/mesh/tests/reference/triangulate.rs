@@ -171,6 +171,7 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         triangle_facets,
         facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),
         edges,
+        vertex_of: Vec::new(),
         center,
         radius,
     }
