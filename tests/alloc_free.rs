@@ -12,7 +12,7 @@ use stats_alloc::{Region, StatsAlloc, INSTRUMENTED_SYSTEM};
 
 use realist::load::{load, LoadOptions};
 use realist::render::{Lights, Output, PreparedScene, Renderer, Settings, View};
-use realist::scene::{self, AlphaMode, Camera, Light};
+use realist::scene::{self, AlphaMode, Camera, Light, Play};
 use realist::shade::Shading;
 
 #[global_allocator]
@@ -185,6 +185,26 @@ fn a_second_frame_allocates_nothing() {
             assert!(drawn > 1000, "{name}: nothing drawn");
             assert_eq!(n, 0, "{name}: the second frame allocated");
         }
+        // Playback: posing a skinned, animated mesh (joint matrices, skinning in parallel,
+        // bounds) and drawing it.
+        let mut tube = PreparedScene::new(scene::skinned_tube(40, 24, 6, 4).expect("tube"));
+        let view = View {
+            camera: realist::render::default_camera(tube.scene(), 1.6),
+            width: 320,
+            height: 200,
+        };
+        let mut r = Renderer::new();
+        let mut t = 0.25;
+        tube.pose_at(Play::All, t, true);
+        r.render(&tube, &base, &view);
+        let n = fewest_allocations(|| {
+            t += 0.5;
+            tube.pose_at(Play::All, t, true);
+            r.render(&tube, &base, &view);
+        });
+        eprintln!("skinned playback: {n} allocations per posed frame");
+        assert!(r.report().stats.pixels_shaded > 1000, "the tube is drawn");
+        assert_eq!(n, 0, "posing and drawing a frame allocated");
         // Switching between two sizes it has seen (a viewer's reduced and full resolution).
         let (scene, settings) = (&demo, &base);
         let mut r = Renderer::new();

@@ -19,9 +19,11 @@ use super::{load_model, parse_size, BenchArgs, NormalArgs};
 mod diff;
 mod frame;
 mod peer_scene;
+mod skin;
 
 pub(crate) use diff::{diff, DiffArgs};
 pub(crate) use frame::{frame, FrameArgs};
+pub(crate) use skin::{skin, SkinArgs};
 
 /// The peer harness's view: eye = normalize(1.6, 1.2, 2.0) * 2.8 for a mesh scaled so its
 /// farthest vertex from the box centre is at distance 1; FOV 45 degrees, near 0.5, far 10.

@@ -98,6 +98,9 @@ pub(crate) enum BenchCommand {
     /// renderer, warm-up then timed frames, one JSON line; --png writes the last frame as the
     /// peer stores it (linear values, no sRGB).
     Frame(bench::FrameArgs),
+    /// Time to pose a skinned mesh (the built-in tube: animation, joint matrices, skinning
+    /// of every vertex, bounds), one JSON line.
+    Skin(bench::SkinArgs),
     /// Mean absolute 8-bit difference of two RGBA PNGs over interior (non-silhouette) pixels.
     #[command(hide = true)]
     Diff(bench::DiffArgs),
@@ -205,6 +208,7 @@ pub fn run() -> Result<()> {
             Some(BenchCommand::Accuracy(a)) => accuracy::accuracy(a),
             Some(BenchCommand::Frame(a)) => bench::frame(a),
             Some(BenchCommand::Diff(a)) => bench::diff(a),
+            Some(BenchCommand::Skin(a)) => bench::skin(a),
             None => bench(&args),
         },
         Some(Command::Color(args)) => color(&args),

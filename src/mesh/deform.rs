@@ -80,8 +80,9 @@ pub struct Posing<'a> {
     pub flat: bool,
 }
 
-/// Writes the posed form of `rest` into `out` (which must have been cloned from `rest`).
-pub fn deform(rest: &TriMesh, out: &mut TriMesh, p: &Posing) {
+/// Writes the posed form of `rest` into `out` (which must have been cloned from `rest`)
+/// and returns the axis-aligned bounds of its finite positions.
+pub fn deform(rest: &TriMesh, out: &mut TriMesh, p: &Posing) -> Option<(Vec3, Vec3)> {
     let n = rest.positions.len().min(out.positions.len());
     let source = |r: usize| p.vertex_of.get(r).map_or(r, |&v| v as usize);
     let blended = |v: usize| -> Option<Mat4> {
@@ -149,31 +150,84 @@ pub fn deform(rest: &TriMesh, out: &mut TriMesh, p: &Posing) {
                 *tan = x.try_normalize().map_or(t0, |x| x.extend(t0.w));
             });
     }
-    refresh_facets(out, p.flat);
+    refresh_facets(out, p.flat)
 }
 
 /// Facet normals (and, for a flat-shaded mesh, vertex normals) and the bounding sphere
-/// from the current positions.
-fn refresh_facets(out: &mut TriMesh, flat: bool) {
-    let mut last = u32::MAX;
-    for (t, &f) in out.triangles.iter().zip(&out.triangle_facets) {
-        let [a, b, c] = t.map(|k| out.positions[k as usize]);
-        let normal = (b - a).cross(c - a).try_normalize().unwrap_or(Vec3::ZERO);
-        if f != last {
-            if let Some(slot) = out.facet_normals.get_mut(f as usize) {
-                *slot = normal;
-            }
-            last = f;
-        }
-        if flat && normal != Vec3::ZERO {
-            for k in t {
-                out.normals[*k as usize] = normal;
+/// from the current positions. In parallel where triangles and facets correspond one to one
+/// (every glTF mesh) and for the bounds; the flat vertex normals of a mesh without NORMAL
+/// are written serially.
+fn refresh_facets(out: &mut TriMesh, flat: bool) -> Option<(Vec3, Vec3)> {
+    let positions = &out.positions;
+    let normal_of = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|k| positions[k as usize]);
+        (b - a).cross(c - a).try_normalize().unwrap_or(Vec3::ZERO)
+    };
+    let one_to_one = out.triangles.len() == out.facet_normals.len()
+        && out
+            .triangle_facets
+            .iter()
+            .enumerate()
+            .all(|(i, &f)| f as usize == i);
+    if one_to_one {
+        out.facet_normals
+            .par_iter_mut()
+            .zip(out.triangles.par_iter())
+            .with_min_len(par::MIN_ITEMS)
+            .for_each(|(n, t)| *n = normal_of(t));
+    } else {
+        let mut last = u32::MAX;
+        for (t, &f) in out.triangles.iter().zip(&out.triangle_facets) {
+            if f != last {
+                if let Some(slot) = out.facet_normals.get_mut(f as usize) {
+                    *slot = normal_of(t);
+                }
+                last = f;
             }
         }
     }
-    let (center, radius) = super::bounding_sphere_of(&out.positions).unwrap_or((Vec3::ZERO, -1.0));
+    if flat {
+        for (t, &f) in out.triangles.iter().zip(&out.triangle_facets) {
+            let n = out
+                .facet_normals
+                .get(f as usize)
+                .copied()
+                .unwrap_or(Vec3::ZERO);
+            if n != Vec3::ZERO {
+                for k in t {
+                    out.normals[*k as usize] = n;
+                }
+            }
+        }
+    }
+    let sphere = sphere(&out.positions);
+    let (center, radius) = sphere.map_or((Vec3::ZERO, -1.0), |(c, r, _)| (c, r));
     out.center = center;
     out.radius = radius;
+    sphere.map(|(_, _, b)| b)
+}
+
+/// [`super::bounding_sphere_of`], in parallel (the same centre and radius), and the box
+/// its centre is the middle of.
+fn sphere(positions: &[Vec3]) -> Option<(Vec3, f32, (Vec3, Vec3))> {
+    let finite = || {
+        positions
+            .par_iter()
+            .with_min_len(par::MIN_ITEMS)
+            .filter(|p| p.is_finite())
+    };
+    let (lo, hi) = finite().map(|&p| (p, p)).reduce(
+        || (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |a, b| (a.0.min(b.0), a.1.max(b.1)),
+    );
+    if lo.x > hi.x {
+        return None;
+    }
+    let centre = (lo + hi) * 0.5;
+    let r2 = finite()
+        .map(|&p| p.distance_squared(centre))
+        .reduce(|| 0.0, f32::max);
+    Some((centre, r2.sqrt(), (lo, hi)))
 }
 
 /// The cofactor matrix of `m` (`det(m) * m^-T`): transforms normals, defined for singular

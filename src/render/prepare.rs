@@ -12,7 +12,7 @@ use std::sync::{Arc, OnceLock};
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::mesh::{bounds_of, NormalSource, Posing, TriMesh};
+use crate::mesh::{NormalSource, Posing, TriMesh};
 use crate::scene::anim::{self, Play};
 use crate::scene::{Material, Pose, Scene, Style};
 
@@ -47,6 +47,8 @@ struct Deformer {
     flat: bool,
     /// Joint matrices of the current pose (world x inverse bind), reused.
     joints: Vec<Mat4>,
+    /// Model-space bounds of the posed mesh.
+    bounds: Option<(Vec3, Vec3)>,
 }
 
 /// Quads per side of the ground plane's grid.
@@ -243,7 +245,7 @@ impl PreparedScene {
                 joints: d.skin.map(|_| d.joints.as_slice()),
                 flat: d.flat,
             };
-            crate::mesh::deform(&rest.tri, &mut out.tri, &posing);
+            d.bounds = crate::mesh::deform(&rest.tri, &mut out.tri, &posing);
             out.flat = OnceLock::new();
             let inst = &mut self.instances[d.instance];
             inst.drawable = !out.tri.triangles.is_empty() && inst.world.is_finite();
@@ -279,10 +281,9 @@ impl PreparedScene {
     fn posed_bounds(&self) -> Option<(Vec3, Vec3)> {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        let deformed: Vec<usize> = self.deformers.iter().map(|d| d.instance).collect();
         for (k, inst) in self.instances.iter().enumerate().filter(|(_, i)| !i.ground) {
-            let b = if deformed.contains(&k) {
-                bounds_of(&self.meshes[inst.mesh].tri.positions)
+            let b = if let Some(d) = self.deformers.iter().find(|d| d.instance == k) {
+                d.bounds
             } else {
                 self.rest_bounds.get(inst.mesh).copied().flatten()
             };
@@ -391,6 +392,7 @@ fn deformers(
             node: inst.node,
             flat: matches!(mesh.normal_source, NormalSource::Flat),
             joints: Vec::new(),
+            bounds: None,
         });
     }
     out

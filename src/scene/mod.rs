@@ -14,6 +14,7 @@ mod demo;
 pub mod graph;
 mod light;
 mod slot;
+mod tube;
 mod uvgen;
 
 pub use camera::{clamp_fov, Camera, DEFAULT_YFOV};
@@ -22,6 +23,7 @@ pub use light::{Attenuation, Light, LightKind, MIN_D2};
 pub use slot::{
     Slot, SlotOverride, SlotOverrides, TextureSlot, TextureSource, UvTransform, DEFAULT_BUMP_SCALE,
 };
+pub use tube::{skinned_tube, TubeError, MAX_TUBE_VERTICES};
 pub use uvgen::UvOutcome;
 
 pub use anim::{Animation, Interpolation, Play, Property};
