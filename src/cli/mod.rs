@@ -25,6 +25,7 @@ mod color;
 mod info;
 mod lighting;
 mod render;
+mod sequence;
 
 use bench::bench;
 use chroma::{chroma, ChromaArgs};
@@ -273,6 +274,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
             crease: "60".into(),
             weighting: "angle".into(),
         },
+        sequence: sequence::SequenceArgs::default(),
     };
     render(&args)?;
     say!(

@@ -17,6 +17,7 @@ use realist::shade::Shading;
 use realist::texture::Filter;
 
 use super::lighting::LightingArgs;
+use super::sequence::{self, Drawn, Outputs, SequenceArgs};
 use super::{parse_msaa, parse_size, NormalArgs};
 
 #[derive(Args)]
@@ -29,7 +30,8 @@ pub(crate) struct RenderArgs {
     #[arg(long)]
     pub demo: bool,
     /// Output image (PNG, or the format its extension names). Default: the scene file's
-    /// `output`, else NAME.png in the current folder.
+    /// `output`, else NAME.png in the current folder. `{}` in the name is replaced by the
+    /// frame number (frame_{}.png); an .apng name writes one animated PNG of every frame.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Image size WIDTHxHEIGHT (default 1280x720, or the scene file's).
@@ -97,6 +99,8 @@ pub(crate) struct RenderArgs {
     pub lighting: LightingArgs,
     #[command(flatten)]
     pub normals: NormalArgs,
+    #[command(flatten)]
+    pub sequence: SequenceArgs,
 }
 
 /// `on` or `off` (also true/false, yes/no, 1/0).
@@ -330,6 +334,28 @@ fn is_demo(f: &SceneFile) -> bool {
     matches!(f.model(), Ok(scenefile::ModelSource::Demo))
 }
 
+/// Whether [`camera`] chose its distance to frame the scene from its own direction (the
+/// default view, or an orbit without a distance or near/far): a turntable may then move it
+/// back so the scene fits every frame.
+fn framed_distance(args: &RenderArgs, input: &Input) -> bool {
+    let no_camera = input.scene.cameras.is_empty();
+    match (args.camera, &input.file) {
+        (Some(CameraArg::Orbit(_, _, d)), _) => d.is_none(),
+        (Some(CameraArg::Gltf(_)), _) => false,
+        (None, Some(f)) => match &f.doc.camera {
+            Some(c) => {
+                c.gltf.is_none()
+                    && c.eye.is_none()
+                    && c.distance.is_none()
+                    && c.near.is_none()
+                    && c.far.is_none()
+            }
+            None => !(args.demo || is_demo(f)) || no_camera,
+        },
+        (None, None) => !args.demo || no_camera,
+    }
+}
+
 /// The output path: `-o`, the scene file's `output`, or NAME.png here.
 fn output(args: &RenderArgs, input: &Input) -> Result<PathBuf> {
     if let Some(o) = &args.output {
@@ -355,18 +381,21 @@ fn render_in(args: &RenderArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let settings = settings(args, &input)?;
-    let out = output(args, &input)?;
+    // With only --animated, no per-frame image is written.
+    let out = match (&args.output, &args.sequence.animated) {
+        (None, Some(_)) => None,
+        _ => Some(output(args, &input)?),
+    };
     let t_load = t0.elapsed();
     let (w, h) = args
         .size
         .or_else(|| input.file.as_ref().and_then(SceneFile::size))
         .unwrap_or(scenefile::DEFAULT_SIZE);
-    let camera = camera(args, &input, w as f32 / h as f32)?;
-    let view = View {
-        camera,
-        width: w,
-        height: h,
-    };
+    let aspect = w as f32 / h as f32;
+    let camera = camera(args, &input, aspect)?;
+    let framed = framed_distance(args, &input);
+    let frames = sequence::frames(&args.sequence, camera, &input.scene, aspect, framed)?;
+    let outputs = Outputs::plan(out, &args.sequence, frames.len(), (w, h))?;
     let comparison = match &input.file {
         Some(f) => f.comparison(&input.scene, &settings)?,
         None => None,
@@ -374,33 +403,61 @@ fn render_in(args: &RenderArgs) -> Result<()> {
     let t = Instant::now();
     let prepared = PreparedScene::new(input.scene);
     let t_prepare = t.elapsed();
-    let t = Instant::now();
-    let (image, stats) = match &comparison {
-        Some(cmp) => {
-            let (img, stats) = cmp.render(&prepared, &view);
-            ((img.width, img.height, img.rgb), stats)
-        }
-        None => {
-            let mut r = Renderer::new();
-            let stats = r.render(&prepared, &settings, &view).stats;
-            let rgb = r.target().context("no frame was rendered")?.to_srgb8();
-            ((w, h, rgb), stats)
-        }
+    let mut renderer = Renderer::new();
+    let draw = |prepared: &PreparedScene, view: &View| -> Result<Drawn> {
+        Ok(match &comparison {
+            Some(cmp) => {
+                let (img, stats) = cmp.render(prepared, view);
+                Drawn {
+                    width: img.width,
+                    height: img.height,
+                    rgb: img.rgb,
+                    stats,
+                }
+            }
+            None => {
+                let stats = renderer.render(prepared, &settings, view).stats;
+                let rgb = renderer
+                    .target()
+                    .context("no frame was rendered")?
+                    .to_srgb8();
+                Drawn {
+                    width: view.width,
+                    height: view.height,
+                    rgb,
+                    stats,
+                }
+            }
+        })
     };
-    let t_raster = t.elapsed();
-    let t = Instant::now();
-    // The scene is freed on another thread while the image is encoded (freeing its large
-    // buffers took about 1 ms; the PNG encoder leaves a core idle).
-    let written = std::thread::scope(|scope| {
-        scope.spawn(move || drop(prepared));
-        write_image(&out, image.0, image.1, image.2)
-    });
-    written.with_context(|| format!("could not write {}", out.display()))?;
-    let t_encode = t.elapsed();
+    let done = sequence::run(&frames, (w, h), prepared, &outputs, draw, write_image)?;
+    // A sequence always says where its frames went (on stderr when stdout holds the stats).
+    let sequence = frames.len() > 1 || outputs.animated.is_some();
+    let mut report = Vec::new();
+    match done.images.as_slice() {
+        [one] if frames.len() == 1 && (sequence || args.output.is_none()) => {
+            report.push(format!("wrote {}", one.display()));
+        }
+        [first, last] => report.push(format!(
+            "wrote {} frames: {} to {}",
+            frames.len(),
+            first.display(),
+            last.display()
+        )),
+        _ => {}
+    }
+    if let (Some((path, aw, ah)), Some(a)) = (&done.animated, &outputs.animated) {
+        report.push(format!(
+            "wrote {}: {} frames of {aw}x{ah} at {} fps",
+            path.display(),
+            frames.len(),
+            a.fps
+        ));
+    }
     if args.stats {
-        let s = &stats;
+        let s = &done.stats;
         let ms = |d: std::time::Duration| (d.as_secs_f64() * 1e6).round() / 1e3;
-        let json = serde_json::json!({
+        let mut json = serde_json::json!({
             "triangles_in": s.triangles_in,
             "culled": s.culled_frustum + s.culled_backface + s.culled_degenerate,
             "clipped": s.clipped,
@@ -414,13 +471,22 @@ fn render_in(args: &RenderArgs) -> Result<()> {
             "ms": {
                 "load": ms(t_load),
                 "prepare": ms(t_prepare),
-                "raster_shade": ms(t_raster),
-                "encode": ms(t_encode),
+                "raster_shade": ms(done.raster),
+                "encode": ms(done.encode),
             },
         });
+        if frames.len() > 1 {
+            // Counters and times are summed over the frames.
+            json["frames"] = frames.len().into();
+        }
         say!("{json}");
-    } else if args.output.is_none() {
-        say!("wrote {}", out.display());
+        for line in report {
+            eprintln!("{line}");
+        }
+    } else {
+        for line in report {
+            say!("{line}");
+        }
     }
     Ok(())
 }

@@ -1,0 +1,602 @@
+//! Image sequences and animated images from `realist render`: `--turntable N` turns the
+//! camera around the model, `{}` in the output name numbers the frames, an `.apng` output
+//! (or `--animated PATH`) holds every frame in one animated PNG.
+//!
+//! The work is a list of [`SeqFrame`]s built from the flags ([`frames`]) and one loop
+//! ([`run`]) that renders each frame and writes it. A single render is the list of one frame.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use glam::{Mat3, Vec3};
+
+use realist::raster::Stats;
+use realist::render::{PreparedScene, View};
+use realist::scene::{Camera, Scene};
+
+/// Most frames `--turntable` makes.
+pub(crate) const MAX_FRAMES: u32 = 100_000;
+/// Most frames of an animated image.
+pub(crate) const MAX_ANIMATED_FRAMES: usize = 10_000;
+/// Most pixel bytes (8-bit RGB, every frame) of an animated image: what a viewer decoding it
+/// may have to hold.
+pub(crate) const MAX_ANIMATED_BYTES: u64 = 2 << 30;
+/// `--fps` range.
+const FPS_RANGE: std::ops::RangeInclusive<f32> = 0.01..=600.0;
+
+#[derive(Args, Default)]
+pub(crate) struct SequenceArgs {
+    /// Render N views around the model: the camera turns 360°/N per frame around the
+    /// vertical axis through the scene's centre, from the view it would otherwise have, at
+    /// one elevation and distance (without a given distance, the one that frames the scene
+    /// from every side). Needs `{}` in a PNG output name (replaced by the frame number) or an
+    /// .apng output.
+    #[arg(long, value_name = "N")]
+    pub turntable: Option<u32>,
+    /// Also write every frame into one looping animated PNG (APNG) at PATH (.apng or .png);
+    /// without -o, only the animated image is written.
+    #[arg(long, value_name = "PATH")]
+    pub animated: Option<PathBuf>,
+    /// Frames per second of the animated image (default 12 for --turntable, else 24).
+    #[arg(long, value_name = "F")]
+    pub fps: Option<f32>,
+}
+
+/// One frame of a sequence: where the camera is and, later, the animation time.
+#[derive(Clone, Debug)]
+pub(crate) struct SeqFrame {
+    pub camera: Camera,
+    /// Animation time in seconds at which the scene is posed (`None`: as loaded).
+    pub time: Option<f32>,
+}
+
+/// The frames the flags ask for: one with `base`, or a turntable around `scene`'s centre.
+/// `framed` says `base`'s distance was chosen to frame the scene from its own direction (the
+/// default view, an orbit without a distance): a turntable then moves it to the distance
+/// that frames the scene from every frame's direction, so the framing stays fixed.
+pub(crate) fn frames(
+    args: &SequenceArgs,
+    base: Camera,
+    scene: &Scene,
+    aspect: f32,
+    framed: bool,
+) -> Result<Vec<SeqFrame>> {
+    let cameras = match args.turntable {
+        None => vec![base],
+        Some(n) if !(1..=MAX_FRAMES).contains(&n) => {
+            bail!("--turntable {n}: expected 1 to {MAX_FRAMES} frames")
+        }
+        Some(n) => {
+            let bounds = scene.bounds();
+            let pivot = bounds.map_or(base.target, |(lo, hi)| (lo + hi) * 0.5);
+            let base = match bounds {
+                Some((lo, hi)) if framed => frame_every_azimuth(&base, lo, hi, aspect, n),
+                _ => base,
+            };
+            turntable(&base, pivot, n)
+        }
+    };
+    Ok(cameras
+        .into_iter()
+        .map(|camera| SeqFrame { camera, time: None })
+        .collect())
+}
+
+/// `n` cameras: `base` turned by 360°·i/n around the vertical axis through `pivot` (eye,
+/// target and up turn together; the first is `base`).
+pub(crate) fn turntable(base: &Camera, pivot: Vec3, n: u32) -> Vec<Camera> {
+    (0..n)
+        .map(|i| {
+            let turn = Mat3::from_rotation_y(std::f32::consts::TAU * i as f32 / n as f32);
+            Camera {
+                eye: pivot + turn * (base.eye - pivot),
+                target: pivot + turn * (base.target - pivot),
+                up: turn * base.up,
+                ..base.clone()
+            }
+        })
+        .collect()
+}
+
+/// Azimuth (degrees around +Y, 0 = on +Z), elevation (degrees) and distance of `eye` seen
+/// from `pivot`.
+pub(crate) fn orbit_of(eye: Vec3, pivot: Vec3) -> (f32, f32, f32) {
+    let d = eye - pivot;
+    let dist = d.length();
+    let az = d.x.atan2(d.z).to_degrees();
+    let el = if dist > 0.0 {
+        (d.y / dist).clamp(-1.0, 1.0).asin().to_degrees()
+    } else {
+        0.0
+    };
+    (az, el, dist)
+}
+
+/// `base` (framing the box `lo..hi` from its direction) moved back along its line of sight
+/// to the largest of the distances that frame the box from the `n` turntable directions.
+fn frame_every_azimuth(base: &Camera, lo: Vec3, hi: Vec3, aspect: f32, n: u32) -> Camera {
+    let center = (lo + hi) * 0.5;
+    let (az, el, dist) = orbit_of(base.eye, center);
+    let far = (0..n)
+        .map(|i| {
+            let a = az + 360.0 * i as f32 / n as f32;
+            let c = Camera::frame_box_fov(lo, hi, aspect, a, el, base.yfov);
+            (c.eye - c.target).length()
+        })
+        .filter(|d| d.is_finite())
+        .fold(dist, f32::max);
+    let mut cam = base.clone();
+    if far > dist && dist > 0.0 {
+        cam.eye = center + (base.eye - center) * (far / dist);
+        cam.fit(center, ((hi - lo) * 0.5).length().max(1e-6));
+    }
+    cam
+}
+
+/// Where the frames go.
+#[derive(Debug, PartialEq)]
+pub(crate) struct Outputs {
+    /// One image per frame.
+    pub images: Option<Names>,
+    /// One animated PNG holding every frame.
+    pub animated: Option<Animated>,
+}
+
+/// The per-frame image names.
+#[derive(Debug, PartialEq)]
+pub(crate) enum Names {
+    /// One frame, one name.
+    Single(PathBuf),
+    /// `{}` replaced by the zero-padded frame number.
+    Numbered(String),
+}
+
+#[derive(Debug, PartialEq)]
+pub(crate) struct Animated {
+    pub path: PathBuf,
+    pub fps: f32,
+}
+
+/// The name of frame `i` of a sequence whose last frame is `last`: every `{}` in `pattern`
+/// replaced by `i`, zero-padded to the digits of `last` (frame_00.png to frame_35.png for 36).
+pub(crate) fn frame_name(pattern: &str, i: usize, last: usize) -> String {
+    let width = last.to_string().len();
+    pattern.replace("{}", &format!("{i:0width$}"))
+}
+
+fn has_extension(p: &Path, ext: &str) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
+}
+
+/// `p` as text when it holds a `{}` (an error if it is not UTF-8), else `None`.
+fn pattern_of(p: &Path) -> Result<Option<String>> {
+    let lossy = p.to_string_lossy();
+    if !lossy.contains("{}") {
+        return Ok(None);
+    }
+    match p.to_str() {
+        Some(s) => Ok(Some(s.to_owned())),
+        None => bail!("{}: a numbered name must be valid UTF-8", lossy),
+    }
+}
+
+impl Outputs {
+    /// Where `count` frames of `size` go: `out` (-o or the default name; `None` when only
+    /// `--animated` is given) and `--animated`, checked before anything is rendered.
+    pub(crate) fn plan(
+        out: Option<PathBuf>,
+        args: &SequenceArgs,
+        count: usize,
+        size: (u32, u32),
+    ) -> Result<Self> {
+        let fps = match args.fps {
+            Some(f) if f.is_finite() && FPS_RANGE.contains(&f) => f,
+            Some(f) => bail!(
+                "--fps {f}: expected frames per second from {} to {}",
+                FPS_RANGE.start(),
+                FPS_RANGE.end()
+            ),
+            None if args.turntable.is_some() => 12.0,
+            None => 24.0,
+        };
+        let mut images = None;
+        let mut animated = None;
+        if let Some(out) = out {
+            if let Some(p) = pattern_of(&out)? {
+                images = Some(Names::Numbered(p));
+            } else if has_extension(&out, "apng") {
+                if let Some(a) = &args.animated {
+                    bail!(
+                        "{} and --animated {}: give one animated image, not two",
+                        out.display(),
+                        a.display()
+                    );
+                }
+                animated = Some(Animated { path: out, fps });
+            } else if count > 1 {
+                bail!(
+                    "{}: {count} frames need `{{}}` in the name for the frame number (e.g. \
+                     frame_{{}}.png), or an .apng name (or --animated) for one animated image",
+                    out.display()
+                );
+            } else {
+                images = Some(Names::Single(out));
+            }
+        }
+        if let Some(a) = &args.animated {
+            if pattern_of(a)?.is_some() {
+                bail!(
+                    "--animated {}: one file holds every frame, so no `{{}}` in its name",
+                    a.display()
+                );
+            }
+            if !(has_extension(a, "apng") || has_extension(a, "png")) {
+                bail!(
+                    "--animated {}: the animated image is a PNG (APNG); name it .apng or .png",
+                    a.display()
+                );
+            }
+            animated = Some(Animated {
+                path: a.clone(),
+                fps,
+            });
+        }
+        match &animated {
+            Some(a) => check_animated(&a.path, count, size)?,
+            None if args.fps.is_some() => eprintln!(
+                "warning: --fps sets the speed of an animated image (an .apng output or \
+                 --animated); it is not used here"
+            ),
+            None => {}
+        }
+        Ok(Self { images, animated })
+    }
+}
+
+/// Refuses an animated image of more than [`MAX_ANIMATED_FRAMES`] frames or
+/// [`MAX_ANIMATED_BYTES`] of pixels.
+pub(crate) fn check_animated(path: &Path, count: usize, (w, h): (u32, u32)) -> Result<()> {
+    if count > MAX_ANIMATED_FRAMES {
+        bail!(
+            "{}: {count} frames is too many for one animated image (at most \
+             {MAX_ANIMATED_FRAMES}); write a numbered sequence (-o frame_{{}}.png) instead",
+            path.display()
+        );
+    }
+    let bytes = u64::from(w) * u64::from(h) * 3 * count as u64;
+    if bytes > MAX_ANIMATED_BYTES {
+        let gib = |b: u64| b as f64 / f64::from(1u32 << 30);
+        bail!(
+            "{}: {count} frames of {w}x{h} are {:.1} GiB of pixels, more than the {:.0} GiB \
+             an animated image may hold; use fewer frames or a smaller --size, or write a \
+             numbered sequence (-o frame_{{}}.png)",
+            path.display(),
+            gib(bytes),
+            gib(MAX_ANIMATED_BYTES)
+        );
+    }
+    Ok(())
+}
+
+/// An APNG frame delay of 1/`fps` seconds as a fraction (numerator, denominator).
+pub(crate) fn frame_delay(fps: f32) -> (u16, u16) {
+    let den = (f64::from(fps) * 100.0).round().clamp(1.0, 65535.0) as u32;
+    let (mut a, mut b) = (100u32, den);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    ((100 / a) as u16, (den / a) as u16)
+}
+
+/// An animated PNG being written frame by frame (8-bit sRGB RGB, looping forever).
+struct ApngWriter {
+    writer: png::Writer<BufWriter<File>>,
+    path: PathBuf,
+    size: (u32, u32),
+}
+
+impl ApngWriter {
+    fn create(a: &Animated, count: usize, (w, h): (u32, u32)) -> Result<Self> {
+        let path = &a.path;
+        check_animated(path, count, (w, h))?;
+        let file =
+            File::create(path).with_context(|| format!("could not write {}", path.display()))?;
+        let mut enc = png::Encoder::new(BufWriter::with_capacity(1 << 20, file), w, h);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        enc.set_compression(png::Compression::Balanced);
+        let frames = u32::try_from(count).context("too many frames")?;
+        let (num, den) = frame_delay(a.fps);
+        let setup = (|| {
+            enc.set_animated(frames, 0)?;
+            enc.set_frame_delay(num, den)?;
+            enc.write_header()
+        })();
+        let writer = setup.with_context(|| format!("could not write {}", path.display()))?;
+        Ok(Self {
+            writer,
+            path: path.clone(),
+            size: (w, h),
+        })
+    }
+
+    fn add(&mut self, w: u32, h: u32, rgb: &[u8]) -> Result<()> {
+        if (w, h) != self.size {
+            bail!(
+                "{}: a frame of {w}x{h} in an animation of {}x{}",
+                self.path.display(),
+                self.size.0,
+                self.size.1
+            );
+        }
+        self.writer
+            .write_image_data(rgb)
+            .with_context(|| format!("could not write {}", self.path.display()))
+    }
+
+    fn finish(self) -> Result<()> {
+        let path = self.path;
+        self.writer
+            .finish()
+            .with_context(|| format!("could not write {}", path.display()))
+    }
+}
+
+/// One rendered frame: 8-bit sRGB RGB rows.
+pub(crate) struct Drawn {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+    pub stats: Stats,
+}
+
+/// What [`run`] did.
+#[derive(Debug, Default)]
+pub(crate) struct Done {
+    /// Counters summed over the frames.
+    pub stats: Stats,
+    pub raster: Duration,
+    pub encode: Duration,
+    /// The per-frame images written, first and last.
+    pub images: Vec<PathBuf>,
+    /// The animated image and its size in pixels.
+    pub animated: Option<(PathBuf, u32, u32)>,
+}
+
+/// Poses the scene at a frame's animation time before it is drawn.
+///
+/// HOOK (animation time): frames carry no time yet (`--turntable` moves only the camera), so
+/// there is nothing to pose; the animation flags will apply `time` to `scene` here.
+fn apply_frame_time(_scene: &mut PreparedScene, time: Option<f32>) -> Result<()> {
+    match time {
+        None => Ok(()),
+        Some(t) => bail!("frame at {t} s: posing the scene at a time is not supported yet"),
+    }
+}
+
+/// Renders every frame with `draw` (one renderer and one prepared scene for all of them) and
+/// writes it: to its own image and/or into the animated image.
+pub(crate) fn run(
+    frames: &[SeqFrame],
+    (width, height): (u32, u32),
+    prepared: PreparedScene,
+    outputs: &Outputs,
+    mut draw: impl FnMut(&PreparedScene, &View) -> Result<Drawn>,
+    write_image: impl Fn(&Path, u32, u32, Vec<u8>) -> Result<()>,
+) -> Result<Done> {
+    let mut done = Done::default();
+    let mut scene = Some(prepared);
+    let mut apng: Option<ApngWriter> = None;
+    let last = frames.len().saturating_sub(1);
+    for (i, frame) in frames.iter().enumerate() {
+        let prepared = scene.as_mut().context("the scene was already freed")?;
+        apply_frame_time(prepared, frame.time)?;
+        let t = Instant::now();
+        let view = View {
+            camera: frame.camera.clone(),
+            width,
+            height,
+        };
+        let img = draw(prepared, &view)?;
+        done.raster += t.elapsed();
+        done.stats.add(&img.stats);
+        let t = Instant::now();
+        if let Some(a) = &outputs.animated {
+            if apng.is_none() {
+                apng = Some(ApngWriter::create(
+                    a,
+                    frames.len(),
+                    (img.width, img.height),
+                )?);
+                done.animated = Some((a.path.clone(), img.width, img.height));
+            }
+            if let Some(w) = apng.as_mut() {
+                w.add(img.width, img.height, &img.rgb)?;
+            }
+        }
+        if let Some(names) = &outputs.images {
+            let path = match names {
+                Names::Single(p) => p.clone(),
+                Names::Numbered(p) => PathBuf::from(frame_name(p, i, last)),
+            };
+            let (w, h, rgb) = (img.width, img.height, img.rgb);
+            let written = if i == last {
+                // The scene is freed on another thread while the last image is encoded
+                // (freeing its large buffers took about 1 ms; the PNG encoder leaves a core
+                // idle).
+                let s = scene.take();
+                std::thread::scope(|scope| {
+                    scope.spawn(move || drop(s));
+                    write_image(&path, w, h, rgb)
+                })
+            } else {
+                write_image(&path, w, h, rgb)
+            };
+            written.with_context(|| format!("could not write {}", path.display()))?;
+            if i == 0 || i == last {
+                done.images.push(path);
+            }
+        }
+        done.encode += t.elapsed();
+    }
+    let t = Instant::now();
+    if let Some(w) = apng {
+        w.finish()?;
+    }
+    done.encode += t.elapsed();
+    Ok(done)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(turntable: Option<u32>, animated: Option<&str>, fps: Option<f32>) -> SequenceArgs {
+        SequenceArgs {
+            turntable,
+            animated: animated.map(PathBuf::from),
+            fps,
+        }
+    }
+
+    #[test]
+    fn frame_names_are_padded_to_the_last_number() {
+        assert_eq!(frame_name("frame_{}.png", 0, 35), "frame_00.png");
+        assert_eq!(frame_name("frame_{}.png", 35, 35), "frame_35.png");
+        assert_eq!(frame_name("f{}.png", 7, 9), "f7.png");
+        assert_eq!(frame_name("f{}.png", 7, 10), "f07.png");
+        assert_eq!(frame_name("f{}.png", 42, 100), "f042.png");
+        assert_eq!(frame_name("d{}/f{}.png", 3, 99), "d03/f03.png");
+        assert_eq!(frame_name("one.png", 0, 0), "one.png");
+    }
+
+    #[test]
+    fn output_names() {
+        let plan = |out: &str, a: &SequenceArgs, n| Outputs::plan(Some(out.into()), a, n, (64, 48));
+        let tt = args(Some(36), None, None);
+        assert_eq!(
+            plan("frame_{}.png", &tt, 36).unwrap(),
+            Outputs {
+                images: Some(Names::Numbered("frame_{}.png".into())),
+                animated: None
+            }
+        );
+        // No `{}` in a .png name and more than one frame: an error naming the file.
+        let e = plan("frame.png", &tt, 36).unwrap_err().to_string();
+        assert!(e.contains("frame.png") && e.contains("{}"), "{e}");
+        // One frame needs no number.
+        assert_eq!(
+            plan("one.png", &args(None, None, None), 1).unwrap().images,
+            Some(Names::Single("one.png".into()))
+        );
+        // An .apng name: one animated image at the turntable's 12 fps.
+        assert_eq!(
+            plan("spin.APNG", &tt, 36).unwrap(),
+            Outputs {
+                images: None,
+                animated: Some(Animated {
+                    path: "spin.APNG".into(),
+                    fps: 12.0
+                })
+            }
+        );
+        // Both, with --animated and --fps.
+        let both = plan("f_{}.png", &args(Some(4), Some("a.apng"), Some(30.0)), 4).unwrap();
+        assert!(both.images.is_some());
+        assert_eq!(both.animated.unwrap().fps, 30.0);
+        // Only --animated.
+        let only = Outputs::plan(None, &args(Some(4), Some("a.png"), None), 4, (64, 48)).unwrap();
+        assert!(only.images.is_none() && only.animated.is_some());
+        for (out, a, why) in [
+            ("x.apng", args(Some(4), Some("y.apng"), None), "two"),
+            ("x_{}.png", args(Some(4), Some("y_{}.apng"), None), "{}"),
+            ("x_{}.png", args(Some(4), Some("y.gif"), None), "y.gif"),
+            ("x.apng", args(Some(4), None, Some(0.0)), "--fps"),
+            ("x.apng", args(Some(4), None, Some(f32::NAN)), "--fps"),
+        ] {
+            let e = plan(out, &a, 4).unwrap_err().to_string();
+            assert!(e.contains(why), "{out}: {e}");
+        }
+    }
+
+    #[test]
+    fn animated_images_are_bounded() {
+        let p = Path::new("big.apng");
+        assert!(check_animated(p, MAX_ANIMATED_FRAMES, (1, 1)).is_ok());
+        let e = check_animated(p, MAX_ANIMATED_FRAMES + 1, (1, 1)).unwrap_err();
+        assert!(e.to_string().contains("big.apng"), "{e}");
+        // 1920x1080 RGB is 6.2 MB: 345 frames fit in 2 GiB, 346 do not.
+        assert!(check_animated(p, 345, (1920, 1080)).is_ok());
+        let e = check_animated(p, 346, (1920, 1080))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("GiB") && e.contains("1920x1080"), "{e}");
+    }
+
+    #[test]
+    fn frame_delays() {
+        assert_eq!(frame_delay(24.0), (1, 24));
+        assert_eq!(frame_delay(12.0), (1, 12));
+        assert_eq!(frame_delay(29.97), (100, 2997));
+        assert_eq!(frame_delay(0.5), (2, 1));
+        assert_eq!(frame_delay(0.01), (100, 1));
+    }
+
+    #[test]
+    fn turntable_cameras_turn_evenly_at_one_distance() {
+        let pivot = Vec3::new(0.5, -1.0, 2.0);
+        let base = Camera::orbit(pivot, 35.0, 25.0, 4.0, 0.8);
+        let cams = turntable(&base, pivot, 36);
+        assert_eq!(cams.len(), 36);
+        assert_eq!(cams[0].eye, base.eye);
+        let (az0, el0, d0) = orbit_of(base.eye, pivot);
+        assert!((az0 - 35.0).abs() < 1e-3 && (el0 - 25.0).abs() < 1e-3 && (d0 - 4.0).abs() < 1e-5);
+        for (i, c) in cams.iter().enumerate() {
+            let (az, el, d) = orbit_of(c.eye, pivot);
+            assert!((d - d0).abs() < 1e-4, "frame {i}: distance {d}");
+            assert!((el - el0).abs() < 1e-3, "frame {i}: elevation {el}");
+            let want = 35.0 + 10.0 * i as f32;
+            let off = (az - want + 180.0).rem_euclid(360.0) - 180.0;
+            assert!(off.abs() < 1e-2, "frame {i}: azimuth {az}, want {want}");
+            assert!((c.target - pivot).length() < 1e-5);
+            assert_eq!((c.near, c.far, c.yfov), (base.near, base.far, base.yfov));
+        }
+    }
+
+    #[test]
+    fn a_framed_turntable_fits_every_frame() {
+        // A long box seen along its length: the default distance for that direction is too
+        // close once it turns side on, so the turntable moves back to the farthest framing.
+        let mut scene = Scene::default();
+        let mesh = realist::mesh::Mesh::cube(1.0).unwrap();
+        scene.meshes.push(mesh);
+        scene.instances.push(realist::scene::Instance {
+            mesh: 0,
+            world: glam::Mat4::from_scale(Vec3::new(12.0, 1.0, 1.0)),
+            name: "long".into(),
+            style: realist::scene::Style::Inherit,
+        });
+        let (lo, hi) = scene.bounds().unwrap();
+        let aspect = 4.0 / 3.0;
+        let base = Camera::frame_box(lo, hi, aspect, 90.0, 0.0);
+        let a = args(Some(4), None, None);
+        let framed = frames(&a, base.clone(), &scene, aspect, true).unwrap();
+        let fixed = frames(&a, base.clone(), &scene, aspect, false).unwrap();
+        assert_eq!(framed.len(), 4);
+        let center = (lo + hi) * 0.5;
+        let dist = |c: &Camera| (c.eye - center).length();
+        assert!((dist(&fixed[1].camera) - dist(&base)).abs() < 1e-4);
+        let side = Camera::frame_box(lo, hi, aspect, 180.0, 0.0);
+        assert!(dist(&side) > dist(&base) * 1.3);
+        for f in &framed {
+            assert!((dist(&f.camera) - dist(&side)).abs() < 1e-3 * dist(&side));
+            assert!(f.time.is_none());
+        }
+        assert!(frames(&args(Some(0), None, None), base, &scene, aspect, true).is_err());
+    }
+}
