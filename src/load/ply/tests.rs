@@ -480,7 +480,7 @@ fn malformed_ply_files_give_clear_errors() {
         (
             "short.ply",
             truncated,
-            "face 5: the file ends in `vertex_indices`",
+            "face 5: `vertex_indices` declares 4 values, but only 9 bytes are left",
         ),
         (
             "count.ply",
