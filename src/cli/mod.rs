@@ -71,7 +71,7 @@ enum Command {
 pub(crate) struct BenchArgs {
     #[command(subcommand)]
     sub: Option<BenchCommand>,
-    /// Model file (.obj, .gltf, .glb, .stl).
+    /// Model file (.obj, .gltf, .glb, .stl, .ply).
     #[arg(required = true)]
     model: Option<PathBuf>,
     /// Comma-separated sizes, e.g. 1920x1080,640x480.
@@ -119,7 +119,7 @@ pub(crate) struct NormalArgs {
 
 #[derive(Args)]
 struct ViewArgs {
-    /// Model file (.obj, .gltf, .glb, .stl) or scene file (.toml, .json); the built-in demo if
+    /// Model file (.obj, .gltf, .glb, .stl, .ply) or scene file (.toml, .json); the built-in demo if
     /// absent.
     model: Option<PathBuf>,
     /// Window's inner size WIDTHxHEIGHT in points.
@@ -132,7 +132,7 @@ struct ViewArgs {
 
 #[derive(Args)]
 pub(crate) struct InfoArgs {
-    /// Model file (.obj, .gltf, .glb, .stl).
+    /// Model file (.obj, .gltf, .glb, .stl, .ply).
     model: PathBuf,
     /// Print JSON instead of text.
     #[arg(long)]

@@ -22,7 +22,7 @@ use super::{parse_msaa, parse_size, NormalArgs};
 
 #[derive(Args)]
 pub(crate) struct RenderArgs {
-    /// Model file (.obj, .gltf, .glb, .stl) or scene file (.toml, .json; see the README's "Scene
+    /// Model file (.obj, .gltf, .glb, .stl, .ply) or scene file (.toml, .json; see the README's "Scene
     /// files"); flags given on the command line override the scene file.
     #[arg(required_unless_present = "demo", conflicts_with = "demo")]
     pub model: Option<PathBuf>,

@@ -1,5 +1,6 @@
-//! Loaders: OBJ/MTL (through `tobj`), glTF 2.0 / GLB (through `gltf`'s JSON types) and STL
-//! (binary and ASCII, `stl.rs`) into one [`Scene`]. No `tobj` or `gltf` type escapes this module.
+//! Loaders: OBJ/MTL (through `tobj`), glTF 2.0 / GLB (through `gltf`'s JSON types), STL
+//! (binary and ASCII, `stl.rs`) and PLY (ASCII and binary, `ply.rs`) into one [`Scene`]. No
+//! `tobj` or `gltf` type escapes this module.
 //!
 //! Everything a loader reads comes from a file that may be hostile, so the module keeps
 //! these invariants:
@@ -25,7 +26,7 @@
 //! that costs.
 //!
 //! Faces with fewer than three corners or three distinct vertices, and faces touching a
-//! non-finite position, are dropped (and counted in the report) by both loaders, so the
+//! non-finite position, are dropped (and counted in the report) by every loader, so the
 //! renderer never sees them.
 
 use std::cell::Cell;
@@ -40,12 +41,14 @@ mod files;
 mod gltf;
 mod images;
 mod obj;
+mod ply;
 mod progress;
 mod stl;
 
 pub use self::gltf::GltfError;
 pub use self::images::MAX_SIDE as MAX_TEXTURE_SIDE;
 pub use self::obj::ObjError;
+pub use self::ply::PlyError;
 use self::progress::Tracker;
 pub use self::progress::{Progress, Stage};
 pub use self::stl::StlError;
@@ -85,7 +88,7 @@ pub enum LoadError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{path}: unknown model format (expected .obj, .gltf, .glb or .stl)")]
+    #[error("{path}: unknown model format (expected .obj, .gltf, .glb, .stl or .ply)")]
     UnknownFormat { path: PathBuf },
     #[error("{path}: loader panicked: {message}")]
     Panic { path: PathBuf, message: String },
@@ -108,10 +111,12 @@ pub enum LoadError {
     Gltf(#[from] GltfError),
     #[error(transparent)]
     Stl(#[from] StlError),
+    #[error(transparent)]
+    Ply(#[from] PlyError),
 }
 
-/// Loads a model file, choosing the loader by extension (`.obj`, `.gltf`, `.glb`, `.stl`, any
-/// case).
+/// Loads a model file, choosing the loader by extension (`.obj`, `.gltf`, `.glb`, `.stl`,
+/// `.ply`, any case).
 ///
 /// A panic inside a loader is caught and returned as [`LoadError::Panic`].
 ///
@@ -129,6 +134,7 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
         Some("obj") => obj::load_obj,
         Some("gltf" | "glb") => gltf::load_gltf,
         Some("stl") => stl::load_stl,
+        Some("ply") => ply::load_ply,
         _ => {
             return Err(LoadError::UnknownFormat {
                 path: path.to_owned(),

@@ -70,7 +70,7 @@ fn unknown_extension_and_missing_file() {
     let err = load(Path::new("model.3ds"), &LoadOptions::default()).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "model.3ds: unknown model format (expected .obj, .gltf, .glb or .stl)"
+        "model.3ds: unknown model format (expected .obj, .gltf, .glb, .stl or .ply)"
     );
     let err = load(
         Path::new("/nonexistent/realist/x.OBJ"),

@@ -328,7 +328,7 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
         painter.text(
             rect.center(),
             Align2::CENTER_CENTER,
-            "drop a .obj, .gltf, .glb or .stl file to open it",
+            "drop a .obj, .gltf, .glb, .stl or .ply file to open it",
             FontId::proportional(22.0),
             Color32::WHITE,
         );

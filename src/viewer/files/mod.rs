@@ -28,7 +28,7 @@ pub use watch::{FileWatcher, POLL_INTERVAL};
 /// The most paths [`RecentFiles`] keeps.
 pub const MAX_RECENT: usize = 12;
 /// Extensions of the files the viewer opens, lower case, without the dot.
-pub const MODEL_EXTENSIONS: [&str; 4] = ["obj", "gltf", "glb", "stl"];
+pub const MODEL_EXTENSIONS: [&str; 5] = ["obj", "gltf", "glb", "stl", "ply"];
 /// A recent-files list larger than this (bytes) is treated as corrupt.
 const MAX_LIST_BYTES: u64 = 1 << 20;
 

@@ -294,7 +294,7 @@ pub fn open_picker(app: &mut ViewerApp) {
     });
     let mut dialog = egui_file::FileDialog::open_file()
         .show_files_filter(filter)
-        .title("Open a model (.obj, .gltf, .glb, .stl) or a scene file (.toml, .json)");
+        .title("Open a model (.obj, .gltf, .glb, .stl, .ply) or a scene file (.toml, .json)");
     if let Some(dir) = app.model.as_deref().and_then(std::path::Path::parent) {
         dialog = dialog.initial_path(dir);
     }
