@@ -346,6 +346,8 @@ pub(crate) fn load_ply(
         world: Mat4::IDENTITY,
         name,
         style: Style::Inherit,
+        node: None,
+        skin: None,
     });
     scene.meshes.push(mesh);
     Ok(scene)
