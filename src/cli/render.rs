@@ -394,14 +394,15 @@ fn render_in(args: &RenderArgs) -> Result<()> {
     let aspect = w as f32 / h as f32;
     let camera = camera(args, &input, aspect)?;
     let framed = framed_distance(args, &input);
-    let frames = sequence::frames(&args.sequence, camera, &input.scene, aspect, framed)?;
+    let mut frames = sequence::frames(&args.sequence, camera, &input.scene, aspect, framed)?;
     let outputs = Outputs::plan(out, &args.sequence, frames.len(), (w, h))?;
     let comparison = match &input.file {
         Some(f) => f.comparison(&input.scene, &settings)?,
         None => None,
     };
     let t = Instant::now();
-    let prepared = PreparedScene::new(input.scene);
+    let mut prepared = PreparedScene::new(input.scene);
+    sequence::frame_animation(&mut frames, &mut prepared, aspect, framed);
     let t_prepare = t.elapsed();
     let mut renderer = Renderer::new();
     let draw = |prepared: &PreparedScene, view: &View| -> Result<Drawn> {

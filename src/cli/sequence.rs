@@ -4,6 +4,12 @@
 //!
 //! The work is a list of [`SeqFrame`]s built from the flags ([`frames`]) and one loop
 //! ([`run`]) that renders each frame and writes it. A single render is the list of one frame.
+//!
+//! Animation: `--time T` poses the scene at T seconds, `--frames START:END:STEP` (or
+//! `--frames N`, N frames over one loop of the animation) makes one frame per time, and
+//! `--animation NAME|N|all` chooses what plays (all animations together by default). With
+//! `--turntable N` as well, the camera turns once around over the frames. The default camera
+//! then frames the union of every frame's posed bounds, so the framing stays fixed.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -16,7 +22,7 @@ use glam::{Mat3, Vec3};
 
 use realist::raster::Stats;
 use realist::render::{PreparedScene, View};
-use realist::scene::{Camera, Scene};
+use realist::scene::{Camera, Play, Scene};
 
 /// Most frames `--turntable` makes.
 pub(crate) const MAX_FRAMES: u32 = 100_000;
@@ -44,14 +50,131 @@ pub(crate) struct SequenceArgs {
     /// Frames per second of the animated image (default 12 for --turntable, else 24).
     #[arg(long, value_name = "F")]
     pub fps: Option<f32>,
+    /// Which animation plays (glTF): its name or number (`realist info` lists them), or
+    /// all of them together (the default once --time or --frames is given).
+    #[arg(long, value_name = "NAME|N|all")]
+    pub animation: Option<String>,
+    /// Pose the scene at this time in seconds (past an animation's end, its last pose).
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        conflicts_with = "frames",
+        allow_hyphen_values = true
+    )]
+    pub time: Option<f32>,
+    /// An animated sequence: START:END:STEP seconds (END included when a step lands on it),
+    /// or N frames spread over one loop of the animation. Needs `{}` in a PNG output name or
+    /// an .apng output.
+    #[arg(long, value_name = "START:END:STEP|N")]
+    pub frames: Option<String>,
 }
 
-/// One frame of a sequence: where the camera is and, later, the animation time.
+/// Most frames `--frames` makes.
+const MAX_TIMES: usize = 100_000;
+
+/// What `--animation` names, among `scene`'s animations.
+pub(crate) fn play(args: &SequenceArgs, scene: &Scene) -> Result<Play> {
+    let names = || {
+        let list: Vec<String> = scene
+            .animations
+            .iter()
+            .enumerate()
+            .map(|(i, a)| format!("{i} '{}'", a.name))
+            .collect();
+        if list.is_empty() {
+            "the model has no animations".to_string()
+        } else {
+            format!("the model has {}", list.join(", "))
+        }
+    };
+    let Some(a) = &args.animation else {
+        let timed = args.time.is_some() || args.frames.is_some();
+        return Ok(if timed { Play::All } else { Play::Rest });
+    };
+    if scene.animations.is_empty() {
+        bail!("--animation {a}: {}", names());
+    }
+    if a.eq_ignore_ascii_case("all") {
+        return Ok(Play::All);
+    }
+    if let Some(i) = scene.animations.iter().position(|x| x.name == *a) {
+        return Ok(Play::One(i));
+    }
+    match a.trim().parse::<usize>() {
+        Ok(i) if i < scene.animations.len() => Ok(Play::One(i)),
+        _ => bail!("--animation {a}: no such animation; {}", names()),
+    }
+}
+
+/// The animation times the flags ask for (`None`: the scene as loaded, one frame).
+fn times(args: &SequenceArgs, scene: &Scene, play: Play) -> Result<Vec<Option<f32>>> {
+    let duration = match play {
+        Play::Rest => 0.0,
+        Play::One(i) => scene.animations.get(i).map_or(0.0, |a| a.duration()),
+        Play::All => scene
+            .animations
+            .iter()
+            .map(|a| a.duration())
+            .fold(0.0, f32::max),
+    };
+    if let Some(t) = args.time {
+        if !t.is_finite() {
+            bail!("--time {t}: expected a finite number of seconds");
+        }
+        return Ok(vec![Some(t)]);
+    }
+    let Some(f) = &args.frames else {
+        return Ok(vec![match play {
+            Play::Rest => None,
+            _ => Some(0.0),
+        }]);
+    };
+    let parts: Vec<&str> = f.split(':').collect();
+    let num = |s: &str| -> Result<f32> {
+        s.trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .with_context(|| format!("--frames {f}: '{s}' is not a number"))
+    };
+    let times: Vec<f32> = match parts.as_slice() {
+        [n] => {
+            let n: usize = n
+                .trim()
+                .parse()
+                .ok()
+                .filter(|n| (1..=MAX_TIMES).contains(n))
+                .with_context(|| {
+                    format!("--frames {f}: expected 1 to {MAX_TIMES} frames, or START:END:STEP")
+                })?;
+            (0..n).map(|i| duration * i as f32 / n as f32).collect()
+        }
+        [a, b, c] => {
+            let (start, end, step) = (num(a)?, num(b)?, num(c)?);
+            if !(step > 0.0) || end < start {
+                bail!("--frames {f}: expected START <= END and a positive STEP");
+            }
+            let count = ((end - start) / step + 1e-4).floor() + 1.0;
+            if count > MAX_TIMES as f32 {
+                bail!("--frames {f}: {count} frames, more than {MAX_TIMES}");
+            }
+            (0..count as usize)
+                .map(|i| start + step * i as f32)
+                .collect()
+        }
+        _ => bail!("--frames {f}: expected START:END:STEP (seconds) or a number of frames"),
+    };
+    Ok(times.into_iter().map(Some).collect())
+}
+
+/// One frame of a sequence: where the camera is and the animation time.
 #[derive(Clone, Debug)]
 pub(crate) struct SeqFrame {
     pub camera: Camera,
     /// Animation time in seconds at which the scene is posed (`None`: as loaded).
     pub time: Option<f32>,
+    /// What plays at `time`.
+    pub play: Play,
 }
 
 /// The frames the flags ask for: one with `base`, or a turntable around `scene`'s centre.
@@ -65,12 +188,32 @@ pub(crate) fn frames(
     aspect: f32,
     framed: bool,
 ) -> Result<Vec<SeqFrame>> {
+    let play = play(args, scene)?;
+    let mut times = times(args, scene, play)?;
     let cameras = match args.turntable {
-        None => vec![base],
+        None => vec![base; times.len()],
         Some(n) if !(1..=MAX_FRAMES).contains(&n) => {
             bail!("--turntable {n}: expected 1 to {MAX_FRAMES} frames")
         }
         Some(n) => {
+            match (args.frames.is_some(), times.len()) {
+                // The camera turns once around over the animated frames.
+                (true, k) if k != n as usize => {
+                    bail!("--turntable {n} with --frames: {k} animation frames; give as many views")
+                }
+                // A turntable of an animated model plays one loop of it.
+                (false, _) if play != Play::Rest && args.time.is_none() => {
+                    let a = SequenceArgs {
+                        frames: Some(n.to_string()),
+                        time: None,
+                        animation: args.animation.clone(),
+                        ..SequenceArgs::default()
+                    };
+                    times = self::times(&a, scene, play)?;
+                }
+                (false, _) => times = vec![times[0]; n as usize],
+                _ => {}
+            }
             let bounds = scene.bounds();
             let pivot = bounds.map_or(base.target, |(lo, hi)| (lo + hi) * 0.5);
             let base = match bounds {
@@ -82,8 +225,56 @@ pub(crate) fn frames(
     };
     Ok(cameras
         .into_iter()
-        .map(|camera| SeqFrame { camera, time: None })
+        .zip(times)
+        .map(|(camera, time)| SeqFrame { camera, time, play })
         .collect())
+}
+
+/// For an animated sequence whose camera was framed on the scene (`framed`): every
+/// camera moved to frame the union of the posed bounds at all the frames' times, at the
+/// largest distance any frame's direction needs, so the framing stays fixed.
+pub(crate) fn frame_animation(
+    frames: &mut [SeqFrame],
+    scene: &mut PreparedScene,
+    aspect: f32,
+    framed: bool,
+) {
+    if !framed || frames.iter().all(|f| f.time.is_none()) {
+        return;
+    }
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for f in frames.iter() {
+        scene.pose_at(f.play, f.time.unwrap_or(0.0), false);
+        if let Some((a, b)) = scene.bounds() {
+            (lo, hi) = (lo.min(a), hi.max(b));
+        }
+    }
+    if lo.x > hi.x {
+        return;
+    }
+    let center = (lo + hi) * 0.5;
+    let framed: Vec<(Vec3, f32)> = frames
+        .iter()
+        .map(|f| {
+            let (az, el, _) = orbit_of(f.camera.eye, f.camera.target);
+            let c = Camera::frame_box_fov(lo, hi, aspect, az, el, f.camera.yfov);
+            let d = c.eye - c.target;
+            (d.normalize_or_zero(), d.length())
+        })
+        .collect();
+    let far = framed
+        .iter()
+        .map(|x| x.1)
+        .filter(|d| d.is_finite())
+        .fold(0.0, f32::max);
+    if far <= 0.0 {
+        return;
+    }
+    for (f, (dir, _)) in frames.iter_mut().zip(framed) {
+        f.camera.eye = center + dir * far;
+        f.camera.target = center;
+        f.camera.fit(center, ((hi - lo) * 0.5).length().max(1e-6));
+    }
 }
 
 /// `n` cameras: `base` turned by 360°·i/n around the vertical axis through `pivot` (eye,
@@ -368,14 +559,11 @@ pub(crate) struct Done {
     pub animated: Option<(PathBuf, u32, u32)>,
 }
 
-/// Poses the scene at a frame's animation time before it is drawn.
-///
-/// HOOK (animation time): frames carry no time yet (`--turntable` moves only the camera), so
-/// there is nothing to pose; the animation flags will apply `time` to `scene` here.
-fn apply_frame_time(_scene: &mut PreparedScene, time: Option<f32>) -> Result<()> {
-    match time {
-        None => Ok(()),
-        Some(t) => bail!("frame at {t} s: posing the scene at a time is not supported yet"),
+/// Poses the scene at a frame's animation time before it is drawn (no wrapping: past an
+/// animation's end, its last pose).
+fn apply_frame_time(scene: &mut PreparedScene, play: Play, time: Option<f32>) {
+    if let Some(t) = time {
+        scene.pose_at(play, t, false);
     }
 }
 
@@ -395,7 +583,7 @@ pub(crate) fn run(
     let last = frames.len().saturating_sub(1);
     for (i, frame) in frames.iter().enumerate() {
         let prepared = scene.as_mut().context("the scene was already freed")?;
-        apply_frame_time(prepared, frame.time)?;
+        apply_frame_time(prepared, frame.play, frame.time);
         let t = Instant::now();
         let view = View {
             camera: frame.camera.clone(),
@@ -461,6 +649,43 @@ mod tests {
             turntable,
             animated: animated.map(PathBuf::from),
             fps,
+            ..SequenceArgs::default()
+        }
+    }
+
+    #[test]
+    fn animation_times() {
+        let mut scene = realist::scene::skinned_tube(4, 6, 3, 4).expect("tube");
+        scene.animations[0].name = "bend".into();
+        let a = |animation: Option<&str>, time: Option<f32>, frames: Option<&str>| SequenceArgs {
+            animation: animation.map(String::from),
+            time,
+            frames: frames.map(String::from),
+            ..SequenceArgs::default()
+        };
+        assert_eq!(play(&a(None, None, None), &scene).unwrap(), Play::Rest);
+        assert_eq!(play(&a(None, Some(1.0), None), &scene).unwrap(), Play::All);
+        assert_eq!(
+            play(&a(Some("bend"), None, None), &scene).unwrap(),
+            Play::One(0)
+        );
+        assert_eq!(
+            play(&a(Some("0"), None, None), &scene).unwrap(),
+            Play::One(0)
+        );
+        let e = play(&a(Some("walk"), None, None), &scene)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no such animation") && e.contains("0 'bend'"),
+            "{e}"
+        );
+        let t = |f: &str| times(&a(None, None, Some(f)), &scene, Play::All);
+        // The tube's animation lasts 4 s.
+        assert_eq!(t("4").unwrap(), [0.0, 1.0, 2.0, 3.0].map(Some).to_vec());
+        assert_eq!(t("0:1:0.5").unwrap(), [0.0, 0.5, 1.0].map(Some).to_vec());
+        for bad in ["0:1:0", "2:1:1", "x", "0:1", "0"] {
+            assert!(t(bad).is_err(), "{bad}");
         }
     }
 
