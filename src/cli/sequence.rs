@@ -151,7 +151,7 @@ fn times(args: &SequenceArgs, scene: &Scene, play: Play) -> Result<Vec<Option<f3
         }
         [a, b, c] => {
             let (start, end, step) = (num(a)?, num(b)?, num(c)?);
-            if !(step > 0.0) || end < start {
+            if step <= 0.0 || end < start {
                 bail!("--frames {f}: expected START <= END and a positive STEP");
             }
             let count = ((end - start) / step + 1e-4).floor() + 1.0;
@@ -805,6 +805,8 @@ mod tests {
             world: glam::Mat4::from_scale(Vec3::new(12.0, 1.0, 1.0)),
             name: "long".into(),
             style: realist::scene::Style::Inherit,
+            node: None,
+            skin: None,
         });
         let (lo, hi) = scene.bounds().unwrap();
         let aspect = 4.0 / 3.0;

@@ -80,10 +80,14 @@ pub fn skinned_tube(
             let n = Vec3::new(a.cos(), 0.0, -a.sin());
             positions.push(Vec3::new(0.0, y, 0.0) + n * 0.3);
             normals.push(n);
-            for i in 0..influences {
-                let (j, w) = near.get(i).map_or((0, 0.0), |&(_, j)| (j, raw[i] / sum));
+            for (&(_, j), &w) in near.iter().zip(&raw) {
                 deform.joints.push(j);
-                deform.weights.push(w);
+                deform.weights.push(w / sum);
+            }
+            // A chain shorter than `influences`: the rest weigh nothing.
+            for _ in near.len()..influences {
+                deform.joints.push(0);
+                deform.weights.push(0.0);
             }
         }
     }
