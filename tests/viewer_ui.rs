@@ -16,9 +16,11 @@ use glam::Vec3;
 
 use realist::load::{self, LoadOptions};
 use realist::render::{Environment, PreparedScene, Renderer, Settings};
+use realist::scene::Play;
 use realist::shade::Shading;
 use realist::viewer::keys::{self, BINDINGS, MOUSE};
 use realist::viewer::navigate::{UpAxis, ORBIT_RADIANS_PER_HEIGHT};
+use realist::viewer::timeline::Clock;
 use realist::viewer::{ViewerApp, ViewerOptions};
 
 /// The window, in points (one pixel per point).
@@ -49,6 +51,16 @@ fn temp_dir(test: &str) -> PathBuf {
 /// A synchronous viewer on `model` (else the demo) whose recent-files list lives in `dir`,
 /// refining still frames up to `samples` per axis, run until it settles.
 fn viewer(model: Option<PathBuf>, dir: &Path, samples: u32) -> App {
+    viewer_with(model, dir, samples, |_| {})
+}
+
+/// [`viewer`], with `setup` applied to the app before its first UI pass.
+fn viewer_with(
+    model: Option<PathBuf>,
+    dir: &Path,
+    samples: u32,
+    setup: impl FnOnce(&mut ViewerApp),
+) -> App {
     // The app asks for a repaint when a frame is ready: it must reach the harness's context.
     let context: Arc<OnceLock<egui::Context>> = Arc::default();
     let repaint = {
@@ -70,6 +82,7 @@ fn viewer(model: Option<PathBuf>, dir: &Path, samples: u32) -> App {
     )
     .expect("synchronous viewer");
     app.max_samples = samples;
+    setup(&mut app);
     let mut h = Harness::builder()
         .with_size(SIZE)
         .with_context_setup(move |ctx| {
@@ -2256,4 +2269,164 @@ fn the_probe_lists_the_brdf_terms_of_a_pbr_pixel() {
     );
     h.get_by_label("image-based");
     h.get_by_label_contains("BRDF terms per light");
+}
+
+/// The posed world positions of `path` with `play` at time `t` (looping), as the command
+/// line's renderer poses it.
+fn posed(path: &Path, play: Play, t: f32) -> Vec<Vec<Vec3>> {
+    let mut p = PreparedScene::new(load::load(path, &LoadOptions::default()).expect("loads"));
+    p.pose_at(play, t, true);
+    p.world_positions()
+}
+
+fn assert_pose(app: &ViewerApp, path: &Path, play: Play, t: f32, what: &str) {
+    assert_eq!(app.timeline.play, play, "{what}: what plays");
+    assert!(
+        (app.timeline.time - t).abs() < 1e-5,
+        "{what}: time {} not {t}",
+        app.timeline.time
+    );
+    assert_eq!(
+        app.scene.world_positions(),
+        posed(path, play, t),
+        "{what}: the pose on screen"
+    );
+}
+
+fn set_clock(h: &mut App, seconds: f64) {
+    h.state_mut().timeline.clock = Clock::Manual(seconds);
+    h.run();
+}
+
+#[test]
+fn play_pause_scrub_speed_and_pick_an_animation() {
+    let dir = temp_dir("timeline");
+    let path = model("anim/samplers.glb");
+    let n = load::load(&path, &LoadOptions::default())
+        .unwrap()
+        .animations
+        .len();
+    assert!(n > 2, "samplers.glb has {n} animations");
+    let mut h = viewer_with(Some(path.clone()), &dir, 1, |app| {
+        app.timeline.clock = Clock::Manual(0.0);
+    });
+    // An animated file plays at once, all its animations together.
+    assert!(h.state().timeline.playing, "autoplay");
+    h.get_by_label("Pause");
+    assert_pose(h.state(), &path, Play::All, 0.0, "opened");
+    assert_current_frame(h.state());
+    let start = shown_image(&h);
+    set_clock(&mut h, 0.5);
+    assert_pose(h.state(), &path, Play::All, 0.5, "playing 0.5 s");
+    assert_current_frame(h.state());
+    let moved = differing(&shown_image(&h), &start);
+    assert!(
+        moved > 100,
+        "half a second later only {moved} pixels changed"
+    );
+
+    // Paused, the clock moves on but the pose and the frame do not, and nothing repaints.
+    h.get_by_label("Pause").click();
+    h.run();
+    assert!(!h.state().timeline.playing);
+    h.get_by_label("Play");
+    let (job, image) = (h.state().host.submitted(), shown_image(&h));
+    set_clock(&mut h, 3.0);
+    assert_pose(h.state(), &path, Play::All, 0.5, "paused");
+    assert_eq!(h.state().host.submitted(), job, "no frame while paused");
+    assert!(Arc::ptr_eq(&shown_image(&h), &image));
+    assert!(
+        !h.ctx.has_requested_repaint(),
+        "a paused window does not repaint"
+    );
+
+    // Scrubbing moves the pose, paused or playing.
+    set_value(&mut h, "time", 0.25);
+    assert_pose(h.state(), &path, Play::All, 0.25, "scrubbed");
+    assert_current_frame(h.state());
+    h.get_by_label("0.25 / 3.00 s");
+
+    // Space plays from there, at the speed chosen; Space again pauses.
+    choose(&mut h, "speed", "2x");
+    h.key_press(Key::Space);
+    h.run();
+    assert!(h.state().timeline.playing, "Space plays");
+    set_clock(&mut h, 3.1);
+    assert_pose(h.state(), &path, Play::All, 0.45, "0.1 s at 2x");
+    h.key_press(Key::Space);
+    h.run();
+    assert!(!h.state().timeline.playing, "Space pauses");
+
+    // Picking one animation poses only it, at the same time.
+    let name = {
+        let scene = Arc::clone(h.state().scene.scene());
+        format!("2: {}", scene.animations[2].name)
+    };
+    choose(&mut h, "animation", &name);
+    assert_pose(h.state(), &path, Play::One(2), 0.45, "one animation");
+    assert_ne!(
+        posed(&path, Play::One(2), 0.45),
+        posed(&path, Play::All, 0.45)
+    );
+    assert_current_frame(h.state());
+
+    // A file that fails to load leaves the animated scene, its pose and its timeline.
+    let glb = std::fs::read(&path).unwrap();
+    let truncated = dir.join("truncated.glb");
+    std::fs::write(&truncated, &glb[..glb.len() * 2 / 3]).unwrap();
+    let scene = Arc::clone(&h.state().scene);
+    drop_file(&mut h, &truncated);
+    let e = h.state().error.clone().expect("an error is shown");
+    assert!(e.starts_with(&truncated.display().to_string()), "{e}");
+    assert!(Arc::ptr_eq(&h.state().scene, &scene), "the scene stays");
+    assert_eq!(h.state().model.as_deref(), Some(path.as_path()));
+    assert_pose(
+        h.state(),
+        &path,
+        Play::One(2),
+        0.45,
+        "after the failed load",
+    );
+    h.key_press(Key::Space);
+    h.run();
+    set_clock(&mut h, 3.2);
+    assert_pose(
+        h.state(),
+        &path,
+        Play::One(2),
+        0.65,
+        "playing on after the failed load",
+    );
+
+    // Opening a still model hides the timeline.
+    drop_file(&mut h, &model("torus.obj"));
+    assert!(h.query_by_label("Play").is_none() && h.query_by_label("Pause").is_none());
+    assert!(!h.state().timeline.has_spare(), "no copy of a still scene");
+}
+
+#[test]
+fn the_node_tree_lists_scenes_and_nodes_and_frames_a_node() {
+    let dir = temp_dir("nodes");
+    let path = model("anim/skin8.glb");
+    let mut h = viewer_with(Some(path), &dir, 1, |app| app.timeline.autoplay = false);
+    assert!(!h.state().timeline.playing, "opened paused");
+    h.get_by_label("Play");
+    // skin8.glb: the scene's roots are the skinned bar (node 9) and the armature (node 0)
+    // holding the chain of joints 1..8.
+    activate(&mut h, "Nodes (10)");
+    activate(&mut h, "scene 0 scene (2 roots, drawn)");
+    activate(&mut h, "0: armature");
+    h.get_by_label("1: joint-0");
+    assert!(
+        h.query_by_label("2: joint-1").is_none(),
+        "joint-0 is closed"
+    );
+    activate(&mut h, "1: joint-0");
+    h.get_by_label("2: joint-1");
+    h.get_by_label("9: bar (1 primitives, skin 0)");
+    let before = h.state().nav.clone();
+    activate(&mut h, "frame");
+    assert_ne!(h.state().nav, before, "framing moved the camera");
+    assert_eq!(h.state().notice.as_deref(), Some("framed node 9: bar"));
+    assert_current_frame(h.state());
 }

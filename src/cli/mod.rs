@@ -128,6 +128,9 @@ struct ViewArgs {
     /// Start with the side panels hidden (Tab shows them).
     #[arg(long)]
     no_panels: bool,
+    /// Open animated files paused (Space plays); by default they play at once, looping.
+    #[arg(long)]
+    paused: bool,
 }
 
 #[derive(Args)]
@@ -214,17 +217,23 @@ pub fn run() -> Result<()> {
         },
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
-        Some(Command::View(args)) => view(args.model, args.window, args.no_panels),
-        None => view(cli.model, (1440, 900), false),
+        Some(Command::View(args)) => view(args.model, args.window, args.no_panels, args.paused),
+        None => view(cli.model, (1440, 900), false, false),
     }
 }
 
 /// The viewer, or without a display a headless render to a PNG named on the way out.
-fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<()> {
+fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool, paused: bool) -> Result<()> {
     #[cfg(feature = "viewer")]
     {
         if realist::viewer::display_available() {
-            match realist::viewer::run(model.clone(), window, no_panels) {
+            let opts = realist::viewer::ViewerOptions {
+                model: model.clone(),
+                hide_panels: no_panels,
+                paused,
+                ..Default::default()
+            };
+            match realist::viewer::run(opts, window) {
                 Ok(()) => return Ok(()),
                 Err(e) => {
                     // winit's message carries a source location; its last part is the reason.
@@ -238,7 +247,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool) -> Result<(
     }
     #[cfg(not(feature = "viewer"))]
     {
-        let _ = (window, no_panels);
+        let _ = (window, no_panels, paused);
         say!("Built without the viewer (feature `viewer`): rendering to a PNG instead.");
     }
     let out = match &model {

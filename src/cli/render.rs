@@ -395,6 +395,12 @@ fn render_in(args: &RenderArgs) -> Result<()> {
     let camera = camera(args, &input, aspect)?;
     let framed = framed_distance(args, &input);
     let mut frames = sequence::frames(&args.sequence, camera, &input.scene, aspect, framed)?;
+    if let (Some(CameraArg::Gltf(n)), None) = (args.camera, args.sequence.turntable) {
+        // A file's camera under an animated node moves with it.
+        for f in &mut frames {
+            f.follow = Some(n);
+        }
+    }
     let outputs = Outputs::plan(out, &args.sequence, frames.len(), (w, h))?;
     let comparison = match &input.file {
         Some(f) => f.comparison(&input.scene, &settings)?,

@@ -175,6 +175,9 @@ pub(crate) struct SeqFrame {
     pub time: Option<f32>,
     /// What plays at `time`.
     pub play: Play,
+    /// The file's camera of this index, which follows its node as the scene is posed
+    /// (`--camera gltf:N`); `camera` then gives the projection.
+    pub follow: Option<usize>,
 }
 
 /// The frames the flags ask for: one with `base`, or a turntable around `scene`'s centre.
@@ -226,7 +229,12 @@ pub(crate) fn frames(
     Ok(cameras
         .into_iter()
         .zip(times)
-        .map(|(camera, time)| SeqFrame { camera, time, play })
+        .map(|(camera, time)| SeqFrame {
+            camera,
+            time,
+            play,
+            follow: None,
+        })
         .collect())
 }
 
@@ -585,8 +593,12 @@ pub(crate) fn run(
         let prepared = scene.as_mut().context("the scene was already freed")?;
         apply_frame_time(prepared, frame.play, frame.time);
         let t = Instant::now();
+        let mut camera = frame.camera.clone();
+        if let Some(posed) = frame.follow.and_then(|n| prepared.cameras().get(n)) {
+            (camera.eye, camera.target, camera.up) = (posed.eye, posed.target, posed.up);
+        }
         let view = View {
-            camera: frame.camera.clone(),
+            camera,
             width,
             height,
         };

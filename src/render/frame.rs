@@ -577,7 +577,7 @@ pub(super) fn set_up(
     stats: &mut Stats,
 ) {
     frame_lights(
-        &scene.scene().lights,
+        scene.lights(),
         &settings.lights,
         view.inverse(),
         &mut fd.lights,

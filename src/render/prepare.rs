@@ -14,10 +14,10 @@ use rayon::prelude::*;
 
 use crate::mesh::{NormalSource, Posing, TriMesh};
 use crate::scene::anim::{self, Play};
-use crate::scene::{Material, Pose, Scene, Style};
+use crate::scene::{Camera, Light, Material, Pose, Scene, Style};
 
 /// A scene with its camera-independent render data.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct PreparedScene {
     scene: Arc<Scene>,
     pub(crate) meshes: Vec<PreparedMesh>,
@@ -31,11 +31,14 @@ pub struct PreparedScene {
     deformers: Vec<Deformer>,
     /// The pose last applied (reused, so posing allocates nothing).
     pose: Pose,
+    /// The scene's lights and cameras as posed now (those under animated nodes move).
+    lights: Vec<Light>,
+    cameras: Vec<Camera>,
 }
 
 /// An instance whose mesh is posed per frame: `rest` is the shared rest mesh, `out` the
 /// instance's own copy that [`crate::mesh::deform`] rewrites.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 struct Deformer {
     instance: usize,
     /// The scene mesh (for its [`crate::mesh::Deform`]), which is also the prepared rest
@@ -55,7 +58,7 @@ struct Deformer {
 const GROUND_CELLS: u32 = 32;
 
 /// One mesh ready to draw.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct PreparedMesh {
     pub tri: TriMesh,
     flat: OnceLock<FlatMesh>,
@@ -64,7 +67,7 @@ pub struct PreparedMesh {
 /// Flat shading's form of a mesh: every triangle's corners unindexed (so each corner carries
 /// its facet's colour), and per facet the area-weighted centroid and the colour of its first
 /// vertex (the textbook's §9.2.2).
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct FlatMesh {
     pub corners: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
@@ -173,6 +176,7 @@ impl PreparedScene {
             drawable: false,
             ground: true,
         });
+        let (lights, cameras) = (scene.lights.clone(), scene.cameras.clone());
         let mut prepared = Self {
             scene,
             meshes,
@@ -182,6 +186,8 @@ impl PreparedScene {
             rest_bounds,
             deformers,
             pose: Pose::default(),
+            lights,
+            cameras,
         };
         if !prepared.deformers.is_empty() {
             // Skinned meshes are drawn by their joints even at rest.
@@ -251,6 +257,57 @@ impl PreparedScene {
             inst.drawable = !out.tri.triangles.is_empty() && inst.world.is_finite();
         }
         self.bounds = self.posed_bounds();
+        self.pose_lights_and_cameras(pose);
+    }
+
+    /// Moves the lights and cameras of nodes to where `pose` puts those nodes (position at
+    /// the node's origin, looking down its -Z with +Y up, as at load); a degenerate or
+    /// non-finite transform leaves them where they were.
+    fn pose_lights_and_cameras(&mut self, pose: &Pose) {
+        let scene = Arc::clone(&self.scene);
+        for (n, node) in scene.graph.nodes.iter().enumerate() {
+            if node.lights.is_empty() && node.cameras.is_empty() {
+                continue;
+            }
+            let Some(world) = pose.worlds.get(n).filter(|w| w.is_finite()) else {
+                continue;
+            };
+            let origin = world.transform_point3(Vec3::ZERO);
+            let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+            let up = world.transform_vector3(Vec3::Y).normalize_or_zero();
+            if forward == Vec3::ZERO || up == Vec3::ZERO || !origin.is_finite() {
+                continue;
+            }
+            for &l in &node.lights {
+                if let Some(light) = self.lights.get_mut(l) {
+                    light.position = origin;
+                    light.direction = forward;
+                    light.up = up;
+                }
+            }
+            for &c in &node.cameras {
+                let (Some(cam), Some(rest)) = (self.cameras.get_mut(c), scene.cameras.get(c))
+                else {
+                    continue;
+                };
+                let reach = (rest.target - rest.eye).length();
+                cam.eye = origin;
+                cam.target = origin + forward * if reach > 0.0 { reach } else { 1.0 };
+                cam.up = up;
+            }
+        }
+    }
+
+    /// The scene's lights as posed now ([`Scene::lights`] moved with their nodes).
+    #[must_use]
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// The scene's cameras as posed now ([`Scene::cameras`] moved with their nodes).
+    #[must_use]
+    pub fn cameras(&self) -> &[Camera] {
+        &self.cameras
     }
 
     /// The world-space positions of every instance's mesh vertices (in the order of
@@ -279,29 +336,25 @@ impl PreparedScene {
 
     /// World bounds of the instances as posed now.
     fn posed_bounds(&self) -> Option<(Vec3, Vec3)> {
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for (k, inst) in self.instances.iter().enumerate().filter(|(_, i)| !i.ground) {
-            let b = if let Some(d) = self.deformers.iter().find(|d| d.instance == k) {
-                d.bounds
-            } else {
-                self.rest_bounds.get(inst.mesh).copied().flatten()
+        self.instance_bounds(|_| true)
+    }
+
+    /// World-space bounds of the instances (indices into [`Scene::instances`]) that `which`
+    /// accepts, as posed now (the ground plane left out).
+    #[must_use]
+    pub fn instance_bounds(&self, which: impl Fn(usize) -> bool) -> Option<(Vec3, Vec3)> {
+        let placed = self
+            .instances
+            .iter()
+            .enumerate()
+            .filter(|(k, i)| !i.ground && which(*k));
+        crate::scene::world_bounds(placed.filter_map(|(k, inst)| {
+            let b = match self.deformers.iter().find(|d| d.instance == k) {
+                Some(d) => d.bounds,
+                None => self.rest_bounds.get(inst.mesh).copied().flatten(),
             };
-            let Some((mlo, mhi)) = b else { continue };
-            for i in 0..8 {
-                let c = Vec3::new(
-                    if i & 1 == 0 { mlo.x } else { mhi.x },
-                    if i & 2 == 0 { mlo.y } else { mhi.y },
-                    if i & 4 == 0 { mlo.z } else { mhi.z },
-                );
-                let w = inst.world.transform_point3(c);
-                if w.is_finite() {
-                    lo = lo.min(w);
-                    hi = hi.max(w);
-                }
-            }
-        }
-        (lo.x <= hi.x).then_some((lo, hi))
+            Some((inst.world, b?))
+        }))
     }
 
     /// The scene this was prepared from.

@@ -76,6 +76,10 @@ pub struct Node {
     pub weights: Vec<f32>,
     /// Instances drawn for this node (indices into [`crate::scene::Scene::instances`]).
     pub instances: Vec<usize>,
+    /// Cameras this node places (indices into [`crate::scene::Scene::cameras`]).
+    pub cameras: Vec<usize>,
+    /// Lights this node places (indices into [`crate::scene::Scene::lights`]).
+    pub lights: Vec<usize>,
 }
 
 /// One scene of the file: a name and its root nodes.
@@ -176,6 +180,8 @@ mod tests {
             skin: None,
             weights: Vec::new(),
             instances: Vec::new(),
+            cameras: Vec::new(),
+            lights: Vec::new(),
         }
     }
 

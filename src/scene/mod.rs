@@ -261,34 +261,38 @@ pub struct Scene {
     pub report: LoadReport,
 }
 
+/// The world-space axis-aligned box around model-space boxes placed by matrices (each box's
+/// eight corners transformed; non-finite corners left out), or `None` when nothing is left.
+#[must_use]
+pub fn world_bounds(boxes: impl IntoIterator<Item = (Mat4, (Vec3, Vec3))>) -> Option<(Vec3, Vec3)> {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for (world, (mlo, mhi)) in boxes {
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { mlo.x } else { mhi.x },
+                if i & 2 == 0 { mlo.y } else { mhi.y },
+                if i & 4 == 0 { mlo.z } else { mhi.z },
+            );
+            let w = world.transform_point3(c);
+            if w.is_finite() {
+                lo = lo.min(w);
+                hi = hi.max(w);
+            }
+        }
+    }
+    (lo.x <= hi.x).then_some((lo, hi))
+}
+
 impl Scene {
     /// World-space axis-aligned bounds of all instances, or `None` for an empty scene
     /// (or one whose every position is non-finite).
     #[must_use]
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for inst in &self.instances {
-            let Some(mesh) = self.meshes.get(inst.mesh) else {
-                continue;
-            };
-            let Some((mlo, mhi)) = mesh.bounds() else {
-                continue;
-            };
-            for i in 0..8 {
-                let c = Vec3::new(
-                    if i & 1 == 0 { mlo.x } else { mhi.x },
-                    if i & 2 == 0 { mlo.y } else { mhi.y },
-                    if i & 4 == 0 { mlo.z } else { mhi.z },
-                );
-                let w = inst.world.transform_point3(c);
-                if w.is_finite() {
-                    lo = lo.min(w);
-                    hi = hi.max(w);
-                }
-            }
-        }
-        (lo.x <= hi.x).then_some((lo, hi))
+        world_bounds(self.instances.iter().filter_map(|inst| {
+            let b = self.meshes.get(inst.mesh)?.bounds()?;
+            Some((inst.world, b))
+        }))
     }
 
     /// Checks every mesh against its material's texture slots, once after loading: a slot

@@ -127,6 +127,8 @@ pub fn skinned_tube(
             skin: None,
             weights: Vec::new(),
             instances: Vec::new(),
+            cameras: Vec::new(),
+            lights: Vec::new(),
         })
         .collect();
     nodes.push(Node {
@@ -137,6 +139,8 @@ pub fn skinned_tube(
         skin: Some(0),
         weights: Vec::new(),
         instances: vec![0],
+        cameras: Vec::new(),
+        lights: Vec::new(),
     });
     let mesh_node = joints;
     let graph = Graph {

@@ -39,6 +39,8 @@ pub struct ViewerOptions {
     pub threads: usize,
     /// Start with the side panels hidden (Tab shows them).
     pub hide_panels: bool,
+    /// Open animated files paused (else they play at once, looping).
+    pub paused: bool,
 }
 
 /// The A | B split view.
@@ -119,6 +121,8 @@ pub struct ViewerApp {
     pub viewport: ViewportState,
     /// A short message for the status bar (e.g. where a screenshot went).
     pub notice: Option<String>,
+    /// Animation playback.
+    pub timeline: super::timeline::Timeline,
     /// Frame the scene (or take the scene file's camera) for the viewport's aspect once its
     /// size is known (a new scene).
     frame_pending: bool,
@@ -195,12 +199,14 @@ impl ViewerApp {
             panels: Panels::default(),
             viewport: ViewportState::default(),
             notice: recent_problem,
+            timeline: super::timeline::Timeline::default(),
             frame_pending: true,
             title: String::new(),
             trace: std::env::var_os("REALIST_VIEWER_LOG")
                 .and_then(|p| std::fs::File::create(p).ok()),
         };
         app.panels.visible = !opts.hide_panels;
+        app.timeline.autoplay = !opts.paused;
         app.panels.save.path = app.default_save_path();
         if let Some(m) = opts.model {
             app.open(m);
@@ -503,6 +509,7 @@ impl ViewerApp {
         panels::keyboard(self, ui);
         panels::menu_bar(self, ui);
         panels::status_bar(self, ui);
+        super::timeline::bar(self, ui);
         if self.panels.visible {
             panels::side_panels(self, ui);
         }
@@ -530,6 +537,7 @@ impl ViewerApp {
             self.frame_pending = false;
         }
         self.update_title(ui.ctx());
+        super::timeline::step(self, ui.ctx());
         self.submit_if_changed();
         if self.loading.is_some() {
             // The progress bar moves: look again in a moment (nothing else polls).
@@ -559,6 +567,12 @@ impl ViewerApp {
         if let Some(f) = &mut self.trace {
             let _ = writeln!(f, "{line}");
         }
+    }
+
+    /// The scene as loaded (before the texture lab's coordinates).
+    #[must_use]
+    pub fn base_scene(&self) -> Arc<scene::Scene> {
+        Arc::clone(&self.base)
     }
 
     /// Whether loads and renders run in the calling thread (UI tests).

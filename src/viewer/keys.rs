@@ -38,6 +38,7 @@ pub enum Action {
     NextFile,
     Reload,
     TogglePanels,
+    TogglePlay,
 }
 
 /// One key binding.
@@ -143,6 +144,7 @@ pub const BINDINGS: &[Binding] = &[
     ),
     bind(Key::ArrowUp, Action::Reload, "reload the model"),
     bind(Key::Tab, Action::TogglePanels, "hide / show the panels"),
+    bind(Key::Space, Action::TogglePlay, "play / pause the animation"),
 ];
 
 /// Mouse bindings, for the cheat sheet.

@@ -14,9 +14,11 @@
 //! | [`lab`] | the texture lab's work off the UI thread: a slot's image file read, a model's UVs generated |
 //! | [`navigate`] | the camera controller (turntable / trackball, pan, dolly to cursor, framing, named views) |
 //! | [`files`] | recent files, previous / next model in a folder, reload on change |
+//! | [`timeline`] | animation playback: play / pause, scrub, speed, loop, which animation; posing a spare copy of the scene while the render thread draws |
 //!
 //! Repaints happen only on input, on a finished frame (the worker asks for one) and while a
-//! load shows its progress: an idle window uses no CPU.
+//! load shows its progress, and while an animation plays: an idle or paused window uses no
+//! CPU.
 
 pub mod app;
 pub mod files;
@@ -28,10 +30,9 @@ pub mod navigate;
 pub mod panels;
 pub mod same;
 pub mod slide;
+pub mod timeline;
 pub mod viewport;
 pub mod worker;
-
-use std::path::PathBuf;
 
 pub use app::{ViewerApp, ViewerOptions};
 
@@ -62,13 +63,13 @@ pub fn since_launch_ms() -> f64 {
         * 1e3
 }
 
-/// Opens the viewer window on `model`, a model or a scene file (or the built-in demo), with
-/// an inner size of `window` points (side panels hidden if asked), and runs until it is
-/// closed.
+/// Opens the viewer window as `opts` asks (a model or a scene file, else the built-in demo;
+/// side panels hidden; animations paused), with an inner size of `window` points, and runs
+/// until it is closed.
 ///
 /// # Errors
 /// If the window cannot be created (no display, no OpenGL).
-pub fn run(model: Option<PathBuf>, window: (u32, u32), hide_panels: bool) -> Result<(), String> {
+pub fn run(opts: ViewerOptions, window: (u32, u32)) -> Result<(), String> {
     let options = eframe::NativeOptions {
         viewport: eframe::egui::ViewportBuilder::default()
             .with_title("realist")
@@ -88,15 +89,8 @@ pub fn run(model: Option<PathBuf>, window: (u32, u32), hide_panels: bool) -> Res
         Box::new(move |cc| {
             let ctx = cc.egui_ctx.clone();
             let repaint = std::sync::Arc::new(move || ctx.request_repaint());
-            let app = ViewerApp::new(
-                ViewerOptions {
-                    model,
-                    hide_panels,
-                    ..ViewerOptions::default()
-                },
-                repaint,
-            )
-            .map_err(|e| -> Box<dyn std::error::Error + Send + Sync> { e.into() })?;
+            let app = ViewerApp::new(opts, repaint)
+                .map_err(|e| -> Box<dyn std::error::Error + Send + Sync> { e.into() })?;
             Ok(Box::new(app))
         }),
     )

@@ -148,8 +148,12 @@ impl Builder<'_> {
                 continue;
             }
             let first = self.scene.instances.len();
+            let (cameras, lights) = (self.scene.cameras.len(), self.scene.lights.len());
             self.node_contents(n, world)?;
-            graph.nodes[n].instances = (first..self.scene.instances.len()).collect();
+            let node = &mut graph.nodes[n];
+            node.instances = (first..self.scene.instances.len()).collect();
+            node.cameras = (cameras..self.scene.cameras.len()).collect();
+            node.lights = (lights..self.scene.lights.len()).collect();
         }
         self.scene.graph = graph;
         self.fit_camera_far_planes();
@@ -357,5 +361,7 @@ fn node(i: usize, n: &json::scene::Node) -> Node {
         skin: n.skin.map(|s| s.value()),
         weights: Vec::new(),
         instances: Vec::new(),
+        cameras: Vec::new(),
+        lights: Vec::new(),
     }
 }

@@ -55,7 +55,8 @@ impl Default for LightsUi {
 }
 
 /// The lights the frame uses now, as an editable list, and whether they follow the camera:
-/// the custom list, the scene's lights (world space), or the default rig (camera space).
+/// the custom list, the scene's lights (world space, as posed now), or the default rig
+/// (camera space).
 /// The order is the frame's (the probe's and the gizmos' light numbers).
 #[must_use]
 pub fn effective(app: &ViewerApp) -> (Vec<Light>, bool) {
@@ -64,10 +65,8 @@ pub fn effective(app: &ViewerApp) -> (Vec<Light>, bool) {
             lights,
             follow_camera,
         } => (lights.clone(), *follow_camera),
-        Lights::Auto if app.scene.scene().lights.is_empty() => {
-            (Light::default_rig(Mat3::IDENTITY), true)
-        }
-        Lights::Auto => (app.scene.scene().lights.clone(), false),
+        Lights::Auto if app.scene.lights().is_empty() => (Light::default_rig(Mat3::IDENTITY), true),
+        Lights::Auto => (app.scene.lights().to_vec(), false),
     }
 }
 

@@ -283,6 +283,15 @@ pub fn act(app: &mut ViewerApp, a: Action) {
         Action::NextFile => app.step_file(1),
         Action::Reload => app.reload(),
         Action::TogglePanels => app.panels.visible = !app.panels.visible,
+        Action::TogglePlay => {
+            let scene = std::sync::Arc::clone(app.scene.scene());
+            if scene.animations.is_empty() {
+                app.notice = Some("this scene has no animation".into());
+            } else {
+                let length = super::timeline::duration(&scene, app.timeline.play);
+                app.timeline.toggle(length);
+            }
+        }
         _ => {}
     }
 }

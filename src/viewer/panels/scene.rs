@@ -69,6 +69,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             }
             more(ui, scene.instances.len());
         });
+    nodes(app, ui, &scene);
     egui::CollapsingHeader::new(format!("Meshes ({})", scene.meshes.len()))
         .id_salt("meshes")
         .show(ui, |ui| {
@@ -182,7 +183,9 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             if scene.cameras.is_empty() {
                 ui.label("none in the file");
             }
-            for (i, c) in scene.cameras.iter().enumerate() {
+            // As posed now: a camera under an animated node is where the animation put it.
+            let cameras = app.scene.cameras().to_vec();
+            for (i, c) in cameras.iter().enumerate() {
                 let kind = match c.ortho {
                     Some(h) => format!("orthographic, half height {h:.3}"),
                     None => format!("{:.1}° field of view", c.yfov.to_degrees()),
@@ -196,6 +199,158 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                 }
             }
         });
+}
+
+/// Nodes deeper than this are not listed (a tree that deep is a broken file).
+const MAX_DEPTH: usize = 64;
+
+/// The node tree as a collapsible tree: each scene of the file with its roots (the drawn one
+/// marked), then the parentless nodes outside every scene (a skin's joints may live there).
+/// A node that draws something can be framed.
+fn nodes(app: &mut ViewerApp, ui: &mut egui::Ui, scene: &crate::scene::Scene) {
+    let g = &scene.graph;
+    egui::CollapsingHeader::new(format!("Nodes ({})", g.nodes.len()))
+        .id_salt("nodes")
+        .show(ui, |ui| {
+            if g.nodes.is_empty() {
+                ui.label("none: this format has no node tree");
+                return;
+            }
+            let mut frame = None;
+            let mut listed = vec![false; g.nodes.len()];
+            for (si, s) in g.scenes.iter().enumerate() {
+                let drawn = if g.drawn == Some(si) { ", drawn" } else { "" };
+                let name = if s.name.is_empty() {
+                    ""
+                } else {
+                    s.name.as_str()
+                };
+                egui::CollapsingHeader::new(format!(
+                    "scene {si} {name} ({} roots{drawn})",
+                    s.roots.len()
+                ))
+                .id_salt(("graph-scene", si))
+                .default_open(g.drawn == Some(si))
+                .show(ui, |ui| {
+                    for &r in s.roots.iter().take(MAX_ROWS) {
+                        node(ui, g, r, 0, &mut frame);
+                    }
+                    more(ui, s.roots.len());
+                });
+                for &r in &s.roots {
+                    if let Some(l) = listed.get_mut(r) {
+                        *l = true;
+                    }
+                }
+            }
+            let others: Vec<usize> = (0..g.nodes.len())
+                .filter(|&n| g.nodes[n].parent.is_none() && !listed[n])
+                .collect();
+            if !others.is_empty() {
+                let title = if g.scenes.is_empty() {
+                    format!("root nodes ({})", others.len())
+                } else {
+                    format!("outside every scene ({})", others.len())
+                };
+                egui::CollapsingHeader::new(title)
+                    .id_salt("graph-others")
+                    .default_open(g.scenes.is_empty())
+                    .show(ui, |ui| {
+                        for &r in others.iter().take(MAX_ROWS) {
+                            node(ui, g, r, 0, &mut frame);
+                        }
+                        more(ui, others.len());
+                    });
+            }
+            if let Some(n) = frame {
+                frame_node(app, g, n);
+            }
+        });
+}
+
+/// One node of the tree and (when opened) its children.
+fn node(
+    ui: &mut egui::Ui,
+    g: &crate::scene::Graph,
+    n: usize,
+    depth: usize,
+    frame: &mut Option<usize>,
+) {
+    let Some(nd) = g.nodes.get(n) else { return };
+    let mut what = Vec::new();
+    if !nd.instances.is_empty() {
+        what.push(format!("{} primitives", nd.instances.len()));
+    }
+    if let Some(s) = nd.skin {
+        what.push(format!("skin {s}"));
+    }
+    if !nd.weights.is_empty() {
+        what.push(format!("{} morph targets", nd.weights.len()));
+    }
+    if matches!(nd.local, crate::scene::Local::Matrix(_)) {
+        what.push("matrix".into());
+    }
+    let label = if what.is_empty() {
+        format!("{n}: {}", nd.name)
+    } else {
+        format!("{n}: {} ({})", nd.name, what.join(", "))
+    };
+    let framing = |ui: &mut egui::Ui, frame: &mut Option<usize>| {
+        if ui
+            .small_button("frame")
+            .on_hover_text("frame what this node and its children draw")
+            .clicked()
+        {
+            *frame = Some(n);
+        }
+    };
+    if nd.children.is_empty() || depth >= MAX_DEPTH {
+        ui.horizontal(|ui| {
+            ui.label(label);
+            if !nd.instances.is_empty() {
+                framing(ui, frame);
+            }
+        });
+        return;
+    }
+    let header = egui::CollapsingHeader::new(label)
+        .id_salt(("graph-node", n))
+        .show(ui, |ui| {
+            for &c in nd.children.iter().take(MAX_ROWS) {
+                node(ui, g, c, depth + 1, frame);
+            }
+            more(ui, nd.children.len());
+        });
+    header.header_response.context_menu(|ui| {
+        if ui.button("frame").clicked() {
+            *frame = Some(n);
+            ui.close();
+        }
+    });
+}
+
+/// Frames the camera on what node `n` and its descendants draw, as posed now.
+fn frame_node(app: &mut ViewerApp, g: &crate::scene::Graph, n: usize) {
+    let mut drawn = std::collections::HashSet::new();
+    let mut stack = vec![(n, 0)];
+    let mut seen = vec![false; g.nodes.len()];
+    while let Some((k, depth)) = stack.pop() {
+        let Some(nd) = g.nodes.get(k) else { continue };
+        if std::mem::replace(&mut seen[k], true) || depth > MAX_DEPTH {
+            continue;
+        }
+        drawn.extend(nd.instances.iter().copied());
+        stack.extend(nd.children.iter().map(|&c| (c, depth + 1)));
+    }
+    match app.scene.instance_bounds(|i| drawn.contains(&i)) {
+        Some((lo, hi)) => {
+            let aspect = app.viewport.aspect();
+            let radius = ((hi - lo).length() * 0.5).max(1e-6);
+            app.nav.frame((lo + hi) * 0.5, radius, aspect);
+            app.notice = Some(format!("framed node {n}: {}", g.nodes[n].name));
+        }
+        None => app.notice = Some(format!("node {n} draws nothing")),
+    }
 }
 
 fn more(ui: &mut egui::Ui, n: usize) {

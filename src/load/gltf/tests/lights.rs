@@ -159,3 +159,59 @@ fn a_required_unknown_extension_is_still_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn lights_and_cameras_under_animated_nodes_move_with_them() {
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    // Node 1 carries node 2 (a spot light and a camera at (0, 2, 0)); an animation moves
+    // node 1 from the origin to (4, 0, 0) over one second and turns it 90 degrees about Y.
+    let times = d.floats(&[0.0, 1.0], "SCALAR");
+    let moves = d.floats(&[0.0, 0.0, 0.0, 4.0, 0.0, 0.0], "VEC3");
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let turns = d.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, s, 0.0, s], "VEC4");
+    let text = d.finish(json!({
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot"}]}},
+        "meshes": [{"primitives": [{"attributes": {"POSITION": tri}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
+        "nodes": [
+            {"mesh": 0},
+            {"name": "rig", "children": [2]},
+            {"name": "head", "translation": [0, 2, 0], "camera": 0,
+             "extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "animations": [{"channels": [
+            {"sampler": 0, "target": {"node": 1, "path": "translation"}},
+            {"sampler": 1, "target": {"node": 1, "path": "rotation"}}
+        ], "samplers": [
+            {"input": times, "output": moves},
+            {"input": times, "output": turns}
+        ]}],
+        "scenes": [{"nodes": [0, 1]}], "scene": 0
+    }));
+    let scene = load_text(&TempDir::new("gltf-moving-lights"), &text).unwrap();
+    assert_eq!(scene.graph.nodes[2].lights, [0]);
+    assert_eq!(scene.graph.nodes[2].cameras, [0]);
+    let mut p = crate::render::PreparedScene::new(scene);
+    assert!(close(p.lights()[0].position, Vec3::new(0.0, 2.0, 0.0)));
+    p.pose_at(crate::scene::Play::All, 1.0, false);
+    // At one second: at (4, 2, 0), and -Z turned 90 degrees about Y points along -X.
+    let (light, cam) = (&p.lights()[0], &p.cameras()[0]);
+    assert!(
+        close(light.position, Vec3::new(4.0, 2.0, 0.0)),
+        "{}",
+        light.position
+    );
+    assert!(close(light.direction, Vec3::NEG_X), "{}", light.direction);
+    assert!(close(cam.eye, Vec3::new(4.0, 2.0, 0.0)), "{}", cam.eye);
+    assert!(close((cam.target - cam.eye).normalize(), Vec3::NEG_X));
+    assert!(close(cam.up, Vec3::Y));
+    // The scene as loaded keeps the rest pose.
+    assert!(close(
+        p.scene().lights[0].position,
+        Vec3::new(0.0, 2.0, 0.0)
+    ));
+    p.pose_at(crate::scene::Play::Rest, 0.0, false);
+    assert!(close(p.cameras()[0].eye, Vec3::new(0.0, 2.0, 0.0)));
+}
