@@ -123,6 +123,9 @@ pub struct ViewerApp {
     pub notice: Option<String>,
     /// Animation playback.
     pub timeline: super::timeline::Timeline,
+    /// The sphere around every pose of the open scene's animations (`None`: a still
+    /// scene), for framing it.
+    pub motion_sphere: Option<(glam::Vec3, f32)>,
     /// Frame the scene (or take the scene file's camera) for the viewport's aspect once its
     /// size is known (a new scene).
     frame_pending: bool,
@@ -200,6 +203,7 @@ impl ViewerApp {
             viewport: ViewportState::default(),
             notice: recent_problem,
             timeline: super::timeline::Timeline::default(),
+            motion_sphere: None,
             frame_pending: true,
             title: String::new(),
             trace: std::env::var_os("REALIST_VIEWER_LOG")
@@ -241,13 +245,18 @@ impl ViewerApp {
         match out {
             Ok(Loaded {
                 path,
-                scene,
+                mut scene,
                 base,
                 uv,
                 millis,
                 from_file,
             }) => {
-                let (center, radius) = scene.bounding_sphere();
+                // An animated scene is framed on where it moves, not only its rest pose.
+                self.motion_sphere =
+                    Arc::get_mut(&mut scene).and_then(|s| super::timeline::motion_sphere(s));
+                let (center, radius) = self
+                    .motion_sphere
+                    .unwrap_or_else(|| scene.bounding_sphere());
                 let aspect = self.viewport.aspect();
                 let same = self.model.as_deref() == Some(path.as_path());
                 if let Some(f) = from_file {
@@ -419,6 +428,7 @@ impl ViewerApp {
             t.cancel();
         }
         let scene = Arc::new(PreparedScene::new(scene::demo()));
+        self.motion_sphere = None;
         self.base = Arc::clone(scene.scene());
         (self.uv, self.shown_uv, self.uv_task) = (None, None, None);
         let (center, radius) = scene.bounding_sphere();
@@ -520,7 +530,9 @@ impl ViewerApp {
         if self.frame_pending && self.viewport.size_px[0] > 0 {
             // Framed for the viewport's real aspect (a portrait window needs more distance),
             // or the scene file's camera with that aspect (the window keeps its size).
-            let (center, radius) = self.scene.bounding_sphere();
+            let (center, radius) = self
+                .motion_sphere
+                .unwrap_or_else(|| self.scene.bounding_sphere());
             let aspect = self.viewport.aspect();
             match self.file_camera(aspect) {
                 Ok(Some(cam)) => {

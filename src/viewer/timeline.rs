@@ -188,6 +188,31 @@ pub fn duration(scene: &crate::scene::Scene, play: Play) -> f32 {
     }
 }
 
+/// Poses sampled over the animations' length (all of them together) at which
+/// [`motion_sphere`] measures the scene.
+pub const MOTION_SAMPLES: usize = 24;
+
+/// The bounding sphere of `scene` over its animations (all of them, [`MOTION_SAMPLES`] + 1
+/// poses from start to end), so the camera frames where the model goes and its near and far
+/// planes keep it; `None` for a scene without animations. The scene is left at rest.
+pub fn motion_sphere(scene: &mut PreparedScene) -> Option<(glam::Vec3, f32)> {
+    let length = duration(scene.scene(), Play::All);
+    if scene.scene().animations.is_empty() {
+        return None;
+    }
+    let mut union: Option<(glam::Vec3, glam::Vec3)> = None;
+    for k in 0..=MOTION_SAMPLES {
+        let t = length * k as f32 / MOTION_SAMPLES as f32;
+        scene.pose_at(Play::All, t, false);
+        if let Some((lo, hi)) = scene.bounds() {
+            union = Some(union.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+        }
+    }
+    scene.pose_at(Play::Rest, 0.0, false);
+    let (lo, hi) = union?;
+    Some(((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6)))
+}
+
 /// The name of what `play` plays.
 #[must_use]
 pub fn play_name(scene: &crate::scene::Scene, play: Play) -> String {
@@ -301,12 +326,13 @@ pub fn bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
             let tl = &mut app.timeline;
             let length = duration(&scene, tl.play);
             let label = if tl.playing { "Pause" } else { "Play" };
-            if ui
+            let button = ui
                 .button(label)
-                .on_hover_text("play or pause the animation (Space)")
-                .clicked()
-            {
+                .on_hover_text("play or pause the animation (Space)");
+            if button.clicked() {
                 tl.toggle(length);
+                // Space is the viewer's key: a focused button would take it as a click too.
+                button.surrender_focus();
             }
             let mut t = tl.time;
             let slider = egui::Slider::new(&mut t, 0.0..=length.max(1e-3))

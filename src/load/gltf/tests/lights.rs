@@ -191,6 +191,13 @@ fn lights_and_cameras_under_animated_nodes_move_with_them() {
         "scenes": [{"nodes": [0, 1]}], "scene": 0
     }));
     let scene = load_text(&TempDir::new("gltf-moving-lights"), &text).unwrap();
+    assert!(
+        scene.report.warnings.is_empty() && scene.report.skipped.is_empty(),
+        "{:?} {:?}",
+        scene.report.warnings,
+        scene.report.skipped
+    );
+    assert_eq!(scene.animations.len(), 1);
     assert_eq!(scene.graph.nodes[2].lights, [0]);
     assert_eq!(scene.graph.nodes[2].cameras, [0]);
     let mut p = crate::render::PreparedScene::new(scene);

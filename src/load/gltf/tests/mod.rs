@@ -33,6 +33,7 @@ impl Doc {
 
     fn floats(&mut self, v: &[f32], ty: &str) -> usize {
         let n = match ty {
+            "SCALAR" => 1,
             "VEC2" => 2,
             "VEC3" => 3,
             _ => 4,
