@@ -426,7 +426,7 @@ fn strokes(
             (indices.to_vec(), Vec::new())
         }
         Mode::Lines => {
-            if n % 2 != 0 {
+            if !n.is_multiple_of(2) {
                 warnings.push(format!(
                     "{label}: LINES has an odd number of indices ({n}); the last one is ignored"
                 ));

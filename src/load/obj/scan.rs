@@ -385,11 +385,11 @@ pub(super) fn file_vertices(text: &str) -> (Vec<glam::Vec3>, Vec<glam::Vec4>) {
             continue;
         }
         let mut n = [0f32; 6];
-        let mut count = 0;
-        for (slot, w) in n.iter_mut().zip(words) {
-            *slot = w.parse().unwrap_or(f32::NAN);
-            count += 1;
-        }
+        let count = n
+            .iter_mut()
+            .zip(words)
+            .map(|(slot, w)| *slot = w.parse().unwrap_or(f32::NAN))
+            .count();
         let p = glam::Vec3::new(n[0], n[1], n[2]);
         match count {
             4 => positions.push(p / n[3]),
@@ -431,7 +431,7 @@ mod tests {
 
     #[test]
     fn points_and_lines_are_read() {
-        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\ng a\nl 1 2 -1\np 3\nusemtl m\nl 2/1 3\nl 1\n";
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\ng a\nl 1 2 -1\np 3\nusemtl m\nl 2 3\nl 1\n";
         let s = run(text).unwrap();
         assert_eq!(
             s.text,
