@@ -1,4 +1,5 @@
-//! `realist info`: the load report, the topology of every mesh, the cameras and lights.
+//! `realist info`: the load report, the topology of every mesh (with its points and
+//! lines), the scenes of the file (`--scene N` reports another), the cameras and lights.
 
 use anyhow::Result;
 
@@ -7,6 +8,18 @@ use realist::mesh::Mesh;
 use realist::scenefile::schema::UvChoice;
 
 use super::InfoArgs;
+
+/// A mesh's points and lines for the text report, e.g. `, points 7, lines 6`, or nothing.
+fn strokes(m: &Mesh) -> String {
+    let mut out = String::new();
+    if !m.points.is_empty() {
+        out += &format!(", points {}", m.points.len());
+    }
+    if !m.lines.is_empty() {
+        out += &format!(", lines {}", m.lines.len());
+    }
+    out
+}
 
 /// A mesh's texture coordinate sets for the text report, e.g. `TEXCOORD_0 (24 values,
 /// indexed per corner), TEXCOORD_1 (8 values, per vertex)`, or `none`.
@@ -33,6 +46,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
     let opts = LoadOptions {
         normals: args.normals.options()?,
         uv: args.uv.and_then(UvChoice::generator),
+        scene: args.scene,
         ..LoadOptions::default()
     };
     let scene = load::load(&args.model, &opts)?;
@@ -50,6 +64,8 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
                 "uv_set_values": m.uvs.iter().map(|c| c.values.len()).collect::<Vec<_>>(),
                 "tangents": m.tangents.is_some(),
                 "colors": m.colors.is_some(),
+                "points": m.points.len(),
+                "lines": m.lines.len(),
                 "topology": t,
             })
         })
@@ -126,6 +142,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             "meshes": meshes,
             "nodes": scene.graph.nodes.len(),
             "scenes": scene.graph.scenes.iter().map(|s| &s.name).collect::<Vec<_>>(),
+            "scene_roots": scene.graph.scenes.iter().map(|s| s.roots.len()).collect::<Vec<_>>(),
             "scene_drawn": scene.graph.drawn,
             "skins": skins,
             "animations": animations,
@@ -152,7 +169,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
         say!(
             "  mesh '{}': V={} E={} F={} (triangles {}), boundary edges {} in {} loops, non-manifold edges {}, \
              degenerate facets {}, isolated vertices {}, components {}, V-E+F={} ({} without isolated vertices), \
-             genus {}, normals {:?}, UV sets: {}",
+             genus {}, normals {:?}, UV sets: {}{}",
             m.name,
             t.vertices,
             t.edges,
@@ -168,7 +185,8 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             t.euler_characteristic_used,
             t.genus.map_or("n/a".to_string(), |g| g.to_string()),
             m.normal_source,
-            uv_sets(m)
+            uv_sets(m),
+            strokes(m)
         );
     }
     for (i, c) in scene.cameras.iter().enumerate() {
@@ -196,6 +214,20 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             scene.skins.len(),
             scene.animations.len()
         );
+    }
+    if scene.graph.scenes.len() > 1 {
+        for (i, s) in scene.graph.scenes.iter().enumerate() {
+            let drawn = if scene.graph.drawn == Some(i) {
+                ", drawn"
+            } else {
+                ""
+            };
+            say!(
+                "  scene {i} '{}' (--scene {i}): {} root node(s){drawn}",
+                s.name,
+                s.roots.len()
+            );
+        }
     }
     for s in &scene.skins {
         say!("  skin '{}': {} joints", s.name, s.joints.len());
@@ -240,6 +272,9 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
     }
     for g in &scene.report.generated {
         say!("  generated: {g}");
+    }
+    for l in &scene.report.loaded {
+        say!("  loaded: {l}");
     }
     for s in &scene.report.skipped {
         say!("  skipped: {s}");

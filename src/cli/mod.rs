@@ -144,6 +144,9 @@ pub(crate) struct InfoArgs {
     /// them.
     #[arg(long, value_parser = render::parse_uv)]
     uv: Option<realist::scenefile::schema::UvChoice>,
+    /// Report scene N of a glTF file (0-based) instead of its default scene.
+    #[arg(long, value_name = "N")]
+    scene: Option<usize>,
     #[command(flatten)]
     normals: NormalArgs,
 }
@@ -278,6 +281,9 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool, paused: boo
         double_sided: false,
         msaa: Some(4),
         samples: None,
+        scene: None,
+        point_size: None,
+        line_width: None,
         lighting: lighting::LightingArgs::default(),
         normals: NormalArgs {
             crease: "60".into(),

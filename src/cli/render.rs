@@ -95,6 +95,18 @@ pub(crate) struct RenderArgs {
     /// Supersampling: N x N jittered passes per pixel, averaged in linear light (1 to 8).
     #[arg(long)]
     pub samples: Option<u32>,
+    /// Which scene of a glTF file to draw, 0-based in file order (`realist info` lists
+    /// them). Default: the file's default scene, else its first.
+    #[arg(long, value_name = "N", conflicts_with = "demo")]
+    pub scene: Option<usize>,
+    /// Size of points (glTF POINTS, OBJ `p`) in pixels of the image: a square centred on
+    /// the pixel nearest the point (default 1, whole pixels up to 64).
+    #[arg(long, value_name = "PX")]
+    pub point_size: Option<f32>,
+    /// Width of lines (glTF LINES, LINE_LOOP, LINE_STRIP, OBJ `l`) in pixels of the image
+    /// (default 1, whole pixels up to 64).
+    #[arg(long, value_name = "PX")]
+    pub line_width: Option<f32>,
     #[command(flatten)]
     pub lighting: LightingArgs,
     #[command(flatten)]
@@ -186,6 +198,7 @@ fn read_input(args: &RenderArgs) -> Result<Input> {
     let opts = LoadOptions {
         normals: args.normals.options()?,
         uv: args.uv.and_then(UvChoice::generator),
+        scene: args.scene,
         ..LoadOptions::default()
     };
     match &args.model {
@@ -252,6 +265,18 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
             bail!("--samples {n}: expected 1 to {MAX_SAMPLES}");
         }
         s.samples = n;
+    }
+    for (flag, value, slot) in [
+        ("--point-size", args.point_size, &mut s.point_size),
+        ("--line-width", args.line_width, &mut s.line_width),
+    ] {
+        if let Some(px) = value {
+            let max = realist::raster::MAX_STROKE_PX;
+            if !(px.is_finite() && (1.0..=max).contains(&px)) {
+                bail!("{flag} {px}: expected pixels from 1 to {max}");
+            }
+            *slot = px;
+        }
     }
     let image = |p: &std::path::Path, srgb: bool| load::load_image(p, srgb).map(Arc::new);
     if let Some(t) = &args.texture {

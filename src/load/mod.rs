@@ -18,7 +18,7 @@
 //!   [`LoadError::Panic`] naming the file.
 //! - **Errors are one line and start with the file path**; they say which accessor,
 //!   primitive, mesh or line was wrong and what was expected. What does not stop a load
-//!   (a missing texture or MTL file, dropped faces, skipped line primitives) goes to
+//!   (a missing texture or MTL file, dropped faces, skipped primitives) goes to
 //!   [`LoadReport`](crate::scene::LoadReport) instead.
 //!
 //! A load can be watched and cancelled from another thread through a shared [`Progress`]
@@ -66,6 +66,11 @@ pub struct LoadOptions {
     /// Texture coordinates generated for every mesh after loading, replacing UV set 0 (the
     /// textbook's §9.5; [`Scene::apply_uv_generator`]); `None` keeps the file's.
     pub uv: Option<UvGenerator>,
+    /// Which of the file's scenes is drawn (0-based, in file order; `realist render
+    /// --scene N`): `None` draws the file's default scene (glTF's `scene`, else the first).
+    /// Only glTF files hold several; any other file has one scene, number 0. An index the
+    /// file does not have is [`LoadError::Scene`].
+    pub scene: Option<usize>,
 }
 
 impl Default for LoadOptions {
@@ -75,6 +80,7 @@ impl Default for LoadOptions {
             max_bytes: 2 << 30,
             progress: None,
             uv: None,
+            scene: None,
         }
     }
 }
@@ -100,6 +106,13 @@ pub enum LoadError {
         used: u64,
         limit: u64,
     },
+    /// [`LoadOptions::scene`] names a scene the file does not have.
+    #[error("{path}: there is no scene {index}: the file has {}", scene_count(*count))]
+    Scene {
+        path: PathBuf,
+        index: usize,
+        count: usize,
+    },
     #[error("{path}: cannot use image: {reason}")]
     Image { path: PathBuf, reason: String },
     /// [`Progress::cancel`] was called during the load.
@@ -113,6 +126,15 @@ pub enum LoadError {
     Stl(#[from] StlError),
     #[error(transparent)]
     Ply(#[from] PlyError),
+}
+
+/// "no scenes", "1 scene (number 0)" or "N scenes (0 to N-1)".
+fn scene_count(count: usize) -> String {
+    match count {
+        0 => "no scenes".into(),
+        1 => "1 scene (number 0)".into(),
+        n => format!("{n} scenes (0 to {})", n - 1),
+    }
 }
 
 /// Loads a model file, choosing the loader by extension (`.obj`, `.gltf`, `.glb`, `.stl`,
@@ -130,6 +152,14 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene, LoadError> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
+    let gltf = matches!(ext.as_deref(), Some("gltf" | "glb"));
+    if let Some(index) = opts.scene.filter(|&i| i > 0 && !gltf) {
+        return Err(LoadError::Scene {
+            path: path.to_owned(),
+            index,
+            count: 1,
+        });
+    }
     let loader: Loader = match ext.as_deref() {
         Some("obj") => obj::load_obj,
         Some("gltf" | "glb") => gltf::load_gltf,

@@ -21,7 +21,13 @@
 //!   by `vertices`; `corner_edges[c]` is the edge from corner `c` to the next corner of its facet;
 //! - every value of `normals` is a finite unit vector, whatever the input; generated
 //!   per-vertex normals keep value `v` for vertex `v`, crease-split ones are appended;
-//! - channel indices (per corner, parallel to `corners`) are in range.
+//! - channel indices (per corner, parallel to `corners`) are in range;
+//! - every index of `points` and `lines` is `< positions.len()` ([`Mesh::set_strokes`]).
+//!
+//! Points and lines ("strokes") live beside the facets in the same mesh: a glTF POINTS or
+//! LINES primitive, or an OBJ group's `p`/`l` elements, is a mesh with no facets and only
+//! strokes. So they share everything a mesh has (instances, materials, bounds, skinning and
+//! morphing through the same vertices) and the triangle path does not change.
 //!
 //! The fields are public for reading. Code that mutates them must restore these invariants,
 //! most simply by rebuilding through [`Mesh::new`].
@@ -204,6 +210,13 @@ pub enum MeshError {
     FacetTooSmall { facet: usize, len: u32 },
     #[error("triangle list has {0} corners, not a multiple of 3")]
     NotTriangles(usize),
+    #[error("{what} {item} refers to vertex {index}, but there are only {count} vertices")]
+    StrokeIndex {
+        what: &'static str,
+        item: usize,
+        index: u32,
+        count: usize,
+    },
     #[error("mesh is too large: {0}")]
     TooLarge(&'static str),
     /// A primitive builder got a negative or non-finite dimension.
@@ -249,6 +262,12 @@ pub struct Mesh {
     pub material: Option<usize>,
     /// Skinning and morph target data (glTF), indexed by vertex; `None` for a rigid mesh.
     pub deform: Option<Box<Deform>>,
+    /// Points (glTF POINTS, OBJ `p`) as vertex indices, beside the facets; drawn as squares
+    /// of [`crate::render::Settings::point_size`] pixels. Set by [`Mesh::set_strokes`].
+    pub points: Vec<u32>,
+    /// Line segments (glTF LINES, LINE_LOOP, LINE_STRIP, OBJ `l`) as vertex index pairs,
+    /// beside the facets; drawn [`crate::render::Settings::line_width`] pixels wide.
+    pub lines: Vec<[u32; 2]>,
 }
 
 /// What to do when the data has no normals.
@@ -320,7 +339,52 @@ impl Mesh {
             tangents,
             material,
             deform: None,
+            points: Vec::new(),
+            lines: Vec::new(),
         }
+    }
+
+    /// Sets the mesh's points and line segments (vertex indices), after checking every
+    /// index against the vertex count. Their vertices take part in the bounds as every
+    /// vertex does; they have no facets, so their normals are the file's or a fallback.
+    ///
+    /// # Errors
+    ///
+    /// [`MeshError::StrokeIndex`] names the first point or segment with an index out of
+    /// range; the mesh is then unchanged.
+    pub fn set_strokes(&mut self, points: Vec<u32>, lines: Vec<[u32; 2]>) -> Result<(), MeshError> {
+        let count = self.positions.len();
+        let bad = |v: u32| v as usize >= count;
+        if let Some(item) = points.iter().position(|&v| bad(v)) {
+            return Err(MeshError::StrokeIndex {
+                what: "point",
+                item,
+                index: points[item],
+                count,
+            });
+        }
+        if let Some(item) = lines.iter().position(|l| bad(l[0]) || bad(l[1])) {
+            let index = if bad(lines[item][0]) {
+                lines[item][0]
+            } else {
+                lines[item][1]
+            };
+            return Err(MeshError::StrokeIndex {
+                what: "line",
+                item,
+                index,
+                count,
+            });
+        }
+        self.points = points;
+        self.lines = lines;
+        Ok(())
+    }
+
+    /// Whether the mesh has points or line segments.
+    #[must_use]
+    pub fn has_strokes(&self) -> bool {
+        !self.points.is_empty() || !self.lines.is_empty()
     }
 
     /// Replaces the normals (read or generated) by ones generated with `policy`.

@@ -12,6 +12,9 @@
 //! fanned from their first corner when convex, otherwise ear-clipped in the facet's plane
 //! (see `polygon.rs`). Every facet of `n` corners gives exactly `n - 2` triangles, so the
 //! count matches [`TopologyReport::triangles`](super::TopologyReport::triangles).
+//!
+//! Points and line segments are copied as they are: render vertex `v` is mesh vertex `v`
+//! for every mesh vertex, so their indices need no mapping.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -47,6 +50,14 @@ pub struct TriMesh {
     /// Bounding sphere of the finite positions (centre, radius); radius < 0 if none.
     pub center: Vec3,
     pub radius: f32,
+    /// Points as render-vertex indices ([`Mesh::points`]; render vertex `v < positions`
+    /// of the mesh is always mesh vertex `v`).
+    pub points: Vec<u32>,
+    /// Line segments as render-vertex index pairs ([`Mesh::lines`]).
+    pub lines: Vec<[u32; 2]>,
+    /// The normals were read from the file: points and lines are lit only then (glTF's
+    /// recommendation; without NORMAL they are unlit).
+    pub file_normals: bool,
 }
 
 impl TriMesh {
@@ -54,6 +65,12 @@ impl TriMesh {
     #[must_use]
     pub fn uv_set(&self, n: u32) -> Option<&[Vec2]> {
         self.uvs.get(n as usize).map(Vec::as_slice)
+    }
+
+    /// Whether there is nothing to draw: no triangles, points or lines.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.triangles.is_empty() && self.points.is_empty() && self.lines.is_empty()
     }
 }
 
@@ -261,6 +278,10 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
         },
         center,
         radius,
+        // Render vertex v is mesh vertex v for every v < positions (`render_vertices`).
+        points: mesh.points.clone(),
+        lines: mesh.lines.clone(),
+        file_normals: matches!(mesh.normal_source, super::NormalSource::File),
     }
 }
 

@@ -43,7 +43,7 @@ pub mod stages;
 use crate::simd::{Kernel, F8, LANES};
 
 pub use framebuffer::{sample_offsets, DepthCopy, Framebuffer, Target, SAMPLE_COUNTS, TILE};
-pub use line::{draw_lines, LineStyle};
+pub use line::{draw_lines, draw_points, draw_wide_lines, LineStyle, StrokeStyle, MAX_STROKE_PX};
 pub use pipeline::{
     draw, draw_list, draw_with_kernel, transform_positions, transform_positions_into, Bins, Blend,
     Cull, DepthTest, Draw, DrawList, DrawState, RasterScratch, Stats, TileCost,

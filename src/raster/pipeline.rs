@@ -135,6 +135,8 @@ pub struct Stats {
     pub shader_calls: u64,
     pub depth_rejected: u64,
     pub lines_drawn: u64,
+    /// Points of meshes drawn (at least one pixel passed).
+    pub points_drawn: u64,
     /// (object, light) pairs skipped because the light cannot reach the object (out of
     /// range, or its cone misses the bounding sphere); counted by the caller.
     pub lights_skipped: u64,
@@ -160,6 +162,7 @@ impl Stats {
         self.shader_calls += o.shader_calls;
         self.depth_rejected += o.depth_rejected;
         self.lines_drawn += o.lines_drawn;
+        self.points_drawn += o.points_drawn;
         self.lights_skipped += o.lights_skipped;
         self.too_wide += o.too_wide;
         self.shadow_maps += o.shadow_maps;

@@ -36,6 +36,10 @@ pub(super) struct FrameInst {
     pub blend: bool,
     /// Distance from the eye to the bounding-sphere centre (for back-to-front sorting).
     pub distance: f32,
+    /// The mesh has triangles (the triangle passes skip an instance without).
+    pub tris: bool,
+    /// The mesh has points or lines (drawn by the strokes pass).
+    pub strokes: bool,
 }
 
 /// Per-frame memory, reused.
@@ -54,6 +58,9 @@ pub(super) struct FrameData {
     pub casters: Vec<FrameInst>,
     /// Wireframe's saved depth.
     pub depth: DepthCopy,
+    /// [`Settings::point_size`] and [`Settings::line_width`] of the frame.
+    pub point_size: f32,
+    pub line_width: f32,
 }
 
 /// Calls `f` with every light of the frame and the matrix that moves it into the world
@@ -561,6 +568,8 @@ impl FrameInst {
             mode: r.mode,
             blend: r.blend,
             distance: 0.0,
+            tris: true,
+            strokes: false,
         }
     }
 }
@@ -583,6 +592,8 @@ pub(super) fn set_up(
         &mut fd.lights,
     );
     fd.fog = settings.fog.filter(Fog::is_valid);
+    fd.point_size = settings.point_size;
+    fd.line_width = settings.line_width;
     let shadows = settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
     fd.casters.clear();
     fd.insts.clear();
@@ -631,6 +642,8 @@ pub(super) fn set_up(
         fd.insts.push(FrameInst {
             param: fd.params.len() as u32,
             distance: (center - eye).length(),
+            tris: !tri.triangles.is_empty(),
+            strokes: !tri.points.is_empty() || !tri.lines.is_empty(),
             ..FrameInst::new(k, inst.mesh, world, view, vp, &r)
         });
         fd.params.push(r.params);

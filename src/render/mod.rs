@@ -73,6 +73,10 @@ pub struct RenderOptions {
     pub environment: Environment,
     /// See [`Settings::tone`].
     pub tone: ToneMap,
+    /// See [`Settings::point_size`].
+    pub point_size: f32,
+    /// See [`Settings::line_width`].
+    pub line_width: f32,
 }
 
 impl Default for RenderOptions {
@@ -93,6 +97,8 @@ impl Default for RenderOptions {
             exposure: 0.0,
             environment: Environment::Auto,
             tone: ToneMap::Clamp,
+            point_size: s.point_size,
+            line_width: s.line_width,
         }
     }
 }
@@ -113,6 +119,8 @@ impl RenderOptions {
             exposure: self.exposure,
             environment: self.environment.clone(),
             tone: self.tone,
+            point_size: self.point_size,
+            line_width: self.line_width,
             ..Settings::default()
         }
     }

@@ -1,6 +1,8 @@
 //! The passes of one frame: solid instances grouped by the shader they need (flat, Gouraud,
 //! Phong / Blinn / textured by varying type, debug views), wireframe with hidden lines
-//! removed, the wireframe overlay, blended instances back to front, or the overdraw count.
+//! removed, the wireframe overlay, the meshes' points and lines, blended instances back to
+//! front, or the overdraw count. Instances without triangles (only points or lines) are
+//! left out of the triangle passes, whose per-triangle and per-pixel work is unchanged.
 //!
 //! Every group appends its instances' clip positions and float varyings to buffers kept in
 //! the renderer's [`Pool`] and hands the rasterizer a [`DrawList`] that builds each draw from
@@ -15,7 +17,7 @@ use super::pool::{GroupScratch, Item, Pool};
 use super::prepare::PreparedScene;
 use super::vertex::{self, Lit};
 use crate::raster::{
-    self, Bins, Cull, DepthCopy, Draw, DrawList, DrawState, LineStyle, Stats, Target,
+    self, Bins, Cull, DepthCopy, Draw, DrawList, DrawState, LineStyle, Stats, StrokeStyle, Target,
 };
 use crate::scene::Camera;
 use crate::shade::{
@@ -238,7 +240,9 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
         return group(cx, fd, all, Geometry::Indexed, vertex, &CountShader);
     }
     let fdr = &*fd;
-    if !solid(cx, fdr, &|_, fi| !fi.blend && fi.mode != Shading::Wireframe) {
+    if !solid(cx, fdr, &|_, fi| {
+        !fi.blend && fi.mode != Shading::Wireframe && fi.tris
+    }) {
         return false;
     }
     let wire = |_: usize, fi: &FrameInst| !fi.blend && fi.mode == Shading::Wireframe;
@@ -250,6 +254,9 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     }
     fd.depth = depth;
     let fdr = &*fd;
+    if done {
+        done = strokes(cx, fdr);
+    }
     cx.sort = true;
     for &k in &fdr.order {
         if !done {
@@ -258,6 +265,60 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
         done = solid(cx, fdr, &|j, _| j == k as usize);
     }
     cx.sort = false;
+    done
+}
+
+/// The frame's points and lines and their vertex colours, kept in the pool between frames.
+#[derive(Default)]
+struct StrokeScratch {
+    clip: Vec<Vec4>,
+    colors: Vec<Vec4>,
+}
+
+/// The points and lines of every visible instance that has some, after the opaque
+/// surfaces and wireframe and before the blended surfaces: per-vertex colours
+/// ([`Lit::strokes`]), then [`raster::draw_points`] and [`raster::draw_wide_lines`]
+/// (serial, in instance order: the same image for any thread count). Returns false if
+/// stopped.
+fn strokes(cx: &mut Cx, fd: &FrameData) -> bool {
+    if !fd.insts.iter().any(|fi| fi.strokes) {
+        return true;
+    }
+    let lit = Lit {
+        scene: cx.scene,
+        params: &fd.params,
+        lights: &fd.lights,
+        active: &fd.active,
+        eye: cx.eye,
+        forward: cx.camera.forward(),
+        fog: fd.fog,
+    };
+    let mut s = cx.pool.take::<StrokeScratch>();
+    let mut done = true;
+    for fi in fd.insts.iter().filter(|fi| fi.strokes) {
+        if (cx.stop)() {
+            done = false;
+            break;
+        }
+        let tri = &cx.scene.meshes[fi.mesh as usize].tri;
+        let start = Instant::now();
+        s.clip.clear();
+        raster::transform_positions_into(cx.jitter * fi.mvp, &tri.positions, &mut s.clip);
+        lit.strokes(fi, &mut s.colors);
+        cx.vertex_nanos += start.elapsed().as_nanos() as u64;
+        let point = StrokeStyle {
+            size: fd.point_size,
+            blend: fi.blend,
+        };
+        let line = StrokeStyle {
+            size: fd.line_width,
+            blend: fi.blend,
+        };
+        let StrokeScratch { clip, colors } = &*s;
+        raster::draw_points(cx.target, clip, colors, &tri.points, &point, cx.stats);
+        raster::draw_wide_lines(cx.target, clip, colors, &tri.lines, &line, cx.stats);
+    }
+    cx.pool.put(s);
     done
 }
 

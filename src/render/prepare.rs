@@ -93,7 +93,8 @@ pub(crate) struct PreparedInstance {
     /// The skin ([`Scene::skins`]) that places the vertices; posed, the world matrix is
     /// then the identity.
     pub skin: Option<usize>,
-    /// False if the instance can never draw (no triangles or a non-finite matrix); also
+    /// False if the instance can never draw (no triangles, points or lines, or a
+    /// non-finite matrix); also
     /// false for the ground plane, which set-up draws only when the settings ask for it.
     pub drawable: bool,
     /// The ground plane ([`super::Ground`]), last of the instances; its world matrix is
@@ -136,7 +137,7 @@ impl PreparedScene {
                     style: inst.style,
                     node: inst.node,
                     skin: inst.skin,
-                    drawable: !tri.triangles.is_empty() && inst.world.is_finite(),
+                    drawable: !tri.is_empty() && inst.world.is_finite(),
                     ground: false,
                 })
             })
@@ -224,7 +225,7 @@ impl PreparedScene {
             inst.world = world;
             inst.normal = normal_matrix(world);
             inst.mirrored = world.determinant() < 0.0;
-            inst.drawable = !self.meshes[inst.mesh].tri.triangles.is_empty() && world.is_finite();
+            inst.drawable = !self.meshes[inst.mesh].tri.is_empty() && world.is_finite();
         }
         for d in &mut self.deformers {
             let Some(deform) = scene.meshes.get(d.rest).and_then(|m| m.deform.as_deref()) else {
@@ -254,7 +255,7 @@ impl PreparedScene {
             d.bounds = crate::mesh::deform(&rest.tri, &mut out.tri, &posing);
             out.flat = OnceLock::new();
             let inst = &mut self.instances[d.instance];
-            inst.drawable = !out.tri.triangles.is_empty() && inst.world.is_finite();
+            inst.drawable = !out.tri.is_empty() && inst.world.is_finite();
         }
         self.bounds = self.posed_bounds();
         self.pose_lights_and_cameras(pose);

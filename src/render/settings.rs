@@ -356,6 +356,12 @@ pub struct Settings {
     pub shadow: ShadowSettings,
     /// Shows a ground plane under the scene (it catches shadows).
     pub ground: Option<Ground>,
+    /// Size of the meshes' points, in pixels of the image (default 1; rounded to whole
+    /// pixels, 1 to [`crate::raster::MAX_STROKE_PX`]; see [`crate::raster::draw_points`]).
+    pub point_size: f32,
+    /// Width of the meshes' lines, in pixels of the image (default 1; rounded to whole
+    /// pixels, 1 to [`crate::raster::MAX_STROKE_PX`]; see [`crate::raster::draw_wide_lines`]).
+    pub line_width: f32,
 }
 
 impl Settings {
@@ -393,6 +399,8 @@ impl Default for Settings {
             env_background: None,
             shadow: ShadowSettings::default(),
             ground: None,
+            point_size: 1.0,
+            line_width: 1.0,
         }
     }
 }

@@ -163,6 +163,35 @@ impl Lit<'_> {
     }
 }
 
+impl Lit<'_> {
+    /// The colour of every vertex of an instance's points and lines (one per render vertex,
+    /// into `out`, cleared first), following glTF's recommendation for them: lit as the
+    /// Gouraud vertices are (the side the normal points to) when the mesh's normals come
+    /// from the file and the material is not unlit; otherwise unlit, `base × COLOR_0 +
+    /// emissive`. Fog applies to both.
+    pub fn strokes(&self, fi: &FrameInst, out: &mut Vec<Vec4>) {
+        let d = &self.params[fi.param as usize];
+        let mesh = &self.scene.meshes[fi.mesh as usize];
+        let tri = &mesh.tri;
+        let lit = tri.file_normals && !d.unlit;
+        out.clear();
+        per_item(out, tri.positions.len(), |k| {
+            let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
+            if lit {
+                let (p, n) = world(self.scene, fi, mesh, k);
+                return self.colour(d, p, n, c);
+            }
+            let base = d.base * c;
+            let mut rgb = base.truncate() + d.emissive;
+            if let Some(fog) = &self.fog {
+                let p = fi.world.transform_point3(tri.positions[k]);
+                rgb = fog.apply::<f32>(rgb, p, self.eye, self.forward);
+            }
+            rgb.extend(base.w)
+        });
+    }
+}
+
 /// Debug views: the quantity itself (3 floats). Returns the stride.
 pub(super) fn debug(
     scene: &PreparedScene,

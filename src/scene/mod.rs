@@ -235,11 +235,14 @@ pub struct LoadReport {
     pub file: String,
     pub format: String,
     pub warnings: Vec<String>,
-    /// Primitives skipped (points, lines, unsupported), with the reason.
+    /// Primitives skipped (unsupported or empty), with the reason.
     pub skipped: Vec<String>,
     /// What was generated rather than read (normals, tangents, texture coordinates), per
     /// mesh, with how.
     pub generated: Vec<String>,
+    /// Points and lines loaded (glTF primitives, OBJ `p` and `l`), each with its count
+    /// and whether it is lit.
+    pub loaded: Vec<String>,
 }
 
 /// Everything that was loaded, ready to be prepared for rendering.

@@ -93,6 +93,8 @@ pub fn canonical(s: &Settings) -> Settings {
     }
     f(&mut s.shadow.bias);
     f(&mut s.shadow.slope);
+    f(&mut s.point_size);
+    f(&mut s.line_width);
     s
 }
 

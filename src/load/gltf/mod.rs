@@ -8,10 +8,12 @@
 //! read by [`accessor`] with checked byte ranges (including sparse accessors and accessors
 //! without a bufferView, which read as zeros).
 //!
-//! What is drawn: the default scene (else scene 0, else every root node), walked
-//! iteratively by [`nodes`]; every triangle, strip and fan primitive of every node with a
-//! mesh becomes one [`Mesh`] (built once, shared by all nodes that use it) and one
-//! [`Instance`] with the node's world matrix. Meshes without NORMAL get flat normals, as the
+//! What is drawn: the scene [`LoadOptions::scene`] asks for, else the default scene (else
+//! scene 0, else every root node), walked iteratively by [`nodes`]; every primitive of
+//! every node with a mesh (triangles, strips, fans, and points, lines, line loops and line
+//! strips, which become meshes of points or line segments) becomes one [`Mesh`] (built
+//! once, shared by all nodes that use it) and one [`Instance`] with the node's world
+//! matrix. Meshes without NORMAL get flat normals, as the
 //! spec requires; positions are welded so topology reports mean something.
 //!
 //! **Mirroring transforms:** a node whose world matrix has a negative determinant turns its
@@ -26,7 +28,7 @@
 //! ([`skin`]; deformable primitives are not welded) and animations ([`animation`]), so
 //! [`crate::render::PreparedScene::pose_at`] can pose the scene at any time.
 //!
-//! Not loaded (each noted in the report): points and lines primitives. Cameras (perspective and
+//! Cameras (perspective and
 //! orthographic) go to [`Scene::cameras`] and `KHR_lights_punctual` lights to
 //! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
 //! `KHR_mesh_quantization`, `KHR_lights_punctual` and `KHR_texture_transform`; a file that
@@ -252,6 +254,8 @@ pub(super) struct Builder<'a> {
     pub failed_images: std::collections::HashSet<usize>,
     /// `KHR_lights_punctual` lights and the nodes that place them.
     lights: lights::PunctualLights,
+    /// The scene asked for ([`LoadOptions::scene`]); `None`: the file's default.
+    pub chosen_scene: Option<usize>,
 }
 
 /// Where reading and parsing end on the progress bar; the rest is geometry (in units of
@@ -336,6 +340,7 @@ pub(crate) fn load_gltf(
         textures: HashMap::new(),
         failed_images: std::collections::HashSet::new(),
         lights: punctual,
+        chosen_scene: opts.scene,
     };
     b.walk()?;
     if b.scene.instances.is_empty() {

@@ -1,5 +1,6 @@
 //! The node tree ([`crate::scene::Graph`]): every node with its parent, children, name and
-//! TRS or matrix, the file's scenes and which is drawn, and an evaluation order; then, at
+//! TRS or matrix, the file's scenes and which is drawn (the one
+//! [`crate::load::LoadOptions::scene`] asks for, else the file's default, else the first), and an evaluation order; then, at
 //! the rest pose, instances for the drawn nodes with meshes (each knowing its node and
 //! skin), cameras for nodes with cameras, and `KHR_lights_punctual` lights for nodes that
 //! carry one.
@@ -55,9 +56,10 @@ impl Builder<'_> {
                     .collect(),
             })
             .collect();
-        graph.drawn = match self.doc.json.scene {
-            Some(s) => Some(s.value()),
-            None => (!graph.scenes.is_empty()).then_some(0),
+        graph.drawn = match (self.chosen_scene, self.doc.json.scene) {
+            (Some(s), _) => Some(s),
+            (None, Some(s)) => Some(s.value()),
+            (None, None) => (!graph.scenes.is_empty()).then_some(0),
         };
         // Parentless nodes outside the drawn scene are walked too (not drawn), so a skin's
         // joints there still get world matrices.
@@ -164,16 +166,27 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// Root nodes of the default scene, else scene 0, else every node that is nobody's child.
+    /// Root nodes of the scene asked for ([`Builder::chosen_scene`], which must exist), else
+    /// of the default scene, else scene 0, else every node that is nobody's child.
     fn roots(&mut self) -> Result<Vec<usize>, LoadError> {
         let json = &self.doc.json;
         let count = json.nodes.len();
-        let chosen = match json.scene {
-            Some(s) => Some(json.scenes.get(s.value()).ok_or_else(|| {
+        if let Some(index) = self.chosen_scene {
+            if index >= json.scenes.len() {
+                return Err(LoadError::Scene {
+                    path: self.doc.path.to_owned(),
+                    index,
+                    count: json.scenes.len(),
+                });
+            }
+        }
+        let chosen = match (self.chosen_scene, json.scene) {
+            (Some(k), _) => json.scenes.get(k),
+            (None, Some(s)) => Some(json.scenes.get(s.value()).ok_or_else(|| {
                 self.doc
                     .missing("the default scene", "scene", s.value(), json.scenes.len())
             })?),
-            None => json.scenes.first(),
+            (None, None) => json.scenes.first(),
         };
         let roots: Vec<usize> = match chosen {
             Some(scene) => scene.nodes.iter().map(|n| n.value()).collect(),
@@ -193,9 +206,11 @@ impl Builder<'_> {
             return Err(self.doc.missing("scene nodes", "node", bad, count));
         }
         if json.scenes.len() > 1 {
-            let which = json.scene.map_or(0, |s| s.value());
+            let which = self
+                .chosen_scene
+                .unwrap_or_else(|| json.scene.map_or(0, |s| s.value()));
             self.scene.report.skipped.push(format!(
-                "{} scenes in the file; scene {which} is drawn",
+                "{} scenes in the file; scene {which} is drawn (choose with --scene N)",
                 json.scenes.len()
             ));
         }

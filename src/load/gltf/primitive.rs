@@ -6,6 +6,13 @@
 //! - fan: triangle i is (v_0, v_i+1, v_i+2).
 //!
 //! Triangles that repeat a vertex index (strip restarts, degenerate input) are dropped.
+//!
+//! POINTS, LINES, LINE_LOOP and LINE_STRIP primitives become meshes with no facets that
+//! carry points or line segments ([`Mesh::points`], [`Mesh::lines`]; `strokes` lists them
+//! as the specification defines the modes, with a warning for counts it does not allow).
+//! Their vertices are not welded, keep NORMAL (which makes them lit), COLOR_0 and the UV
+//! sets, and may be skinned and morphed like any mesh; the load report lists each one with
+//! its count.
 
 use glam::{Vec2, Vec3, Vec4};
 use gltf::json::mesh::{Mode, Primitive, Semantic};
@@ -190,15 +197,7 @@ impl Builder<'_> {
         };
         let report = &mut self.scene.report;
         let mode = match prim.mode {
-            Checked::Valid(mode @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)) => {
-                mode
-            }
-            Checked::Valid(other) => {
-                report
-                    .skipped
-                    .push(format!("{label}: mode {other:?} is not rendered"));
-                return Ok(None);
-            }
+            Checked::Valid(mode) => mode,
             Checked::Invalid => {
                 report
                     .skipped
@@ -222,6 +221,22 @@ impl Builder<'_> {
         let n = attrs.positions.len();
         let indices = doc.indices(prim, n, &at)?;
         step(10)?;
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
+            let material = prim.material.map(|i| i.value());
+            let source = Strokes {
+                mode,
+                name,
+                attrs,
+                indices,
+                deform,
+                material,
+            };
+            return self.build_strokes(m, p, source, &label);
+        }
         let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
         step(15)?;
         let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
@@ -282,6 +297,156 @@ impl Builder<'_> {
         mesh.deform = deform.map(Box::new);
         self.scene.meshes.push(mesh);
         Ok(Some(self.scene.meshes.len() - 1))
+    }
+}
+
+/// What a points or lines primitive was read into.
+struct Strokes {
+    mode: Mode,
+    name: Option<String>,
+    attrs: Attributes,
+    indices: Vec<u32>,
+    deform: Option<crate::mesh::Deform>,
+    /// The glTF material index.
+    material: Option<usize>,
+}
+
+impl Builder<'_> {
+    /// The scene mesh of a POINTS, LINES, LINE_LOOP or LINE_STRIP primitive: its vertices
+    /// (not welded), no facets, and its points or line segments ([`strokes`]).
+    fn build_strokes(
+        &mut self,
+        m: usize,
+        p: usize,
+        source: Strokes,
+        label: &str,
+    ) -> Result<Option<usize>, LoadError> {
+        let Strokes {
+            mode,
+            name,
+            attrs,
+            indices,
+            deform,
+            material,
+        } = source;
+        let doc = &self.doc;
+        let report = &mut self.scene.report;
+        let n = attrs.positions.len();
+        let (points, lines) = strokes(mode, &indices, label, &mut report.warnings);
+        if points.is_empty() && lines.is_empty() {
+            report
+                .skipped
+                .push(format!("{label}: no {}", mode_name(mode).1));
+            return Ok(None);
+        }
+        let items = (points.len() + 2 * lines.len()) as u64;
+        doc.budget.charge(mesh_bytes(n as u64, items, 0), || {
+            format!("{label} ({n} vertices, {items} point and line indices)")
+        })?;
+        let material = match material {
+            Some(i) => self.material(i, label)?,
+            None => None,
+        };
+        let has_normals = attrs.normals.is_some();
+        let data = MeshData {
+            name: name.unwrap_or_else(|| format!("mesh {m}")),
+            positions: attrs.positions,
+            corners: Vec::new(),
+            facet_sizes: None,
+            normals: attrs.normals.map(Channel::per_vertex),
+            uvs: attrs.uvs.into_iter().map(Channel::per_vertex).collect(),
+            colors: attrs.colors.map(Channel::per_vertex),
+            // Tangents serve normal maps, which points and lines do not read.
+            tangents: None,
+            material,
+        };
+        let mesh_error = |source| {
+            LoadError::from(GltfError::Mesh {
+                path: self.doc.path.to_owned(),
+                mesh: m,
+                primitive: p,
+                source,
+            })
+        };
+        let mut mesh = Mesh::new(data, NormalPolicy::Flat).map_err(mesh_error)?;
+        let (point_count, line_count) = (points.len(), lines.len());
+        mesh.set_strokes(points, lines).map_err(mesh_error)?;
+        mesh.deform = deform.map(Box::new);
+        let (mode_label, _) = mode_name(mode);
+        let lighting = if has_normals {
+            "lit (NORMAL)"
+        } else {
+            "unlit (no NORMAL)"
+        };
+        let what = if mode == Mode::Points {
+            format!("{point_count} points")
+        } else {
+            format!("{line_count} line segments")
+        };
+        self.scene
+            .report
+            .loaded
+            .push(format!("{label}: {what} ({mode_label}), {lighting}"));
+        self.scene.meshes.push(mesh);
+        Ok(Some(self.scene.meshes.len() - 1))
+    }
+}
+
+/// The specification's name of a points or lines mode, and what it draws.
+fn mode_name(mode: Mode) -> (&'static str, &'static str) {
+    match mode {
+        Mode::Points => ("POINTS", "points"),
+        Mode::Lines => ("LINES", "lines"),
+        Mode::LineLoop => ("LINE_LOOP", "lines"),
+        Mode::LineStrip => ("LINE_STRIP", "lines"),
+        Mode::Triangles => ("TRIANGLES", "triangles"),
+        Mode::TriangleStrip => ("TRIANGLE_STRIP", "triangles"),
+        Mode::TriangleFan => ("TRIANGLE_FAN", "triangles"),
+    }
+}
+
+/// The points (POINTS) or line segments (LINES, LINE_LOOP, LINE_STRIP) of `indices` drawn
+/// in `mode`, as the specification defines them: LINES pairs consecutive indices, a
+/// LINE_STRIP joins each index to the next, a LINE_LOOP also joins the last to the first.
+/// Counts the specification does not allow (no points, an odd LINES count, a strip or loop
+/// of fewer than 2) are warned about in `warnings`, naming `label`; what can be drawn is.
+fn strokes(
+    mode: Mode,
+    indices: &[u32],
+    label: &str,
+    warnings: &mut Vec<String>,
+) -> (Vec<u32>, Vec<[u32; 2]>) {
+    let n = indices.len();
+    let (name, _) = mode_name(mode);
+    match mode {
+        Mode::Points => {
+            if n == 0 {
+                warnings.push(format!("{label}: POINTS with no vertices"));
+            }
+            (indices.to_vec(), Vec::new())
+        }
+        Mode::Lines => {
+            if !n.is_multiple_of(2) {
+                warnings.push(format!(
+                    "{label}: LINES has an odd number of indices ({n}); the last one is ignored"
+                ));
+            }
+            let lines = indices.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+            (Vec::new(), lines)
+        }
+        _ => {
+            if n < 2 {
+                warnings.push(format!(
+                    "{label}: {name} needs at least 2 indices, has {n}; nothing drawn"
+                ));
+                return (Vec::new(), Vec::new());
+            }
+            let mut lines: Vec<[u32; 2]> = indices.windows(2).map(|w| [w[0], w[1]]).collect();
+            if mode == Mode::LineLoop {
+                lines.push([indices[n - 1], indices[0]]);
+            }
+            (Vec::new(), lines)
+        }
     }
 }
 
@@ -351,5 +516,44 @@ mod tests {
         assert_eq!((t, d), (vec![0, 1, 2], 1));
         assert_eq!(triangles(Mode::TriangleFan, &[]).0, Vec::<u32>::new());
         assert_eq!(triangles(Mode::TriangleStrip, &[0, 1]).0, Vec::<u32>::new());
+    }
+
+    #[test]
+    fn line_modes_follow_the_specification() {
+        let mut w = Vec::new();
+        let (p, l) = strokes(Mode::Points, &[3, 1, 2], "m", &mut w);
+        assert_eq!((p, l, w.len()), (vec![3, 1, 2], vec![], 0));
+        let (_, l) = strokes(Mode::Lines, &[0, 1, 2, 3], "m", &mut w);
+        assert_eq!((l, w.len()), (vec![[0, 1], [2, 3]], 0));
+        let (_, l) = strokes(Mode::LineStrip, &[0, 1, 2], "m", &mut w);
+        assert_eq!((l, w.len()), (vec![[0, 1], [1, 2]], 0));
+        // A loop closes: the last index joins the first.
+        let (_, l) = strokes(Mode::LineLoop, &[0, 1, 2], "m", &mut w);
+        assert_eq!((l, w.len()), (vec![[0, 1], [1, 2], [2, 0]], 0));
+    }
+
+    #[test]
+    fn wrong_counts_warn_and_do_not_panic() {
+        let mut w = Vec::new();
+        let (_, l) = strokes(Mode::Lines, &[0, 1, 2], "mesh 4 primitive 1", &mut w);
+        assert_eq!(l, vec![[0, 1]]);
+        assert!(
+            w[0].starts_with("mesh 4 primitive 1: LINES has an odd number of indices (3)"),
+            "{w:?}"
+        );
+        for mode in [Mode::LineLoop, Mode::LineStrip] {
+            for ix in [&[][..], &[7][..]] {
+                w.clear();
+                let (p, l) = strokes(mode, ix, "mesh 0 primitive 0", &mut w);
+                assert!(p.is_empty() && l.is_empty());
+                assert!(w[0].contains("needs at least 2 indices"), "{w:?}");
+            }
+        }
+        w.clear();
+        let (p, _) = strokes(Mode::Points, &[], "m", &mut w);
+        assert!(p.is_empty() && w[0].contains("POINTS with no vertices"));
+        w.clear();
+        let (_, l) = strokes(Mode::Lines, &[], "m", &mut w);
+        assert!(l.is_empty() && w.is_empty());
     }
 }

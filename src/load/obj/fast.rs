@@ -3,7 +3,8 @@
 //! `tobj` would have produced (same groups, materials, first-use vertex order and
 //! fallbacks for missing indices).
 //!
-//! The fast path only takes files it can read without doubt. Anything else — a line the
+//! The fast path only takes files it can read without doubt, and files without points and
+//! lines (`p`, `l`: the pre-scan reads those). Anything else — a line the
 //! pre-scan rejects or would warn about, an index out of range, colours on some `v` lines
 //! only, a non-ASCII geometry line, a parse that would need more memory than the budget has
 //! left — makes it step aside ([`Parsed::Fallback`]) and the file is read again by the
@@ -331,10 +332,8 @@ fn line<'a>(p: &mut Part<'a>, raw: &'a str, line: usize) -> Result<(), Stop> {
     let geometry = matches!(keyword, b"v" | b"vt" | b"vn" | b"f" | b"l");
     if !geometry {
         return match keyword {
-            b"p" => {
-                p.point_elements += 1;
-                Ok(())
-            }
+            // Points and lines are read by the pre-scan of the sequential path.
+            b"p" => fallback,
             b"o" | b"g" | b"usemtl" | b"mtllib" => {
                 // ASCII throughout: byte offsets are char boundaries.
                 let trimmed = std::str::from_utf8(bytes).unwrap_or("");
@@ -446,16 +445,8 @@ fn line<'a>(p: &mut Part<'a>, raw: &'a str, line: usize) -> Result<(), Stop> {
             }
             p.arities.push((p.corners.len() - first) as u32);
         }
-        _ => {
-            // `l`: lines are not rendered. The pre-scan blanks the whole line (so the
-            // comment cut above does not count).
-            p.line_elements += 1;
-            if commented {
-                p.rewrite_delta -= body.len() as i64 - raw.len() as i64;
-            }
-            p.rewritten = true;
-            p.rewrite_delta -= raw.len() as i64;
-        }
+        // `l`: points and lines are read by the pre-scan of the sequential path.
+        _ => return fallback,
     }
     Ok(())
 }

@@ -6,6 +6,9 @@
 //! change inside one, as `tobj` splits them) becomes one mesh, placed by one instance with
 //! an identity world matrix. Texture `v` is flipped (v' = 1 - v) into the crate's top-left
 //! UV convention. Files without normals get averaged normals ([`NormalPolicy::Average`]).
+//! Points and lines (`p`, `l`) are read by the pre-scan ([`scan`]) and become one mesh per
+//! run under the same `o`/`g` and `usemtl` (no facets; unlit), drawn with a point size and
+//! line width in pixels; the fast path leaves files that have them to the sequential path.
 //!
 //! Before `tobj` runs, [`scan`] checks every line (so errors carry line numbers) and
 //! rewrites what `tobj` would misread; [`mtl`] does the same for material libraries.
@@ -104,7 +107,7 @@ pub(crate) fn load_obj(
         fatal: Default::default(),
     };
     tracker.begin(Stage::Parsing, FAST_UNTIL, text.len() as u64)?;
-    let (models, materials, scan) = match fast::parse(&text, &budget, tracker)? {
+    let (models, materials, mut scan) = match fast::parse(&text, &budget, tracker)? {
         Some(mut joined) => {
             charge_and_note(&mut joined.scan, &budget, &mut scene.report)?;
             let (models, materials, scan) = joined.assemble(|p| libs.load(p));
@@ -124,8 +127,84 @@ pub(crate) fn load_obj(
         dirs: &dirs,
     };
     add_materials(&materials, folders, &budget, tracker, &scan, &mut scene)?;
-    add_meshes(path, models, opts, scan.positions, tracker, &mut scene)?;
+    let strokes = stroke_meshes(path, &text, &mut scan, &materials, opts, &budget)?;
+    add_meshes(
+        path,
+        models,
+        opts,
+        scan.positions,
+        tracker,
+        strokes,
+        &mut scene,
+    )?;
     Ok(scene)
+}
+
+/// One mesh per run of `p` and `l` elements ([`scan::Strokes`]): the vertices they use
+/// (in order of first use), no facets, the points and segments, the material of the
+/// `usemtl` in force; each with its line in the report. Unlit: OBJ elements carry no
+/// normals.
+fn stroke_meshes(
+    path: &Path,
+    text: &str,
+    scan: &mut scan::Scan,
+    materials: &[tobj::Material],
+    opts: &LoadOptions,
+    budget: &Budget,
+) -> Result<Vec<(Mesh, String)>, LoadError> {
+    if scan.strokes.is_empty() {
+        return Ok(Vec::new());
+    }
+    let items: u64 = scan
+        .strokes
+        .iter()
+        .map(|g| (g.points.len() + 2 * g.lines.len()) as u64)
+        .sum();
+    budget.charge(scan.positions.saturating_mul(28) + items * 40, || {
+        format!("points and lines ({items} vertex references)")
+    })?;
+    let (positions, colors) = scan::file_vertices(text);
+    let mut out = Vec::new();
+    for g in std::mem::take(&mut scan.strokes) {
+        let mut first_use = std::collections::HashMap::new();
+        let mut used = Vec::new();
+        let mut local = |v: u32| {
+            *first_use.entry(v).or_insert_with(|| {
+                used.push(v);
+                used.len() as u32 - 1
+            })
+        };
+        let points: Vec<u32> = g.points.iter().map(|&v| local(v)).collect();
+        let lines: Vec<[u32; 2]> = g.lines.iter().map(|l| l.map(&mut local)).collect();
+        let at = |v: &u32| positions.get(*v as usize).copied().unwrap_or(Vec3::NAN);
+        let data = MeshData {
+            name: g.object.clone(),
+            positions: used.iter().map(at).collect(),
+            colors: (colors.len() == positions.len())
+                .then(|| Channel::per_vertex(used.iter().map(|&v| colors[v as usize]).collect())),
+            material: g
+                .material
+                .as_deref()
+                .and_then(|name| materials.iter().position(|m| m.name == name)),
+            ..MeshData::default()
+        };
+        let mesh_error = |source| ObjError::Mesh {
+            path: path.to_owned(),
+            object: g.object.clone(),
+            source,
+        };
+        let mut mesh = Mesh::new(data, NormalPolicy::Average(opts.normals)).map_err(mesh_error)?;
+        let note = format!(
+            "object '{}' (from line {}): {} points, {} line segments, unlit (no normals)",
+            g.object,
+            g.line,
+            points.len(),
+            lines.len()
+        );
+        mesh.set_strokes(points, lines).map_err(mesh_error)?;
+        out.push((mesh, note));
+    }
+    Ok(out)
 }
 
 /// Models, materials (or why there are none) and the pre-scan's findings.
@@ -183,18 +262,6 @@ fn charge_and_note(
         format!("meshes of {v} vertices and {f} faces")
     })?;
     report.warnings.append(&mut scan.warnings);
-    if scan.line_elements > 0 {
-        report.skipped.push(format!(
-            "{} line element(s) (`l`): lines are not rendered",
-            scan.line_elements
-        ));
-    }
-    if scan.point_elements > 0 {
-        report.skipped.push(format!(
-            "{} point element(s) (`p`): points are not rendered",
-            scan.point_elements
-        ));
-    }
     Ok(())
 }
 
@@ -247,6 +314,7 @@ fn add_meshes(
     opts: &LoadOptions,
     file_vertices: u64,
     tracker: &Tracker,
+    strokes: Vec<(Mesh, String)>,
     scene: &mut Scene,
 ) -> Result<(), LoadError> {
     let mut dropped = Dropped::default();
@@ -291,6 +359,18 @@ fn add_meshes(
         });
         scene.meshes.push(mesh);
     }
+    for (mesh, note) in strokes {
+        scene.instances.push(Instance {
+            mesh: scene.meshes.len(),
+            world: Mat4::IDENTITY,
+            name: mesh.name.clone(),
+            style: Style::Inherit,
+            node: None,
+            skin: None,
+        });
+        scene.meshes.push(mesh);
+        scene.report.loaded.push(note);
+    }
     let report = &mut scene.report;
     report.warnings.extend(dropped.warnings("OBJ"));
     let kept: u64 = scene.meshes.iter().map(|m| m.positions.len() as u64).sum();
@@ -311,7 +391,9 @@ fn add_meshes(
         ));
     }
     if scene.meshes.is_empty() {
-        report.warnings.push("no faces to draw".into());
+        report
+            .warnings
+            .push("no faces, points or lines to draw".into());
     }
     Ok(())
 }

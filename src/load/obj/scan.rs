@@ -5,7 +5,8 @@
 //! pass checks every `v`/`vt`/`vn`/`f` line the way `tobj` will read it, so every error the
 //! user sees names its line, and rewrites the few lines `tobj` would misread:
 //!
-//! - `l` elements are blanked (and counted as skipped: lines are not rendered);
+//! - `l` elements are blanked (tobj would read them as faces); they and the `p` elements
+//!   are read here instead, checked like face corners, into [`Scan::strokes`];
 //! - inline `# comments` after geometry are cut;
 //! - `vt u` gets its optional `v` = 0;
 //! - `o`, `g`, `usemtl`, `mtllib` are normalised to `keyword name` (tobj splits at the
@@ -41,9 +42,29 @@ pub(super) struct Scan<'a> {
     pub line_elements: u64,
     /// `p` elements (ignored by tobj).
     pub point_elements: u64,
+    /// The `p` and `l` elements, as 0-based vertex indices, grouped by the `o`/`g` and
+    /// `usemtl` in force, in file order.
+    pub strokes: Vec<Strokes>,
     /// First use of each material name, with its 1-based line.
     pub materials_used: Vec<(usize, String)>,
     pub warnings: Vec<String>,
+}
+
+/// The points and lines of one run of `p` and `l` elements under the same object and
+/// material.
+#[derive(Debug, Default, PartialEq)]
+pub(super) struct Strokes {
+    /// The `o` or `g` name in force (`unnamed` before any).
+    pub object: String,
+    /// The `usemtl` name in force.
+    pub material: Option<String>,
+    /// 1-based line of the first element.
+    pub line: usize,
+    /// File vertex indices (0-based) of the points.
+    pub points: Vec<u32>,
+    /// File vertex index pairs (0-based) of the line segments: an `l` of n vertices gives
+    /// n - 1 segments.
+    pub lines: Vec<[u32; 2]>,
 }
 
 /// Copies the source, replacing some lines, only once the first line changes.
@@ -89,6 +110,7 @@ pub(super) fn scan<'a>(
     };
     let mut colors: Option<(bool, usize)> = None;
     let mut used = std::collections::HashSet::new();
+    let (mut object, mut material): (&str, Option<&str>) = ("unnamed", None);
     let mut start = 0usize;
     for (i, raw) in text.split('\n').enumerate() {
         if i & (CHECK_EVERY - 1) == 0 {
@@ -189,17 +211,61 @@ pub(super) fn scan<'a>(
                 }
                 s.faces += 1;
             }
-            "l" => {
-                s.line_elements += 1;
-                ed.replace(start, end, "");
-                start = end + 1;
-                continue;
+            "l" | "p" => {
+                let mut ix = Vec::new();
+                for corner in words {
+                    ix.push(
+                        vertex_index(corner, &s).map_err(|(message, index)| match index {
+                            Some((kind, index, count)) => LoadError::from(ObjError::Index {
+                                path: path.to_owned(),
+                                line: line_no,
+                                kind,
+                                index,
+                                count,
+                            }),
+                            None => err(message),
+                        })?,
+                    );
+                }
+                let group = match s.strokes.last_mut() {
+                    Some(g) if g.object == object && g.material.as_deref() == material => g,
+                    _ => {
+                        s.strokes.push(Strokes {
+                            object: object.to_owned(),
+                            material: material.map(str::to_owned),
+                            line: line_no,
+                            ..Strokes::default()
+                        });
+                        s.strokes.last_mut().expect("just pushed")
+                    }
+                };
+                if keyword == "p" {
+                    s.point_elements += 1;
+                    if ix.is_empty() {
+                        s.warnings
+                            .push(format!("line {line_no}: `p` without vertices ignored"));
+                    }
+                    group.points.extend_from_slice(&ix);
+                } else {
+                    s.line_elements += 1;
+                    if ix.len() < 2 {
+                        s.warnings.push(format!(
+                            "line {line_no}: `l` needs at least 2 vertices, has {}; ignored",
+                            ix.len()
+                        ));
+                    }
+                    group.lines.extend(ix.windows(2).map(|w| [w[0], w[1]]));
+                    // tobj would read an `l` as a face.
+                    ed.replace(start, end, "");
+                    start = end + 1;
+                    continue;
+                }
             }
-            "p" => s.point_elements += 1,
             "o" | "g" | "usemtl" | "mtllib" => {
                 let name = trimmed.get(keyword.len()..).unwrap_or("").trim();
                 if keyword == "o" || keyword == "g" {
                     s.objects += 1;
+                    object = if name.is_empty() { "unnamed" } else { name };
                 } else if name.is_empty() {
                     s.warnings.push(format!(
                         "line {line_no}: `{keyword}` without a name ignored"
@@ -207,8 +273,11 @@ pub(super) fn scan<'a>(
                     ed.replace(start, end, "");
                     start = end + 1;
                     continue;
-                } else if keyword == "usemtl" && used.insert(name) {
-                    s.materials_used.push((line_no, name.to_owned()));
+                } else if keyword == "usemtl" {
+                    material = Some(name);
+                    if used.insert(name) {
+                        s.materials_used.push((line_no, name.to_owned()));
+                    }
                 }
                 let canonical = if name.is_empty() {
                     keyword.to_owned()
@@ -287,6 +356,53 @@ fn check_corner(corner: &str, s: &Scan) -> Result<(), CornerError> {
     Ok(())
 }
 
+/// The 0-based file vertex of a `p` or `l` element's `v` or `v/vt`, checked as a face
+/// corner is.
+fn vertex_index(corner: &str, s: &Scan) -> Result<u32, CornerError> {
+    check_corner(corner, s)?;
+    let first = corner.split('/').next().unwrap_or("");
+    let index: i64 = first
+        .parse()
+        .map_err(|_| (format!("index `{first}` is not an integer"), None))?;
+    // check_corner keeps 1 <= |index| <= positions (< 2^32 lines in practice).
+    let absolute = if index > 0 {
+        index - 1
+    } else {
+        s.positions as i64 + index
+    };
+    u32::try_from(absolute).map_err(|_| (format!("vertex index `{first}` is too large"), None))
+}
+
+/// Every `v` line's position (divided by w when there is one) and colour (when the
+/// lines have one) of text the pre-scan accepted, in file order: what `p` and `l`
+/// elements index.
+pub(super) fn file_vertices(text: &str) -> (Vec<glam::Vec3>, Vec<glam::Vec4>) {
+    let (mut positions, mut colors) = (Vec::new(), Vec::new());
+    for raw in text.split('\n') {
+        let body = raw.split('#').next().unwrap_or("");
+        let mut words = body.split_whitespace();
+        if words.next() != Some("v") {
+            continue;
+        }
+        let mut n = [0f32; 6];
+        let count = n
+            .iter_mut()
+            .zip(words)
+            .map(|(slot, w)| *slot = w.parse().unwrap_or(f32::NAN))
+            .count();
+        let p = glam::Vec3::new(n[0], n[1], n[2]);
+        match count {
+            4 => positions.push(p / n[3]),
+            6 => {
+                positions.push(p);
+                colors.push(glam::Vec4::new(n[3], n[4], n[5], 1.0));
+            }
+            _ => positions.push(p),
+        }
+    }
+    (positions, colors)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -308,9 +424,31 @@ mod tests {
 
     #[test]
     fn rewrites_lines_tobj_misreads() {
-        let s = run("v 0 0 0 # c\r\nvt 0.5\n  g  name \nl 1 2\nusemtl\nf 1 1 1").unwrap();
+        let s = run("v 0 0 0 # c\r\nvt 0.5\n  g  name \nl 1 1\nusemtl\nf 1 1 1").unwrap();
         assert_eq!(s.text, "v 0 0 0\nvt 0.5 0\ng name\n\n\nf 1 1 1");
         assert_eq!((s.line_elements, s.objects, s.warnings.len()), (1, 1, 1));
+    }
+
+    #[test]
+    fn points_and_lines_are_read() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\ng a\nl 1 2 -1\np 3\nusemtl m\nl 2 3\nl 1\n";
+        let s = run(text).unwrap();
+        assert_eq!(
+            s.text,
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\ng a\n\np 3\nusemtl m\n\n\n"
+        );
+        assert_eq!(s.strokes.len(), 2);
+        assert_eq!(s.strokes[0].object, "a");
+        assert_eq!(s.strokes[0].lines, vec![[0, 1], [1, 2]]);
+        assert_eq!(s.strokes[0].points, vec![2]);
+        assert_eq!(s.strokes[1].material.as_deref(), Some("m"));
+        assert_eq!(s.strokes[1].lines, vec![[1, 2]]);
+        assert_eq!(s.strokes[1].line, 8);
+        assert!(s.warnings[0].starts_with("line 9: `l` needs at least 2"));
+        assert!(run("v 0 0 0\nl 1 2")
+            .unwrap_err()
+            .starts_with("m.obj:2: face refers to vertex 2"));
+        assert!(run("v 0 0 0\np 0").unwrap_err().contains("start at 1"));
     }
 
     #[test]

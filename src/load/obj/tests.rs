@@ -21,8 +21,16 @@ fn groups_quads_negative_indices_and_missing_mtl() {
          o second\nf 5 6 7\nf 1 2\nl 1 2 3\n",
     )
     .unwrap();
-    assert_eq!(scene.meshes.len(), 2);
+    // The faces of two groups, then the line element of the second.
+    assert_eq!(scene.meshes.len(), 3);
     let (first, second) = (&scene.meshes[0], &scene.meshes[1]);
+    let lines = &scene.meshes[2];
+    assert_eq!((lines.name.as_str(), lines.facets.len()), ("second", 0));
+    assert_eq!(lines.lines, vec![[0, 1], [1, 2]]);
+    assert_eq!(
+        lines.positions,
+        [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0)]
+    );
     assert_eq!(
         (first.name.as_str(), second.name.as_str()),
         ("first", "second")
@@ -34,7 +42,7 @@ fn groups_quads_negative_indices_and_missing_mtl() {
     );
     assert!(first.facets[0].normal.z > 0.99);
     assert_eq!(second.facets.len(), 1);
-    assert_eq!(scene.instances.len(), 2);
+    assert_eq!(scene.instances.len(), 3);
     assert!(scene
         .instances
         .iter()
@@ -49,14 +57,9 @@ fn groups_quads_negative_indices_and_missing_mtl() {
         w.contains("dropped 1 face(s) with fewer than 3 vertices"),
         "{w}"
     );
-    assert!(
-        scene
-            .report
-            .skipped
-            .iter()
-            .any(|s| s.contains("1 line element(s)")),
-        "{:?}",
-        scene.report.skipped
+    assert_eq!(
+        scene.report.loaded,
+        ["object 'second' (from line 14): 0 points, 2 line segments, unlit (no normals)"]
     );
     assert!(
         scene

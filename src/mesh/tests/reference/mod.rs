@@ -50,6 +50,8 @@ pub(super) fn mesh(data: MeshData, policy: NormalPolicy) -> Mesh {
         tangents,
         material,
         deform: None,
+        points: Vec::new(),
+        lines: Vec::new(),
     }
 }
 

@@ -174,5 +174,8 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         vertex_of: Vec::new(),
         center,
         radius,
+        points: Vec::new(),
+        lines: Vec::new(),
+        file_normals: false,
     }
 }
