@@ -172,7 +172,7 @@ fn lights_and_cameras_under_animated_nodes_move_with_them() {
     let turns = d.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, s, 0.0, s], "VEC4");
     let text = d.finish(json!({
         "extensionsUsed": ["KHR_lights_punctual"],
-        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot"}]}},
+        "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot", "spot": {}}]}},
         "meshes": [{"primitives": [{"attributes": {"POSITION": tri}}]}],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
         "nodes": [
