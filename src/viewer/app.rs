@@ -253,7 +253,7 @@ impl ViewerApp {
             }) => {
                 // An animated scene is framed on where it moves, not only its rest pose.
                 self.motion_sphere =
-                    Arc::get_mut(&mut scene).and_then(|s| super::timeline::motion_sphere(s));
+                    Arc::get_mut(&mut scene).and_then(super::timeline::motion_sphere);
                 let (center, radius) = self
                     .motion_sphere
                     .unwrap_or_else(|| scene.bounding_sphere());
