@@ -217,14 +217,22 @@ impl Builder<'_> {
             primitive: p,
             label: &label,
         };
-        let attrs = doc.attributes(prim, position.value(), &at, &mut report.warnings)?;
-        step(5)?;
-        let n = attrs.positions.len();
-        let indices = doc.indices(prim, n, &at)?;
-        step(10)?;
-        let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
-        step(15)?;
-        let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
+        // A Draco-compressed primitive is decoded first; its accessors are then read from
+        // the decoded mesh until the map is cleared below.
+        doc.draco_prepare(prim, m, p)?;
+        let read = (|| {
+            let attrs = doc.attributes(prim, position.value(), &at, &mut report.warnings)?;
+            step(5)?;
+            let n = attrs.positions.len();
+            let indices = doc.indices(prim, n, &at)?;
+            step(10)?;
+            let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
+            step(15)?;
+            let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
+            Ok::<_, LoadError>((attrs, n, corners, deform))
+        })();
+        doc.draco_accessors.borrow_mut().clear();
+        let (attrs, n, corners, deform) = read?;
         let facets = corners.len() as u64 / 3;
         doc.budget
             .charge(mesh_bytes(n as u64, corners.len() as u64, facets), || {
