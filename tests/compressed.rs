@@ -7,19 +7,25 @@
 //! uncompressed source) and compared by the mean absolute difference of the 8-bit sRGB
 //! channels over the whole image:
 //!
-//! - geometry codecs (meshopt EXT and KHR with every filter, Draco): under 1 level; the
-//!   meshopt file also has exactly the vertices of gltfpack's uncompressed output
-//!   (`models/texture/grid-torus-gltfpack.glb`), since meshopt itself is lossless;
+//! - geometry codecs (meshopt EXT and KHR with every filter, Draco): under 1 level, both in
+//!   the scene's own shading and in the normals view; the meshopt file also has exactly the
+//!   vertices of gltfpack's uncompressed output (`models/texture/grid-torus-gltfpack.glb`),
+//!   since meshopt itself is lossless (the posed-vertex comparison of the meshopt animation,
+//!   `meshopt_animation_poses_as_its_source`, is ignored: an open discrepancy, see there);
 //! - texture codecs: KTX2 ETC1S, KTX2 UASTC and lossy WebP each within the bound stated at
 //!   [`TEXTURE_CODECS`], derived from the codec's own error on the image (measured by
 //!   `texture_codec_error_matches_the_bound`, which compares the decoded texels with the PNG).
 //!
-//! Deliberate breaks that made these tests fail (each undone): decoding meshopt views as
-//! their placeholder buffer (the load fails: no data); skipping the meshopt filters (the
-//! OCTAHEDRAL / EXPONENTIAL / QUATERNION / COLOR renders differ by 8 to 60 levels); reading
-//! Draco attributes in the stream's attribute order rather than by id; transcoding KTX2 with
-//! the red and blue channels swapped; decoding WebP as its PNG fallback path would (no
-//! texture: the untextured torus differs by far more than the bound).
+//! Deliberate breaks, all in one build, and what they did (then undone):
+//! - meshopt filters skipped: the EXPONENTIAL torus (21.3 levels) and the COLOR plane (24.9)
+//!   failed; the OCTAHEDRAL torus (0.94) and the QUATERNION animation (0.27 to 0.93) still
+//!   passed the shaded render, which is why the geometry renders are compared in the normals
+//!   view too and `meshopt_animation_poses_as_its_source` compares posed vertices (both added
+//!   after that run and not yet run against a break);
+//! - Draco values taken in reversed point order: 10.9 levels, failed;
+//! - KTX2 red and blue swapped: texels 41 levels off, renders 6.4, failed;
+//! - `EXT_texture_webp` ignored (the texture's absent `source` read instead): the texture is
+//!   dropped with a warning, failed.
 
 mod common;
 
@@ -28,6 +34,7 @@ use std::path::{Path, PathBuf};
 use realist::load::{load, LoadError, LoadOptions};
 use realist::render::{PreparedScene, RenderOptions};
 use realist::scene::{Play, Scene};
+use realist::shade::Shading;
 
 const SIZE: u32 = 160;
 
@@ -48,14 +55,19 @@ fn load_clean(rel: &str) -> Scene {
     scene
 }
 
-/// Renders `scene` posed at `t` (if any) with the default camera of `framing`.
-fn render(scene: &Scene, framing: &Scene, t: Option<f32>) -> Vec<u8> {
-    let mut opts = RenderOptions {
+/// Renders `scene` posed at `t` (if any) with the default camera of `framing`, in the
+/// scene's own shading or in `shading`.
+fn render(scene: &Scene, framing: &Scene, t: Option<f32>, shading: Option<Shading>) -> Vec<u8> {
+    let framed = RenderOptions {
         width: SIZE,
         height: SIZE,
+        shading,
         ..RenderOptions::default()
     };
-    opts.camera = Some(opts.view(framing).camera);
+    let opts = RenderOptions {
+        camera: Some(framed.view(framing).camera),
+        ..framed
+    };
     let mut prepared = PreparedScene::new(scene.clone());
     if let Some(t) = t {
         prepared.pose_at(Play::All, t, true);
@@ -90,18 +102,57 @@ fn difference(a: &[u8], b: &[u8]) -> (f64, u8) {
     (sum as f64 / a.len() as f64, worst)
 }
 
-/// Renders `compressed` and `source` (at `t`) and returns their mean difference, printed.
-fn compare(compressed: &str, source: &str, t: Option<f32>) -> f64 {
+/// Renders `compressed` and `source` (at `t`, in the scene's shading or `shading`) and
+/// returns their mean difference, printed.
+fn compare_in(compressed: &str, source: &str, t: Option<f32>, shading: Option<Shading>) -> f64 {
     let (c, s) = (load_clean(compressed), load_clean(source));
-    let (got, want) = (render(&c, &s, t), render(&s, &s, t));
+    let (got, want) = (render(&c, &s, t, shading), render(&s, &s, t, shading));
     let covered = want.chunks(3).filter(|p| p.iter().any(|&v| v > 40)).count();
     assert!(
         covered > 1000,
         "{source}: the model covers only {covered} pixels"
     );
     let (mean, worst) = difference(&got, &want);
-    println!("{compressed} vs {source} (t = {t:?}): mean {mean:.4} levels, worst {worst}");
+    println!(
+        "{compressed} vs {source} (t = {t:?}, {shading:?}): mean {mean:.4} levels, worst {worst}"
+    );
     mean
+}
+
+/// [`compare_in`] the scene's own shading.
+fn compare(compressed: &str, source: &str, t: Option<f32>) -> f64 {
+    compare_in(compressed, source, t, None)
+}
+
+/// The larger mean difference of the scene's own shading and the normals view (which shows
+/// a wrong normal even where the lighting hides it).
+fn compare_geometry(compressed: &str, source: &str, t: Option<f32>) -> f64 {
+    let shaded = compare_in(compressed, source, t, None);
+    shaded.max(compare_in(compressed, source, t, Some(Shading::Normals)))
+}
+
+/// Every posed vertex of `a` has a posed vertex of `b` within `tolerance`, and the other way
+/// round (the order of nodes and vertices may differ); returns the largest distance.
+fn posed_vertices_match(a: &PreparedScene, b: &PreparedScene, tolerance: f32) -> f32 {
+    let (pa, pb): (Vec<_>, Vec<_>) = (
+        a.world_positions().into_iter().flatten().collect(),
+        b.world_positions().into_iter().flatten().collect(),
+    );
+    let nearest = |p: &glam::Vec3, set: &[glam::Vec3]| {
+        set.iter()
+            .map(|q| p.distance(*q))
+            .fold(f32::INFINITY, f32::min)
+    };
+    let worst = pa
+        .iter()
+        .map(|p| nearest(p, &pb))
+        .chain(pb.iter().map(|p| nearest(p, &pa)))
+        .fold(0f32, f32::max);
+    assert!(
+        !pa.is_empty() && worst < tolerance,
+        "posed vertices differ by {worst}"
+    );
+    worst
 }
 
 #[test]
@@ -149,12 +200,31 @@ fn meshopt_renders_as_its_source() {
             Some(1.9),
         ),
     ] {
-        let mean = compare(file, source, t);
+        let mean = compare_geometry(file, source, t);
         if mean >= 1.0 {
             failed.push(format!("{file} vs {source} at {t:?}: mean {mean}"));
         }
     }
     assert!(failed.is_empty(), "{failed:?}");
+}
+
+#[test]
+#[ignore = "open: posed vertices differ by up to 0.064 (t = 1.2) although the renders agree \
+            within 0.07 levels; not yet known whether gltfpack's re-encoding or the decoding \
+            of the QUATERNION/EXPONENTIAL views is the cause"]
+fn meshopt_animation_poses_as_its_source() {
+    // QUATERNION rotations and EXPONENTIAL translations and scales: every posed vertex within
+    // 0.05 of the source's (the scene is about 6 units across). Measured: 1.9e-5 at rest,
+    // 3.7e-4 at t = 0.7, but 0.029 at t = 0.3 and 0.064 at t = 1.2, more than gltfpack's
+    // 12-bit rotations and 16-bit translations explain (about 1e-3): open, see the ignore.
+    let mut c = PreparedScene::new(load_clean("compressed/samplers-meshopt.glb"));
+    let mut s = PreparedScene::new(load_clean("anim/samplers.glb"));
+    for t in [0.0, 0.3, 0.7, 1.2, 1.9, 2.6] {
+        c.pose_at(Play::All, t, true);
+        s.pose_at(Play::All, t, true);
+        let worst = posed_vertices_match(&c, &s, 0.05);
+        println!("samplers-meshopt.glb at t = {t}: posed vertices within {worst:.2e}");
+    }
 }
 
 #[test]
@@ -172,7 +242,7 @@ fn meshopt_is_lossless_against_the_same_quantisation() {
 
 #[test]
 fn draco_renders_as_its_source() {
-    let mean = compare("compressed/torus-draco.glb", "texture/grid-torus.glb", None);
+    let mean = compare_geometry("compressed/torus-draco.glb", "texture/grid-torus.glb", None);
     assert!(mean < 1.0, "Draco: mean {mean}");
 }
 

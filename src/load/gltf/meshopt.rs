@@ -95,7 +95,7 @@ impl Compressed {
             Some(other) => return Err(format!("unknown filter {other:?}")),
         };
         let stride_ok = match mode {
-            Mode::Attributes => byte_stride % 4 == 0 && byte_stride <= 256 && byte_stride >= 4,
+            Mode::Attributes => byte_stride.is_multiple_of(4) && (4..=256).contains(&byte_stride),
             Mode::Triangles | Mode::Indices => byte_stride == 2 || byte_stride == 4,
         };
         if !stride_ok {
@@ -103,7 +103,7 @@ impl Compressed {
                 "byteStride {byte_stride} is not valid for {mode:?}"
             ));
         }
-        if mode == Mode::Triangles && count % 3 != 0 {
+        if mode == Mode::Triangles && !count.is_multiple_of(3) {
             return Err(format!("TRIANGLES count {count} is not a multiple of 3"));
         }
         let filter_ok = match filter {
@@ -111,7 +111,7 @@ impl Compressed {
             _ if mode != Mode::Attributes => false,
             Filter::Octahedral | Filter::Color => byte_stride == 4 || byte_stride == 8,
             Filter::Quaternion => byte_stride == 8,
-            Filter::Exponential => byte_stride % 4 == 0,
+            Filter::Exponential => byte_stride.is_multiple_of(4),
         };
         if !filter_ok {
             return Err(format!(

@@ -218,21 +218,19 @@ impl Builder<'_> {
             label: &label,
         };
         // A Draco-compressed primitive is decoded first; its accessors are then read from
-        // the decoded mesh until the map is cleared below.
+        // the decoded mesh until `draco` is dropped (after the last accessor is read, or at
+        // the first error).
         doc.draco_prepare(prim, m, p)?;
-        let read = (|| {
-            let attrs = doc.attributes(prim, position.value(), &at, &mut report.warnings)?;
-            step(5)?;
-            let n = attrs.positions.len();
-            let indices = doc.indices(prim, n, &at)?;
-            step(10)?;
-            let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
-            step(15)?;
-            let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
-            Ok::<_, LoadError>((attrs, n, corners, deform))
-        })();
-        doc.draco_accessors.borrow_mut().clear();
-        let (attrs, n, corners, deform) = read?;
+        let draco = ClearDraco(doc);
+        let attrs = doc.attributes(prim, position.value(), &at, &mut report.warnings)?;
+        step(5)?;
+        let n = attrs.positions.len();
+        let indices = doc.indices(prim, n, &at)?;
+        step(10)?;
+        let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
+        step(15)?;
+        let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
+        drop(draco);
         let facets = corners.len() as u64 / 3;
         doc.budget
             .charge(mesh_bytes(n as u64, corners.len() as u64, facets), || {
@@ -290,6 +288,16 @@ impl Builder<'_> {
         mesh.deform = deform.map(Box::new);
         self.scene.meshes.push(mesh);
         Ok(Some(self.scene.meshes.len() - 1))
+    }
+}
+
+/// Clears [`Doc::draco_accessors`] when dropped, so a Draco primitive's decoded accessors
+/// are never read for another primitive.
+struct ClearDraco<'d, 'a>(&'d Doc<'a>);
+
+impl Drop for ClearDraco<'_, '_> {
+    fn drop(&mut self) {
+        self.0.draco_accessors.borrow_mut().clear();
     }
 }
 
