@@ -1,5 +1,5 @@
-//! Image decoding for textures (PNG, JPEG, Radiance HDR and OpenEXR through the `image`
-//! crate) under size limits: at most [`MAX_SIDE`] texels a side, and the decoder may not
+//! Image decoding for textures (PNG, JPEG, WebP, Radiance HDR and OpenEXR through the `image`
+//! crate, KTX2 with Basis Universal data through [`super::ktx2`]) under size limits: at most [`MAX_SIDE`] texels a side, and the decoder may not
 //! allocate more than what is left of the load's [`Budget`].
 //!
 //! The storage follows the image and the slot that reads it ([`Texels`]): 8-bit images stay
@@ -39,7 +39,7 @@ impl DecodeError {
     }
 }
 
-/// Decodes PNG, JPEG, HDR or EXR bytes into a texture named `name` for a slot whose RGB is
+/// Decodes PNG, JPEG, WebP, KTX2 (Basis Universal), HDR or EXR bytes into a texture named `name` for a slot whose RGB is
 /// sRGB-encoded colour (`srgb`) or linear data, charging the texels to `budget`.
 pub(crate) fn decode(
     bytes: &[u8],
@@ -47,12 +47,15 @@ pub(crate) fn decode(
     budget: &Budget,
     srgb: bool,
 ) -> Result<Texture, DecodeError> {
+    if super::ktx2::is_ktx2(bytes) {
+        return super::ktx2::decode(bytes, name, budget, srgb);
+    }
     let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| DecodeError::Invalid(e.to_string()))?;
     if reader.format().is_none() {
         return Err(DecodeError::Invalid(
-            "not a PNG, JPEG, Radiance HDR or OpenEXR image".into(),
+            "not a PNG, JPEG, WebP, KTX2, Radiance HDR or OpenEXR image".into(),
         ));
     }
     let (width, height, per_texel) = {

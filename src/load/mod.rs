@@ -40,6 +40,7 @@ use crate::texture::{Texture, UvGenerator};
 mod files;
 mod gltf;
 mod images;
+mod ktx2;
 mod obj;
 mod ply;
 mod progress;
@@ -227,18 +228,100 @@ pub fn load_image(path: &Path, srgb: bool) -> Result<Texture, LoadError> {
     })
 }
 
+/// The compressed-data decoders alone, for the fuzz targets in `fuzz/` (not a stable API):
+/// each returns what it decoded or the error the loader would report. A panic inside a
+/// decoder comes back as an `Err` (as in the loader), so the targets check it by message.
+#[doc(hidden)]
+pub mod fuzzing {
+    use std::path::Path;
+
+    use super::gltf::{draco, meshopt};
+    use super::Budget;
+
+    /// A meshopt bufferView: byte 0 picks the mode (ATTRIBUTES, TRIANGLES, INDICES) and the
+    /// extension (EXT or KHR), byte 1 the filter, byte 2 the byteStride (in units of 2 or 4)
+    /// and bytes 3..5 the count (little-endian u16); the rest is the compressed stream.
+    /// Returns the decoded byte count.
+    pub fn meshopt(data: &[u8]) -> Result<usize, String> {
+        let (Some(&a), Some(&b), Some(&c), Some(&lo), Some(&hi)) = (
+            data.first(),
+            data.get(1),
+            data.get(2),
+            data.get(3),
+            data.get(4),
+        ) else {
+            return Err("short input".into());
+        };
+        let mode = ["ATTRIBUTES", "TRIANGLES", "INDICES"][usize::from(a % 3)];
+        let ext = if a & 0x80 != 0 {
+            meshopt::KHR
+        } else {
+            meshopt::EXT
+        };
+        let filter =
+            ["NONE", "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL", "COLOR"][usize::from(b % 5)];
+        let stride = if mode == "ATTRIBUTES" {
+            4 * (usize::from(c % 64) + 1)
+        } else {
+            2 * (usize::from(c % 2) + 1)
+        };
+        let count = usize::from(u16::from_le_bytes([lo, hi]));
+        let source = data.get(5..).unwrap_or(&[]);
+        let object = serde_json::json!({"buffer": 0, "byteLength": source.len(),
+            "byteStride": stride, "count": count, "mode": mode, "filter": filter});
+        let mut map = serde_json::Map::new();
+        map.insert(ext.into(), object);
+        let c = meshopt::Compressed::of(Some(&map)).ok_or("no extension")??;
+        let budget = Budget::new(Path::new("fuzz"), 64 << 20);
+        let out =
+            meshopt::decode(&c, source, &budget, "bufferView 0").map_err(|e| e.to_string())??;
+        Ok(out.len())
+    }
+
+    /// A Draco stream: returns the decoded (points, faces).
+    pub fn draco(data: &[u8]) -> Result<(usize, usize), String> {
+        let mesh = draco::decode(data, 64 << 20)?;
+        Ok((mesh.num_points(), mesh.num_faces()))
+    }
+
+    /// A KTX2 (Basis Universal) image: returns its size and texel count.
+    pub fn ktx2(data: &[u8]) -> Result<(u32, u32, usize), String> {
+        let budget = Budget::new(Path::new("fuzz"), 256 << 20);
+        match super::ktx2::decode(data, "fuzz.ktx2", &budget, true) {
+            Ok(t) => Ok((t.width, t.height, t.texels.len())),
+            Err(super::images::DecodeError::Invalid(e)) => Err(e),
+            Err(super::images::DecodeError::Budget(e)) => Err(e.to_string()),
+        }
+    }
+}
+
 /// Runs `f`, turning a panic into [`LoadError::Panic`].
 fn guarded<T>(path: &Path, f: impl FnOnce() -> Result<T, LoadError>) -> Result<T, LoadError> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
-        let message = payload
-            .downcast_ref::<&str>()
-            .map(|s| (*s).to_owned())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown panic".into());
         Err(LoadError::Panic {
             path: path.to_owned(),
-            message,
+            message: panic_message(payload.as_ref()),
         })
+    })
+}
+
+/// The message of a caught panic.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
+}
+
+/// Runs a third-party decoder (meshopt, Draco, Basis Universal), turning a panic inside it
+/// into an error message, so the caller can name the item it was decoding.
+pub(crate) fn catch_decoder<T>(f: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
+        Err(format!(
+            "decoder panicked: {}",
+            panic_message(payload.as_ref())
+        ))
     })
 }
 

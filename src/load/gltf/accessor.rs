@@ -194,6 +194,21 @@ impl Doc<'_> {
         self.budget
             .charge(total, || format!("accessor {index} ({count} elements)"))?;
         let total = total as usize;
+        // A Draco-compressed primitive's accessors come from its decoded mesh (`draco`).
+        if let Some(packed) = self.draco_accessors.borrow().get(&index) {
+            if packed.0.len() != total {
+                return Err(bad(format!(
+                    "{} bytes decoded from Draco, expected {total}",
+                    packed.0.len()
+                )));
+            }
+            return Ok(Packed {
+                component,
+                components,
+                normalized: acc.normalized,
+                bytes: packed.0.clone(),
+            });
+        }
         let mut bytes = match acc.buffer_view {
             None => vec![0u8; total],
             Some(v) => {

@@ -25,6 +25,10 @@ use crate::load::{images, LoadError};
 use crate::scene::{AlphaMode, Material, PbrMaterial, Slot, TextureSlot, UvTransform};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
 
+/// A texture whose image is KTX2 with Basis Universal data (decoded by `load::ktx2`).
+pub const BASISU: &str = "KHR_texture_basisu";
+/// A texture whose image is WebP (decoded by `image`).
+pub const WEBP: &str = "EXT_texture_webp";
 /// The texture transform extension's name.
 pub const TEXTURE_TRANSFORM: &str = "KHR_texture_transform";
 /// The material extensions read ([`PbrMaterial`]).
@@ -375,7 +379,26 @@ impl Builder<'_> {
                 .push(format!("{what}: texture {} does not exist", info.texture));
             return Ok(None);
         };
-        let (source, sampler) = (tex.source.value(), tex.sampler.map(|s| s.value()));
+        let sampler = tex.sampler.map(|s| s.value());
+        // KHR_texture_basisu and EXT_texture_webp name their image in the texture's
+        // extension; `source`, if present, is then a fallback for viewers without them.
+        let others = tex.extensions.as_ref().map(|e| &e.others);
+        let compressed = [BASISU, WEBP]
+            .into_iter()
+            .find_map(|name| others.and_then(|o| o.get(name)).map(|v| (name, v)));
+        let source = match compressed {
+            None => tex.source.value(),
+            Some((name, v)) => match v.get("source").and_then(Value::as_u64) {
+                Some(i) => usize::try_from(i).unwrap_or(usize::MAX),
+                None => {
+                    self.scene.report.warnings.push(format!(
+                        "{what}: texture {}: {name} has no valid source",
+                        info.texture
+                    ));
+                    return Ok(None);
+                }
+            },
+        };
         let sampler = self.sampler(sampler);
         let Some(texture) = self.texture(source, slot.srgb(), material)? else {
             return Ok(None);

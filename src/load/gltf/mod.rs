@@ -28,11 +28,27 @@
 //! ([`skin`]; deformable primitives are not welded) and animations ([`animation`]), so
 //! [`crate::render::PreparedScene::pose_at`] can pose the scene at any time.
 //!
+//! **Compressed glTF.** A bufferView with `EXT_meshopt_compression` or
+//! `KHR_meshopt_compression` is decoded on first use by [`Doc::view`] ([`meshopt`]), so
+//! every reader of views (accessors, sparse data, images, animation samplers) sees the
+//! decoded bytes; its placeholder buffer (`{"byteLength": n}`, no URI, possibly
+//! `fallback: true`) is never read. A primitive with `KHR_draco_mesh_compression` is decoded
+//! before its accessors are read, and the accessors it lists (and its indices) come from the
+//! decoded mesh ([`draco`]). Images may be KTX2 with Basis Universal data
+//! (`KHR_texture_basisu`, transcoded by `load::ktx2`) or WebP (`EXT_texture_webp`, by the
+//! `image` crate); a texture names them in its extension, and its `source` is then only a
+//! fallback. All three decoders are pure Rust crates (`meshoptimizer-rs`, `draco-core`,
+//! `basisu`), run under `catch_unwind`: bad geometry data is an error naming the bufferView
+//! or the mesh and primitive; a bad image is a warning and the texture is dropped.
+//!
 //! Cameras (perspective and
 //! orthographic) go to [`Scene::cameras`] and `KHR_lights_punctual` lights to
 //! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
-//! `KHR_mesh_quantization`, `KHR_lights_punctual` and `KHR_texture_transform`; a file that
-//! *requires* any other is refused, naming it.
+//! `KHR_mesh_quantization`, `KHR_lights_punctual`, `KHR_texture_transform`,
+//! `KHR_materials_emissive_strength`, `_unlit`, `_ior` and `_specular`,
+//! `EXT_meshopt_compression`, `KHR_meshopt_compression`, `KHR_draco_mesh_compression`,
+//! `KHR_texture_basisu` and `EXT_texture_webp` ([`SUPPORTED`]); a file that *requires* any
+//! other is refused, naming it.
 
 use std::borrow::Cow;
 use std::cell::OnceCell;
@@ -49,9 +65,11 @@ use crate::scene::{LoadReport, Scene};
 
 mod accessor;
 mod animation;
+pub(crate) mod draco;
 pub(super) mod glb;
 mod lights;
 mod material;
+pub(crate) mod meshopt;
 mod nodes;
 mod primitive;
 mod schema;
@@ -135,6 +153,11 @@ pub(super) struct Doc<'a> {
     /// Progress of the load: checked before each buffer is loaded and each primitive built.
     pub tracker: &'a Tracker,
     buffers: Vec<OnceCell<Cow<'a, [u8]>>>,
+    /// Decoded meshopt-compressed bufferViews, by view index.
+    decoded_views: Vec<OnceCell<Vec<u8>>>,
+    /// Accessors of the Draco-compressed primitive being read, packed from its decoded mesh
+    /// ([`draco`]); `packed` reads them instead of their bufferViews.
+    pub draco_accessors: std::cell::RefCell<HashMap<usize, draco::Packed>>,
 }
 
 impl<'a> Doc<'a> {
@@ -208,7 +231,9 @@ impl<'a> Doc<'a> {
         Ok(cell.get_or_init(|| bytes))
     }
 
-    /// The bytes of bufferView `i` and its byteStride.
+    /// The bytes of bufferView `i` and its byteStride. A view compressed with
+    /// `EXT_meshopt_compression` or `KHR_meshopt_compression` is decoded on first use
+    /// ([`meshopt`]) and its decoded bytes returned.
     pub fn view(&self, i: usize, from: &str) -> Result<(&[u8], Option<usize>), LoadError> {
         let count = self.json.buffer_views.len();
         let view = self
@@ -216,26 +241,94 @@ impl<'a> Doc<'a> {
             .buffer_views
             .get(i)
             .ok_or_else(|| self.missing(from, "bufferView", i, count))?;
+        let stride = view.byte_stride.map(|s| s.0);
+        let view_error = |reason: String| {
+            LoadError::from(GltfError::View {
+                path: self.path.to_owned(),
+                view: i,
+                reason,
+            })
+        };
+        let extensions = view.extensions.as_ref().map(|e| &e.others);
+        if let Some(compressed) = meshopt::Compressed::of(extensions) {
+            let cell = self
+                .decoded_views
+                .get(i)
+                .ok_or_else(|| self.missing(from, "bufferView", i, count))?;
+            if let Some(bytes) = cell.get() {
+                return Ok((bytes, stride));
+            }
+            let c = compressed.map_err(view_error)?;
+            let decoded = self.decode_meshopt(i, &c, view.byte_length.0, stride)?;
+            return Ok((cell.get_or_init(|| decoded), stride));
+        }
         let buffer = self.buffer(view.buffer.value(), &format!("bufferView {i}"))?;
-        let start = view.byte_offset.map_or(0, |o| o.0);
-        let len = view.byte_length.0;
-        let bytes = start
-            .checked_add(len)
-            .and_then(|end| buffer.get(usize::try_from(start).ok()?..usize::try_from(end).ok()?))
-            .ok_or_else(|| {
-                let reason = format!(
-                    "bytes {start}..{} do not fit buffer {} of {} bytes",
-                    start.saturating_add(len),
-                    view.buffer.value(),
-                    buffer.len()
-                );
-                LoadError::from(GltfError::View {
-                    path: self.path.to_owned(),
-                    view: i,
-                    reason,
-                })
-            })?;
-        Ok((bytes, view.byte_stride.map(|s| s.0)))
+        let bytes = Self::range(
+            buffer,
+            view.byte_offset.map_or(0, |o| o.0),
+            view.byte_length.0,
+        )
+        .ok_or_else(|| {
+            view_error(format!(
+                "bytes {}..{} do not fit buffer {} of {} bytes",
+                view.byte_offset.map_or(0, |o| o.0),
+                view.byte_offset
+                    .map_or(0, |o| o.0)
+                    .saturating_add(view.byte_length.0),
+                view.buffer.value(),
+                buffer.len()
+            ))
+        })?;
+        Ok((bytes, stride))
+    }
+
+    /// `len` bytes of `buffer` from `start`, if they are there.
+    fn range(buffer: &[u8], start: u64, len: u64) -> Option<&[u8]> {
+        let end = start.checked_add(len)?;
+        buffer.get(usize::try_from(start).ok()?..usize::try_from(end).ok()?)
+    }
+
+    /// Decodes meshopt-compressed bufferView `i` (declared `byte_length` and `stride`).
+    fn decode_meshopt(
+        &self,
+        i: usize,
+        c: &meshopt::Compressed,
+        byte_length: u64,
+        stride: Option<usize>,
+    ) -> Result<Vec<u8>, LoadError> {
+        let ext = c.extension;
+        let view_error = |reason: String| {
+            LoadError::from(GltfError::View {
+                path: self.path.to_owned(),
+                view: i,
+                reason: format!("{ext}: {reason}"),
+            })
+        };
+        let decoded = c.decoded_len();
+        if decoded != Some(byte_length as usize) || byte_length > isize::MAX as u64 {
+            return Err(view_error(format!(
+                "count {} × byteStride {} does not match the view's byteLength {byte_length}",
+                c.count, c.byte_stride
+            )));
+        }
+        if stride.is_some_and(|s| s != c.byte_stride) {
+            return Err(view_error(format!(
+                "byteStride {} differs from the view's {}",
+                c.byte_stride,
+                stride.unwrap_or(0)
+            )));
+        }
+        let buffer = self.buffer(c.buffer, &format!("bufferView {i} ({ext})"))?;
+        let source = Self::range(buffer, c.byte_offset, c.byte_length).ok_or_else(|| {
+            view_error(format!(
+                "compressed bytes {}..{} do not fit buffer {} of {} bytes",
+                c.byte_offset,
+                c.byte_offset.saturating_add(c.byte_length),
+                c.buffer,
+                buffer.len()
+            ))
+        })?;
+        meshopt::decode(c, source, self.budget, &format!("bufferView {i}"))?.map_err(view_error)
     }
 }
 
@@ -320,6 +413,7 @@ pub(crate) fn load_gltf(
         lights::PunctualLights::default()
     };
     let buffers = json.buffers.iter().map(|_| OnceCell::new()).collect();
+    let decoded_views = json.buffer_views.iter().map(|_| OnceCell::new()).collect();
     let doc = Doc {
         path,
         root,
@@ -328,6 +422,8 @@ pub(crate) fn load_gltf(
         budget: &budget,
         tracker,
         buffers,
+        decoded_views,
+        draco_accessors: Default::default(),
     };
     let mut b = Builder {
         doc,
@@ -385,9 +481,16 @@ fn geometry_units(json: &Json) -> u64 {
 /// Integer vertex attributes (read and converted to floats).
 const QUANTIZATION: &str = "KHR_mesh_quantization";
 
-/// The extensions supported: [`QUANTIZATION`], punctual lights and texture transforms.
-const SUPPORTED: [&str; 7] = [
+/// The extensions supported: [`QUANTIZATION`], punctual lights, texture transforms, the
+/// material extensions of [`material`], and the compressed forms of geometry ([`meshopt`],
+/// [`draco`]) and images (`KHR_texture_basisu`, `EXT_texture_webp`).
+const SUPPORTED: [&str; 12] = [
     QUANTIZATION,
+    meshopt::EXT,
+    meshopt::KHR,
+    draco::EXTENSION,
+    material::BASISU,
+    material::WEBP,
     lights::EXTENSION,
     material::TEXTURE_TRANSFORM,
     material::EMISSIVE_STRENGTH,

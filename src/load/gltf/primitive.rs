@@ -216,6 +216,11 @@ impl Builder<'_> {
             primitive: p,
             label: &label,
         };
+        // A Draco-compressed primitive is decoded first; its accessors are then read from
+        // the decoded mesh until `draco` is dropped (after the last accessor is read, or at
+        // the first error).
+        doc.draco_prepare(prim, m, p)?;
+        let draco = ClearDraco(doc);
         let attrs = doc.attributes(prim, position.value(), &at, &mut report.warnings)?;
         step(5)?;
         let n = attrs.positions.len();
@@ -240,6 +245,7 @@ impl Builder<'_> {
         let corners = triangle_list(mode, &indices, &at, &mut report.warnings);
         step(15)?;
         let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
+        drop(draco);
         let facets = corners.len() as u64 / 3;
         doc.budget
             .charge(mesh_bytes(n as u64, corners.len() as u64, facets), || {
@@ -447,6 +453,16 @@ fn strokes(
             }
             (Vec::new(), lines)
         }
+    }
+}
+
+/// Clears [`Doc::draco_accessors`] when dropped, so a Draco primitive's decoded accessors
+/// are never read for another primitive.
+struct ClearDraco<'d, 'a>(&'d Doc<'a>);
+
+impl Drop for ClearDraco<'_, '_> {
+    fn drop(&mut self) {
+        self.0.draco_accessors.borrow_mut().clear();
     }
 }
 

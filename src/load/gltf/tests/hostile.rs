@@ -113,12 +113,12 @@ fn bad_indices_and_ranges_are_errors_with_context() {
     );
     let err = load_text(
         &dir,
-        r#"{"asset": {"version": "2.0"}, "extensionsRequired": ["KHR_draco_mesh_compression"]}"#,
+        r#"{"asset": {"version": "2.0"}, "extensionsRequired": ["EXT_mesh_gpu_instancing"]}"#,
     );
     assert!(err
         .unwrap_err()
         .to_string()
-        .contains("requires extension KHR_draco_mesh_compression"));
+        .contains("requires extension EXT_mesh_gpu_instancing"));
 }
 
 #[test]

@@ -1,0 +1,99 @@
+//! KTX2 images holding Basis Universal data (`KHR_texture_basisu`): ETC1S with BasisLZ, and
+//! UASTC, raw or with Zstandard supercompression. Transcoded to RGBA8 by `basisu` (a pure-Rust
+//! port of the Basis Universal transcoder, with Zstandard through `ruzstd`); only the base
+//! level is used (realist builds its own mipmaps). The texels are the encoded values, so a
+//! colour slot reads them as sRGB and a data slot as linear, as for PNG.
+//!
+//! Before anything is allocated the base level's size is checked against [`MAX_SIDE`] and
+//! charged to the load's budget; a transcoder error or a panic inside it is
+//! [`DecodeError::Invalid`] (a warning, the texture is dropped, for a glTF image).
+
+use super::images::{DecodeError, MAX_SIDE};
+use super::{catch_decoder, Budget};
+use crate::texture::{Texels, Texture};
+
+/// The 12-byte KTX 2.0 file identifier.
+pub const MAGIC: [u8; 12] = [
+    0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A,
+];
+
+/// Whether `bytes` start like a KTX2 file.
+pub fn is_ktx2(bytes: &[u8]) -> bool {
+    bytes.starts_with(&MAGIC)
+}
+
+/// Transcodes the base level of a KTX2 Basis Universal image to RGBA8.
+pub fn decode(
+    bytes: &[u8],
+    name: &str,
+    budget: &Budget,
+    srgb: bool,
+) -> Result<Texture, DecodeError> {
+    let invalid = DecodeError::Invalid;
+    let (width, height, rgba) = {
+        let transcoder = catch_decoder(|| {
+            basisu::Transcoder::new(bytes).map_err(|e| format!("KTX2 (Basis Universal): {e:?}"))
+        })
+        .map_err(invalid)?;
+        let (width, height) = transcoder.base_dimensions();
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+            return Err(invalid(format!(
+                "KTX2 {width}x{height} texels: each side must be 1 to {MAX_SIDE}"
+            )));
+        }
+        if transcoder.level_count() == 0 || transcoder.is_video() {
+            return Err(invalid("KTX2 has no image level, or is a video".into()));
+        }
+        // The transcoded RGBA and the texel copy.
+        let texel_bytes = u64::from(width) * u64::from(height) * 4;
+        budget
+            .charge(texel_bytes * 2, || {
+                format!("image '{name}' ({width}x{height} texels, KTX2)")
+            })
+            .map_err(DecodeError::Budget)?;
+        let rgba = catch_decoder(|| {
+            transcoder
+                .transcode(0, basisu::TargetFormat::Rgba32, basisu::DecodeFlags::NONE)
+                .map_err(|e| format!("KTX2 (Basis Universal) transcoding: {e:?}"))
+        })
+        .map_err(invalid)?;
+        (width, height, rgba)
+    };
+    let texels: Vec<[u8; 4]> = rgba
+        .chunks_exact(4)
+        .map(|c| [c[0], c[1], c[2], c[3]])
+        .collect();
+    if texels.len() as u64 != u64::from(width) * u64::from(height) {
+        return Err(invalid(format!(
+            "KTX2 transcoded to {} texels, expected {width}x{height}",
+            texels.len()
+        )));
+    }
+    let texels = if srgb {
+        Texels::Srgb8(texels)
+    } else {
+        Texels::Linear8(texels)
+    };
+    Texture::from_texels(name, width, height, texels).map_err(|e| invalid(e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn garbage_and_truncation_are_errors() {
+        let budget = Budget::new(Path::new("t"), 1 << 24);
+        let mut bytes = MAGIC.to_vec();
+        assert!(matches!(
+            decode(&bytes, "x", &budget, true),
+            Err(DecodeError::Invalid(_))
+        ));
+        bytes.extend_from_slice(&[0xff; 200]);
+        assert!(matches!(
+            decode(&bytes, "x", &budget, true),
+            Err(DecodeError::Invalid(_))
+        ));
+    }
+}
