@@ -232,6 +232,7 @@ impl Builder<'_> {
         ) {
             let deform = doc.deform(prim, n, &label, &mut report.warnings)?;
             let material = prim.material.map(|i| i.value());
+            drop(draco);
             let source = Strokes {
                 mode,
                 name,
