@@ -96,9 +96,10 @@ fn strips_and_fans_wind_counter_clockwise_with_u8_indices() {
         {"attributes": {"POSITION": quad}, "mode": 1}
     ])));
     let scene = load_text(&TempDir::new("gltf-strip"), &text).unwrap();
-    assert_eq!(scene.meshes.len(), 2);
-    assert_eq!(scene.instances.len(), 2);
-    for mesh in &scene.meshes {
+    // The strip and the fan become two triangles each; the LINES primitive two segments.
+    assert_eq!(scene.meshes.len(), 3);
+    assert_eq!(scene.instances.len(), 3);
+    for mesh in &scene.meshes[..2] {
         assert_eq!(mesh.facets.len(), 2);
         assert!(
             mesh.facets.iter().all(|f| f.normal.z > 0.99),
@@ -106,16 +107,24 @@ fn strips_and_fans_wind_counter_clockwise_with_u8_indices() {
             mesh.facets
         );
     }
+    let lines = &scene.meshes[2];
+    assert!(lines.facets.is_empty());
+    assert_eq!(lines.lines, [[0, 1], [2, 3]]);
     assert!(
         scene
             .report
-            .skipped
+            .loaded
             .iter()
-            .any(|s| s.contains("mode Lines")),
+            .any(|s| s.contains("2 line segments (LINES)")),
         "{:?}",
-        scene.report.skipped
+        scene.report.loaded
     );
-    assert_eq!(scene.report.generated.len(), 2);
+    // Flat normals for the two triangle meshes (the lines are unlit: no NORMAL).
+    assert!(
+        scene.report.generated.len() >= 2,
+        "{:?}",
+        scene.report.generated
+    );
 }
 
 #[test]
