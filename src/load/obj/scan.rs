@@ -126,6 +126,17 @@ pub(super) fn scan<'a>(
                 message,
             })
         };
+        // A face, point or line corner that fails: a bad index names its kind and range.
+        let corner_err = |(message, index): CornerError| match index {
+            Some((kind, index, count)) => LoadError::from(ObjError::Index {
+                path: path.to_owned(),
+                line: line_no,
+                kind,
+                index,
+                count,
+            }),
+            None => err(message),
+        };
         let trimmed = line.trim();
         let keyword = trimmed.split_whitespace().next().unwrap_or("");
         let geometry = matches!(keyword, "v" | "vt" | "vn" | "f" | "l");
@@ -197,16 +208,7 @@ pub(super) fn scan<'a>(
             }
             "f" => {
                 for corner in words {
-                    check_corner(corner, &s).map_err(|(message, index)| match index {
-                        Some((kind, index, count)) => LoadError::from(ObjError::Index {
-                            path: path.to_owned(),
-                            line: line_no,
-                            kind,
-                            index,
-                            count,
-                        }),
-                        None => err(message),
-                    })?;
+                    check_corner(corner, &s).map_err(corner_err)?;
                     s.corners += 1;
                 }
                 s.faces += 1;
@@ -214,18 +216,7 @@ pub(super) fn scan<'a>(
             "l" | "p" => {
                 let mut ix = Vec::new();
                 for corner in words {
-                    ix.push(
-                        vertex_index(corner, &s).map_err(|(message, index)| match index {
-                            Some((kind, index, count)) => LoadError::from(ObjError::Index {
-                                path: path.to_owned(),
-                                line: line_no,
-                                kind,
-                                index,
-                                count,
-                            }),
-                            None => err(message),
-                        })?,
-                    );
+                    ix.push(vertex_index(corner, &s).map_err(corner_err)?);
                 }
                 let group = match s.strokes.last_mut() {
                     Some(g) if g.object == object && g.material.as_deref() == material => g,
