@@ -347,34 +347,21 @@ fn texels_rgb(t: &realist::texture::Texels) -> Vec<u8> {
     }
 }
 
-/// `bytes` with the bytes `range` of the GLB's binary chunk inverted.
+/// The model `rel` with the bytes `range` of its binary chunk inverted, in a temporary file.
 fn damaged(rel: &str, range: std::ops::Range<usize>) -> PathBuf {
-    let mut bytes = std::fs::read(model(rel)).expect("model");
-    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let bin = 20 + json_len + 8;
-    for b in &mut bytes[bin + range.start..bin + range.end] {
-        *b = !*b;
-    }
-    let dir = common::temp_dir("compressed-damaged");
     let name = Path::new(rel)
         .file_name()
         .unwrap()
         .to_string_lossy()
         .into_owned();
-    let path = dir.join(format!("{}-{}", range.start, name));
-    std::fs::write(&path, bytes).expect("write");
+    let path = common::temp_dir("compressed-damaged").join(format!("{}-{}", range.start, name));
+    common::write_inverted_glb(&model(rel), range, &path);
     path
 }
 
 /// The byte range of the compressed data of bufferView `view` (meshopt) in the binary chunk.
 fn meshopt_range(rel: &str, view: usize) -> std::ops::Range<usize> {
-    let bytes = std::fs::read(model(rel)).expect("model");
-    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
-    let v = &json["bufferViews"][view]["extensions"];
-    let e = v.as_object().unwrap().values().next().unwrap();
-    let start = e["byteOffset"].as_u64().unwrap() as usize;
-    start..start + e["byteLength"].as_u64().unwrap() as usize
+    common::meshopt_range(&std::fs::read(model(rel)).expect("model"), view)
 }
 
 fn assert_names(e: &LoadError, path: &Path, item: &str) {
@@ -416,16 +403,13 @@ fn damaged_meshopt_data_is_an_error_naming_the_view() {
 #[test]
 fn damaged_draco_data_is_an_error_naming_the_primitive() {
     let rel = "compressed/torus-draco.glb";
-    let bytes = std::fs::read(model(rel)).expect("model");
-    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+    let (json, _) = common::glb_parts(&std::fs::read(model(rel)).expect("model"));
     let view = json["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]
         ["bufferView"]
         .as_u64()
         .unwrap() as usize;
-    let v = &json["bufferViews"][view];
-    let start = v["byteOffset"].as_u64().unwrap_or(0) as usize;
-    let len = v["byteLength"].as_u64().unwrap() as usize;
+    let r = common::view_range(&json, view);
+    let (start, len) = (r.start, r.len());
     let mut errors = 0;
     for part in [
         start..start + len,
@@ -457,13 +441,10 @@ fn damaged_textures_are_dropped_with_a_warning() {
         "compressed/torus-uastc.glb",
         "compressed/torus-webp.glb",
     ] {
-        let bytes = std::fs::read(model(rel)).expect("model");
-        let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-        let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+        let (json, _) = common::glb_parts(&std::fs::read(model(rel)).expect("model"));
         let view = json["images"][0]["bufferView"].as_u64().unwrap() as usize;
-        let v = &json["bufferViews"][view];
-        let start = v["byteOffset"].as_u64().unwrap_or(0) as usize;
-        let len = v["byteLength"].as_u64().unwrap() as usize;
+        let r = common::view_range(&json, view);
+        let (start, len) = (r.start, r.len());
         // The header kept (so the format is still recognised), the rest inverted; then the
         // image cut short.
         for part in [start + 48..start + len, start + 12..start + 40] {

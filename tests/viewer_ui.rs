@@ -6,6 +6,8 @@
 //! the user's configuration.
 #![cfg(feature = "viewer")]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
@@ -2389,6 +2391,18 @@ fn play_pause_scrub_speed_and_pick_an_animation() {
         0.45,
         "after the failed load",
     );
+    // So does a compressed file whose meshopt stream fails to decode (its header byte
+    // inverted).
+    let torus = model("compressed/torus-meshopt-khr.glb");
+    let stream = common::meshopt_range(&std::fs::read(&torus).unwrap(), 1);
+    let undecodable = dir.join("undecodable-meshopt.glb");
+    common::write_inverted_glb(&torus, stream.start..stream.start + 1, &undecodable);
+    drop_file(&mut h, &undecodable);
+    let e = h.state().error.clone().expect("an error is shown");
+    assert!(e.starts_with(&undecodable.display().to_string()), "{e}");
+    assert!(e.contains("bufferView 1"), "{e}");
+    assert!(Arc::ptr_eq(&h.state().scene, &scene), "the scene stays");
+    assert_eq!(h.state().model.as_deref(), Some(path.as_path()));
     h.key_press(Key::Space);
     h.run();
     set_clock(&mut h, 3.2);
@@ -2397,7 +2411,7 @@ fn play_pause_scrub_speed_and_pick_an_animation() {
         &path,
         Play::One(2),
         0.65,
-        "playing on after the failed load",
+        "playing on after the failed loads",
     );
 
     // Opening a still model hides the timeline.

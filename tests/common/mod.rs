@@ -311,6 +311,45 @@ pub fn gltf_json(root: &str, child: &str) -> String {
     json
 }
 
+/// The JSON chunk of a GLB file, parsed, and where its binary chunk's data starts.
+pub fn glb_parts(bytes: &[u8]) -> (serde_json::Value, usize) {
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().expect("GLB header")) as usize;
+    let json = serde_json::from_slice(&bytes[20..20 + json_len]).expect("GLB JSON chunk");
+    (json, 20 + json_len + 8)
+}
+
+/// The GLB file `src` written to `dest` with the bytes `range` of its binary chunk inverted.
+pub fn write_inverted_glb(src: &Path, range: std::ops::Range<usize>, dest: &Path) {
+    let mut bytes = std::fs::read(src).unwrap_or_else(|e| panic!("{}: {e}", src.display()));
+    let (_, bin) = glb_parts(&bytes);
+    for b in &mut bytes[bin + range.start..bin + range.end] {
+        *b = !*b;
+    }
+    std::fs::write(dest, bytes).unwrap_or_else(|e| panic!("{}: {e}", dest.display()));
+}
+
+/// The byte range, in the binary chunk, of the compressed data of meshopt bufferView `view`
+/// (`EXT_` or `KHR_meshopt_compression`) of the GLB `bytes`.
+pub fn meshopt_range(bytes: &[u8], view: usize) -> std::ops::Range<usize> {
+    let (json, _) = glb_parts(bytes);
+    let v = &json["bufferViews"][view]["extensions"];
+    let e = v
+        .as_object()
+        .expect("a meshopt view")
+        .values()
+        .next()
+        .expect("an extension");
+    let start = e["byteOffset"].as_u64().unwrap_or(0) as usize;
+    start..start + e["byteLength"].as_u64().expect("byteLength") as usize
+}
+
+/// The byte range, in the binary chunk, of bufferView `view` of the GLB's JSON `json`.
+pub fn view_range(json: &serde_json::Value, view: usize) -> std::ops::Range<usize> {
+    let v = &json["bufferViews"][view];
+    let start = v["byteOffset"].as_u64().unwrap_or(0) as usize;
+    start..start + v["byteLength"].as_u64().expect("byteLength") as usize
+}
+
 pub fn temp_dir(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("realist-test-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
