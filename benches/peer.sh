@@ -11,12 +11,20 @@
 #   meshes: bunny spot teapot suzanne (../shared/models/obj), sphere1m sphere4m (generated)
 #   modes:  phong gouraud flat tex (the peer's names)
 # Environment:
-#   QUICK=1          two rows only (teapot 1920x1080 phong, spot 1920x1080 tex)
+#   QUICK=1          three rows only (teapot 1920x1080 phong, bunny 1920x1080 gouraud,
+#                    spot 1920x1080 tex)
 #   REALIST_SHARED   the shared folder (default ../shared next to this repository)
 #   THREADS          threads for both renderers (default 2)
 #   ROUNDS           the peer's rounds (default 5)
 #   OUT              folder for the PNGs and JSON lines (default: a new folder in /tmp)
 #   LLVMPIPE_VENV    the peer's Python venv (default /tmp/llvmpipe-venv; set up if missing)
+#   RECORD=1         write this run's speed-ups into benches/peer-record.md (rows not run
+#                    keep their recorded values)
+#
+# The regression guard: each row's speed-up is compared with the one recorded for that row in
+# benches/peer-record.md (the last column); a row that lost more than a fifth of its recorded
+# speed-up is flagged, and the script then exits with status 3 after the table. Run it (QUICK=1
+# at least) before stopping whenever the render path changed.
 set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -43,7 +51,7 @@ realist=${CARGO_TARGET_DIR:-$repo/target}/release/realist
 if [ $# -gt 0 ]; then
     rows=("$@")
 elif [ "${QUICK:-0}" = 1 ]; then
-    rows=(teapot/1920x1080/phong spot/1920x1080/tex)
+    rows=(teapot/1920x1080/phong bunny/1920x1080/gouraud spot/1920x1080/tex)
 else
     rows=(teapot/1920x1080/phong teapot/1920x1080/gouraud
           bunny/1920x1080/phong bunny/1920x1080/gouraud bunny/640x480/phong
@@ -78,8 +86,10 @@ bench() {
         --png "$out/realist_$tag.png" >>"$out/$tag.realist.json"
 }
 
-echo "| mesh | size | mode | llvmpipe ms | realist ms | speed-up | mean abs diff (8-bit) |"
-echo "|---|---|---|---|---|---|---|"
+record=$repo/benches/peer-record.md
+: >"$out/speedups.tsv"
+echo "| mesh | size | mode | llvmpipe ms | realist ms | speed-up | mean abs diff (8-bit) | against the record |"
+echo "|---|---|---|---|---|---|---|---|"
 for row in "${rows[@]}"; do
     IFS=/ read -r mesh res mode <<<"$row"
     m=$(model "$mesh")
@@ -103,14 +113,14 @@ print(statistics.median(json.loads(l)["median_ms"] for l in sys.stdin if l.strip
         "$realist" bench diff "$out/realist_$tag.png" "$out/peer_$tag.png" >"$out/$tag.diff.json"
         diff=$(field mean_abs_diff <"$out/$tag.diff.json")
     fi
-    "$py" -c 'import sys
-mesh, res, mode, lp, rl, diff = sys.argv[1:]
-def num(s, fmt):
-    try: return fmt % float(s)
-    except ValueError: return s
-try: speedup = "%.2fx" % (float(lp) / float(rl))
-except (ValueError, ZeroDivisionError): speedup = "n/a"
-print("| %s | %s | %s | %s | %s | %s | %s |" % (mesh, res, mode, num(lp, "%.1f"), num(rl, "%.1f"),
-      speedup, num(diff, "%.2f")))' "$mesh" "$res" "$mode" "$lp" "$rl" "$diff"
+    "$py" "$repo/benches/peer_record.py" row "$record" "$out/speedups.tsv" \
+        "$mesh" "$res" "$mode" "$lp" "$rl" "$diff"
 done
 echo "peer.sh: PNGs and JSON lines in $out" >&2
+status=0
+"$py" "$repo/benches/peer_record.py" verdict "$record" "$out/speedups.tsv" || status=$?
+if [ "${RECORD:-0}" = 1 ]; then
+    "$py" "$repo/benches/peer_record.py" record "$record" "$out/speedups.tsv"
+    status=0
+fi
+exit "$status"

@@ -305,24 +305,43 @@ fn guarded<T>(path: &Path, f: impl FnOnce() -> Result<T, LoadError>) -> Result<T
     })
 }
 
-/// The message of a caught panic.
+/// The message of a caught panic, on one line.
 fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| (*s).to_owned())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".into())
+    one_line(
+        payload
+            .downcast_ref::<&str>()
+            .copied()
+            .or_else(|| payload.downcast_ref::<String>().map(String::as_str))
+            .unwrap_or("unknown panic"),
+    )
+}
+
+/// `message` on one line: each line break, with the spaces around it, becomes one space
+/// (decoders' messages may be wrapped, as draco-core's are; a load error is one line).
+pub(crate) fn one_line(message: &str) -> String {
+    if !message.contains(['\n', '\r']) {
+        return message.to_owned();
+    }
+    message
+        .split(['\n', '\r'])
+        .map(str::trim)
+        .filter(|part| !part.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Runs a third-party decoder (meshopt, Draco, Basis Universal), turning a panic inside it
-/// into an error message, so the caller can name the item it was decoding.
+/// into an error message, so the caller can name the item it was decoding; its messages
+/// come back on one line.
 pub(crate) fn catch_decoder<T>(f: impl FnOnce() -> Result<T, String>) -> Result<T, String> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
-        Err(format!(
-            "decoder panicked: {}",
-            panic_message(payload.as_ref())
-        ))
-    })
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
+        .unwrap_or_else(|payload| {
+            Err(format!(
+                "decoder panicked: {}",
+                panic_message(payload.as_ref())
+            ))
+        })
+        .map_err(|e| one_line(&e))
 }
 
 /// Memory accounting for one load: every large allocation is charged here before it is

@@ -94,6 +94,26 @@ fn a_panic_becomes_an_error_naming_the_file() {
 }
 
 #[test]
+fn decoder_messages_and_panics_come_back_on_one_line() {
+    // draco-core wraps a long message (the fuzzer's first draco_decode finding).
+    let wrapped = "Buffer decode error: declared 2304 raw corrections of 1 bytes, more than the \n                         2029 bytes left in the stream";
+    assert_eq!(
+        catch_decoder(|| -> Result<(), String> { Err(wrapped.into()) }).unwrap_err(),
+        "Buffer decode error: declared 2304 raw corrections of 1 bytes, more than the 2029 bytes left in the stream"
+    );
+    assert_eq!(
+        catch_decoder(|| -> Result<(), String> { panic!("first\r\n  second\n") }).unwrap_err(),
+        "decoder panicked: first second"
+    );
+    let err = guarded(Path::new("bad.obj"), || -> Result<(), LoadError> {
+        panic!("two\nlines")
+    })
+    .unwrap_err();
+    assert_eq!(err.to_string(), "bad.obj: loader panicked: two lines");
+    assert_eq!(one_line("one line, as it was "), "one line, as it was ");
+}
+
+#[test]
 fn budget_counts_the_file() {
     let dir = TempDir::new("budget");
     let path = dir.write("big.obj", "v 0 0 0\n".repeat(1000));
