@@ -174,6 +174,7 @@ fn benches(c: &mut Criterion) {
         layout: LitLayout::default(),
         mapped: false,
         blinn: true,
+        provoking_vertex: false,
         alpha: AlphaMode::Opaque,
         double_sided: false,
         lights: (0, 1),

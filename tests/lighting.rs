@@ -778,3 +778,137 @@ fn shared_model_under_every_light_type_and_fog_agrees_with_the_f64_reference() {
         );
     }
 }
+
+/// Gouraud and flat shading with the textbook's formulas (Phong's `R·V` at the vertices,
+/// flat facets lit at their centroids) and with OpenGL's (`VertexLighting::GL`: Blinn's
+/// `N·H`, each triangle lit at its last vertex), against those formulas evaluated here in
+/// f64: a shiny plane of eight triangles under a near point light, seen from the top (so the
+/// interpolation in screen space is affine in the plane).
+#[test]
+fn vertex_lighting_follows_the_textbook_or_the_gl_formulas() {
+    use realist::mesh::{MeshData, NormalPolicy};
+    use realist::render::VertexLighting;
+    let (kd, ks, shininess) = (0.3f64, 0.5f64, 8.0f64);
+    let light = DVec3::new(0.6, 1.2, -0.5);
+    let eye = DVec3::new(0.0, 6.0, 0.0);
+    // A 2 x 2 grid of quads over [-2, 2]^2, each cut into two triangles facing +Y.
+    let at = |i: u32, j: u32| Vec3::new(-2.0 + 2.0 * i as f32, 0.0, -2.0 + 2.0 * j as f32);
+    let mut positions = Vec::new();
+    for j in 0..3 {
+        for i in 0..3 {
+            positions.push(at(i, j));
+        }
+    }
+    let mut corners = Vec::new();
+    for j in 0..2 {
+        for i in 0..2 {
+            let k = |di: u32, dj: u32| (j + dj) * 3 + i + di;
+            corners.extend([k(0, 0), k(0, 1), k(1, 0)]);
+            corners.extend([k(1, 1), k(1, 0), k(0, 1)]);
+        }
+    }
+    let mesh = Mesh::new(
+        MeshData {
+            name: "plane".into(),
+            positions: positions.clone(),
+            corners: corners.clone(),
+            ..MeshData::default()
+        },
+        NormalPolicy::default(),
+    )
+    .expect("mesh");
+    let mut scene = Scene::default();
+    let material = Material {
+        name: "shiny".into(),
+        base_color: Vec4::new(kd as f32, kd as f32, kd as f32, 1.0),
+        specular: Vec3::splat(ks as f32),
+        shininess: shininess as f32,
+        ambient: Vec3::ONE,
+        ..Material::default()
+    };
+    place(&mut scene, mesh, material, Mat4::IDENTITY);
+
+    // The lighting equation at `q` with normal +Y.
+    let lighting = |q: DVec3, blinn: bool| {
+        let l = (light - q).normalize();
+        let v = (eye - q).normalize();
+        let ndl = l.y;
+        let base = if blinn {
+            (l + v).normalize().y
+        } else {
+            (DVec3::Y * (2.0 * ndl) - l).dot(v)
+        };
+        let spec = if ndl > 0.0 && base > 0.0 {
+            base.powf(shininess)
+        } else {
+            0.0
+        };
+        kd * ndl.max(0.0) + ks * spec
+    };
+    let tris: Vec<[DVec3; 3]> = corners
+        .chunks(3)
+        .map(|c| [0, 1, 2].map(|k| positions[c[k] as usize].as_dvec3()))
+        .collect();
+    // The triangle under `p` and its barycentric coordinates, unless `p` is near an edge.
+    let locate = |p: DVec3| {
+        tris.iter().find_map(|t| {
+            let (a, b, c) = (t[0], t[1], t[2]);
+            let area = (b.x - a.x) * (c.z - a.z) - (c.x - a.x) * (b.z - a.z);
+            let w =
+                |u: DVec3, v: DVec3| ((v.x - u.x) * (p.z - u.z) - (p.x - u.x) * (v.z - u.z)) / area;
+            let bary = DVec3::new(w(b, c), w(c, a), w(a, b));
+            (bary.min_element() > 0.03).then_some((*t, bary))
+        })
+    };
+    let light_list =
+        || vec![Light::point(light.as_vec3(), Vec3::ONE).with_attenuation(Attenuation::None)];
+    let mut images = Vec::new();
+    for (mode, vl) in [
+        (Shading::Gouraud, VertexLighting::default()),
+        (Shading::Gouraud, VertexLighting::GL),
+        (Shading::Flat, VertexLighting::default()),
+        (Shading::Flat, VertexLighting::GL),
+    ] {
+        let s = Settings {
+            vertex_lighting: vl,
+            ..settings(light_list(), mode)
+        };
+        let got = samples(&scene, &s, &top_view());
+        let mut checked = 0;
+        let mut worst = 0f64;
+        for &(p, c) in &got {
+            let Some((t, bary)) = locate(p.as_dvec3()) else {
+                continue;
+            };
+            let want = match mode {
+                Shading::Gouraud => {
+                    bary.x * lighting(t[0], vl.blinn)
+                        + bary.y * lighting(t[1], vl.blinn)
+                        + bary.z * lighting(t[2], vl.blinn)
+                }
+                _ if vl.provoking_vertex => lighting(t[2], true),
+                _ => lighting((t[0] + t[1] + t[2]) / 3.0, false),
+            };
+            let e = (f64::from(c.x) - want).abs();
+            worst = worst.max(e);
+            assert!(
+                e < TOL,
+                "{mode} {vl:?}: at {p} got {} want {want} (error {e})",
+                c.x
+            );
+            checked += 1;
+        }
+        assert!(checked > 200, "{mode} {vl:?}: only {checked} samples");
+        eprintln!("{mode} {vl:?}: {checked} samples, worst error {worst:.2e}");
+        images.push(got);
+    }
+    // The two formulas differ visibly on this plane, so each check above tells them apart.
+    for (a, b) in [(0, 1), (2, 3)] {
+        let most = images[a]
+            .iter()
+            .zip(&images[b])
+            .map(|(x, y)| (x.1.x - y.1.x).abs())
+            .fold(0f32, f32::max);
+        assert!(most > 0.05, "textbook and GL images differ by only {most}");
+    }
+}

@@ -279,6 +279,8 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool, paused: boo
         filter: None,
         stats: false,
         double_sided: false,
+        vertex_blinn: false,
+        flat_last_vertex: false,
         msaa: Some(4),
         samples: None,
         scene: None,

@@ -88,6 +88,15 @@ pub(crate) struct RenderArgs {
     /// Draw every material double-sided (no back-face culling).
     #[arg(long)]
     pub double_sided: bool,
+    /// Gouraud and flat shading with Blinn's N·H highlight instead of Phong's R·V (the
+    /// textbook's §9.2 lights vertices with R·V).
+    #[arg(long)]
+    pub vertex_blinn: bool,
+    /// Flat shading lights each triangle at its last vertex with its plane normal, as
+    /// OpenGL's flat shading does (its provoking vertex), instead of each facet at its
+    /// centroid.
+    #[arg(long)]
+    pub flat_last_vertex: bool,
     /// Multisampling: 1 (off) or 4 coverage and depth samples per pixel, shaded once per
     /// pixel and triangle, averaged in linear light.
     #[arg(long, value_parser = parse_msaa)]
@@ -253,6 +262,12 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
     }
     if args.double_sided {
         s.double_sided = true;
+    }
+    if args.vertex_blinn {
+        s.vertex_lighting.blinn = true;
+    }
+    if args.flat_last_vertex {
+        s.vertex_lighting.provoking_vertex = true;
     }
     if let Some(m) = args.msaa {
         s.msaa = m;

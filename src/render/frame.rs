@@ -520,7 +520,9 @@ pub(crate) fn resolve(
         blinn: matches!(
             mode,
             Shading::Blinn | Shading::Textured | Shading::UvChecker
-        ),
+        ) || (settings.vertex_lighting.blinn
+            && matches!(mode, Shading::Gouraud | Shading::Flat)),
+        provoking_vertex: settings.vertex_lighting.provoking_vertex && mode == Shading::Flat,
         alpha: if debug {
             AlphaMode::Opaque
         } else {

@@ -40,7 +40,7 @@ pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
-pub use settings::{Environment, Ground, Lights, Output, Settings, ToneMap, View};
+pub use settings::{Environment, Ground, Lights, Output, Settings, ToneMap, VertexLighting, View};
 
 /// Everything about a one-shot frame: [`Settings`] and [`View`] in one struct, the camera
 /// optional ([`default_camera`] when absent).

@@ -362,6 +362,30 @@ pub struct Settings {
     /// Width of the meshes' lines, in pixels of the image (default 1; rounded to whole
     /// pixels, 1 to [`crate::raster::MAX_STROKE_PX`]; see [`crate::raster::draw_wide_lines`]).
     pub line_width: f32,
+    /// How Gouraud and flat shading light their vertices and facets.
+    pub vertex_lighting: VertexLighting,
+}
+
+/// The lighting formulas of the vertex modes (Gouraud and flat). The default is the
+/// textbook's: Phong's `R·V` highlight, and flat shading lit once per facet at its centroid
+/// (the textbook's §9.2). [`VertexLighting::GL`] is what GPU shaders and Mesa's llvmpipe
+/// commonly do: Blinn's `N·H`, and flat shading lit at each triangle's last vertex (OpenGL's
+/// provoking vertex) with the triangle's plane normal.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VertexLighting {
+    /// Blinn's `N·H` highlight instead of Phong's `R·V`.
+    pub blinn: bool,
+    /// Flat shading lights each triangle at its last vertex, with the triangle's own plane
+    /// normal, instead of each facet at its centroid.
+    pub provoking_vertex: bool,
+}
+
+impl VertexLighting {
+    /// Blinn's highlight and the provoking vertex: the formulas of `bench frame`'s peer.
+    pub const GL: VertexLighting = VertexLighting {
+        blinn: true,
+        provoking_vertex: true,
+    };
 }
 
 impl Settings {
@@ -401,6 +425,7 @@ impl Default for Settings {
             ground: None,
             point_size: 1.0,
             line_width: 1.0,
+            vertex_lighting: VertexLighting::default(),
         }
     }
 }

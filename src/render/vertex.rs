@@ -99,13 +99,14 @@ pub(super) fn lit(
 
 impl Lit<'_> {
     /// The lighting equation at a vertex or facet centroid, seen from the side `n` points
-    /// to, fogged there (Phong's `R·V` highlight, as the textbook's Gouraud shading).
+    /// to, fogged there (Phong's `R·V` highlight, as the textbook's Gouraud shading, unless
+    /// the draw asks for Blinn's: [`crate::render::VertexLighting`]).
     #[inline]
     fn colour(&self, d: &DrawParams, p: Vec3, n: Vec3, c: Vec4) -> Vec4 {
         let base = d.base * c;
         let surf = d.surface.at::<f32>(base.truncate());
         let active = d.active(self.active);
-        let mut rgb = illuminate::<f32>(self.lights, Some(active), &surf, p, n, self.eye, false);
+        let mut rgb = illuminate::<f32>(self.lights, Some(active), &surf, p, n, self.eye, d.blinn);
         rgb += d.emissive;
         if let Some(fog) = &self.fog {
             rgb = fog.apply::<f32>(rgb, p, self.eye, self.forward);
@@ -138,25 +139,47 @@ impl Lit<'_> {
 
     /// Flat: one lighting evaluation per facet, at its area-weighted centroid with its plane
     /// normal turned towards the eye on double-sided materials; every corner of the
-    /// (unindexed) triangles carries its facet's colour (4 floats). `facets` is scratch
-    /// memory. Returns the stride.
+    /// (unindexed) triangles carries its facet's colour (4 floats). With
+    /// [`DrawParams::provoking_vertex`], one evaluation per triangle instead, at its last
+    /// corner (position and colour) with the triangle's plane normal, as OpenGL's flat
+    /// shading does. `facets` is scratch memory. Returns the stride.
     pub fn flat(&self, fi: &FrameInst, facets: &mut Vec<Vec4>, out: &mut Vec<f32>) -> usize {
         let d = &self.params[fi.param as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];
         let (tri, flat) = (&mesh.tri, mesh.flat());
         let normal = self.scene.instances[fi.inst as usize].normal;
-        facets.clear();
-        per_item(facets, tri.facet_normals.len(), |f| {
-            let p = fi.world.transform_point3(flat.centroids[f]);
-            let mut n = (normal * tri.facet_normals[f]).normalize_or_zero();
+        let facing = |p: Vec3, n: Vec3| {
+            let n = (normal * n).normalize_or_zero();
             if d.double_sided && n.dot(self.eye - p) < 0.0 {
-                n = -n;
+                -n
+            } else {
+                n
             }
-            self.colour(d, p, n, flat.first_colors[f])
-        });
+        };
+        facets.clear();
+        if d.provoking_vertex {
+            per_item(facets, tri.triangles.len(), |t| {
+                let [a, b, c] = tri.triangles[t].map(|k| k as usize);
+                let q = &tri.positions;
+                let p = fi.world.transform_point3(q[c]);
+                let n = facing(p, (q[b] - q[a]).cross(q[c] - q[a]));
+                let colour = tri.colors.as_ref().map_or(Vec4::ONE, |cs| cs[c]);
+                self.colour(d, p, n, colour)
+            });
+        } else {
+            per_item(facets, tri.facet_normals.len(), |f| {
+                let p = fi.world.transform_point3(flat.centroids[f]);
+                self.colour(d, p, facing(p, tri.facet_normals[f]), flat.first_colors[f])
+            });
+        }
         let facets = &*facets;
         per_vertex(out, 3 * tri.triangle_facets.len(), 4, |c, o| {
-            let f = tri.triangle_facets[c / 3] as usize;
+            let t = c / 3;
+            let f = if d.provoking_vertex {
+                t
+            } else {
+                tri.triangle_facets[t] as usize
+            };
             let colour = facets.get(f).copied().unwrap_or(Vec4::ZERO);
             o.copy_from_slice(&colour.to_array());
         })

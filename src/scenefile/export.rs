@@ -67,6 +67,8 @@ pub(super) fn doc(
         background: Some(rgba(s.background)),
         double_sided: Some(s.double_sided),
         wireframe_overlay: Some(s.wireframe_overlay),
+        vertex_blinn: s.vertex_lighting.blinn.then_some(true),
+        flat_last_vertex: s.vertex_lighting.provoking_vertex.then_some(true),
         overdraw: Some(s.output == Output::Overdraw),
         subpixel_bits: Some(u32::from(s.subpixel_bits)),
         filter: s.filter.map(Kw),

@@ -247,6 +247,10 @@ pub struct SceneDoc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wireframe_overlay: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertex_blinn: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_last_vertex: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub overdraw: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub subpixel_bits: Option<u32>,

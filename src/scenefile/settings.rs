@@ -6,7 +6,7 @@ use super::schema::LightsMode;
 use super::{
     ModelSource, SceneFile, SceneFileError, MAX_LIGHTS, MAX_PIXELS, MAX_SIDE, MAX_VARIANTS,
 };
-use crate::render::{Environment, Ground, Lights, Output, Settings};
+use crate::render::{Environment, Ground, Lights, Output, Settings, VertexLighting};
 use crate::scene::{Light, Scene, Slot, SlotOverride, SlotOverrides, TextureSource};
 use crate::shade::{Fog, ShadowSettings, MAX_SHADOW_SIZE};
 
@@ -175,6 +175,10 @@ impl SceneFile {
             shading: d.shading.map(|m| m.0),
             wireframe_overlay: d.wireframe_overlay.unwrap_or(false),
             double_sided: d.double_sided.unwrap_or(false),
+            vertex_lighting: VertexLighting {
+                blinn: d.vertex_blinn.unwrap_or(false),
+                provoking_vertex: d.flat_last_vertex.unwrap_or(false),
+            },
             filter: d.filter.map(|f| f.0),
             tone: d.tone.map_or_else(Default::default, |t| t.0),
             ..Settings::default()

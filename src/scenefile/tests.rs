@@ -371,6 +371,7 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             color: Vec3::new(0.2, 0.3, 0.1),
             extent: 6.5,
         }),
+        vertex_lighting: crate::render::VertexLighting::GL,
         // Not in scene files (yet): the defaults survive the round trip.
         point_size: 1.0,
         line_width: 1.0,

@@ -79,8 +79,12 @@ pub struct DrawParams {
     /// True if any of the maps above is set (see [`DrawParams::maps`]); kept in step by
     /// the renderer, read by the shader so a draw without maps skips them in one test.
     pub mapped: bool,
-    /// Blinn's `N·H` highlight (else Phong's `R·V`).
+    /// Blinn's `N·H` highlight (else Phong's `R·V`), per pixel or, in Gouraud and flat, per
+    /// vertex and facet ([`crate::render::VertexLighting`]).
     pub blinn: bool,
+    /// Flat shading lights each triangle at its last vertex with its plane normal (else
+    /// each facet at its centroid).
+    pub provoking_vertex: bool,
     pub alpha: AlphaMode,
     pub double_sided: bool,
     /// This draw's lights: `start..end` in the shader's `active` list (the frame's lights

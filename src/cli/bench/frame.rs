@@ -12,7 +12,7 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 
-use realist::render::{PreparedScene, Renderer, Settings, StageTimes, View};
+use realist::render::{PreparedScene, Renderer, Settings, StageTimes, VertexLighting, View};
 use realist::shade::Shading;
 
 use super::median;
@@ -45,6 +45,11 @@ pub(crate) struct FrameArgs {
     /// sRGB encoding; alpha 0 where nothing was drawn (the peer clears alpha to 0).
     #[arg(long)]
     png: Option<PathBuf>,
+    /// Light Gouraud and flat with the textbook's formulas (Phong's R·V highlight, flat
+    /// facets at their centroids) instead of the peer's (Blinn's N·H, flat triangles at
+    /// their last vertex: `VertexLighting::GL`), as `realist render` does by default.
+    #[arg(long)]
+    textbook: bool,
     /// Multisampling: 1 (off, as the peer) or 4 samples per pixel.
     #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
     msaa: u32,
@@ -77,9 +82,7 @@ impl PeerMode {
         }
     }
 
-    /// realist's mode. Gouraud and flat light vertices and facets with Phong's R.V
-    /// highlight (the peer uses N.H there too), and flat lights the facet's centroid (the
-    /// peer: its last vertex, GL's provoking vertex).
+    /// realist's mode (Gouraud and flat with the peer's formulas unless `--textbook`).
     fn shading(self) -> Shading {
         match self {
             PeerMode::Phong => Shading::Blinn,
@@ -137,6 +140,11 @@ pub(crate) fn frame(args: &FrameArgs) -> Result<()> {
         background: CLEAR,
         double_sided: true,
         msaa: args.msaa,
+        vertex_lighting: if args.textbook {
+            VertexLighting::default()
+        } else {
+            VertexLighting::GL
+        },
         ..Settings::default()
     };
     args.lighting.apply(&mut settings, &scene_lights)?;
