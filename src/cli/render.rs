@@ -89,7 +89,7 @@ pub(crate) struct RenderArgs {
     #[arg(long)]
     pub double_sided: bool,
     /// Gouraud and flat shading with Blinn's N·H highlight instead of Phong's R·V (the
-    /// textbook's §9.2 lights vertices with R·V).
+    /// textbook's §9.2.2 lights vertices with R·V).
     #[arg(long)]
     pub vertex_blinn: bool,
     /// Flat shading lights each triangle at its last vertex with its plane normal, as

@@ -368,7 +368,7 @@ pub struct Settings {
 
 /// The lighting formulas of the vertex modes (Gouraud and flat). The default is the
 /// textbook's: Phong's `R·V` highlight, and flat shading lit once per facet at its centroid
-/// (the textbook's §9.2). [`VertexLighting::GL`] is what GPU shaders and Mesa's llvmpipe
+/// (the textbook's §9.2.2). [`VertexLighting::GL`] is what GPU shaders and Mesa's llvmpipe
 /// commonly do: Blinn's `N·H`, and flat shading lit at each triangle's last vertex (OpenGL's
 /// provoking vertex) with the triangle's plane normal.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -141,6 +141,12 @@ impl SceneFile {
             if let Some(f) = v.filter {
                 settings.filter = Some(f.0);
             }
+            if let Some(b) = v.vertex_blinn {
+                settings.vertex_lighting.blinn = b;
+            }
+            if let Some(p) = v.flat_last_vertex {
+                settings.vertex_lighting.provoking_vertex = p;
+            }
             self.apply_maps(
                 &format!("compare.variant[{i}]."),
                 v.texture.as_deref(),

@@ -507,4 +507,8 @@ pub struct VariantSpec {
     pub bump_scale: Option<f32>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uv: Option<Kw<UvChoice>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertex_blinn: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat_last_vertex: Option<bool>,
 }

@@ -81,7 +81,10 @@ impl Doc<'_> {
                     }
                 }
             }
-            normalise_weights(&mut deform, label, warnings);
+            // A set whose length did not match left no influences to normalise.
+            if deform.influences > 0 {
+                normalise_weights(&mut deform, label, warnings);
+            }
         }
         let quantized = self.json.extensions_used.iter().any(|e| e == QUANTIZATION);
         let format = if quantized {
@@ -138,6 +141,9 @@ impl Doc<'_> {
 /// left follows its first joint. Counts of what was changed go to `warnings`.
 fn normalise_weights(d: &mut Deform, label: &str, warnings: &mut Vec<String>) {
     let k = d.influences;
+    if k == 0 {
+        return;
+    }
     let (mut bad, mut empty) = (0usize, 0usize);
     for w in d.weights.chunks_exact_mut(k) {
         for x in w.iter_mut() {

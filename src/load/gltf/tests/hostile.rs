@@ -157,3 +157,33 @@ fn mesh_quantization_allows_integer_positions() {
         "{err}"
     );
 }
+
+#[test]
+fn a_second_joint_set_of_the_wrong_length_leaves_the_mesh_unskinned() {
+    // JOINTS_0/WEIGHTS_0 fit the three vertices, JOINTS_1/WEIGHTS_1 hold two: the
+    // primitive loads unskinned with a warning (this panicked, found by the anim_pose fuzz
+    // target: the weights were normalised with zero influences left).
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let joints = d.u8s(&[0; 12], "VEC4", false);
+    let weights = d.floats(&[1.0, 0.0, 0.0, 0.0].repeat(3), "VEC4");
+    let joints1 = d.u8s(&[0; 8], "VEC4", false);
+    let weights1 = d.floats(&[0.0; 8], "VEC4");
+    let ibm = d.floats(&glam::Mat4::IDENTITY.to_cols_array(), "MAT4");
+    let text = d.finish(json!({
+        "meshes": [{"primitives": [{"attributes": {"POSITION": tri,
+            "JOINTS_0": joints, "WEIGHTS_0": weights,
+            "JOINTS_1": joints1, "WEIGHTS_1": weights1}}]}],
+        "nodes": [{"mesh": 0, "skin": 0}, {}],
+        "skins": [{"joints": [1], "inverseBindMatrices": ibm}],
+        "scenes": [{"nodes": [0, 1]}], "scene": 0}));
+    let scene = load_text(&TempDir::new("gltf-joint-sets"), &text).unwrap();
+    assert_eq!(scene.meshes.len(), 1);
+    assert!(
+        scene.report.warnings.iter().any(|w| w
+            .contains("JOINTS_1/WEIGHTS_1 have 2/2 elements but POSITION has 3")
+            && w.contains("not skinned")),
+        "{:?}",
+        scene.report.warnings
+    );
+}

@@ -32,12 +32,7 @@ impl Doc {
     }
 
     fn floats(&mut self, v: &[f32], ty: &str) -> usize {
-        let n = match ty {
-            "SCALAR" => 1,
-            "VEC2" => 2,
-            "VEC3" => 3,
-            _ => 4,
-        };
+        let n = components(ty);
         let view = self.view(&f32_bytes(v));
         self.accessor(
             json!({"bufferView": view, "componentType": 5126, "count": v.len() / n, "type": ty}),
@@ -46,7 +41,7 @@ impl Doc {
 
     fn u8s(&mut self, v: &[u8], ty: &str, normalized: bool) -> usize {
         let view = self.view(v);
-        let n = if ty == "VEC2" { 2 } else { 1 };
+        let n = components(ty);
         self.accessor(json!({"bufferView": view, "componentType": 5121, "count": v.len() / n, "type": ty, "normalized": normalized}))
     }
 
@@ -63,6 +58,17 @@ impl Doc {
         obj.insert("bufferViews".into(), Value::Array(self.views));
         obj.insert("accessors".into(), Value::Array(self.accessors));
         rest.to_string()
+    }
+}
+
+/// Components of an accessor type.
+fn components(ty: &str) -> usize {
+    match ty {
+        "SCALAR" => 1,
+        "VEC2" => 2,
+        "VEC3" => 3,
+        "MAT4" => 16,
+        _ => 4,
     }
 }
 
