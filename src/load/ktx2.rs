@@ -44,8 +44,23 @@ pub fn decode(
         if transcoder.level_count() == 0 || transcoder.is_video() {
             return Err(invalid("KTX2 has no image level, or is a video".into()));
         }
-        // The transcoded RGBA and the texel copy.
+        // A Zstandard level is inflated whole to the length its level index states, before
+        // any check of that length (basisu 0.1.0): bound it here (a fuzzed header asked for
+        // 3e18 bytes) and charge it.
+        let inflated = zstd_level0_length(bytes).unwrap_or(0);
+        let most = u64::from(width.div_ceil(4)) * u64::from(height.div_ceil(4)) * 16 * 6 * 64;
+        if inflated > most {
+            return Err(invalid(format!(
+                "KTX2 level 0 claims {inflated} bytes once inflated, more than a {width}x{height} image can hold"
+            )));
+        }
+        // The inflated level, the transcoded RGBA and the texel copy.
         let texel_bytes = u64::from(width) * u64::from(height) * 4;
+        budget
+            .charge(inflated, || {
+                format!("image '{name}' (KTX2 level 0 inflated)")
+            })
+            .map_err(DecodeError::Budget)?;
         budget
             .charge(texel_bytes * 2, || {
                 format!("image '{name}' ({width}x{height} texels, KTX2)")
@@ -75,6 +90,16 @@ pub fn decode(
         Texels::Linear8(texels)
     };
     Texture::from_texels(name, width, height, texels).map_err(|e| invalid(e.to_string()))
+}
+
+/// The inflated length of level 0 in a Zstandard-supercompressed KTX2 file (its level
+/// index's `uncompressedByteLength`), or `None` if the file is not one.
+fn zstd_level0_length(bytes: &[u8]) -> Option<u64> {
+    let u32_at = |at: usize| Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?));
+    let u64_at = |at: usize| Some(u64::from_le_bytes(bytes.get(at..at + 8)?.try_into().ok()?));
+    // Header: supercompressionScheme at 44; the level index from byte 80, three u64 per level.
+    (u32_at(44)? == 2).then_some(())?;
+    u64_at(80 + 16)
 }
 
 #[cfg(test)]
