@@ -53,6 +53,13 @@ fn load_as(seed: &Path, name: &str, bytes: &[u8]) -> Option<Scene> {
     }
 }
 
+/// The first byte picks the file name as the targets do (even: `even`, odd: `odd`); the rest is
+/// the file. `None` for an empty seed.
+fn selected<'a>(bytes: &'a [u8], even: &'a str, odd: &'a str) -> Option<(&'a str, &'a [u8])> {
+    let (&selector, body) = bytes.split_first()?;
+    Some((if selector & 1 == 0 { even } else { odd }, body))
+}
+
 fn assert_decoded<T>(seed: &Path, result: Result<T, String>) {
     if let Err(e) = result {
         assert!(!e.contains("decoder panicked"), "{}: {e}", seed.display());
@@ -75,13 +82,8 @@ fn gltf_seeds_load_without_panicking() {
 #[test]
 fn animation_seeds_load_and_pose_with_finite_bounds() {
     for (seed, bytes) in seeds("anim_pose") {
-        let Some((&selector, body)) = bytes.split_first() else {
+        let Some((name, body)) = selected(&bytes, "case.gltf", "case.glb") else {
             continue;
-        };
-        let name = if selector & 1 == 0 {
-            "case.gltf"
-        } else {
-            "case.glb"
         };
         let Some(scene) = load_as(&seed, name, body) else {
             continue;
@@ -105,13 +107,8 @@ fn animation_seeds_load_and_pose_with_finite_bounds() {
 #[test]
 fn mesh_seeds_load_with_finite_bounds() {
     for (seed, bytes) in seeds("mesh_bytes") {
-        let Some((&selector, body)) = bytes.split_first() else {
+        let Some((name, body)) = selected(&bytes, "case.stl", "case.ply") else {
             continue;
-        };
-        let name = if selector & 1 == 0 {
-            "case.stl"
-        } else {
-            "case.ply"
         };
         if let Some((lo, hi)) = load_as(&seed, name, body).and_then(|s| s.bounds()) {
             assert!(lo.is_finite() && hi.is_finite(), "{}", seed.display());
