@@ -19,16 +19,20 @@
 //!   lane, interpolation and one call of the shader for the eight lanes (see [`block`] for
 //!   why the two steps are apart). Per-triangle constants (edge steps, lane offsets, barycentric steps,
 //!   derivative constants) are computed once per triangle and tile.
-//! - Packed shading: on small triangles most of a row's eight lanes are empty (24 % in use
-//!   on the bunny at 1080p), and the shader costs the same for one live lane as for eight.
-//!   For a shader that [packs](FragmentShader::packs) a draw (the lit shader, unless the
-//!   draw is alpha-tested), on a single-sample tile with colour replaced, the fill writes
-//!   each passing fragment's depth at the test and moves its interpolated varyings (and
-//!   derivatives) lane by lane into a batch of eight, across rows and consecutive triangles
-//!   of one draw and facing; the batch is shaded when full, before a triangle that cannot
-//!   join it, and at the end of the tile. Its colours go to their pixels in the order the
-//!   fragments arrived, so a later fragment of the same pixel still wins. A lane's result
-//!   does not depend on the other lanes of its batch, so images are the same as unpacked.
+//! - Deferred shading: on small triangles most of a row's eight lanes are empty (24 % in
+//!   use on the bunny at 1080p), the shader costs the same for one live lane as for eight,
+//!   and a fragment drawn over later was shaded for nothing (a third of the fragments of
+//!   the teapot and the cow at 1080p). For a shader that [defers](FragmentShader::packs) a
+//!   draw (the lit shader, unless the draw is alpha-tested), on a single-sample tile with
+//!   colour replaced, the fill only tests coverage and depth: it writes each passing
+//!   fragment's depth at the test and keeps, per pixel, the triangle and the perspective
+//!   weights of the last fragment that passed (a visibility buffer). The tile's visible
+//!   fragments are shaded at its end, or before a triangle that is not deferred (it may
+//!   blend with what is under it): eight pixels at a time where one triangle covers seven
+//!   or eight of them, the others gathered lane by lane into batches of eight across rows
+//!   and triangles of one draw and facing. Each pixel is shaded once, by the triangle that
+//!   the forward order would have left there, with the same interpolation, so images are
+//!   bit for bit those of shading every fragment in order.
 //! - Depth: early test before shading, reversed-Z, `z` interpolated linearly in screen space
 //!   (z/w is affine there). Attributes are interpolated perspective-correctly:
 //!   `p_k = λ_k (1/w_k) / Σ λ_j (1/w_j)` with screen-space barycentrics `λ_k = E_k / area`,
@@ -46,6 +50,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::framebuffer::{sample_offsets, sample_reach, Tile, TILE, TILE_PIXELS};
+use super::pipeline::Chunk;
 use super::pipeline::{Blend, DepthTest, DrawState};
 use super::setup::{padded, SetupTri, ONE};
 use super::{Colors, FragmentShader, Fragments, TriInfo, MAX_VARYINGS};
@@ -56,9 +61,9 @@ const HALF: i64 = ONE / 2;
 /// Samples per pixel of a multisampled tile.
 const SAMPLES: usize = 4;
 
-/// Fragment counters of one tile, and the lanes' working memory (kept for the whole tile:
-/// zeroing it per row cost more than the interpolation it holds).
-#[derive(Clone, Debug, Default)]
+/// Fragment counters of one tile, and the lanes' working memory (kept from tile to tile by
+/// each worker: zeroing it per row cost more than the interpolation it holds).
+#[derive(Default)]
 pub(crate) struct FillCounters {
     pub shaded: u64,
     pub depth_rejected: u64,
@@ -68,13 +73,120 @@ pub(crate) struct FillCounters {
     var: [F8; MAX_VARYINGS],
     ddx: [F8; MAX_VARYINGS],
     ddy: [F8; MAX_VARYINGS],
-    /// Fragments waiting for a full batch (packed shading).
-    pack: Pack,
+    /// Fragments gathered into batches of eight (deferred shading), one per draw and facing
+    /// met lately.
+    packs: [Pack; PACKS],
+    /// The visibility buffer of deferred shading.
+    defer: Deferred,
 }
 
-/// Fragments of consecutive rows and triangles of one draw gathered into one batch of eight
-/// lanes (see the module docs, "Packed shading"). Lane `i` is the pixel at tile offset
-/// `o[i]`; its depth is already written.
+impl FillCounters {
+    /// Ready for a new tile: counters zeroed (the visibility buffer is empty after every
+    /// tile's last [`fill`]).
+    pub(crate) fn begin_tile(&mut self) {
+        self.shaded = 0;
+        self.depth_rejected = 0;
+        self.calls = 0;
+        self.packs.iter_mut().for_each(|p| p.len = 0);
+        self.defer.pending = false;
+    }
+}
+
+/// Groups of eight pixels in a tile.
+const GROUPS: usize = TILE_PIXELS / LANES;
+
+/// The deferred fragments of a tile (see the module docs, "Deferred shading"): per pixel,
+/// the last fragment of a deferred triangle that passed the depth test.
+#[derive(Default)]
+struct Deferred {
+    /// Whether any group has a live lane.
+    pending: bool,
+    /// Per group of eight pixels (tile offset / 8): the lanes holding a fragment.
+    live: Vec<u32>,
+    /// Per pixel: its fragment's triangle ([`TriId`]), and the perspective weights `p_1`,
+    /// `p_2` and `1 / D` there (meaningful where `live` says so).
+    tri: Vec<u32>,
+    p1: Vec<f32>,
+    p2: Vec<f32>,
+    inv: Vec<f32>,
+}
+
+impl Deferred {
+    /// Keeps lanes `live` of the row at tile offset `o` (a multiple of eight), fragments of
+    /// triangle `id` with perspective weights `p`, over what the row held.
+    #[inline(always)]
+    fn record(&mut self, o: usize, live: u32, id: u32, p: [F8; 3]) {
+        if self.tri.len() < TILE_PIXELS {
+            // Once per worker thread (see `pipeline::flush`).
+            self.live = vec![0; GROUPS];
+            self.tri = vec![0; TILE_PIXELS];
+            self.p1 = vec![0.0; TILE_PIXELS];
+            self.p2 = vec![0.0; TILE_PIXELS];
+            self.inv = vec![0.0; TILE_PIXELS];
+        }
+        let m = M8::from_bits(live);
+        for (plane, v) in [&mut self.p1, &mut self.p2, &mut self.inv]
+            .into_iter()
+            .zip(p)
+        {
+            let d = &mut plane[o..o + LANES];
+            d.copy_from_slice(&F8::select(m, v, F8::load(d)).0);
+        }
+        let t = &mut self.tri[o..o + LANES];
+        for i in 0..LANES {
+            if live >> i & 1 != 0 {
+                t[i] = id;
+            }
+        }
+        self.live[o / LANES] |= live;
+        self.pending = true;
+    }
+
+    /// The perspective weights of the group at tile offset `o`.
+    #[inline(always)]
+    fn weights(&self, o: usize) -> [F8; 3] {
+        [
+            F8::load(&self.p1[o..o + LANES]),
+            F8::load(&self.p2[o..o + LANES]),
+            F8::load(&self.inv[o..o + LANES]),
+        ]
+    }
+
+    /// The lanes of `lanes` in the group at `o` whose fragment is triangle `id`'s.
+    #[inline(always)]
+    fn same(&self, o: usize, lanes: u32, id: u32) -> u32 {
+        let t = &self.tri[o..o + LANES];
+        let mut m = 0;
+        for i in 0..LANES {
+            m |= u32::from(t[i] == id) << i;
+        }
+        m & lanes
+    }
+}
+
+/// A triangle of the tile's chunks: chunk index times 2^16 plus its index in the chunk
+/// (a chunk holds at most [`CHUNK`](super::pipeline::CHUNK) = 2048 triangles).
+pub(crate) type TriId = u32;
+
+/// Triangle `id` of `chunks` and the varyings' array it indexes.
+#[inline(always)]
+fn triangle(chunks: &[Chunk], id: TriId) -> Option<(&SetupTri, &[f32])> {
+    let c = chunks.get((id >> 16) as usize)?;
+    Some((c.tris.get((id & 0xffff) as usize)?, &c.attrs[..]))
+}
+
+fn key(tri: &SetupTri, v: &Varyings<'_>) -> PackKey {
+    PackKey {
+        draw: tri.info.draw,
+        front: tri.info.front,
+        stride: v.stride,
+        derivatives: v.grad.map_or(0, |g| g.1),
+    }
+}
+
+/// Fragments of one draw and facing gathered into one batch of eight lanes (see the module
+/// docs, "Deferred shading"). Lane `i` is the pixel at tile offset `o[i]`; its depth is
+/// already written.
 #[derive(Clone, Debug, Default)]
 struct Pack {
     /// Lanes filled (the first `len`).
@@ -88,21 +200,12 @@ struct Pack {
     ddy: [F8; MAX_VARYINGS],
 }
 
-/// Live lanes from which a row of a packed draw is shaded as it is.
+/// Live lanes from which a group of deferred fragments of one triangle is shaded as it is.
 const DIRECT_LANES: u32 = 7;
 
-impl Pack {
-    /// Whether a packed fragment lies in lanes `live` of the row at tile offset `o`.
-    #[inline(always)]
-    fn holds(&self, o: usize, live: u32) -> bool {
-        let mut hit = false;
-        for k in 0..LANES {
-            let d = (self.o[k] as usize).wrapping_sub(o);
-            hit |= k < self.len && d < LANES && live & (1 << d) != 0;
-        }
-        hit
-    }
-}
+/// Packs filled at once: fragments of different draws or facings go to different packs
+/// (the pixels of a tile alternate between them, e.g. at silhouettes).
+const PACKS: usize = 4;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct PackKey {
@@ -110,6 +213,18 @@ struct PackKey {
     front: bool,
     stride: usize,
     derivatives: usize,
+}
+
+/// A triangle's varyings: vertex 0, differences to vertices 1 and 2 (each padded to a
+/// multiple of 4), the number that are real, and the derivatives' constants if the shader
+/// reads derivatives.
+#[derive(Clone, Copy)]
+struct Varyings<'a> {
+    v0: &'a [f32],
+    d1: &'a [f32],
+    d2: &'a [f32],
+    stride: usize,
+    grad: Option<(usize, usize, Gradients)>,
 }
 
 /// What the rows of one triangle share, computed once per triangle and tile.
@@ -125,15 +240,10 @@ struct Rows<'a> {
     l0_lanes: F8,
     l1_lanes: F8,
     l2_lanes: F8,
-    /// Varyings: vertex 0, differences to vertices 1 and 2 (each padded to a multiple of 4),
-    /// and the number that are real.
-    v0: &'a [f32],
-    d1: &'a [f32],
-    d2: &'a [f32],
-    stride: usize,
-    grad: Option<(usize, usize, Gradients)>,
-    /// The triangle's fragments are packed (their depth is written at the test).
-    pack: bool,
+    var: Varyings<'a>,
+    /// The triangle's fragments are deferred (their depth is written at the test).
+    defer: bool,
+    id: TriId,
 }
 
 /// Per-triangle constants of a multisampled tile: each sample's offsets of the three edge
@@ -165,8 +275,8 @@ impl Samples {
     }
 }
 
-/// Fills the part of `tri` that lies in `tile` (`.1` holds its varyings); `None` after the
-/// tile's last triangle shades the fragments still packed.
+/// Fills the part of `tri` that lies in `tile` (`.1` holds its varyings, `.2` is where it
+/// lies in `chunks`); `None` after the tile's last triangle shades the deferred fragments.
 ///
 /// Every shading of the tile happens at the one call of [`drain`] below (this function is
 /// called from one place per kernel too): the shader is the largest code in the loop, and
@@ -174,18 +284,15 @@ impl Samples {
 #[inline(always)]
 pub(crate) fn fill<K: Kernel, S: FragmentShader>(
     tile: &mut Tile,
-    tri: Option<(&SetupTri, &[f32])>,
+    tri: Option<(&SetupTri, &[f32], TriId)>,
+    chunks: &[Chunk],
     shader: &S,
     n: &mut FillCounters,
 ) {
-    let rows = tri.and_then(|(tri, attrs)| rows::<S>(tile, tri, attrs, shader));
-    // The packed fragments go first if this triangle cannot join them (or at the end).
-    let key = rows.as_ref().filter(|r| r.pack).map(Rows::key);
-    // A triangle with no pixel here changes nothing.
-    let mut flush = n.pack.len > 0 && (tri.is_none() || rows.is_some() && key != Some(n.pack.key));
-    if let (false, Some(k)) = (flush, key) {
-        n.pack.key = k;
-    }
+    let rows = tri.and_then(|(tri, attrs, id)| rows::<S>(tile, tri, attrs, id, shader));
+    // The deferred fragments are shaded at the end, and before a triangle that is not
+    // deferred (a triangle with no pixel here changes nothing).
+    let mut resolve = n.defer.pending && (tri.is_none() || rows.as_ref().is_some_and(|r| !r.defer));
     // The triangle's bounds in the tile (empty without one).
     let (x0, y0, x1, y1) = rows.as_ref().map_or((0, 0, 0, 0), |r| {
         let t = r.tri;
@@ -205,7 +312,7 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
     let mut by = y0 - y0.saturating_sub(tile.y0) % BLOCK;
     let mut bx = first_bx;
     loop {
-        let (count, at) = if flush {
+        let (count, at) = if resolve {
             (0, 0)
         } else {
             let Some(r) = rows.as_ref() else {
@@ -246,17 +353,12 @@ pub(crate) fn fill<K: Kernel, S: FragmentShader>(
             rows.as_ref(),
             multi.as_ref(),
             count,
-            flush,
+            resolve.then_some(chunks),
             shader,
             n,
             at,
         );
-        if flush {
-            flush = false;
-            if let Some(k) = key {
-                n.pack.key = k;
-            }
-        }
+        resolve = false;
     }
 }
 
@@ -267,6 +369,7 @@ fn rows<'a, S: FragmentShader>(
     tile: &Tile,
     tri: &'a SetupTri,
     attrs: &'a [f32],
+    id: TriId,
     shader: &S,
 ) -> Option<Rows<'a>> {
     let x0 = tri.x0.max(tile.x0);
@@ -276,10 +379,7 @@ fn rows<'a, S: FragmentShader>(
     if x0 > x1 || y0 > y1 {
         return None;
     }
-    let stride = tri.stride as usize;
-    let row = padded(stride);
-    let at = tri.attr as usize;
-    let var = attrs.get(at..at + 3 * row)?;
+    let var = varyings(tri, attrs, shader)?;
     let step_x = [0, 1, 2].map(|k| tri.ab(k).0 * ONE);
     let step_y = [0, 1, 2].map(|k| tri.ab(k).1 * ONE);
     // Coverage in i32 lanes ("narrow"): the lane offsets `a_k ONE i` (i < 8) stay below
@@ -302,12 +402,8 @@ fn rows<'a, S: FragmentShader>(
             }
         }
     }
-    let grad = shader
-        .derivatives(tri.info.draw)
-        .filter(|&(first, count)| count > 0 && first + count <= stride)
-        .map(|(first, count)| (first, count, Gradients::new(tri)));
     let st = tri.state;
-    let pack = tile.samples() == 1
+    let defer = tile.samples() == 1
         && st.color_write
         && st.blend == Blend::Replace
         && shader.packs(tri.info.draw);
@@ -320,24 +416,35 @@ fn rows<'a, S: FragmentShader>(
         l0_lanes: F8::RAMP * (step_x[0] as f32 * tri.inv_area),
         l1_lanes: F8::RAMP * (step_x[1] as f32 * tri.inv_area),
         l2_lanes: F8::RAMP * (step_x[2] as f32 * tri.inv_area),
+        var,
+        defer,
+        id,
+    })
+}
+
+/// `tri`'s varyings in `attrs`, with the derivatives' constants if the shader reads
+/// derivatives of its draw; `None` if they are missing.
+#[inline(always)]
+fn varyings<'a, S: FragmentShader>(
+    tri: &SetupTri,
+    attrs: &'a [f32],
+    shader: &S,
+) -> Option<Varyings<'a>> {
+    let stride = tri.stride as usize;
+    let row = padded(stride);
+    let at = tri.attr as usize;
+    let var = attrs.get(at..at + 3 * row)?;
+    let grad = shader
+        .derivatives(tri.info.draw)
+        .filter(|&(first, count)| count > 0 && first + count <= stride)
+        .map(|(first, count)| (first, count, Gradients::new(tri)));
+    Some(Varyings {
         v0: &var[..row],
         d1: &var[row..2 * row],
         d2: &var[2 * row..],
         stride,
         grad,
-        pack,
     })
-}
-
-impl Rows<'_> {
-    fn key(&self) -> PackKey {
-        PackKey {
-            draw: self.tri.info.draw,
-            front: self.tri.info.front,
-            stride: self.stride,
-            derivatives: self.grad.map_or(0, |g| g.1),
-        }
-    }
 }
 
 enum Coverage {
@@ -414,10 +521,10 @@ impl Default for Pending {
 /// Coverage and early depth of rows `y0..=y1` of the 8-pixel-wide block at `bx` (lanes
 /// outside `span` are off): the rows with a live lane go to `n.pending` (kept with the
 /// tile's counters: a fresh array per triangle cost a 1.4 KB clear), and their count is
-/// returned.
+/// returned; a deferred triangle's live lanes go to the visibility buffer instead.
 ///
 /// Tests and shading are separate steps so that the shader, by far the largest code in the
-/// loop, is inlined once per kernel ([`shade_block`]) and not once per coverage case: with
+/// loop, is inlined once per kernel ([`drain`]) and not once per coverage case: with
 /// the glTF PBR shader, four copies tripled the release build time. Deferring the shading
 /// to the end of the block changes nothing: a block's rows are distinct pixels.
 #[allow(clippy::too_many_arguments)]
@@ -456,13 +563,15 @@ fn block<K: Kernel, const TEST: bool>(
             let pass = depth_pass(st.depth_test, z, &tile.depth[o..o + LANES]);
             let live = cover & pass;
             n.depth_rejected += u64::from((cover & !pass).count_ones());
-            if live != 0 {
-                if r.pack && st.depth_write {
-                    // A packed fragment is shaded later, maybe after other triangles:
+            if live != 0 && r.defer {
+                if st.depth_write {
+                    // A deferred fragment is shaded later, maybe after other triangles:
                     // they must test against its depth now.
                     let d = &mut tile.depth[o..o + LANES];
                     d.copy_from_slice(&F8::select(M8::from_bits(live), z, F8::load(d)).0);
                 }
+                n.defer.record(o, live, r.id, perspective::<K>(tri, l));
+            } else if live != 0 {
                 let mut passes = [0; SAMPLES];
                 passes[0] = live;
                 n.pending[count] = Pending {
@@ -549,10 +658,23 @@ fn block_ms<K: Kernel, const TEST: bool>(
     count
 }
 
+/// What [`drain`] shades next.
+#[derive(Clone, Copy)]
+enum Job {
+    /// A pending row of the current triangle.
+    Row(Pending),
+    /// Deferred fragments of the triangle last looked up in lanes `mask` of the group at
+    /// tile offset `o`.
+    Group { o: usize, mask: u32 },
+    /// Pack `.0`.
+    Pack(usize),
+}
+
 /// Shades the first `count` pending rows of the block at `bx` and writes what the shader
 /// keeps: to the one sample of a plain tile, or to the samples that passed of a
-/// multisampled one (`m`). A packed triangle's rows go to the pack instead, which is shaded
-/// each time it holds eight lanes; `flush` shades what the pack holds (`count` is 0 then).
+/// multisampled one (`m`). With `resolve` (the tile's triangles; `count` is 0 then),
+/// shades the deferred fragments instead: groups of eight pixels mostly of one triangle as
+/// they are, the rest gathered into packs of eight lanes.
 ///
 /// The one place the shader is called (see [`fill`]).
 #[allow(clippy::too_many_arguments)]
@@ -562,120 +684,206 @@ fn drain<K: Kernel, S: FragmentShader>(
     r: Option<&Rows<'_>>,
     m: Option<&Samples>,
     count: usize,
-    flush: bool,
+    resolve: Option<&[Chunk]>,
     shader: &S,
     n: &mut FillCounters,
     bx: u32,
 ) {
-    let packing = flush || r.is_some_and(|r| r.pack);
-    // Next pending row, and the lanes of the current one not yet packed.
-    let (mut next, mut rest) = (0, 0u32);
+    // Next pending row, or next group of the visibility buffer.
+    let mut next = 0;
+    // Resolving: the group being read, its lanes not yet taken, and the lanes of the
+    // triangle interpolated last (`n.var`) still to copy into the pack.
+    let (mut group, mut rest) = (0, 0u32);
+    let (mut copy, mut copy_key) = (0u32, PackKey::default());
+    // The triangle of the last deferred fragments looked up.
+    let mut cur = None;
     loop {
-        let mut row = Pending::EMPTY;
-        // Shade `row` as it is (not packing, or a nearly full row that no packed fragment
-        // shares a pixel with: copying its lanes would cost more than its empty ones).
-        let mut direct = false;
-        if flush {
-            if n.pack.len == 0 {
-                return;
-            }
-        } else {
-            let Some(r) = r else {
-                return;
-            };
-            // Rows to shade as they are, or to move into the pack until it is full.
-            while n.pack.len < LANES {
+        let job = if let Some(chunks) = resolve {
+            let mut job = None;
+            while job.is_none() {
+                if copy != 0 {
+                    let packs = &mut n.packs;
+                    let slot = (packs.iter().position(|p| p.len > 0 && p.key == copy_key))
+                        .or_else(|| packs.iter().position(|p| p.len == 0));
+                    let Some(slot) = slot else {
+                        // Every pack holds another draw or facing: shade the fullest.
+                        let i = (0..PACKS).max_by_key(|&i| packs[i].len).unwrap_or(0);
+                        job = Some(Job::Pack(i));
+                        break;
+                    };
+                    let p = &mut packs[slot];
+                    p.key = copy_key;
+                    let o = group * LANES;
+                    while copy != 0 && p.len < LANES {
+                        let i = copy.trailing_zeros() as usize;
+                        copy &= copy - 1;
+                        let k = p.len;
+                        p.len += 1;
+                        p.o[k] = (o + i) as u32;
+                        for j in 0..copy_key.stride {
+                            p.var[j].0[k] = n.var[j].0[i];
+                        }
+                        for j in 0..copy_key.derivatives {
+                            p.ddx[j].0[k] = n.ddx[j].0[i];
+                            p.ddy[j].0[k] = n.ddy[j].0[i];
+                        }
+                    }
+                    if p.len == LANES {
+                        job = Some(Job::Pack(slot));
+                    }
+                    continue;
+                }
                 if rest == 0 {
-                    if next == count {
-                        break;
+                    let d = &mut n.defer;
+                    while next < GROUPS && d.live[next] == 0 {
+                        next += 1;
                     }
-                    row = n.pending[next];
+                    if next == GROUPS {
+                        if let Some(i) = n.packs.iter().position(|p| p.len > 0) {
+                            job = Some(Job::Pack(i));
+                            break;
+                        }
+                        d.pending = false;
+                        return;
+                    }
+                    group = next;
+                    rest = std::mem::take(&mut d.live[group]);
                     next += 1;
-                    n.shaded += u64::from(row.live.count_ones());
-                    interpolate::<K>(r, n, row.l);
-                    if !packing
-                        || row.live.count_ones() >= DIRECT_LANES && !n.pack.holds(row.o, row.live)
-                    {
-                        direct = true;
-                        break;
-                    }
-                    rest = row.live;
+                    n.shaded += u64::from(rest.count_ones());
                 }
-                let p = &mut n.pack;
-                let stride = r.stride;
-                let nd = r.grad.map_or(0, |g| g.1);
-                while rest != 0 && p.len < LANES {
-                    let i = rest.trailing_zeros() as usize;
-                    rest &= rest - 1;
-                    let k = p.len;
-                    p.len += 1;
-                    p.o[k] = (n.pending[next - 1].o + i) as u32;
-                    for j in 0..stride {
-                        p.var[j].0[k] = n.var[j].0[i];
-                    }
-                    for j in 0..nd {
-                        p.ddx[j].0[k] = n.ddx[j].0[i];
-                        p.ddy[j].0[k] = n.ddy[j].0[i];
-                    }
+                let o = group * LANES;
+                let FillCounters {
+                    var,
+                    ddx,
+                    ddy,
+                    defer: d,
+                    ..
+                } = &mut *n;
+                let id = d.tri[o + rest.trailing_zeros() as usize];
+                let mask = d.same(o, rest, id);
+                rest &= !mask;
+                if cur
+                    .as_ref()
+                    .is_none_or(|c: &(TriId, &SetupTri, Varyings<'_>)| c.0 != id)
+                {
+                    cur = triangle(chunks, id)
+                        .and_then(|(tri, attrs)| Some((id, tri, varyings(tri, attrs, shader)?)));
+                }
+                // (Every recorded triangle has its varyings: `rows` checked.)
+                let Some((_, tri, v)) = &cur else {
+                    continue;
+                };
+                interpolate::<K>(v, d.weights(o), var, ddx, ddy);
+                if mask.count_ones() >= DIRECT_LANES {
+                    job = Some(Job::Group { o, mask });
+                } else {
+                    (copy, copy_key) = (mask, key(tri, v));
                 }
             }
-            if !direct && n.pack.len < LANES {
-                return;
-            }
-        }
-        let packed = !direct;
-        n.calls += 1;
-        let frag = if packed {
-            let p = &n.pack;
-            Fragments {
-                tri: TriInfo {
-                    draw: p.key.draw,
-                    front: p.key.front,
-                },
-                x: 0,
-                y: 0,
-                mask: (1u32 << p.len) - 1,
-                var: &p.var[..p.key.stride],
-                ddx: &p.ddx[..p.key.derivatives],
-                ddy: &p.ddy[..p.key.derivatives],
-            }
+            job
         } else {
             let Some(r) = r else {
                 return;
             };
-            let nd = r.grad.map_or(0, |g| g.1);
-            Fragments {
-                tri: r.tri.info,
-                x: bx,
-                y: row.y,
-                mask: row.live,
-                var: &n.var[..r.stride],
-                ddx: &n.ddx[..nd],
-                ddy: &n.ddy[..nd],
-            }
-        };
-        let mut out = Colors::default();
-        let keep = shader.shade::<K>(&frag, &mut out) & frag.mask;
-        if packed {
-            scatter(tile, &n.pack, keep, &out);
-            n.pack.len = 0;
-            if flush {
+            if next == count {
                 return;
             }
-            continue;
-        }
-        if keep == 0 {
-            continue;
-        }
-        let Some(st) = r.map(|r| r.tri.state) else {
+            let row = n.pending[next];
+            next += 1;
+            n.shaded += u64::from(row.live.count_ones());
+            let FillCounters { var, ddx, ddy, .. } = &mut *n;
+            interpolate::<K>(&r.var, perspective::<K>(r.tri, row.l), var, ddx, ddy);
+            Some(Job::Row(row))
+        };
+        let Some(job) = job else {
             return;
         };
-        match m {
-            None => write::<K>(tile, st, 0, row.o, keep, &out, row.z),
-            Some(m) => {
-                for s in 0..SAMPLES {
-                    if keep & row.pass[s] != 0 {
-                        write::<K>(tile, st, s, row.o, keep & row.pass[s], &out, row.z + m.z[s]);
+        n.calls += 1;
+        let mut out = Colors::default();
+        let keep = {
+            let frag = match job {
+                Job::Pack(i) => {
+                    let p = &n.packs[i];
+                    Fragments {
+                        tri: TriInfo {
+                            draw: p.key.draw,
+                            front: p.key.front,
+                        },
+                        x: 0,
+                        y: 0,
+                        mask: (1u32 << p.len) - 1,
+                        var: &p.var[..p.key.stride],
+                        ddx: &p.ddx[..p.key.derivatives],
+                        ddy: &p.ddy[..p.key.derivatives],
+                    }
+                }
+                Job::Group { o, mask } => {
+                    let Some((_, tri, v)) = &cur else {
+                        return;
+                    };
+                    let nd = v.grad.map_or(0, |g| g.1);
+                    Fragments {
+                        tri: tri.info,
+                        x: tile.x0 + (o as u32 % TILE),
+                        y: tile.y0 + o as u32 / TILE,
+                        mask,
+                        var: &n.var[..v.stride],
+                        ddx: &n.ddx[..nd],
+                        ddy: &n.ddy[..nd],
+                    }
+                }
+                Job::Row(row) => {
+                    let Some(r) = r else {
+                        return;
+                    };
+                    let nd = r.var.grad.map_or(0, |g| g.1);
+                    Fragments {
+                        tri: r.tri.info,
+                        x: bx,
+                        y: row.y,
+                        mask: row.live,
+                        var: &n.var[..r.var.stride],
+                        ddx: &n.ddx[..nd],
+                        ddy: &n.ddy[..nd],
+                    }
+                }
+            };
+            shader.shade::<K>(&frag, &mut out) & frag.mask
+        };
+        match job {
+            Job::Pack(i) => {
+                scatter(tile, &n.packs[i], keep, &out);
+                n.packs[i].len = 0;
+            }
+            Job::Group { o, .. } => {
+                let Some((_, tri, _)) = &cur else {
+                    return;
+                };
+                // The depth is written: colour only.
+                let st = DrawState {
+                    depth_write: false,
+                    ..tri.state
+                };
+                if keep != 0 {
+                    write::<K>(tile, st, 0, o, keep, &out, F8::ZERO);
+                }
+            }
+            Job::Row(row) => {
+                let Some(st) = r.map(|r| r.tri.state) else {
+                    return;
+                };
+                if keep == 0 {
+                    continue;
+                }
+                match m {
+                    None => write::<K>(tile, st, 0, row.o, keep, &out, row.z),
+                    Some(m) => {
+                        for s in 0..SAMPLES {
+                            if keep & row.pass[s] != 0 {
+                                let z = row.z + m.z[s];
+                                write::<K>(tile, st, s, row.o, keep & row.pass[s], &out, z);
+                            }
+                        }
                     }
                 }
             }
@@ -755,11 +963,9 @@ fn depth_pass(test: DepthTest, z: F8, depth: &[f32]) -> u32 {
     }
 }
 
-/// Interpolates a row's varyings (and their derivatives, if the draw asks) at barycentrics
-/// `l` into `n.var` (and `n.ddx`, `n.ddy`).
+/// The perspective weights `[p_1, p_2, 1 / D]` of `tri` at screen-space barycentrics `l`.
 #[inline(always)]
-fn interpolate<K: Kernel>(r: &Rows<'_>, n: &mut FillCounters, l: [F8; 3]) {
-    let tri = r.tri;
+fn perspective<K: Kernel>(tri: &SetupTri, l: [F8; 3]) -> [F8; 3] {
     // Perspective weights p_k = λ_k (1/w_k) / Σ λ_j (1/w_j). Inside the triangle every λ is
     // >= 0 (clamped against rounding), so every term of D is >= 0: no cancellation, and D > 0
     // even where one 1/w is tiny (a vertex at w = 1e30).
@@ -768,14 +974,26 @@ fn interpolate<K: Kernel>(r: &Rows<'_>, n: &mut FillCounters, l: [F8; 3]) {
     let w2 = l2 * tri.iw[2];
     let d = K::fma(l0, F8::splat(tri.iw[0]), w1 + w2);
     let inv_d = d.recip();
-    let (p1, p2) = (w1 * inv_d, w2 * inv_d);
-    let FillCounters { var, ddx, ddy, .. } = n;
+    [w1 * inv_d, w2 * inv_d, inv_d]
+}
+
+/// Interpolates a triangle's varyings `v` (and their derivatives, if the draw asks) at
+/// perspective weights `p` ([`perspective`]) into `var` (and `ddx`, `ddy`).
+#[inline(always)]
+fn interpolate<K: Kernel>(
+    v: &Varyings<'_>,
+    p: [F8; 3],
+    var: &mut [F8; MAX_VARYINGS],
+    ddx: &mut [F8; MAX_VARYINGS],
+    ddy: &mut [F8; MAX_VARYINGS],
+) {
+    let [p1, p2, inv_d] = p;
     // Groups of four (the rows are padded): a fixed inner trip count the compiler unrolls.
     for (((out, v0), d1), d2) in var
         .chunks_exact_mut(4)
-        .zip(r.v0.chunks_exact(4))
-        .zip(r.d1.chunks_exact(4))
-        .zip(r.d2.chunks_exact(4))
+        .zip(v.v0.chunks_exact(4))
+        .zip(v.d1.chunks_exact(4))
+        .zip(v.d2.chunks_exact(4))
     {
         for j in 0..4 {
             out[j] = K::fma(
@@ -785,10 +1003,10 @@ fn interpolate<K: Kernel>(r: &Rows<'_>, n: &mut FillCounters, l: [F8; 3]) {
             );
         }
     }
-    if let Some((first, count, g)) = &r.grad {
+    if let Some((first, count, g)) = &v.grad {
         let [d1x, d2x, d1y, d2y] = g.weights::<K>(p1, p2, inv_d);
         for j in 0..*count {
-            let (a, b) = (F8::splat(r.d1[first + j]), F8::splat(r.d2[first + j]));
+            let (a, b) = (F8::splat(v.d1[first + j]), F8::splat(v.d2[first + j]));
             ddx[j] = K::fma(a, d1x, b * d2x);
             ddy[j] = K::fma(a, d1y, b * d2y);
         }
@@ -1061,7 +1279,7 @@ mod tests {
     }
 
     /// A lane shader with a nonlinear colour of its varyings, their derivatives and the
-    /// facing, packed or not.
+    /// facing, deferred or not.
     struct Wavy {
         pack: bool,
     }
@@ -1087,11 +1305,12 @@ mod tests {
         }
     }
 
-    /// Packing fragments across rows, triangles and draws changes no pixel: thousands of
-    /// small triangles of two draws, both facings, in perspective and overlapping in depth,
-    /// render bit for bit as unpacked, with far fewer shader calls.
+    /// Deferring fragments to the tile's end and packing them across rows, triangles and
+    /// draws changes no pixel: thousands of small triangles of two draws, both facings, in
+    /// perspective and overlapping in depth, render bit for bit as shaded in order, with
+    /// each covered pixel shaded once and far fewer shader calls.
     #[test]
-    fn packed_shading_gives_the_unpacked_image() {
+    fn deferred_shading_gives_the_forward_image() {
         let mut seed = 0x2545_f491_u32;
         let mut rnd = move || {
             seed ^= seed << 13;
@@ -1150,12 +1369,15 @@ mod tests {
         assert!(covered > (W * H / 2) as usize, "{covered} pixels covered");
         assert!(
             bits(&packed) == bits(&plain),
-            "packed and unpacked images differ"
+            "deferred and forward images differ"
         );
-        assert_eq!(ps.pixels_shaded, us.pixels_shaded);
+        // Every covered pixel once (no lane of this shader's alpha is 0 where drawn), where
+        // the forward fill shaded every fragment that passed the depth test.
+        assert_eq!(ps.pixels_shaded, covered as u64);
+        assert!(us.pixels_shaded > ps.pixels_shaded * 5 / 4, "{ps:?} {us:?}");
         eprintln!(
-            "{} pixels shaded in {} packed calls, {} unpacked",
-            ps.pixels_shaded, ps.shader_calls, us.shader_calls
+            "{} pixels shaded in {} deferred calls; forward {} in {}",
+            ps.pixels_shaded, ps.shader_calls, us.pixels_shaded, us.shader_calls
         );
         let lanes = ps.pixels_shaded as f64 / (8 * ps.shader_calls) as f64;
         assert!(lanes > 0.6, "packed lanes in use: {lanes}, {ps:?}");

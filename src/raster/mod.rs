@@ -132,12 +132,12 @@ pub trait FragmentShader: Sync {
         None
     }
 
-    /// Whether the fill may pack the fragments of draw `draw` into full batches of eight
-    /// lanes across rows and triangles (see `fill.rs`, "Packed shading"): only for a shader
-    /// that never discards a lane of that draw (it returns `f.mask`), and worth it only for
-    /// one that costs more than copying its varyings lane by lane. A packed batch's lanes
-    /// are pixels anywhere in the tile, so `f.x` and `f.y` do not locate them. Default:
-    /// false.
+    /// Whether the fill may defer the fragments of draw `draw` to the end of the tile and
+    /// shade only the visible ones, packed into full batches of eight lanes across rows
+    /// and triangles (see `fill.rs`, "Deferred shading"): only for a shader whose colour
+    /// depends on nothing but the fragment and that never discards a lane of that draw (it
+    /// returns `f.mask`). A packed batch's lanes are pixels anywhere in the tile, so `f.x`
+    /// and `f.y` do not locate them. Default: false.
     #[inline(always)]
     fn packs(&self, draw: u32) -> bool {
         let _ = draw;

@@ -1,13 +1,14 @@
 //! One raster pass: transform, cull, clip, set up, bin, fill (see the module docs of
 //! [`crate::raster`] for the phases).
 
+use std::cell::RefCell;
 use std::time::Instant;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
-use super::fill::{fill, FillCounters};
+use super::fill::{fill, FillCounters, TriId};
 use super::framebuffer::{Target, Tile, TILE};
 use super::setup::{
     padded, project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri, Viewport,
@@ -761,15 +762,17 @@ impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
             shader,
             n,
         } = self;
-        // The tile's triangles in order, then `None`: the fill shades what it still holds
-        // packed. One call of `fill` (it holds the kernel's only copy of the shader).
-        let mut order = chunks.iter().flat_map(|c| {
+        // The tile's triangles in order, then `None`: the fill shades the fragments it
+        // deferred. One call of `fill` (it holds the kernel's only copy of the shader).
+        let mut order = chunks.iter().enumerate().flat_map(|(ci, c)| {
             let bin = &c.bins[index];
-            bin.iter().enumerate().map(move |(k, &i)| (c, bin, k, i))
+            bin.iter()
+                .enumerate()
+                .map(move |(k, &i)| (ci, c, bin, k, i))
         });
         loop {
             let next = order.next();
-            if let Some((c, bin, k, _)) = next {
+            if let Some((_, c, bin, k, _)) = next {
                 // Most of a small triangle's cost is fetching its set-up data (written by
                 // another thread): prefetch the triangle 2 * AHEAD on, and the varyings of
                 // the one AHEAD on (its triangle, read for their offset, is already here).
@@ -784,13 +787,21 @@ impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
                     }
                 }
             }
-            let tri = next.map(|(c, _, _, i)| (&c.tris[i as usize], &c.attrs[..]));
-            fill::<K, S>(tile, tri, shader, n);
+            let tri = next.map(|(ci, c, _, _, i)| {
+                let id: TriId = (ci as u32) << 16 | u32::from(i);
+                (&c.tris[i as usize], &c.attrs[..], id)
+            });
+            fill::<K, S>(tile, tri, chunks, shader, n);
             if next.is_none() {
                 break;
             }
         }
     }
+}
+
+thread_local! {
+    /// Each worker's fill counters and visibility buffer ([`flush`]).
+    static FILL: RefCell<FillCounters> = RefCell::new(FillCounters::default());
 }
 
 /// Fills every tile with its binned triangles (in parallel over tiles, in chunk order).
@@ -816,19 +827,30 @@ pub(crate) fn flush<S: FragmentShader>(
                 return (0, 0, 0, 0, 1);
             }
             let start = Instant::now();
-            let mut n = FillCounters::default();
             tile.materialize();
-            let job = TileJob {
-                tile,
-                index,
-                chunks,
-                shader,
-                n: &mut n,
+            // The worker's counters and visibility buffer: allocated once per thread, not
+            // per frame (the renderer allocates nothing after its first frame).
+            let mut run = |n: &mut FillCounters| {
+                n.begin_tile();
+                let job = TileJob {
+                    tile: &mut *tile,
+                    index,
+                    chunks,
+                    shader,
+                    n: &mut *n,
+                };
+                dispatch(kernel, job);
+                (n.shaded, n.depth_rejected, n.calls)
             };
-            dispatch(kernel, job);
+            let (shaded, rejected, calls) = FILL.with(|cell| match cell.try_borrow_mut() {
+                Ok(mut n) => run(&mut n),
+                // Never while a tile is filled on this thread (nothing in it yields to
+                // rayon); a fresh set if it ever were.
+                Err(_) => run(&mut FillCounters::default()),
+            });
             cost.nanos += start.elapsed().as_nanos() as u64;
-            cost.fragments += n.shaded;
-            (1, n.shaded, n.depth_rejected, n.calls, 0)
+            cost.fragments += shaded;
+            (1, shaded, rejected, calls, 0)
         })
         .reduce(
             || (0, 0, 0, 0, 0),
