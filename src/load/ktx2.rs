@@ -30,6 +30,7 @@ pub fn decode(
     srgb: bool,
 ) -> Result<Texture, DecodeError> {
     let invalid = DecodeError::Invalid;
+    regions_in_file(bytes).map_err(invalid)?;
     let (width, height, rgba) = {
         let transcoder = catch_decoder(|| {
             basisu::Transcoder::new(bytes).map_err(|e| format!("KTX2 (Basis Universal): {e:?}"))
@@ -92,6 +93,52 @@ pub fn decode(
     Texture::from_texels(name, width, height, texels).map_err(|e| invalid(e.to_string()))
 }
 
+/// Checks that every region the KTX2 header points at (data format descriptor, key/value
+/// data, supercompression global data, each level) lies inside the file. basisu 0.1.0 adds
+/// the header's offsets to lengths unchecked: a fuzzed supercompression offset near 2^64
+/// wrapped its bounds check and indexed out of the file (a panic, caught, but a useless
+/// message).
+fn regions_in_file(bytes: &[u8]) -> Result<(), String> {
+    let len = bytes.len() as u64;
+    let u32_at = |at: usize| {
+        bytes
+            .get(at..at + 4)
+            .map(|b| u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])))
+    };
+    let u64_at = |at: usize| {
+        bytes
+            .get(at..at + 8)
+            .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+    };
+    let short = || format!("KTX2 header truncated ({len} bytes)");
+    let inside = |what: &str, offset: u64, length: u64| {
+        if length == 0 || offset.checked_add(length).is_some_and(|end| end <= len) {
+            Ok(())
+        } else {
+            Err(format!(
+                "KTX2 {what} (offset {offset}, {length} bytes) lies outside the file ({len} bytes)"
+            ))
+        }
+    };
+    let field = |at: usize| u32_at(at).ok_or_else(short);
+    let field64 = |at: usize| u64_at(at).ok_or_else(short);
+    inside("data format descriptor", field(48)?, field(52)?)?;
+    inside("key/value data", field(56)?, field(60)?)?;
+    inside("supercompression global data", field64(64)?, field64(72)?)?;
+    // The level index: three u64 per level from byte 80 (levelCount 0 means one level).
+    let levels = field(40)?.max(1);
+    if 80 + 24 * levels > len {
+        return Err(format!(
+            "KTX2 level index of {levels} levels lies outside the file ({len} bytes)"
+        ));
+    }
+    for level in 0..levels as usize {
+        let at = 80 + 24 * level;
+        inside(&format!("level {level}"), field64(at)?, field64(at + 8)?)?;
+    }
+    Ok(())
+}
+
 /// The inflated length of level 0 in a Zstandard-supercompressed KTX2 file (its level
 /// index's `uncompressedByteLength`), or `None` if the file is not one.
 fn zstd_level0_length(bytes: &[u8]) -> Option<u64> {
@@ -120,5 +167,30 @@ mod tests {
             decode(&bytes, "x", &budget, true),
             Err(DecodeError::Invalid(_))
         ));
+    }
+
+    /// A header region pointing past the end of the file (or wrapping around 2^64) is
+    /// refused with a message naming it, before the transcoder reads it.
+    #[test]
+    fn header_regions_outside_the_file_are_named() {
+        let mut bytes = MAGIC.to_vec();
+        bytes.resize(80 + 24, 0);
+        bytes[40..44].copy_from_slice(&1u32.to_le_bytes());
+        assert_eq!(regions_in_file(&bytes), Ok(()));
+        // Supercompression global data at offset 2^64 - 1, 20 bytes long.
+        bytes[64..72].copy_from_slice(&u64::MAX.to_le_bytes());
+        bytes[72..80].copy_from_slice(&20u64.to_le_bytes());
+        let e = regions_in_file(&bytes).expect_err("wrapping offset");
+        assert!(e.contains("supercompression global data"), "{e}");
+        bytes[64..80].fill(0);
+        // Level 0 past the end.
+        bytes[80..88].copy_from_slice(&100u64.to_le_bytes());
+        bytes[88..96].copy_from_slice(&8u64.to_le_bytes());
+        let e = regions_in_file(&bytes).expect_err("level past the end");
+        assert!(e.contains("level 0") && e.contains("104 bytes"), "{e}");
+        // More levels than the index holds.
+        bytes[80..96].fill(0);
+        bytes[40..44].copy_from_slice(&9u32.to_le_bytes());
+        assert!(regions_in_file(&bytes).is_err());
     }
 }
