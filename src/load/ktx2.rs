@@ -100,16 +100,6 @@ pub fn decode(
 /// message).
 fn regions_in_file(bytes: &[u8]) -> Result<(), String> {
     let len = bytes.len() as u64;
-    let u32_at = |at: usize| {
-        bytes
-            .get(at..at + 4)
-            .map(|b| u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])))
-    };
-    let u64_at = |at: usize| {
-        bytes
-            .get(at..at + 8)
-            .map(|b| u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
-    };
     let short = || format!("KTX2 header truncated ({len} bytes)");
     let inside = |what: &str, offset: u64, length: u64| {
         if length == 0 || offset.checked_add(length).is_some_and(|end| end <= len) {
@@ -120,8 +110,8 @@ fn regions_in_file(bytes: &[u8]) -> Result<(), String> {
             ))
         }
     };
-    let field = |at: usize| u32_at(at).ok_or_else(short);
-    let field64 = |at: usize| u64_at(at).ok_or_else(short);
+    let field = |at: usize| u32_at(bytes, at).map(u64::from).ok_or_else(short);
+    let field64 = |at: usize| u64_at(bytes, at).ok_or_else(short);
     inside("data format descriptor", field(48)?, field(52)?)?;
     inside("key/value data", field(56)?, field(60)?)?;
     inside("supercompression global data", field64(64)?, field64(72)?)?;
@@ -142,11 +132,19 @@ fn regions_in_file(bytes: &[u8]) -> Result<(), String> {
 /// The inflated length of level 0 in a Zstandard-supercompressed KTX2 file (its level
 /// index's `uncompressedByteLength`), or `None` if the file is not one.
 fn zstd_level0_length(bytes: &[u8]) -> Option<u64> {
-    let u32_at = |at: usize| Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?));
-    let u64_at = |at: usize| Some(u64::from_le_bytes(bytes.get(at..at + 8)?.try_into().ok()?));
     // Header: supercompressionScheme at 44; the level index from byte 80, three u64 per level.
-    (u32_at(44)? == 2).then_some(())?;
-    u64_at(80 + 16)
+    (u32_at(bytes, 44)? == 2).then_some(())?;
+    u64_at(bytes, 80 + 16)
+}
+
+/// The little-endian u32 at byte `at` of a KTX2 file (its header is little-endian).
+fn u32_at(bytes: &[u8], at: usize) -> Option<u32> {
+    Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?))
+}
+
+/// The little-endian u64 at byte `at`.
+fn u64_at(bytes: &[u8], at: usize) -> Option<u64> {
+    Some(u64::from_le_bytes(bytes.get(at..at + 8)?.try_into().ok()?))
 }
 
 #[cfg(test)]
