@@ -1,6 +1,6 @@
 //! `realist bench frame`: the JSON line, and the PNG's centre pixel against the peer
 //! harness's lighting formula evaluated on the exact sphere; bad input is an error, not a
-//! panic.
+//! panic. `realist bench micro`: its rows and their pixel counts.
 
 use std::process::Command;
 
@@ -127,4 +127,93 @@ fn bench_frame_bad_input_is_an_error() {
     }
     let out = realist(&["bench", "frame", "sphere:100", "--shading", "shiny"]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown shading"));
+}
+
+/// `bench micro`: one JSON line per row; the plane covers every pixel exactly once in each
+/// mode (its triangles neither overlap nor leave gaps, by the fill rule), the empty frame
+/// shades nothing, and the set-up grid has two triangles per 2 x 2-pixel cell.
+#[test]
+fn bench_micro_rows_cover_the_image_once() {
+    let (w, h) = (64u64, 48u64);
+    let out = realist(&[
+        "bench",
+        "micro",
+        "--size",
+        "64x48",
+        "--frames",
+        "2",
+        "--threads",
+        "2",
+        "--json",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: Vec<Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    let names: Vec<&str> = rows.iter().map(|r| r["row"].as_str().unwrap()).collect();
+    assert_eq!(
+        names,
+        [
+            "empty",
+            "flat",
+            "gouraud",
+            "blinn-phong",
+            "textured",
+            "pbr",
+            "set-up"
+        ]
+    );
+    for r in &rows {
+        println!("{r}");
+        assert_eq!(r["size"], "64x48");
+        assert_eq!(r["threads"], 2);
+        let shaded = r["pixels_shaded"].as_u64().unwrap();
+        match r["row"].as_str().unwrap() {
+            "empty" => {
+                assert_eq!(shaded, 0);
+                assert!(r["ns_per_pixel"].as_f64().unwrap() > 0.0);
+            }
+            "set-up" => {
+                assert_eq!(shaded, w * h);
+                assert!(r["work"].as_str().unwrap().starts_with("1536 triangles"));
+                assert!(r["ns_per_triangle"].as_f64().unwrap() > 0.0);
+                assert_eq!(r["model_ns"], 15.0);
+            }
+            _ => {
+                assert_eq!(shaded, w * h, "{r}");
+                assert!(r["ns_per_pixel"].as_f64().unwrap() > 0.0);
+                let lanes = r["lanes_in_use"].as_f64().unwrap();
+                // Quads of 16 x 12 pixels: the diagonal splits rows in the forward modes.
+                assert!(lanes > 0.5 && lanes <= 1.0, "{r}");
+            }
+        }
+    }
+    let model: Vec<f64> = rows[1..5]
+        .iter()
+        .map(|r| r["model_ns"].as_f64().unwrap())
+        .collect();
+    assert_eq!(model, [1.0, 1.0, 3.0, 4.0]);
+    assert!(rows[5]["model_ns"].is_null());
+}
+
+#[test]
+fn bench_micro_bad_input_is_an_error() {
+    for (args, needle) in [
+        (&["--size", "8x8"][..], "16 to 8192"),
+        (&["--threads", "0"][..], "1 to 256"),
+    ] {
+        let mut all = vec!["bench", "micro", "--frames", "1"];
+        all.extend_from_slice(args);
+        let out = realist(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
 }

@@ -4,6 +4,8 @@
 //! `realist bench frame` (`frame.rs`) renders the peer's exact scene (`peer_scene.rs`: its
 //! mesh reading, normals, texture, light and camera) and times single frames; `bench diff`
 //! (`diff.rs`, hidden) compares its PNG with the peer's. `benches/peer.sh` runs both.
+//! `bench micro` (`micro.rs`) prints the core's cost per shaded pixel in each mode and per
+//! triangle of set-up, beside the README's machine model.
 
 use std::time::Instant;
 
@@ -18,11 +20,13 @@ use super::{load_model, parse_size, BenchArgs, NormalArgs};
 
 mod diff;
 mod frame;
+mod micro;
 mod peer_scene;
 mod skin;
 
 pub(crate) use diff::{diff, DiffArgs};
 pub(crate) use frame::{frame, FrameArgs};
+pub(crate) use micro::{micro, MicroArgs};
 pub(crate) use skin::{skin, SkinArgs};
 
 /// The peer harness's view: eye = normalize(1.6, 1.2, 2.0) * 2.8 for a mesh scaled so its

@@ -99,6 +99,9 @@ pub(crate) enum BenchCommand {
     /// renderer, warm-up then timed frames, one JSON line; --png writes the last frame as the
     /// peer stores it (linear values, no sRGB).
     Frame(bench::FrameArgs),
+    /// Nanoseconds per shaded pixel on large triangles in each shading mode, and per triangle
+    /// of set-up, on one thread by default (per core), beside the README's machine model.
+    Micro(bench::MicroArgs),
     /// Time to pose a skinned mesh (the built-in tube: animation, joint matrices, skinning
     /// of every vertex, bounds), one JSON line.
     Skin(bench::SkinArgs),
@@ -214,6 +217,7 @@ pub fn run() -> Result<()> {
         Some(Command::Bench(args)) => match &args.sub {
             Some(BenchCommand::Accuracy(a)) => accuracy::accuracy(a),
             Some(BenchCommand::Frame(a)) => bench::frame(a),
+            Some(BenchCommand::Micro(a)) => bench::micro(a),
             Some(BenchCommand::Diff(a)) => bench::diff(a),
             Some(BenchCommand::Skin(a)) => bench::skin(a),
             None => bench(&args),

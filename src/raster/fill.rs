@@ -54,6 +54,7 @@ use super::pipeline::Chunk;
 use super::pipeline::{Blend, DepthTest, DrawState};
 use super::setup::{padded, SetupTri, ONE};
 use super::{Colors, FragmentShader, Fragments, TriInfo, MAX_VARYINGS};
+use crate::simd::kernel::edge_signs;
 use crate::simd::lanes::{Kernel, F8, LANES, M8};
 
 const BLOCK: u32 = 8;
@@ -918,24 +919,19 @@ fn scatter(tile: &mut Tile, p: &Pack, keep: u32, out: &Colors) {
 #[inline(always)]
 fn row_mask(r: &Rows<'_>, row: [i64; 3]) -> u32 {
     // A lane is out if any edge value is negative: OR the three values and read the sign
-    // bits with one MOVMSKPS (`M8::bits`); a loop gathering them bit by bit stayed scalar.
-    let mut v = [0u32; LANES];
+    // bits with MOVMSKPS (`edge_signs`, `M8::bits`); a loop gathering them bit by bit, or
+    // the portable i32 loop, stayed scalar.
     if r.narrow {
         // Exact in i32 (see `narrow`): one 8 x i32 register per edge.
         let clamp = |v: i64| v.clamp(-(1 << 30), 1 << 30) as i32;
         let row32 = [clamp(row[0]), clamp(row[1]), clamp(row[2])];
-        for i in 0..LANES {
-            v[i] = ((row32[0] + r.lane_x32[0][i])
-                | (row32[1] + r.lane_x32[1][i])
-                | (row32[2] + r.lane_x32[2][i])) as u32;
-        }
-    } else {
-        for i in 0..LANES {
-            let w =
-                (row[0] + r.lane_x[0][i]) | (row[1] + r.lane_x[1][i]) | (row[2] + r.lane_x[2][i]);
-            // The high half carries the sign.
-            v[i] = ((w as u64) >> 32) as u32;
-        }
+        return !edge_signs(row32, &r.lane_x32) & 0xFF;
+    }
+    let mut v = [0u32; LANES];
+    for i in 0..LANES {
+        let w = (row[0] + r.lane_x[0][i]) | (row[1] + r.lane_x[1][i]) | (row[2] + r.lane_x[2][i]);
+        // The high half carries the sign.
+        v[i] = ((w as u64) >> 32) as u32;
     }
     !M8(v).bits()
 }

@@ -285,6 +285,7 @@ impl Surface {
             ks: T::vec(self.specular),
             ka: T::vec(self.ambient),
             shininess: T::of(self.shininess),
+            whole_shininess: whole_exponent(self.shininess),
             has_specular: self.specular != Vec3::ZERO || self.pbr.is_some(),
             occlusion: None,
             emitted: None,
@@ -298,6 +299,14 @@ impl Surface {
     }
 }
 
+/// `n` as a whole number from 1 to 128 if it is one (the highlight exponents squaring
+/// serves: at most 7 squarings and 7 products).
+#[inline(always)]
+#[must_use]
+pub fn whole_exponent(n: f32) -> Option<u32> {
+    ((1.0..=128.0).contains(&n) && n.fract() == 0.0).then_some(n as u32)
+}
+
 /// The reflection parameters at one point (or eight, on lanes).
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceAt<T: Num> {
@@ -308,6 +317,9 @@ pub struct SurfaceAt<T: Num> {
     /// Ambient factor `K_a`.
     pub ka: T::V,
     pub shininess: T,
+    /// `shininess` when it is a whole number from 1 to 128: the highlight is then raised to
+    /// it by repeated squaring ([`Num::powi`]).
+    pub whole_shininess: Option<u32>,
     /// Whether any point has a specular term (none is computed otherwise).
     pub has_specular: bool,
     /// Ambient occlusion (multiplies the ambient or image-based term only).
@@ -536,7 +548,11 @@ pub fn reflect<T: Num>(
         };
         let on = lit & base.gt(T::ZERO);
         if T::any(on) {
-            let lobe = T::select(on, base.powf(s.shininess), T::ZERO);
+            let lobe = match s.whole_shininess {
+                Some(n) => base.powi(n),
+                None => base.powf(s.shininess),
+            };
+            let lobe = T::select(on, lobe, T::ZERO);
             specular = s.ks * lobe;
         }
     }

@@ -193,6 +193,34 @@ impl F8 {
         F8::select(self.gt(F8::ZERO), p, F8::ZERO)
     }
 
+    /// `self^n` for a whole exponent `n` (1 for `n = 0`) by repeated squaring: `log2 n`
+    /// squarings and at most as many products instead of [`F8::powf`]'s logarithm,
+    /// division and exponential (a Phong or Blinn highlight with `n = 32`: 5 multiplies).
+    /// Relative error below `(n - 1) * 1.2e-7` for `self` in (0, 1]: no more than the
+    /// rounding of `self` to f32 already carries into `self^n` (n times its own). Every
+    /// factor is clamped from below at 2^-60 so no product is subnormal (slow on some CPUs):
+    /// a true value under 2^-60 comes out at most 2^-60, and 0 or less comes out 2^-60 too
+    /// (callers select such lanes away, as for `powf`).
+    #[inline(always)]
+    #[must_use]
+    pub fn powi(self, n: u32) -> Self {
+        // 2^-60: biased exponent 67.
+        let tiny = F8::splat(f32::from_bits(67 << 23));
+        let mut b = self.max(tiny);
+        let mut r: Option<F8> = None;
+        let mut n = n;
+        while n != 0 {
+            if n & 1 != 0 {
+                r = Some(r.map_or(b, |r| (r * b).max(tiny)));
+            }
+            n >>= 1;
+            if n != 0 {
+                b = (b * b).max(tiny);
+            }
+        }
+        r.unwrap_or(F8::ONE)
+    }
+
     /// `acos` of lanes in [-1, 1] (clamped there): Abramowitz & Stegun 4.4.46,
     /// `acos x = sqrt(1 - x) P(x)` on [0, 1] with a degree-7 `P` (error below 2e-8 in
     /// exact arithmetic; about 2e-7 in f32), and `acos(-x) = π - acos x`.
@@ -588,6 +616,36 @@ mod tests {
     struct Fused;
     impl Kernel for Fused {
         const FMA: bool = true;
+    }
+
+    #[test]
+    fn powi_matches_f64_within_n_roundings() {
+        let tiny = 2f64.powi(-60);
+        for n in 0..=128u32 {
+            for i in 0..=4000 {
+                let x = i as f32 / 4000.0;
+                let got = f64::from(F8::splat(x).powi(n).0[3]);
+                let want = f64::from(x).powi(n as i32);
+                if n == 0 {
+                    assert_eq!(got, 1.0);
+                } else if want < tiny {
+                    assert!(got <= tiny * 1.000_001 && got > 0.0, "{x}^{n}: {got}");
+                } else {
+                    let rel = (got - want).abs() / want;
+                    assert!(
+                        rel <= f64::from(n - 1) * 1.2e-7 + 1e-9,
+                        "{x}^{n}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+        // Above 1 (N·H rounded up) and the exponent's bits one by one.
+        for n in [1u32, 2, 3, 5, 7, 31, 32, 33, 64, 127, 128] {
+            let x = 1.000_001f32;
+            let got = f64::from(F8::splat(x).powi(n).0[0]);
+            let want = f64::from(x).powi(n as i32);
+            assert!((got - want).abs() / want < 2e-5, "{x}^{n}: {got} vs {want}");
+        }
     }
 
     fn check_pow<K: Kernel>() {

@@ -61,6 +61,9 @@ pub trait Num:
     fn sqrt(self) -> Self;
     /// `self^e` for `self > 0`; the value for `self <= 0` is unspecified (select it away).
     fn powf(self, e: Self) -> Self;
+    /// `self^n` for a whole `n` and `self > 0` (for `self <= 0` unspecified: select it
+    /// away). Lanes square repeatedly ([`F8::powi`]); scalars, the references, call `powf`.
+    fn powi(self, n: u32) -> Self;
     fn gt(self, o: Self) -> Self::M;
     fn ge(self, o: Self) -> Self::M;
     /// Where the value is finite.
@@ -194,6 +197,10 @@ macro_rules! real {
             #[inline(always)]
             fn powf(self, e: Self) -> Self {
                 <$t>::powf(self, e)
+            }
+            #[inline(always)]
+            fn powi(self, n: u32) -> Self {
+                <$t>::powf(self, n as $t)
             }
             #[inline(always)]
             fn gt(self, o: Self) -> bool {
@@ -365,6 +372,10 @@ impl<K: Kernel> Num for Lanes<K> {
     #[inline(always)]
     fn powf(self, e: Self) -> Self {
         Lanes::new(self.0.powf::<K>(e.0))
+    }
+    #[inline(always)]
+    fn powi(self, n: u32) -> Self {
+        Lanes::new(self.0.powi(n))
     }
     #[inline(always)]
     fn gt(self, o: Self) -> M8 {
