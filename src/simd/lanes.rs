@@ -639,6 +639,18 @@ mod tests {
                 }
             }
         }
+        // The scalar steps (`Num::powi` for f32) give the same bits.
+        for n in [1u32, 2, 5, 32, 100, 128] {
+            for i in 0..=1000 {
+                let x = i as f32 / 1000.0;
+                let lane = F8::splat(x).powi(n).0[5];
+                assert_eq!(
+                    crate::simd::Num::powi(x, n).to_bits(),
+                    lane.to_bits(),
+                    "{x}^{n}"
+                );
+            }
+        }
         // Above 1 (N·H rounded up) and the exponent's bits one by one.
         for n in [1u32, 2, 3, 5, 7, 31, 32, 33, 64, 127, 128] {
             let x = 1.000_001f32;

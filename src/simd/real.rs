@@ -62,7 +62,8 @@ pub trait Num:
     /// `self^e` for `self > 0`; the value for `self <= 0` is unspecified (select it away).
     fn powf(self, e: Self) -> Self;
     /// `self^n` for a whole `n` and `self > 0` (for `self <= 0` unspecified: select it
-    /// away). Lanes square repeatedly ([`F8::powi`]); scalars, the references, call `powf`.
+    /// away), by repeated squaring with every factor clamped at 2^-60, in every type: the
+    /// steps of [`F8::powi`], so scalar f32 (the vertex stage) and lanes agree bit for bit.
     fn powi(self, n: u32) -> Self;
     fn gt(self, o: Self) -> Self::M;
     fn ge(self, o: Self) -> Self::M;
@@ -200,7 +201,30 @@ macro_rules! real {
             }
             #[inline(always)]
             fn powi(self, n: u32) -> Self {
-                <$t>::powf(self, n as $t)
+                // The steps of `F8::powi`, one value at a time (so scalar f32 and lanes
+                // agree bit for bit; f64 rounds 2^-29 times finer).
+                let tiny = 1.0 / (1u64 << 60) as $t;
+                let mut b = if self > tiny { self } else { tiny };
+                let mut r: Option<$t> = None;
+                let mut n = n;
+                while n != 0 {
+                    if n & 1 != 0 {
+                        r = Some(r.map_or(b, |r| {
+                            let p = r * b;
+                            if p > tiny {
+                                p
+                            } else {
+                                tiny
+                            }
+                        }));
+                    }
+                    n >>= 1;
+                    if n != 0 {
+                        let p = b * b;
+                        b = if p > tiny { p } else { tiny };
+                    }
+                }
+                r.unwrap_or(1.0)
             }
             #[inline(always)]
             fn gt(self, o: Self) -> bool {
