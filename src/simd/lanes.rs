@@ -204,21 +204,8 @@ impl F8 {
     #[inline(always)]
     #[must_use]
     pub fn powi(self, n: u32) -> Self {
-        // 2^-60: biased exponent 67.
-        let tiny = F8::splat(f32::from_bits(67 << 23));
-        let mut b = self.max(tiny);
-        let mut r: Option<F8> = None;
-        let mut n = n;
-        while n != 0 {
-            if n & 1 != 0 {
-                r = Some(r.map_or(b, |r| (r * b).max(tiny)));
-            }
-            n >>= 1;
-            if n != 0 {
-                b = (b * b).max(tiny);
-            }
-        }
-        r.unwrap_or(F8::ONE)
+        let tiny = F8::splat(TINY_FACTOR);
+        powi_by_squaring(self, n, |v| v.max(tiny), F8::ONE)
     }
 
     /// `acos` of lanes in [-1, 1] (clamped there): Abramowitz & Stegun 4.4.46,
@@ -332,6 +319,34 @@ impl F8 {
         }
         F8(r)
     }
+}
+
+/// 2^-60 (biased exponent 67): the floor of every factor in [`powi_by_squaring`].
+pub(crate) const TINY_FACTOR: f32 = f32::from_bits(67 << 23);
+
+/// `x^n` by repeated squaring, every factor and product passed through `floor` (which
+/// clamps it from below at [`TINY_FACTOR`]), `one` for `n = 0`: the steps of [`F8::powi`],
+/// shared with the scalar `Num::powi` so lanes and scalars take the same roundings.
+#[inline(always)]
+pub(crate) fn powi_by_squaring<T: Copy + Mul<Output = T>>(
+    x: T,
+    n: u32,
+    floor: impl Fn(T) -> T,
+    one: T,
+) -> T {
+    let mut b = floor(x);
+    let mut r: Option<T> = None;
+    let mut n = n;
+    while n != 0 {
+        if n & 1 != 0 {
+            r = Some(r.map_or(b, |r| floor(r * b)));
+        }
+        n >>= 1;
+        if n != 0 {
+            b = floor(b * b);
+        }
+    }
+    r.unwrap_or(one)
 }
 
 #[inline(always)]

@@ -203,28 +203,9 @@ macro_rules! real {
             fn powi(self, n: u32) -> Self {
                 // The steps of `F8::powi`, one value at a time (so scalar f32 and lanes
                 // agree bit for bit; f64 rounds 2^-29 times finer).
-                let tiny = 1.0 / (1u64 << 60) as $t;
-                let mut b = if self > tiny { self } else { tiny };
-                let mut r: Option<$t> = None;
-                let mut n = n;
-                while n != 0 {
-                    if n & 1 != 0 {
-                        r = Some(r.map_or(b, |r| {
-                            let p = r * b;
-                            if p > tiny {
-                                p
-                            } else {
-                                tiny
-                            }
-                        }));
-                    }
-                    n >>= 1;
-                    if n != 0 {
-                        let p = b * b;
-                        b = if p > tiny { p } else { tiny };
-                    }
-                }
-                r.unwrap_or(1.0)
+                let tiny = <$t>::from(super::lanes::TINY_FACTOR);
+                let floor = |v: $t| if v > tiny { v } else { tiny };
+                super::lanes::powi_by_squaring(self, n, floor, 1.0)
             }
             #[inline(always)]
             fn gt(self, o: Self) -> bool {

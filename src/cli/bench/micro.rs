@@ -124,9 +124,8 @@ pub(crate) fn micro(args: &MicroArgs) -> Result<()> {
         .build()
         .context("could not start worker threads")?;
     let kernel = KernelKind::best();
-    let cam = camera();
     let view = View {
-        camera: cam.clone(),
+        camera: camera(),
         width: w,
         height: h,
     };
@@ -266,18 +265,14 @@ pub(crate) fn micro(args: &MicroArgs) -> Result<()> {
     Ok(())
 }
 
-/// A camera at distance 2 looking down -Z at the origin, vertical field of view 45 degrees.
+/// The peer's lens at distance 2, looking down -Z at the origin.
 fn camera() -> Camera {
     Camera {
         name: "micro".into(),
         eye: Vec3::new(0.0, 0.0, 2.0),
         target: Vec3::ZERO,
-        up: Vec3::Y,
-        yfov: 45f32.to_radians(),
-        near: 0.5,
-        far: 10.0,
-        aspect: None,
-        ortho: None,
+        // The peer's lens: vertical FOV 45 degrees, near 0.5, far 10, +Y up.
+        ..peer_scene::camera()
     }
 }
 
