@@ -26,18 +26,18 @@
 //! Feature flags: `viewer` (default) builds the interactive viewer with eframe (glow + x11);
 //! `--no-default-features` builds the headless library and command line.
 
-pub mod color;
-pub mod load;
-pub mod mesh;
-pub mod microfacet;
-pub mod overlay;
-pub mod quality;
-pub mod raster;
-pub mod render;
-pub mod scene;
-pub mod scenefile;
-pub mod shade;
-pub mod simd;
-pub mod texture;
+pub use realist_color as color;
+pub use realist_load as load;
+pub use realist_mesh as mesh;
+pub use realist_overlay as overlay;
+pub use realist_quality as quality;
+pub use realist_raster as raster;
+pub use realist_render as render;
+pub use realist_scene as scene;
+pub use realist_scenefile as scenefile;
+pub use realist_shade as shade;
+pub use realist_simd as simd;
+pub use realist_texture as texture;
+pub use realist_texture::microfacet;
 #[cfg(feature = "viewer")]
-pub mod viewer;
+pub use realist_viewer as viewer;

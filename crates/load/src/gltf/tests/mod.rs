@@ -1,0 +1,403 @@
+use base64::Engine as _;
+use glam::{Vec3, Vec4};
+use serde_json::{json, Value};
+
+use crate::scene::{AlphaMode, Scene};
+use crate::tests::TempDir;
+use crate::texture::{Filter, Wrap};
+use crate::{load, LoadError, LoadOptions};
+
+/// Builds a glTF document whose single buffer is a base64 `data:` URI.
+#[derive(Default)]
+struct Doc {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Doc {
+    fn view(&mut self, bytes: &[u8]) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
+        self.bin.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    fn accessor(&mut self, a: Value) -> usize {
+        self.accessors.push(a);
+        self.accessors.len() - 1
+    }
+
+    fn floats(&mut self, v: &[f32], ty: &str) -> usize {
+        let n = components(ty);
+        let view = self.view(&f32_bytes(v));
+        self.accessor(
+            json!({"bufferView": view, "componentType": 5126, "count": v.len() / n, "type": ty}),
+        )
+    }
+
+    fn u8s(&mut self, v: &[u8], ty: &str, normalized: bool) -> usize {
+        let view = self.view(v);
+        let n = components(ty);
+        self.accessor(json!({"bufferView": view, "componentType": 5121, "count": v.len() / n, "type": ty, "normalized": normalized}))
+    }
+
+    /// The document text, with `rest` (meshes, nodes, ...) merged in.
+    fn finish(self, mut rest: Value) -> String {
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            base64::engine::general_purpose::STANDARD.encode(&self.bin)
+        );
+        let obj = rest.as_object_mut().unwrap();
+        obj.insert("asset".into(), json!({"version": "2.0"}));
+        obj.entry("buffers")
+            .or_insert(json!([{"byteLength": self.bin.len(), "uri": uri}]));
+        obj.insert("bufferViews".into(), Value::Array(self.views));
+        obj.insert("accessors".into(), Value::Array(self.accessors));
+        rest.to_string()
+    }
+}
+
+/// Components of an accessor type.
+fn components(ty: &str) -> usize {
+    match ty {
+        "SCALAR" => 1,
+        "VEC2" => 2,
+        "VEC3" => 3,
+        "MAT4" => 16,
+        _ => 4,
+    }
+}
+
+fn f32_bytes(v: &[f32]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+const QUAD: [f32; 12] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0];
+const TRI: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+fn load_text(dir: &TempDir, text: &str) -> Result<Scene, LoadError> {
+    load(&dir.write("model.gltf", text), &LoadOptions::default())
+}
+
+fn one_mesh_scene(primitives: Value) -> Value {
+    json!({"meshes": [{"primitives": primitives}], "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0})
+}
+
+#[test]
+fn strips_and_fans_wind_counter_clockwise_with_u8_indices() {
+    let mut d = Doc::default();
+    let quad = d.floats(&QUAD, "VEC3");
+    let ix = d.u8s(&[0, 1, 2, 3], "SCALAR", false);
+    let fan = d.floats(
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0],
+        "VEC3",
+    );
+    let text = d.finish(one_mesh_scene(json!([
+        {"attributes": {"POSITION": quad}, "indices": ix, "mode": 5},
+        {"attributes": {"POSITION": fan}, "mode": 6},
+        {"attributes": {"POSITION": quad}, "mode": 1}
+    ])));
+    let scene = load_text(&TempDir::new("gltf-strip"), &text).unwrap();
+    // The strip and the fan become two triangles each; the LINES primitive two segments.
+    assert_eq!(scene.meshes.len(), 3);
+    assert_eq!(scene.instances.len(), 3);
+    for mesh in &scene.meshes[..2] {
+        assert_eq!(mesh.facets.len(), 2);
+        assert!(
+            mesh.facets.iter().all(|f| f.normal.z > 0.99),
+            "{:?}",
+            mesh.facets
+        );
+    }
+    let lines = &scene.meshes[2];
+    assert!(lines.facets.is_empty());
+    assert_eq!(lines.lines, [[0, 1], [2, 3]]);
+    assert!(
+        scene
+            .report
+            .loaded
+            .iter()
+            .any(|s| s.contains("2 line segments (LINES)")),
+        "{:?}",
+        scene.report.loaded
+    );
+    // Flat normals for the two triangle meshes (the lines are unlit: no NORMAL).
+    assert!(
+        scene.report.generated.len() >= 2,
+        "{:?}",
+        scene.report.generated
+    );
+}
+
+#[test]
+fn sparse_accessors_and_accessors_without_buffer_view() {
+    let mut d = Doc::default();
+    let sparse_ix = d.view(&[1, 2]);
+    let sparse_val = d.view(&f32_bytes(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0]));
+    let zeros = d.accessor(
+        json!({"componentType": 5126, "count": 3, "type": "VEC3", "sparse": {
+        "count": 2, "indices": {"bufferView": sparse_ix, "componentType": 5121},
+        "values": {"bufferView": sparse_val}}}),
+    );
+    let base = d.view(&f32_bytes(&[0.0, 0.0, 0.0, 5.0, 5.0, 5.0, 0.0, 1.0, 0.0]));
+    let one_ix = d.view(&[1]);
+    let patched = d.accessor(
+        json!({"bufferView": base, "componentType": 5126, "count": 3, "type": "VEC3",
+        "sparse": {"count": 1, "indices": {"bufferView": one_ix, "componentType": 5121},
+        "values": {"bufferView": sparse_val}}}),
+    );
+    let text = d.finish(one_mesh_scene(json!([
+        {"attributes": {"POSITION": zeros}}, {"attributes": {"POSITION": patched}}
+    ])));
+    let scene = load_text(&TempDir::new("gltf-sparse"), &text).unwrap();
+    let expected = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    assert_eq!(scene.meshes[0].positions, expected);
+    assert_eq!(scene.meshes[1].positions, expected);
+}
+
+#[test]
+fn node_transforms_compose_and_mirroring_is_left_to_the_renderer() {
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let text = d.finish(json!({
+        "meshes": [{"primitives": [{"attributes": {"POSITION": tri}}]}],
+        "nodes": [
+            {"translation": [1, 0, 0], "scale": [2, 2, 2], "children": [1]},
+            {"translation": [0, 1, 0], "mesh": 0, "name": "child"},
+            {"scale": [-1, 1, 1], "mesh": 0},
+            {"matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 5, 1], "mesh": 0}
+        ],
+        "scenes": [{"nodes": [0, 2, 3]}]
+    }));
+    let scene = load_text(&TempDir::new("gltf-nodes"), &text).unwrap();
+    assert_eq!(scene.meshes.len(), 1, "one mesh shared by three instances");
+    let [child, mirrored, moved] = &scene.instances[..] else {
+        panic!("{:?}", scene.instances)
+    };
+    assert_eq!(child.name, "child");
+    assert!(
+        child
+            .world
+            .transform_point3(Vec3::ZERO)
+            .distance(Vec3::new(1.0, 2.0, 0.0))
+            < 1e-6
+    );
+    assert!(mirrored.world.determinant() < 0.0);
+    assert_eq!(
+        moved.world.transform_point3(Vec3::ZERO),
+        Vec3::new(0.0, 0.0, 5.0)
+    );
+}
+
+#[test]
+fn cycles_and_deep_chains_end() {
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let mut nodes = vec![
+        json!({"children": [1], "mesh": 0}),
+        json!({"children": [0], "mesh": 0}),
+    ];
+    nodes.extend((2..1200).map(|i| json!({"children": [i + 1]})));
+    nodes.push(json!({"mesh": 0}));
+    let text = d.finish(json!({
+        "meshes": [{"primitives": [{"attributes": {"POSITION": tri}}]}],
+        "nodes": nodes,
+        "scenes": [{"nodes": [0, 2]}]
+    }));
+    let scene = load_text(&TempDir::new("gltf-cycle"), &text).unwrap();
+    assert_eq!(scene.instances.len(), 2);
+    let w = scene.report.warnings.join("\n");
+    assert!(w.contains("node 0 is reached twice"), "{w}");
+    assert!(w.contains("deeper than 1024 levels"), "{w}");
+}
+
+#[test]
+fn materials_textures_and_samplers() {
+    let mut png = Vec::new();
+    ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([0, 255, 0, 255]))
+        .write_to(
+            &mut std::io::Cursor::new(&mut png),
+            ::image::ImageFormat::Png,
+        )
+        .unwrap();
+    let png_uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    );
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let uv = d.u8s(&[0, 0, 255, 0, 0, 255], "VEC2", true);
+    let text = d.finish(json!({
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": tri, "TEXCOORD_0": uv}, "material": 0},
+            {"attributes": {"POSITION": tri}, "material": 1},
+            {"attributes": {"POSITION": tri}, "material": 2},
+            {"attributes": {"POSITION": tri}}
+        ]}],
+        "nodes": [{"mesh": 0}],
+        "materials": [
+            {"pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 0.25, 1], "baseColorTexture": {"index": 0},
+              "metallicFactor": 0, "roughnessFactor": 0.5}, "alphaMode": "MASK", "alphaCutoff": 0.3,
+             "doubleSided": true, "emissiveFactor": [0.1, 0.2, 0.3]},
+            {"pbrMetallicRoughness": {"baseColorTexture": {"index": 1}}, "alphaMode": "BLEND"},
+            {"pbrMetallicRoughness": {"baseColorTexture": {"index": 2}}}
+        ],
+        "textures": [{"source": 0}, {"source": 0, "sampler": 0}, {"source": 1}],
+        "samplers": [{"magFilter": 9728, "minFilter": 9728, "wrapS": 33071, "wrapT": 33648}],
+        "images": [{"uri": png_uri}, {}]
+    }));
+    let scene = load_text(&TempDir::new("gltf-mat"), &text).unwrap();
+    assert_eq!(
+        scene.textures.len(),
+        1,
+        "one image decoded once; its two samplers belong to the slots"
+    );
+    let s = scene.materials[1].base_color_texture.unwrap().sampler;
+    assert_eq!(
+        (s.filter, s.wrap_u, s.wrap_v),
+        (Filter::Nearest, Wrap::ClampToEdge, Wrap::MirroredRepeat)
+    );
+    // No sampler: the default, mipmapped.
+    let s = scene.materials[0].base_color_texture.unwrap().sampler;
+    assert_eq!(s.filter, Filter::Trilinear);
+    let m = &scene.materials[0];
+    assert_eq!(m.base_color, Vec4::new(1.0, 0.5, 0.25, 1.0));
+    assert_eq!(
+        (m.alpha_mode, m.double_sided, m.roughness),
+        (AlphaMode::Mask(0.3), true, 0.5)
+    );
+    assert_eq!(m.emissive, Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!(m.base_color_texture.map(|t| t.texture), Some(0));
+    assert_eq!(scene.materials[1].alpha_mode, AlphaMode::Blend);
+    assert!(scene.materials[2].base_color_texture.is_none());
+    let uvs = scene.meshes[0].uvs.first().unwrap();
+    assert_eq!(uvs.values[1], glam::Vec2::new(1.0, 0.0));
+    assert_eq!(scene.meshes[3].material, None);
+    let w = scene.report.warnings.join("\n");
+    assert!(
+        w.contains("image 1: has neither a uri nor a bufferView"),
+        "{w}"
+    );
+}
+
+#[test]
+fn sampler_filters_map_to_mipmapping() {
+    let mut png = Vec::new();
+    ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([0, 255, 0, 255]))
+        .write_to(
+            &mut std::io::Cursor::new(&mut png),
+            ::image::ImageFormat::Png,
+        )
+        .unwrap();
+    let png_uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    );
+    const NEAREST: u32 = 9728;
+    const LINEAR: u32 = 9729;
+    // (magFilter, minFilter) -> filter; None = absent.
+    let cases: [(Option<u32>, Option<u32>, Filter); 12] = [
+        (None, None, Filter::Trilinear),
+        (Some(NEAREST), None, Filter::Trilinear),
+        (Some(LINEAR), None, Filter::Trilinear),
+        (None, Some(9984), Filter::Trilinear),
+        (None, Some(9985), Filter::Trilinear),
+        (Some(NEAREST), Some(9986), Filter::Trilinear),
+        (Some(LINEAR), Some(9987), Filter::Trilinear),
+        (Some(NEAREST), Some(NEAREST), Filter::Nearest),
+        (Some(NEAREST), Some(LINEAR), Filter::Nearest),
+        (Some(LINEAR), Some(NEAREST), Filter::Bilinear),
+        (None, Some(NEAREST), Filter::Bilinear),
+        (Some(LINEAR), Some(LINEAR), Filter::Bilinear),
+    ];
+    let samplers: Vec<Value> = cases
+        .iter()
+        .map(|&(mag, min, _)| {
+            let mut s = serde_json::Map::new();
+            if let Some(m) = mag {
+                s.insert("magFilter".into(), json!(m));
+            }
+            if let Some(m) = min {
+                s.insert("minFilter".into(), json!(m));
+            }
+            Value::Object(s)
+        })
+        .collect();
+    let n = cases.len();
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let uv = d.u8s(&[0, 0, 255, 0, 0, 255], "VEC2", true);
+    let primitives: Vec<Value> = (0..n)
+        .map(|i| json!({"attributes": {"POSITION": tri, "TEXCOORD_0": uv}, "material": i}))
+        .collect();
+    let materials: Vec<Value> = (0..n)
+        .map(|i| json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": i}}}))
+        .collect();
+    let textures: Vec<Value> = (0..n).map(|i| json!({"source": 0, "sampler": i})).collect();
+    let text = d.finish(json!({
+        "meshes": [{"primitives": primitives}],
+        "nodes": [{"mesh": 0}],
+        "materials": materials,
+        "textures": textures,
+        "samplers": samplers,
+        "images": [{"uri": png_uri}]
+    }));
+    let scene = load_text(&TempDir::new("gltf-filters"), &text).unwrap();
+    assert_eq!(scene.textures.len(), 1, "one image");
+    for (i, (mag, min, want)) in cases.iter().enumerate() {
+        let got = scene.materials[i]
+            .base_color_texture
+            .unwrap()
+            .sampler
+            .filter;
+        assert_eq!(got, *want, "magFilter {mag:?} minFilter {min:?}");
+    }
+}
+#[test]
+fn cameras_come_from_their_nodes() {
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let text = d.finish(json!({
+        "meshes": [{"primitives": [{"attributes": {"POSITION": tri}}]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}},
+                    {"type": "orthographic", "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 5]}, {"camera": 1}]
+    }));
+    let scene = load_text(&TempDir::new("gltf-camera"), &text).unwrap();
+    assert_eq!(
+        scene.instances.len(),
+        1,
+        "all root nodes are drawn when there is no scene"
+    );
+    let [cam, ortho] = &scene.cameras[..] else {
+        panic!("{:?}", scene.cameras)
+    };
+    assert_eq!(
+        (cam.eye, cam.target, cam.up, cam.yfov, cam.ortho),
+        (
+            Vec3::new(0.0, 0.0, 5.0),
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::Y,
+            0.8,
+            None
+        )
+    );
+    assert!(cam.far.is_finite() && cam.far > 5.0, "{}", cam.far);
+    assert_eq!(
+        (ortho.ortho, ortho.near, ortho.far, ortho.aspect),
+        (Some(1.0), 0.1, 10.0, Some(1.0))
+    );
+    assert!(
+        scene.report.skipped.is_empty(),
+        "{:?}",
+        scene.report.skipped
+    );
+}
+
+mod hostile;
+mod lights;
+mod rules;

@@ -1,0 +1,35 @@
+//! Accuracy, measured: analytic references that need no rasterizer, error metrics between
+//! images, and the time-versus-error sweep behind `realist bench accuracy`.
+//!
+//! | file | owns |
+//! |---|---|
+//! | `image.rs` | [`LinearImage`]: f64 linear RGB, supersampling resolve |
+//! | `metrics.rs` | RMSE, PSNR, max error, CIEDE2000 mean / p95 / count, heat map |
+//! | `general.rs` | the f64 reference of any scene: homogeneous visibility, heavy supersampling |
+//! | `sphere.rs` | the ray-cast sphere reference and its rasterizer scene |
+//! | `plane.rs` | the exactly box-filtered textured plane reference and its scene |
+//! | `sweep.rs` | one knob at a time: settings, timings, metrics, Pareto front, plot |
+
+// The crates below this one, under the module names the code uses (`crate::scene::...`).
+use realist_color as color;
+use realist_mesh as mesh;
+use realist_overlay as overlay;
+use realist_raster as raster;
+use realist_render as render;
+use realist_scene as scene;
+use realist_shade as shade;
+use realist_texture as texture;
+use realist_texture::microfacet;
+
+pub mod general;
+mod image;
+pub mod metrics;
+pub mod plane;
+pub mod sphere;
+pub mod sweep;
+
+pub use image::LinearImage;
+pub use metrics::{compare, Metrics};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,865 @@
+//! One raster pass: transform, cull, clip, set up, bin, fill (see the module docs of
+//! [`crate`] for the phases).
+
+use std::cell::RefCell;
+use std::time::Instant;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+
+use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
+use super::fill::{fill, FillCounters, TriId};
+use super::framebuffer::{Target, Tile, TILE};
+use super::setup::{
+    padded, project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri, Viewport,
+    GUARD_BAND_PX,
+};
+use super::{FragmentShader, MAX_VARYINGS};
+use crate::simd::kernel::{dispatch, prefetch, KernelJob, KernelKind};
+use crate::simd::lanes::Kernel;
+
+/// Which faces are discarded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Cull {
+    None,
+    #[default]
+    Back,
+    Front,
+}
+
+/// How a fragment's colour combines with the target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Blend {
+    #[default]
+    Replace,
+    /// Source over destination with the fragment's alpha (straight alpha).
+    Alpha,
+    /// Component-wise sum (used by coverage counting).
+    Add,
+}
+
+/// Depth comparison (reversed-Z: larger is nearer).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum DepthTest {
+    #[default]
+    Greater,
+    GreaterEqual,
+    Always,
+}
+
+/// Fixed-function state of a draw. The default is [`DrawState::opaque`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrawState {
+    pub cull: Cull,
+    pub depth_test: DepthTest,
+    pub depth_write: bool,
+    pub blend: Blend,
+    /// Write colour (false for depth-only passes).
+    pub color_write: bool,
+    /// Treat clockwise triangles as front-facing (a mirroring model matrix, det < 0).
+    pub flip_winding: bool,
+    /// Slope-scaled depth offset (as `glPolygonOffset(factor, 0)`): depth is moved away from
+    /// the eye by this many times the triangle's largest depth change per pixel. Used so
+    /// lines drawn on a surface win against the surface itself.
+    pub depth_offset: f32,
+    /// Sub-pixel bits of the vertex snap, 0..=[`super::SUBPIXEL_BITS`] (larger values are
+    /// treated as the maximum). Fewer bits emulate a coarser fixed-point rasterizer exactly,
+    /// for accuracy sweeps; the edge functions keep their precision.
+    pub subpixel_bits: u8,
+    /// The vertices' varyings are two halves, for front-facing then back-facing triangles
+    /// (e.g. Gouraud colours lit from both sides): set-up keeps only the half for each
+    /// triangle's facing, so the fill interpolates half as much.
+    pub facing_varyings: bool,
+}
+
+impl Default for DrawState {
+    fn default() -> Self {
+        Self::opaque()
+    }
+}
+
+impl DrawState {
+    /// Opaque geometry: back faces culled, depth tested and written, colour replaced.
+    #[must_use]
+    pub fn opaque() -> Self {
+        Self {
+            cull: Cull::Back,
+            depth_test: DepthTest::Greater,
+            depth_write: true,
+            blend: Blend::Replace,
+            color_write: true,
+            flip_winding: false,
+            depth_offset: 0.0,
+            subpixel_bits: super::SUBPIXEL_BITS as u8,
+            facing_varyings: false,
+        }
+    }
+}
+
+/// A batch of triangles sharing state, with clip-space positions and `stride` float
+/// varyings per vertex.
+#[derive(Clone, Copy, Debug)]
+pub struct Draw<'a> {
+    /// Passed to the shader in [`super::TriInfo::draw`].
+    pub id: u32,
+    pub clip: &'a [Vec4],
+    /// Vertex `i`'s varyings are `varyings[i * stride..(i + 1) * stride]`.
+    pub varyings: &'a [f32],
+    /// Floats per vertex, at most [`MAX_VARYINGS`] (a draw with more is skipped, its
+    /// triangles counted in [`Stats::too_wide`]).
+    pub stride: usize,
+    /// Vertex indices; triangles with an index out of range are dropped as degenerate.
+    pub triangles: &'a [[u32; 3]],
+    pub state: DrawState,
+}
+
+/// Counters of what the pipeline did and skipped (`--stats`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Stats {
+    pub triangles_in: u64,
+    /// Whole objects skipped by their bounding sphere (counted by the caller).
+    pub objects_culled: u64,
+    /// Triangles inside culled objects or entirely outside one frustum plane.
+    pub culled_frustum: u64,
+    pub culled_backface: u64,
+    /// Zero area after snapping, non-finite coordinates, bad indices, or no pixel centre.
+    pub culled_degenerate: u64,
+    /// Triangles that needed clipping (near/far plane or guard band).
+    pub clipped: u64,
+    /// Set-up triangles binned (a clipped triangle can yield several).
+    pub drawn: u64,
+    /// Non-empty tile bins filled.
+    pub tiles: u64,
+    pub pixels_shaded: u64,
+    /// Shader calls (eight-lane block rows with at least one live pixel): the lanes in use
+    /// are `pixels_shaded / (8 * shader_calls)`.
+    pub shader_calls: u64,
+    pub depth_rejected: u64,
+    pub lines_drawn: u64,
+    /// Points of meshes drawn (at least one pixel passed).
+    pub points_drawn: u64,
+    /// (object, light) pairs skipped because the light cannot reach the object (out of
+    /// range, or its cone misses the bounding sphere); counted by the caller.
+    pub lights_skipped: u64,
+    /// Triangles of draws with more than [`MAX_VARYINGS`] floats per vertex, not drawn
+    /// (no shader of this crate asks for that many; a custom one might).
+    pub too_wide: u64,
+    /// Shadow maps rendered (counted by the caller).
+    pub shadow_maps: u64,
+}
+
+impl Stats {
+    /// Adds another pass's counters.
+    pub fn add(&mut self, o: &Stats) {
+        self.triangles_in += o.triangles_in;
+        self.objects_culled += o.objects_culled;
+        self.culled_frustum += o.culled_frustum;
+        self.culled_backface += o.culled_backface;
+        self.culled_degenerate += o.culled_degenerate;
+        self.clipped += o.clipped;
+        self.drawn += o.drawn;
+        self.tiles += o.tiles;
+        self.pixels_shaded += o.pixels_shaded;
+        self.shader_calls += o.shader_calls;
+        self.depth_rejected += o.depth_rejected;
+        self.lines_drawn += o.lines_drawn;
+        self.points_drawn += o.points_drawn;
+        self.lights_skipped += o.lights_skipped;
+        self.too_wide += o.too_wide;
+        self.shadow_maps += o.shadow_maps;
+    }
+}
+
+/// Model-view-projection transform of positions, in parallel.
+#[must_use]
+pub fn transform_positions(mvp: Mat4, positions: &[Vec3]) -> Vec<Vec4> {
+    let mut out = Vec::new();
+    transform_positions_into(mvp, positions, &mut out);
+    out
+}
+
+/// [`transform_positions`] appended to `out` (in parallel; no allocation when `out` has the
+/// capacity).
+pub fn transform_positions_into(mvp: Mat4, positions: &[Vec3], out: &mut Vec<Vec4>) {
+    out.par_extend(
+        positions
+            .par_iter()
+            .with_min_len(4096)
+            .map(|p| mvp * p.extend(1.0)),
+    );
+}
+
+/// Input triangles set up per parallel chunk (its pieces after clipping stay below 65536,
+/// so a tile list holds u16 indices).
+pub(crate) const CHUNK: usize = 2048;
+/// Input triangles set up before the tiles are filled (bounds memory on huge meshes).
+const BATCH: usize = 8 * CHUNK;
+
+/// Guard-band scale of the x/y clip planes for a target size.
+pub(crate) fn guard(width: u32, height: u32) -> Vec2 {
+    Vec2::new(
+        1.0 + 2.0 * GUARD_BAND_PX / width as f32,
+        1.0 + 2.0 * GUARD_BAND_PX / height as f32,
+    )
+}
+
+/// Draws read one at a time by [`draw_list`]: a slice of [`Draw`]s, or a renderer's own
+/// per-frame list that builds each draw from plain indices (so the list itself can live in
+/// memory kept from frame to frame).
+pub trait DrawList: Sync {
+    /// Number of draws.
+    fn count(&self) -> usize;
+    /// Draw `i`, for `i < count()`.
+    fn draw(&self, i: usize) -> Draw<'_>;
+}
+
+impl DrawList for [Draw<'_>] {
+    fn count(&self) -> usize {
+        self.len()
+    }
+    fn draw(&self, i: usize) -> Draw<'_> {
+        self[i]
+    }
+}
+
+/// Cost of one tile in a frame, for the per-tile heat map: summed over the passes since the
+/// last [`Bins::reset_costs`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TileCost {
+    /// Wall-clock nanoseconds spent filling the tile (by whichever thread filled it).
+    pub nanos: u64,
+    /// Fragments shaded in the tile.
+    pub fragments: u64,
+}
+
+/// Per-tile state of the pipeline kept between passes and frames: the per-tile costs, the
+/// stage times and the kernel the fill runs with.
+#[derive(Debug)]
+pub struct Bins {
+    costs: Vec<TileCost>,
+    /// Tiles of the current target (the first `active` entries are in use).
+    active: usize,
+    /// Wall-clock nanoseconds in clip / cull / setup / binning, and in filling, summed over
+    /// the passes since the last [`Bins::reset_costs`].
+    pub setup_nanos: u64,
+    pub fill_nanos: u64,
+    /// The kernel the fill and shaders run with ([`KernelKind::best`] by default; one the CPU
+    /// lacks runs as the portable kernel).
+    pub kernel: KernelKind,
+}
+
+impl Default for Bins {
+    fn default() -> Self {
+        Self {
+            costs: Vec::new(),
+            active: 0,
+            setup_nanos: 0,
+            fill_nanos: 0,
+            kernel: KernelKind::best(),
+        }
+    }
+}
+
+impl Bins {
+    /// Pipeline state whose fill runs with `kernel`.
+    #[must_use]
+    pub fn with_kernel(kernel: KernelKind) -> Self {
+        Self {
+            kernel,
+            ..Self::default()
+        }
+    }
+
+    /// Uses `tiles` tiles (allocates only beyond the largest count seen).
+    pub(crate) fn fit(&mut self, tiles: usize) {
+        if self.costs.len() < tiles {
+            self.costs.resize(tiles, TileCost::default());
+        }
+        if self.active != tiles {
+            self.costs[..tiles].fill(TileCost::default());
+        }
+        self.active = tiles;
+    }
+
+    /// Zeroes the per-tile costs and the stage times (at the start of a frame).
+    pub fn reset_costs(&mut self) {
+        self.costs.fill(TileCost::default());
+        self.setup_nanos = 0;
+        self.fill_nanos = 0;
+    }
+
+    /// Costs per tile of the last target drawn, in the order of [`Target::tiles`].
+    #[must_use]
+    pub fn costs(&self) -> &[TileCost] {
+        &self.costs[..self.active]
+    }
+}
+
+/// The set-up triangles of one chunk of input triangles, their varyings, and per tile the
+/// indices of those that touch it.
+#[derive(Debug, Default)]
+pub(crate) struct Chunk {
+    pub tris: Vec<SetupTri>,
+    pub attrs: Vec<f32>,
+    /// Per tile of the target, indices into `tris`, in order.
+    pub bins: Vec<Vec<u16>>,
+    pub stats: Stats,
+}
+
+impl Chunk {
+    /// Empties the chunk for a target of `tiles` tiles, keeping its memory.
+    pub fn reset(&mut self, tiles: usize) {
+        self.tris.clear();
+        self.attrs.clear();
+        if self.bins.len() < tiles {
+            self.bins.resize_with(tiles, Vec::new);
+        }
+        for b in &mut self.bins[..tiles] {
+            b.clear();
+        }
+        self.stats = Stats::default();
+    }
+}
+
+/// Working memory of the pipeline (set-up triangles and tile lists per chunk), kept between
+/// passes and frames.
+#[derive(Debug, Default)]
+pub struct RasterScratch {
+    chunks: Vec<Chunk>,
+    /// First global triangle index of each draw.
+    starts: Vec<usize>,
+    /// Every draw's vertices projected once (first vertex of draw `i` at `pre_starts[i]`).
+    pre: Vec<PreVert>,
+    pre_starts: Vec<usize>,
+}
+
+/// A vertex as triangle set-up needs it, computed once per vertex rather than once per
+/// triangle using it: its outcodes against the frustum and the guard band, and (if it is
+/// inside the guard band) its projected, snapped position.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct PreVert {
+    s: ScreenVert,
+    frustum: u8,
+    guard: u8,
+    /// `s` is valid (inside the guard band and w > 0).
+    projected: bool,
+}
+
+impl PreVert {
+    #[inline(always)]
+    fn new(p: Vec4, g: Vec2, hw: f32, hh: f32, bits: u8) -> Self {
+        if !p.is_finite() {
+            return Self::default();
+        }
+        let guard = outcode(p, g);
+        let s = if guard == 0 {
+            project(p, hw, hh, bits)
+        } else {
+            None
+        };
+        Self {
+            s: s.unwrap_or_default(),
+            frustum: outcode(p, Vec2::ONE),
+            guard,
+            projected: s.is_some(),
+        }
+    }
+}
+
+/// Projects a run of vertices, compiled per kernel (the snap's rounding is one
+/// instruction in the kernels that have it).
+struct ProjectJob<'a> {
+    clip: &'a [Vec4],
+    out: &'a mut [PreVert],
+    g: Vec2,
+    half: (f32, f32),
+    bits: u8,
+}
+
+impl KernelJob for ProjectJob<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<K: Kernel>(self) {
+        let (hw, hh) = self.half;
+        for (o, p) in self.out.iter_mut().zip(self.clip) {
+            *o = PreVert::new(*p, self.g, hw, hh, self.bits);
+        }
+    }
+}
+
+/// Vertices projected per parallel task.
+const PROJECT_CHUNK: usize = 4096;
+
+/// Rasterizes `draws` in order into `target` with `shader`. Runs on the current rayon pool;
+/// the image does not depend on its thread count. Allocates its working memory; a caller
+/// that draws every frame uses [`draw_list`] with memory it keeps.
+pub fn draw<S: FragmentShader>(
+    target: &mut Target,
+    draws: &[Draw<'_>],
+    shader: &S,
+    stats: &mut Stats,
+) {
+    draw_with_kernel(target, draws, shader, stats, KernelKind::best());
+}
+
+/// [`draw`] with a given kernel (the portable one if the CPU lacks it).
+pub fn draw_with_kernel<S: FragmentShader>(
+    target: &mut Target,
+    draws: &[Draw<'_>],
+    shader: &S,
+    stats: &mut Stats,
+    kernel: KernelKind,
+) {
+    let mut bins = Bins::with_kernel(kernel);
+    let mut scratch = RasterScratch::default();
+    draw_list(
+        target,
+        draws,
+        shader,
+        stats,
+        &mut bins,
+        &mut scratch,
+        &|| false,
+    );
+}
+
+/// [`draw`] with kept memory and a stop signal: `stop` is asked before each tile is filled,
+/// and once it answers true the remaining tiles of the pass are skipped and `false` is
+/// returned (the target then holds a partial image). Returns `true` if the pass completed.
+/// Allocates nothing once `bins` and `scratch` have served a pass of this size.
+pub fn draw_list<S: FragmentShader, L: DrawList + ?Sized>(
+    target: &mut Target,
+    draws: &L,
+    shader: &S,
+    stats: &mut Stats,
+    bins: &mut Bins,
+    scratch: &mut RasterScratch,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> bool {
+    let g = guard(target.width, target.height);
+    let (w, h, tiles_x) = (target.width, target.height, target.tiles_x);
+    let vp = Viewport {
+        width: w,
+        height: h,
+        reach: target.reach(),
+    };
+    let tiles = target.tiles.len();
+    bins.fit(tiles);
+    let RasterScratch {
+        chunks,
+        starts,
+        pre,
+        pre_starts,
+    } = scratch;
+    let kernel = bins.kernel;
+    starts.clear();
+    pre.clear();
+    pre_starts.clear();
+    let mut total = 0;
+    let half = (w as f32 * 0.5, h as f32 * 0.5);
+    for i in 0..draws.count() {
+        let d = draws.draw(i);
+        starts.push(total);
+        total += d.triangles.len();
+        let first = pre.len();
+        pre_starts.push(first);
+        pre.resize(first + d.clip.len(), PreVert::default());
+        pre[first..]
+            .par_chunks_mut(PROJECT_CHUNK)
+            .zip(d.clip.par_chunks(PROJECT_CHUNK))
+            .for_each(|(out, clip)| {
+                let job = ProjectJob {
+                    clip,
+                    out,
+                    g,
+                    half,
+                    bits: d.state.subpixel_bits,
+                };
+                dispatch(kernel, job);
+            });
+    }
+    stats.triangles_in += total as u64;
+    let (starts, pre, pre_starts) = (&*starts, &*pre, &*pre_starts);
+    let mut complete = true;
+    let mut batch = 0;
+    while batch < total && complete {
+        let start = Instant::now();
+        let end = (batch + BATCH).min(total);
+        let n = (end - batch).div_ceil(CHUNK);
+        if chunks.len() < n {
+            chunks.resize_with(n, Chunk::default);
+        }
+        chunks[..n]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                chunk.reset(tiles);
+                let lo = batch + c * CHUNK;
+                let hi = (lo + CHUNK).min(end);
+                let job = SetupJob {
+                    draws,
+                    starts,
+                    pre,
+                    pre_starts,
+                    lo,
+                    hi,
+                    g,
+                    vp,
+                    tiles_x,
+                    chunk,
+                };
+                dispatch(kernel, job);
+            });
+        for c in &chunks[..n] {
+            stats.add(&c.stats);
+        }
+        bins.setup_nanos += start.elapsed().as_nanos() as u64;
+        complete = flush(target, &chunks[..n], bins, shader, stats, stop);
+        batch = end;
+    }
+    complete
+}
+
+/// The set-up of one chunk, compiled per kernel (rounding, conversions and divisions of
+/// the fixed-point set-up become single instructions where the kernel has them).
+struct SetupJob<'a, L: ?Sized> {
+    draws: &'a L,
+    starts: &'a [usize],
+    pre: &'a [PreVert],
+    pre_starts: &'a [usize],
+    lo: usize,
+    hi: usize,
+    g: Vec2,
+    vp: Viewport,
+    tiles_x: u32,
+    chunk: &'a mut Chunk,
+}
+
+impl<L: DrawList + ?Sized> KernelJob for SetupJob<'_, L> {
+    type Output = ();
+    #[inline(always)]
+    fn run<K: Kernel>(self) {
+        setup_range(
+            self.draws,
+            self.starts,
+            self.pre,
+            self.pre_starts,
+            self.lo,
+            self.hi,
+            self.g,
+            self.vp,
+            self.tiles_x,
+            self.chunk,
+        );
+    }
+}
+
+/// Sets up and bins the global triangles `lo..hi` into `chunk`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn setup_range<L: DrawList + ?Sized>(
+    draws: &L,
+    starts: &[usize],
+    pre: &[PreVert],
+    pre_starts: &[usize],
+    lo: usize,
+    hi: usize,
+    g: Vec2,
+    vp: Viewport,
+    tiles_x: u32,
+    chunk: &mut Chunk,
+) {
+    // The draw holding triangle `lo` (the last draw starting at or before it).
+    let mut di = starts.partition_point(|&s| s <= lo).saturating_sub(1);
+    let mut at = lo;
+    while at < hi && di < starts.len() {
+        let d = draws.draw(di);
+        let first = at - starts[di];
+        let take = (d.triangles.len().saturating_sub(first)).min(hi - at);
+        if d.stride > MAX_VARYINGS {
+            // Reported, not silently dropped: `Stats::too_wide` (stats, `--stats`).
+            chunk.stats.too_wide += take as u64;
+        } else {
+            let verts = pre.get(pre_starts[di]..pre_starts[di] + d.clip.len());
+            for t in &d.triangles[first..first + take] {
+                assemble(&d, verts, t, g, vp, Some(tiles_x), chunk);
+            }
+        }
+        at += take;
+        di += 1;
+    }
+    chunk.stats.drawn += chunk.tris.len() as u64;
+}
+
+/// Culls, clips and sets up one input triangle, appending the results to `chunk` (and, with
+/// `tiles_x`, to its tile lists: binned before the triangle is stored, while it is still
+/// in registers).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn assemble(
+    d: &Draw<'_>,
+    pre: Option<&[PreVert]>,
+    t: &[u32; 3],
+    g: Vec2,
+    vp: Viewport,
+    tiles_x: Option<u32>,
+    chunk: &mut Chunk,
+) {
+    let Chunk {
+        tris: out,
+        attrs,
+        bins,
+        stats: st,
+    } = chunk;
+    let stride = d.stride;
+    let fetch = |i: u32| -> Option<(Vec4, &[f32])> {
+        let p = d.clip.get(i as usize)?;
+        let k = i as usize * stride;
+        let v = d.varyings.get(k..k + stride)?;
+        p.is_finite().then_some((*p, v))
+    };
+    let (Some(a), Some(b), Some(c)) = (fetch(t[0]), fetch(t[1]), fetch(t[2])) else {
+        st.culled_degenerate += 1;
+        return;
+    };
+    // Outcodes (and, inside the guard band, the projected vertices) computed once per
+    // vertex when the pipeline did so, else here.
+    let hw_hh = (vp.width as f32 * 0.5, vp.height as f32 * 0.5);
+    let vert = |i: u32, p: Vec4| match pre.and_then(|pre| pre.get(i as usize)) {
+        Some(v) => *v,
+        None => PreVert::new(p, g, hw_hh.0, hw_hh.1, d.state.subpixel_bits),
+    };
+    let pv = [vert(t[0], a.0), vert(t[1], b.0), vert(t[2], c.0)];
+    // Trivial reject against the real frustum; clipping needs against near/far and guard band.
+    if pv[0].frustum & pv[1].frustum & pv[2].frustum != 0 {
+        st.culled_frustum += 1;
+        return;
+    }
+    let need = pv[0].guard | pv[1].guard | pv[2].guard;
+    let mut push =
+        |s: Option<[ScreenVert; 3]>, var: [&[f32]; 3], ccw: Option<bool>, st: &mut Stats| {
+            let set = match s {
+                Some(s) => setup_projected(s, var, vp, d.id, d.state, ccw, attrs),
+                None => Err(Reject::Degenerate),
+            };
+            match set {
+                Ok(s) => {
+                    if let Some(tx) = tiles_x {
+                        bin(tx, vp.reach, &s, out.len() as u16, bins);
+                    }
+                    out.push(s);
+                    true
+                }
+                Err(Reject::Backface) => {
+                    st.culled_backface += 1;
+                    false
+                }
+                Err(Reject::Degenerate) => {
+                    st.culled_degenerate += 1;
+                    false
+                }
+            }
+        };
+    if need == 0 {
+        let s = pv.iter().all(|v| v.projected).then(|| pv.map(|v| v.s));
+        let _ = push(s, [a.1, b.1, c.1], None, st);
+        return;
+    }
+    st.clipped += 1;
+    // The orientation every piece must keep: the sign of det[X; Y; W] of the whole triangle
+    // (homogeneous rasterization: positive = counter-clockwise in NDC where w > 0).
+    let det = homogeneous_orientation(a.0, b.0, c.0);
+    if det == 0.0 || !det.is_finite() {
+        st.culled_degenerate += 1;
+        return;
+    }
+    let ccw = Some(det > 0.0);
+    // Clip against every violated plane (near first: it guarantees w > 0 afterwards).
+    let tri = [a, b, c].map(|(p, v)| ClipVertex::new(p, v));
+    let poly = clip_polygon(Poly::triangle(tri, stride), need, g);
+    let poly = poly.as_slice();
+    if poly.len() < 3 {
+        st.culled_frustum += 1;
+        return;
+    }
+    let mut rejected = Stats::default();
+    let mut any = false;
+    let (hw, hh) = hw_hh;
+    for i in 1..poly.len() - 1 {
+        let c = Corners::of([&poly[0], &poly[i], &poly[i + 1]], stride);
+        let s = project3(c.pos, hw, hh, d.state.subpixel_bits);
+        any |= push(s, c.var, ccw, &mut rejected);
+    }
+    // Count the input triangle once: as drawn if any piece survived, else by the first reason.
+    if !any {
+        if rejected.culled_backface > 0 {
+            st.culled_backface += 1;
+        } else {
+            st.culled_degenerate += 1;
+        }
+    }
+}
+
+/// det[X; Y; W] of a clip-space triangle, in f64: its sign is the orientation of the
+/// triangle's visible (w > 0) part in NDC, positive for counter-clockwise.
+fn homogeneous_orientation(a: Vec4, b: Vec4, c: Vec4) -> f64 {
+    let [a, b, c] = [a, b, c].map(|p| [f64::from(p.x), f64::from(p.y), f64::from(p.w)]);
+    a[0] * (b[1] * c[2] - c[1] * b[2]) - b[0] * (a[1] * c[2] - c[1] * a[2])
+        + c[0] * (a[1] * b[2] - b[1] * a[2])
+}
+
+/// Appends triangle `index` to the list of every tile its bounds touch and its edges do not
+/// exclude (a tile is excluded when one edge is negative at all four corners of the box of
+/// its sample points: its pixel centres widened by `reach`, see [`Viewport::reach`]).
+#[inline(always)]
+pub(crate) fn bin(tiles_x: u32, reach: i64, t: &SetupTri, index: u16, bins: &mut [Vec<u16>]) {
+    let (tx0, ty0, tx1, ty1) = (t.x0 / TILE, t.y0 / TILE, t.x1 / TILE, t.y1 / TILE);
+    let single = tx0 == tx1 && ty0 == ty1;
+    for ty in ty0..=ty1 {
+        for tx in tx0..=tx1 {
+            if !single && tile_outside(t, reach, tx * TILE, ty * TILE) {
+                continue;
+            }
+            bins[(ty * tiles_x + tx) as usize].push(index);
+        }
+    }
+}
+
+fn tile_outside(t: &SetupTri, reach: i64, x: u32, y: u32) -> bool {
+    use super::setup::ONE;
+    let (px, py) = (
+        i64::from(x) * ONE + ONE / 2 - reach,
+        i64::from(y) * ONE + ONE / 2 - reach,
+    );
+    let span = i64::from(TILE - 1) * ONE + 2 * reach;
+    (0..3).any(|k| {
+        let (a, b) = t.ab(k);
+        let e = a * px + b * py + t.c[k] + t.bias(k);
+        e + (a * span).max(0) + (b * span).max(0) < 0
+    })
+}
+
+/// How many triangles ahead of the one being filled the fill prefetches.
+const PREFETCH_AHEAD: usize = 3;
+
+/// One tile's fill, compiled per kernel.
+struct TileJob<'a, S> {
+    tile: &'a mut Tile,
+    index: usize,
+    chunks: &'a [Chunk],
+    shader: &'a S,
+    n: &'a mut FillCounters,
+}
+
+impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
+    type Output = ();
+    #[inline(always)]
+    fn run<K: Kernel>(self) {
+        let TileJob {
+            tile,
+            index,
+            chunks,
+            shader,
+            n,
+        } = self;
+        // The tile's triangles in order, then `None`: the fill shades the fragments it
+        // deferred. One call of `fill` (it holds the kernel's only copy of the shader).
+        let mut order = chunks.iter().enumerate().flat_map(|(ci, c)| {
+            let bin = &c.bins[index];
+            bin.iter()
+                .enumerate()
+                .map(move |(k, &i)| (ci, c, bin, k, i))
+        });
+        loop {
+            let next = order.next();
+            if let Some((_, c, bin, k, _)) = next {
+                // Most of a small triangle's cost is fetching its set-up data (written by
+                // another thread): prefetch the triangle 2 * AHEAD on, and the varyings of
+                // the one AHEAD on (its triangle, read for their offset, is already here).
+                if let Some(&far) = bin.get(k + 2 * PREFETCH_AHEAD) {
+                    prefetch(&c.tris[far as usize]);
+                }
+                if let Some(&near) = bin.get(k + PREFETCH_AHEAD) {
+                    let t = &c.tris[near as usize];
+                    let at = t.attr as usize;
+                    if let Some(a) = c.attrs.get(at..at + 3 * padded(t.stride as usize)) {
+                        prefetch(a);
+                    }
+                }
+            }
+            let tri = next.map(|(ci, c, _, _, i)| {
+                let id: TriId = (ci as u32) << 16 | u32::from(i);
+                (&c.tris[i as usize], &c.attrs[..], id)
+            });
+            fill::<K, S>(tile, tri, chunks, shader, n);
+            if next.is_none() {
+                break;
+            }
+        }
+    }
+}
+
+thread_local! {
+    /// Each worker's fill counters and visibility buffer ([`flush`]).
+    static FILL: RefCell<FillCounters> = RefCell::new(FillCounters::default());
+}
+
+/// Fills every tile with its binned triangles (in parallel over tiles, in chunk order).
+/// Tiles are skipped once `stop` answers true; returns false if any was.
+pub(crate) fn flush<S: FragmentShader>(
+    target: &mut Target,
+    chunks: &[Chunk],
+    bins: &mut Bins,
+    shader: &S,
+    stats: &mut Stats,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> bool {
+    let start = Instant::now();
+    let kernel = bins.kernel;
+    let (tiles, shaded, rejected, calls, skipped) = target
+        .tiles
+        .par_iter_mut()
+        .zip(bins.costs[..bins.active].par_iter_mut())
+        .enumerate()
+        .filter(|(t, _)| chunks.iter().any(|c| !c.bins[*t].is_empty()))
+        .map(|(index, (tile, cost))| {
+            if stop() {
+                return (0, 0, 0, 0, 1);
+            }
+            let start = Instant::now();
+            tile.materialize();
+            // The worker's counters and visibility buffer: allocated once per thread, not
+            // per frame (the renderer allocates nothing after its first frame).
+            let mut run = |n: &mut FillCounters| {
+                n.begin_tile();
+                let job = TileJob {
+                    tile: &mut *tile,
+                    index,
+                    chunks,
+                    shader,
+                    n: &mut *n,
+                };
+                dispatch(kernel, job);
+                (n.shaded, n.depth_rejected, n.calls)
+            };
+            let (shaded, rejected, calls) = FILL.with(|cell| match cell.try_borrow_mut() {
+                Ok(mut n) => run(&mut n),
+                // Never while a tile is filled on this thread (nothing in it yields to
+                // rayon); a fresh set if it ever were.
+                Err(_) => run(&mut FillCounters::default()),
+            });
+            cost.nanos += start.elapsed().as_nanos() as u64;
+            cost.fragments += shaded;
+            (1, shaded, rejected, calls, 0)
+        })
+        .reduce(
+            || (0, 0, 0, 0, 0),
+            |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3, a.4 + b.4),
+        );
+    stats.tiles += tiles;
+    stats.pixels_shaded += shaded;
+    stats.depth_rejected += rejected;
+    stats.shader_calls += calls;
+    bins.fill_nanos += start.elapsed().as_nanos() as u64;
+    skipped == 0
+}

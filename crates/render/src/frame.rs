@@ -1,0 +1,705 @@
+//! Per-frame set-up: the lights of the frame, and for every instance its visibility (bounding
+//! sphere against the frustum), shading mode, material parameters and raster state. Memory
+//! is kept in [`FrameData`] from frame to frame.
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3, Vec4};
+
+use super::prepare::{PreparedInstance, PreparedScene};
+use super::settings::{Lights, Output, Settings};
+use crate::mesh::TriMesh;
+use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
+use crate::scene::{
+    AlphaMode, Light, Material, Slot, SlotOverride, Style, TextureSource, UvTransform,
+};
+use crate::shade::{
+    DrawParams, Fog, LightSet, LitLayout, PbrParams, Shading, SlotParams, Surface, TexView,
+};
+use crate::texture::{Procedural, ProceduralTexture, Sampler};
+
+/// One visible instance of this frame.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FrameInst {
+    /// Index into [`PreparedScene::instances`].
+    pub inst: u32,
+    pub mesh: u32,
+    /// Model -> clip (without the sub-pixel jitter of a supersampling pass).
+    pub mvp: Mat4,
+    pub world: Mat4,
+    /// Model -> camera.
+    pub model_view: Mat4,
+    pub state: DrawState,
+    /// Index into [`FrameData::params`] (the draw id the shaders see).
+    pub param: u32,
+    pub mode: Shading,
+    pub blend: bool,
+    /// Distance from the eye to the bounding-sphere centre (for back-to-front sorting).
+    pub distance: f32,
+    /// The mesh has triangles (the triangle passes skip an instance without).
+    pub tris: bool,
+    /// The mesh has points or lines (drawn by the strokes pass).
+    pub strokes: bool,
+}
+
+/// Per-frame memory, reused.
+#[derive(Debug, Default)]
+pub(super) struct FrameData {
+    pub insts: Vec<FrameInst>,
+    pub params: Vec<DrawParams>,
+    pub lights: LightSet,
+    /// Per instance, the indices of the sources that reach it ([`DrawParams::lights`]).
+    pub active: Vec<u32>,
+    /// Blended instances in drawing order.
+    pub order: Vec<u32>,
+    /// The frame's fog, if on and valid.
+    pub fog: Option<Fog>,
+    /// Shadow casters outside the view frustum (filled only when a light casts shadows).
+    pub casters: Vec<FrameInst>,
+    /// Wireframe's saved depth.
+    pub depth: DepthCopy,
+    /// [`Settings::point_size`] and [`Settings::line_width`] of the frame.
+    pub point_size: f32,
+    pub line_width: f32,
+}
+
+/// Calls `f` with every light of the frame and the matrix that moves it into the world
+/// (`None`: it is in world space already): `scene_lights`, or the default rig attached to
+/// the camera if there are none, or the custom lights of `lights`.
+pub(crate) fn for_each_light(
+    scene_lights: &[Light],
+    lights: &Lights,
+    camera_to_world: Mat4,
+    mut f: impl FnMut(&Light, Option<Mat4>),
+) {
+    match lights {
+        Lights::Auto if scene_lights.is_empty() => {
+            let rig = Light::default_rig_array(glam::Mat3::from_mat4(camera_to_world));
+            rig.iter().for_each(|l| f(l, None));
+        }
+        Lights::Auto => scene_lights.iter().for_each(|l| f(l, None)),
+        Lights::Custom {
+            lights,
+            follow_camera,
+        } => {
+            let m = follow_camera.then_some(camera_to_world);
+            lights.iter().for_each(|l| f(l, m));
+        }
+    }
+}
+
+/// Fills `set` (cleared first) with the lights of a frame whose camera-to-world matrix is
+/// `camera_to_world` (see [`Lights`]); shadow maps are left to the renderer.
+pub fn frame_lights(
+    scene_lights: &[Light],
+    lights: &Lights,
+    camera_to_world: Mat4,
+    set: &mut LightSet,
+) {
+    set.clear();
+    let mut index = 0;
+    for_each_light(scene_lights, lights, camera_to_world, |l, m| {
+        set.push(l, m, index);
+        index += 1;
+    });
+}
+
+/// The Phong constants the renderer uses for material `m` (shininess clamped to 1..=2000,
+/// 1 if not finite; non-finite colours become zero).
+#[must_use]
+pub fn material_surface(m: &Material) -> Surface {
+    let fin = |v: Vec3| if v.is_finite() { v } else { Vec3::ZERO };
+    Surface {
+        diffuse: Vec3::ONE,
+        specular: fin(m.specular),
+        ambient: fin(m.ambient),
+        shininess: if m.shininess.is_finite() {
+            m.shininess.clamp(1.0, 2000.0)
+        } else {
+            1.0
+        },
+        pbr: None,
+    }
+}
+
+/// The reflection constants of material `m` in the `pbr` mode: [`material_surface`] with
+/// the metallic-roughness parameters (factors clamped to [0, 1], 1 if not finite, as glTF's
+/// defaults). A material not authored that way (an OBJ forced into `pbr`) is a dielectric
+/// whose roughness matches its Phong exponent (`n = 2 / α² - 2`, the inverse of
+/// `phong_from_pbr` in the glTF loader).
+#[must_use]
+pub fn pbr_surface(m: &Material) -> Surface {
+    let unit = |v: f32| {
+        if v.is_finite() {
+            v.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    };
+    let params = match &m.pbr {
+        Some(p) => {
+            let (f0, f90) = p.dielectric_fresnel();
+            PbrParams {
+                metallic: unit(m.metallic),
+                roughness: unit(m.roughness),
+                f0,
+                f90,
+            }
+        }
+        None => {
+            let n = material_surface(m).shininess;
+            PbrParams {
+                metallic: if m.metallic.is_finite() {
+                    m.metallic.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                },
+                roughness: (2.0 / (n + 2.0)).sqrt().sqrt(),
+                ..PbrParams::default()
+            }
+        }
+    };
+    Surface {
+        pbr: Some(params),
+        ..material_surface(m)
+    }
+}
+
+/// The world-space bounding sphere of an instance (centre, radius; radius scaled by the
+/// world matrix's largest axis scale).
+pub(crate) fn world_sphere(world: Mat4, center: Vec3, radius: f32) -> (Vec3, f32) {
+    let s = world
+        .x_axis
+        .truncate()
+        .length()
+        .max(world.y_axis.truncate().length())
+        .max(world.z_axis.truncate().length());
+    (world.transform_point3(center), radius * s)
+}
+
+/// Appends to `active` the sources of `lights` that can reach the sphere, returning the
+/// range; counts the others in `stats`.
+pub(crate) fn active_lights(
+    lights: &LightSet,
+    center: Vec3,
+    radius: f32,
+    active: &mut Vec<u32>,
+    stats: &mut Stats,
+) -> (u32, u32) {
+    let start = active.len() as u32;
+    for (i, s) in lights.sources.iter().enumerate() {
+        if s.reaches(center, radius) {
+            active.push(i as u32);
+        } else {
+            stats.lights_skipped += 1;
+        }
+    }
+    (start, active.len() as u32)
+}
+
+/// How an instance is drawn and what its material gives the shaders: decided here once,
+/// for the renderer ([`resolve`]) and the f64 reference ([`crate::quality`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Policy {
+    pub mode: Shading,
+    /// The mode reads every map: textured, the tangent-normals view (which shows what the
+    /// normal and bump maps do) and `pbr`. The other per-pixel modes read the gloss map
+    /// only.
+    pub textured: bool,
+    pub pbr: bool,
+    /// The base colour (RGBA, linear): the material's, its glTF base colour in `pbr`, white
+    /// for the UV checker (whose grid replaces it).
+    pub base: Vec4,
+    pub surface: Surface,
+    /// `KHR_materials_unlit` in `pbr`.
+    pub unlit: bool,
+}
+
+impl Policy {
+    /// The policy for material `m` drawn with style `style` when the settings force
+    /// `shading` (or not), `mapped` telling whether any map of the textured mode is usable
+    /// on the mesh: a forced mode wins, then the style; glTF materials are drawn as
+    /// authored (`pbr`), a model with usable textures textured, anything else Phong.
+    pub fn new(shading: Option<Shading>, style: Style, m: &Material, mapped: bool) -> Self {
+        let mode = match (shading, style) {
+            (Some(m), _) => m,
+            (None, Style::Wireframe) => Shading::Wireframe,
+            (None, Style::Flat) => Shading::Flat,
+            (None, Style::Inherit) if m.pbr.is_some() => Shading::Pbr,
+            (None, Style::Inherit) if mapped => Shading::Textured,
+            (None, Style::Inherit) => Shading::Phong,
+        };
+        let pbr = mode == Shading::Pbr;
+        let finite_or_white = |c: Vec4| if c.is_finite() { c } else { Vec4::ONE };
+        Self {
+            mode,
+            textured: matches!(
+                mode,
+                Shading::Textured | Shading::TangentNormals | Shading::Pbr
+            ),
+            pbr,
+            base: match mode {
+                Shading::UvChecker => Vec4::ONE,
+                Shading::Pbr => finite_or_white(m.base_color),
+                _ => finite_or_white(phong_base(m)),
+            },
+            surface: if pbr {
+                pbr_surface(m)
+            } else {
+                material_surface(m)
+            },
+            unlit: pbr && m.pbr.is_some_and(|p| p.unlit),
+        }
+    }
+}
+
+/// The Phong modes' `K_d` and alpha of material `m`: its base colour, times
+/// `1 - metallic` for a metallic-roughness material (metals have no diffuse colour; see
+/// `phong_from_pbr` in the glTF loader). With a metallic-roughness texture, which the Phong
+/// modes do not read, the factor is only an upper bound, and the material is taken as a
+/// dielectric rather than blackening, say, a helmet whose texture marks a few parts metal.
+#[must_use]
+pub fn phong_base(m: &Material) -> Vec4 {
+    match m.pbr {
+        Some(_) if m.metallic_roughness_texture.is_none() && m.metallic.is_finite() => {
+            let k = 1.0 - m.metallic.clamp(0.0, 1.0);
+            (m.base_color.truncate() * k).extend(m.base_color.w)
+        }
+        _ => m.base_color,
+    }
+}
+
+/// The light material `m` emits: `emissive` times `KHR_materials_emissive_strength`,
+/// non-finite or negative channels made zero.
+#[must_use]
+pub fn material_emission(m: &Material) -> Vec3 {
+    finite_colour(m.emissive * m.pbr.map_or(1.0, |p| p.emissive_strength))
+}
+
+/// How one instance is drawn under `settings`: its material parameters, mode and state.
+pub(crate) struct Resolved {
+    pub params: DrawParams,
+    pub mode: Shading,
+    pub blend: bool,
+    pub state: DrawState,
+}
+
+/// A slot as one draw reads it: the material's own texture or the settings' override.
+struct Found {
+    source: TextureSource,
+    uv_set: u32,
+    transform: UvTransform,
+    sampler: Sampler,
+    scale: f32,
+}
+
+/// What draws of material `m` on mesh `tri` read in `slot`: the settings' override if there
+/// is one (an image or a 2D pattern needs the mesh to have its UV set; a solid texture needs
+/// nothing), else the material's texture if it exists and the mesh has its UV set.
+fn found(
+    scene: &PreparedScene,
+    settings: &Settings,
+    tri: &TriMesh,
+    m: &Material,
+    slot: Slot,
+) -> Option<Found> {
+    let own = m.slot(slot);
+    match settings.slots.get(slot) {
+        Some(SlotOverride::Off) => None,
+        Some(SlotOverride::Source {
+            source,
+            uv_set,
+            transform,
+            sampler,
+            scale,
+        }) => {
+            if source.needs_uv() {
+                tri.uv_set(*uv_set)?;
+            }
+            Some(Found {
+                source: source.clone(),
+                uv_set: *uv_set,
+                transform: *transform,
+                sampler: sampler.or(own.map(|t| t.sampler)).unwrap_or_default(),
+                scale: *scale,
+            })
+        }
+        None => {
+            let t = own?;
+            tri.uv_set(t.uv_set)?;
+            let texture = scene.scene().textures.get(t.texture)?;
+            Some(Found {
+                source: TextureSource::Image(Arc::clone(texture)),
+                uv_set: t.uv_set,
+                transform: t.transform,
+                sampler: t.sampler,
+                scale: t.scale,
+            })
+        }
+    }
+}
+
+/// Resolves an instance's material (with the settings' overrides) and mode.
+pub(crate) fn resolve(
+    scene: &PreparedScene,
+    settings: &Settings,
+    inst: &PreparedInstance,
+) -> Resolved {
+    let tri = &scene.meshes[inst.mesh].tri;
+    let m = settings
+        .materials
+        .as_ref()
+        .and_then(|ms| ms.get(inst.material))
+        .unwrap_or(&scene.materials[inst.material]);
+    let slot = |s: Slot| found(scene, settings, tri, m, s);
+    let base_map = slot(Slot::BaseColor);
+    let normal_map = slot(Slot::Normal);
+    let occlusion = slot(Slot::Occlusion);
+    let emissive = material_emission(m);
+    let emissive_map = slot(Slot::Emissive).filter(|_| emissive != Vec3::ZERO);
+    let bump = slot(Slot::Bump);
+    let mapped = base_map.is_some()
+        || normal_map.is_some()
+        || occlusion.is_some()
+        || emissive_map.is_some()
+        || bump.is_some();
+    let policy = Policy::new(settings.shading, inst.style, m, mapped);
+    let mode = policy.mode;
+    let view = mode.tex_view().unwrap_or_default();
+    let debug =
+        matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv) || view != TexView::Lit;
+    let blend = m.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
+    let double_sided = m.double_sided || settings.double_sided;
+    let mut state = DrawState {
+        cull: if double_sided { Cull::None } else { Cull::Back },
+        depth_write: !blend,
+        blend: if blend { Blend::Alpha } else { Blend::Replace },
+        flip_winding: inst.mirrored,
+        subpixel_bits: settings.subpixel_bits,
+        ..DrawState::opaque()
+    };
+    if settings.output == Output::Overdraw {
+        state = DrawState {
+            depth_test: DepthTest::Always,
+            depth_write: false,
+            blend: Blend::Add,
+            ..state
+        };
+    }
+    let per_pixel = mode.per_pixel();
+    let Policy { textured, pbr, .. } = policy;
+    let base_map = match mode {
+        Shading::UvChecker => tri.uv_set(0).map(|_| Found {
+            source: TextureSource::Procedural(Arc::clone(uv_grid())),
+            uv_set: 0,
+            transform: UvTransform::IDENTITY,
+            sampler: Sampler::default(),
+            scale: 1.0,
+        }),
+        _ => base_map.filter(|_| textured),
+    };
+    let mut layout = LitLayout {
+        color: tri.colors.is_some(),
+        ..LitLayout::default()
+    };
+    // Each slot the mode samples gets the UV channel of its (set, transform), or the object
+    // position for a solid texture.
+    let mut params_of = |found: Option<Found>, on: bool| {
+        let f = found.filter(|_| on)?;
+        let uv_at = if f.source.needs_uv() {
+            layout.channel(f.uv_set, f.transform)?
+        } else {
+            layout.object = true;
+            0
+        };
+        let mut sampler = f.sampler;
+        if let Some(filter) = settings.filter {
+            sampler.filter = filter;
+        }
+        Some(SlotParams {
+            source: f.source,
+            sampler,
+            uv_at,
+            scale: f.scale,
+        })
+    };
+    let mut base_map = params_of(base_map, true);
+    let mut gloss = params_of(
+        slot(Slot::Specular),
+        per_pixel && view == TexView::Lit && !pbr,
+    );
+    let mut metal_rough = params_of(slot(Slot::MetallicRoughness), pbr);
+    let mut normal_map = params_of(normal_map, textured);
+    let mut occlusion = params_of(occlusion, textured && view == TexView::Lit);
+    let mut emissive_map = params_of(emissive_map, textured && view == TexView::Lit);
+    let mut bump = params_of(bump, textured);
+    // The object position goes after every UV channel: its index is known only now.
+    if let Some(k) = layout.object_at() {
+        for p in [
+            &mut base_map,
+            &mut gloss,
+            &mut normal_map,
+            &mut occlusion,
+            &mut emissive_map,
+            &mut bump,
+            &mut metal_rough,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            if !p.source.needs_uv() {
+                p.uv_at = k as u8;
+            }
+        }
+    }
+    // Without tangents the tangent-normals view takes its frame from the screen-space
+    // derivatives of the position and a UV set (as glTF viewers do for such meshes).
+    // So does a normal map on a mesh without tangents (an image put in the normal slot of
+    // an OBJ, say), per pixel.
+    let uv_frame = view == TexView::TangentNormals && tri.tangents.is_none();
+    let derived_frame = normal_map.is_some() && tri.tangents.is_none();
+    layout.position_derivatives = bump.is_some() || uv_frame || derived_frame;
+    layout.tangent = tri.tangents.is_some()
+        && (normal_map.is_some() || matches!(view, TexView::Tangents | TexView::TangentNormals));
+    // The texture the mip-level, texel-density and anisotropy views measure: the first
+    // image the draw reads, else UV set 0 against a nominal 1024 x 1024 image.
+    let measure = match view {
+        TexView::MipLevel
+        | TexView::TexelDensity
+        | TexView::Anisotropy
+        | TexView::TangentNormals
+            if view != TexView::TangentNormals || uv_frame =>
+        {
+            let slots = [
+                Slot::BaseColor,
+                Slot::Specular,
+                Slot::Normal,
+                Slot::Occlusion,
+            ]
+            .into_iter()
+            .chain([Slot::Emissive, Slot::Bump]);
+            let image = slots.filter_map(slot).find_map(|f| match &f.source {
+                TextureSource::Image(t) => Some((f.uv_set, f.transform, [t.width, t.height])),
+                TextureSource::Procedural(_) => None,
+            });
+            let (set, transform, size) =
+                image.unwrap_or((0, UvTransform::IDENTITY, [NOMINAL_SIZE; 2]));
+            tri.uv_set(set)
+                .and_then(|_| layout.channel(set, transform))
+                .map(|at| (at, size.map(|s| s as f32)))
+        }
+        _ => None,
+    };
+    let mapped = [
+        &base_map,
+        &gloss,
+        &normal_map,
+        &occlusion,
+        &emissive_map,
+        &bump,
+        &metal_rough,
+    ]
+    .iter()
+    .any(|m| m.is_some());
+    let params = DrawParams {
+        base: policy.base,
+        surface: policy.surface,
+        emissive: if debug { Vec3::ZERO } else { emissive },
+        base_map,
+        gloss,
+        normal_map,
+        occlusion,
+        emissive_map,
+        bump,
+        metal_rough,
+        unlit: policy.unlit,
+        view,
+        measure,
+        layout,
+        mapped,
+        blinn: matches!(
+            mode,
+            Shading::Blinn | Shading::Textured | Shading::UvChecker
+        ) || (settings.vertex_lighting.blinn
+            && matches!(mode, Shading::Gouraud | Shading::Flat)),
+        provoking_vertex: settings.vertex_lighting.provoking_vertex && mode == Shading::Flat,
+        alpha: if debug {
+            AlphaMode::Opaque
+        } else {
+            m.alpha_mode
+        },
+        double_sided,
+        lights: (0, 0),
+    };
+    Resolved {
+        params,
+        mode,
+        blend,
+        state,
+    }
+}
+
+/// The image size the mip-level, texel-density and anisotropy views assume for a draw that
+/// reads no image.
+pub const NOMINAL_SIZE: u32 = 1024;
+
+/// The UV test grid of the UV-checker mode, prepared once.
+fn uv_grid() -> &'static Arc<ProceduralTexture> {
+    static GRID: std::sync::OnceLock<Arc<ProceduralTexture>> = std::sync::OnceLock::new();
+    GRID.get_or_init(|| Arc::new(ProceduralTexture::new(Procedural::grid(8))))
+}
+
+/// A colour with every non-finite or negative channel made zero.
+fn finite_colour(c: Vec3) -> Vec3 {
+    let f = |v: f32| if v.is_finite() { v.max(0.0) } else { 0.0 };
+    Vec3::new(f(c.x), f(c.y), f(c.z))
+}
+
+impl FrameInst {
+    /// Instance `k` of mesh `mesh` placed by `world`, resolved as `r`; no parameters,
+    /// vertex colours or distance yet.
+    fn new(k: usize, mesh: usize, world: Mat4, view: Mat4, vp: Mat4, r: &Resolved) -> Self {
+        Self {
+            inst: k as u32,
+            mesh: mesh as u32,
+            mvp: vp * world,
+            world,
+            model_view: view * world,
+            state: r.state,
+            param: 0,
+            mode: r.mode,
+            blend: r.blend,
+            distance: 0.0,
+            tris: true,
+            strokes: false,
+        }
+    }
+}
+
+/// Fills `fd` for one frame: lights, visible instances and their parameters. Counts
+/// objects culled by their bounding sphere into `stats`.
+pub(super) fn set_up(
+    fd: &mut FrameData,
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: Mat4,
+    vp: Mat4,
+    eye: Vec3,
+    stats: &mut Stats,
+) {
+    frame_lights(
+        scene.lights(),
+        &settings.lights,
+        view.inverse(),
+        &mut fd.lights,
+    );
+    fd.fog = settings.fog.filter(Fog::is_valid);
+    fd.point_size = settings.point_size;
+    fd.line_width = settings.line_width;
+    let shadows = settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
+    fd.casters.clear();
+    fd.insts.clear();
+    fd.params.clear();
+    fd.active.clear();
+    let planes = frustum_planes(vp);
+    for (k, inst) in scene.instances.iter().enumerate() {
+        let tri = &scene.meshes[inst.mesh].tri;
+        let world = match (inst.ground, &settings.ground) {
+            (true, Some(g)) => scene.ground_world(g),
+            (true, None) => continue,
+            (false, _) if !inst.drawable => continue,
+            (false, _) => inst.world,
+        };
+        if tri.radius < 0.0 || !sphere_visible(&planes, world, tri.center, tri.radius) {
+            if shadows && tri.radius >= 0.0 {
+                let r = resolve(scene, settings, inst);
+                // Drawn only into shadow maps: no parameters, no varyings.
+                fd.casters
+                    .push(FrameInst::new(k, inst.mesh, world, view, vp, &r));
+            }
+            stats.objects_culled += 1;
+            stats.culled_frustum += tri.triangles.len() as u64;
+            stats.triangles_in += tri.triangles.len() as u64;
+            continue;
+        }
+        let mut r = resolve(scene, settings, inst);
+        if let (true, Some(g)) = (inst.ground, &settings.ground) {
+            let c = if g.color.is_finite() {
+                g.color
+            } else {
+                Vec3::splat(0.5)
+            };
+            r.params.base = c.extend(1.0);
+        }
+        let (c, radius) = world_sphere(world, tri.center, tri.radius);
+        r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
+        for t in r.params.maps() {
+            let mipmapped = t.sampler.filter.mipmapped();
+            if let (true, TextureSource::Image(texture)) = (mipmapped, &t.source) {
+                // Built once (a no-op afterwards), in parallel, so no tile waits for it.
+                texture.prepare_mips();
+            }
+        }
+        let center = world.transform_point3(tri.center);
+        fd.insts.push(FrameInst {
+            param: fd.params.len() as u32,
+            distance: (center - eye).length(),
+            tris: !tri.triangles.is_empty(),
+            strokes: !tri.points.is_empty() || !tri.lines.is_empty(),
+            ..FrameInst::new(k, inst.mesh, world, view, vp, &r)
+        });
+        fd.params.push(r.params);
+    }
+    fd.order.clear();
+    fd.order.extend(
+        fd.insts
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| i.blend && settings.output == Output::Shaded)
+            .map(|(k, _)| k as u32),
+    );
+    // The environment only when something reads it (a `pbr` draw, or the background): the
+    // built-in studio is prefiltered on first use (about 0.2 s), which a Phong render of
+    // an OBJ must not pay.
+    let wanted = settings.env_background.is_some() && settings.output == Output::Shaded
+        || fd
+            .params
+            .iter()
+            .any(|p| p.surface.pbr.is_some() && !p.unlit);
+    fd.lights.env = if wanted {
+        settings.environment.view()
+    } else {
+        None
+    };
+    let insts = &fd.insts;
+    // Back to front; unstable sort allocates nothing, ties broken by instance order.
+    fd.order.sort_unstable_by(|&a, &b| {
+        let (a, b) = (&insts[a as usize], &insts[b as usize]);
+        b.distance.total_cmp(&a.distance).then(a.inst.cmp(&b.inst))
+    });
+}
+
+/// Whether a model-space bounding sphere may be inside the frustum. The planes are taken to
+/// model space (p' = M^T p), where the sphere is exact, so shear and non-uniform scale in the
+/// world matrix cannot make a visible object disappear.
+fn sphere_visible(planes: &[Vec4; 6], world: Mat4, center: Vec3, radius: f32) -> bool {
+    let mt = world.transpose();
+    planes.iter().all(|p| {
+        let q = mt * *p;
+        q.truncate().dot(center) + q.w >= -radius * q.truncate().length()
+    })
+}
+
+/// The six frustum planes (a, b, c, d) with a·x + d >= 0 inside, normalised, from a
+/// view-projection matrix in this crate's clip convention (0 <= z <= w).
+fn frustum_planes(vp: Mat4) -> [Vec4; 6] {
+    let (r0, r1, r2, r3) = (vp.row(0), vp.row(1), vp.row(2), vp.row(3));
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 - r2, r2].map(|p| {
+        let l = p.truncate().length();
+        if l > 0.0 && l.is_finite() {
+            p / l
+        } else {
+            Vec4::new(0.0, 0.0, 0.0, 1.0)
+        }
+    })
+}

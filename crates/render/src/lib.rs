@@ -1,0 +1,226 @@
+//! The renderer's front end: it turns a [`Scene`] into draws for the
+//! rasterizer, with shaders from [`crate::shade`].
+//!
+//! ```text
+//! Scene --PreparedScene::new--> PreparedScene --Renderer::render(Settings, View)--> Target
+//!       (triangulation, instance                (lights, culling, vertex stage,      |
+//!        constants, materials)                   passes, supersampling)             v
+//!                                                            Renderer::write_rgba8 -> sRGB8
+//! ```
+//!
+//! - [`PreparedScene`]: camera-independent work, done once; owns its scene.
+//! - [`Settings`] (rarely change: shading, lights, materials, quality) and [`View`] (camera
+//!   and size, every frame).
+//! - [`Renderer`]: owns the target and all scratch memory; a frame at an unchanged size
+//!   allocates nothing; can be stopped between tiles; supersamples by whole jittered passes;
+//!   records per-stage times, counters and per-tile cost; picks points from its depth.
+//! - [`probe`]: one pixel re-shaded by the same lighting code, each light's share.
+//! - [`render`]: a one-shot frame for the command line and tests.
+//!
+//! This module never loops over pixels itself: the rasterizer calls the shaders.
+
+// The crates below this one, under the module names the code uses (`crate::scene::...`).
+use realist_mesh as mesh;
+use realist_raster as raster;
+use realist_scene as scene;
+use realist_shade as shade;
+use realist_simd as simd;
+use realist_texture as texture;
+
+use glam::Vec4;
+
+use crate::raster::{Framebuffer, Stats, Target};
+use crate::scene::{Camera, Scene};
+use crate::shade::Shading;
+
+mod frame;
+mod passes;
+mod pool;
+mod prepare;
+mod probe;
+mod renderer;
+mod settings;
+mod shadows;
+mod vertex;
+
+pub use frame::Policy;
+pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};
+pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
+pub use probe::{probe, LightShare, Probe};
+pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
+pub use settings::{Environment, Ground, Lights, Output, Settings, ToneMap, VertexLighting, View};
+
+/// Everything about a one-shot frame: [`Settings`] and [`View`] in one struct, the camera
+/// optional ([`default_camera`] when absent).
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    pub width: u32,
+    pub height: u32,
+    /// Forces one mode on every instance; `None` = each instance's style, else Phong.
+    pub shading: Option<Shading>,
+    /// `None` = [`default_camera`].
+    pub camera: Option<Camera>,
+    /// Per-slot replacements of the materials' textures (see [`Settings::slots`]).
+    pub slots: crate::scene::SlotOverrides,
+    /// Linear RGBA.
+    pub background: Vec4,
+    /// Draw every material double-sided: no back-face culling, back faces lit from behind.
+    pub double_sided: bool,
+    /// Sub-pixel bits of the vertex snap (see [`crate::raster::DrawState::subpixel_bits`]);
+    /// the default is the rasterizer's full [`crate::raster::SUBPIXEL_BITS`].
+    pub subpixel_bits: u8,
+    /// Multisampling: 1 or 4 samples per pixel (see [`Settings::msaa`]).
+    pub msaa: u32,
+    /// The lights (see [`Settings::lights`]).
+    pub lights: Lights,
+    /// See [`Settings::fog`].
+    pub fog: Option<crate::shade::Fog>,
+    /// See [`Settings::exposure`].
+    pub exposure: f32,
+    /// See [`Settings::environment`].
+    pub environment: Environment,
+    /// See [`Settings::tone`].
+    pub tone: ToneMap,
+    /// See [`Settings::point_size`].
+    pub point_size: f32,
+    /// See [`Settings::line_width`].
+    pub line_width: f32,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        let s = Settings::default();
+        Self {
+            width: 1280,
+            height: 720,
+            shading: None,
+            camera: None,
+            slots: crate::scene::SlotOverrides::default(),
+            background: s.background,
+            double_sided: false,
+            subpixel_bits: s.subpixel_bits,
+            msaa: s.msaa,
+            lights: Lights::Auto,
+            fog: None,
+            exposure: 0.0,
+            environment: Environment::Auto,
+            tone: ToneMap::Clamp,
+            point_size: s.point_size,
+            line_width: s.line_width,
+        }
+    }
+}
+
+impl RenderOptions {
+    /// The settings part.
+    #[must_use]
+    pub fn settings(&self) -> Settings {
+        Settings {
+            shading: self.shading,
+            background: self.background,
+            double_sided: self.double_sided,
+            subpixel_bits: self.subpixel_bits,
+            slots: self.slots.clone(),
+            msaa: self.msaa,
+            lights: self.lights.clone(),
+            fog: self.fog,
+            exposure: self.exposure,
+            environment: self.environment.clone(),
+            tone: self.tone,
+            point_size: self.point_size,
+            line_width: self.line_width,
+            ..Settings::default()
+        }
+    }
+
+    /// The view part, with [`default_camera`] for `scene` if no camera is set.
+    #[must_use]
+    pub fn view(&self, scene: &Scene) -> View {
+        let (width, height) = (self.width.max(1), self.height.max(1));
+        let camera = self
+            .camera
+            .clone()
+            .unwrap_or_else(|| default_camera(scene, width as f32 / height as f32));
+        View {
+            camera,
+            width,
+            height,
+        }
+    }
+}
+
+/// A rendered frame, still in the rasterizer's tiled form.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub target: Target,
+    pub stats: Stats,
+    /// The camera actually used.
+    pub camera: Camera,
+}
+
+impl Frame {
+    /// The row-major linear-light image.
+    #[must_use]
+    pub fn image(&self) -> Framebuffer {
+        self.target.resolve()
+    }
+
+    /// 8-bit sRGB RGB, row-major, ready for a PNG.
+    #[must_use]
+    pub fn srgb8(&self) -> Vec<u8> {
+        self.target.to_srgb8()
+    }
+}
+
+/// Renders one frame of `scene` on the current rayon pool (allocating its memory; a viewer
+/// keeps a [`Renderer`] instead).
+#[must_use]
+pub fn render(scene: &PreparedScene, opts: &RenderOptions) -> Frame {
+    let view = opts.view(scene.scene());
+    let mut r = Renderer::new();
+    let stats = r.render(scene, &opts.settings(), &view).stats;
+    Frame {
+        target: r.take_target().expect("a frame was rendered"),
+        stats,
+        camera: view.camera,
+    }
+}
+
+/// The default camera: the scene's bounding box framed from a three-quarter view.
+#[must_use]
+pub fn default_camera(scene: &Scene, aspect: f32) -> Camera {
+    match scene.bounds() {
+        Some((lo, hi)) => Camera::frame_box(lo, hi, aspect, 35.0, 25.0),
+        None => Camera::default(),
+    }
+}
+
+/// The overdraw view's colour for `count` fragments (linear RGBA): black for none, then
+/// blue (1), cyan (2), green (3), yellow (4), red (6), magenta (10) and white from 16 on,
+/// interpolated in between.
+#[must_use]
+pub fn overdraw_color(count: f32) -> Vec4 {
+    const STOPS: [(f32, [f32; 3]); 8] = [
+        (0.0, [0.0, 0.0, 0.0]),
+        (1.0, [0.02, 0.06, 0.6]),
+        (2.0, [0.0, 0.45, 0.55]),
+        (3.0, [0.05, 0.6, 0.05]),
+        (4.0, [0.8, 0.75, 0.0]),
+        (6.0, [0.85, 0.05, 0.0]),
+        (10.0, [0.7, 0.0, 0.7]),
+        (16.0, [1.0, 1.0, 1.0]),
+    ];
+    let c = if count.is_finite() {
+        count.max(0.0)
+    } else {
+        0.0
+    };
+    let k = STOPS.iter().position(|s| s.0 > c).unwrap_or(STOPS.len());
+    if k == STOPS.len() {
+        return Vec4::ONE;
+    }
+    let (a, b) = (STOPS[k - 1], STOPS[k]);
+    let t = (c - a.0) / (b.0 - a.0);
+    let lerp = |i: usize| a.1[i] + (b.1[i] - a.1[i]) * t;
+    Vec4::new(lerp(0), lerp(1), lerp(2), 1.0)
+}

@@ -1,0 +1,185 @@
+//! The material editor: each material's Kd (diffuse) and alpha, Ks (specular) and the Phong
+//! exponent n (logarithmic, 1..2000), Ka (ambient factor), Ke (emission), alpha mode
+//! (opaque, mask with its cutoff, blend) and sidedness, edited as the renderer's material
+//! overrides ([`crate::render::Settings::materials`]) so the frame follows; "restore the
+//! file's materials" drops them.
+
+use super::edit;
+use crate::app::ViewerApp;
+use crate::scene::{AlphaMode, Material};
+use eframe::egui;
+
+/// The alpha modes by name, in the order the editor lists them.
+const MODES: [&str; 3] = ["opaque", "mask", "blend"];
+
+fn mode_name(m: AlphaMode) -> &'static str {
+    match m {
+        AlphaMode::Opaque => MODES[0],
+        AlphaMode::Mask(_) => MODES[1],
+        AlphaMode::Blend => MODES[2],
+    }
+}
+
+/// The glTF default alpha cutoff.
+const DEFAULT_CUTOFF: f32 = 0.5;
+
+/// The material editor section.
+pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+    let scene_materials = &app.scene.scene().materials;
+    if scene_materials.is_empty() {
+        ui.label("the model has no materials: every mesh uses the default material");
+        return;
+    }
+    let mut list: Vec<Material> = app
+        .settings
+        .materials
+        .clone()
+        .unwrap_or_else(|| scene_materials.clone());
+    let k = app.panels.material.min(list.len() - 1);
+    egui::ComboBox::from_id_salt("material")
+        .selected_text(format!("{k}: {}", list[k].name))
+        .show_ui(ui, |ui| {
+            for (i, m) in list.iter().enumerate().take(500) {
+                ui.selectable_value(&mut app.panels.material, i, format!("{i}: {}", m.name));
+            }
+        })
+        .response
+        .accessible_name("material");
+    let changed = editor(ui, &mut list[k]);
+    if changed {
+        app.settings.materials = Some(list);
+    }
+    if app.settings.materials.is_some() && ui.button("restore the file's materials").clicked() {
+        app.settings.materials = None;
+    }
+    if app.split.b.materials != app.settings.materials {
+        app.split.b.materials = app.settings.materials.clone();
+    }
+}
+
+/// The metallic-roughness rows of a glTF material (what the `pbr` mode reads; the Phong
+/// modes draw it with `Kd = base (1 - metallic)`); true if one changed.
+fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
+    let mut changed = false;
+    ui.label("metallic");
+    changed |= edit::slider(ui, &mut m.metallic, 0.0..=1.0, false, "material metallic");
+    ui.end_row();
+    ui.label("roughness")
+        .on_hover_text("perceptual: the GGX α is its square");
+    changed |= edit::slider(ui, &mut m.roughness, 0.0..=1.0, false, "material roughness");
+    ui.end_row();
+    let Some(p) = &mut m.pbr else {
+        return changed;
+    };
+    ui.label("index of refraction").on_hover_text(
+        "KHR_materials_ior: the dielectric's F0 = ((ior - 1)/(ior + 1))², 0.04 at 1.5",
+    );
+    changed |= edit::drag(ui, &mut p.ior, 1.0..=5.0, 0.01, "material ior");
+    ui.end_row();
+    ui.label("specular")
+        .on_hover_text("KHR_materials_specular: F90 of the dielectric lobe and a factor on its F0");
+    changed |= edit::slider(ui, &mut p.specular, 0.0..=1.0, false, "material specular");
+    ui.end_row();
+    ui.label("specular colour");
+    changed |= edit::colour(ui, &mut p.specular_color, "material specular colour");
+    ui.end_row();
+    ui.label("emissive strength")
+        .on_hover_text("KHR_materials_emissive_strength: multiplies Ke");
+    changed |= edit::drag(
+        ui,
+        &mut p.emissive_strength,
+        0.0..=1000.0,
+        0.05,
+        "material emissive strength",
+    );
+    ui.end_row();
+    ui.label("unlit");
+    changed |= ui
+        .checkbox(
+            &mut p.unlit,
+            "the base colour as it is (KHR_materials_unlit)",
+        )
+        .changed();
+    ui.end_row();
+    changed
+}
+
+/// The controls of one material; true if it changed.
+fn editor(ui: &mut egui::Ui, m: &mut Material) -> bool {
+    let mut changed = false;
+    egui::Grid::new("material-grid")
+        .num_columns(2)
+        .show(ui, |ui| {
+            ui.label(if m.pbr.is_some() {
+                "base colour (Kd)"
+            } else {
+                "Kd (diffuse)"
+            });
+            let mut kd = m.base_color.truncate();
+            if edit::colour(ui, &mut kd, "material Kd") {
+                m.base_color = kd.extend(m.base_color.w);
+                changed = true;
+            }
+            ui.end_row();
+            ui.label("alpha");
+            changed |= edit::slider(ui, &mut m.base_color.w, 0.0..=1.0, false, "material alpha");
+            ui.end_row();
+            if m.pbr.is_some() {
+                changed |= pbr_rows(ui, m);
+            }
+            ui.label("Ks (specular)");
+            changed |= edit::colour(ui, &mut m.specular, "material Ks");
+            ui.end_row();
+            ui.label("shininess n");
+            changed |= edit::slider(
+                ui,
+                &mut m.shininess,
+                1.0..=2000.0,
+                true,
+                "material shininess",
+            );
+            ui.end_row();
+            ui.label("Ka (ambient factor)");
+            changed |= edit::colour(ui, &mut m.ambient, "material Ka");
+            ui.end_row();
+            ui.label("Ke (emission)");
+            changed |= edit::colour(ui, &mut m.emissive, "material Ke");
+            ui.end_row();
+            ui.label("alpha mode");
+            ui.horizontal(|ui| {
+                let now = mode_name(m.alpha_mode);
+                for name in MODES {
+                    let r = ui
+                        .selectable_label(now == name, name)
+                        .accessible_name(format!("alpha mode {name}"));
+                    if r.clicked() && now != name {
+                        m.alpha_mode = match name {
+                            "mask" => AlphaMode::Mask(DEFAULT_CUTOFF),
+                            "blend" => AlphaMode::Blend,
+                            _ => AlphaMode::Opaque,
+                        };
+                        changed = true;
+                    }
+                }
+            });
+            ui.end_row();
+            if let AlphaMode::Mask(cutoff) = &mut m.alpha_mode {
+                ui.label("alpha cutoff");
+                changed |= edit::slider(ui, cutoff, 0.0..=1.0, false, "material alpha cutoff");
+                ui.end_row();
+            }
+            ui.label("double-sided");
+            changed |= ui
+                .checkbox(&mut m.double_sided, "lit on both sides, not culled")
+                .changed();
+            ui.end_row();
+            for slot in crate::scene::Slot::ALL {
+                if let Some(t) = m.slot(slot) {
+                    ui.label(format!("{} map", slot.name()));
+                    ui.label(t.describe());
+                    ui.end_row();
+                }
+            }
+        });
+    changed
+}

@@ -1,0 +1,219 @@
+//! Screenshots: F12 saves the frame on screen at the window's size; the screenshot window
+//! renders the current view offscreen at a chosen size (e.g. 3840x2160) and anti-aliasing,
+//! on a thread of its own, and saves it as PNG.
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+use eframe::egui;
+
+use crate::app::ViewerApp;
+use crate::render::{PreparedScene, Renderer, Settings, View};
+
+/// Largest side of an offscreen screenshot: 8192 x 8192 needs about 1.3 GB of tiles, and
+/// as much again to average supersampling passes.
+const MAX_SIDE: u32 = 8192;
+
+/// Where an offscreen render leaves its file (or error); `None` while it runs.
+type Outcome = Arc<Mutex<Option<Result<PathBuf, String>>>>;
+
+/// The screenshot window's state.
+pub struct Screenshot {
+    pub open: bool,
+    pub width: u32,
+    pub height: u32,
+    pub samples: u32,
+    pub folder: String,
+    /// The outcome of the running (or last) offscreen render.
+    result: Option<Outcome>,
+}
+
+impl Default for Screenshot {
+    fn default() -> Self {
+        Self {
+            open: false,
+            width: 3840,
+            height: 2160,
+            samples: 2,
+            folder: ".".into(),
+            result: None,
+        }
+    }
+}
+
+/// A file name that does not exist yet in `folder`.
+fn file_name(folder: &str, scene: &str, w: u32, h: u32) -> PathBuf {
+    let stem: String = scene
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let mut k = 0;
+    loop {
+        let suffix = if k == 0 {
+            String::new()
+        } else {
+            format!("-{k}")
+        };
+        let p = PathBuf::from(folder).join(format!("realist-{stem}-{w}x{h}-{secs}{suffix}.png"));
+        if !p.exists() {
+            return p;
+        }
+        k += 1;
+    }
+}
+
+fn save_png(path: &std::path::Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), String> {
+    let img = image::RgbaImage::from_raw(w, h, rgba).ok_or("image size mismatch")?;
+    img.save(path)
+        .map_err(|e| format!("{}: could not write: {e}", path.display()))
+}
+
+/// F12: the frame on screen, as it is, at the window's size.
+pub fn quick(app: &mut ViewerApp) {
+    let Some(s) = &app.shown else {
+        app.notice = Some("no frame to save yet".into());
+        return;
+    };
+    let [w, h] = s.a.size;
+    let path = file_name(
+        &app.panels.screenshot.folder,
+        &app.scene_name(),
+        w as u32,
+        h as u32,
+    );
+    let rgba =
+        s.a.pixels
+            .iter()
+            .flat_map(|c| [c.r(), c.g(), c.b(), 255])
+            .collect();
+    app.notice = Some(match save_png(&path, w as u32, h as u32, rgba) {
+        Ok(()) => format!("saved {} ({})", path.display(), s.level.label()),
+        Err(e) => e,
+    });
+}
+
+/// Renders `view` offscreen and saves it.
+fn offscreen(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    path: &std::path::Path,
+) -> Result<(), String> {
+    let mut r = Renderer::new();
+    r.render(scene, settings, view);
+    let mut px = vec![[0u8; 4]; (view.width * view.height) as usize];
+    r.write_rgba8(&mut px);
+    save_png(path, view.width, view.height, px.into_flattened())
+}
+
+/// The screenshot window.
+pub fn window(app: &mut ViewerApp, ctx: &egui::Context) {
+    if !app.panels.screenshot.open {
+        return;
+    }
+    let mut open = true;
+    let mut start = false;
+    egui::Window::new("Screenshot")
+        .open(&mut open)
+        .show(ctx, |ui| {
+            let st = &mut app.panels.screenshot;
+            ui.horizontal(|ui| {
+                ui.add(
+                    egui::DragValue::new(&mut st.width)
+                        .range(16..=MAX_SIDE)
+                        .suffix(" px"),
+                );
+                ui.label("x");
+                ui.add(
+                    egui::DragValue::new(&mut st.height)
+                        .range(16..=MAX_SIDE)
+                        .suffix(" px"),
+                );
+            });
+            ui.horizontal(|ui| {
+                for (w, h) in [(1920, 1080), (2560, 1440), (3840, 2160)] {
+                    if ui.button(format!("{w}x{h}")).clicked() {
+                        (st.width, st.height) = (w, h);
+                    }
+                }
+                if ui.button("window").clicked() {
+                    [st.width, st.height] = app.viewport.size_px;
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("anti-aliasing");
+                for n in [1, 2, 4] {
+                    ui.selectable_value(
+                        &mut st.samples,
+                        n,
+                        if n == 1 {
+                            "off".into()
+                        } else {
+                            format!("{n}x{n}")
+                        },
+                    );
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("folder");
+                ui.text_edit_singleline(&mut st.folder);
+            });
+            let running = st
+                .result
+                .as_ref()
+                .is_some_and(|r| r.lock().is_ok_and(|g| g.is_none()));
+            if running {
+                ui.label("rendering...");
+            } else if ui.button("render and save").clicked() {
+                start = true;
+            }
+            if let Some(Some(r)) = st
+                .result
+                .as_ref()
+                .and_then(|r| r.lock().ok().map(|g| g.clone()))
+            {
+                match r {
+                    Ok(p) => ui.label(format!("saved {}", p.display())),
+                    Err(e) => ui.colored_label(egui::Color32::from_rgb(255, 110, 90), e),
+                };
+            }
+        });
+    app.panels.screenshot.open &= open;
+    if start {
+        let st = &app.panels.screenshot;
+        let (w, h) = (st.width.clamp(16, MAX_SIDE), st.height.clamp(16, MAX_SIDE));
+        let view = View {
+            camera: app.nav.camera(w as f32 / h as f32),
+            width: w,
+            height: h,
+        };
+        let settings = Settings {
+            samples: st.samples,
+            ..app.settings.clone()
+        };
+        let path = file_name(&st.folder, &app.scene_name(), w, h);
+        let (scene, slot, ctx) = (
+            Arc::clone(&app.scene),
+            Arc::new(Mutex::new(None)),
+            ctx.clone(),
+        );
+        let out = Arc::clone(&slot);
+        std::thread::spawn(move || {
+            let r = offscreen(&scene, &settings, &view, &path).map(|()| path);
+            if let Ok(mut g) = out.lock() {
+                *g = Some(r);
+            }
+            ctx.request_repaint();
+        });
+        app.panels.screenshot.result = Some(slot);
+    }
+}
