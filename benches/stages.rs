@@ -9,11 +9,12 @@ use glam::{Mat4, Vec3, Vec4};
 use realist::mesh::Mesh;
 use realist::quality::sphere::SphereSetup;
 use realist::raster::{
-    self, stages, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, Stats, Target,
+    self, stages, Batch, Colors, Cull, Draw, DrawState, FragmentShader, Stats, Target,
 };
 use realist::scene::{AlphaMode, Light};
+use realist::shade::stages::Program;
 use realist::shade::{DrawParams, LightSet, LitLayout, LitShader, Surface, TexView};
-use realist::simd::{Kernel, KernelKind, F8, V3};
+use realist::simd::{KernelKind, F8, V3};
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -88,21 +89,30 @@ fn lit_varyings(positions: &[Vec3], normals: &[Vec3]) -> Vec<f32> {
 }
 
 /// Lambert against a fixed light: the cost of the simplest lit shader.
-struct Lambert;
+struct Lambert(KernelKind);
+
+realist::simd::per_kernel! {
+    /// Lambert on the groups of a batch.
+    fn lambert<L>(b: &mut Batch) {
+        let l = V3::<L>::splat(Vec3::new(0.4, 0.8, 0.45).normalize());
+        for g in 0..b.len {
+            let v = &b.var[g];
+            let n = V3::<L>::new(v[3].get(), v[4].get(), v[5].get()).normalize_or_zero();
+            let d = n.dot(l).max(F8::ZERO);
+            b.out[g] = Colors::of(d, d, d, F8::ONE);
+        }
+    }
+}
 
 impl FragmentShader for Lambert {
-    #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        let l = V3::splat(Vec3::new(0.4, 0.8, 0.45).normalize());
-        let n = V3::new(f.var[3], f.var[4], f.var[5]).normalize_or_zero::<K>();
-        let d = n.dot::<K>(l).max(F8::ZERO);
-        *out = Colors {
-            r: d,
-            g: d,
-            b: d,
-            a: F8::ONE,
-        };
-        f.mask
+    fn defers(&self, _: u32) -> bool {
+        true
+    }
+    fn discards(&self, _: u32) -> bool {
+        false
+    }
+    fn shade(&self, b: &mut Batch) {
+        lambert::pick(self.0)(b);
     }
 }
 
@@ -183,23 +193,33 @@ fn benches(c: &mut Criterion) {
         Light::ambient(Vec3::splat(0.1)),
         Light::directional(-Vec3::new(0.5, 1.0, 0.8), Vec3::splat(0.9)),
     ]);
-    let blinn = LitShader {
-        draws: &params,
-        lights: &lights,
-        active: &[0],
-        eye: Vec3::new(0.0, 0.0, 4.0),
-        forward: -Vec3::Z,
-        fog: None,
-        lod_scale: 1.0,
-    };
     // One fill benchmark per kernel this machine has, with the simplest and the real shader.
     for kernel in KernelKind::available_kinds() {
         let name = kernel.name();
+        let mut program = Program::default();
+        program.build(&params[0], &[0], false, kernel);
+        let programs = [program];
+        let blinn = LitShader {
+            draws: &params,
+            programs: &programs,
+            lights: &lights,
+            active: &[0],
+            eye: Vec3::new(0.0, 0.0, 4.0),
+            forward: -Vec3::Z,
+            fog: None,
+            lod_scale: 1.0,
+        };
         c.bench_function(&format!("fill_shade/sphere lambert/{name}"), |b| {
             let mut target = Target::new(W, H, Vec4::ZERO);
             b.iter(|| {
                 target.clear(Vec4::ZERO);
-                stages::fill_all(&mut target, &batch, &Lambert, &mut Stats::default(), kernel);
+                stages::fill_all(
+                    &mut target,
+                    &batch,
+                    &Lambert(kernel),
+                    &mut Stats::default(),
+                    kernel,
+                );
             })
         });
         c.bench_function(&format!("fill_shade/sphere blinn-phong/{name}"), |b| {
@@ -214,7 +234,7 @@ fn benches(c: &mut Criterion) {
     raster::draw(
         &mut drawn,
         &[draw_of(&sphere, &clip)],
-        &Lambert,
+        &Lambert(KernelKind::best()),
         &mut Stats::default(),
     );
     c.bench_function("encode/srgb8 1280x720", |b| b.iter(|| drawn.to_srgb8()));

@@ -5,18 +5,21 @@
 use glam::{Vec2, Vec4};
 use proptest::prelude::*;
 use realist::raster::{
-    self, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Fragments, Stats, Target,
+    self, Batch, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Stats, Target,
 };
-use realist::simd::{Kernel, KernelKind};
+use realist::simd::KernelKind;
 
 /// Adds 1 to the red channel of every covered pixel.
 struct Count;
 
 impl FragmentShader for Count {
-    #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        *out = Colors::splat(Vec4::new(1.0, 0.0, 0.0, 0.0));
-        f.mask
+    fn discards(&self, _: u32) -> bool {
+        false
+    }
+    fn shade(&self, b: &mut Batch) {
+        for g in 0..b.len {
+            b.out[g] = Colors::splat(Vec4::new(1.0, 0.0, 0.0, 0.0));
+        }
     }
 }
 

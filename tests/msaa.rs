@@ -5,9 +5,9 @@
 
 use glam::{Vec2, Vec4};
 use realist::raster::{
-    self, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Fragments, Stats, Target,
+    self, Batch, Blend, Colors, Cull, DepthTest, Draw, DrawState, FragmentShader, Stats, Target,
 };
-use realist::simd::{Kernel, KernelKind};
+use realist::simd::KernelKind;
 
 /// Direct3D's standard 4-sample pattern in 1/16 pixel (the specification the target follows).
 const PATTERN: [[i64; 2]; 4] = [[-2, -6], [6, -2], [-6, 2], [2, 6]];
@@ -16,11 +16,14 @@ const PATTERN: [[i64; 2]; 4] = [[-2, -6], [6, -2], [-6, 2], [2, 6]];
 struct ByDraw;
 
 impl FragmentShader for ByDraw {
-    #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        let c = if f.tri.draw == 0 { Vec4::X } else { Vec4::Y };
-        *out = Colors::splat(c.with_w(1.0));
-        f.mask
+    fn discards(&self, _: u32) -> bool {
+        false
+    }
+    fn shade(&self, b: &mut Batch) {
+        let c = if b.draw == 0 { Vec4::X } else { Vec4::Y };
+        for g in 0..b.len {
+            b.out[g] = Colors::splat(c.with_w(1.0));
+        }
     }
 }
 

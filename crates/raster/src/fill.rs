@@ -1,4 +1,5 @@
-//! Per-tile fill: the inner loop.
+//! Per-tile fill: coverage, depth, a visibility buffer, and batches of fragments for the
+//! shader.
 //!
 //! - Sample positions: pixel centres, (x + 0.5, y + 0.5) in pixels, i.e. `x * 256 + 128` in
 //!   fixed point ([`SUBPIXEL_BITS`](super::SUBPIXEL_BITS) = 8 sub-pixel bits). A
@@ -14,25 +15,27 @@
 //! - The tile is walked in 8x8 blocks. A block is skipped when one edge is negative at all
 //!   its sample points, and filled without edge tests when all three edges are non-negative
 //!   at all of them (edge functions are linear, so the extremes lie at block corners).
-//!   Each row of a block is one eight-lane step: coverage mask from the exact integer edge
-//!   values and depth first, for every row of the block; then, for each row with a live
-//!   lane, interpolation and one call of the shader for the eight lanes (see [`block`] for
-//!   why the two steps are apart). Per-triangle constants (edge steps, lane offsets, barycentric steps,
-//!   derivative constants) are computed once per triangle and tile.
-//! - Deferred shading: on small triangles most of a row's eight lanes are empty (24 % in
-//!   use on the bunny at 1080p), the shader costs the same for one live lane as for eight,
-//!   and a fragment drawn over later was shaded for nothing (a third of the fragments of
-//!   the teapot and the cow at 1080p). For a shader that [defers](FragmentShader::packs) a
-//!   draw (the lit shader, unless the draw is alpha-tested), on a single-sample tile with
-//!   colour replaced, the fill only tests coverage and depth: it writes each passing
-//!   fragment's depth at the test and keeps, per pixel, the triangle and the perspective
-//!   weights of the last fragment that passed (a visibility buffer). The tile's visible
-//!   fragments are shaded at its end, or before a triangle that is not deferred (it may
-//!   blend with what is under it): eight pixels at a time where one triangle covers seven
-//!   or eight of them, the others gathered lane by lane into batches of eight across rows
-//!   and triangles of one draw and facing. Each pixel is shaded once, by the triangle that
-//!   the forward order would have left there, with the same interpolation, so images are
-//!   bit for bit those of shading every fragment in order.
+//!   Each row of a block is one eight-lane step: a coverage mask from the exact integer
+//!   edge values, then the depth test.
+//! - Deferred shading (every opaque draw of a shader that [defers](FragmentShader::defers)
+//!   it, on a single-sample tile with colour replaced): the fill only tests coverage and
+//!   depth, writes each passing fragment's depth, and keeps per pixel the triangle of the
+//!   last fragment that passed (a visibility buffer of one `u32` a pixel: with the depth,
+//!   32 KB a tile, in L1). At the end of the tile, or before a triangle that is not deferred
+//!   (it may blend with what is under it), the visible pixels are shaded: each row of eight
+//!   pixels ("group") of the tile with a live lane, triangle by triangle within the group,
+//!   its barycentrics recomputed from the triangle's exact integer edge values at the
+//!   group's pixels, its varyings interpolated into the lanes of that triangle. Groups of
+//!   one draw and facing are gathered into [`Batch`]es of up to [`GROUPS`] groups and
+//!   shaded together. Each pixel is shaded once, by the triangle that drawing in order would
+//!   have left there, with the same interpolation, so images are bit for bit those of
+//!   shading every fragment in order (a test checks it).
+//! - Forward shading (blending, alpha-tested draws, multisampled tiles): the rows of one
+//!   triangle that passed the depth test are gathered into a batch (one triangle at a time:
+//!   a later triangle must test against the depth this one writes), shaded, and written
+//!   with the draw's blend; depth is written for the lanes the shader kept. A depth-only
+//!   draw whose shader discards nothing is not shaded at all: its depth is written at the
+//!   test.
 //! - Depth: early test before shading, reversed-Z, `z` interpolated linearly in screen space
 //!   (z/w is affine there). Attributes are interpolated perspective-correctly:
 //!   `p_k = λ_k (1/w_k) / Σ λ_j (1/w_j)` with screen-space barycentrics `λ_k = E_k / area`,
@@ -45,182 +48,194 @@
 //!   and `∂V/∂x = ∂p_1/∂x (V_1 - V_0) + ∂p_2/∂x (V_2 - V_0)`; likewise for y. A piece of a
 //!   clipped triangle carries its own vertices' 1/w and varyings (interpolated in clip
 //!   space), so this is the derivative of the original triangle's varying there too.
+//!
+//! The whole fill of a tile is one function per kernel ([`fill_tile`], through
+//! [`per_kernel!`](crate::simd::per_kernel)); the shader is called through `dyn` once per
+//! batch, so no shading code is compiled into it.
 
 // Lane and edge loops index several arrays by one counter on purpose: that shape vectorises.
 #![allow(clippy::needless_range_loop)]
 
 use super::framebuffer::{sample_offsets, sample_reach, Tile, TILE, TILE_PIXELS};
-use super::pipeline::Chunk;
-use super::pipeline::{Blend, DepthTest, DrawState};
+use super::pipeline::{Blend, Chunk, DepthTest, DrawState};
 use super::setup::{padded, SetupTri, ONE};
-use super::{Colors, FragmentShader, Fragments, TriInfo, MAX_VARYINGS};
-use crate::simd::kernel::edge_signs;
-use crate::simd::lanes::{Kernel, F8, LANES, M8};
+use super::{Batch, Colors, FragmentShader, GROUPS, MAX_VARYINGS};
+use crate::simd::kernel::{edge_signs, prefetch};
+use crate::simd::{mad, Lane, Level, F8, I8, LANES, M8};
 
 const BLOCK: u32 = 8;
 const HALF: i64 = ONE / 2;
 /// Samples per pixel of a multisampled tile.
 const SAMPLES: usize = 4;
-
-/// Fragment counters of one tile, and the lanes' working memory (kept from tile to tile by
-/// each worker: zeroing it per row cost more than the interpolation it holds).
-#[derive(Default)]
-pub(crate) struct FillCounters {
-    pub shaded: u64,
-    pub depth_rejected: u64,
-    pub calls: u64,
-    /// The rows of the current block waiting to be shaded ([`block`]).
-    pending: [Pending; BLOCK as usize],
-    var: [F8; MAX_VARYINGS],
-    ddx: [F8; MAX_VARYINGS],
-    ddy: [F8; MAX_VARYINGS],
-    /// Fragments gathered into batches of eight (deferred shading), one per draw and facing
-    /// met lately.
-    packs: [Pack; PACKS],
-    /// The visibility buffer of deferred shading.
-    defer: Deferred,
-}
-
-impl FillCounters {
-    /// Ready for a new tile: counters zeroed (the visibility buffer is empty after every
-    /// tile's last [`fill`]).
-    pub(crate) fn begin_tile(&mut self) {
-        self.shaded = 0;
-        self.depth_rejected = 0;
-        self.calls = 0;
-        self.packs.iter_mut().for_each(|p| p.len = 0);
-        self.defer.pending = false;
-    }
-}
-
 /// Groups of eight pixels in a tile.
-const GROUPS: usize = TILE_PIXELS / LANES;
-
-/// The deferred fragments of a tile (see the module docs, "Deferred shading"): per pixel,
-/// the last fragment of a deferred triangle that passed the depth test.
-#[derive(Default)]
-struct Deferred {
-    /// Whether any group has a live lane.
-    pending: bool,
-    /// Per group of eight pixels (tile offset / 8): the lanes holding a fragment.
-    live: Vec<u32>,
-    /// Per pixel: its fragment's triangle ([`TriId`]), and the perspective weights `p_1`,
-    /// `p_2` and `1 / D` there (meaningful where `live` says so).
-    tri: Vec<u32>,
-    p1: Vec<f32>,
-    p2: Vec<f32>,
-    inv: Vec<f32>,
-}
-
-impl Deferred {
-    /// Keeps lanes `live` of the row at tile offset `o` (a multiple of eight), fragments of
-    /// triangle `id` with perspective weights `p`, over what the row held.
-    #[inline(always)]
-    fn record(&mut self, o: usize, live: u32, id: u32, p: [F8; 3]) {
-        if self.tri.len() < TILE_PIXELS {
-            // Once per worker thread (see `pipeline::flush`).
-            self.live = vec![0; GROUPS];
-            self.tri = vec![0; TILE_PIXELS];
-            self.p1 = vec![0.0; TILE_PIXELS];
-            self.p2 = vec![0.0; TILE_PIXELS];
-            self.inv = vec![0.0; TILE_PIXELS];
-        }
-        let m = M8::from_bits(live);
-        for (plane, v) in [&mut self.p1, &mut self.p2, &mut self.inv]
-            .into_iter()
-            .zip(p)
-        {
-            let d = &mut plane[o..o + LANES];
-            d.copy_from_slice(&F8::select(m, v, F8::load(d)).0);
-        }
-        let t = &mut self.tri[o..o + LANES];
-        for i in 0..LANES {
-            if live >> i & 1 != 0 {
-                t[i] = id;
-            }
-        }
-        self.live[o / LANES] |= live;
-        self.pending = true;
-    }
-
-    /// The perspective weights of the group at tile offset `o`.
-    #[inline(always)]
-    fn weights(&self, o: usize) -> [F8; 3] {
-        [
-            F8::load(&self.p1[o..o + LANES]),
-            F8::load(&self.p2[o..o + LANES]),
-            F8::load(&self.inv[o..o + LANES]),
-        ]
-    }
-
-    /// The lanes of `lanes` in the group at `o` whose fragment is triangle `id`'s.
-    #[inline(always)]
-    fn same(&self, o: usize, lanes: u32, id: u32) -> u32 {
-        let t = &self.tri[o..o + LANES];
-        let mut m = 0;
-        for i in 0..LANES {
-            m |= u32::from(t[i] == id) << i;
-        }
-        m & lanes
-    }
-}
+const TILE_GROUPS: usize = TILE_PIXELS / LANES;
+/// Batches of different draws or facings filled at once while resolving (the pixels of a
+/// tile alternate between them at silhouettes and where objects meet).
+const OPEN: usize = 4;
+/// How many triangles ahead of the one being filled the fill prefetches.
+const PREFETCH_AHEAD: usize = 3;
 
 /// A triangle of the tile's chunks: chunk index times 2^16 plus its index in the chunk
 /// (a chunk holds at most [`CHUNK`](super::pipeline::CHUNK) = 2048 triangles).
 pub(crate) type TriId = u32;
 
-/// Triangle `id` of `chunks` and the varyings' array it indexes.
-#[inline(always)]
-fn triangle(chunks: &[Chunk], id: TriId) -> Option<(&SetupTri, &[f32])> {
-    let c = chunks.get((id >> 16) as usize)?;
-    Some((c.tris.get((id & 0xffff) as usize)?, &c.attrs[..]))
-}
-
-fn key(tri: &SetupTri, v: &Varyings<'_>) -> PackKey {
-    PackKey {
-        draw: tri.info.draw,
-        front: tri.info.front,
-        stride: v.stride,
-        derivatives: v.grad.map_or(0, |g| g.1),
-    }
-}
-
-/// Fragments of one draw and facing gathered into one batch of eight lanes (see the module
-/// docs, "Deferred shading"). Lane `i` is the pixel at tile offset `o[i]`; its depth is
-/// already written.
-#[derive(Clone, Debug, Default)]
-struct Pack {
-    /// Lanes filled (the first `len`).
-    len: usize,
-    /// What the lanes share: the triangles' draw and facing, the varyings' count and the
-    /// derivatives' count. Meaningful while `len > 0`.
-    key: PackKey,
-    o: [u32; LANES],
-    var: [F8; MAX_VARYINGS],
-    ddx: [F8; MAX_VARYINGS],
-    ddy: [F8; MAX_VARYINGS],
-}
-
-/// Live lanes from which a group of deferred fragments of one triangle is shaded as it is.
-const DIRECT_LANES: u32 = 7;
-
-/// Packs filled at once: fragments of different draws or facings go to different packs
-/// (the pixels of a tile alternate between them, e.g. at silhouettes).
-const PACKS: usize = 4;
-
+/// What the lanes of a batch share: the draw and facing, the varyings' count and the
+/// derivatives' count.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct PackKey {
+struct Key {
     draw: u32,
     front: bool,
     stride: usize,
     derivatives: usize,
 }
 
+/// The visibility buffer of deferred shading: per pixel, the triangle of the last deferred
+/// fragment that passed the depth test.
+struct Vis {
+    /// Whether any group has a live lane.
+    pending: bool,
+    /// Per group of eight pixels (tile offset / 8): the lanes holding a fragment.
+    live: Vec<u32>,
+    /// Per pixel: its fragment's triangle ([`TriId`]), meaningful where `live` says so.
+    tri: Vec<u32>,
+}
+
+/// Each worker's fill state, kept from tile to tile (allocated once per thread): the
+/// counters of the tile, the visibility buffer and the batches.
+pub(crate) struct FillScratch {
+    pub shaded: u64,
+    pub depth_rejected: u64,
+    /// Groups of eight lanes shaded.
+    pub calls: u64,
+    vis: Vis,
+    /// The batches being filled while resolving, with their keys; the first also serves
+    /// the forward path (the others are empty then).
+    open: Vec<Batch>,
+    keys: [Key; OPEN],
+    /// Forward path: per group of `open[0]`, the depth at the pixel centres and the lanes
+    /// that passed per sample.
+    fz: [Lane; GROUPS],
+    pass: [[u32; SAMPLES]; GROUPS],
+    /// The kernel's interpolation ([`interp_group`]), set for each tile.
+    interp: InterpFn,
+}
+
+impl Default for FillScratch {
+    fn default() -> Self {
+        Self {
+            shaded: 0,
+            depth_rejected: 0,
+            calls: 0,
+            vis: Vis {
+                pending: false,
+                live: vec![0; TILE_GROUPS],
+                tri: vec![0; TILE_PIXELS],
+            },
+            open: (0..OPEN).map(|_| Batch::default()).collect(),
+            keys: [Key::default(); OPEN],
+            fz: [Lane::ZERO; GROUPS],
+            pass: [[0; SAMPLES]; GROUPS],
+            interp: interp_group::pick(crate::simd::KernelKind::Portable),
+        }
+    }
+}
+
+impl FillScratch {
+    /// Ready for a new tile: counters zeroed (the visibility buffer and the batches are
+    /// empty after every tile).
+    fn begin_tile(&mut self) {
+        self.shaded = 0;
+        self.depth_rejected = 0;
+        self.calls = 0;
+    }
+}
+
+/// The fill's per-kernel functions, chosen once per pass.
+#[derive(Clone, Copy)]
+pub(crate) struct FillFns {
+    deferred: fn(&mut Tile, &Rows<'_>, &mut FillScratch),
+    forward: fn(&mut Tile, &Rows<'_>, &mut FillScratch, &dyn FragmentShader),
+    resolve: fn(&mut Tile, &[Chunk], &dyn FragmentShader, &mut FillScratch),
+    interp: InterpFn,
+}
+
+impl FillFns {
+    /// The functions of `kernel` (the portable ones if the CPU lacks it).
+    pub(crate) fn pick(kernel: crate::simd::KernelKind) -> Self {
+        Self {
+            deferred: deferred::pick(kernel),
+            forward: forward::pick(kernel),
+            resolve: resolve::pick(kernel),
+            interp: interp_group::pick(kernel),
+        }
+    }
+}
+
+/// Fills tile number `index` with its binned triangles of `chunks`, in order, shading with
+/// `shader`; counts into `n`. The triangles' coverage, depth and shading run in the
+/// kernel's functions `f`, one call per triangle (and per resolve).
+pub(crate) fn fill_tile(
+    f: &FillFns,
+    tile: &mut Tile,
+    index: usize,
+    chunks: &[Chunk],
+    shader: &dyn FragmentShader,
+    n: &mut FillScratch,
+) {
+    n.begin_tile();
+    n.interp = f.interp;
+    for (ci, c) in chunks.iter().enumerate() {
+        let bin = &c.bins[index];
+        for (k, &i) in bin.iter().enumerate() {
+            // Most of a small triangle's cost is fetching its set-up data (written by
+            // another thread): prefetch the triangle 2 * AHEAD on, and the varyings of the
+            // one AHEAD on (its triangle, read for their offset, is already here).
+            if let Some(&far) = bin.get(k + 2 * PREFETCH_AHEAD) {
+                prefetch(&c.tris[far as usize]);
+            }
+            if let Some(&near) = bin.get(k + PREFETCH_AHEAD) {
+                let t = &c.tris[near as usize];
+                let at = t.attr as usize;
+                if let Some(a) = c.attrs.get(at..at + 3 * padded(t.stride as usize)) {
+                    prefetch(a);
+                }
+            }
+            let id: TriId = (ci as u32) << 16 | u32::from(i);
+            let Some(r) = rows(tile, &c.tris[i as usize], &c.attrs, id, shader) else {
+                continue;
+            };
+            match r.mode {
+                Mode::Defer => (f.deferred)(tile, &r, n),
+                Mode::DepthOnly if tile.samples() == 1 => (f.deferred)(tile, &r, n),
+                _ => {
+                    // The deferred fragments are shaded before a triangle that is not
+                    // deferred: it may blend with them, or discard lanes and leave them
+                    // visible.
+                    if n.vis.pending {
+                        (f.resolve)(tile, chunks, shader, n);
+                    }
+                    (f.forward)(tile, &r, n, shader);
+                }
+            }
+        }
+    }
+    if n.vis.pending {
+        (f.resolve)(tile, chunks, shader, n);
+    }
+}
+
+/// Triangle `id` of `chunks` and the varyings' array it indexes.
+#[inline(always)]
+fn lookup(chunks: &[Chunk], id: TriId) -> Option<(&SetupTri, &[f32])> {
+    let c = chunks.get((id >> 16) as usize)?;
+    Some((c.tris.get((id & 0xffff) as usize)?, &c.attrs[..]))
+}
+
 /// A triangle's varyings: vertex 0, differences to vertices 1 and 2 (each padded to a
 /// multiple of 4), the number that are real, and the derivatives' constants if the shader
 /// reads derivatives.
 #[derive(Clone, Copy)]
-struct Varyings<'a> {
+pub(crate) struct Varyings<'a> {
     v0: &'a [f32],
     d1: &'a [f32],
     d2: &'a [f32],
@@ -228,22 +243,70 @@ struct Varyings<'a> {
     grad: Option<(usize, usize, Gradients)>,
 }
 
+/// What interpolating a triangle at a row of eight pixels needs: the triangle, the lane
+/// offsets of its barycentrics along x, and its varyings.
+#[derive(Clone, Copy)]
+struct Interp<'a> {
+    tri: &'a SetupTri,
+    /// λ0, λ1, λ2 per pixel along x.
+    l_step: [f32; 3],
+    var: Varyings<'a>,
+}
+
+impl<'a> Interp<'a> {
+    #[inline(always)]
+    fn new(tri: &'a SetupTri, attrs: &'a [f32], shader: &dyn FragmentShader) -> Option<Self> {
+        let var = varyings(tri, attrs, shader)?;
+        let l = |k: usize| (tri.ab(k).0 * ONE) as f32 * tri.inv_area;
+        Some(Self {
+            tri,
+            l_step: [l(0), l(1), l(2)],
+            var,
+        })
+    }
+
+    fn key(&self) -> Key {
+        Key {
+            draw: self.tri.info.draw,
+            front: self.tri.info.front,
+            stride: self.var.stride,
+            derivatives: self.var.grad.map_or(0, |g| g.1),
+        }
+    }
+
+    /// Screen-space barycentrics of a row's lanes from its biased edge values at lane 0:
+    /// the unbiased values, each λ from its own exact edge value (1 - λ1 - λ2 cancels near
+    /// vertex 0).
+    #[inline(always)]
+    fn barycentrics<L: Level>(&self, row: [i64; 3]) -> [F8<L>; 3] {
+        let (tri, inv) = (self.tri, self.tri.inv_area);
+        let l =
+            |k: usize| F8::splat((row[k] - tri.bias(k)) as f32 * inv) + F8::RAMP * self.l_step[k];
+        [l(0), l(1), l(2)]
+    }
+}
+
+/// How a triangle's fragments are handled.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// Into the visibility buffer, shaded at the end of the tile.
+    Defer,
+    /// Shaded by rows after the test, then written with the draw's blend.
+    Forward,
+    /// Depth only, written at the test, no shading.
+    DepthOnly,
+}
+
 /// What the rows of one triangle share, computed once per triangle and tile.
 struct Rows<'a> {
-    tri: &'a SetupTri,
+    it: Interp<'a>,
     /// Edge steps per pixel along y, and per lane offsets along x (in i32 instead when
-    /// `narrow`, see `fill`).
+    /// `narrow`, see `rows`).
     step_y: [i64; 3],
     lane_x: [[i64; LANES]; 3],
     lane_x32: [[i32; LANES]; 3],
     narrow: bool,
-    /// λ0, λ1, λ2 per pixel along x, as lane offsets.
-    l0_lanes: F8,
-    l1_lanes: F8,
-    l2_lanes: F8,
-    var: Varyings<'a>,
-    /// The triangle's fragments are deferred (their depth is written at the test).
-    defer: bool,
+    mode: Mode,
     id: TriId,
 }
 
@@ -251,7 +314,7 @@ struct Rows<'a> {
 /// values and of the depth from those at the pixel centre.
 struct Samples {
     edge: [[i64; 3]; SAMPLES],
-    z: [F8; SAMPLES],
+    z: [f32; SAMPLES],
 }
 
 impl Samples {
@@ -262,7 +325,7 @@ impl Samples {
         let dzdy = (tri.b[1] as f32 * tri.z[1] + tri.b[2] as f32 * tri.z[2]) * tri.inv_area;
         let mut out = Self {
             edge: [[0; 3]; SAMPLES],
-            z: [F8::ZERO; SAMPLES],
+            z: [0.0; SAMPLES],
         };
         for (s, o) in sample_offsets(SAMPLES as u32).iter().enumerate() {
             let (dx, dy) = (i64::from(o[0]) * (ONE / 16), i64::from(o[1]) * (ONE / 16));
@@ -270,108 +333,118 @@ impl Samples {
                 let (a, b) = tri.ab(k);
                 out.edge[s][k] = a * dx + b * dy;
             }
-            out.z[s] = F8::splat(dzdx * dx as f32 + dzdy * dy as f32);
+            out.z[s] = dzdx * dx as f32 + dzdy * dy as f32;
         }
         out
     }
 }
 
-/// Fills the part of `tri` that lies in `tile` (`.1` holds its varyings, `.2` is where it
-/// lies in `chunks`); `None` after the tile's last triangle shades the deferred fragments.
-///
-/// Every shading of the tile happens at the one call of [`drain`] below (this function is
-/// called from one place per kernel too): the shader is the largest code in the loop, and
-/// each further call site would compile another copy of it.
+/// The 8x8 blocks of the tile that the bounds of `r`'s triangle touch and its edges do not
+/// exclude ([`Blocks::next`]), with sample points `reach` fixed units around the pixel
+/// centres.
 #[inline(always)]
-pub(crate) fn fill<K: Kernel, S: FragmentShader>(
-    tile: &mut Tile,
-    tri: Option<(&SetupTri, &[f32], TriId)>,
-    chunks: &[Chunk],
-    shader: &S,
-    n: &mut FillCounters,
-) {
-    let rows = tri.and_then(|(tri, attrs, id)| rows::<S>(tile, tri, attrs, id, shader));
-    // The deferred fragments are shaded at the end, and before a triangle that is not
-    // deferred (a triangle with no pixel here changes nothing).
-    let mut resolve = n.defer.pending && (tri.is_none() || rows.as_ref().is_some_and(|r| !r.defer));
-    // The triangle's bounds in the tile (empty without one).
-    let (x0, y0, x1, y1) = rows.as_ref().map_or((0, 0, 0, 0), |r| {
-        let t = r.tri;
-        (
-            t.x0.max(tile.x0),
-            t.y0.max(tile.y0),
-            t.x1.min(tile.x0 + tile.w - 1),
-            t.y1.min(tile.y0 + tile.h - 1),
-        )
-    });
-    let multi = rows
-        .as_ref()
-        .filter(|_| tile.samples() as usize == SAMPLES)
-        .map(|r| Samples::new(r.tri));
-    let reach = sample_reach(tile.samples());
+fn walk(tile: &Tile, r: &Rows<'_>, reach: i64) -> Blocks {
+    let tri = r.it.tri;
+    let x0 = tri.x0.max(tile.x0);
+    let y0 = tri.y0.max(tile.y0);
+    let x1 = tri.x1.min(tile.x0 + tile.w - 1);
+    let y1 = tri.y1.min(tile.y0 + tile.h - 1);
     let first_bx = x0 - x0.saturating_sub(tile.x0) % BLOCK;
-    let mut by = y0 - y0.saturating_sub(tile.y0) % BLOCK;
-    let mut bx = first_bx;
-    loop {
-        let (count, at) = if resolve {
-            (0, 0)
-        } else {
-            let Some(r) = rows.as_ref() else {
-                break;
-            };
-            if by > y1 {
-                break;
+    Blocks {
+        x0,
+        y0,
+        x1,
+        y1,
+        first_bx,
+        bx: first_bx,
+        by: y0 - y0.saturating_sub(tile.y0) % BLOCK,
+        reach,
+    }
+}
+
+/// The blocks of [`walk`].
+struct Blocks {
+    x0: u32,
+    y0: u32,
+    x1: u32,
+    y1: u32,
+    first_bx: u32,
+    bx: u32,
+    by: u32,
+    reach: i64,
+}
+
+impl Blocks {
+    /// The next block the triangle's edges do not exclude: its `bx`, rows `y0..=y1`, lanes
+    /// `span` inside the bounds, and whether its lanes need the edge test (not all inside).
+    #[inline(always)]
+    fn next(&mut self, tri: &SetupTri) -> Option<(u32, u32, u32, u32, bool)> {
+        while self.by <= self.y1 {
+            let bx = self.bx;
+            let by = self.by;
+            self.bx += BLOCK;
+            if self.bx > self.x1 {
+                self.bx = self.first_bx;
+                self.by += BLOCK;
             }
-            let at = bx;
-            let (sx0, sy0) = (bx.max(x0), by.max(y0));
-            let (sx1, sy1) = ((bx + BLOCK - 1).min(x1), (by + BLOCK - 1).min(y1));
-            bx += BLOCK;
-            if bx > x1 {
-                bx = first_bx;
-                by += BLOCK;
-            }
+            let (sx0, sy0) = (bx.max(self.x0), by.max(self.y0));
+            let (sx1, sy1) = ((bx + BLOCK - 1).min(self.x1), (by + BLOCK - 1).min(self.y1));
             // Lanes of the block inside the triangle's (tile-clipped) bounds.
-            let span = ((1u32 << (sx1 - at + 1)) - 1) & !((1u32 << (sx0 - at)) - 1);
-            let cov = classify(r.tri, reach, sx0, sy0, sx1, sy1);
-            let count = match (&multi, cov) {
-                (_, Coverage::None) => 0,
-                (None, Coverage::Full) => block::<K, false>(tile, r, n, at, sy0, sy1, span),
-                (None, Coverage::Partial) => block::<K, true>(tile, r, n, at, sy0, sy1, span),
-                (Some(m), Coverage::Full) => {
-                    block_ms::<K, false>(tile, r, m, n, at, sy0, sy1, span)
-                }
-                (Some(m), Coverage::Partial) => {
-                    block_ms::<K, true>(tile, r, m, n, at, sy0, sy1, span)
-                }
-            };
-            if count == 0 {
-                continue;
+            let span = ((1u32 << (sx1 - bx + 1)) - 1) & !((1u32 << (sx0 - bx)) - 1);
+            match classify(tri, self.reach, sx0, sy0, sx1, sy1) {
+                Coverage::None => {}
+                Coverage::Full => return Some((bx, sy0, sy1, span, false)),
+                Coverage::Partial => return Some((bx, sy0, sy1, span, true)),
             }
-            (count, at)
-        };
-        drain::<K, S>(
-            tile,
-            rows.as_ref(),
-            multi.as_ref(),
-            count,
-            resolve.then_some(chunks),
-            shader,
-            n,
-            at,
-        );
-        resolve = false;
+        }
+        None
+    }
+}
+
+crate::simd::per_kernel! {
+    /// A deferred (or, on a single-sample tile, depth-only) triangle: coverage and depth,
+    /// into the visibility buffer.
+    fn deferred<L>(tile: &mut Tile, r: &Rows<'_>, n: &mut FillScratch) {
+        let mut blocks = walk(tile, r, 0);
+        while let Some((bx, y0, y1, span, test)) = blocks.next(r.it.tri) {
+            if test {
+                block::<L, true>(tile, r, n, None, bx, y0, y1, span);
+            } else {
+                block::<L, false>(tile, r, n, None, bx, y0, y1, span);
+            }
+        }
+    }
+}
+
+crate::simd::per_kernel! {
+    /// A forward triangle (or a depth-only one on a multisampled tile): coverage and depth,
+    /// its rows shaded by batches and written with the draw's state.
+    fn forward<L>(tile: &mut Tile, r: &Rows<'_>, n: &mut FillScratch, shader: &dyn FragmentShader) {
+        let multi = (tile.samples() as usize == SAMPLES).then(|| Samples::new(r.it.tri));
+        let mut blocks = walk(tile, r, sample_reach(tile.samples()));
+        while let Some((bx, y0, y1, span, test)) = blocks.next(r.it.tri) {
+            match (&multi, test) {
+                (None, true) => block::<L, true>(tile, r, n, Some(shader), bx, y0, y1, span),
+                (None, false) => block::<L, false>(tile, r, n, Some(shader), bx, y0, y1, span),
+                (Some(m), true) => block_ms::<L, true>(tile, r, m, n, shader, bx, y0, y1, span),
+                (Some(m), false) => block_ms::<L, false>(tile, r, m, n, shader, bx, y0, y1, span),
+            }
+        }
+        if r.mode == Mode::Forward && n.open[0].len > 0 {
+            shade_forward::<L>(tile, r, multi.as_ref(), shader, n);
+        }
     }
 }
 
 /// The per-triangle constants of `tri`'s rows in `tile`, or `None` if it has no pixel there
 /// or its varyings are missing.
 #[inline(always)]
-fn rows<'a, S: FragmentShader>(
+fn rows<'a>(
     tile: &Tile,
     tri: &'a SetupTri,
     attrs: &'a [f32],
     id: TriId,
-    shader: &S,
+    shader: &dyn FragmentShader,
 ) -> Option<Rows<'a>> {
     let x0 = tri.x0.max(tile.x0);
     let y0 = tri.y0.max(tile.y0);
@@ -380,7 +453,7 @@ fn rows<'a, S: FragmentShader>(
     if x0 > x1 || y0 > y1 {
         return None;
     }
-    let var = varyings(tri, attrs, shader)?;
+    let it = Interp::new(tri, attrs, shader)?;
     let step_x = [0, 1, 2].map(|k| tri.ab(k).0 * ONE);
     let step_y = [0, 1, 2].map(|k| tri.ab(k).1 * ONE);
     // Coverage in i32 lanes ("narrow"): the lane offsets `a_k ONE i` (i < 8) stay below
@@ -404,21 +477,25 @@ fn rows<'a, S: FragmentShader>(
         }
     }
     let st = tri.state;
-    let defer = tile.samples() == 1
+    let draw = tri.info.draw;
+    let mode = if !st.color_write && !shader.discards(draw) {
+        Mode::DepthOnly
+    } else if tile.samples() == 1
         && st.color_write
         && st.blend == Blend::Replace
-        && shader.packs(tri.info.draw);
+        && shader.defers(draw)
+    {
+        Mode::Defer
+    } else {
+        Mode::Forward
+    };
     Some(Rows {
-        tri,
+        it,
         step_y,
         lane_x,
         lane_x32,
         narrow,
-        l0_lanes: F8::RAMP * (step_x[0] as f32 * tri.inv_area),
-        l1_lanes: F8::RAMP * (step_x[1] as f32 * tri.inv_area),
-        l2_lanes: F8::RAMP * (step_x[2] as f32 * tri.inv_area),
-        var,
-        defer,
+        mode,
         id,
     })
 }
@@ -426,10 +503,10 @@ fn rows<'a, S: FragmentShader>(
 /// `tri`'s varyings in `attrs`, with the derivatives' constants if the shader reads
 /// derivatives of its draw; `None` if they are missing.
 #[inline(always)]
-fn varyings<'a, S: FragmentShader>(
+fn varyings<'a>(
     tri: &SetupTri,
     attrs: &'a [f32],
-    shader: &S,
+    shader: &dyn FragmentShader,
 ) -> Option<Varyings<'a>> {
     let stride = tri.stride as usize;
     let row = padded(stride);
@@ -486,60 +563,23 @@ fn classify(tri: &SetupTri, reach: i64, x0: u32, y0: u32, x1: u32, y1: u32) -> C
     }
 }
 
-/// A row of a block whose coverage and depth tests passed, waiting to be shaded.
-#[derive(Clone, Copy, Debug)]
-struct Pending {
-    y: u32,
-    /// Offset of the row's first pixel in the tile.
-    o: usize,
-    /// Lanes that passed on any sample (the lanes to shade).
-    live: u32,
-    /// Lanes that passed per sample (only `pass[0]` on a single-sample tile).
-    pass: [u32; SAMPLES],
-    /// Screen-space barycentrics at the pixel centres.
-    l: [F8; 3],
-    /// Depth at the pixel centres.
-    z: F8,
-}
-
-impl Pending {
-    const EMPTY: Pending = Pending {
-        y: 0,
-        o: 0,
-        live: 0,
-        pass: [0; SAMPLES],
-        l: [F8::ZERO; 3],
-        z: F8::ZERO,
-    };
-}
-
-impl Default for Pending {
-    fn default() -> Self {
-        Pending::EMPTY
-    }
-}
-
 /// Coverage and early depth of rows `y0..=y1` of the 8-pixel-wide block at `bx` (lanes
-/// outside `span` are off): the rows with a live lane go to `n.pending` (kept with the
-/// tile's counters: a fresh array per triangle cost a 1.4 KB clear), and their count is
-/// returned; a deferred triangle's live lanes go to the visibility buffer instead.
-///
-/// Tests and shading are separate steps so that the shader, by far the largest code in the
-/// loop, is inlined once per kernel ([`drain`]) and not once per coverage case: with
-/// the glTF PBR shader, four copies tripled the release build time. Deferring the shading
-/// to the end of the block changes nothing: a block's rows are distinct pixels.
+/// outside `span` are off). Deferred: the live lanes go to the visibility buffer (their
+/// depth written now); forward: the rows with a live lane are interpolated into the
+/// forward batch (`n.open[0]`), shaded when it is full; depth only: depth written now.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn block<K: Kernel, const TEST: bool>(
+fn block<L: Level, const TEST: bool>(
     tile: &mut Tile,
     r: &Rows<'_>,
-    n: &mut FillCounters,
+    n: &mut FillScratch,
+    shader: Option<&dyn FragmentShader>,
     bx: u32,
     y0: u32,
     y1: u32,
     span: u32,
-) -> usize {
-    let tri = r.tri;
+) {
+    let tri = r.it.tri;
     let st = tri.state;
     let mut row = [
         edge_at(tri, 0, bx, y0),
@@ -547,11 +587,10 @@ fn block<K: Kernel, const TEST: bool>(
         edge_at(tri, 2, bx, y0),
     ];
     let (z0, z1, z2) = (
-        F8::splat(tri.z[0]),
-        F8::splat(tri.z[1]),
-        F8::splat(tri.z[2]),
+        F8::<L>::splat(tri.z[0]),
+        F8::<L>::splat(tri.z[1]),
+        F8::<L>::splat(tri.z[2]),
     );
-    let mut count = 0;
     for y in y0..=y1 {
         let mut cover = span;
         if TEST {
@@ -559,56 +598,57 @@ fn block<K: Kernel, const TEST: bool>(
         }
         let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
         if cover != 0 {
-            let l = barycentrics(r, row);
-            let z = K::fma(z2, l[2], K::fma(z1, l[1], z0));
+            let l = r.it.barycentrics(row);
+            let z = mad(z2, l[2], mad(z1, l[1], z0));
             let pass = depth_pass(st.depth_test, z, &tile.depth[o..o + LANES]);
             let live = cover & pass;
             n.depth_rejected += u64::from((cover & !pass).count_ones());
-            if live != 0 && r.defer {
-                if st.depth_write {
-                    // A deferred fragment is shaded later, maybe after other triangles:
-                    // they must test against its depth now.
-                    let d = &mut tile.depth[o..o + LANES];
-                    d.copy_from_slice(&F8::select(M8::from_bits(live), z, F8::load(d)).0);
+            if live != 0 {
+                match r.mode {
+                    Mode::Defer | Mode::DepthOnly => {
+                        if st.depth_write {
+                            // A deferred fragment is shaded later, maybe after other
+                            // triangles: they must test against its depth now.
+                            let d = &mut tile.depth[o..o + LANES];
+                            z.store_where(M8::from_bits(live), d);
+                        }
+                        if r.mode == Mode::Defer {
+                            record::<L>(&mut n.vis, o, live, r.id);
+                        }
+                    }
+                    Mode::Forward => {
+                        if let Some(shader) = shader {
+                            let mut pass = [0; SAMPLES];
+                            pass[0] = live;
+                            push_forward(tile, r, n, shader, None, o, live, pass, l, z);
+                        }
+                    }
                 }
-                n.defer.record(o, live, r.id, perspective::<K>(tri, l));
-            } else if live != 0 {
-                let mut passes = [0; SAMPLES];
-                passes[0] = live;
-                n.pending[count] = Pending {
-                    y,
-                    o,
-                    live,
-                    pass: passes,
-                    l,
-                    z,
-                };
-                count += 1;
             }
         }
         for k in 0..3 {
             row[k] += r.step_y[k];
         }
     }
-    count
 }
 
-/// [`block`] on a multisampled tile: coverage and depth per sample (`m`); [`shade_block`]
-/// then calls the shader once per row at the pixel centres and writes its colour to the
+/// [`block`] on a multisampled tile (always forward): coverage and depth per sample (`m`);
+/// the shader then runs once per row at the pixel centres and its colour goes to the
 /// samples that passed.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn block_ms<K: Kernel, const TEST: bool>(
-    tile: &Tile,
+fn block_ms<L: Level, const TEST: bool>(
+    tile: &mut Tile,
     r: &Rows<'_>,
     m: &Samples,
-    n: &mut FillCounters,
+    n: &mut FillScratch,
+    shader: &dyn FragmentShader,
     bx: u32,
     y0: u32,
     y1: u32,
     span: u32,
-) -> usize {
-    let tri = r.tri;
+) {
+    let tri = r.it.tri;
     let st = tri.state;
     let mut row = [
         edge_at(tri, 0, bx, y0),
@@ -616,11 +656,10 @@ fn block_ms<K: Kernel, const TEST: bool>(
         edge_at(tri, 2, bx, y0),
     ];
     let (z0, z1, z2) = (
-        F8::splat(tri.z[0]),
-        F8::splat(tri.z[1]),
-        F8::splat(tri.z[2]),
+        F8::<L>::splat(tri.z[0]),
+        F8::<L>::splat(tri.z[1]),
+        F8::<L>::splat(tri.z[2]),
     );
-    let mut count = 0;
     for y in y0..=y1 {
         let mut cover = [span; SAMPLES];
         if TEST {
@@ -631,8 +670,8 @@ fn block_ms<K: Kernel, const TEST: bool>(
         let any = cover.iter().fold(0, |a, c| a | c);
         let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
         if any != 0 {
-            let l = barycentrics(r, row);
-            let zc = K::fma(z2, l[2], K::fma(z1, l[1], z0));
+            let l = r.it.barycentrics(row);
+            let zc = mad(z2, l[2], mad(z1, l[1], z0));
             let mut pass = [0u32; SAMPLES];
             for s in 0..SAMPLES {
                 let d = &tile.depth[s * TILE_PIXELS + o..][..LANES];
@@ -641,277 +680,242 @@ fn block_ms<K: Kernel, const TEST: bool>(
             let live = pass.iter().fold(0, |a, p| a | p);
             n.depth_rejected += u64::from((any & !live).count_ones());
             if live != 0 {
-                n.pending[count] = Pending {
-                    y,
-                    o,
-                    live,
-                    pass,
-                    l,
-                    z: zc,
-                };
-                count += 1;
+                if r.mode == Mode::DepthOnly {
+                    if st.depth_write {
+                        for s in 0..SAMPLES {
+                            let d = &mut tile.depth[s * TILE_PIXELS + o..][..LANES];
+                            let z = zc + m.z[s];
+                            z.store_where(M8::from_bits(pass[s]), d);
+                        }
+                    }
+                } else {
+                    push_forward(tile, r, n, shader, Some(m), o, live, pass, l, zc);
+                }
             }
         }
         for k in 0..3 {
             row[k] += r.step_y[k];
         }
     }
-    count
 }
 
-/// What [`drain`] shades next.
-#[derive(Clone, Copy)]
-enum Job {
-    /// A pending row of the current triangle.
-    Row(Pending),
-    /// Deferred fragments of the triangle last looked up in lanes `mask` of the group at
-    /// tile offset `o`.
-    Group { o: usize, mask: u32 },
-    /// Pack `.0`.
-    Pack(usize),
+/// Keeps lanes `live` of the row at tile offset `o` (a multiple of eight) for triangle `id`.
+#[inline(always)]
+fn record<L: Level>(vis: &mut Vis, o: usize, live: u32, id: TriId) {
+    I8::<L>::splat(id as i32).store_where_u32(M8::from_bits(live), &mut vis.tri[o..o + LANES]);
+    vis.live[o / LANES] |= live;
+    vis.pending = true;
 }
 
-/// Shades the first `count` pending rows of the block at `bx` and writes what the shader
-/// keeps: to the one sample of a plain tile, or to the samples that passed of a
-/// multisampled one (`m`). With `resolve` (the tile's triangles; `count` is 0 then),
-/// shades the deferred fragments instead: groups of eight pixels mostly of one triangle as
-/// they are, the rest gathered into packs of eight lanes.
-///
-/// The one place the shader is called (see [`fill`]).
+/// Adds a row of the current forward triangle to the forward batch, interpolated at
+/// barycentrics `l`, with its centre depth `z` and per-sample lanes `pass`; shades the batch
+/// when it is full.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn drain<K: Kernel, S: FragmentShader>(
+fn push_forward<L: Level>(
     tile: &mut Tile,
-    r: Option<&Rows<'_>>,
+    r: &Rows<'_>,
+    n: &mut FillScratch,
+    shader: &dyn FragmentShader,
     m: Option<&Samples>,
-    count: usize,
-    resolve: Option<&[Chunk]>,
-    shader: &S,
-    n: &mut FillCounters,
-    bx: u32,
+    o: usize,
+    live: u32,
+    pass: [u32; SAMPLES],
+    l: [F8<L>; 3],
+    z: F8<L>,
 ) {
-    // Next pending row, or next group of the visibility buffer.
-    let mut next = 0;
-    // Resolving: the group being read, its lanes not yet taken, and the lanes of the
-    // triangle interpolated last (`n.var`) still to copy into the pack.
-    let (mut group, mut rest) = (0, 0u32);
-    let (mut copy, mut copy_key) = (0u32, PackKey::default());
-    // The triangle of the last deferred fragments looked up.
-    let mut cur = None;
-    loop {
-        let job = if let Some(chunks) = resolve {
-            let mut job = None;
-            while job.is_none() {
-                if copy != 0 {
-                    let packs = &mut n.packs;
-                    let slot = (packs.iter().position(|p| p.len > 0 && p.key == copy_key))
-                        .or_else(|| packs.iter().position(|p| p.len == 0));
-                    let Some(slot) = slot else {
-                        // Every pack holds another draw or facing: shade the fullest.
-                        let i = (0..PACKS).max_by_key(|&i| packs[i].len).unwrap_or(0);
-                        job = Some(Job::Pack(i));
-                        break;
-                    };
-                    let p = &mut packs[slot];
-                    p.key = copy_key;
-                    let o = group * LANES;
-                    while copy != 0 && p.len < LANES {
-                        let i = copy.trailing_zeros() as usize;
-                        copy &= copy - 1;
-                        let k = p.len;
-                        p.len += 1;
-                        p.o[k] = (o + i) as u32;
-                        for j in 0..copy_key.stride {
-                            p.var[j].0[k] = n.var[j].0[i];
-                        }
-                        for j in 0..copy_key.derivatives {
-                            p.ddx[j].0[k] = n.ddx[j].0[i];
-                            p.ddy[j].0[k] = n.ddy[j].0[i];
-                        }
-                    }
-                    if p.len == LANES {
-                        job = Some(Job::Pack(slot));
-                    }
-                    continue;
-                }
-                if rest == 0 {
-                    let d = &mut n.defer;
-                    while next < GROUPS && d.live[next] == 0 {
-                        next += 1;
-                    }
-                    if next == GROUPS {
-                        if let Some(i) = n.packs.iter().position(|p| p.len > 0) {
-                            job = Some(Job::Pack(i));
-                            break;
-                        }
-                        d.pending = false;
-                        return;
-                    }
-                    group = next;
-                    rest = std::mem::take(&mut d.live[group]);
-                    next += 1;
-                    n.shaded += u64::from(rest.count_ones());
-                }
-                let o = group * LANES;
-                let FillCounters {
-                    var,
-                    ddx,
-                    ddy,
-                    defer: d,
-                    ..
-                } = &mut *n;
-                let id = d.tri[o + rest.trailing_zeros() as usize];
-                let mask = d.same(o, rest, id);
-                rest &= !mask;
-                if cur
-                    .as_ref()
-                    .is_none_or(|c: &(TriId, &SetupTri, Varyings<'_>)| c.0 != id)
-                {
-                    cur = triangle(chunks, id)
-                        .and_then(|(tri, attrs)| Some((id, tri, varyings(tri, attrs, shader)?)));
-                }
-                // (Every recorded triangle has its varyings: `rows` checked.)
-                let Some((_, tri, v)) = &cur else {
-                    continue;
-                };
-                interpolate::<K>(v, d.weights(o), var, ddx, ddy);
-                if mask.count_ones() >= DIRECT_LANES {
-                    job = Some(Job::Group { o, mask });
-                } else {
-                    (copy, copy_key) = (mask, key(tri, v));
-                }
-            }
-            job
-        } else {
-            let Some(r) = r else {
-                return;
-            };
-            if next == count {
-                return;
-            }
-            let row = n.pending[next];
-            next += 1;
-            n.shaded += u64::from(row.live.count_ones());
-            let FillCounters { var, ddx, ddy, .. } = &mut *n;
-            interpolate::<K>(&r.var, perspective::<K>(r.tri, row.l), var, ddx, ddy);
-            Some(Job::Row(row))
-        };
-        let Some(job) = job else {
-            return;
-        };
-        n.calls += 1;
-        let mut out = Colors::default();
-        let keep = {
-            let frag = match job {
-                Job::Pack(i) => {
-                    let p = &n.packs[i];
-                    Fragments {
-                        tri: TriInfo {
-                            draw: p.key.draw,
-                            front: p.key.front,
-                        },
-                        x: 0,
-                        y: 0,
-                        mask: (1u32 << p.len) - 1,
-                        var: &p.var[..p.key.stride],
-                        ddx: &p.ddx[..p.key.derivatives],
-                        ddy: &p.ddy[..p.key.derivatives],
-                    }
-                }
-                Job::Group { o, mask } => {
-                    let Some((_, tri, v)) = &cur else {
-                        return;
-                    };
-                    let nd = v.grad.map_or(0, |g| g.1);
-                    Fragments {
-                        tri: tri.info,
-                        x: tile.x0 + (o as u32 % TILE),
-                        y: tile.y0 + o as u32 / TILE,
-                        mask,
-                        var: &n.var[..v.stride],
-                        ddx: &n.ddx[..nd],
-                        ddy: &n.ddy[..nd],
-                    }
-                }
-                Job::Row(row) => {
-                    let Some(r) = r else {
-                        return;
-                    };
-                    let nd = r.var.grad.map_or(0, |g| g.1);
-                    Fragments {
-                        tri: r.tri.info,
-                        x: bx,
-                        y: row.y,
-                        mask: row.live,
-                        var: &n.var[..r.var.stride],
-                        ddx: &n.ddx[..nd],
-                        ddy: &n.ddy[..nd],
-                    }
-                }
-            };
-            shader.shade::<K>(&frag, &mut out) & frag.mask
-        };
-        match job {
-            Job::Pack(i) => {
-                scatter(tile, &n.packs[i], keep, &out);
-                n.packs[i].len = 0;
-            }
-            Job::Group { o, .. } => {
-                let Some((_, tri, _)) = &cur else {
-                    return;
-                };
-                // The depth is written: colour only.
-                let st = DrawState {
-                    depth_write: false,
-                    ..tri.state
-                };
-                if keep != 0 {
-                    write::<K>(tile, st, 0, o, keep, &out, F8::ZERO);
-                }
-            }
-            Job::Row(row) => {
-                let Some(st) = r.map(|r| r.tri.state) else {
-                    return;
-                };
-                if keep == 0 {
-                    continue;
-                }
-                match m {
-                    None => write::<K>(tile, st, 0, row.o, keep, &out, row.z),
-                    Some(m) => {
-                        for s in 0..SAMPLES {
-                            if keep & row.pass[s] != 0 {
-                                let z = row.z + m.z[s];
-                                write::<K>(tile, st, s, row.o, keep & row.pass[s], &out, z);
-                            }
-                        }
-                    }
-                }
-            }
-        }
+    n.shaded += u64::from(live.count_ones());
+    let b = &mut n.open[0];
+    if b.len == 0 {
+        let key = r.it.key();
+        b.start(tile, key.draw, key.front, key.stride, key.derivatives);
+    }
+    let g = b.len;
+    b.len += 1;
+    b.o[g] = o as u32;
+    b.mask[g] = live;
+    n.fz[g] = z.into();
+    n.pass[g] = pass;
+    let out = GroupOut {
+        var: &mut b.var[g],
+        ddx: &mut b.ddx[g],
+        ddy: &mut b.ddy[g],
+    };
+    (n.interp)(r.it.tri, &l.map(Lane::from), &r.it.var, out, 0xFF);
+    if b.len == GROUPS {
+        shade_forward::<L>(tile, r, m, shader, n);
     }
 }
 
-/// Writes the colours of a shaded pack to its lanes' pixels (their depth is written).
+/// Shades the forward batch and writes what the shader keeps with the triangle's draw
+/// state: to the one sample of a plain tile, or to the samples that passed of a
+/// multisampled one (`m`).
 #[inline(always)]
-fn scatter(tile: &mut Tile, p: &Pack, keep: u32, out: &Colors) {
-    let (color, _) = tile.planes_mut();
-    let (cr, rest) = color.split_at_mut(TILE_PIXELS);
-    let (cg, rest) = rest.split_at_mut(TILE_PIXELS);
-    let (cb, rest) = rest.split_at_mut(TILE_PIXELS);
-    let ca = &mut rest[..TILE_PIXELS];
-    for k in 0..p.len {
-        if keep & (1 << k) == 0 {
+fn shade_forward<L: Level>(
+    tile: &mut Tile,
+    r: &Rows<'_>,
+    m: Option<&Samples>,
+    shader: &dyn FragmentShader,
+    n: &mut FillScratch,
+) {
+    let b = &mut n.open[0];
+    n.calls += b.len as u64;
+    let live = b.mask;
+    shader.shade(b);
+    let st = r.it.tri.state;
+    for g in 0..b.len {
+        let keep = b.mask[g] & live[g];
+        if keep == 0 {
             continue;
         }
-        let o = p.o[k] as usize;
-        if o < TILE_PIXELS {
-            cr[o] = out.r.0[k];
-            cg[o] = out.g.0[k];
-            cb[o] = out.b.0[k];
-            ca[o] = out.a.0[k];
+        let o = b.o[g] as usize;
+        match m {
+            None => write(tile, st, 0, o, keep, &b.out[g], n.fz[g].get::<L>()),
+            Some(m) => {
+                for s in 0..SAMPLES {
+                    let k = keep & n.pass[g][s];
+                    if k != 0 {
+                        write(tile, st, s, o, k, &b.out[g], n.fz[g].get::<L>() + m.z[s]);
+                    }
+                }
+            }
         }
     }
+    b.len = 0;
+}
+
+crate::simd::per_kernel! {
+    /// Shades the deferred fragments of the tile (see the module docs): each group of eight
+    /// pixels with a live lane, triangle by triangle, interpolated into the open batch of
+    /// its draw and facing; a batch is shaded when it has no room for another group, and
+    /// all of them at the end.
+    fn resolve<L>(tile: &mut Tile, chunks: &[Chunk], shader: &dyn FragmentShader, n: &mut FillScratch) {
+        resolve_body::<L>(tile, chunks, shader, n);
+    }
+}
+
+#[inline(always)]
+fn resolve_body<L: Level>(
+    tile: &mut Tile,
+    chunks: &[Chunk],
+    shader: &dyn FragmentShader,
+    n: &mut FillScratch,
+) {
+    // The triangle of the last fragments looked up, and its key.
+    let mut cur: Option<(TriId, Interp<'_>, Key)> = None;
+    for group in 0..TILE_GROUPS {
+        let mut rest = std::mem::take(&mut n.vis.live[group]);
+        if rest == 0 {
+            continue;
+        }
+        n.shaded += u64::from(rest.count_ones());
+        let o = group * LANES;
+        let (x, y) = (tile.x0 + (o as u32 % TILE), tile.y0 + o as u32 / TILE);
+        while rest != 0 {
+            let id = n.vis.tri[o + rest.trailing_zeros() as usize];
+            let mask = same::<L>(&n.vis.tri[o..o + LANES], id) & rest;
+            rest &= !mask;
+            if cur.as_ref().is_none_or(|c| c.0 != id) {
+                cur = lookup(chunks, id)
+                    .and_then(|(tri, attrs)| Interp::new(tri, attrs, shader))
+                    .map(|it| (id, it, it.key()));
+            }
+            // (Every recorded triangle has its varyings: `rows` checked.)
+            let Some((_, it, key)) = &cur else {
+                continue;
+            };
+            let slot = open_batch::<L>(tile, shader, n, *key);
+            let b = &mut n.open[slot];
+            let g = if b.len > 0 && b.o[b.len - 1] as usize == o {
+                b.len - 1
+            } else {
+                if b.len == GROUPS {
+                    flush_deferred::<L>(tile, shader, &mut n.open[slot], &mut n.calls);
+                }
+                let b = &mut n.open[slot];
+                if b.len == 0 {
+                    b.start(tile, key.draw, key.front, key.stride, key.derivatives);
+                }
+                let g = b.len;
+                b.len += 1;
+                b.o[g] = o as u32;
+                b.mask[g] = 0;
+                g
+            };
+            let b = &mut n.open[slot];
+            b.mask[g] |= mask;
+            let tri = it.tri;
+            let row = [
+                edge_at(tri, 0, x, y),
+                edge_at(tri, 1, x, y),
+                edge_at(tri, 2, x, y),
+            ];
+            let l = it.barycentrics::<L>(row).map(Lane::from);
+            let out = GroupOut {
+                var: &mut b.var[g],
+                ddx: &mut b.ddx[g],
+                ddy: &mut b.ddy[g],
+            };
+            (n.interp)(tri, &l, &it.var, out, mask);
+        }
+    }
+    for slot in 0..OPEN {
+        if n.open[slot].len > 0 {
+            flush_deferred::<L>(tile, shader, &mut n.open[slot], &mut n.calls);
+        }
+    }
+    n.vis.pending = false;
+}
+
+/// The open batch for `key`: one holding it, else an empty one, else the fullest one shaded
+/// and emptied.
+#[inline(always)]
+fn open_batch<L: Level>(
+    tile: &mut Tile,
+    shader: &dyn FragmentShader,
+    n: &mut FillScratch,
+    key: Key,
+) -> usize {
+    if let Some(i) = (0..OPEN).find(|&i| n.open[i].len > 0 && n.keys[i] == key) {
+        return i;
+    }
+    let i = match (0..OPEN).find(|&i| n.open[i].len == 0) {
+        Some(i) => i,
+        None => {
+            let i = (0..OPEN).max_by_key(|&i| n.open[i].len).unwrap_or(0);
+            flush_deferred::<L>(tile, shader, &mut n.open[i], &mut n.calls);
+            i
+        }
+    };
+    n.keys[i] = key;
+    i
+}
+
+/// Shades a batch of deferred fragments and writes their colours (their depth is written).
+#[inline(always)]
+fn flush_deferred<L: Level>(
+    tile: &mut Tile,
+    shader: &dyn FragmentShader,
+    b: &mut Batch,
+    calls: &mut u64,
+) {
+    *calls += b.len as u64;
+    let live = b.mask;
+    shader.shade(b);
+    let (color, _) = tile.planes_mut();
+    for g in 0..b.len {
+        let keep = b.mask[g] & live[g];
+        if keep != 0 {
+            store_color::<L>(color, b.o[g] as usize, keep, &b.out[g]);
+        }
+    }
+    b.len = 0;
+}
+
+/// The lanes of `t` (eight triangle ids) equal to `id`.
+#[inline(always)]
+fn same<L: Level>(t: &[u32], id: u32) -> u32 {
+    I8::<L>::load_u32(t).eq(I8::splat(id as i32)).bits()
 }
 
 /// Lanes of a row whose (biased) edge values at lane 0 are `row` that lie inside all three
@@ -927,30 +931,17 @@ fn row_mask(r: &Rows<'_>, row: [i64; 3]) -> u32 {
         let row32 = [clamp(row[0]), clamp(row[1]), clamp(row[2])];
         return !edge_signs(row32, &r.lane_x32) & 0xFF;
     }
-    let mut v = [0u32; LANES];
+    let mut out = 0;
     for i in 0..LANES {
         let w = (row[0] + r.lane_x[0][i]) | (row[1] + r.lane_x[1][i]) | (row[2] + r.lane_x[2][i]);
-        // The high half carries the sign.
-        v[i] = ((w as u64) >> 32) as u32;
+        out |= u32::from(w >= 0) << i;
     }
-    !M8(v).bits()
-}
-
-/// Screen-space barycentrics of a row's lanes from its biased edge values at lane 0: the
-/// unbiased values, each λ from its own exact edge value (1 - λ1 - λ2 cancels near vertex 0).
-#[inline(always)]
-fn barycentrics(r: &Rows<'_>, row: [i64; 3]) -> [F8; 3] {
-    let (tri, inv) = (r.tri, r.tri.inv_area);
-    [
-        F8::splat((row[0] - tri.bias(0)) as f32 * inv) + r.l0_lanes,
-        F8::splat((row[1] - tri.bias(1)) as f32 * inv) + r.l1_lanes,
-        F8::splat((row[2] - tri.bias(2)) as f32 * inv) + r.l2_lanes,
-    ]
+    out | !0xFF
 }
 
 /// Lanes where depth `z` passes `test` against the stored `depth` (eight values).
 #[inline(always)]
-fn depth_pass(test: DepthTest, z: F8, depth: &[f32]) -> u32 {
+fn depth_pass<L: Level>(test: DepthTest, z: F8<L>, depth: &[f32]) -> u32 {
     let depth = F8::load(depth);
     match test {
         DepthTest::Greater => z.gt(depth).bits(),
@@ -961,50 +952,88 @@ fn depth_pass(test: DepthTest, z: F8, depth: &[f32]) -> u32 {
 
 /// The perspective weights `[p_1, p_2, 1 / D]` of `tri` at screen-space barycentrics `l`.
 #[inline(always)]
-fn perspective<K: Kernel>(tri: &SetupTri, l: [F8; 3]) -> [F8; 3] {
+fn perspective<L: Level>(tri: &SetupTri, l: [F8<L>; 3]) -> [F8<L>; 3] {
     // Perspective weights p_k = λ_k (1/w_k) / Σ λ_j (1/w_j). Inside the triangle every λ is
     // >= 0 (clamped against rounding), so every term of D is >= 0: no cancellation, and D > 0
     // even where one 1/w is tiny (a vertex at w = 1e30).
     let (l0, l1, l2) = (l[0].max(F8::ZERO), l[1].max(F8::ZERO), l[2].max(F8::ZERO));
     let w1 = l1 * tri.iw[1];
     let w2 = l2 * tri.iw[2];
-    let d = K::fma(l0, F8::splat(tri.iw[0]), w1 + w2);
+    let d = mad(l0, F8::splat(tri.iw[0]), w1 + w2);
     let inv_d = d.recip();
+    // Pinned: every varying reads them (see `F8::pin`).
     [w1 * inv_d, w2 * inv_d, inv_d]
 }
 
-/// Interpolates a triangle's varyings `v` (and their derivatives, if the draw asks) at
-/// perspective weights `p` ([`perspective`]) into `var` (and `ddx`, `ddy`).
-#[inline(always)]
-fn interpolate<K: Kernel>(
-    v: &Varyings<'_>,
-    p: [F8; 3],
-    var: &mut [F8; MAX_VARYINGS],
-    ddx: &mut [F8; MAX_VARYINGS],
-    ddy: &mut [F8; MAX_VARYINGS],
-) {
-    let [p1, p2, inv_d] = p;
-    // Groups of four (the rows are padded): a fixed inner trip count the compiler unrolls.
-    for (((out, v0), d1), d2) in var
-        .chunks_exact_mut(4)
-        .zip(v.v0.chunks_exact(4))
-        .zip(v.d1.chunks_exact(4))
-        .zip(v.d2.chunks_exact(4))
-    {
-        for j in 0..4 {
-            out[j] = K::fma(
-                F8::splat(d2[j]),
+/// Where a group's interpolated values go: its varyings and their derivatives.
+pub(crate) struct GroupOut<'a> {
+    var: &'a mut [Lane; MAX_VARYINGS],
+    ddx: &'a mut [Lane; MAX_VARYINGS],
+    ddy: &'a mut [Lane; MAX_VARYINGS],
+}
+
+/// A kernel's copy of [`interp_group`].
+pub(crate) type InterpFn = fn(&SetupTri, &[Lane; 3], &Varyings<'_>, GroupOut<'_>, u32);
+
+crate::simd::per_kernel! {
+    /// Interpolates triangle `tri`'s varyings `v` (and their derivatives, if the draw asks) at
+    /// screen-space barycentrics `l` into the lanes `mask` of `out` (the others keep what
+    /// they hold).
+    ///
+    /// A function of its own, called per group: inlined into the resolve loop, LLVM
+    /// vectorized the varyings' loop across four varyings and rebuilt the perspective
+    /// weights lane by lane (eight `divss` for one `vdivps`); alone, every step is one
+    /// eight-lane instruction.
+    pub(crate) fn interp_group<L>(tri: &SetupTri, l: &[Lane; 3], v: &Varyings<'_>, out: GroupOut<'_>, mask: u32) {
+        let [p1, p2, inv_d] = perspective::<L>(tri, l.map(|x| x.get()));
+        let m = M8::<L>::from_bits(mask);
+        let n = v.stride.min(MAX_VARYINGS).min(v.v0.len()).min(v.d1.len()).min(v.d2.len());
+        let var = out.var;
+        for j in 0..n {
+            let val = mad(
+                F8::splat(v.d2[j]),
                 p2,
-                K::fma(F8::splat(d1[j]), p1, F8::splat(v0[j])),
+                mad(F8::splat(v.d1[j]), p1, F8::splat(v.v0[j])),
             );
+            var[j].blend(m, val);
+        }
+        if let Some((first, count, gr)) = &v.grad {
+            let [d1x, d2x, d1y, d2y] = gr.weights(p1, p2, inv_d);
+            let d1 = v.d1.get(*first..).unwrap_or(&[]);
+            let d2 = v.d2.get(*first..).unwrap_or(&[]);
+            let n = (*count).min(MAX_VARYINGS).min(d1.len()).min(d2.len());
+            let (ddx, ddy) = (out.ddx, out.ddy);
+            for j in 0..n {
+                let (a, c) = (F8::splat(d1[j]), F8::splat(d2[j]));
+                ddx[j].blend(m, mad(a, d1x, c * d2x));
+                ddy[j].blend(m, mad(a, d1y, c * d2y));
+            }
         }
     }
-    if let Some((first, count, g)) = &v.grad {
-        let [d1x, d2x, d1y, d2y] = g.weights::<K>(p1, p2, inv_d);
-        for j in 0..*count {
-            let (a, b) = (F8::splat(v.d1[first + j]), F8::splat(v.d2[first + j]));
-            ddx[j] = K::fma(a, d1x, b * d2x);
-            ddy[j] = K::fma(a, d1y, b * d2y);
+}
+
+/// Writes colour `out` to the `keep` lanes at offset `o` of the (first sample's) colour
+/// planes.
+#[inline(always)]
+fn store_color<L: Level>(color: &mut [f32], o: usize, keep: u32, out: &Colors) {
+    let (cr, rest) = color.split_at_mut(TILE_PIXELS);
+    let (cg, rest) = rest.split_at_mut(TILE_PIXELS);
+    let (cb, rest) = rest.split_at_mut(TILE_PIXELS);
+    let ca = &mut rest[..TILE_PIXELS];
+    let planes = [
+        (&mut cr[o..o + LANES], &out.r),
+        (&mut cg[o..o + LANES], &out.g),
+        (&mut cb[o..o + LANES], &out.b),
+        (&mut ca[o..o + LANES], &out.a),
+    ];
+    if keep & 0xFF == 0xFF {
+        for (p, v) in planes {
+            p.copy_from_slice(&v.0);
+        }
+    } else {
+        let m = M8::<L>::from_bits(keep);
+        for (p, v) in planes {
+            v.get::<L>().store_where(m, p);
         }
     }
 }
@@ -1012,79 +1041,75 @@ fn interpolate<K: Kernel>(
 /// Writes colour `out` and depth `z` to the `keep` lanes of sample `s` at offset `o`, as the
 /// draw state says (blend, colour and depth writes).
 #[inline(always)]
-fn write<K: Kernel>(
+fn write<L: Level>(
     tile: &mut Tile,
     st: DrawState,
     s: usize,
     o: usize,
     keep: u32,
     out: &Colors,
-    z: F8,
+    z: F8<L>,
 ) {
     let keep_m = M8::from_bits(keep);
     let full = keep & 0xFF == 0xFF;
     let (color, depth) = tile.planes_mut();
     if st.color_write {
         let color = &mut color[4 * s * TILE_PIXELS..];
-        let (cr, rest) = color.split_at_mut(TILE_PIXELS);
-        let (cg, rest) = rest.split_at_mut(TILE_PIXELS);
-        let (cb, rest) = rest.split_at_mut(TILE_PIXELS);
-        let ca = &mut rest[..TILE_PIXELS];
-        let (pr, pg, pb, pa) = (
-            &mut cr[o..o + LANES],
-            &mut cg[o..o + LANES],
-            &mut cb[o..o + LANES],
-            &mut ca[o..o + LANES],
-        );
-        if full && st.blend == Blend::Replace {
-            // Every lane replaced: no need to read what was there.
-            pr.copy_from_slice(&out.r.0);
-            pg.copy_from_slice(&out.g.0);
-            pb.copy_from_slice(&out.b.0);
-            pa.copy_from_slice(&out.a.0);
+        if st.blend == Blend::Replace {
+            store_color::<L>(color, o, keep, out);
         } else {
-            blend::<K>(st.blend, keep_m, out, [pr, pg, pb, pa]);
+            let (cr, rest) = color.split_at_mut(TILE_PIXELS);
+            let (cg, rest) = rest.split_at_mut(TILE_PIXELS);
+            let (cb, rest) = rest.split_at_mut(TILE_PIXELS);
+            let ca = &mut rest[..TILE_PIXELS];
+            let dst = [
+                &mut cr[o..o + LANES],
+                &mut cg[o..o + LANES],
+                &mut cb[o..o + LANES],
+                &mut ca[o..o + LANES],
+            ];
+            blend(st.blend, keep_m, out, dst);
         }
     }
     if st.depth_write {
         let depth = &mut depth[s * TILE_PIXELS + o..][..LANES];
-        let v = if full {
-            z
+        if full {
+            z.store(depth);
         } else {
-            F8::select(keep_m, z, F8::load(depth))
-        };
-        depth.copy_from_slice(&v.0);
+            z.store_where(keep_m, depth);
+        }
     }
 }
 
 /// Blends `out` into the eight pixels of the four colour planes `dst` where `keep` is set.
 #[inline(always)]
-fn blend<K: Kernel>(mode: Blend, keep: M8, out: &Colors, dst: [&mut [f32]; 4]) {
+fn blend<L: Level>(mode: Blend, keep: M8<L>, out: &Colors, dst: [&mut [f32]; 4]) {
     let [pr, pg, pb, pa] = dst;
     let (dr, dg, db, da) = (F8::load(pr), F8::load(pg), F8::load(pb), F8::load(pa));
+    let (sr, sg, sb, sa) = (out.r.get(), out.g.get(), out.b.get(), out.a.get());
     let (r2, g2, b2, a2) = match mode {
-        Blend::Replace => (out.r, out.g, out.b, out.a),
+        Blend::Replace => (sr, sg, sb, sa),
         Blend::Alpha => {
-            let a = out.a.clamp(0.0, 1.0);
+            let a = sa.clamp(0.0, 1.0);
             let na = F8::ONE - a;
             (
-                K::fma(out.r, a, dr * na),
-                K::fma(out.g, a, dg * na),
-                K::fma(out.b, a, db * na),
-                K::fma(da, na, a),
+                mad(sr, a, dr * na),
+                mad(sg, a, dg * na),
+                mad(sb, a, db * na),
+                mad(da, na, a),
             )
         }
-        Blend::Add => (out.r + dr, out.g + dg, out.b + db, out.a + da),
+        Blend::Add => (sr + dr, sg + dg, sb + db, sa + da),
     };
-    pr.copy_from_slice(&F8::select(keep, r2, dr).0);
-    pg.copy_from_slice(&F8::select(keep, g2, dg).0);
-    pb.copy_from_slice(&F8::select(keep, b2, db).0);
-    pa.copy_from_slice(&F8::select(keep, a2, da).0);
+    r2.store_where(keep, pr);
+    g2.store_where(keep, pg);
+    b2.store_where(keep, pb);
+    a2.store_where(keep, pa);
 }
 
 /// Per-triangle constants of the perspective weights' derivatives (see the module docs).
 #[derive(Clone, Copy, Default)]
-struct Gradients {
+pub(crate) struct Gradients {
     /// `∂λ_k/∂x (1/w_k)` and `∂λ_k/∂y (1/w_k)` for k = 1, 2.
     cx: [f32; 2],
     cy: [f32; 2],
@@ -1111,8 +1136,8 @@ impl Gradients {
     /// `[∂p_1/∂x, ∂p_2/∂x, ∂p_1/∂y, ∂p_2/∂y]` at lanes with perspective weights `p1`, `p2`
     /// and `inv = 1 / D`.
     #[inline(always)]
-    fn weights<K: Kernel>(&self, p1: F8, p2: F8, inv: F8) -> [F8; 4] {
-        let f = |c: f32, p: F8, d: f32| K::fma(p, F8::splat(-d), F8::splat(c)) * inv;
+    fn weights<L: Level>(&self, p1: F8<L>, p2: F8<L>, inv: F8<L>) -> [F8<L>; 4] {
+        let f = |c: f32, p: F8<L>, d: f32| mad(p, F8::splat(-d), F8::splat(c)) * inv;
         [
             f(self.cx[0], p1, self.dx),
             f(self.cx[1], p2, self.dx),
@@ -1126,10 +1151,13 @@ impl Gradients {
 mod tests {
     use glam::{Mat4, Vec2, Vec3, Vec4};
 
-    use crate::simd::{Kernel, F8};
+    use crate::simd::kernel::__private::Portable;
+    use crate::simd::F8;
+
+    type P = F8<Portable>;
     use crate::{
-        draw, Colors, Cull, Draw, DrawState, FragmentShader, Fragments, PerPixel, PixelShader,
-        Stats, Target, TriInfo,
+        draw, Batch, Colors, Cull, Draw, DrawState, FragmentShader, PerPixel, PixelShader, Stats,
+        Target, TriInfo,
     };
     use realist_scene::Camera;
 
@@ -1149,16 +1177,16 @@ mod tests {
         fn derivatives(&self, _: u32) -> Option<(usize, usize)> {
             Some((0, 2))
         }
-        #[inline(always)]
-        fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-            assert_eq!((f.ddx.len(), f.ddy.len()), (2, 2));
-            *out = Colors {
-                r: f.ddx[0],
-                g: f.ddx[1],
-                b: f.ddy[0],
-                a: f.ddy[1],
-            };
-            f.mask
+        fn shade(&self, b: &mut Batch) {
+            assert_eq!(b.derivatives, 2);
+            for g in 0..b.len {
+                b.out[g] = Colors {
+                    r: b.ddx[g][0],
+                    g: b.ddx[g][1],
+                    b: b.ddy[g][0],
+                    a: b.ddy[g][1],
+                };
+            }
         }
     }
 
@@ -1284,20 +1312,24 @@ mod tests {
         fn derivatives(&self, _: u32) -> Option<(usize, usize)> {
             Some((0, 2))
         }
-        fn packs(&self, _: u32) -> bool {
+        fn defers(&self, _: u32) -> bool {
             self.pack
         }
-        #[inline(always)]
-        fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-            let (u, v) = (f.var[0], f.var[1]);
-            let side = if f.tri.front { 1.0 } else { 0.5 };
-            *out = Colors {
-                r: (u * F8::splat(7.0) + v).map(f32::sin),
-                g: (f.ddx[0] * F8::splat(31.0)).map(f32::cos) * side,
-                b: f.ddy[1] * F8::splat(13.0) + F8::splat(f.tri.draw as f32),
-                a: (u * v).sqrt(),
-            };
-            f.mask
+        fn discards(&self, _: u32) -> bool {
+            false
+        }
+        fn shade(&self, b: &mut Batch) {
+            let side = if b.front { 1.0 } else { 0.5 };
+            for g in 0..b.len {
+                let (u, v): (P, P) = (b.var[g][0].get(), b.var[g][1].get());
+                let (dx, dy): (P, P) = (b.ddx[g][0].get(), b.ddy[g][1].get());
+                b.out[g] = Colors::of(
+                    (u * P::splat(7.0) + v).map(f32::sin),
+                    (dx * P::splat(31.0)).map(f32::cos) * side,
+                    dy * P::splat(13.0) + P::splat(b.draw as f32),
+                    (u * v).sqrt(),
+                );
+            }
         }
     }
 

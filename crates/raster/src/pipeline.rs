@@ -8,15 +8,15 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
-use super::fill::{fill, FillCounters, TriId};
-use super::framebuffer::{Target, Tile, TILE};
+use super::fill::{fill_tile, FillFns, FillScratch};
+use super::framebuffer::{Target, TILE};
 use super::setup::{
-    padded, project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri, Viewport,
+    project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri, Viewport,
     GUARD_BAND_PX,
 };
 use super::{FragmentShader, MAX_VARYINGS};
-use crate::simd::kernel::{dispatch, prefetch, KernelJob, KernelKind};
-use crate::simd::lanes::Kernel;
+use crate::simd::kernel::{dispatch, KernelJob, KernelKind};
+use crate::simd::Level;
 
 /// Which faces are discarded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -379,7 +379,7 @@ struct ProjectJob<'a> {
 impl KernelJob for ProjectJob<'_> {
     type Output = ();
     #[inline(always)]
-    fn run<K: Kernel>(self) {
+    fn run<L: Level>(self) {
         let (hw, hh) = self.half;
         for (o, p) in self.out.iter_mut().zip(self.clip) {
             *o = PreVert::new(*p, self.g, hw, hh, self.bits);
@@ -535,10 +535,10 @@ struct SetupJob<'a, L: ?Sized> {
     chunk: &'a mut Chunk,
 }
 
-impl<L: DrawList + ?Sized> KernelJob for SetupJob<'_, L> {
+impl<D: DrawList + ?Sized> KernelJob for SetupJob<'_, D> {
     type Output = ();
     #[inline(always)]
-    fn run<K: Kernel>(self) {
+    fn run<L: Level>(self) {
         setup_range(
             self.draws,
             self.starts,
@@ -739,83 +739,23 @@ fn tile_outside(t: &SetupTri, reach: i64, x: u32, y: u32) -> bool {
     })
 }
 
-/// How many triangles ahead of the one being filled the fill prefetches.
-const PREFETCH_AHEAD: usize = 3;
-
-/// One tile's fill, compiled per kernel.
-struct TileJob<'a, S> {
-    tile: &'a mut Tile,
-    index: usize,
-    chunks: &'a [Chunk],
-    shader: &'a S,
-    n: &'a mut FillCounters,
-}
-
-impl<S: FragmentShader> KernelJob for TileJob<'_, S> {
-    type Output = ();
-    #[inline(always)]
-    fn run<K: Kernel>(self) {
-        let TileJob {
-            tile,
-            index,
-            chunks,
-            shader,
-            n,
-        } = self;
-        // The tile's triangles in order, then `None`: the fill shades the fragments it
-        // deferred. One call of `fill` (it holds the kernel's only copy of the shader).
-        let mut order = chunks.iter().enumerate().flat_map(|(ci, c)| {
-            let bin = &c.bins[index];
-            bin.iter()
-                .enumerate()
-                .map(move |(k, &i)| (ci, c, bin, k, i))
-        });
-        loop {
-            let next = order.next();
-            if let Some((_, c, bin, k, _)) = next {
-                // Most of a small triangle's cost is fetching its set-up data (written by
-                // another thread): prefetch the triangle 2 * AHEAD on, and the varyings of
-                // the one AHEAD on (its triangle, read for their offset, is already here).
-                if let Some(&far) = bin.get(k + 2 * PREFETCH_AHEAD) {
-                    prefetch(&c.tris[far as usize]);
-                }
-                if let Some(&near) = bin.get(k + PREFETCH_AHEAD) {
-                    let t = &c.tris[near as usize];
-                    let at = t.attr as usize;
-                    if let Some(a) = c.attrs.get(at..at + 3 * padded(t.stride as usize)) {
-                        prefetch(a);
-                    }
-                }
-            }
-            let tri = next.map(|(ci, c, _, _, i)| {
-                let id: TriId = (ci as u32) << 16 | u32::from(i);
-                (&c.tris[i as usize], &c.attrs[..], id)
-            });
-            fill::<K, S>(tile, tri, chunks, shader, n);
-            if next.is_none() {
-                break;
-            }
-        }
-    }
-}
-
 thread_local! {
-    /// Each worker's fill counters and visibility buffer ([`flush`]).
-    static FILL: RefCell<FillCounters> = RefCell::new(FillCounters::default());
+    /// Each worker's fill counters, visibility buffer and batches ([`flush`]).
+    static FILL: RefCell<Option<Box<FillScratch>>> = const { RefCell::new(None) };
 }
 
 /// Fills every tile with its binned triangles (in parallel over tiles, in chunk order).
 /// Tiles are skipped once `stop` answers true; returns false if any was.
-pub(crate) fn flush<S: FragmentShader>(
+pub(crate) fn flush(
     target: &mut Target,
     chunks: &[Chunk],
     bins: &mut Bins,
-    shader: &S,
+    shader: &dyn FragmentShader,
     stats: &mut Stats,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
     let start = Instant::now();
-    let kernel = bins.kernel;
+    let fns = FillFns::pick(bins.kernel);
     let (tiles, shaded, rejected, calls, skipped) = target
         .tiles
         .par_iter_mut()
@@ -828,25 +768,17 @@ pub(crate) fn flush<S: FragmentShader>(
             }
             let start = Instant::now();
             tile.materialize();
-            // The worker's counters and visibility buffer: allocated once per thread, not
-            // per frame (the renderer allocates nothing after its first frame).
-            let mut run = |n: &mut FillCounters| {
-                n.begin_tile();
-                let job = TileJob {
-                    tile: &mut *tile,
-                    index,
-                    chunks,
-                    shader,
-                    n: &mut *n,
-                };
-                dispatch(kernel, job);
+            // The worker's counters, visibility buffer and batches: allocated once per
+            // thread, not per frame (the renderer allocates nothing after its first frame).
+            let mut run = |n: &mut FillScratch| {
+                fill_tile(&fns, tile, index, chunks, shader, n);
                 (n.shaded, n.depth_rejected, n.calls)
             };
             let (shaded, rejected, calls) = FILL.with(|cell| match cell.try_borrow_mut() {
-                Ok(mut n) => run(&mut n),
+                Ok(mut n) => run(n.get_or_insert_with(Box::default)),
                 // Never while a tile is filled on this thread (nothing in it yields to
                 // rayon); a fresh set if it ever were.
-                Err(_) => run(&mut FillCounters::default()),
+                Err(_) => run(&mut FillScratch::default()),
             });
             cost.nanos += start.elapsed().as_nanos() as u64;
             cost.fragments += shaded;

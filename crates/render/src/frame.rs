@@ -13,9 +13,11 @@ use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
 use crate::scene::{
     AlphaMode, Light, Material, Slot, SlotOverride, Style, TextureSource, UvTransform,
 };
+use crate::shade::stages::Program;
 use crate::shade::{
     DrawParams, Fog, LightSet, LitLayout, PbrParams, Shading, SlotParams, Surface, TexView,
 };
+use crate::simd::KernelKind;
 use crate::texture::{Procedural, ProceduralTexture, Sampler};
 
 /// One visible instance of this frame.
@@ -47,6 +49,8 @@ pub(super) struct FrameInst {
 pub(super) struct FrameData {
     pub insts: Vec<FrameInst>,
     pub params: Vec<DrawParams>,
+    /// Each draw's shading stages, parallel to `params` (entries beyond it are stale).
+    pub programs: Vec<Program>,
     pub lights: LightSet,
     /// Per instance, the indices of the sources that reach it ([`DrawParams::lights`]).
     pub active: Vec<u32>,
@@ -577,7 +581,9 @@ impl FrameInst {
 }
 
 /// Fills `fd` for one frame: lights, visible instances and their parameters. Counts
-/// objects culled by their bounding sphere into `stats`.
+/// objects culled by their bounding sphere into `stats`. Builds each draw's shading stages for
+/// `kernel`.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn set_up(
     fd: &mut FrameData,
     scene: &PreparedScene,
@@ -585,6 +591,7 @@ pub(super) fn set_up(
     view: Mat4,
     vp: Mat4,
     eye: Vec3,
+    kernel: KernelKind,
     stats: &mut Stats,
 ) {
     frame_lights(
@@ -671,6 +678,13 @@ pub(super) fn set_up(
     } else {
         None
     };
+    if fd.programs.len() < fd.params.len() {
+        fd.programs.resize_with(fd.params.len(), Program::default);
+    }
+    let fog = fd.fog.is_some();
+    for (prog, d) in fd.programs.iter_mut().zip(&fd.params) {
+        prog.build(d, d.active(&fd.active), fog, kernel);
+    }
     let insts = &fd.insts;
     // Back to front; unstable sort allocates nothing, ties broken by instance order.
     fd.order.sort_unstable_by(|&a, &b| {

@@ -402,7 +402,10 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     let flat_pick = of(Shading::Flat);
     if fd.insts.iter().enumerate().any(|(k, fi)| flat_pick(k, fi)) {
         let mut facets = cx.pool.take::<FacetScratch>();
-        let shader = ColorShader { draws: params };
+        let shader = ColorShader {
+            draws: params,
+            kernel: cx.bins.kernel,
+        };
         let vertex = |fi: &FrameInst, out: &mut Vec<f32>| lit.flat(fi, &mut facets.0, out);
         let done = group(cx, fd, &flat_pick, Geometry::Flat, vertex, &shader);
         cx.pool.put(facets);
@@ -410,7 +413,10 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
             return false;
         }
     }
-    let shader = ColorShader { draws: params };
+    let shader = ColorShader {
+        draws: params,
+        kernel: cx.bins.kernel,
+    };
     // Double-sided materials (no culling) get both sides' colours (`Lit::gouraud`).
     let (done, g) = group_with(
         cx,
@@ -443,6 +449,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
             mode: debug,
             near: cx.camera.near,
             far: cx.camera.far,
+            kernel: cx.bins.kernel,
         };
         let vertex = |fi: &FrameInst, out: &mut Vec<f32>| vertex::debug(scene, fi, debug, out);
         if !group(cx, fd, &of(mode), Geometry::Indexed, vertex, &shader) {
@@ -459,6 +466,7 @@ struct FacetScratch(Vec<Vec4>);
 fn lit_group(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) -> bool {
     let shader = LitShader {
         draws: &fd.params,
+        programs: &fd.programs,
         lights: &fd.lights,
         active: &fd.active,
         eye: cx.eye,

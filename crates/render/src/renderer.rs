@@ -135,6 +135,7 @@ impl Renderer {
             view_m,
             vp,
             eye,
+            self.bins.kernel,
             &mut stats,
         );
         if self.frame.lights.sources.iter().any(|s| s.casts) && settings.output == Output::Shaded {

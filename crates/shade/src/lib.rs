@@ -32,6 +32,7 @@ mod lighting;
 pub mod maps;
 mod shaders;
 mod shadow;
+pub mod stages;
 pub mod texlab;
 
 pub use crate::simd::{Num, Real};

@@ -17,7 +17,7 @@
 //! ([`ambient`]).
 //!
 //! Written once, over [`Num`]: `f32` (the vertex stage and the pixel probe), `f64` (the
-//! references in [`crate::quality`]) and [`Lanes`] (the pixel shaders, eight pixels at a
+//! references in [`crate::quality`]) and [`F8`] (the pixel stages, eight pixels at a
 //! time). Every decision is a mask and a select, with an early exit only when no lane needs
 //! the work; the few reads that differ between scalars and lanes (a projected image, a
 //! shadow map, the BRDF table) are the [`Shade`] trait.
@@ -29,7 +29,7 @@ use glam::{Mat4, Vec2, Vec3};
 use super::brdf::{self, Pbr, Terms};
 use super::shadow::ShadowMap;
 use crate::scene::{Attenuation, Light, LightKind};
-use crate::simd::{Kernel, Lanes, Num, Real, F8, M8, V3};
+use crate::simd::{mad, Level, Num, Real, F8, M8, V3};
 use crate::texture::env::{brdf_lut, EnvView};
 use crate::texture::{Filter, Sampler, Texture, Wrap};
 
@@ -375,61 +375,68 @@ macro_rules! shade_scalar {
 shade_scalar!(f32);
 shade_scalar!(f64);
 
-impl<K: Kernel> Shade for Lanes<K> {
+impl<L: Level> Shade for F8<L> {
     #[inline(always)]
-    fn image(img: &Texture, u: Self, v: Self, live: M8) -> V3 {
-        let c = img.sample_lanes::<K>(u.0, v.0, live.bits(), IMAGE_SAMPLER);
+    fn image(img: &Texture, u: Self, v: Self, live: M8<L>) -> V3<L> {
+        let c = img.sample_lanes(u, v, live.bits(), IMAGE_SAMPLER);
         V3::new(c[0], c[1], c[2])
     }
     #[inline(always)]
-    fn shadow(map: &ShadowMap, p: V3, n: V3, l: V3, live: M8) -> Self {
-        Lanes::new(map.visibility_lanes::<K>(p, n, l, live.bits()))
+    fn shadow(map: &ShadowMap, p: V3<L>, n: V3<L>, l: V3<L>, live: M8<L>) -> Self {
+        map.visibility_lanes(p, n, l, live.bits())
     }
     #[inline(always)]
     fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self) {
         let lut = brdf_lut();
-        let (mut a, mut b) = (nv.0, nv.0);
+        let (nv, r) = (nv.to_array(), roughness.to_array());
+        let (mut a, mut b) = ([0.0; 8], [0.0; 8]);
         for i in 0..crate::simd::LANES {
-            (a.0[i], b.0[i]) = lut.lookup(nv.0 .0[i], roughness.0 .0[i]);
+            (a[i], b[i]) = lut.lookup(nv[i], r[i]);
         }
-        (Lanes::new(a), Lanes::new(b))
+        (F8::from_array(a), F8::from_array(b))
     }
     #[inline(always)]
-    fn env(env: &EnvView, n: V3, r: V3, roughness: Self) -> (V3, V3) {
+    fn env(env: &EnvView, n: V3<L>, r: V3<L>, roughness: Self) -> (V3<L>, V3<L>) {
         // The rotation and the image coordinates on all lanes at once (`F8::atan2` and
         // `F8::acos`, within 2e-5 rad: a thousandth of a texel of the largest level); the
         // texel reads per lane.
         let (sin, cos) = env.rotation_sin_cos();
         let (sin, cos) = (F8::splat(sin), F8::splat(cos));
-        let ((ur, vr), (un, vn)) = (env_uv::<K>(r, sin, cos), env_uv::<K>(n, sin, cos));
+        let ((ur, vr), (un, vn)) = (env_uv(r, sin, cos), env_uv(n, sin, cos));
+        let (ur, vr, un, vn) = (ur.to_array(), vr.to_array(), un.to_array(), vn.to_array());
+        let rough = roughness.to_array();
         let k = env.intensity;
-        let (mut s, mut e) = (V3::default(), V3::default());
+        let (mut s, mut e) = ([[0.0; 8]; 3], [[0.0; 8]; 3]);
         for i in 0..crate::simd::LANES {
-            let si = env.env.specular_uv(ur.0[i], vr.0[i], roughness.0 .0[i]) * k;
-            let ei = env.env.irradiance_uv(un.0[i], vn.0[i]) * k;
-            (s.x.0[i], s.y.0[i], s.z.0[i]) = (si.x, si.y, si.z);
-            (e.x.0[i], e.y.0[i], e.z.0[i]) = (ei.x, ei.y, ei.z);
+            let si = env.env.specular_uv(ur[i], vr[i], rough[i]) * k;
+            let ei = env.env.irradiance_uv(un[i], vn[i]) * k;
+            for c in 0..3 {
+                s[c][i] = si[c];
+                e[c][i] = ei[c];
+            }
         }
-        (s, e)
+        let v3 = |a: [[f32; 8]; 3]| {
+            V3::new(
+                F8::from_array(a[0]),
+                F8::from_array(a[1]),
+                F8::from_array(a[2]),
+            )
+        };
+        (v3(s), v3(e))
     }
 }
 
 /// The equirect image coordinates of eight directions `d` turned by the rotation whose
 /// sine and cosine are `sin`, `cos` (`EnvView::to_image`, `env::dir_to_uv`).
 #[inline(always)]
-fn env_uv<K: Kernel>(d: V3, sin: F8, cos: F8) -> (F8, F8) {
-    let d = V3::new(
-        K::fma(d.x, cos, d.z * sin),
-        d.y,
-        K::fma(d.z, cos, -(d.x * sin)),
-    )
-    .normalize_or_zero::<K>();
-    let u = K::fma(
-        d.z.atan2::<K>(d.x),
+fn env_uv<L: Level>(d: V3<L>, sin: F8<L>, cos: F8<L>) -> (F8<L>, F8<L>) {
+    let d = V3::new(mad(d.x, cos, d.z * sin), d.y, mad(d.z, cos, -(d.x * sin))).normalize_or_zero();
+    let u = mad(
+        d.z.atan2(d.x),
         F8::splat(0.5 * std::f32::consts::FRAC_1_PI),
         F8::splat(0.5),
     );
-    (u, d.y.acos::<K>() * F8::splat(std::f32::consts::FRAC_1_PI))
+    (u, d.y.acos() * F8::splat(std::f32::consts::FRAC_1_PI))
 }
 
 /// The attenuation factor of `a` at distance `d`.

@@ -5,7 +5,7 @@
 //! the shaders, with the same steps in the same order.
 
 use super::Real;
-use crate::simd::{Kernel, F8, V3};
+use crate::simd::{Level, F8, V3};
 
 /// The unit normal `n` perturbed by a normal-map texel `c` (RGB = (m + 1) / 2, linear) with
 /// scale `scale`, in the frame of the tangent `t` (made orthogonal to `n`, Gram-Schmidt) and
@@ -38,17 +38,17 @@ pub fn perturb<T: Real>(n: T::V, t: T::V, w: T, c: [T; 3], scale: T) -> T::V {
 /// [`perturb`] on eight lanes.
 #[inline(always)]
 #[must_use]
-pub fn perturb_lanes<K: Kernel>(n: V3, t: V3, w: F8, c: [F8; 4], scale: f32) -> V3 {
-    let t = (t - n.scale(n.dot::<K>(t))).normalize_or_zero::<K>();
+pub fn perturb_lanes<L: Level>(n: V3<L>, t: V3<L>, w: F8<L>, c: [F8<L>; 4], scale: f32) -> V3<L> {
+    let t = (t - n.scale(n.dot(t))).normalize_or_zero();
     let sign = F8::select(w.lt(F8::ZERO), -F8::ONE, F8::ONE);
-    let b = n.cross::<K>(t).scale(sign);
+    let b = n.cross(t).scale(sign);
     let two = F8::splat(2.0);
     let x = (c[0] * two - F8::ONE) * scale;
     let y = (c[1] * two - F8::ONE) * scale;
     let z = c[2] * two - F8::ONE;
-    let m = V3::new(x, y, z).normalize_or_zero::<K>();
-    let p = (t.scale(m.x) + b.scale(m.y) + n.scale(m.z)).normalize_or_zero::<K>();
-    let ok = t.dot::<K>(t).gt(F8::ZERO);
+    let m = V3::new(x, y, z).normalize_or_zero();
+    let p = (t.scale(m.x) + b.scale(m.y) + n.scale(m.z)).normalize_or_zero();
+    let ok = t.dot(t).gt(F8::ZERO);
     V3::new(
         F8::select(ok, p.x, n.x),
         F8::select(ok, p.y, n.y),
@@ -188,7 +188,8 @@ mod tests {
     struct Job;
     impl KernelJob for Job {
         type Output = f32;
-        fn run<K: Kernel>(self) -> f32 {
+        #[inline(always)]
+        fn run<L: Level>(self) -> f32 {
             let mut worst = 0.0f32;
             let mut seed = 3u32;
             let mut r = move || {
@@ -202,14 +203,14 @@ mod tests {
                         *v = r();
                     }
                 }
-                let f = |i: usize| F8(lanes.map(|l| l[i]));
-                let n0 = V3::new(f(0) - 0.5, f(1) - 0.5, f(2) + 0.2).normalize_or_zero::<K>();
+                let f = |i: usize| F8::<L>::from_array(lanes.map(|l| l[i]));
+                let n0 = V3::new(f(0) - 0.5, f(1) - 0.5, f(2) + 0.2).normalize_or_zero();
                 let t0 = V3::new(f(3) - 0.5, f(4) - 0.5, f(5) - 0.5);
                 let w = f(6) - 0.5;
                 let c = [f(7), f(8), f(9), F8::ONE];
-                let got = perturb_lanes::<K>(n0, t0, w, c, 1.3);
+                let got = perturb_lanes(n0, t0, w, c, 1.3);
                 for i in 0..8 {
-                    let g = |v: F8| v.0[i];
+                    let g = |v: F8<L>| v.lane(i);
                     let n = Vec3::new(g(n0.x), g(n0.y), g(n0.z));
                     let t = Vec3::new(g(t0.x), g(t0.y), g(t0.z));
                     let want = perturb::<f32>(n, t, g(w), [g(c[0]), g(c[1]), g(c[2])], 1.3);

@@ -4,12 +4,11 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::lighting::{illuminate, Fog, LightSet, Surface};
-use super::maps::perturb_lanes;
-use super::texlab;
-use crate::raster::{Colors, FragmentShader, Fragments};
+use super::lighting::{Fog, LightSet, Surface};
+use super::stages::{alpha_lanes, Cx, Program, Regs};
+use crate::raster::{Batch, Colors, FragmentShader, GROUPS};
 use crate::scene::{AlphaMode, TextureSource, UvTransform};
-use crate::simd::{Kernel, Lanes, F8, V3};
+use crate::simd::{KernelKind, Lane, Level, F8, V3};
 use crate::texture::{srgb_to_linear, Sampler};
 
 /// A texture one draw samples: the image or procedural texture, how it is read, and where
@@ -116,17 +115,6 @@ impl DrawParams {
         .into_iter()
         .flatten()
     }
-
-    /// Applies the alpha mode to lanes `mask` with alpha `a`: returns the alpha to store and
-    /// the lanes kept (`Mask` discards those below the cutoff).
-    #[inline(always)]
-    fn alpha_lanes(&self, a: F8, mask: u32) -> (F8, u32) {
-        match self.alpha {
-            AlphaMode::Opaque => (F8::ONE, mask),
-            AlphaMode::Mask(cutoff) => (F8::ONE, mask & a.ge(F8::splat(cutoff)).bits()),
-            AlphaMode::Blend => (a, mask),
-        }
-    }
 }
 
 /// Flat and Gouraud: the colour was computed per facet or per vertex and is interpolated.
@@ -136,23 +124,48 @@ impl DrawParams {
 /// triangle shows.
 pub struct ColorShader<'a> {
     pub draws: &'a [DrawParams],
+    /// The kernel the shading runs with.
+    pub kernel: KernelKind,
 }
 
 impl FragmentShader for ColorShader<'_> {
-    #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        let d = &self.draws[f.tri.draw as usize];
-        let Some(c) = f.var.get(..4) else {
-            return 0;
+    fn defers(&self, draw: u32) -> bool {
+        !self.discards(draw)
+    }
+
+    fn discards(&self, draw: u32) -> bool {
+        self.draws
+            .get(draw as usize)
+            .is_none_or(|d| matches!(d.alpha, AlphaMode::Mask(_)))
+    }
+
+    fn shade(&self, b: &mut Batch) {
+        let Some(d) = self.draws.get(b.draw as usize) else {
+            b.mask = [0; GROUPS];
+            return;
         };
-        let (a, keep) = d.alpha_lanes(c[3], f.mask);
-        *out = Colors {
-            r: c[0],
-            g: c[1],
-            b: c[2],
-            a,
-        };
-        keep
+        if b.stride < 4 {
+            b.mask = [0; GROUPS];
+            return;
+        }
+        color_groups::pick(self.kernel)(b, d.alpha);
+    }
+}
+
+crate::simd::per_kernel! {
+    /// The interpolated colours of the batch's groups, with alpha mode `alpha`.
+    fn color_groups<L>(b: &mut Batch, alpha: AlphaMode) {
+        for g in 0..b.len.min(GROUPS) {
+            let c = &b.var[g];
+            let (a, keep) = alpha_lanes(alpha, c[3].get::<L>(), b.mask[g]);
+            b.out[g] = Colors {
+                r: c[0],
+                g: c[1],
+                b: c[2],
+                a: a.into(),
+            };
+            b.mask[g] = keep;
+        }
     }
 }
 
@@ -300,117 +313,6 @@ impl LitLayout {
     }
 }
 
-/// Samples slot `t` on the lanes of `f` from the draw's varyings `v`, with the exact UV
-/// derivatives when the fill computed them, scaled by `lod_scale`; `first` is the first
-/// varying with derivatives ([`LitLayout::derivatives`]). `#[inline(always)]`: a sampler
-/// that is not inlined into the kernel's entry point loses the kernel's target features.
-/// Procedural textures are evaluated one live lane at a time, outside the kernel
-/// (`texlab.rs`).
-#[inline(always)]
-fn sample<K: Kernel>(t: &SlotParams, f: &Fragments<'_>, lod_scale: f32, first: usize) -> [F8; 4] {
-    let k = t.uv_at as usize;
-    let texture = match &t.source {
-        TextureSource::Image(texture) => texture,
-        TextureSource::Procedural(p) => {
-            return texlab::procedural_lanes(p, f, k, first, lod_scale);
-        }
-    };
-    let v = f.var;
-    let (u, w) = (v[k], v[k + 1]);
-    let d = k.wrapping_sub(first);
-    match (f.ddx.get(d..d + 2), f.ddy.get(d..d + 2)) {
-        (Some([dudx, dvdx]), Some([dudy, dvdy])) => texture.sample_grad_lanes::<K>(
-            u,
-            w,
-            *dudx * lod_scale,
-            *dvdx * lod_scale,
-            *dudy * lod_scale,
-            *dvdy * lod_scale,
-            f.mask,
-            t.sampler,
-        ),
-        _ => texture.sample_lanes::<K>(u, w, f.mask, t.sampler),
-    }
-}
-
-/// What a draw's maps change at a pixel, beyond the base colour.
-struct Mapped {
-    specular: V3,
-    /// The metallic-roughness texture's (roughness, metallic) factors.
-    metal_rough: Option<(F8, F8)>,
-    /// Unit, not yet flipped for back faces.
-    normal: V3,
-    occlusion: Option<F8>,
-    emitted: V3,
-}
-
-/// Samples every slot of draw `d` on the lanes of `f` at one call site (the sampler is
-/// inlined once, not once per slot) and applies them: the base-colour texture to `base`,
-/// the gloss map, normal map, occlusion and emissive map to `m`.
-#[inline(always)]
-fn apply_maps<K: Kernel>(
-    d: &DrawParams,
-    f: &Fragments<'_>,
-    lod_scale: f32,
-    mut base: Colors,
-    mut m: Mapped,
-) -> (Colors, Mapped) {
-    let slots = [
-        &d.base_map,
-        &d.gloss,
-        &d.normal_map,
-        &d.occlusion,
-        &d.emissive_map,
-        &d.metal_rough,
-    ];
-    let first = d
-        .layout
-        .derivatives()
-        .map_or(usize::MAX, |(first, _)| first);
-    let mut texel = [[F8::ONE; 4]; 6];
-    for (t, out) in slots.iter().zip(&mut texel) {
-        if let Some(t) = t {
-            *out = sample::<K>(t, f, lod_scale, first);
-        }
-    }
-    let [base_t, gloss_t, normal_t, occlusion_t, emissive_t, mr_t] = texel;
-    if d.metal_rough.is_some() {
-        m.metal_rough = Some((mr_t[1], mr_t[2]));
-    }
-    if d.base_map.is_some() {
-        base.r *= base_t[0];
-        base.g *= base_t[1];
-        base.b *= base_t[2];
-        base.a *= base_t[3];
-    }
-    if d.gloss.is_some() {
-        let ks = d.surface.specular;
-        m.specular = V3::new(gloss_t[0] * ks.x, gloss_t[1] * ks.y, gloss_t[2] * ks.z);
-    }
-    if let Some(map) = &d.normal_map {
-        m.normal = match d.layout.tangent_at() {
-            Some(k) => {
-                let v = f.var;
-                let t = V3::new(v[k], v[k + 1], v[k + 2]);
-                perturb_lanes::<K>(m.normal, t, v[k + 3], normal_t, map.scale)
-            }
-            // A mesh without tangents: the frame from the derivatives, per lane.
-            None => texlab::derived_normal_lanes(map, f, first, &normal_t, m.normal),
-        };
-    }
-    if let Some(b) = &d.bump {
-        m.normal = texlab::bump_lanes(b, f, first, lod_scale, m.normal);
-    }
-    // glTF: ao = 1 + strength (r - 1), on the ambient (indirect) light only.
-    if let Some(o) = &d.occlusion {
-        m.occlusion = Some(F8::ONE + (occlusion_t[0] - F8::ONE) * o.scale);
-    }
-    if d.emissive_map.is_some() {
-        m.emitted = V3::new(emissive_t[0], emissive_t[1], emissive_t[2]) * d.emissive;
-    }
-    (base, m)
-}
-
 /// Phong (R·V) or Blinn-Phong (N·H, per draw) per-pixel lighting from the varyings of each
 /// draw's [`LitLayout`]. The slots a draw has modulate it: the base-colour texture the
 /// diffuse colour and alpha, the gloss map the specular colour, the normal map the normal,
@@ -420,6 +322,8 @@ fn apply_maps<K: Kernel>(
 /// a texture).
 pub struct LitShader<'a> {
     pub draws: &'a [DrawParams],
+    /// Each draw's stages ([`Program::build`]), parallel to `draws`.
+    pub programs: &'a [Program],
     pub lights: &'a LightSet,
     /// Indices into `lights.sources`, per draw ([`DrawParams::lights`]).
     pub active: &'a [u32],
@@ -435,93 +339,47 @@ pub struct LitShader<'a> {
 }
 
 impl FragmentShader for LitShader<'_> {
-    #[inline(always)]
     fn derivatives(&self, draw: u32) -> Option<(usize, usize)> {
-        self.draws[draw as usize].layout.derivatives()
+        self.draws.get(draw as usize)?.layout.derivatives()
     }
 
     /// Every draw but an alpha-tested one (which discards lanes): the lit shader is the
     /// expensive one, and on small triangles most of a row's lanes are empty.
-    #[inline(always)]
-    fn packs(&self, draw: u32) -> bool {
+    fn defers(&self, draw: u32) -> bool {
+        !self.discards(draw)
+    }
+
+    fn discards(&self, draw: u32) -> bool {
         self.draws
             .get(draw as usize)
-            .is_some_and(|d| !matches!(d.alpha, AlphaMode::Mask(_)))
+            .is_none_or(|d| matches!(d.alpha, AlphaMode::Mask(_)))
     }
 
-    #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        let d = &self.draws[f.tri.draw as usize];
-        let v = f.var;
-        if v.len() < d.layout.stride() {
-            return 0;
-        }
-        let mut base = Colors::splat(d.base);
-        if let Some(k) = d.layout.color_at() {
-            base.r *= v[k];
-            base.g *= v[k + 1];
-            base.b *= v[k + 2];
-            base.a *= v[k + 3];
-        }
-        let ks = d.surface.specular;
-        let m = Mapped {
-            specular: V3::splat(ks),
-            metal_rough: None,
-            normal: V3::new(v[3], v[4], v[5]).normalize_or_zero::<K>(),
-            occlusion: None,
-            emitted: V3::splat(d.emissive),
+    fn shade(&self, b: &mut Batch) {
+        let (Some(d), Some(p)) = (
+            self.draws.get(b.draw as usize),
+            self.programs.get(b.draw as usize),
+        ) else {
+            b.mask = [0; GROUPS];
+            return;
         };
-        // One flag for a draw without maps: it pays for no slot.
-        let (base, m) = if d.mapped {
-            apply_maps::<K>(d, f, self.lod_scale, base, m)
-        } else {
-            (base, m)
-        };
-        if d.view != TexView::Lit {
-            let n = if f.tri.front { m.normal } else { -m.normal };
-            *out = texlab::debug_lanes(d, f, self.lod_scale, n);
-            return f.mask;
+        if b.stride < d.layout.stride() {
+            b.mask = [0; GROUPS];
+            return;
         }
-        if d.unlit {
-            let (a, keep) = d.alpha_lanes(base.a, f.mask);
-            *out = Colors { a, ..base };
-            return keep;
-        }
-        let Mapped {
-            specular,
-            metal_rough,
-            normal: mut n,
-            occlusion,
-            emitted,
-        } = m;
-        if !f.tri.front {
-            n = -n;
-        }
-        let mut s = d.surface.at::<Lanes<K>>(V3::new(base.r, base.g, base.b));
-        s.ks = specular;
-        s.occlusion = occlusion.map(Lanes::new);
-        if let (Some(p), Some((r, m))) = (&mut s.pbr, metal_rough) {
-            p.roughness = p.roughness * Lanes::new(r);
-            p.metallic = p.metallic * Lanes::new(m);
-        }
-        s.emitted = (d.emissive != Vec3::ZERO).then_some(emitted);
-        let p = V3::new(v[0], v[1], v[2]);
-        let active = d.active(self.active);
-        let eye = V3::splat(self.eye);
-        let mut c = illuminate::<Lanes<K>>(self.lights, Some(active), &s, p, n, eye, d.blinn);
-
-        if let Some(fog) = &self.fog {
-            c = fog.apply::<Lanes<K>>(c, p, eye, V3::splat(self.forward));
-        }
-        let (a, keep) = d.alpha_lanes(base.a, f.mask);
-        *out = Colors {
-            r: c.x,
-            g: c.y,
-            b: c.z,
-            a,
-        };
-        keep
+        let cx = Cx { s: self, d };
+        REGS.with(|cell| match cell.try_borrow_mut() {
+            Ok(mut regs) => p.run(b, &mut regs[..], &cx),
+            // Never (a shader does not call itself); fresh registers if it ever did.
+            Err(_) => p.run(b, &mut [Regs::default(); GROUPS], &cx),
+        });
     }
+}
+
+thread_local! {
+    /// Each worker's stage registers (allocated once per thread).
+    static REGS: std::cell::RefCell<Box<[Regs; GROUPS]>> =
+        std::cell::RefCell::new(Box::new([Regs::default(); GROUPS]));
 }
 
 /// Which debug quantity to show.
@@ -540,21 +398,49 @@ pub struct DebugShader {
     pub mode: Debug,
     pub near: f32,
     pub far: f32,
+    /// The kernel the shading runs with.
+    pub kernel: KernelKind,
 }
 
 impl FragmentShader for DebugShader {
+    fn defers(&self, _: u32) -> bool {
+        true
+    }
+
+    fn discards(&self, _: u32) -> bool {
+        false
+    }
+
+    fn shade(&self, b: &mut Batch) {
+        if b.stride < 3 {
+            b.mask = [0; GROUPS];
+            return;
+        }
+        let colours = debug_groups::pick(self.kernel);
+        colours(self, b);
+    }
+}
+
+crate::simd::per_kernel! {
+    /// The debug view's colours of the batch's groups.
+    fn debug_groups<L>(s: &DebugShader, b: &mut Batch) {
+        for g in 0..b.len.min(GROUPS) {
+            b.out[g] = s.colours::<L>(&b.var[g]);
+        }
+    }
+}
+
+impl DebugShader {
+    /// The view's colours of eight lanes whose varyings are `v` (at least three).
     #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        let [x, y, z] = match f.var {
-            [x, y, z, ..] => [*x, *y, *z],
-            _ => return 0,
-        };
+    fn colours<L: Level>(&self, v: &[Lane]) -> Colors {
+        let [x, y, z]: [F8<L>; 3] = [v[0].get(), v[1].get(), v[2].get()];
         // Debug colours are display values: decode so the PNG shows them as computed.
         let [r, g, b] = match self.mode {
             // Raw interpolated normals, not flipped on back faces: this view is for finding
             // inverted normals.
             Debug::Normals => {
-                let n = V3::new(x, y, z).normalize_or_zero::<K>();
+                let n = V3::new(x, y, z).normalize_or_zero();
                 let half = F8::splat(0.5);
                 [n.x * half + half, n.y * half + half, n.z * half + half]
             }
@@ -564,17 +450,16 @@ impl FragmentShader for DebugShader {
                 [v, v, v]
             }
             Debug::Uv => {
-                let fract = |v: F8| v.map(|x| if x.is_finite() { x - x.floor() } else { 0.0 });
+                let fract = |v: F8<L>| v.map(|x| if x.is_finite() { x - x.floor() } else { 0.0 });
                 [fract(x), fract(y), F8::ZERO]
             }
         };
-        *out = Colors {
-            r: r.map(srgb_to_linear),
-            g: g.map(srgb_to_linear),
-            b: b.map(srgb_to_linear),
-            a: F8::ONE,
-        };
-        f.mask
+        Colors::of(
+            r.map(srgb_to_linear),
+            g.map(srgb_to_linear),
+            b.map(srgb_to_linear),
+            F8::ONE,
+        )
     }
 }
 
@@ -583,20 +468,30 @@ impl FragmentShader for DebugShader {
 pub struct CountShader;
 
 impl FragmentShader for CountShader {
-    #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        *out = Colors::splat(Vec4::new(1.0, 0.0, 0.0, 0.0));
-        f.mask
+    fn discards(&self, _: u32) -> bool {
+        false
+    }
+
+    fn shade(&self, b: &mut Batch) {
+        let one = Colors::splat(Vec4::new(1.0, 0.0, 0.0, 0.0));
+        for g in 0..b.len.min(GROUPS) {
+            b.out[g] = one;
+        }
     }
 }
 
-/// Writes depth only (hidden-line pass of wireframe, centre-depth pass).
+/// Writes depth only (hidden-line pass of wireframe, centre-depth pass): the fill never
+/// calls it for a draw that writes no colour.
 pub struct DepthOnly;
 
 impl FragmentShader for DepthOnly {
-    #[inline(always)]
-    fn shade<K: Kernel>(&self, f: &Fragments<'_>, out: &mut Colors) -> u32 {
-        *out = Colors::default();
-        f.mask
+    fn discards(&self, _: u32) -> bool {
+        false
+    }
+
+    fn shade(&self, b: &mut Batch) {
+        for g in 0..b.len.min(GROUPS) {
+            b.out[g] = Colors::default();
+        }
     }
 }

@@ -15,7 +15,7 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::scene::Camera;
 use crate::simd::Real;
-use crate::simd::{Kernel, F8, V3};
+use crate::simd::{Level, F8, V3};
 
 /// Default shadow-map size (texels per side).
 pub const SHADOW_SIZE: u32 = 1024;
@@ -151,17 +151,17 @@ impl ShadowMap {
     /// [`ShadowMap::visibility`] on the lanes of `mask` (others 1).
     #[must_use]
     #[inline(always)]
-    pub fn visibility_lanes<K: Kernel>(&self, p: V3, n: V3, l: V3, mask: u32) -> F8 {
-        let ndl = n.dot::<K>(l);
-        let mut out = F8::ONE;
+    pub fn visibility_lanes<L: Level>(&self, p: V3<L>, n: V3<L>, l: V3<L>, mask: u32) -> F8<L> {
+        let ndl = n.dot(l).to_array();
+        let (px, py, pz) = (p.x.to_array(), p.y.to_array(), p.z.to_array());
+        let mut out = [1.0; 8];
         let mut m = mask;
         while m != 0 {
             let i = m.trailing_zeros() as usize;
             m &= m - 1;
-            let q = Vec3::new(p.x.0[i], p.y.0[i], p.z.0[i]);
-            out.0[i] = self.lookup(q, ndl.0[i]);
+            out[i] = self.lookup(Vec3::new(px[i], py[i], pz[i]), ndl[i]);
         }
-        out
+        F8::from_array(out)
     }
 
     /// The filtered comparison at world point `p` whose normal makes cosine `ndl` with the

@@ -17,18 +17,18 @@ use super::maps;
 use super::shaders::{DrawParams, SlotParams, TexView};
 use crate::raster::{Colors, Fragments};
 use crate::scene::TextureSource;
-use crate::simd::{F8, LANES, V3};
+use crate::simd::{Lane, Level, F8, LANES, V3};
 use crate::texture::{srgb_to_linear, Filter, ProceduralTexture, SamplePoint, Sampler, Texture};
 
 /// Lane `i` of three consecutive varyings from `k`.
 #[inline]
-fn lane3(v: &[F8], k: usize, i: usize) -> Vec3 {
+fn lane3(v: &[Lane], k: usize, i: usize) -> Vec3 {
     Vec3::new(v[k].0[i], v[k + 1].0[i], v[k + 2].0[i])
 }
 
 /// Lane `i` of two consecutive varyings from `k`.
 #[inline]
-fn lane2(v: &[F8], k: usize, i: usize) -> Vec2 {
+fn lane2(v: &[Lane], k: usize, i: usize) -> Vec2 {
     Vec2::new(v[k].0[i], v[k + 1].0[i])
 }
 
@@ -38,7 +38,7 @@ fn lane2(v: &[F8], k: usize, i: usize) -> Vec2 {
 fn derivs(f: &Fragments<'_>, k: usize, n: usize, first: usize, i: usize) -> Option<(Vec3, Vec3)> {
     let d = k.checked_sub(first)?;
     let (x, y) = (f.ddx.get(d..d + n)?, f.ddy.get(d..d + n)?);
-    let get = |s: &[F8]| {
+    let get = |s: &[Lane]| {
         let mut v = [0.0; 3];
         for (o, x) in v.iter_mut().zip(s) {
             *o = x.0[i];
@@ -76,18 +76,30 @@ fn sample_point(
 /// Procedural texture `p` on the live lanes of `f` (linear RGBA; 1 in dead lanes), its
 /// coordinates at varying `at`.
 #[inline(never)]
-pub(super) fn procedural_lanes(
+pub(super) fn procedural_lanes<L: Level>(
     p: &ProceduralTexture,
     f: &Fragments<'_>,
     at: usize,
     first: usize,
     lod_scale: f32,
-) -> [F8; 4] {
-    let mut out = [F8::ONE; 4];
+) -> [F8<L>; 4] {
+    procedural_arrays(p, f, at, first, lod_scale).map(F8::from_array)
+}
+
+/// [`procedural_lanes`] as arrays (not generic: one copy for every kernel).
+#[inline(never)]
+fn procedural_arrays(
+    p: &ProceduralTexture,
+    f: &Fragments<'_>,
+    at: usize,
+    first: usize,
+    lod_scale: f32,
+) -> [[f32; LANES]; 4] {
+    let mut out = [[1.0; LANES]; 4];
     for i in (0..LANES).filter(|i| f.mask >> i & 1 == 1) {
         let c = p.color(&sample_point(p, f, at, first, lod_scale, i));
         for (o, v) in out.iter_mut().zip(c.to_array()) {
-            o.0[i] = v;
+            o[i] = v;
         }
     }
     out
@@ -182,23 +194,39 @@ pub fn solid_height_gradient(
 }
 
 /// Bump slot `b` applied to the unit normals `n` on the live lanes of `f`.
-#[inline(never)]
-pub(super) fn bump_lanes(
+#[inline(always)]
+pub(super) fn bump_lanes<L: Level>(
     b: &SlotParams,
     f: &Fragments<'_>,
     first: usize,
     lod_scale: f32,
-    n: V3,
-) -> V3 {
-    let mut out = n;
+    n: V3<L>,
+) -> V3<L> {
+    let mut a = [n.x.to_array(), n.y.to_array(), n.z.to_array()];
+    bump_arrays(b, f, first, lod_scale, &mut a);
+    V3::new(
+        F8::from_array(a[0]),
+        F8::from_array(a[1]),
+        F8::from_array(a[2]),
+    )
+}
+
+/// [`bump_lanes`] on arrays (not generic: one copy for every kernel).
+#[inline(never)]
+fn bump_arrays(
+    b: &SlotParams,
+    f: &Fragments<'_>,
+    first: usize,
+    lod_scale: f32,
+    n: &mut [[f32; LANES]; 3],
+) {
     for i in (0..LANES).filter(|i| f.mask >> i & 1 == 1) {
-        let ni = Vec3::new(n.x.0[i], n.y.0[i], n.z.0[i]);
+        let ni = Vec3::new(n[0][i], n[1][i], n[2][i]);
         if let Some(g) = bump_gradient(b, f, first, lod_scale, ni, i) {
             let p = maps::bump::<f32>(ni, g);
-            (out.x.0[i], out.y.0[i], out.z.0[i]) = (p.x, p.y, p.z);
+            (n[0][i], n[1][i], n[2][i]) = (p.x, p.y, p.z);
         }
     }
-    out
 }
 
 /// Colours of the mip-level view, one per level from 0 (display values).
@@ -291,24 +319,45 @@ fn derived_tangent(
 /// A normal map on a mesh without tangents, on the live lanes of `f`: each lane's frame
 /// from [`derived_tangent`] (the map's UV channel), then [`maps::perturb`] with the
 /// sampled texels `texel`; a lane without a frame keeps `n`.
-#[inline(never)]
-pub(super) fn derived_normal_lanes(
+#[inline(always)]
+pub(super) fn derived_normal_lanes<L: Level>(
     map: &SlotParams,
     f: &Fragments<'_>,
     first: usize,
-    texel: &[F8; 4],
-    n: V3,
-) -> V3 {
-    let mut out = n;
+    texel: &[F8<L>; 4],
+    n: V3<L>,
+) -> V3<L> {
+    let mut a = [n.x.to_array(), n.y.to_array(), n.z.to_array()];
+    let t = [
+        texel[0].to_array(),
+        texel[1].to_array(),
+        texel[2].to_array(),
+    ];
+    derived_normal_arrays(map, f, first, &t, &mut a);
+    V3::new(
+        F8::from_array(a[0]),
+        F8::from_array(a[1]),
+        F8::from_array(a[2]),
+    )
+}
+
+/// [`derived_normal_lanes`] on arrays (not generic: one copy for every kernel).
+#[inline(never)]
+fn derived_normal_arrays(
+    map: &SlotParams,
+    f: &Fragments<'_>,
+    first: usize,
+    texel: &[[f32; LANES]; 3],
+    n: &mut [[f32; LANES]; 3],
+) {
     for i in (0..LANES).filter(|i| f.mask >> i & 1 == 1) {
-        let ni = Vec3::new(n.x.0[i], n.y.0[i], n.z.0[i]);
+        let ni = Vec3::new(n[0][i], n[1][i], n[2][i]);
         if let Some((t, w)) = derived_tangent(f, map.uv_at as usize, first, ni, i) {
-            let c = [texel[0].0[i], texel[1].0[i], texel[2].0[i]];
+            let c = [texel[0][i], texel[1][i], texel[2][i]];
             let p = maps::perturb::<f32>(ni, t, w, c, map.scale);
-            (out.x.0[i], out.y.0[i], out.z.0[i]) = (p.x, p.y, p.z);
+            (n[0][i], n[1][i], n[2][i]) = (p.x, p.y, p.z);
         }
     }
-    out
 }
 
 /// The debug colour of view `view` at one pixel (display values).
@@ -365,11 +414,28 @@ fn debug_colour(d: &DrawParams, f: &Fragments<'_>, lod_scale: f32, n: Vec3, i: u
 
 /// The debug view of draw `d` on the live lanes of `f` (linear RGBA, alpha 1); `n` is the
 /// shading normal after the maps, flipped to the side seen.
+#[inline(always)]
+pub(super) fn debug_lanes<L: Level>(
+    d: &DrawParams,
+    f: &Fragments<'_>,
+    lod_scale: f32,
+    n: V3<L>,
+) -> Colors {
+    let n = [n.x.to_array(), n.y.to_array(), n.z.to_array()];
+    debug_arrays(d, f, lod_scale, &n)
+}
+
+/// [`debug_lanes`] on arrays (not generic: one copy for every kernel).
 #[inline(never)]
-pub(super) fn debug_lanes(d: &DrawParams, f: &Fragments<'_>, lod_scale: f32, n: V3) -> Colors {
+fn debug_arrays(
+    d: &DrawParams,
+    f: &Fragments<'_>,
+    lod_scale: f32,
+    n: &[[f32; LANES]; 3],
+) -> Colors {
     let mut out = Colors::splat(glam::Vec4::ONE);
     for i in (0..LANES).filter(|i| f.mask >> i & 1 == 1) {
-        let ni = Vec3::new(n.x.0[i], n.y.0[i], n.z.0[i]);
+        let ni = Vec3::new(n[0][i], n[1][i], n[2][i]);
         let c = debug_colour(d, f, lod_scale, ni, i);
         out.r.0[i] = srgb_to_linear(c.x.clamp(0.0, 1.0));
         out.g.0[i] = srgb_to_linear(c.y.clamp(0.0, 1.0));

@@ -1,46 +1,58 @@
-//! Kernel choice and dispatch: the one place in the crate with `unsafe`.
+//! Kernel choice and dispatch: the one place in the workspace with `unsafe`.
 //!
-//! The fill loop and the shaders are written once, generic over a [`Kernel`] type, against
-//! the eight-lane values of [`super::lanes`]. A kernel is the instruction set that generic
-//! code is compiled for:
+//! The lane code ([`super::lanes`]) is written once; a kernel is the instruction set it is
+//! compiled for:
 //!
-//! | kernel | compiled with | FMA |
-//! |---|---|---|
-//! | [`KernelKind::Portable`] | the build's baseline (SSE2 on x86-64) | no |
-//! | [`KernelKind::Avx2`] | AVX2 + FMA (+ POPCNT, BMI1/2) | yes |
-//! | [`KernelKind::Avx512`] | AVX-512 F/VL/BW/DQ + AVX2 + FMA | yes |
+//! | kernel | compiled with |
+//! |---|---|
+//! | [`KernelKind::Portable`] | the build's baseline (SSE2 on x86-64) |
+//! | [`KernelKind::Avx2`] | AVX2 + FMA (+ POPCNT, BMI1/2) |
+//! | [`KernelKind::Avx512`] | AVX-512 F/VL/BW/DQ + AVX2 + FMA |
+//!
+//! Every kernel computes the same bits: the lane code uses no fused multiply-add and no
+//! approximate instruction, so a kernel changes only how fast an image is made, never the
+//! image (the tests compare the kernels bit for bit).
 //!
 //! The best kernel the CPU has is detected once ([`KernelKind::best`]); `REALIST_KERNEL=
 //! portable|avx2|avx512` or a renderer setting forces one (a kernel the CPU lacks falls back
-//! to the portable one, never runs). The test suite renders its goldens, coverage properties
-//! and stability cases on every kernel the machine has.
+//! to the portable one, never runs).
+//!
+//! Two ways to compile code per kernel, both kept small on purpose (a kernel function that
+//! inlined the whole fill and every shader grew to 400 KB of machine code, took most of a
+//! 26-minute build and spilled registers on every other instruction):
+//! - [`per_kernel!`](crate::per_kernel): one function, compiled three times, each copy a
+//!   function of its own behind a plain `fn` pointer chosen by kernel. The pixel stages and
+//!   the tile fill are written this way: a stage is one function per kernel, called through
+//!   a pointer per batch of pixels, never inlined into its caller;
+//! - [`dispatch`] with a [`KernelJob`]: a job whose `run` is `#[inline(always)]`, compiled
+//!   inside each kernel's entry point (small jobs: projecting vertices, setting up a chunk).
 //!
 //! ## The `unsafe` policy
-//! The crate denies `unsafe_code`; this module alone allows it, for two purposes:
+//! The workspace denies `unsafe_code`; this module and [`crate::level`] alone allow it, for:
 //! - calling a `#[target_feature]` function, which Rust requires to be `unsafe` at a call
 //!   site without the features, because running it on a CPU without them is undefined
-//!   behaviour. Each call is guarded by a run-time CPU-feature check right next to it;
+//!   behaviour. In [`dispatch`] each call is guarded by a run-time CPU-feature check right
+//!   next to it; in [`per_kernel!`](crate::per_kernel) the call sits in a private trampoline
+//!   that only the macro's `pick` hands out, after the same check. The macro is written here,
+//!   once; the crates that use it write no `unsafe` themselves;
 //! - [`prefetch`]: the SSE prefetch hint (part of every x86-64 CPU), `unsafe` only because
 //!   it is declared with a target feature; it reads nothing and cannot fault;
-//! - [`sign_bits`]: SSE's MOVMSKPS (every x86-64 CPU), `unsafe` for the same reason. LLVM
-//!   does not turn a portable "sign bit i to bit i" loop into it: behind a lane compare it
-//!   scalarised the whole compare (about 30 instructions instead of 5), in the depth test of
-//!   every row and in every shader select.
+//! - the lane levels' intrinsics ([`crate::level`], its own module): the AVX2 level's
+//!   intrinsics are `unsafe` to call from generic code; they are sound because that level
+//!   is only instantiated inside the AVX2 copies made here.
 //! - [`edge_signs`]: SSE2's PADDD, POR and MOVMSKPS (every x86-64 CPU) for the coverage
 //!   test of a row, which LLVM compiled to scalar code from the portable loop.
 //!
-//! Each block has a SAFETY comment. No other
-//! intrinsics, raw pointers or unchecked indexing are used anywhere: the kernels are the same
-//! safe source compiled with different target features (the eight-lane loops vectorise into
-//! 256-bit instructions). A safe SIMD crate (pulp, fearless_simd) would hide the same
-//! `unsafe` inside a dependency of 10-30 thousand lines; two audited blocks here are
-//! smaller to review than that.
+//! Each block has a SAFETY comment. No other intrinsics, raw pointers or unchecked indexing
+//! are used anywhere: the kernels are the same safe source compiled with different target
+//! features. A safe SIMD crate (pulp, fearless_simd) would hide the same `unsafe` inside a
+//! dependency of 10-30 thousand lines; the few audited blocks here are smaller to review.
 
 #![allow(unsafe_code)]
 
 use std::sync::OnceLock;
 
-use super::lanes::Kernel;
+use crate::level::{Avx2, Level, Portable};
 
 /// The kernels (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
@@ -49,28 +61,6 @@ pub enum KernelKind {
     Portable,
     Avx2,
     Avx512,
-}
-
-/// Portable kernel: the baseline target, no FMA.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Portable;
-impl Kernel for Portable {
-    const FMA: bool = false;
-}
-
-/// AVX2 + FMA kernel.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Avx2;
-impl Kernel for Avx2 {
-    const FMA: bool = true;
-}
-
-/// AVX-512 kernel (eight lanes, compiled with AVX-512 enabled: masked moves and wider
-/// registers for the compiler, the same arithmetic as [`Avx2`]).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Avx512;
-impl Kernel for Avx512 {
-    const FMA: bool = true;
 }
 
 impl KernelKind {
@@ -166,10 +156,11 @@ impl std::str::FromStr for KernelKind {
 
 /// Work compiled once per kernel: `run` must be `#[inline(always)]` (and so must everything
 /// it calls that should use the kernel's instructions), so its body is compiled inside the
-/// kernel's entry point with that entry point's target features.
+/// kernel's entry point with that entry point's target features. Keep it small: all of it
+/// is copied into each kernel's entry point.
 pub trait KernelJob {
     type Output;
-    fn run<K: Kernel>(self) -> Self::Output;
+    fn run<L: Level>(self) -> Self::Output;
 }
 
 /// Runs `job` with kernel `kind` (the portable kernel if the CPU lacks `kind`).
@@ -201,7 +192,113 @@ fn run_avx2<J: KernelJob>(job: J) -> J::Output {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,popcnt,bmi1,bmi2")]
 fn run_avx512<J: KernelJob>(job: J) -> J::Output {
-    job.run::<Avx512>()
+    job.run::<Avx2>()
+}
+
+/// Compiles one function once per kernel, each copy a function of its own, and gives a
+/// `pick(kind) -> fn(...)` that returns the copy for a kernel the CPU has (the portable one
+/// otherwise). The function is generic over the lane level `L` (a [`Level`]): each copy
+/// instantiates it with its kernel's level (the portable one, or AVX2 for the AVX2 and
+/// AVX-512 kernels) and compiles it with the kernel's target features. The body should
+/// call `#[inline(always)]` code (the lane operations are), so that it is compiled with the
+/// copy's instructions; the copies are never inlined into their callers, so a caller that
+/// runs a list of such functions stays small. Parameter and return types must not name
+/// `L`: lanes cross between functions in their level-free form ([`Lane`](crate::Lane)).
+///
+/// ```ignore
+/// realist_simd::per_kernel! {
+///     /// Doubles the lanes.
+///     pub fn double<L>(v: &mut [Lane]) {
+///         for x in v {
+///             x.set(x.get::<L>() * 2.0);
+///         }
+///     }
+/// }
+/// let f = double::pick(KernelKind::best());
+/// f(&mut lanes);
+/// ```
+///
+/// Expands to a module named after the function holding the body, the three copies, the
+/// private trampolines that call the target-feature copies (the only `unsafe`, guarded by
+/// `pick`'s CPU check), and `pick`. Parameters must be plain identifiers.
+#[macro_export]
+macro_rules! per_kernel {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident<$l:ident>($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)? $body:block) => {
+        $(#[$meta])*
+        #[allow(clippy::too_many_arguments)]
+        $vis mod $name {
+            #[allow(unused_imports)]
+            use super::*;
+
+            #[inline(always)]
+            #[allow(clippy::too_many_arguments)]
+            fn body<$l: $crate::Level>($($arg: $ty),*) $(-> $ret)? $body
+
+            #[inline(never)]
+            #[allow(clippy::too_many_arguments)]
+            fn portable($($arg: $ty),*) $(-> $ret)? {
+                body::<$crate::kernel::__private::Portable>($($arg),*)
+            }
+
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2")]
+            #[inline(never)]
+            #[allow(clippy::too_many_arguments)]
+            fn avx2_copy($($arg: $ty),*) $(-> $ret)? {
+                body::<$crate::kernel::__private::Avx2>($($arg),*)
+            }
+
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,popcnt,bmi1,bmi2")]
+            #[inline(never)]
+            #[allow(clippy::too_many_arguments)]
+            fn avx512_copy($($arg: $ty),*) $(-> $ret)? {
+                body::<$crate::kernel::__private::Avx2>($($arg),*)
+            }
+
+            #[cfg(target_arch = "x86_64")]
+            #[allow(clippy::too_many_arguments)]
+            fn avx2($($arg: $ty),*) $(-> $ret)? {
+                // SAFETY: this trampoline is private to the module and handed out only by
+                // `pick`, after `KernelKind::Avx2.available()` found the CPU has every
+                // feature `avx2_copy` is compiled with.
+                #[allow(unsafe_code)]
+                unsafe {
+                    avx2_copy($($arg),*)
+                }
+            }
+
+            #[cfg(target_arch = "x86_64")]
+            #[allow(clippy::too_many_arguments)]
+            fn avx512($($arg: $ty),*) $(-> $ret)? {
+                // SAFETY: as for `avx2`, after `KernelKind::Avx512.available()`.
+                #[allow(unsafe_code)]
+                unsafe {
+                    avx512_copy($($arg),*)
+                }
+            }
+
+            /// The copy for kernel `kind` (the portable one if the CPU lacks `kind`).
+            #[allow(dead_code)]
+            pub fn pick(kind: $crate::KernelKind) -> fn($($ty),*) $(-> $ret)? {
+                match kind {
+                    #[cfg(target_arch = "x86_64")]
+                    $crate::KernelKind::Avx2 if $crate::KernelKind::Avx2.available() => avx2,
+                    #[cfg(target_arch = "x86_64")]
+                    $crate::KernelKind::Avx512 if $crate::KernelKind::Avx512.available() => avx512,
+                    _ => portable,
+                }
+            }
+        }
+    };
+}
+
+/// The level types, for [`per_kernel!`](crate::per_kernel) and [`dispatch`] only: code that
+/// names them directly could run AVX2 instructions on a CPU without them (see
+/// [`crate::level`], "Soundness"). Not part of the API.
+#[doc(hidden)]
+pub mod __private {
+    pub use crate::level::{Avx2, Portable};
 }
 
 /// Asks the CPU to bring the cache lines of `value` towards L1 (a hint: no effect on
@@ -225,31 +322,6 @@ pub fn prefetch<T: ?Sized>(value: &T) {
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = value;
-}
-
-/// Bit `i` = the sign bit of `lanes[i]` (MOVMSKPS on x86-64).
-#[inline(always)]
-pub(crate) fn sign_bits(lanes: [u32; 8]) -> u32 {
-    #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
-    {
-        use std::arch::x86_64::{_mm_movemask_ps, _mm_set_ps};
-        let f = |i: usize| f32::from_bits(lanes[i]);
-        // SAFETY: SSE is part of every x86-64 CPU (and `target_feature = "sse"` is on at
-        // compile time); both intrinsics only move register bits.
-        unsafe {
-            let lo = _mm_set_ps(f(3), f(2), f(1), f(0));
-            let hi = _mm_set_ps(f(7), f(6), f(5), f(4));
-            (_mm_movemask_ps(lo) | (_mm_movemask_ps(hi) << 4)) as u32
-        }
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
-    {
-        let mut b = 0;
-        for (i, v) in lanes.iter().enumerate() {
-            b |= (v >> 31) << i;
-        }
-        b
-    }
 }
 
 /// Bit `i` set where lane `i` is outside any of three edges: the sign bit of
@@ -306,28 +378,47 @@ pub fn edge_signs(row: [i32; 3], lanes: &[[i32; 8]; 3]) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lanes::F8;
+    use crate::lanes::{Lane, F8};
 
-    struct Fma(F8, F8, F8);
-    impl KernelJob for Fma {
-        type Output = F8;
+    struct Mad(Lane, Lane, Lane);
+    impl KernelJob for Mad {
+        type Output = Lane;
         #[inline(always)]
-        fn run<K: Kernel>(self) -> F8 {
-            K::fma(self.0, self.1, self.2)
+        fn run<L: Level>(self) -> Lane {
+            let (a, b, c) = (self.0.get::<L>(), self.1.get::<L>(), self.2.get::<L>());
+            Lane::from(crate::lanes::mad(a, b, c))
+        }
+    }
+
+    crate::per_kernel! {
+        /// A per-kernel function for the test below.
+        fn sum_of_products<L>(a: &[Lane], b: &[Lane]) -> Lane {
+            let mut s = F8::<L>::ZERO;
+            for (x, y) in a.iter().zip(b) {
+                s += x.get::<L>() * y.get::<L>();
+            }
+            Lane::from(s)
         }
     }
 
     #[test]
     fn every_available_kernel_runs_and_names_parse() {
         let (a, b, c) = (
-            F8::splat(1.0 + 1e-7),
-            F8::splat(1.0 - 1e-7),
-            F8::splat(-1.0),
+            Lane::splat(1.0 + 1e-7),
+            Lane::splat(1.0 - 1e-7),
+            Lane::splat(-1.0),
         );
         for k in KernelKind::available_kinds() {
-            let r = dispatch(k, Fma(a, b, c));
-            // Exact: -1e-14 (fused), or rounded to 0 / -2^-46 (unfused).
-            assert!(r.0[0].abs() < 1e-12, "{k:?}: {}", r.0[0]);
+            // Never fused: (1 + 1e-7)(1 - 1e-7) rounds to 1 in f32 before -1 is added, in
+            // every kernel.
+            let r = dispatch(k, Mad(a, b, c));
+            assert_eq!(r.0[0], 0.0, "{k:?}");
+            let v: Vec<Lane> = (0..37)
+                .map(|i| Lane::from(F8::<Portable>::RAMP * (i as f32 * 0.37 + 0.1)))
+                .collect();
+            let want = sum_of_products::pick(KernelKind::Portable)(&v, &v[1..]);
+            let got = sum_of_products::pick(k)(&v, &v[1..]);
+            assert_eq!(got.0.map(f32::to_bits), want.0.map(f32::to_bits), "{k:?}");
             assert_eq!(k.name().parse::<KernelKind>().unwrap(), k);
         }
         assert!(KernelKind::best().available());

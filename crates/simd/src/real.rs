@@ -2,7 +2,7 @@
 //!
 //! - `f32`: the renderer's vertex stage and pixel probe;
 //! - `f64`: the references in [`crate::quality`];
-//! - [`Lanes<K>`]: eight f32 lanes compiled for kernel `K`, what the pixel shaders run.
+//! - [`F8`]: eight f32 lanes, what the pixel stages run (compiled once per kernel).
 //!
 //! Code over [`Num`] is written the way lane code must be: a comparison gives a mask
 //! ([`Num::M`], `bool` for scalars, [`M8`] for lanes), a decision is a [`Num::select`], and
@@ -10,12 +10,12 @@
 //! compile to the plain `if` they replace. [`Real`] adds what only a scalar has (ordering,
 //! conversion to `f64`), for code that is never run on lanes.
 
-use std::marker::PhantomData;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 use glam::{DVec3, Vec3};
 
-use super::lanes::{Kernel, F8, M8, V3};
+use super::lanes::{F8, M8, V3};
+use super::level::Level;
 
 /// A float type (scalar or lanes) with a matching 3-vector and mask.
 pub trait Num:
@@ -73,8 +73,8 @@ pub trait Num:
     fn select(m: Self::M, a: Self, b: Self) -> Self;
     /// Whether `m` holds anywhere (in any lane).
     fn any(m: Self::M) -> bool;
-    /// `a * b + c`, fused where the lanes' kernel has FMA (scalars: not fused, so scalar
-    /// results do not depend on the build's target features).
+    /// `a * b + c`, never fused (so results do not depend on the kernel or the build's
+    /// target features).
     #[inline(always)]
     fn mul_add(a: Self, b: Self, c: Self) -> Self {
         a * b + c
@@ -261,157 +261,88 @@ macro_rules! real {
 real!(f32, Vec3, |v| v, |v| v);
 real!(f64, DVec3, |v: Vec3| v.as_dvec3(), |v: DVec3| v.as_vec3());
 
-/// Eight f32 lanes as a [`Num`], compiled for kernel `K` (which decides whether
-/// [`Num::mul_add`], the dot product and `pow` use FMA). A thin wrapper: `Lanes(f8)` and
-/// `.0` convert for free, and its vector is the kernel-free [`V3`].
-pub struct Lanes<K>(pub F8, pub PhantomData<K>);
-
-impl<K> Clone for Lanes<K> {
-    #[inline(always)]
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<K> Copy for Lanes<K> {}
-
-impl<K> std::fmt::Debug for Lanes<K> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        self.0.fmt(f)
-    }
-}
-
-impl<K> Lanes<K> {
-    #[inline(always)]
-    #[must_use]
-    pub fn new(f: F8) -> Self {
-        Lanes(f, PhantomData)
-    }
-}
-
-impl<K: Kernel> From<F8> for Lanes<K> {
-    #[inline(always)]
-    fn from(f: F8) -> Self {
-        Lanes::new(f)
-    }
-}
-
-macro_rules! lane_op {
-    ($tr:ident, $f:ident, $op:tt) => {
-        impl<K: Kernel> $tr for Lanes<K> {
-            type Output = Self;
-            #[inline(always)]
-            fn $f(self, o: Self) -> Self {
-                Lanes::new(self.0 $op o.0)
-            }
-        }
-    };
-}
-lane_op!(Add, add, +);
-lane_op!(Sub, sub, -);
-lane_op!(Mul, mul, *);
-lane_op!(Div, div, /);
-
-impl<K: Kernel> Neg for Lanes<K> {
-    type Output = Self;
-    #[inline(always)]
-    fn neg(self) -> Self {
-        Lanes::new(-self.0)
-    }
-}
-
-/// A vector scaled per lane.
-impl<K: Kernel> Mul<Lanes<K>> for V3 {
-    type Output = V3;
-    #[inline(always)]
-    fn mul(self, s: Lanes<K>) -> V3 {
-        self.scale(s.0)
-    }
-}
-
-impl<K: Kernel> Num for Lanes<K> {
-    type V = V3;
-    type M = M8;
-    const ZERO: Self = Lanes(F8::ZERO, PhantomData);
-    const ONE: Self = Lanes(F8::ONE, PhantomData);
+/// Eight f32 lanes of level `L`, what the pixel stages run: every kernel computes the same
+/// bits (no fused multiply-add, see [`super::lanes`]); the level only decides the
+/// instructions.
+impl<L: Level> Num for F8<L> {
+    type V = V3<L>;
+    type M = M8<L>;
+    const ZERO: Self = F8::<L>::ZERO;
+    const ONE: Self = F8::<L>::ONE;
     #[inline(always)]
     fn of(x: f32) -> Self {
-        Lanes::new(F8::splat(x))
+        F8::splat(x)
     }
     #[inline(always)]
     fn of64(x: f64) -> Self {
-        Lanes::new(F8::splat(x as f32))
+        F8::splat(x as f32)
     }
     #[inline(always)]
-    fn vec(v: Vec3) -> V3 {
+    fn vec(v: Vec3) -> V3<L> {
         V3::splat(v)
     }
     #[inline(always)]
-    fn splat(x: Self) -> V3 {
-        V3::new(x.0, x.0, x.0)
+    fn splat(x: Self) -> V3<L> {
+        V3::new(x, x, x)
     }
     #[inline(always)]
-    fn dot(a: V3, b: V3) -> Self {
-        Lanes::new(a.dot::<K>(b))
+    fn dot(a: V3<L>, b: V3<L>) -> Self {
+        a.dot(b)
     }
     #[inline(always)]
-    fn cross(a: V3, b: V3) -> V3 {
-        a.cross::<K>(b)
+    fn cross(a: V3<L>, b: V3<L>) -> V3<L> {
+        a.cross(b)
     }
     #[inline(always)]
-    fn new3(x: Self, y: Self, z: Self) -> V3 {
-        V3::new(x.0, y.0, z.0)
+    fn new3(x: Self, y: Self, z: Self) -> V3<L> {
+        V3::new(x, y, z)
     }
     #[inline(always)]
-    fn xyz(v: V3) -> [Self; 3] {
-        [Lanes::new(v.x), Lanes::new(v.y), Lanes::new(v.z)]
+    fn xyz(v: V3<L>) -> [Self; 3] {
+        [v.x, v.y, v.z]
     }
     #[inline(always)]
-    fn normalize_or_zero(a: V3) -> V3 {
-        a.normalize_or_zero::<K>()
+    fn normalize_or_zero(a: V3<L>) -> V3<L> {
+        a.normalize_or_zero()
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        Lanes::new(self.0.sqrt())
+        F8::sqrt(self)
     }
     #[inline(always)]
     fn powf(self, e: Self) -> Self {
-        Lanes::new(self.0.powf::<K>(e.0))
+        F8::powf(self, e)
     }
     #[inline(always)]
     fn powi(self, n: u32) -> Self {
-        Lanes::new(self.0.powi(n))
+        F8::powi(self, n)
     }
     #[inline(always)]
-    fn gt(self, o: Self) -> M8 {
-        self.0.gt(o.0)
+    fn gt(self, o: Self) -> M8<L> {
+        F8::gt(self, o)
     }
     #[inline(always)]
-    fn ge(self, o: Self) -> M8 {
-        self.0.ge(o.0)
+    fn ge(self, o: Self) -> M8<L> {
+        F8::ge(self, o)
     }
     #[inline(always)]
-    fn finite(self) -> M8 {
-        self.0.abs().lt(F8::splat(f32::INFINITY))
+    fn finite(self) -> M8<L> {
+        self.abs().lt(F8::splat(f32::INFINITY))
     }
     #[inline(always)]
-    fn select(m: M8, a: Self, b: Self) -> Self {
-        Lanes::new(F8::select(m, a.0, b.0))
+    fn select(m: M8<L>, a: Self, b: Self) -> Self {
+        F8::select(m, a, b)
     }
     #[inline(always)]
-    fn any(m: M8) -> bool {
+    fn any(m: M8<L>) -> bool {
         m.bits() != 0
     }
     #[inline(always)]
-    fn mul_add(a: Self, b: Self, c: Self) -> Self {
-        Lanes::new(K::fma(a.0, b.0, c.0))
-    }
-    #[inline(always)]
     fn max(self, o: Self) -> Self {
-        Lanes::new(self.0.max(o.0))
+        F8::max(self, o)
     }
     #[inline(always)]
     fn min(self, o: Self) -> Self {
-        Lanes::new(self.0.min(o.0))
+        F8::min(self, o)
     }
 }

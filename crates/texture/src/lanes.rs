@@ -10,9 +10,9 @@
 //! weights. The texel reads, their decoding and the weighting are a loop over the live
 //! lanes on four-channel texels: base texels are decoded by table, and the levels below
 //! are 16-bit linear RGBA in one array (see `mip.rs`), so a lane's level changes only its
-//! index. Every helper is `#[inline(always)]`, so in a kernel entry point the lane loops
-//! compile to that kernel's vector instructions, and nothing here calls libm (floors are
-//! float-to-integer conversions, remainders are exact subtractions).
+//! index. Every helper is `#[inline(always)]` and generic over the lane level, so in a
+//! kernel's function it compiles to that kernel's vector instructions, and nothing here
+//! calls libm (floors are the level's, remainders are exact subtractions).
 //!
 //! Results equal the scalar sampler's: the arithmetic is the same operation for operation
 //! (no fused multiply-add), except the logarithm of the level of detail, a polynomial here
@@ -21,89 +21,46 @@
 //! continuous in the level of detail); the tests compare them on random and degenerate
 //! inputs for every kernel the machine has.
 
-// Lane loops index several arrays by the lane number on purpose: that shape vectorises.
+// Lane loops index several arrays by the lane number on purpose.
 #![allow(clippy::needless_range_loop)]
 
 use super::mip::{self, ChainTexels, U16_MAX};
 use super::{linear_table, srgb_table, Filter, Sampler, Texels, Texture, Wrap};
-use crate::simd::{Kernel, F8, I8, LANES};
+use crate::simd::{Level, F8, I8, LANES, M8};
 
-/// 2^23: floats at least this large are integers, and adding it to a smaller non-negative
-/// float rounds that float to an integer (round to nearest even).
+/// 2^23: floats at least this large are integers.
 const INTEGRAL: f32 = 8_388_608.0;
 
-/// `|x|` rounded to the nearest integer, the sign of `x` put back: exact for |x| < 2^23
-/// (larger floats are returned as they are). No float-to-integer conversion: Rust's
-/// saturating `as i32` does not vectorise on x86 (it becomes a scalar conversion and two
-/// compares per lane).
+/// `trunc` of every lane (the sign kept, so -0.5 gives -0, as `f32::trunc`); lanes of at
+/// least 2^23 in magnitude are whole already and kept.
 #[inline(always)]
-fn round_abs(v: f32) -> (f32, f32) {
-    let a = v.abs();
-    let r = if a < INTEGRAL {
-        (a + INTEGRAL) - INTEGRAL
-    } else {
-        a
-    };
-    (a, r)
-}
-
-/// `floor` of every lane without libm (see [`round_abs`]); NaN and infinities are kept,
-/// and -0 stays -0, as `f32::floor` does.
-#[inline(always)]
-fn floor(x: F8) -> F8 {
-    let mut r = [0.0; LANES];
-    for i in 0..LANES {
-        let v = x.0[i];
-        let (_, n) = round_abs(v);
-        let n = n.copysign(v);
-        r[i] = if n > v { n - 1.0 } else { n };
-    }
-    F8(r)
-}
-
-/// `trunc` of every lane without libm (see [`round_abs`]).
-#[inline(always)]
-fn trunc(x: F8) -> F8 {
-    let mut r = [0.0; LANES];
-    for i in 0..LANES {
-        let v = x.0[i];
-        let (a, n) = round_abs(v);
-        let n = if n > a { n - 1.0 } else { n };
-        r[i] = n.copysign(v);
-    }
-    F8(r)
+fn trunc<L: Level>(x: F8<L>) -> F8<L> {
+    let sign = I8::splat(i32::MIN);
+    let t = F8::from_bits(x.to_int().to_f32().bits() | (x.bits() & sign));
+    F8::select(x.abs().lt(F8::splat(INTEGRAL)), t, x)
 }
 
 /// Largest |x| [`floor_i`] handles: 2^22.
 const COORD_LIMIT: f32 = 4_194_304.0;
 
 /// `floor` of texel coordinates as integers, exact for |x| < 2^22 (coordinates beyond are
-/// clamped there first; NaN reads as -2^22): the float is added to 1.5 * 2^23, which puts
-/// the nearest integer in the low bits of its mantissa, and the bits are read as an integer.
+/// clamped there first; NaN reads as -2^22).
 #[inline(always)]
-fn floor_i(x: F8) -> I8 {
-    const MAGIC: f32 = 12_582_912.0; // 1.5 * 2^23
-    let x = x.clamp(-COORD_LIMIT, COORD_LIMIT);
-    let mut r = [0; LANES];
-    for i in 0..LANES {
-        let m = x.0[i] + MAGIC;
-        let n = (m.to_bits() as i32).wrapping_sub(MAGIC.to_bits() as i32);
-        r[i] = if m - MAGIC > x.0[i] { n - 1 } else { n };
-    }
-    I8(r)
+fn floor_i<L: Level>(x: F8<L>) -> I8<L> {
+    x.clamp(-COORD_LIMIT, COORD_LIMIT).floor().to_int()
 }
 
 /// Lanes where `x` is finite.
 #[inline(always)]
-fn finite(x: F8) -> u32 {
+fn finite<L: Level>(x: F8<L>) -> u32 {
     x.abs().lt(F8::splat(f32::INFINITY)).bits()
 }
 
 /// [`super::reduce`] on lanes of finite coordinates.
 #[inline(always)]
-fn reduce(t: F8, wrap: Wrap) -> F8 {
+fn reduce<L: Level>(t: F8<L>, wrap: Wrap) -> F8<L> {
     match wrap {
-        Wrap::Repeat => t - floor(t),
+        Wrap::Repeat => t - t.floor(),
         Wrap::MirroredRepeat => {
             // t % 2 (exact: t / 2 is exact, twice its truncation is representable, and the
             // difference of two floats this close is exact), then made non-negative.
@@ -116,8 +73,8 @@ fn reduce(t: F8, wrap: Wrap) -> F8 {
 
 /// [`super::fold`] on lanes: a lane with a non-finite coordinate reads (0, 0).
 #[inline(always)]
-fn fold(u: F8, v: F8, s: Sampler) -> (F8, F8) {
-    let ok = crate::simd::M8::from_bits(finite(u) & finite(v));
+fn fold<L: Level>(u: F8<L>, v: F8<L>, s: Sampler) -> (F8<L>, F8<L>) {
+    let ok = M8::from_bits(finite(u) & finite(v));
     let (u, v) = (F8::select(ok, u, F8::ZERO), F8::select(ok, v, F8::ZERO));
     (reduce(u, s.wrap_u), reduce(v, s.wrap_v))
 }
@@ -126,28 +83,21 @@ fn fold(u: F8, v: F8, s: Sampler) -> (F8, F8) {
 /// a period or two of the image: -n - 1 ..= 2n) into `0..n`, per-lane `n`. The result is
 /// clamped to `0..n` in every mode, whatever `i` is.
 #[inline(always)]
-fn wrap_index(i: I8, n: I8, wrap: Wrap) -> I8 {
-    let last = n.wrapping_add(I8::splat(-1));
+fn wrap_index<L: Level>(i: I8<L>, n: I8<L>, wrap: Wrap) -> I8<L> {
+    let zero = I8::splat(0);
+    let last = n - I8::splat(1);
     let r = match wrap {
         Wrap::ClampToEdge => i,
-        Wrap::Repeat => i.zip(n, |i, n| {
-            let i = if i < 0 { i.wrapping_add(n) } else { i };
-            if i >= n {
-                i.wrapping_sub(n)
-            } else {
-                i
-            }
-        }),
-        Wrap::MirroredRepeat => i.zip(n, |i, n| {
-            let p = n.wrapping_mul(2);
-            let i = if i < 0 { i.wrapping_add(p) } else { i };
-            let i = if i >= p { i.wrapping_sub(p) } else { i };
-            if i >= n {
-                p.wrapping_sub(1).wrapping_sub(i)
-            } else {
-                i
-            }
-        }),
+        Wrap::Repeat => {
+            let i = I8::select(i.lt(zero), i + n, i);
+            I8::select(n.gt(i), i, i - n)
+        }
+        Wrap::MirroredRepeat => {
+            let p = n + n;
+            let i = I8::select(i.lt(zero), i + p, i);
+            let i = I8::select(p.gt(i), i, i - p);
+            I8::select(n.gt(i), i, p - I8::splat(1) - i)
+        }
     };
     r.clamp0(last)
 }
@@ -238,16 +188,17 @@ impl Source for Floats<'_> {
     }
 }
 
-/// Where the four texels of a bilinear footprint are, per lane, and their weights.
+/// Where the four texels of a bilinear footprint are, per lane, and their weights: the
+/// level-free form the (scalar, per-lane) texel reads take.
 #[derive(Clone, Copy)]
 struct Footprint {
     /// Each lane's level (0 = the base).
-    level: I8,
+    level: [i32; LANES],
     /// Indices of texels (x0, y0), (x1, y0), (x0, y1), (x1, y1) of each lane's level: into
     /// the base's texels on level 0, into [`super::mip::Chain::texels`] below.
-    idx: [I8; 4],
-    tx: F8,
-    ty: F8,
+    idx: [[i32; LANES]; 4],
+    tx: [f32; LANES],
+    ty: [f32; LANES],
 }
 
 /// The four texels of a footprint, filtered (the same operations as the scalar
@@ -262,28 +213,29 @@ fn bilinear(c: [[f32; 4]; 4], tx: f32, ty: f32) -> [f32; 4] {
 /// Lane `i` of footprint `f`, filtered, from the base `base` or the levels below `mips`.
 #[inline(always)]
 fn footprint_sample<B: Source, M: Source>(base: B, mips: M, f: &Footprint, i: usize) -> [f32; 4] {
-    let [a, b, c, d] = f.idx.map(|x| x.0[i]);
-    let texels = if f.level.0[i] == 0 {
+    let [a, b, c, d] = f.idx.map(|x| x[i]);
+    let texels = if f.level[i] == 0 {
         [base.texel(a), base.texel(b), base.texel(c), base.texel(d)]
     } else {
         [mips.texel(a), mips.texel(b), mips.texel(c), mips.texel(d)]
     };
-    bilinear(texels, f.tx.0[i], f.ty.0[i])
+    bilinear(texels, f.tx[i], f.ty[i])
 }
 
 /// Filters footprint `a` of each lane in `mask`, and where `blend` = `(b, t, lanes)` has a
 /// lane, blends it towards footprint `b` by `t`: per live lane, on four-channel texels (rows
 /// of eight lanes are about half live, so a loop over the live lanes does less work than
-/// eight-lane arithmetic on all of them). Lanes outside `mask` are zero.
+/// eight-lane arithmetic on all of them). Lanes outside `mask` are zero. Channels out, one
+/// array each.
 #[inline(always)]
 fn filter<B: Source, M: Source>(
     base: B,
     mips: M,
     a: &Footprint,
-    blend: Option<(&Footprint, F8, u32)>,
+    blend: Option<(&Footprint, &[f32; LANES], u32)>,
     mask: u32,
-) -> [F8; 4] {
-    let mut aos = [[0.0f32; 4]; LANES];
+) -> [[f32; LANES]; 4] {
+    let mut out = [[0.0f32; LANES]; 4];
     let mut bits = mask & ((1 << LANES) - 1);
     while bits != 0 {
         let i = bits.trailing_zeros() as usize;
@@ -291,15 +243,11 @@ fn filter<B: Source, M: Source>(
         let mut c = footprint_sample(base, mips, a, i);
         if let Some((b, t, lanes)) = blend {
             if lanes >> i & 1 != 0 {
-                c = lerp4(c, footprint_sample(base, mips, b, i), t.0[i]);
+                c = lerp4(c, footprint_sample(base, mips, b, i), t[i]);
             }
         }
-        aos[i] = c;
-    }
-    let mut out = [F8::ZERO; 4];
-    for i in 0..LANES {
-        for (ch, o) in out.iter_mut().enumerate() {
-            o.0[i] = aos[i][ch];
+        for ch in 0..4 {
+            out[ch][i] = c[ch];
         }
     }
     out
@@ -309,18 +257,17 @@ impl Texture {
     /// Filters `fp` from this texture's base level and `chain` (the levels below; `None`
     /// when every lane is on the base). The one place the storage is matched: each storage
     /// kind is one instantiation of [`filter`] (8-bit sRGB and 8-bit linear differ only by a
-    /// table). Not inlined, and not generic over the kernel: the texel reads are a scalar
-    /// loop over the live lanes whatever the instruction set, so one copy serves every
-    /// kernel and every shader (inlined, the filters of each slot, storage, kernel and fill
-    /// variant multiplied the crate's build time by three).
+    /// table). Not inlined, and not generic over the lane level: the texel reads are a
+    /// scalar loop over the live lanes whatever the instruction set, so one copy serves
+    /// every kernel and every shader.
     #[inline(never)]
     fn filter_any(
         &self,
         chain: Option<&mip::Chain>,
         a: &Footprint,
-        blend: Option<(&Footprint, F8, u32)>,
+        blend: Option<(&Footprint, &[f32; LANES], u32)>,
         mask: u32,
-    ) -> [F8; 4] {
+    ) -> [[f32; LANES]; 4] {
         let (packed, floats): (&[u64], &[[f32; 4]]) = match chain.map(|c| &c.texels) {
             Some(ChainTexels::Unorm16(m)) => (m, &[]),
             Some(ChainTexels::Float(m)) => (&[], m),
@@ -345,9 +292,21 @@ impl Texture {
         }
     }
 
+    /// [`Texture::filter_any`] with lanes out.
+    #[inline(always)]
+    fn filter_lanes<L: Level>(
+        &self,
+        chain: Option<&mip::Chain>,
+        a: &Footprint,
+        blend: Option<(&Footprint, &[f32; LANES], u32)>,
+        mask: u32,
+    ) -> [F8<L>; 4] {
+        self.filter_any(chain, a, blend, mask).map(F8::from_array)
+    }
+
     /// The base-level footprint of a nearest or bilinear sample at folded UVs.
     #[inline(always)]
-    fn base_footprint(&self, u: F8, v: F8, s: Sampler) -> Footprint {
+    fn base_footprint<L: Level>(&self, u: F8<L>, v: F8<L>, s: Sampler) -> Footprint {
         match s.filter {
             Filter::Nearest => {
                 let (w, h) = (self.width as i32, self.height as i32);
@@ -355,13 +314,13 @@ impl Texture {
                 let y = floor_i(v * self.height as f32);
                 let x = wrap_index(x, I8::splat(w), s.wrap_u);
                 let y = wrap_index(y, I8::splat(h), s.wrap_v);
-                let i = y.wrapping_mul(I8::splat(w)).wrapping_add(x);
+                let i = (y * I8::splat(w) + x).to_array();
                 // Weights 0: the texel alone, exactly (a * 1 + b * 0).
                 Footprint {
-                    level: I8::default(),
+                    level: [0; LANES],
                     idx: [i; 4],
-                    tx: F8::ZERO,
-                    ty: F8::ZERO,
+                    tx: [0.0; LANES],
+                    ty: [0.0; LANES],
                 }
             }
             Filter::Bilinear | Filter::Trilinear | Filter::Anisotropic(_) => {
@@ -376,8 +335,8 @@ impl Texture {
     /// the scalar sample of each lane (see the module docs).
     #[must_use]
     #[inline(always)]
-    pub fn sample_lanes<K: Kernel>(&self, u: F8, v: F8, mask: u32, s: Sampler) -> [F8; 4] {
-        self.sample_impl::<K>(u, v, None, mask, s)
+    pub fn sample_lanes<L: Level>(&self, u: F8<L>, v: F8<L>, mask: u32, s: Sampler) -> [F8<L>; 4] {
+        self.sample_impl(u, v, None, mask, s)
     }
 
     /// [`Texture::sample_grad_with`] on eight lanes: UVs `u`, `v` and their screen-space
@@ -387,32 +346,32 @@ impl Texture {
     #[must_use]
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    pub fn sample_grad_lanes<K: Kernel>(
+    pub fn sample_grad_lanes<L: Level>(
         &self,
-        u: F8,
-        v: F8,
-        dudx: F8,
-        dvdx: F8,
-        dudy: F8,
-        dvdy: F8,
+        u: F8<L>,
+        v: F8<L>,
+        dudx: F8<L>,
+        dvdx: F8<L>,
+        dudy: F8<L>,
+        dvdy: F8<L>,
         mask: u32,
         s: Sampler,
-    ) -> [F8; 4] {
-        self.sample_impl::<K>(u, v, Some([dudx, dvdx, dudy, dvdy]), mask, s)
+    ) -> [F8<L>; 4] {
+        self.sample_impl(u, v, Some([dudx, dvdx, dudy, dvdy]), mask, s)
     }
 
     /// Both lane samplers: derivatives `d` (`[dudx, dvdx, dudy, dvdy]`) choose the level of
     /// a trilinear sample and the taps of an anisotropic one; without them, or for the
     /// other filters, the base level is read.
     #[inline(always)]
-    fn sample_impl<K: Kernel>(
+    fn sample_impl<L: Level>(
         &self,
-        u: F8,
-        v: F8,
-        d: Option<[F8; 4]>,
+        u: F8<L>,
+        v: F8<L>,
+        d: Option<[F8<L>; 4]>,
         mask: u32,
         s: Sampler,
-    ) -> [F8; 4] {
+    ) -> [F8<L>; 4] {
         let top = (self.levels() - 1) as f32;
         let mipmapped = match d {
             Some(d) if s.filter.mipmapped() && top > 0.0 => Some(d),
@@ -420,33 +379,29 @@ impl Texture {
         };
         let Some([dudx, dvdx, dudy, dvdy]) = mipmapped else {
             let (u, v) = fold(u, v, s);
-            return self.filter_any(None, &self.base_footprint(u, v, s), None, mask);
+            return self.filter_lanes(None, &self.base_footprint(u, v, s), None, mask);
         };
         let chain = self.mips();
-        let lod = self.lod_lanes::<K>(dudx, dvdx, dudy, dvdy);
+        let lod = self.lod_lanes(dudx, dvdx, dudy, dvdy);
         let Filter::Anisotropic(max) = s.filter else {
             let (u, v) = fold(u, v, s);
             return self.trilinear(chain, u, v, &Levels::new(lod, top), mask, s);
         };
         // As `sample_grad_with`: lanes with one tap are the trilinear sample (level `lod`
         // at the UV itself); the others average their taps along the major axis.
-        let a = self.aniso_lanes::<K>([dudx, dvdx, dudy, dvdy], super::aniso_ratio(max));
-        let single = crate::simd::M8::from_bits(a.single);
+        let a = self.aniso_lanes([dudx, dvdx, dudy, dvdy], super::aniso_ratio(max));
+        let single = M8::from_bits(a.single);
         let levels = Levels::new(F8::select(single, lod, a.lod), top);
+        let taps = a.taps.to_array();
         let most = (0..LANES)
             .filter(|&i| mask >> i & 1 != 0)
-            .map(|i| a.taps.0[i])
+            .map(|i| taps[i])
             .max()
             .unwrap_or(1);
         let n = a.taps.to_f32();
         let mut sum = [F8::ZERO; 4];
         for i in 0..most {
-            let lanes = mask
-                & a.taps
-                    .0
-                    .iter()
-                    .enumerate()
-                    .fold(0, |b, (l, &t)| b | (u32::from(t > i) << l));
+            let lanes = mask & a.taps.gt(I8::splat(i)).bits();
             let k = F8::splat(i as f32 + 0.5) / n - F8::splat(0.5);
             let tu = F8::select(single, u, u + a.axis[0] * k);
             let tv = F8::select(single, v, v + a.axis[1] * k);
@@ -464,29 +419,30 @@ impl Texture {
     /// `sample_lod_with`: bilinear on level floor(lod), blended towards the next level by
     /// the fraction where it is not zero; lod <= 0 is level 0 with no fraction).
     #[inline(always)]
-    fn trilinear(
+    fn trilinear<L: Level>(
         &self,
         chain: &mip::Chain,
-        u: F8,
-        v: F8,
-        l: &Levels,
+        u: F8<L>,
+        v: F8<L>,
+        l: &Levels<L>,
         mask: u32,
         s: Sampler,
-    ) -> [F8; 4] {
+    ) -> [F8<L>; 4] {
         let a = footprint(chain.size[0], &chain.offset, l.d, u, v, s);
         let lanes = mask & l.blend;
         if lanes == 0 {
-            return self.filter_any(Some(chain), &a, None, mask);
+            return self.filter_lanes(Some(chain), &a, None, mask);
         }
         let b = footprint(chain.size[0], &chain.offset, l.next, u, v, s);
-        self.filter_any(Some(chain), &a, Some((&b, l.t, lanes)), mask)
+        let t = l.t.to_array();
+        self.filter_lanes(Some(chain), &a, Some((&b, &t, lanes)), mask)
     }
 
     /// [`Texture::aniso`] on eight lanes: the taps (1 where the derivatives are not
     /// finite), the level of detail of the lanes with several taps (with [`F8::log2`]) and
     /// the major axis (zero on single-tap lanes).
     #[inline(always)]
-    fn aniso_lanes<K: Kernel>(&self, d: [F8; 4], max: u8) -> AnisoLanes {
+    fn aniso_lanes<L: Level>(&self, d: [F8<L>; 4], max: u8) -> AnisoLanes<L> {
         let [dudx, dvdx, dudy, dvdy] = d;
         let ok = finite(dudx) & finite(dvdx) & finite(dudy) & finite(dvdy);
         let (w, h) = (self.width as f32, self.height as f32);
@@ -497,21 +453,18 @@ impl Texture {
         let x_major = lx.ge(ly);
         let major = F8::select(x_major, lx, ly);
         let minor = F8::select(x_major, ly, lx);
-        let mut taps = I8::splat(1);
+        let (ma, mi) = (major.to_array(), minor.to_array());
+        let mut taps = [1i32; LANES];
         for i in 0..LANES {
             if ok >> i & 1 != 0 {
-                taps.0[i] = super::aniso_taps(major.0[i], minor.0[i], max) as i32;
+                taps[i] = super::aniso_taps(ma[i], mi[i], max) as i32;
             }
         }
-        let single = taps.zip(taps, |t, _| -i32::from(t <= 1));
-        let single = single
-            .0
-            .iter()
-            .enumerate()
-            .fold(0u32, |b, (i, &m)| b | (u32::from(m != 0) << i));
+        let taps = I8::from_array(taps);
+        let single = I8::splat(2).gt(taps).bits();
         let top = (self.levels() - 1) as f32;
-        let lod = (major / taps.to_f32()).log2::<K>().clamp(0.0, top);
-        let keep = crate::simd::M8::from_bits(!single);
+        let lod = (major / taps.to_f32()).log2().clamp(0.0, top);
+        let keep = M8::from_bits(!single);
         AnisoLanes {
             taps,
             single,
@@ -525,37 +478,37 @@ impl Texture {
 
     /// [`Texture::lod`] on eight lanes (with [`F8::log2`] for the logarithm).
     #[inline(always)]
-    fn lod_lanes<K: Kernel>(&self, dudx: F8, dvdx: F8, dudy: F8, dvdy: F8) -> F8 {
+    fn lod_lanes<L: Level>(&self, dudx: F8<L>, dvdx: F8<L>, dudy: F8<L>, dvdy: F8<L>) -> F8<L> {
         let ok = finite(dudx) & finite(dvdx) & finite(dudy) & finite(dvdy);
         let (w, h) = (self.width as f32, self.height as f32);
         let (xu, xv) = (dudx * w, dvdx * h);
         let (yu, yv) = (dudy * w, dvdy * h);
         let rho2 = (xu * xu + xv * xv).max(yu * yu + yv * yv);
         // log2(0) is a large negative number here (not -inf), clamped to 0 all the same.
-        let lod = (rho2.log2::<K>() * 0.5).clamp(0.0, (self.levels() - 1) as f32);
-        F8::select(crate::simd::M8::from_bits(ok), lod, F8::ZERO)
+        let lod = (rho2.log2() * 0.5).clamp(0.0, (self.levels() - 1) as f32);
+        F8::select(M8::from_bits(ok), lod, F8::ZERO)
     }
 }
 
 /// The levels a trilinear sample reads, per lane: `d` = floor(lod), `next` = the level
 /// below it (clamped to the last), `t` = the fraction, `blend` = the lanes where it is
 /// not zero.
-struct Levels {
-    d: I8,
-    next: I8,
-    t: F8,
+struct Levels<L: Level> {
+    d: I8<L>,
+    next: I8<L>,
+    t: F8<L>,
     blend: u32,
 }
 
-impl Levels {
+impl<L: Level> Levels<L> {
     /// For levels of detail `lod` in [0, top] (as [`Texture::lod`] gives them).
     #[inline(always)]
-    fn new(lod: F8, top: f32) -> Self {
+    fn new(lod: F8<L>, top: f32) -> Self {
         let d = floor_i(lod);
         let t = lod - d.to_f32();
         Levels {
             d,
-            next: d.wrapping_add(I8::splat(1)).clamp0(I8::splat(top as i32)),
+            next: (d + I8::splat(1)).clamp0(I8::splat(top as i32)),
             t,
             blend: t.gt(F8::ZERO).bits(),
         }
@@ -563,73 +516,73 @@ impl Levels {
 }
 
 /// [`super::AnisoTaps`] on eight lanes.
-struct AnisoLanes {
-    taps: I8,
+struct AnisoLanes<L: Level> {
+    taps: I8<L>,
     /// Lanes with one tap (bit i = lane i).
     single: u32,
-    lod: F8,
+    lod: F8<L>,
     /// Major axis, u and v.
-    axis: [F8; 2],
+    axis: [F8<L>; 2],
 }
 
 /// The bilinear footprint of each lane's level `level` at folded UVs (the lane version of
 /// the coordinates and weights of `super::bilinear`), for a base of `size` and levels
 /// starting at `offset` (see [`super::mip::Chain`]; the base at 0).
 #[inline(always)]
-fn footprint(
+fn footprint<L: Level>(
     size: (u32, u32),
     offset: &[u32; 32],
-    level: I8,
-    u: F8,
-    v: F8,
+    level: I8<L>,
+    u: F8<L>,
+    v: F8<L>,
     s: Sampler,
 ) -> Footprint {
-    // Level sizes: each level halves each side, rounding down, to no less than 1.
-    let side = |n: u32| {
-        I8::splat(n as i32).zip(level, |n, l| {
-            let m = (n as u32) >> (l as u32 & 31);
-            m.max(1) as i32
-        })
-    };
-    let (w, h) = (side(size.0), side(size.1));
-    // First texel of each lane's level: one look-up when the lanes share their level (the
+    // Level sizes (each level halves each side, rounding down, to no less than 1) and the
+    // first texel of each lane's level: one look-up when the lanes share their level (the
     // usual case), else one per lane.
-    let l0 = level.0[0];
-    let first = if level.0.iter().all(|&l| l == l0) {
-        I8::splat(offset[l0 as usize & 31] as i32)
+    let levels = level.to_array();
+    let l0 = levels[0];
+    let side = |n: u32, l: i32| (n >> (l as u32 & 31)).max(1) as i32;
+    let (w, h, first) = if levels.iter().all(|&l| l == l0) {
+        (
+            I8::splat(side(size.0, l0)),
+            I8::splat(side(size.1, l0)),
+            I8::splat(offset[l0 as usize & 31] as i32),
+        )
     } else {
-        level.zip(level, |l, _| offset[l as usize & 31] as i32)
+        (
+            I8::from_array(levels.map(|l| side(size.0, l))),
+            I8::from_array(levels.map(|l| side(size.1, l))),
+            I8::from_array(levels.map(|l| offset[l as usize & 31] as i32)),
+        )
     };
     let fx = u * w.to_f32() - 0.5;
     let fy = v * h.to_f32() - 0.5;
     let (x0, y0) = (floor_i(fx), floor_i(fy));
     let one = I8::splat(1);
     let xa = wrap_index(x0, w, s.wrap_u);
-    let xb = wrap_index(x0.wrapping_add(one), w, s.wrap_u);
-    let ra = wrap_index(y0, h, s.wrap_v)
-        .wrapping_mul(w)
-        .wrapping_add(first);
-    let rb = wrap_index(y0.wrapping_add(one), h, s.wrap_v)
-        .wrapping_mul(w)
-        .wrapping_add(first);
+    let xb = wrap_index(x0 + one, w, s.wrap_u);
+    let ra = wrap_index(y0, h, s.wrap_v) * w + first;
+    let rb = wrap_index(y0 + one, h, s.wrap_v) * w + first;
     Footprint {
-        level,
+        level: levels,
         idx: [
-            ra.wrapping_add(xa),
-            ra.wrapping_add(xb),
-            rb.wrapping_add(xa),
-            rb.wrapping_add(xb),
+            (ra + xa).to_array(),
+            (ra + xb).to_array(),
+            (rb + xa).to_array(),
+            (rb + xb).to_array(),
         ],
-        tx: fx - x0.to_f32(),
-        ty: fy - y0.to_f32(),
+        tx: (fx - x0.to_f32()).to_array(),
+        ty: (fy - y0.to_f32()).to_array(),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::simd::kernel::__private::Portable;
     use crate::simd::kernel::{dispatch, KernelJob};
-    use crate::simd::KernelKind;
+    use crate::simd::{KernelKind, Lane};
     use glam::{Vec2, Vec4};
 
     /// splitmix64.
@@ -702,25 +655,26 @@ mod tests {
 
     struct Case<'a> {
         t: &'a Texture,
-        uv: [F8; 2],
-        d: [F8; 4],
+        uv: [Lane; 2],
+        d: [Lane; 4],
         mask: u32,
         s: Sampler,
         grad: bool,
     }
 
     impl KernelJob for &Case<'_> {
-        type Output = [F8; 4];
+        type Output = [Lane; 4];
         #[inline(always)]
-        fn run<K: Kernel>(self) -> [F8; 4] {
-            let [u, v] = self.uv;
-            let [a, b, c, d] = self.d;
-            if self.grad {
+        fn run<L: Level>(self) -> [Lane; 4] {
+            let [u, v] = self.uv.map(|x| x.get::<L>());
+            let [a, b, c, d] = self.d.map(|x| x.get::<L>());
+            let r = if self.grad {
                 self.t
-                    .sample_grad_lanes::<K>(u, v, a, b, c, d, self.mask, self.s)
+                    .sample_grad_lanes(u, v, a, b, c, d, self.mask, self.s)
             } else {
-                self.t.sample_lanes::<K>(u, v, self.mask, self.s)
-            }
+                self.t.sample_lanes(u, v, self.mask, self.s)
+            };
+            r.map(Lane::from)
         }
     }
 
@@ -761,8 +715,8 @@ mod tests {
                                 filter,
                             };
                             for _ in 0..40 {
-                                let mut uv = [F8::ZERO; 2];
-                                let mut d = [F8::ZERO; 4];
+                                let mut uv = [Lane::ZERO; 2];
+                                let mut d = [Lane::ZERO; 4];
                                 for i in 0..LANES {
                                     uv[0].0[i] = coord(&mut rng, w);
                                     uv[1].0[i] = coord(&mut rng, h);
@@ -859,18 +813,25 @@ mod tests {
             -3.001,
         ];
         for c in xs.chunks(LANES) {
-            let x = F8::load(c);
-            let (f, r) = (floor(x), reduce(x, Wrap::MirroredRepeat));
+            let x = F8::<Portable>::load(c);
+            let (f, r) = (
+                x.floor().to_array(),
+                reduce(x, Wrap::MirroredRepeat).to_array(),
+            );
+            let fi = floor_i(x).to_array();
             for i in 0..LANES {
-                assert_eq!(f.0[i].to_bits(), c[i].floor().to_bits(), "floor {}", c[i]);
-                assert_eq!(r.0[i], c[i].rem_euclid(2.0), "rem {}", c[i]);
+                assert_eq!(f[i].to_bits(), c[i].floor().to_bits(), "floor {}", c[i]);
+                assert_eq!(r[i], c[i].rem_euclid(2.0), "rem {}", c[i]);
                 if c[i].abs() < 4e6 {
-                    assert_eq!(floor_i(x).0[i], c[i].floor() as i32, "{}", c[i]);
+                    assert_eq!(fi[i], c[i].floor() as i32, "{}", c[i]);
                 }
             }
         }
-        let nan = floor(F8::splat(f32::NAN));
-        assert!(nan.0[0].is_nan());
-        assert_eq!(floor(F8::splat(f32::INFINITY)).0[0], f32::INFINITY);
+        let nan = F8::<Portable>::splat(f32::NAN).floor();
+        assert!(nan.lane(0).is_nan());
+        assert_eq!(
+            F8::<Portable>::splat(f32::INFINITY).floor().lane(0),
+            f32::INFINITY
+        );
     }
 }

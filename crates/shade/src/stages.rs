@@ -1,0 +1,423 @@
+//! The lit shader as a pipeline of small stages, as Skia's raster pipeline and tiny-skia's
+//! pipeline run: per draw, the renderer builds the list of stages that draw needs
+//! ([`Program::build`]) and nothing else; the shader runs the list over each batch of 64
+//! pixels the fill hands it, one stage at a time over all of them, with the working values
+//! ([`Regs`]) in structure-of-arrays form in L1 between stages.
+//!
+//! | stage | when | what |
+//! |---|---|---|
+//! | `begin` | always | base colour (times the vertex colour), `K_s`, the unit normal |
+//! | `sample` | one per slot the draw reads | the slot's texels (image or procedural) |
+//! | `maps` | a draw with slots | base colour, gloss, normal map, bump, occlusion, emission, metal-roughness |
+//! | `debug` | a texture debug view | the view's colour (last stage) |
+//! | `unlit` | `KHR_materials_unlit` | the base colour (last stage) |
+//! | `ambient` | lit | facing, view vector, the ambient or image-based term, emission |
+//! | `light` | one per light that reaches the object | its share (shadow included) |
+//! | `fog` | fog on | linear fog |
+//! | `finish` | lit | alpha mode: the colour, and the lanes an alpha test keeps |
+//!
+//! Each stage is one function per kernel ([`per_kernel!`](crate::simd::per_kernel)), called
+//! through a pointer once per batch: no function holds the whole shader, so none is large
+//! and the compiler keeps each stage's values in registers. The arithmetic of every stage is
+//! the lighting model written once over [`Num`](crate::simd::Num) ([`super::lighting`],
+//! [`super::brdf`], [`super::maps`]), which the vertex stage, the pixel probe and the f64
+//! references call in `f32` and `f64`.
+
+use glam::Vec3;
+
+use super::lighting::{ambient, contribution, view_vector, SurfaceAt};
+use super::maps::perturb_lanes;
+use super::shaders::{DrawParams, LitShader, SlotParams, TexView};
+use super::texlab;
+use crate::raster::{Batch, Colors, Fragments, GROUPS};
+use crate::scene::{AlphaMode, TextureSource};
+use crate::simd::{KernelKind, Lane, Level, F8, V3};
+
+/// The slots a lit draw can sample, in the order of [`Regs::texel`]: base colour, gloss,
+/// normal, occlusion, emissive, metallic-roughness.
+pub const SLOTS: usize = 6;
+
+/// The working values of one group of eight lanes, kept in memory (L1) between stages: each
+/// stage loads the ones it reads and stores the ones it writes.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Regs {
+    /// Base (diffuse) colour and alpha.
+    pub base: [Lane; 4],
+    /// Specular colour (the gloss map multiplies it).
+    pub ks: [Lane; 3],
+    /// Unit shading normal: after the maps; turned to the side seen by `ambient`.
+    pub n: [Lane; 3],
+    /// The metallic-roughness texture's (roughness, metallic) factors, where the draw has one.
+    pub rough: Lane,
+    pub metal: Lane,
+    /// Ambient occlusion, where the draw has an occlusion map.
+    pub occlusion: Lane,
+    /// Emitted light.
+    pub emitted: [Lane; 3],
+    /// The texels of the draw's slots (base colour, gloss, normal, occlusion, emissive,
+    /// metallic-roughness).
+    pub texel: [[Lane; 4]; SLOTS],
+    /// Unit view vector (zero without a specular term).
+    pub v: [Lane; 3],
+    /// The colour so far (linear RGB).
+    pub c: [Lane; 3],
+}
+
+/// What every stage of a batch reads: the shader (lights, eye, fog, level-of-detail scale)
+/// and the batch's draw.
+pub struct Cx<'a> {
+    pub s: &'a LitShader<'a>,
+    pub d: &'a DrawParams,
+}
+
+/// A stage: one kernel's copy of it, run over the first `b.len` groups of the batch with
+/// its registers, with its argument (a slot or a light).
+pub type StageFn = fn(&mut Batch, &mut [Regs], &Cx<'_>, u32);
+
+/// One step of a program.
+#[derive(Clone, Copy, Debug)]
+pub struct Step {
+    pub run: StageFn,
+    pub arg: u32,
+}
+
+/// The stages one draw runs, in order.
+#[derive(Clone, Debug, Default)]
+pub struct Program {
+    pub steps: Vec<Step>,
+}
+
+impl Program {
+    /// The stages of draw `d` (its lights: `active`, indices into the frame's sources; fog:
+    /// whether the frame has fog) for `kernel`, replacing what the program held (its memory
+    /// is kept: a renderer rebuilds its programs every frame without allocating).
+    pub fn build(&mut self, d: &DrawParams, active: &[u32], fog: bool, kernel: KernelKind) {
+        let steps = &mut self.steps;
+        steps.clear();
+        let mut push = |run: StageFn, arg: u32| steps.push(Step { run, arg });
+        push(begin::pick(kernel), 0);
+        if d.mapped {
+            for (k, slot) in slots(d).iter().enumerate() {
+                if slot.is_some() {
+                    push(sample::pick(kernel), k as u32);
+                }
+            }
+            push(maps::pick(kernel), 0);
+        }
+        if d.view != TexView::Lit {
+            push(debug::pick(kernel), 0);
+            return;
+        }
+        if d.unlit {
+            push(unlit::pick(kernel), 0);
+            return;
+        }
+        push(ambient_stage::pick(kernel), 0);
+        for &i in active {
+            push(light::pick(kernel), i);
+        }
+        if fog {
+            push(fog_stage::pick(kernel), 0);
+        }
+        push(finish::pick(kernel), 0);
+    }
+
+    /// Runs the program over the first `b.len` groups of `b`.
+    #[inline]
+    pub fn run(&self, b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>) {
+        let regs = &mut regs[..b.len.min(GROUPS)];
+        for s in &self.steps {
+            (s.run)(b, regs, cx, s.arg);
+        }
+    }
+}
+
+/// The slots of draw `d` in the order of [`Regs::texel`].
+#[inline(always)]
+fn slots(d: &DrawParams) -> [&Option<SlotParams>; SLOTS] {
+    [
+        &d.base_map,
+        &d.gloss,
+        &d.normal_map,
+        &d.occlusion,
+        &d.emissive_map,
+        &d.metal_rough,
+    ]
+}
+
+/// The first varying with derivatives of draw `d` (`usize::MAX` without).
+#[inline(always)]
+fn first_derivative(d: &DrawParams) -> usize {
+    d.layout
+        .derivatives()
+        .map_or(usize::MAX, |(first, _)| first)
+}
+
+/// Four stored lanes as values.
+#[inline(always)]
+fn get4<L: Level>(v: &[Lane; 4]) -> [F8<L>; 4] {
+    [v[0].get(), v[1].get(), v[2].get(), v[3].get()]
+}
+
+/// Four values stored.
+#[inline(always)]
+fn set4<L: Level>(v: &mut [Lane; 4], x: [F8<L>; 4]) {
+    for (d, s) in v.iter_mut().zip(x) {
+        d.set(s);
+    }
+}
+
+crate::simd::per_kernel! {
+    /// Base colour (times the vertex colour), `K_s`, the emission and the unit normal.
+    fn begin<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        let d = cx.d;
+        for (g, r) in regs.iter_mut().enumerate() {
+            let v = &b.var[g];
+            let mut c = d.base.to_array().map(F8::<L>::splat);
+            if let Some(k) = d.layout.color_at() {
+                for (j, c) in c.iter_mut().enumerate() {
+                    *c *= v[k + j].get();
+                }
+            }
+            set4(&mut r.base, c);
+            V3::<L>::splat(d.surface.specular).set(&mut r.ks);
+            V3::<L>::new(v[3].get(), v[4].get(), v[5].get())
+                .normalize_or_zero()
+                .set(&mut r.n);
+            V3::<L>::splat(d.emissive).set(&mut r.emitted);
+        }
+    }
+}
+
+crate::simd::per_kernel! {
+    /// The texels of slot `arg` (filtered by its sampler; a procedural texture evaluated
+    /// lane by lane, outside the kernel: `texlab`).
+    fn sample<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, arg: u32) {
+        let k = arg as usize;
+        let Some(Some(t)) = slots(cx.d).get(k).copied() else {
+            return;
+        };
+        let first = first_derivative(cx.d);
+        let lod = cx.s.lod_scale;
+        for (g, r) in regs.iter_mut().enumerate() {
+            let texel = sample_slot::<L>(t, &b.group(g), lod, first);
+            set4(&mut r.texel[k], texel);
+        }
+    }
+}
+
+/// Samples slot `t` on the lanes of `f` from the draw's varyings, with the exact UV
+/// derivatives when the fill computed them, scaled by `lod_scale`; `first` is the first
+/// varying with derivatives.
+#[inline(always)]
+fn sample_slot<L: Level>(
+    t: &SlotParams,
+    f: &Fragments<'_>,
+    lod_scale: f32,
+    first: usize,
+) -> [F8<L>; 4] {
+    let k = t.uv_at as usize;
+    let texture = match &t.source {
+        TextureSource::Image(texture) => texture,
+        TextureSource::Procedural(p) => {
+            return texlab::procedural_lanes(p, f, k, first, lod_scale);
+        }
+    };
+    let v = f.var;
+    let (u, w) = (v[k].get(), v[k + 1].get());
+    let d = k.wrapping_sub(first);
+    match (f.ddx.get(d..d + 2), f.ddy.get(d..d + 2)) {
+        (Some([dudx, dvdx]), Some([dudy, dvdy])) => texture.sample_grad_lanes(
+            u,
+            w,
+            dudx.get::<L>() * lod_scale,
+            dvdx.get::<L>() * lod_scale,
+            dudy.get::<L>() * lod_scale,
+            dvdy.get::<L>() * lod_scale,
+            f.mask,
+            t.sampler,
+        ),
+        _ => texture.sample_lanes(u, w, f.mask, t.sampler),
+    }
+}
+
+crate::simd::per_kernel! {
+    /// What the sampled slots change: the base-colour texture the base colour and alpha, the
+    /// gloss map `K_s`, the normal map and the bump map the normal, occlusion the ambient
+    /// term, the emissive map the emission, the metallic-roughness texture its factors.
+    fn maps<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        let d = cx.d;
+        let first = first_derivative(d);
+        for (g, r) in regs.iter_mut().enumerate() {
+            let [base_t, gloss_t, normal_t, occlusion_t, emissive_t, mr_t] =
+                r.texel.map(|t| get4::<L>(&t));
+            if d.metal_rough.is_some() {
+                r.rough.set(mr_t[1]);
+                r.metal.set(mr_t[2]);
+            }
+            if d.base_map.is_some() {
+                let mut c = get4::<L>(&r.base);
+                for (c, t) in c.iter_mut().zip(base_t) {
+                    *c *= t;
+                }
+                set4(&mut r.base, c);
+            }
+            if d.gloss.is_some() {
+                let ks = d.surface.specular;
+                V3::new(gloss_t[0] * ks.x, gloss_t[1] * ks.y, gloss_t[2] * ks.z).set(&mut r.ks);
+            }
+            let f = b.group(g);
+            let mut n = V3::<L>::get(&r.n);
+            if let Some(map) = &d.normal_map {
+                n = match d.layout.tangent_at() {
+                    Some(k) => {
+                        let v = f.var;
+                        let t = V3::new(v[k].get(), v[k + 1].get(), v[k + 2].get());
+                        perturb_lanes(n, t, v[k + 3].get(), normal_t, map.scale)
+                    }
+                    // A mesh without tangents: the frame from the derivatives, per lane.
+                    None => texlab::derived_normal_lanes(map, &f, first, &normal_t, n),
+                };
+            }
+            if let Some(bump) = &d.bump {
+                n = texlab::bump_lanes(bump, &f, first, cx.s.lod_scale, n);
+            }
+            n.set(&mut r.n);
+            // glTF: ao = 1 + strength (r - 1), on the ambient (indirect) light only.
+            if let Some(o) = &d.occlusion {
+                r.occlusion.set(F8::ONE + (occlusion_t[0] - F8::ONE) * o.scale);
+            }
+            if d.emissive_map.is_some() {
+                (V3::new(emissive_t[0], emissive_t[1], emissive_t[2]) * d.emissive)
+                    .set(&mut r.emitted);
+            }
+        }
+    }
+}
+
+crate::simd::per_kernel! {
+    /// A texture debug view (the last stage).
+    fn debug<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        for (g, r) in regs.iter_mut().enumerate() {
+            let n = V3::<L>::get(&r.n);
+            let n = if b.front { n } else { -n };
+            b.out[g] = texlab::debug_lanes(cx.d, &b.group(g), cx.s.lod_scale, n);
+        }
+    }
+}
+
+crate::simd::per_kernel! {
+    /// `KHR_materials_unlit`: the base colour (the last stage).
+    fn unlit<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        for (g, r) in regs.iter_mut().enumerate() {
+            let [red, green, blue, a] = get4::<L>(&r.base);
+            let (a, keep) = alpha_lanes(cx.d.alpha, a, b.mask[g]);
+            b.out[g] = Colors::of(red, green, blue, a);
+            b.mask[g] = keep;
+        }
+    }
+}
+
+/// The surface of draw `d` at the lanes of `r` (after the maps).
+#[inline(always)]
+fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
+    let mut s = d
+        .surface
+        .at::<F8<L>>(V3::new(r.base[0].get(), r.base[1].get(), r.base[2].get()));
+    s.ks = V3::get(&r.ks);
+    s.occlusion = d.occlusion.is_some().then(|| r.occlusion.get());
+    if let (Some(p), true) = (&mut s.pbr, d.metal_rough.is_some()) {
+        p.roughness *= r.rough.get();
+        p.metallic *= r.metal.get();
+    }
+    s.emitted = (d.emissive != Vec3::ZERO).then(|| V3::get(&r.emitted));
+    s
+}
+
+/// The world position of group `g` (varyings 0..3).
+#[inline(always)]
+fn position<L: Level>(b: &Batch, g: usize) -> V3<L> {
+    let v = &b.var[g];
+    V3::new(v[0].get(), v[1].get(), v[2].get())
+}
+
+crate::simd::per_kernel! {
+    /// The normal turned to the side seen, the view vector, and the ambient term (Phong's,
+    /// or `pbr`'s image-based light) plus the emission.
+    fn ambient_stage<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        let eye = V3::<L>::splat(cx.s.eye);
+        for (g, r) in regs.iter_mut().enumerate() {
+            let mut n = V3::<L>::get(&r.n);
+            if !b.front {
+                n = -n;
+                n.set(&mut r.n);
+            }
+            let s = surface::<L>(cx.d, r);
+            let v = view_vector(&s, position(b, g), eye);
+            v.set(&mut r.v);
+            let mut c = ambient(cx.s.lights, &s, n, v);
+            if let Some(e) = s.emitted {
+                c = c + e;
+            }
+            c.set(&mut r.c);
+        }
+    }
+}
+
+crate::simd::per_kernel! {
+    /// Light `arg`'s share (an index into the frame's sources).
+    fn light<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, arg: u32) {
+        let set = cx.s.lights;
+        let Some(src) = set.sources.get(arg as usize) else {
+            return;
+        };
+        let blinn = cx.d.blinn;
+        for (g, r) in regs.iter_mut().enumerate() {
+            let s = surface::<L>(cx.d, r);
+            let (n, v) = (V3::get(&r.n), V3::get(&r.v));
+            let c = V3::<L>::get(&r.c) + contribution(set, src, &s, position(b, g), n, v, blinn);
+            c.set(&mut r.c);
+        }
+    }
+}
+
+crate::simd::per_kernel! {
+    /// Linear fog.
+    fn fog_stage<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        let Some(fog) = &cx.s.fog else {
+            return;
+        };
+        let (eye, forward) = (V3::<L>::splat(cx.s.eye), V3::<L>::splat(cx.s.forward));
+        for (g, r) in regs.iter_mut().enumerate() {
+            let c = fog.apply::<F8<L>>(V3::get(&r.c), position(b, g), eye, forward);
+            c.set(&mut r.c);
+        }
+    }
+}
+
+crate::simd::per_kernel! {
+    /// The colour and the alpha mode: the lanes an alpha test keeps.
+    fn finish<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        for (g, r) in regs.iter_mut().enumerate() {
+            let (a, keep) = alpha_lanes(cx.d.alpha, r.base[3].get::<L>(), b.mask[g]);
+            b.out[g] = Colors {
+                r: r.c[0],
+                g: r.c[1],
+                b: r.c[2],
+                a: a.into(),
+            };
+            b.mask[g] = keep;
+        }
+    }
+}
+
+/// Applies alpha mode `mode` to lanes `mask` with alpha `a`: the alpha to store and the
+/// lanes kept (`Mask` discards those below the cutoff).
+#[inline(always)]
+pub(crate) fn alpha_lanes<L: Level>(mode: AlphaMode, a: F8<L>, mask: u32) -> (F8<L>, u32) {
+    match mode {
+        AlphaMode::Opaque => (F8::ONE, mask),
+        AlphaMode::Mask(cutoff) => (F8::ONE, mask & a.ge(F8::splat(cutoff)).bits()),
+        AlphaMode::Blend => (a, mask),
+    }
+}
