@@ -88,15 +88,18 @@ impl ShadowMap {
         match eye {
             None => {
                 let eye = center - axis * radius * 2.0;
+                // Every field given (no `..Camera::default()`, whose name is a `String`): a
+                // map is made every frame, which must not allocate.
                 let cam = Camera {
-                    name: String::new(), // no allocation: a map is made every frame
+                    name: String::new(),
                     eye,
                     target: center,
                     up,
+                    yfov: 45f32.to_radians(),
                     near: radius * 0.5,
                     far: radius * 3.5,
+                    aspect: None,
                     ortho: Some(radius * 1.01),
-                    ..Camera::default()
                 };
                 (cam, 2.0 * radius * 1.01 / size as f32)
             }
@@ -107,15 +110,17 @@ impl ShadowMap {
                 let half = (spread * 1.02 + 0.01).min(85f32.to_radians());
                 let far = (d + radius).max(1e-2) * 1.01;
                 let near = (dist - radius).max(far * 1e-3).max(1e-3);
+                // Every field given, as above.
                 let cam = Camera {
-                    name: String::new(), // no allocation: a map is made every frame
+                    name: String::new(),
                     eye,
                     target: eye + axis,
                     up,
                     yfov: 2.0 * half,
                     near,
                     far,
-                    ..Camera::default()
+                    aspect: None,
+                    ortho: None,
                 };
                 (cam, 2.0 * half.tan() / size as f32)
             }
