@@ -30,6 +30,9 @@
 //!   shaded together. Each pixel is shaded once, by the triangle that drawing in order would
 //!   have left there, with the same interpolation, so images are bit for bit those of
 //!   shading every fragment in order (a test checks it).
+//! - Direct colour (a draw whose colour is its interpolated varyings: Gouraud and flat, see
+//!   [`FragmentShader::colour_is_varyings`]): the fill writes the colour at the depth test,
+//!   with the same interpolation, and calls no shader.
 //! - Forward shading (blending, alpha-tested draws, multisampled tiles): the rows of one
 //!   triangle that passed the depth test are gathered into a batch (one triangle at a time:
 //!   a later triangle must test against the depth this one writes), shaded, and written
@@ -210,7 +213,7 @@ pub(crate) fn fill_tile(
                 continue;
             };
             match r.mode {
-                Mode::Defer => (f.deferred)(tile, &r, n),
+                Mode::Defer | Mode::Direct => (f.deferred)(tile, &r, n),
                 Mode::DepthOnly if tile.samples() == 1 => (f.deferred)(tile, &r, n),
                 _ => {
                     // The deferred fragments are shaded before a triangle that is not
@@ -300,6 +303,9 @@ impl<'a> Interp<'a> {
 enum Mode {
     /// Into the visibility buffer, shaded at the end of the tile.
     Defer,
+    /// The colour is the interpolated varyings ([`FragmentShader::colour_is_varyings`]):
+    /// written by the fill at the test, no shader called.
+    Direct,
     /// Shaded by rows after the test, then written with the draw's blend.
     Forward,
     /// Depth only, written at the test, no shading.
@@ -350,6 +356,7 @@ pub(crate) struct DrawInfo {
     draw: u32,
     defers: bool,
     discards: bool,
+    colour_is_varyings: bool,
     derivatives: Option<(usize, usize)>,
 }
 
@@ -360,6 +367,7 @@ impl DrawInfo {
             draw,
             defers: shader.defers(draw),
             discards: shader.discards(draw),
+            colour_is_varyings: shader.colour_is_varyings(draw),
             derivatives: shader.derivatives(draw),
         }
     }
@@ -542,14 +550,17 @@ fn rows<'a>(
     }
     let st = tri.state;
     let info = draw_info(cache, shader, tri.info.draw);
+    let replace = tile.samples() == 1 && st.color_write && st.blend == Blend::Replace;
     let mode = if !st.color_write && !info.discards {
         Mode::DepthOnly
-    } else if tile.samples() == 1 && st.color_write && st.blend == Blend::Replace && info.defers {
+    } else if replace && info.colour_is_varyings && tri.stride >= 3 {
+        Mode::Direct
+    } else if replace && info.defers {
         Mode::Defer
     } else {
         Mode::Forward
     };
-    let it = if mode == Mode::Forward {
+    let it = if matches!(mode, Mode::Forward | Mode::Direct) {
         Some(Interp::new(tri, attrs, info.derivatives)?)
     } else {
         // (The varyings must be there when the visibility buffer is resolved.)
@@ -669,6 +680,13 @@ fn block<L: Level, const TEST: bool>(
             n.depth_rejected += u64::from((cover & !pass).count_ones());
             if live != 0 {
                 match r.mode {
+                    Mode::Direct => {
+                        if let Some(it) = &r.it {
+                            direct::<L>(tile, it, row, o, live, z);
+                            n.shaded += u64::from(live.count_ones());
+                            n.calls += 1;
+                        }
+                    }
                     Mode::Defer | Mode::DepthOnly => {
                         if st.depth_write {
                             // A deferred fragment is shaded later, maybe after other
@@ -763,6 +781,51 @@ fn record<L: Level>(vis: &mut Vis, o: usize, live: u32, id: TriId) {
     I8::<L>::splat(id as i32).store_where_u32(M8::from_bits(live), &mut vis.tri[o..o + LANES]);
     vis.live[o / LANES] |= live;
     vis.pending = true;
+}
+
+/// A row of a [`Mode::Direct`] triangle: its first three varyings, interpolated at the row's
+/// pixels, are the colour of the lanes `live` (alpha 1), and `z` their depth (written when
+/// the draw writes depth). The same interpolation as the shaded paths.
+#[inline(always)]
+fn direct<L: Level>(
+    tile: &mut Tile,
+    it: &Interp<'_>,
+    row: [i64; 3],
+    o: usize,
+    live: u32,
+    z: F8<L>,
+) {
+    let tri = it.tri;
+    let [p1, p2, _] = perspective(tri, it.barycentrics::<L>(row));
+    let m = M8::<L>::from_bits(live);
+    let full = live & 0xFF == 0xFF;
+    let v = &it.var;
+    let (color, depth) = tile.planes_mut();
+    for c in 0..4 {
+        let val = if c < 3 {
+            mad(
+                F8::splat(v.d2[c]),
+                p2,
+                mad(F8::splat(v.d1[c]), p1, F8::splat(v.v0[c])),
+            )
+        } else {
+            F8::ONE
+        };
+        let plane = &mut color[c * TILE_PIXELS + o..][..LANES];
+        if full {
+            val.store(plane);
+        } else {
+            val.store_where(m, plane);
+        }
+    }
+    if tri.state.depth_write {
+        let d = &mut depth[o..o + LANES];
+        if full {
+            z.store(d);
+        } else {
+            z.store_where(m, d);
+        }
+    }
 }
 
 /// Adds a row of the current forward triangle to the forward batch, interpolated at

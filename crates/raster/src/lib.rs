@@ -256,6 +256,15 @@ pub trait FragmentShader: Sync {
         false
     }
 
+    /// Whether the colour of draw `draw`'s fragments is their first three varyings, alpha 1,
+    /// with no lane discarded (Gouraud and flat shading: the colour was computed per
+    /// vertex or facet). The fill then writes the interpolated varyings itself, at the
+    /// depth test, and does not call [`FragmentShader::shade`] for the draw. Default: false.
+    fn colour_is_varyings(&self, draw: u32) -> bool {
+        let _ = draw;
+        false
+    }
+
     /// Whether the shader may discard lanes of draw `draw` (clear bits of [`Batch::mask`]).
     /// A draw that writes no colour and whose shader discards nothing is not shaded at all.
     /// Default: true.

@@ -133,6 +133,13 @@ impl FragmentShader for ColorShader<'_> {
         !self.discards(draw)
     }
 
+    /// Opaque draws: the colour is the interpolated RGB, alpha 1.
+    fn colour_is_varyings(&self, draw: u32) -> bool {
+        self.draws
+            .get(draw as usize)
+            .is_some_and(|d| d.alpha == AlphaMode::Opaque)
+    }
+
     fn discards(&self, draw: u32) -> bool {
         self.draws
             .get(draw as usize)
