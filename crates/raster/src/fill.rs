@@ -160,6 +160,7 @@ impl FillScratch {
 #[derive(Clone, Copy)]
 pub(crate) struct FillFns {
     deferred: fn(&mut Tile, &Rows<'_>, &mut FillScratch),
+    direct: fn(&mut Tile, &Rows<'_>, &mut FillScratch),
     forward: fn(&mut Tile, &Rows<'_>, &mut FillScratch, &dyn FragmentShader),
     resolve: fn(&mut Tile, &[Chunk], &dyn FragmentShader, &mut FillScratch),
     interp: InterpFn,
@@ -170,6 +171,7 @@ impl FillFns {
     pub(crate) fn pick(kernel: crate::simd::KernelKind) -> Self {
         Self {
             deferred: deferred::pick(kernel),
+            direct: direct_tri::pick(kernel),
             forward: forward::pick(kernel),
             resolve: resolve::pick(kernel),
             interp: interp_group::pick(kernel),
@@ -213,7 +215,8 @@ pub(crate) fn fill_tile(
                 continue;
             };
             match r.mode {
-                Mode::Defer | Mode::Direct => (f.deferred)(tile, &r, n),
+                Mode::Defer => (f.deferred)(tile, &r, n),
+                Mode::Direct => (f.direct)(tile, &r, n),
                 Mode::DepthOnly if tile.samples() == 1 => (f.deferred)(tile, &r, n),
                 _ => {
                     // The deferred fragments are shaded before a triangle that is not
@@ -256,8 +259,10 @@ pub(crate) struct Varyings<'a> {
 #[derive(Clone, Copy)]
 struct Interp<'a> {
     tri: &'a SetupTri,
-    /// λ0, λ1, λ2 per pixel along x.
-    l_step: [f32; 3],
+    /// λ0, λ1, λ2 at the centre of the tile's first pixel, and per pixel along x and y.
+    lt: [f32; 3],
+    lx: [f32; 3],
+    ly: [f32; 3],
     var: Varyings<'a>,
 }
 
@@ -267,12 +272,20 @@ impl<'a> Interp<'a> {
         tri: &'a SetupTri,
         attrs: &'a [f32],
         derivatives: Option<(usize, usize)>,
+        tile: (u32, u32),
     ) -> Option<Self> {
         let var = varyings(tri, attrs, derivatives)?;
-        let l = |k: usize| (tri.ab(k).0 * ONE) as f32 * tri.inv_area;
+        let inv = tri.inv_area;
+        let lt = [0, 1, 2].map(|k| (edge_at(tri, k, tile.0, tile.1) - tri.bias(k)) as f32 * inv);
+        let (lx, ly) = (
+            [0, 1, 2].map(|k| (tri.ab(k).0 * ONE) as f32 * inv),
+            [0, 1, 2].map(|k| (tri.ab(k).1 * ONE) as f32 * inv),
+        );
         Some(Self {
             tri,
-            l_step: [l(0), l(1), l(2)],
+            lt,
+            lx,
+            ly,
             var,
         })
     }
@@ -286,14 +299,22 @@ impl<'a> Interp<'a> {
         }
     }
 
-    /// Screen-space barycentrics of a row's lanes from its biased edge values at lane 0:
-    /// the unbiased values, each λ from its own exact edge value (1 - λ1 - λ2 cancels near
-    /// vertex 0).
+    /// Screen-space barycentrics of eight pixels of a row: lane `i` is pixel `(dx + i, dy)`
+    /// of the tile. Each λ from its own plane (1 - λ1 - λ2 cancels near vertex 0), from the
+    /// tile's first pixel, so a pixel's value does not depend on which lane of which row
+    /// computed it: every path (deferred, direct, forward, small triangles) gets the same
+    /// bits.
     #[inline(always)]
-    fn barycentrics<L: Level>(&self, row: [i64; 3]) -> [F8<L>; 3] {
-        let (tri, inv) = (self.tri, self.tri.inv_area);
-        let l =
-            |k: usize| F8::splat((row[k] - tri.bias(k)) as f32 * inv) + F8::RAMP * self.l_step[k];
+    fn barycentrics<L: Level>(&self, dx: u32, dy: u32) -> [F8<L>; 3] {
+        let x = F8::<L>::RAMP + F8::splat(dx as f32);
+        let dy = dy as f32;
+        let l = |k: usize| {
+            mad(
+                x,
+                F8::splat(self.lx[k]),
+                F8::splat(self.lt[k] + dy * self.ly[k]),
+            )
+        };
         [l(0), l(1), l(2)]
     }
 }
@@ -324,29 +345,28 @@ struct Rows<'a> {
     lane_x: [[i64; LANES]; 3],
     lane_x32: [[i32; LANES]; 3],
     narrow: bool,
-    /// Depth per pixel along x, and λ1, λ2 per pixel along x (for the depth at a row's
-    /// first pixel: [`Rows::z_row`]).
+    /// Depth at the centre of the tile's first pixel, and per pixel along x and y.
+    zt: f32,
     zx: f32,
+    zy: f32,
     mode: Mode,
     id: TriId,
 }
 
 impl Rows<'_> {
-    /// The depth at lane 0 of a row whose (biased) edge values there are `row`: from the
-    /// row's own exact barycentrics, so no error accumulates along the triangle.
+    /// `(RAMP + dx) zx`: the depth's change along a row from the tile's first column to
+    /// the pixels of lanes starting at tile column `dx`.
     #[inline(always)]
-    fn z_row(&self, row: [i64; 3]) -> f32 {
-        let tri = self.tri;
-        let l1 = (row[1] - tri.bias(1)) as f32 * tri.inv_area;
-        let l2 = (row[2] - tri.bias(2)) as f32 * tri.inv_area;
-        tri.z[0] + l1 * tri.z[1] + l2 * tri.z[2]
+    fn z_lanes<L: Level>(&self, dx: u32) -> F8<L> {
+        (F8::RAMP + F8::splat(dx as f32)) * self.zx
     }
 
-    /// The depth of a row's lanes (see [`Rows::z_row`]): the same formula on every path,
-    /// deferred, forward and multisampled.
+    /// The depth of eight pixels of tile row `dy` whose [`Rows::z_lanes`] are `x`: from the
+    /// tile's first pixel, so (as for the barycentrics) a pixel's depth does not depend on
+    /// the path or the lane that computes it.
     #[inline(always)]
-    fn z<L: Level>(&self, row: [i64; 3]) -> F8<L> {
-        mad(F8::RAMP, F8::splat(self.zx), F8::splat(self.z_row(row)))
+    fn z<L: Level>(&self, x: F8<L>, dy: u32) -> F8<L> {
+        x + F8::splat(self.zt + dy as f32 * self.zy)
     }
 }
 
@@ -477,14 +497,46 @@ crate::simd::per_kernel! {
     /// A deferred (or, on a single-sample tile, depth-only) triangle: coverage and depth,
     /// into the visibility buffer.
     fn deferred<L>(tile: &mut Tile, r: &Rows<'_>, n: &mut FillScratch) {
-        let mut blocks = walk(tile, r, 0);
-        while let Some((bx, y0, y1, span, test)) = blocks.next(r.tri) {
-            if test {
-                block::<L, true>(tile, r, n, None, bx, y0, y1, span);
-            } else {
-                block::<L, false>(tile, r, n, None, bx, y0, y1, span);
-            }
+        if let Some(b) = small_bounds(tile, r) {
+            let c = match r.mode {
+                Mode::Defer => small::<L, DEFER>(tile, r, n, b, Counts::default()),
+                _ => small::<L, DEPTH>(tile, r, n, b, Counts::default()),
+            };
+            c.add_to(n);
+            return;
         }
+        let mut blocks = walk(tile, r, 0);
+        let mut c = Counts::default();
+        while let Some((bx, y0, y1, span, test)) = blocks.next(r.tri) {
+            c = match (r.mode == Mode::Defer, test) {
+                (true, true) => block::<L, true, DEFER>(tile, r, n, None, bx, y0, y1, span, c),
+                (true, false) => block::<L, false, DEFER>(tile, r, n, None, bx, y0, y1, span, c),
+                (false, true) => block::<L, true, DEPTH>(tile, r, n, None, bx, y0, y1, span, c),
+                (false, false) => block::<L, false, DEPTH>(tile, r, n, None, bx, y0, y1, span, c),
+            };
+        }
+        c.add_to(n);
+    }
+}
+
+crate::simd::per_kernel! {
+    /// A [`Mode::Direct`] triangle: coverage, depth and its interpolated colour, written at
+    /// the test.
+    fn direct_tri<L>(tile: &mut Tile, r: &Rows<'_>, n: &mut FillScratch) {
+        if let Some(b) = small_bounds(tile, r) {
+            small::<L, DIRECT>(tile, r, n, b, Counts::default()).add_to(n);
+            return;
+        }
+        let mut blocks = walk(tile, r, 0);
+        let mut c = Counts::default();
+        while let Some((bx, y0, y1, span, test)) = blocks.next(r.tri) {
+            c = if test {
+                block::<L, true, DIRECT>(tile, r, n, None, bx, y0, y1, span, c)
+            } else {
+                block::<L, false, DIRECT>(tile, r, n, None, bx, y0, y1, span, c)
+            };
+        }
+        c.add_to(n);
     }
 }
 
@@ -494,14 +546,17 @@ crate::simd::per_kernel! {
     fn forward<L>(tile: &mut Tile, r: &Rows<'_>, n: &mut FillScratch, shader: &dyn FragmentShader) {
         let multi = (tile.samples() as usize == SAMPLES).then(|| Samples::new(r.tri));
         let mut blocks = walk(tile, r, sample_reach(tile.samples()));
+        let mut c = Counts::default();
+        let sh = Some(shader);
         while let Some((bx, y0, y1, span, test)) = blocks.next(r.tri) {
-            match (&multi, test) {
-                (None, true) => block::<L, true>(tile, r, n, Some(shader), bx, y0, y1, span),
-                (None, false) => block::<L, false>(tile, r, n, Some(shader), bx, y0, y1, span),
-                (Some(m), true) => block_ms::<L, true>(tile, r, m, n, shader, bx, y0, y1, span),
-                (Some(m), false) => block_ms::<L, false>(tile, r, m, n, shader, bx, y0, y1, span),
-            }
+            c = match (&multi, test) {
+                (None, true) => block::<L, true, FORWARD>(tile, r, n, sh, bx, y0, y1, span, c),
+                (None, false) => block::<L, false, FORWARD>(tile, r, n, sh, bx, y0, y1, span, c),
+                (Some(m), true) => block_ms::<L, true>(tile, r, m, n, shader, bx, y0, y1, span, c),
+                (Some(m), false) => block_ms::<L, false>(tile, r, m, n, shader, bx, y0, y1, span, c),
+            };
         }
+        c.add_to(n);
         if r.mode == Mode::Forward && n.open[0].len > 0 {
             shade_forward::<L>(tile, r, multi.as_ref(), shader, n);
         }
@@ -561,14 +616,23 @@ fn rows<'a>(
         Mode::Forward
     };
     let it = if matches!(mode, Mode::Forward | Mode::Direct) {
-        Some(Interp::new(tri, attrs, info.derivatives)?)
+        Some(Interp::new(
+            tri,
+            attrs,
+            info.derivatives,
+            (tile.x0, tile.y0),
+        )?)
     } else {
         // (The varyings must be there when the visibility buffer is resolved.)
         varyings(tri, attrs, None)?;
         None
     };
-    let s = ONE as f32 * tri.inv_area;
+    let inv = tri.inv_area;
+    let s = ONE as f32 * inv;
     let zx = tri.a[1] as f32 * s * tri.z[1] + tri.a[2] as f32 * s * tri.z[2];
+    let zy = tri.b[1] as f32 * s * tri.z[1] + tri.b[2] as f32 * s * tri.z[2];
+    let l = |k: usize| (edge_at(tri, k, tile.x0, tile.y0) - tri.bias(k)) as f32 * inv;
+    let zt = tri.z[0] + l(1) * tri.z[1] + l(2) * tri.z[2];
     Some(Rows {
         tri,
         it,
@@ -576,7 +640,9 @@ fn rows<'a>(
         lane_x,
         lane_x32,
         narrow,
+        zt,
         zx,
+        zy,
         mode,
         id,
     })
@@ -650,7 +716,7 @@ fn classify(tri: &SetupTri, reach: i64, x0: u32, y0: u32, x1: u32, y1: u32) -> C
 /// forward batch (`n.open[0]`), shaded when it is full; depth only: depth written now.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn block<L: Level, const TEST: bool>(
+fn block<L: Level, const TEST: bool, const MODE: u8>(
     tile: &mut Tile,
     r: &Rows<'_>,
     n: &mut FillScratch,
@@ -659,7 +725,8 @@ fn block<L: Level, const TEST: bool>(
     y0: u32,
     y1: u32,
     span: u32,
-) {
+    mut c: Counts,
+) -> Counts {
     let tri = r.tri;
     let st = tri.state;
     let mut row = [
@@ -667,42 +734,45 @@ fn block<L: Level, const TEST: bool>(
         edge_at(tri, 1, bx, y0),
         edge_at(tri, 2, bx, y0),
     ];
+    let dx = bx - tile.x0;
+    let zl = r.z_lanes::<L>(dx);
     for y in y0..=y1 {
         let mut cover = span;
         if TEST {
             cover &= row_mask(r, row);
         }
-        let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
+        let dy = y - tile.y0;
+        let o = (dy * TILE + dx) as usize;
         if cover != 0 {
-            let z = r.z::<L>(row);
+            let z = r.z(zl, dy);
             let pass = depth_pass(st.depth_test, z, &tile.depth[o..o + LANES]);
             let live = cover & pass;
-            n.depth_rejected += u64::from((cover & !pass).count_ones());
+            c.rejected += (cover & !pass).count_ones();
             if live != 0 {
-                match r.mode {
-                    Mode::Direct => {
+                match MODE {
+                    DIRECT => {
                         if let Some(it) = &r.it {
-                            direct::<L>(tile, it, row, o, live, z);
-                            n.shaded += u64::from(live.count_ones());
-                            n.calls += 1;
+                            direct::<L>(tile, it, dx, dy, o, live, z);
+                            c.shaded += live.count_ones();
+                            c.calls += 1;
                         }
                     }
-                    Mode::Defer | Mode::DepthOnly => {
+                    DEFER | DEPTH => {
                         if st.depth_write {
                             // A deferred fragment is shaded later, maybe after other
                             // triangles: they must test against its depth now.
                             let d = &mut tile.depth[o..o + LANES];
                             z.store_where(M8::from_bits(live), d);
                         }
-                        if r.mode == Mode::Defer {
+                        if MODE == DEFER {
                             record::<L>(&mut n.vis, o, live, r.id);
                         }
                     }
-                    Mode::Forward => {
+                    _ => {
                         if let Some(shader) = shader {
                             let mut pass = [0; SAMPLES];
                             pass[0] = live;
-                            push_forward(tile, r, n, shader, None, o, live, pass, row, z);
+                            push_forward(tile, r, n, shader, None, (dx, dy), live, pass, z);
                         }
                     }
                 }
@@ -711,6 +781,31 @@ fn block<L: Level, const TEST: bool>(
         for k in 0..3 {
             row[k] += r.step_y[k];
         }
+    }
+    c
+}
+
+/// [`block`]'s modes: [`Mode::Defer`], [`Mode::Direct`], [`Mode::Forward`],
+/// [`Mode::DepthOnly`] as constants, so each is a loop of its own.
+const DEFER: u8 = 0;
+const DIRECT: u8 = 1;
+const FORWARD: u8 = 2;
+const DEPTH: u8 = 3;
+
+/// Counters of a triangle's fill, kept in registers and added to the tile's at its end.
+#[derive(Clone, Copy, Default)]
+struct Counts {
+    rejected: u32,
+    shaded: u32,
+    calls: u32,
+}
+
+impl Counts {
+    #[inline(always)]
+    fn add_to(self, n: &mut FillScratch) {
+        n.depth_rejected += u64::from(self.rejected);
+        n.shaded += u64::from(self.shaded);
+        n.calls += u64::from(self.calls);
     }
 }
 
@@ -729,7 +824,8 @@ fn block_ms<L: Level, const TEST: bool>(
     y0: u32,
     y1: u32,
     span: u32,
-) {
+    mut c: Counts,
+) -> Counts {
     let tri = r.tri;
     let st = tri.state;
     let mut row = [
@@ -745,16 +841,17 @@ fn block_ms<L: Level, const TEST: bool>(
             }
         }
         let any = cover.iter().fold(0, |a, c| a | c);
-        let o = ((y - tile.y0) * TILE + (bx - tile.x0)) as usize;
+        let (dx, dy) = (bx - tile.x0, y - tile.y0);
+        let o = (dy * TILE + dx) as usize;
         if any != 0 {
-            let zc = r.z::<L>(row);
+            let zc = r.z(r.z_lanes::<L>(dx), dy);
             let mut pass = [0u32; SAMPLES];
             for s in 0..SAMPLES {
                 let d = &tile.depth[s * TILE_PIXELS + o..][..LANES];
                 pass[s] = cover[s] & depth_pass(st.depth_test, zc + m.z[s], d);
             }
             let live = pass.iter().fold(0, |a, p| a | p);
-            n.depth_rejected += u64::from((any & !live).count_ones());
+            c.rejected += (any & !live).count_ones();
             if live != 0 {
                 if r.mode == Mode::DepthOnly {
                     if st.depth_write {
@@ -765,7 +862,7 @@ fn block_ms<L: Level, const TEST: bool>(
                         }
                     }
                 } else {
-                    push_forward(tile, r, n, shader, Some(m), o, live, pass, row, zc);
+                    push_forward(tile, r, n, shader, Some(m), (dx, dy), live, pass, zc);
                 }
             }
         }
@@ -773,14 +870,95 @@ fn block_ms<L: Level, const TEST: bool>(
             row[k] += r.step_y[k];
         }
     }
+    c
 }
 
 /// Keeps lanes `live` of the row at tile offset `o` (a multiple of eight) for triangle `id`.
 #[inline(always)]
 fn record<L: Level>(vis: &mut Vis, o: usize, live: u32, id: TriId) {
     I8::<L>::splat(id as i32).store_where_u32(M8::from_bits(live), &mut vis.tri[o..o + LANES]);
-    vis.live[o / LANES] |= live;
+    // A row of a small triangle need not start at a group: its lanes span two.
+    let (g, sh) = (o / LANES, o % LANES);
+    vis.live[g] |= (live << sh) & 0xFF;
+    if sh != 0 {
+        vis.live[g + 1] |= live >> (LANES - sh);
+    }
     vis.pending = true;
+}
+
+/// The pixel bounds of a small triangle in the tile (`x0, y0, x1, y1`, inclusive): one whose
+/// bounds there are at most eight pixels wide and whose eight lanes from `x0` stay in the
+/// tile's row, so one eight-lane step per row covers it without walking blocks; `None` for
+/// the others (and for the cases the small path does not handle: wide edges, several
+/// samples).
+#[inline(always)]
+fn small_bounds(tile: &Tile, r: &Rows<'_>) -> Option<(u32, u32, u32, u32)> {
+    let tri = r.tri;
+    let x0 = tri.x0.max(tile.x0);
+    let x1 = tri.x1.min(tile.x0 + tile.w - 1);
+    let ok = r.narrow && tile.samples() == 1 && x1 - x0 < BLOCK && x0 - tile.x0 <= TILE - BLOCK;
+    ok.then(|| {
+        (
+            x0,
+            tri.y0.max(tile.y0),
+            x1,
+            tri.y1.min(tile.y0 + tile.h - 1),
+        )
+    })
+}
+
+/// A small triangle ([`small_bounds`]) of mode `MODE` (deferred, depth only or direct): one
+/// eight-lane step per row of its bounds, its lanes starting at its first column (not at a
+/// group's), with the same per-pixel values as [`block`] (the planes are the tile's).
+#[inline(always)]
+fn small<L: Level, const MODE: u8>(
+    tile: &mut Tile,
+    r: &Rows<'_>,
+    n: &mut FillScratch,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    mut c: Counts,
+) -> Counts {
+    let tri = r.tri;
+    let st = tri.state;
+    let span = (1u32 << (x1 - x0 + 1)) - 1;
+    let mut row = [
+        edge_at(tri, 0, x0, y0),
+        edge_at(tri, 1, x0, y0),
+        edge_at(tri, 2, x0, y0),
+    ];
+    let dx = x0 - tile.x0;
+    let zl = r.z_lanes::<L>(dx);
+    for y in y0..=y1 {
+        let cover = span & row_mask(r, row);
+        if cover != 0 {
+            let dy = y - tile.y0;
+            let o = (dy * TILE + dx) as usize;
+            let z = r.z(zl, dy);
+            let pass = depth_pass(st.depth_test, z, &tile.depth[o..o + LANES]);
+            let live = cover & pass;
+            c.rejected += (cover & !pass).count_ones();
+            if live != 0 {
+                if MODE == DIRECT {
+                    if let Some(it) = &r.it {
+                        direct::<L>(tile, it, dx, dy, o, live, z);
+                        c.shaded += live.count_ones();
+                        c.calls += 1;
+                    }
+                } else {
+                    if st.depth_write {
+                        z.store_where(M8::from_bits(live), &mut tile.depth[o..o + LANES]);
+                    }
+                    if MODE == DEFER {
+                        record::<L>(&mut n.vis, o, live, r.id);
+                    }
+                }
+            }
+        }
+        for k in 0..3 {
+            row[k] += r.step_y[k];
+        }
+    }
+    c
 }
 
 /// A row of a [`Mode::Direct`] triangle: its first three varyings, interpolated at the row's
@@ -790,13 +968,14 @@ fn record<L: Level>(vis: &mut Vis, o: usize, live: u32, id: TriId) {
 fn direct<L: Level>(
     tile: &mut Tile,
     it: &Interp<'_>,
-    row: [i64; 3],
+    dx: u32,
+    dy: u32,
     o: usize,
     live: u32,
     z: F8<L>,
 ) {
     let tri = it.tri;
-    let [p1, p2, _] = perspective(tri, it.barycentrics::<L>(row));
+    let [p1, p2, _] = perspective(tri, it.barycentrics::<L>(dx, dy));
     let m = M8::<L>::from_bits(live);
     let full = live & 0xFF == 0xFF;
     let v = &it.var;
@@ -839,15 +1018,15 @@ fn push_forward<L: Level>(
     n: &mut FillScratch,
     shader: &dyn FragmentShader,
     m: Option<&Samples>,
-    o: usize,
+    (dx, dy): (u32, u32),
     live: u32,
     pass: [u32; SAMPLES],
-    row: [i64; 3],
     z: F8<L>,
 ) {
     let Some(it) = &r.it else {
         return;
     };
+    let o = dy * TILE + dx;
     n.shaded += u64::from(live.count_ones());
     let b = &mut n.open[0];
     if b.len == 0 {
@@ -856,7 +1035,7 @@ fn push_forward<L: Level>(
     }
     let g = b.len;
     b.len += 1;
-    b.o[g] = o as u32;
+    b.o[g] = o;
     b.mask[g] = live;
     n.fz[g] = z.into();
     n.pass[g] = pass;
@@ -865,7 +1044,7 @@ fn push_forward<L: Level>(
         ddx: &mut b.ddx[g],
         ddy: &mut b.ddy[g],
     };
-    let l = it.barycentrics::<L>(row).map(Lane::from);
+    let l = it.barycentrics::<L>(dx, dy).map(Lane::from);
     (n.interp)(r.tri, &l, &it.var, out, 0xFF);
     if b.len == GROUPS {
         shade_forward::<L>(tile, r, m, shader, n);
@@ -944,7 +1123,7 @@ fn resolve_body<L: Level>(
                 cur = lookup(chunks, id)
                     .and_then(|(tri, attrs)| {
                         let info = draw_info(&mut n.info, shader, tri.info.draw);
-                        Interp::new(tri, attrs, info.derivatives)
+                        Interp::new(tri, attrs, info.derivatives, (tile.x0, tile.y0))
                     })
                     .map(|it| (id, it, it.key()));
             }
@@ -973,12 +1152,9 @@ fn resolve_body<L: Level>(
             let b = &mut n.open[slot];
             b.mask[g] |= mask;
             let tri = it.tri;
-            let row = [
-                edge_at(tri, 0, x, y),
-                edge_at(tri, 1, x, y),
-                edge_at(tri, 2, x, y),
-            ];
-            let l = it.barycentrics::<L>(row).map(Lane::from);
+            let l = it
+                .barycentrics::<L>(x - tile.x0, y - tile.y0)
+                .map(Lane::from);
             let out = GroupOut {
                 var: &mut b.var[g],
                 ddx: &mut b.ddx[g],
