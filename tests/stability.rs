@@ -67,12 +67,10 @@ struct Tri {
 
 /// Draws `tri` into a fresh `w` x `h` target with every kernel the machine has; checks
 /// every buffer is finite, that the kernels cover identical pixels and interpolate the
-/// attribute within 1e-4 of the attribute's range of the portable kernel (FMA rounding,
-/// amplified on triangles through w = 0; the f64 reference's tolerance is 2e-3)
-/// kernel, and returns the portable kernel's (attribute sum, count) per pixel.
+/// attribute to the same bits (no fused multiply-add in any kernel), and returns the
+/// portable kernel's (attribute sum, count) per pixel.
 fn draw(tri: &Tri, w: u32, h: u32) -> Vec<(f32, f32)> {
     let mut first: Option<Vec<(f32, f32)>> = None;
-    let range = tri.attr.iter().fold(1f32, |m, a| m.max(a.abs()));
     for kernel in KernelKind::available_kinds() {
         let got = draw_with(tri, w, h, kernel);
         match &first {
@@ -80,8 +78,9 @@ fn draw(tri: &Tri, w: u32, h: u32) -> Vec<(f32, f32)> {
             Some(f) => {
                 for (a, b) in f.iter().zip(&got) {
                     assert_eq!(a.1, b.1, "{kernel:?} covers differently: {tri:?}");
-                    assert!(
-                        (a.0 - b.0).abs() <= 1e-4 * range,
+                    assert_eq!(
+                        a.0.to_bits(),
+                        b.0.to_bits(),
                         "{kernel:?} attribute {} vs {}: {tri:?}",
                         b.0,
                         a.0

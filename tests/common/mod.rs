@@ -96,9 +96,9 @@ pub fn render_with(
         .expect("thread pool");
     pool.install(|| {
         let prepared = PreparedScene::new(scene.clone());
-        // Every kernel this machine has renders the scene; they must agree within float
-        // rounding (FMA, the lane pow; see `KERNEL_TOLERANCE`), and the portable kernel's
-        // frame is the one checked against the goldens.
+        // Every kernel this machine has renders the scene; they must agree bit for bit (no
+        // fused multiply-add, no approximate instruction: `realist_simd::level`), and the
+        // portable kernel's frame is the one checked against the goldens.
         let (settings, view) = (opts.settings(), opts.view(prepared.scene()));
         let mut first: Option<(Framebuffer, realist::raster::Stats)> = None;
         for kernel in KernelKind::available_kinds() {
@@ -113,25 +113,24 @@ pub fn render_with(
                 None => first = Some((fb, stats)),
                 Some((f, s)) => {
                     assert_eq!(s.pixels_shaded, stats.pixels_shaded, "{kernel:?}");
-                    let worst = f
-                        .color
-                        .iter()
-                        .zip(&fb.color)
-                        .map(|(a, b)| (*a - *b).abs().max_element())
-                        .fold(0f32, f32::max);
-                    assert!(worst < KERNEL_TOLERANCE, "{kernel:?} differs by {worst}");
+                    let bits = |fb: &Framebuffer| -> Vec<u32> {
+                        let c = fb.color.iter().flat_map(|c| c.to_array());
+                        c.chain(fb.depth.iter().copied())
+                            .map(f32::to_bits)
+                            .collect()
+                    };
+                    let (a, b) = (bits(f), bits(&fb));
+                    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+                    assert_eq!(
+                        differ, 0,
+                        "{kernel:?}: {differ} values differ from the portable kernel's"
+                    );
                 }
             }
         }
         first.expect("the portable kernel is always available")
     })
 }
-
-/// Largest difference of a linear colour channel between kernels: below one 8-bit level
-/// anywhere above the darkest shades. Measured: 5.1e-4 on the grazing trilinear checker
-/// (`tests/mipmap.rs`: the UV derivatives' FMA rounding moves the level-of-detail blend of
-/// a high-contrast texture), below 1e-5 on untextured scenes.
-pub const KERNEL_TOLERANCE: f32 = 2e-3;
 
 /// Renders `scene` at `w` x `h` with a mode (None = the scene's styles) and optional camera.
 pub fn render(

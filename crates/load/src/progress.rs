@@ -118,7 +118,7 @@ fn pack(stage: Stage, fixed: u32) -> u64 {
 /// [`LoadError::Cancelled`] at once. Use one `Progress` per load.
 ///
 /// ```
-/// use realist::load::{load, LoadError, LoadOptions, Progress, Stage};
+/// use realist_load::{load, LoadError, LoadOptions, Progress, Stage};
 ///
 /// let dir = std::env::temp_dir().join(format!("realist-progress-doc-{}", std::process::id()));
 /// std::fs::create_dir_all(&dir).unwrap();

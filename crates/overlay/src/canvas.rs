@@ -20,7 +20,7 @@
 //! Sizes are clamped to `1..=`[`Canvas::MAX_SIDE`], so rendering cannot fail.
 //!
 //! ```
-//! use realist::overlay::{Canvas, Color, HAlign, Path2, VAlign};
+//! use realist_overlay::{Canvas, Color, HAlign, Path2, VAlign};
 //! let mut c = Canvas::new(64, 32);
 //! c.background(Color::rgb(255, 255, 255));
 //! let tri = Path2::new().move_to(4.0, 28.0).line_to(20.0, 4.0).line_to(36.0, 28.0).close();

@@ -363,10 +363,12 @@ impl Rows<'_> {
 
     /// The depth of eight pixels of tile row `dy` whose [`Rows::z_lanes`] are `x`: from the
     /// tile's first pixel, so (as for the barycentrics) a pixel's depth does not depend on
-    /// the path or the lane that computes it.
+    /// the path or the lane that computes it. Clamped to the depth range [0, 1] (as
+    /// hardware clamps to the viewport's): a triangle with a vertex at w = 1e30 has depth
+    /// gradients so steep that the plane's rounding leaves the range by more than its width.
     #[inline(always)]
     fn z<L: Level>(&self, x: F8<L>, dy: u32) -> F8<L> {
-        x + F8::splat(self.zt + dy as f32 * self.zy)
+        (x + F8::splat(self.zt + dy as f32 * self.zy)).clamp(0.0, 1.0)
     }
 }
 
@@ -848,7 +850,7 @@ fn block_ms<L: Level, const TEST: bool>(
             let mut pass = [0u32; SAMPLES];
             for s in 0..SAMPLES {
                 let d = &tile.depth[s * TILE_PIXELS + o..][..LANES];
-                pass[s] = cover[s] & depth_pass(st.depth_test, zc + m.z[s], d);
+                pass[s] = cover[s] & depth_pass(st.depth_test, (zc + m.z[s]).clamp(0.0, 1.0), d);
             }
             let live = pass.iter().fold(0, |a, p| a | p);
             c.rejected += (any & !live).count_ones();
@@ -857,7 +859,7 @@ fn block_ms<L: Level, const TEST: bool>(
                     if st.depth_write {
                         for s in 0..SAMPLES {
                             let d = &mut tile.depth[s * TILE_PIXELS + o..][..LANES];
-                            let z = zc + m.z[s];
+                            let z = (zc + m.z[s]).clamp(0.0, 1.0);
                             z.store_where(M8::from_bits(pass[s]), d);
                         }
                     }
@@ -1079,7 +1081,15 @@ fn shade_forward<L: Level>(
                 for s in 0..SAMPLES {
                     let k = keep & n.pass[g][s];
                     if k != 0 {
-                        write(tile, st, s, o, k, &b.out[g], n.fz[g].get::<L>() + m.z[s]);
+                        write(
+                            tile,
+                            st,
+                            s,
+                            o,
+                            k,
+                            &b.out[g],
+                            (n.fz[g].get::<L>() + m.z[s]).clamp(0.0, 1.0),
+                        );
                     }
                 }
             }

@@ -292,6 +292,7 @@ fn strokes(cx: &mut Cx, fd: &FrameData) -> bool {
         eye: cx.eye,
         forward: cx.camera.forward(),
         fog: fd.fog,
+        kernel: cx.bins.kernel,
     };
     let mut s = cx.pool.take::<StrokeScratch>();
     let mut done = true;
@@ -395,6 +396,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
         eye: cx.eye,
         forward: cx.camera.forward(),
         fog: fd.fog,
+        kernel: cx.bins.kernel,
     };
     let params: &[DrawParams] = &fd.params;
     let of = |mode: Shading| move |k: usize, fi: &FrameInst| fi.mode == mode && pick(k, fi);

@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::frame::FrameInst;
 use super::prepare::{PreparedMesh, PreparedScene};
 use crate::shade::{illuminate, Debug, DrawParams, Fog, LightSet};
+use crate::simd::{KernelKind, Level, F8, LANES, V3};
 
 const MIN_LEN: usize = 4096;
 
@@ -23,6 +24,8 @@ pub(super) struct Lit<'a> {
     pub forward: Vec3,
     /// Fog, applied per vertex (Gouraud) or per facet (flat).
     pub fog: Option<Fog>,
+    /// The kernel the lane lighting runs with.
+    pub kernel: KernelKind,
 }
 
 /// Appends `n` vertices of `stride` floats to `out`, vertex `k` written by `f(k, floats)`,
@@ -44,6 +47,77 @@ fn per_vertex(
         .enumerate()
         .for_each(|(k, o)| f(k, o));
     stride
+}
+
+/// Appends `n` vertices of `stride` floats to `out` in parallel, eight at a time:
+/// `f(k, floats)` writes vertices `k..k + floats.len() / stride` (eight, fewer at the end).
+/// Returns `stride`.
+fn per_vertices(
+    out: &mut Vec<f32>,
+    n: usize,
+    stride: usize,
+    f: impl Fn(usize, &mut [f32]) + Sync + Send,
+) -> usize {
+    if stride == 0 {
+        return 0;
+    }
+    let start = out.len();
+    out.resize(start + n * stride, 0.0);
+    out[start..]
+        .par_chunks_mut(stride * LANES)
+        .with_min_len(MIN_LEN / LANES)
+        .enumerate()
+        .for_each(|(k, o)| f(k * LANES, o));
+    stride
+}
+
+crate::simd::per_kernel! {
+    /// Gouraud's colours of vertices `k0..` of instance `fi`, eight at a time with the lane
+    /// lighting (`out` holds up to eight vertices of 4, or 8 for both sides, floats): the
+    /// lighting equation of [`Lit::colour`], the same operations on lanes.
+    fn gouraud_lanes<L>(lit: &Lit<'_>, fi: &FrameInst, k0: usize, out: &mut [f32]) {
+        let d = &lit.params[fi.param as usize];
+        let mesh = &lit.scene.meshes[fi.mesh as usize];
+        let tri = &mesh.tri;
+        let stride = if d.double_sided { 8 } else { 4 };
+        let count = (out.len() / stride).min(LANES);
+        if count == 0 {
+            return;
+        }
+        // The vertices' world positions, normals and colours as lanes (the last vertex
+        // repeated in unused lanes).
+        let (mut p, mut n, mut c) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3], [[1.0; LANES]; 4]);
+        for i in 0..LANES {
+            let k = k0 + i.min(count - 1);
+            let (pw, nw) = world(lit.scene, fi, mesh, k);
+            let col = tri.colors.as_ref().map_or(Vec4::ONE, |cs| cs[k]);
+            for j in 0..3 {
+                p[j][i] = pw[j];
+                n[j][i] = nw[j];
+            }
+            for j in 0..4 {
+                c[j][i] = col[j];
+            }
+        }
+        let v3 = |a: &[[f32; LANES]; 3]| {
+            V3::<L>::new(F8::from_array(a[0]), F8::from_array(a[1]), F8::from_array(a[2]))
+        };
+        let (p, n) = (v3(&p), v3(&n));
+        let colours = |n: V3<L>| lit.colour_lanes::<L>(d, p, n, c);
+        let front = colours(n);
+        let back = d.double_sided.then(|| colours(-n));
+        for (side, rgba) in [Some(front), back].into_iter().enumerate() {
+            let Some(rgba) = rgba else {
+                continue;
+            };
+            let rgba = rgba.map(F8::to_array);
+            for i in 0..count {
+                for j in 0..4 {
+                    out[i * stride + 4 * side + j] = rgba[j][i];
+                }
+            }
+        }
+    }
 }
 
 /// Appends `f(0), f(1), ..., f(n - 1)`, computed in parallel, to `out` (in place: the range
@@ -116,6 +190,28 @@ impl Lit<'_> {
 }
 
 impl Lit<'_> {
+    /// [`Lit::colour`] of eight points `p` with normals `n` and vertex colours `c` (RGBA).
+    #[inline(always)]
+    fn colour_lanes<L: Level>(
+        &self,
+        d: &DrawParams,
+        p: V3<L>,
+        n: V3<L>,
+        c: [[f32; LANES]; 4],
+    ) -> [F8<L>; 4] {
+        let base = d.base.to_array();
+        let b: [F8<L>; 4] = [0, 1, 2, 3].map(|j| F8::splat(base[j]) * F8::from_array(c[j]));
+        let surf = d.surface.at::<F8<L>>(V3::new(b[0], b[1], b[2]));
+        let active = d.active(self.active);
+        let eye = V3::splat(self.eye);
+        let mut rgb = illuminate::<F8<L>>(self.lights, Some(active), &surf, p, n, eye, d.blinn);
+        rgb = rgb + V3::splat(d.emissive);
+        if let Some(fog) = &self.fog {
+            rgb = fog.apply::<F8<L>>(rgb, p, eye, V3::splat(self.forward));
+        }
+        [rgb.x, rgb.y, rgb.z, b[3]]
+    }
+
     /// Gouraud: lighting per vertex, colours interpolated (4 floats). Double-sided materials
     /// also get the colour of the back side (normal flipped; 8 floats), of which set-up
     /// keeps the side each triangle shows (`DrawState::facing_varyings`, set for exactly
@@ -123,17 +219,10 @@ impl Lit<'_> {
     pub fn gouraud(&self, fi: &FrameInst, out: &mut Vec<f32>) -> usize {
         let d = &self.params[fi.param as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];
-        let tri = &mesh.tri;
         let stride = if d.double_sided { 8 } else { 4 };
-        per_vertex(out, tri.positions.len(), stride, |k, o| {
-            let (p, n) = world(self.scene, fi, mesh, k);
-            let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
-            let front = self.colour(d, p, n, c);
-            o[..4].copy_from_slice(&front.to_array());
-            if d.double_sided {
-                let back = self.colour(d, p, -n, c);
-                o[4..8].copy_from_slice(&back.to_array());
-            }
+        let lanes = gouraud_lanes::pick(self.kernel);
+        per_vertices(out, mesh.tri.positions.len(), stride, |k0, o| {
+            lanes(self, fi, k0, o);
         })
     }
 
