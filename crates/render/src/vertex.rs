@@ -99,18 +99,21 @@ crate::simd::per_kernel! {
                 c[j][i] = col[j];
             }
         }
-        let v3 = |a: &[[f32; LANES]; 3]| {
-            V3::<L>::new(F8::from_array(a[0]), F8::from_array(a[1]), F8::from_array(a[2]))
-        };
-        let (p, n) = (v3(&p), v3(&n));
-        let colours = |n: V3<L>| lit.colour_lanes::<L>(d, p, n, c);
-        let front = colours(n);
-        let back = d.double_sided.then(|| colours(-n));
-        for (side, rgba) in [Some(front), back].into_iter().enumerate() {
-            let Some(rgba) = rgba else {
-                continue;
-            };
-            let rgba = rgba.map(F8::to_array);
+        // No closures and no array `map` over lanes here: a closure is a function of its own,
+        // compiled without the kernel's features, and calls each vector intrinsic out of line
+        // (measured: the AVX2 copy 4.5 times slower than the portable one).
+        let p = V3::<L>::new(F8::from_array(p[0]), F8::from_array(p[1]), F8::from_array(p[2]));
+        let n = V3::<L>::new(F8::from_array(n[0]), F8::from_array(n[1]), F8::from_array(n[2]));
+        let sides = if d.double_sided { 2 } else { 1 };
+        for side in 0..sides {
+            let normal = if side == 0 { n } else { -n };
+            let rgba = lit.colour_lanes::<L>(d, p, normal, &c);
+            let rgba = [
+                rgba[0].to_array(),
+                rgba[1].to_array(),
+                rgba[2].to_array(),
+                rgba[3].to_array(),
+            ];
             for i in 0..count {
                 for j in 0..4 {
                     out[i * stride + 4 * side + j] = rgba[j][i];
@@ -197,10 +200,15 @@ impl Lit<'_> {
         d: &DrawParams,
         p: V3<L>,
         n: V3<L>,
-        c: [[f32; LANES]; 4],
+        c: &[[f32; LANES]; 4],
     ) -> [F8<L>; 4] {
         let base = d.base.to_array();
-        let b: [F8<L>; 4] = [0, 1, 2, 3].map(|j| F8::splat(base[j]) * F8::from_array(c[j]));
+        let b: [F8<L>; 4] = [
+            F8::splat(base[0]) * F8::from_array(c[0]),
+            F8::splat(base[1]) * F8::from_array(c[1]),
+            F8::splat(base[2]) * F8::from_array(c[2]),
+            F8::splat(base[3]) * F8::from_array(c[3]),
+        ];
         let surf = d.surface.at::<F8<L>>(V3::new(b[0], b[1], b[2]));
         let active = d.active(self.active);
         let eye = V3::splat(self.eye);
