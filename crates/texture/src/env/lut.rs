@@ -8,7 +8,7 @@
 //! (NV clamped to [`NV_MIN`] when computing), so both ends of both axes are table points and
 //! [`BrdfLut::lookup`] is bilinear, clamped. `A + B = Ess`, the single-scattering directional
 //! albedo of white metal: 1 - ln 2 head-on at r = 1, → 1 as r → 0.
-//! Built on first use (about 100 ms on two cores, rows in parallel). 8192 samples an entry:
+//! Stored with the source (`lut.bin`, checked against a fresh computation by a test). 8192 samples an entry:
 //! with 1024, the sampling error in A reached 9e-3 at grazing NV (measured against a
 //! quadrature in `tests.rs`); with 8192 the table is within 2.4e-3 of it.
 
@@ -114,9 +114,43 @@ impl BrdfLut {
     }
 }
 
-/// The process-wide table: [`LUT_SIZE`]², [`LUT_SAMPLES`] samples, computed on first use.
+/// [`BrdfLut::compute`]`(`[`LUT_SIZE`]`, `[`LUT_SAMPLES`]`)`, stored with the source
+/// (`lut.bin`: the `(A, B)` pairs row-major as little-endian f32): computing it cost every
+/// process that shades `pbr` about 200 ms of CPU. `stored_table_is_the_computed_one`
+/// (`tests.rs`) recomputes it and compares; `REPLACE=1 cargo test --release -p
+/// realist-texture stored_table` rewrites the file after a change to the BRDF.
+pub(super) static STORED: &[u8] = include_bytes!("lut.bin");
+
+impl BrdfLut {
+    /// The stored table ([`STORED`]); `None` if it is not a [`LUT_SIZE`]² table of finite
+    /// values.
+    #[must_use]
+    pub fn stored() -> Option<Self> {
+        let size = LUT_SIZE;
+        if STORED.len() != size * size * 8 {
+            return None;
+        }
+        let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+        let ab: Vec<[f32; 2]> = STORED.chunks_exact(8).map(|c| [f(&c[..4]), f(&c[4..])]).collect();
+        ab.iter()
+            .all(|e| e[0].is_finite() && e[1].is_finite())
+            .then_some(Self { size, ab })
+    }
+
+    /// The table as stored bytes ([`STORED`]'s format).
+    #[must_use]
+    pub fn to_bytes(&self) -> Vec<u8> {
+        self.ab
+            .iter()
+            .flat_map(|e| e.iter().flat_map(|x| x.to_le_bytes()))
+            .collect()
+    }
+}
+
+/// The process-wide table: [`LUT_SIZE`]², [`LUT_SAMPLES`] samples, as stored (computed on
+/// first use only if the stored one were unusable).
 #[must_use]
 pub fn brdf_lut() -> &'static BrdfLut {
     static LUT: OnceLock<BrdfLut> = OnceLock::new();
-    LUT.get_or_init(|| BrdfLut::compute(LUT_SIZE, LUT_SAMPLES))
+    LUT.get_or_init(|| BrdfLut::stored().unwrap_or_else(|| BrdfLut::compute(LUT_SIZE, LUT_SAMPLES)))
 }

@@ -729,3 +729,31 @@ fn zz_dump() {
         }
     }
 }
+
+/// The stored split-sum table is [`BrdfLut::compute`]'s (within 1e-6: the Hammersley
+/// directions go through the C library's `sin` and `cos`, which may differ in the last bit
+/// between platforms). `REPLACE=1` rewrites `lut.bin` from a fresh computation.
+#[test]
+fn stored_table_is_the_computed_one() {
+    use super::lut::{LUT_SAMPLES, LUT_SIZE};
+    let computed = BrdfLut::compute(LUT_SIZE, LUT_SAMPLES);
+    if std::env::var_os("REPLACE").is_some() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/env/lut.bin");
+        std::fs::write(&path, computed.to_bytes()).expect("lut.bin");
+        eprintln!("wrote {}", path.display());
+        return;
+    }
+    let stored = BrdfLut::stored().expect("lut.bin is a 64x64 table of finite values");
+    assert_eq!(stored.size(), computed.size());
+    let mut worst = 0f32;
+    for j in 0..LUT_SIZE {
+        for i in 0..LUT_SIZE {
+            let (nv, r) = (i as f32 / 63.0, j as f32 / 63.0);
+            let (a, b) = stored.lookup(nv, r);
+            let (ca, cb) = computed.lookup(nv, r);
+            worst = worst.max((a - ca).abs()).max((b - cb).abs());
+        }
+    }
+    assert!(worst <= 1e-6, "stored table differs from the computed one by {worst}");
+    assert!(std::ptr::eq(brdf_lut(), brdf_lut()));
+}
