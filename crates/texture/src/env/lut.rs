@@ -131,7 +131,10 @@ impl BrdfLut {
             return None;
         }
         let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
-        let ab: Vec<[f32; 2]> = STORED.chunks_exact(8).map(|c| [f(&c[..4]), f(&c[4..])]).collect();
+        let ab: Vec<[f32; 2]> = STORED
+            .chunks_exact(8)
+            .map(|c| [f(&c[..4]), f(&c[4..])])
+            .collect();
         ab.iter()
             .all(|e| e[0].is_finite() && e[1].is_finite())
             .then_some(Self { size, ab })

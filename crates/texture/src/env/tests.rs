@@ -754,6 +754,9 @@ fn stored_table_is_the_computed_one() {
             worst = worst.max((a - ca).abs()).max((b - cb).abs());
         }
     }
-    assert!(worst <= 1e-6, "stored table differs from the computed one by {worst}");
+    assert!(
+        worst <= 1e-6,
+        "stored table differs from the computed one by {worst}"
+    );
     assert!(std::ptr::eq(brdf_lut(), brdf_lut()));
 }
