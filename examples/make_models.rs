@@ -98,7 +98,7 @@ impl Obj {
             let _ = writeln!(t, "usemtl {m}");
         }
         let [bv, bt, bn] = self.written;
-        for facet in &mesh.facets {
+        for facet in mesh.facets() {
             t.push('f');
             for c in facet.corners() {
                 let v = mesh.corners[c];
@@ -295,7 +295,7 @@ fn flatten(mesh: &Mesh) -> Result<Flat> {
         texcoords: vec![],
         indices: vec![],
     };
-    for facet in &mesh.facets {
+    for facet in mesh.facets() {
         let first = u16::try_from(f.positions.len())?;
         for c in facet.corners() {
             let v = mesh.corners[c];

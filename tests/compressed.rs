@@ -269,7 +269,7 @@ fn meshopt_is_lossless_against_the_same_quantisation() {
     assert_eq!(c.meshes.len(), u.meshes.len());
     for (a, b) in c.meshes.iter().zip(&u.meshes) {
         assert_eq!(a.positions, b.positions);
-        assert_eq!(a.facets.len(), b.facets.len());
+        assert_eq!(a.facets().len(), b.facets().len());
     }
     assert_eq!(c.instances[0].world, u.instances[0].world);
 }

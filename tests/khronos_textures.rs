@@ -140,7 +140,7 @@ fn cast(scene: &Scene, origin: Vec3, dir: Vec3) -> Option<Hit> {
     for (i, inst) in scene.instances.iter().enumerate() {
         let mesh = &scene.meshes[inst.mesh];
         let double = scene.material_of(mesh).double_sided;
-        for f in &mesh.facets {
+        for f in mesh.facets() {
             assert_eq!(f.len, 3, "glTF triangles");
             let c: Vec<usize> = f.corners().collect();
             let p: Vec<Vec3> = c

@@ -41,7 +41,7 @@ fn every_texture_model_loads() {
         );
         assert_eq!(scene.instances.len(), instances, "{name}: instances");
         assert!(
-            scene.meshes.iter().all(|m| !m.facets.is_empty()),
+            scene.meshes.iter().all(|m| !m.facets().is_empty()),
             "{name}: a mesh without facets"
         );
     }

@@ -69,7 +69,7 @@ fn write_obj(mesh: &Mesh, path: &Path) {
     for p in &mesh.positions {
         text += &format!("v {} {} {}\n", p.x, p.y, p.z);
     }
-    for f in &mesh.facets {
+    for f in mesh.facets() {
         text += "f";
         for c in f.corners() {
             text += &format!(" {}", mesh.corners[c] + 1);
@@ -102,7 +102,7 @@ fn every_generator_gives_finite_uvs_in_range_on_every_primitive() {
                 UvGenerator::Cylindrical { axis } | UvGenerator::Spherical { axis } => Some(axis),
                 _ => None,
             };
-            for f in &mesh.facets {
+            for f in mesh.facets() {
                 let at: Vec<Vec2> = f.corners().map(|c| uvs.at(c, mesh.corners[c])).collect();
                 for uv in &at {
                     assert!(uv.is_finite(), "{name} {g}: {uv}");
@@ -192,7 +192,7 @@ fn cylindrical_takes_longitude_and_height() {
     let mesh = cylinder();
     let uvs = generate_uvs(&mesh, &UvGenerator::Cylindrical { axis: Axis::Y });
     let mut side = 0;
-    for f in &mesh.facets {
+    for f in mesh.facets() {
         if f.normal.y.abs() > 0.5 {
             // A cap: planar along y, seen from the side it faces (the frame is
             // [-0.5, 0.5] x [-1, 1] x [-0.5, 0.5]).
@@ -282,7 +282,7 @@ fn box_picks_the_dominant_axis_face() {
     for (name, mesh) in primitives() {
         let (lo, hi) = mesh.bounds().unwrap();
         let uvs = generate_uvs(&mesh, &UvGenerator::Box);
-        for f in &mesh.facets {
+        for f in mesh.facets() {
             let a = f.normal.abs();
             let axis = if a.x >= a.y && a.x >= a.z {
                 0

@@ -338,7 +338,7 @@ mod tests {
             assert_eq!(scene.meshes.len(), 1, "{name}");
             let m = &scene.meshes[0];
             assert_eq!(m.positions.len(), 8, "{name}");
-            assert_eq!(m.facets.len(), 12, "{name}");
+            assert_eq!(m.facets().len(), 12, "{name}");
             assert_eq!(scene.instances.len(), 1);
             let format = &scene.report.format;
             assert!(format.starts_with("STL"), "{format}");
@@ -401,7 +401,7 @@ mod tests {
         nan[0][1] = Vec3::NAN;
         let path = dir.write("nan.stl", binary(&nan, b""));
         let scene = load(&path, &LoadOptions::default()).unwrap();
-        assert_eq!(scene.meshes[0].facets.len(), 11);
+        assert_eq!(scene.meshes[0].facets().len(), 11);
         assert!(
             scene.report.warnings.iter().any(|w| w.contains("STL")),
             "{:?}",

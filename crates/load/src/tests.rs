@@ -14,7 +14,7 @@ pub(crate) fn drawn_triangles(scene: &Scene) -> usize {
         .instances
         .iter()
         .filter_map(|i| scene.meshes.get(i.mesh))
-        .map(|m| m.facets.iter().map(|f| f.len as usize - 2).sum::<usize>())
+        .map(|m| m.facets().iter().map(|f| f.len as usize - 2).sum::<usize>())
         .sum()
 }
 
@@ -143,7 +143,7 @@ fn shared_models_load_with_sensible_counts() {
         if name == "stanford-bunny.obj" {
             // The file has 35,947 `v` lines; 1,113 of them are used by no face.
             assert_eq!(scene.meshes[0].positions.len(), 34_834);
-            assert_eq!(scene.meshes[0].facets.len(), 69_451);
+            assert_eq!(scene.meshes[0].facets().len(), 69_451);
         }
         if name == "Box.glb" || name == "box_sparse.glb" {
             assert_eq!(tris, 12, "{name}");

@@ -37,6 +37,16 @@ impl<'a> Ring<'a> {
         Self { facets, table }
     }
 
+    /// Navigation for `corner_count` corners that are all triangles, without the facets
+    /// (`facets` is then empty: only the navigation may be used).
+    pub fn triangles(corner_count: usize) -> Self {
+        debug_assert!(corner_count.is_multiple_of(3));
+        Self {
+            facets: &[],
+            table: Vec::new(),
+        }
+    }
+
     /// The facet that owns corner `c`.
     #[inline]
     pub fn facet(&self, c: usize) -> usize {

@@ -154,28 +154,15 @@ pub fn deform(rest: &TriMesh, out: &mut TriMesh, p: &Posing) -> Option<(Vec3, Ve
 }
 
 /// Facet normals (and, for a flat-shaded mesh, vertex normals) and the bounding sphere
-/// from the current positions. In parallel where triangles and facets correspond one to one
-/// (every glTF mesh) and for the bounds; the flat vertex normals of a mesh without NORMAL
-/// are written serially.
+/// from the current positions, a facet's normal from its first triangle as
+/// [`Mesh::new`](super::Mesh::new) computes it. A mesh of triangles (every glTF mesh) stores
+/// no facet normals ([`TriMesh::facet_normal`] computes them from the posed positions); the
+/// flat vertex normals of a mesh without NORMAL are written serially.
 fn refresh_facets(out: &mut TriMesh, flat: bool) -> Option<(Vec3, Vec3)> {
     let positions = &out.positions;
-    let normal_of = |t: &[u32; 3]| {
-        let [a, b, c] = t.map(|k| positions[k as usize]);
-        (b - a).cross(c - a).try_normalize().unwrap_or(Vec3::ZERO)
-    };
-    let one_to_one = out.triangles.len() == out.facet_normals.len()
-        && out
-            .triangle_facets
-            .iter()
-            .enumerate()
-            .all(|(i, &f)| f as usize == i);
-    if one_to_one {
-        out.facet_normals
-            .par_iter_mut()
-            .zip(out.triangles.par_iter())
-            .with_min_len(par::MIN_ITEMS)
-            .for_each(|(n, t)| *n = normal_of(t));
-    } else {
+    let normal_of = |t: &[u32; 3]| super::build::newell(positions, t).0;
+    let one_to_one = out.triangle_facets.is_empty();
+    if !one_to_one {
         let mut last = u32::MAX;
         for (t, &f) in out.triangles.iter().zip(&out.triangle_facets) {
             if f != last {
@@ -187,12 +174,16 @@ fn refresh_facets(out: &mut TriMesh, flat: bool) -> Option<(Vec3, Vec3)> {
         }
     }
     if flat {
-        for (t, &f) in out.triangles.iter().zip(&out.triangle_facets) {
-            let n = out
-                .facet_normals
-                .get(f as usize)
-                .copied()
-                .unwrap_or(Vec3::ZERO);
+        for (k, t) in out.triangles.iter().enumerate() {
+            let n = if one_to_one {
+                normal_of(t)
+            } else {
+                let f = out.triangle_facets.get(k).copied().unwrap_or(u32::MAX);
+                out.facet_normals
+                    .get(f as usize)
+                    .copied()
+                    .unwrap_or(Vec3::ZERO)
+            };
             if n != Vec3::ZERO {
                 for k in t {
                     out.normals[*k as usize] = n;

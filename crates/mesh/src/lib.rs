@@ -17,8 +17,10 @@
 //!   vertices) fits in a `u32`;
 //! - a facet normal is unit length or exactly `Vec3::ZERO` (degenerate: zero area, non-finite
 //!   corners); its area is finite and `>= 0`; nothing derived is ever NaN;
-//! - `edges` holds each undirected vertex pair used by consecutive corners exactly once, sorted
-//!   by `vertices`; `corner_edges[c]` is the edge from corner `c` to the next corner of its facet;
+//! - [`Mesh::edges`] holds each undirected vertex pair used by consecutive corners exactly
+//!   once, sorted by `vertices`; [`Mesh::corner_edges`]`[c]` is the edge from corner `c` to
+//!   the next corner of its facet. The edge table is built on first use (a render without
+//!   wireframe never needs it: at 10 million triangles it is 420 MB);
 //! - every value of `normals` is a finite unit vector, whatever the input; generated
 //!   per-vertex normals keep value `v` for vertex `v`, crease-split ones are appended;
 //! - channel indices (per corner, parallel to `corners`) are in range;
@@ -247,10 +249,12 @@ pub struct Mesh {
     pub positions: Vec<Vec3>,
     /// Vertex index of every facet corner; facet `f` owns `corners[f.first..f.first + f.len]`.
     pub corners: Vec<u32>,
-    pub facets: Vec<Facet>,
-    pub edges: Vec<Edge>,
-    /// For every corner `c` of a facet, the edge from `c` to the facet's next corner.
-    pub corner_edges: Vec<u32>,
+    /// The facets with their normals and areas ([`Mesh::facets`]): made at construction,
+    /// except for a mesh of triangles whose normals come from the file, which needs them
+    /// only for flat shading, tangents or a report (24 bytes a triangle).
+    facets: std::sync::OnceLock<Vec<Facet>>,
+    /// The edge table, built by [`Mesh::edges`] on first use.
+    edges: std::sync::OnceLock<EdgeTable>,
     /// Always present: read, averaged, flat or analytic (see `normal_source`).
     pub normals: Channel<Vec3>,
     pub normal_source: NormalSource,
@@ -273,6 +277,13 @@ pub struct Mesh {
     pub lines: Vec<[u32; 2]>,
 }
 
+/// [`Mesh::edges`] and [`Mesh::corner_edges`].
+#[derive(Clone, Debug, Default)]
+struct EdgeTable {
+    edges: Vec<Edge>,
+    corner_edges: Vec<u32>,
+}
+
 /// What to do when the data has no normals.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum NormalPolicy {
@@ -289,8 +300,8 @@ impl Default for NormalPolicy {
 }
 
 impl Mesh {
-    /// Builds topology (edges, facet normals and areas) and, where `data` has no normals,
-    /// normals according to `policy`. Fails on out-of-range indices or inconsistent sizes.
+    /// Builds topology (facet normals and areas; the edges on first use) and, where `data`
+    /// has no normals, normals according to `policy`. Fails on out-of-range indices or inconsistent sizes.
     ///
     /// Normals read from `data` are renormalised; a zero or non-finite one is replaced, at the
     /// corners that use it, by the facet normal (the channel becomes per corner if needed).
@@ -317,24 +328,47 @@ impl Mesh {
             tangents,
             material,
         } = data;
-        let facets = build::facets(&positions, &corners, facet_sizes.as_deref());
-        let ring = Ring::new(&facets, corners.len());
-        let around = VertexCorners::new(positions.len(), &corners, &ring);
-        let (edges, corner_edges) = adjacency::edges(&corners, &ring, &around);
+        let triangles = facet_sizes
+            .as_deref()
+            .is_none_or(|s| 3 * s.len() == corners.len());
+        let facets = std::sync::OnceLock::new();
         let (normals, normal_source) = match normals {
-            Some(read) => (
-                normals::from_file(read, &corners, &ring),
-                NormalSource::File,
-            ),
-            None => normals::generate(&positions, &corners, &ring, &around, policy),
+            Some(read) if triangles => {
+                // Only a bad normal needs its facet's: computed for that facet alone.
+                let ring = Ring::triangles(corners.len());
+                let normal = |f: usize| {
+                    let (n, _) = build::newell(&positions, &corners[3 * f..3 * f + 3]);
+                    normals::usable(n)
+                };
+                (
+                    normals::from_file(read, &corners, &ring, normal),
+                    NormalSource::File,
+                )
+            }
+            _ => {
+                let all = build::facets(&positions, &corners, facet_sizes.as_deref());
+                let ring = Ring::new(&all, corners.len());
+                let out = match normals {
+                    Some(read) => {
+                        let normal = |f: usize| normals::usable(all[f].normal);
+                        let ch = normals::from_file(read, &corners, &ring, normal);
+                        (ch, NormalSource::File)
+                    }
+                    None => {
+                        let around = VertexCorners::new(positions.len(), &corners, &ring);
+                        normals::generate(&positions, &corners, &ring, &around, policy)
+                    }
+                };
+                let _ = facets.set(all);
+                out
+            }
         };
         Mesh {
             name,
             positions,
             corners,
             facets,
-            edges,
-            corner_edges,
+            edges: std::sync::OnceLock::new(),
             normals,
             normal_source,
             uvs,
@@ -384,6 +418,61 @@ impl Mesh {
         Ok(())
     }
 
+    /// Every undirected edge of the facets once, sorted by `vertices` (built on first use,
+    /// in parallel, then kept).
+    #[must_use]
+    pub fn edges(&self) -> &[Edge] {
+        &self.edge_table().edges
+    }
+
+    /// For every corner `c` of a facet, the index in [`Mesh::edges`] of the edge from `c`
+    /// to the facet's next corner.
+    #[must_use]
+    pub fn corner_edges(&self) -> &[u32] {
+        &self.edge_table().corner_edges
+    }
+
+    /// The facets, with their normals and areas (computed on first use for a mesh of
+    /// triangles with normals from the file, then kept).
+    #[must_use]
+    pub fn facets(&self) -> &[Facet] {
+        // Only a mesh of triangles is left without: its facets need no sizes.
+        self.facets
+            .get_or_init(|| build::facets(&self.positions, &self.corners, None))
+    }
+
+    /// How many facets there are (without computing them).
+    #[must_use]
+    pub fn facet_count(&self) -> usize {
+        self.facets.get().map_or(self.corners.len() / 3, Vec::len)
+    }
+
+    /// Whether every facet is a triangle.
+    #[must_use]
+    pub fn all_triangles(&self) -> bool {
+        3 * self.facet_count() == self.corners.len()
+    }
+
+    /// Corner-to-facet navigation, without computing facet normals for a mesh of triangles.
+    fn ring(&self) -> Ring<'_> {
+        match self.facets.get() {
+            Some(f) => Ring::new(f, self.corners.len()),
+            None => Ring::triangles(self.corners.len()),
+        }
+    }
+
+    fn edge_table(&self) -> &EdgeTable {
+        self.edges.get_or_init(|| {
+            let ring = self.ring();
+            let around = VertexCorners::new(self.positions.len(), &self.corners, &ring);
+            let (edges, corner_edges) = adjacency::edges(&self.corners, &ring, &around);
+            EdgeTable {
+                edges,
+                corner_edges,
+            }
+        })
+    }
+
     /// Whether the mesh has points or line segments.
     #[must_use]
     pub fn has_strokes(&self) -> bool {
@@ -392,7 +481,7 @@ impl Mesh {
 
     /// Replaces the normals (read or generated) by ones generated with `policy`.
     pub fn recompute_normals(&mut self, policy: NormalPolicy) {
-        let ring = Ring::new(&self.facets, self.corners.len());
+        let ring = Ring::new(self.facets(), self.corners.len());
         let around = VertexCorners::new(self.positions.len(), &self.corners, &ring);
         let (normals, source) =
             normals::generate(&self.positions, &self.corners, &ring, &around, policy);

@@ -122,8 +122,17 @@ pub(super) fn unit(v: Vec3) -> Option<Vec3> {
 }
 
 /// Normals read from a file: renormalised; corners whose value is zero or non-finite get
-/// their facet's normal instead (the channel becomes per corner if it was not).
-pub(super) fn from_file(mut ch: Channel<Vec3>, corners: &[u32], ring: &Ring) -> Channel<Vec3> {
+/// their facet's normal instead. A per-vertex channel stays per vertex when every corner of
+/// each bad vertex gets the same normal (a vertex of one facet, or of degenerate facets
+/// only: a sphere's pole); otherwise it becomes per corner.
+///
+/// `facet_normal(f)` is facet `f`'s normal as [`usable`] makes it.
+pub(super) fn from_file(
+    mut ch: Channel<Vec3>,
+    corners: &[u32],
+    ring: &Ring,
+    facet_normal: impl Fn(usize) -> Vec3,
+) -> Channel<Vec3> {
     let mut bad = vec![false; ch.values.len()];
     for (value, bad) in ch.values.iter_mut().zip(&mut bad) {
         match unit(*value) {
@@ -138,28 +147,62 @@ pub(super) fn from_file(mut ch: Channel<Vec3>, corners: &[u32], ring: &Ring) -> 
     if !used_bad {
         return ch;
     }
+    if ch.indices.is_none() && repair_per_vertex(&mut ch.values, &bad, corners, ring, &facet_normal)
+    {
+        return ch;
+    }
     let mut indices = ch.indices.take().unwrap_or_else(|| corners.to_vec());
     // One replacement value per facet that needs one, appended on first use.
-    let mut replacement = vec![u32::MAX; ring.facets.len()];
+    let mut replacement = std::collections::HashMap::new();
     for (c, index) in indices.iter_mut().enumerate() {
         if bad[*index as usize] {
             let f = ring.facet(c);
-            if replacement[f] == u32::MAX {
-                replacement[f] = ch.values.len() as u32;
-                ch.values.push(facet_normal(&ring.facets[f]));
-            }
-            *index = replacement[f];
+            *index = *replacement.entry(f).or_insert_with(|| {
+                ch.values.push(facet_normal(f));
+                (ch.values.len() - 1) as u32
+            });
         }
     }
     ch.indices = Some(indices);
     ch
 }
 
+/// Gives every bad vertex of a per-vertex channel the normal of its facets, if all its
+/// corners agree on it bit for bit; false (and `values` unchanged) if one does not.
+fn repair_per_vertex(
+    values: &mut [Vec3],
+    bad: &[bool],
+    corners: &[u32],
+    ring: &Ring,
+    facet_normal: &impl Fn(usize) -> Vec3,
+) -> bool {
+    let mut want: std::collections::BTreeMap<u32, [u32; 3]> = Default::default();
+    for (c, &v) in corners.iter().enumerate() {
+        if !bad[v as usize] {
+            continue;
+        }
+        let n = facet_normal(ring.facet(c)).to_array().map(f32::to_bits);
+        if *want.entry(v).or_insert(n) != n {
+            return false;
+        }
+    }
+    for (v, n) in want {
+        values[v as usize] = Vec3::from_array(n.map(f32::from_bits));
+    }
+    true
+}
+
 fn facet_normal(facet: &Facet) -> Vec3 {
-    if facet.is_degenerate() {
+    usable(facet.normal)
+}
+
+/// A facet normal as a vertex may take it: [`FALLBACK_NORMAL`] for a degenerate facet's
+/// zero.
+pub(super) fn usable(normal: Vec3) -> Vec3 {
+    if normal == Vec3::ZERO {
         FALLBACK_NORMAL
     } else {
-        facet.normal
+        normal
     }
 }
 

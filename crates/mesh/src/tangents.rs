@@ -33,18 +33,18 @@ struct Faces<'a> {
 
 impl Faces<'_> {
     fn corner(&self, face: usize, vert: usize) -> (usize, u32) {
-        let c = self.mesh.facets[face].first as usize + vert;
+        let c = self.mesh.facets()[face].first as usize + vert;
         (c, self.mesh.corners[c])
     }
 }
 
 impl Geometry for Faces<'_> {
     fn num_faces(&self) -> usize {
-        self.mesh.facets.len()
+        self.mesh.facets().len()
     }
 
     fn num_vertices_of_face(&self, face: usize) -> usize {
-        self.mesh.facets[face].len as usize
+        self.mesh.facets()[face].len as usize
     }
 
     fn position(&self, face: usize, vert: usize) -> [f32; 3] {
@@ -122,7 +122,7 @@ impl Mesh {
         // the fallback below.
         let _ = generate_tangents(&mut faces);
         let mut per_corner = faces.out;
-        for f in &self.facets {
+        for f in self.facets() {
             let range = f.corners();
             let missing = per_corner[range.clone()].iter().any(Option::is_none);
             if !missing {

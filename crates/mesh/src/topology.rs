@@ -54,27 +54,27 @@ pub(super) fn report(mesh: &Mesh) -> TopologyReport {
         None => ([0.0; 3], [0.0; 3]),
     };
     let count_edges =
-        |keep: fn(u32) -> bool| mesh.edges.iter().filter(|e| keep(e.facet_count)).count();
+        |keep: fn(u32) -> bool| mesh.edges().iter().filter(|e| keep(e.facet_count)).count();
     let (v, e, f) = (
         mesh.positions.len() as i64,
-        mesh.edges.len() as i64,
-        mesh.facets.len() as i64,
+        mesh.edges().len() as i64,
+        mesh.facets().len() as i64,
     );
-    let components = components(mesh.positions.len(), &mesh.corners, &mesh.facets);
+    let components = components(mesh.positions.len(), &mesh.corners, mesh.facets());
     let boundary_loops = boundary_loops(mesh);
     let used_chi = v - isolated_vertices as i64 - e + f;
-    let non_manifold = mesh.edges.iter().any(|e| e.facet_count > 2);
+    let non_manifold = mesh.edges().iter().any(|e| e.facet_count > 2);
     let twice_genus = 2 * components as i64 - used_chi - boundary_loops as i64;
     let genus =
         (!non_manifold && twice_genus >= 0 && twice_genus % 2 == 0).then_some(twice_genus / 2);
     TopologyReport {
         vertices: mesh.positions.len(),
-        edges: mesh.edges.len(),
-        facets: mesh.facets.len(),
-        triangles: mesh.facets.iter().map(|f| f.len as usize - 2).sum(),
+        edges: mesh.edges().len(),
+        facets: mesh.facets().len(),
+        triangles: mesh.facets().iter().map(|f| f.len as usize - 2).sum(),
         boundary_edges: count_edges(|n| n == 1),
         non_manifold_edges: count_edges(|n| n > 2),
-        degenerate_facets: mesh.facets.iter().filter(|f| f.is_degenerate()).count(),
+        degenerate_facets: mesh.facets().iter().filter(|f| f.is_degenerate()).count(),
         isolated_vertices,
         components,
         euler_characteristic: v - e + f,
@@ -120,7 +120,7 @@ pub(super) fn components(vertex_count: usize, corners: &[u32], facets: &[Facet])
 /// Number of connected groups of boundary edges (each hole of a manifold mesh is one loop).
 fn boundary_loops(mesh: &Mesh) -> usize {
     let boundary: Vec<[u32; 2]> = mesh
-        .edges
+        .edges()
         .iter()
         .filter(|e| e.facet_count == 1)
         .map(|e| e.vertices)

@@ -16,8 +16,6 @@
 //! Points and line segments are copied as they are: render vertex `v` is mesh vertex `v`
 //! for every mesh vertex, so their indices need no mapping.
 
-use std::sync::atomic::{AtomicU32, Ordering};
-
 use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
@@ -37,13 +35,14 @@ pub struct TriMesh {
     pub tangents: Option<Vec<Vec4>>,
     /// Counter-clockwise triangles (front face) as render-vertex indices.
     pub triangles: Vec<[u32; 3]>,
-    /// The facet each triangle came from.
+    /// The facet each triangle came from; empty when every facet is a triangle (triangle
+    /// `t` is facet `t`): read it through [`TriMesh::facet_of`].
     pub triangle_facets: Vec<u32>,
-    /// Unit facet normals (zero for degenerate facets), indexed by facet.
+    /// Unit facet normals (zero for degenerate facets), indexed by facet; empty when every
+    /// facet is a triangle: read them through [`TriMesh::facet_normal`], which then
+    /// computes the triangle's. (At 10 million triangles the two tables held 160 MB that
+    /// only flat shading reads.)
     pub facet_normals: Vec<Vec3>,
-    /// Edges as render-vertex index pairs (for wireframe), one per mesh edge, in the order of
-    /// [`Mesh::edges`]; the render vertices are those of the first facet using the edge.
-    pub edges: Vec<[u32; 2]>,
     /// The mesh vertex ([`Mesh::positions`]) of every render vertex, for meshes whose
     /// render vertices are not simply the mesh vertices; empty means the identity.
     pub vertex_of: Vec<u32>,
@@ -65,6 +64,40 @@ impl TriMesh {
     #[must_use]
     pub fn uv_set(&self, n: u32) -> Option<&[Vec2]> {
         self.uvs.get(n as usize).map(Vec::as_slice)
+    }
+
+    /// The facet triangle `t` came from.
+    #[must_use]
+    #[inline]
+    pub fn facet_of(&self, t: usize) -> usize {
+        if self.triangle_facets.is_empty() {
+            t
+        } else {
+            self.triangle_facets[t] as usize
+        }
+    }
+
+    /// Facets: one per triangle when [`TriMesh::triangle_facets`] is empty.
+    #[must_use]
+    pub fn facet_count(&self) -> usize {
+        if self.triangle_facets.is_empty() {
+            self.triangles.len()
+        } else {
+            self.facet_normals.len()
+        }
+    }
+
+    /// The unit normal of facet `f` (zero if degenerate or out of range): stored, or, when
+    /// every facet is a triangle, computed from the triangle's positions exactly as
+    /// [`Mesh::new`] computes a facet's (so the two agree bit for bit at rest).
+    #[must_use]
+    pub fn facet_normal(&self, f: usize) -> Vec3 {
+        if !self.triangle_facets.is_empty() {
+            return self.facet_normals.get(f).copied().unwrap_or(Vec3::ZERO);
+        }
+        self.triangles
+            .get(f)
+            .map_or(Vec3::ZERO, |t| super::build::newell(&self.positions, t).0)
     }
 
     /// Whether there is nothing to draw: no triangles, points or lines.
@@ -224,8 +257,9 @@ fn flatten<T: Copy + Send + Sync>(
         .collect()
 }
 
-/// In parallel over vertices, ranges of facets (each writes its own triangles: a facet of
-/// `n` corners always gives `n - 2`) and edges; the same result as one pass.
+/// In parallel over vertices and ranges of facets (each writes its own triangles: a facet
+/// of `n` corners always gives `n - 2`); the same result as one pass. Wireframes draw
+/// [`Mesh::edges`] directly: render vertex `v` is mesh vertex `v` for every mesh vertex.
 pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
     let rv = render_vertices(mesh);
     let keyed = Keyed::of(mesh);
@@ -258,8 +292,20 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
             Vec4::new(1.0, 0.0, 0.0, 1.0),
         )
     });
-    let (triangles, triangle_facets) = triangles(mesh, &rv.of_corner);
-    let edges = edges(mesh, &rv.of_corner);
+    // All triangles: the facet tables would be the identity and a copy.
+    let (triangles, triangle_facets, facet_normals) = if mesh.all_triangles() {
+        let triangles = rv
+            .of_corner
+            .par_chunks_exact(3)
+            .with_min_len(par::MIN_ITEMS)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect();
+        (triangles, Vec::new(), Vec::new())
+    } else {
+        let (triangles, triangle_facets) = triangles(mesh, &rv.of_corner);
+        let normals = mesh.facets().iter().map(|f| f.normal).collect();
+        (triangles, triangle_facets, normals)
+    };
     let (center, radius) = mesh.bounding_sphere().unwrap_or((Vec3::ZERO, -1.0));
     TriMesh {
         positions,
@@ -269,8 +315,7 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
         tangents,
         triangles,
         triangle_facets,
-        facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),
-        edges,
+        facet_normals,
         vertex_of: if rv.keys.is_empty() {
             Vec::new()
         } else {
@@ -288,10 +333,10 @@ pub(super) fn triangulate(mesh: &Mesh) -> TriMesh {
 /// The triangles of every facet (as render vertices) and the facet of every triangle.
 fn triangles(mesh: &Mesh, of_corner: &[u32]) -> (Vec<[u32; 3]>, Vec<u32>) {
     let count = |facets: &[Facet]| facets.iter().map(|f| f.len as usize - 2).sum::<usize>();
-    let mut triangles = vec![[0u32; 3]; count(&mesh.facets)];
+    let mut triangles = vec![[0u32; 3]; count(mesh.facets())];
     let mut triangle_facets = vec![0u32; triangles.len()];
-    let ranges = par::facet_ranges(&mesh.facets, par::parts(mesh.corners.len(), 4));
-    let lengths = || ranges.iter().map(|r| count(&mesh.facets[r.clone()]));
+    let ranges = par::facet_ranges(mesh.facets(), par::parts(mesh.corners.len(), 4));
+    let lengths = || ranges.iter().map(|r| count(&mesh.facets()[r.clone()]));
     let jobs: Vec<_> = ranges
         .iter()
         .zip(par::split_lengths(&mut triangles, lengths()))
@@ -302,7 +347,7 @@ fn triangles(mesh: &Mesh, of_corner: &[u32]) -> (Vec<[u32; 3]>, Vec<u32>) {
             let mut local = Vec::new();
             let mut scratch = polygon::Scratch::default();
             let mut out = triangles.iter_mut().zip(triangle_facets);
-            for (f, facet) in mesh.facets[r.clone()].iter().enumerate() {
+            for (f, facet) in mesh.facets()[r.clone()].iter().enumerate() {
                 let corners = facet.corners();
                 let ring = &mesh.corners[corners.clone()];
                 let render = &of_corner[corners];
@@ -321,47 +366,4 @@ fn triangles(mesh: &Mesh, of_corner: &[u32]) -> (Vec<[u32; 3]>, Vec<u32>) {
             }
         });
     (triangles, triangle_facets)
-}
-
-/// Every mesh edge as render vertices: those of its first use, i.e. of the first corner
-/// (in corner order) whose edge it is, which is in the edge's first facet. The first
-/// corners are found by an atomic minimum per edge (the same whatever the order).
-fn edges(mesh: &Mesh, of_corner: &[u32]) -> Vec<[u32; 2]> {
-    let first: Vec<AtomicU32> = (0..mesh.edges.len())
-        .map(|_| AtomicU32::new(UNSET))
-        .collect();
-    mesh.corner_edges
-        .par_iter()
-        .enumerate()
-        .with_min_len(par::MIN_ITEMS)
-        .for_each(|(c, &e)| {
-            first[e as usize].fetch_min(c as u32, Ordering::Relaxed);
-        });
-    mesh.edges
-        .par_iter()
-        .zip(first)
-        .with_min_len(par::MIN_ITEMS)
-        .map(|(edge, c)| {
-            let c = c.into_inner() as usize;
-            let Some(facet) = mesh.facets.get(edge.facets[0] as usize) else {
-                return [UNSET; 2];
-            };
-            let corners = facet.corners();
-            if !corners.contains(&c) {
-                return [UNSET; 2];
-            }
-            let n = if c + 1 == corners.end {
-                corners.start
-            } else {
-                c + 1
-            };
-            let (a, b) = (of_corner[c], of_corner[n]);
-            let forward = mesh.corners[c] == edge.vertices[0];
-            if forward {
-                [a, b]
-            } else {
-                [b, a]
-            }
-        })
-        .collect()
 }

@@ -63,16 +63,16 @@ pub fn generate_uvs(mesh: &Mesh, generator: &UvGenerator) -> Channel<Vec2> {
 #[must_use]
 pub fn generate_uvs_in(mesh: &Mesh, generator: &UvGenerator, frame: &UvFrame) -> Channel<Vec2> {
     let mut uvs = vec![Vec2::ZERO; mesh.corners.len()];
-    let ranges = par::facet_ranges(&mesh.facets, par::parts(mesh.corners.len(), 4));
+    let ranges = par::facet_ranges(mesh.facets(), par::parts(mesh.corners.len(), 4));
     let corner_count = |r: &std::ops::Range<usize>| {
-        let (first, last) = (&mesh.facets[r.start], &mesh.facets[r.end - 1]);
+        let (first, last) = (&mesh.facets()[r.start], &mesh.facets()[r.end - 1]);
         (last.first + last.len - first.first) as usize
     };
     let pieces = par::split_lengths(&mut uvs, ranges.iter().map(corner_count));
     ranges.par_iter().zip(pieces).for_each(|(range, out)| {
         let mut scratch = Vec::new();
-        let base = mesh.facets[range.start].first;
-        for facet in &mesh.facets[range.clone()] {
+        let base = mesh.facets()[range.start].first;
+        for facet in &mesh.facets()[range.clone()] {
             let start = (facet.first - base) as usize;
             let out = &mut out[start..start + facet.len as usize];
             facet_uvs(mesh, generator, frame, facet, out, &mut scratch);

@@ -559,7 +559,8 @@ fn wireframe(
                 cx.stats.triangles_in += tri.triangles.len() as u64;
             }
             let clip = &g.clip[it.start as usize..(it.start + it.len) as usize];
-            raster::draw_lines(cx.target, Some(depth), clip, &tri.edges, &style, cx.stats);
+            let edges = scene.wire(fi.mesh as usize);
+            raster::draw_lines(cx.target, Some(depth), clip, edges, &style, cx.stats);
         }
     }
     cx.pool.put(g);

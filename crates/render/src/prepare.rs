@@ -12,7 +12,7 @@ use std::sync::{Arc, OnceLock};
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::mesh::{NormalSource, Posing, TriMesh};
+use crate::mesh::{Mesh, NormalSource, Posing, TriMesh};
 use crate::scene::anim::{self, Play};
 use crate::scene::{Camera, Light, Material, Pose, Scene, Style};
 
@@ -62,6 +62,10 @@ const GROUND_CELLS: u32 = 32;
 pub struct PreparedMesh {
     pub tri: TriMesh,
     flat: OnceLock<FlatMesh>,
+    /// The scene mesh it was made from (`None` for the ground, whose wire is made at once).
+    source: Option<usize>,
+    /// Wireframe edges as render-vertex pairs, built on first use ([`PreparedScene::wire`]).
+    wire: OnceLock<Vec<[u32; 2]>>,
 }
 
 /// Flat shading's form of a mesh: every triangle's corners unindexed (so each corner carries
@@ -110,9 +114,12 @@ impl PreparedScene {
         let meshes: Vec<PreparedMesh> = scene
             .meshes
             .par_iter()
-            .map(|m| PreparedMesh {
+            .enumerate()
+            .map(|(k, m)| PreparedMesh {
                 tri: m.triangulate(),
                 flat: OnceLock::new(),
+                source: Some(k),
+                wire: OnceLock::new(),
             })
             .collect();
         let mut materials = scene.materials.clone();
@@ -158,6 +165,8 @@ impl PreparedScene {
         meshes.push(PreparedMesh {
             tri: ground.triangulate(),
             flat: OnceLock::new(),
+            source: None,
+            wire: OnceLock::from(wire_edges(&ground)),
         });
         materials.push(Material {
             name: "ground".into(),
@@ -413,6 +422,19 @@ impl PreparedScene {
     }
 }
 
+impl PreparedScene {
+    /// The wireframe edges of prepared mesh `k` as render-vertex pairs, built from its
+    /// scene mesh's edge table on first use (most frames never draw a wireframe).
+    pub(crate) fn wire(&self, k: usize) -> &[[u32; 2]] {
+        let m = &self.meshes[k];
+        m.wire
+            .get_or_init(|| match m.source.and_then(|s| self.scene.meshes.get(s)) {
+                Some(mesh) => wire_edges(mesh),
+                None => Vec::new(),
+            })
+    }
+}
+
 /// Gives every instance whose mesh skinning or morphing changes a copy of its mesh to pose
 /// (appended to `meshes`), and lists them.
 fn deformers(
@@ -436,6 +458,8 @@ fn deformers(
         meshes.push(PreparedMesh {
             tri: meshes[rest].tri.clone(),
             flat: OnceLock::new(),
+            source: Some(rest),
+            wire: OnceLock::new(),
         });
         inst.mesh = meshes.len() - 1;
         out.push(Deformer {
@@ -452,6 +476,13 @@ fn deformers(
     out
 }
 
+/// The edges of `mesh` ([`Mesh::edges`], smaller vertex first) as render-vertex pairs:
+/// render vertex `v` is mesh vertex `v` for every mesh vertex (see [`TriMesh`]), so the
+/// pair is the same, and a vertex split at a seam has the same position in every copy.
+fn wire_edges(mesh: &Mesh) -> Vec<[u32; 2]> {
+    mesh.edges().iter().map(|e| e.vertices).collect()
+}
+
 impl PreparedMesh {
     /// The mesh's flat-shading form, built on first use.
     pub fn flat(&self) -> &FlatMesh {
@@ -461,12 +492,12 @@ impl PreparedMesh {
 
 impl FlatMesh {
     fn new(tri: &TriMesh) -> Self {
-        let nf = tri.facet_normals.len();
+        let nf = tri.facet_count();
         let mut centroids = vec![Vec3::ZERO; nf];
         let mut area = vec![0.0f32; nf];
-        for (t, f) in tri.triangles.iter().zip(&tri.triangle_facets) {
+        for (k, t) in tri.triangles.iter().enumerate() {
             let [a, b, c] = t.map(|k| tri.positions[k as usize]);
-            let (f, ar) = (*f as usize, (b - a).cross(c - a).length());
+            let (f, ar) = (tri.facet_of(k), (b - a).cross(c - a).length());
             if f < nf && ar.is_finite() {
                 centroids[f] += (a + b + c) * (ar / 3.0);
                 area[f] += ar;
@@ -478,13 +509,8 @@ impl FlatMesh {
         // The textbook's §9.2.2: the facet takes the colour of its first vertex.
         let mut first_colors = vec![Vec4::ONE; nf];
         if let Some(c) = &tri.colors {
-            for (t, f) in tri
-                .triangles
-                .iter()
-                .rev()
-                .zip(tri.triangle_facets.iter().rev())
-            {
-                if let Some(slot) = first_colors.get_mut(*f as usize) {
+            for (k, t) in tri.triangles.iter().enumerate().rev() {
+                if let Some(slot) = first_colors.get_mut(tri.facet_of(k)) {
                     *slot = c[t[0] as usize];
                 }
             }

@@ -341,10 +341,11 @@ pub fn probe(
         mesh: inst.mesh,
         material: mesh.material.filter(|&m| m < scene.scene().materials.len()),
         triangle: hit.triangle,
-        facet: tri
-            .triangle_facets
-            .get(hit.triangle)
-            .map_or(0, |&f| f as usize),
+        facet: if hit.triangle < tri.triangles.len() {
+            tri.facet_of(hit.triangle)
+        } else {
+            0
+        },
         mode: r.mode,
         base,
         ambient,

@@ -264,18 +264,18 @@ impl Lit<'_> {
                 self.colour(d, p, n, colour)
             });
         } else {
-            per_item(facets, tri.facet_normals.len(), |f| {
+            per_item(facets, tri.facet_count(), |f| {
                 let p = fi.world.transform_point3(flat.centroids[f]);
-                self.colour(d, p, facing(p, tri.facet_normals[f]), flat.first_colors[f])
+                self.colour(d, p, facing(p, tri.facet_normal(f)), flat.first_colors[f])
             });
         }
         let facets = &*facets;
-        per_vertex(out, 3 * tri.triangle_facets.len(), 4, |c, o| {
+        per_vertex(out, 3 * tri.triangles.len(), 4, |c, o| {
             let t = c / 3;
             let f = if d.provoking_vertex {
                 t
             } else {
-                tri.triangle_facets[t] as usize
+                tri.facet_of(t)
             };
             let colour = facets.get(f).copied().unwrap_or(Vec4::ZERO);
             o.copy_from_slice(&colour.to_array());

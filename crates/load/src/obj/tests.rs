@@ -25,7 +25,7 @@ fn groups_quads_negative_indices_and_missing_mtl() {
     assert_eq!(scene.meshes.len(), 3);
     let (first, second) = (&scene.meshes[0], &scene.meshes[1]);
     let lines = &scene.meshes[2];
-    assert_eq!((lines.name.as_str(), lines.facets.len()), ("second", 0));
+    assert_eq!((lines.name.as_str(), lines.facet_count()), ("second", 0));
     assert_eq!(lines.lines, vec![[0, 1], [1, 2]]);
     assert_eq!(
         lines.positions,
@@ -35,13 +35,13 @@ fn groups_quads_negative_indices_and_missing_mtl() {
         (first.name.as_str(), second.name.as_str()),
         ("first", "second")
     );
-    assert_eq!((first.facets.len(), first.facets[0].len), (1, 4));
+    assert_eq!((first.facets().len(), first.facets()[0].len), (1, 4));
     assert_eq!(
         first.positions,
         [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]
     );
-    assert!(first.facets[0].normal.z > 0.99);
-    assert_eq!(second.facets.len(), 1);
+    assert!(first.facets()[0].normal.z > 0.99);
+    assert_eq!(second.facet_count(), 1);
     assert_eq!(scene.instances.len(), 3);
     assert!(scene
         .instances
@@ -173,7 +173,7 @@ fn non_finite_positions_drop_their_faces() {
         "v nan 0 0\nv 1e999 0 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 4 5\nf 3 4 5\nf 2 3 4\n",
     )
     .unwrap();
-    assert_eq!(scene.meshes[0].facets.len(), 1);
+    assert_eq!(scene.meshes[0].facets().len(), 1);
     assert!(
         scene
             .report
@@ -194,7 +194,7 @@ fn degenerate_faces_are_dropped_and_reported() {
     )
     .unwrap();
     // `f 2 4 3 3` has three distinct vertices: kept (a triangle with a repeated corner).
-    assert_eq!(scene.meshes[0].facets.len(), 2);
+    assert_eq!(scene.meshes[0].facets().len(), 2);
     assert!(
         scene
             .report
@@ -256,7 +256,7 @@ fn large_generated_cases() {
         big_face.push_str(&format!(" {i}"));
     }
     let scene = load_obj_text(&dir, &big_face).unwrap();
-    assert_eq!(scene.meshes[0].facets[0].len as usize, n);
+    assert_eq!(scene.meshes[0].facets()[0].len as usize, n);
 
     let mut objects = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
     for i in 0..100_000 {

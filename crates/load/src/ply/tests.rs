@@ -195,12 +195,12 @@ fn ascii_and_binary_quad_cubes_load_the_same() {
             (0..8).map(corner).collect::<Vec<_>>(),
             "{name}"
         );
-        assert_eq!(m.facets.len(), 6, "{name}");
-        assert!(m.facets.iter().all(|f| f.len == 4), "{name}");
+        assert_eq!(m.facets().len(), 6, "{name}");
+        assert!(m.facets().iter().all(|f| f.len == 4), "{name}");
         assert_eq!(m.corners, QUADS.concat(), "{name}");
         assert!(m.colors.is_none() && m.uvs.is_empty(), "{name}");
         assert!(matches!(m.normal_source, NormalSource::Averaged(_)));
-        for f in &m.facets {
+        for f in m.facets() {
             let outward = f.normal.dot(
                 m.corners[f.first as usize..(f.first + f.len) as usize]
                     .iter()
@@ -408,8 +408,8 @@ fn triangle_soup_is_welded_and_nan_faces_dropped() {
     let scene = load_ok(&dir.write("soup.ply", soup(false)));
     let m = &scene.meshes[0];
     assert_eq!(m.positions.len(), 8);
-    assert_eq!(m.facets.len(), 12);
-    assert_eq!(m.edges.len(), 18);
+    assert_eq!(m.facets().len(), 12);
+    assert_eq!(m.edges().len(), 18);
     let colors = m.colors.as_ref().unwrap();
     assert_eq!(colors.indices.as_ref().map(Vec::len), Some(36));
     assert_eq!(colors.at(35, m.corners[35]).x, 1.0);
@@ -424,7 +424,7 @@ fn triangle_soup_is_welded_and_nan_faces_dropped() {
         vertices.rows[7][1] = vec![f64::NAN];
         let bytes = ply(format, &[vertices, cube_faces("uchar", "int")]);
         let scene = load(&dir.write("nan.ply", bytes), &LoadOptions::default()).unwrap();
-        assert_eq!(scene.meshes[0].facets.len(), 3, "{format}");
+        assert_eq!(scene.meshes[0].facets().len(), 3, "{format}");
         assert_eq!(
             scene.report.warnings,
             ["PLY: dropped 3 face(s) with NaN or infinite positions"],
@@ -436,7 +436,7 @@ fn triangle_soup_is_welded_and_nan_faces_dropped() {
         &LoadOptions::default(),
     )
     .unwrap();
-    assert_eq!(scene.meshes[0].facets.len(), 11);
+    assert_eq!(scene.meshes[0].facets().len(), 11);
 }
 
 /// Bad files: one-line errors starting with the path and naming the header or body line

@@ -275,7 +275,7 @@ fn progress_rises_monotonically_to_done_and_changes_no_result() {
             assert_eq!(a.positions, b.positions);
             assert_eq!(a.corners, b.corners);
             assert_eq!(a.normals, b.normals);
-            assert_eq!(a.edges.len(), b.edges.len());
+            assert_eq!(a.edges().len(), b.edges().len());
         }
         assert_eq!(plain.report.generated, scene.report.generated);
         assert_eq!(plain.report.warnings, scene.report.warnings);

@@ -91,7 +91,7 @@ fn newell_normal_and_area_of_a_non_planar_quad() {
     // A unit square lifted at one corner: Newell's normal is the average plane's.
     let p = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.2), Vec3::Y];
     let mesh = Mesh::new(polygons(p, vec![0, 1, 2, 3], vec![4]), NormalPolicy::Flat).unwrap();
-    let f = mesh.facets[0];
+    let f = mesh.facets()[0];
     // Vector area = 1/2 sum p_i x p_i+1 = (-0.1, -0.1, 1).
     let expected = Vec3::new(-0.1, -0.1, 1.0);
     assert_close(f.normal, expected.normalize(), EPS);
@@ -101,14 +101,17 @@ fn newell_normal_and_area_of_a_non_planar_quad() {
 #[test]
 fn edges_are_unique_sorted_and_linked_to_corners() {
     let mesh = Mesh::cube(1.0).unwrap();
-    assert_eq!(mesh.edges.len(), 12);
-    assert!(mesh.edges.windows(2).all(|w| w[0].vertices < w[1].vertices));
-    for e in &mesh.edges {
+    assert_eq!(mesh.edges().len(), 12);
+    assert!(mesh
+        .edges()
+        .windows(2)
+        .all(|w| w[0].vertices < w[1].vertices));
+    for e in mesh.edges() {
         assert!(e.vertices[0] < e.vertices[1]);
         assert_eq!(e.facet_count, 2);
         assert!(e.facets[0] < e.facets[1] && e.facets[1] != NO_FACET);
     }
-    for f in &mesh.facets {
+    for f in mesh.facets() {
         for c in f.corners() {
             let next = if c + 1 == f.corners().end {
                 f.corners().start
@@ -116,12 +119,12 @@ fn edges_are_unique_sorted_and_linked_to_corners() {
                 c + 1
             };
             let (a, b) = (mesh.corners[c], mesh.corners[next]);
-            let e = mesh.edges[mesh.corner_edges[c] as usize];
+            let e = mesh.edges()[mesh.corner_edges()[c] as usize];
             assert_eq!(e.vertices, [a.min(b), a.max(b)]);
         }
     }
     // Building twice gives the same table.
-    assert_eq!(Mesh::cube(1.0).unwrap().edges, mesh.edges);
+    assert_eq!(Mesh::cube(1.0).unwrap().edges(), mesh.edges());
 }
 
 #[test]
@@ -239,7 +242,10 @@ fn nan_and_inf_positions_do_not_panic() {
         let mesh = Mesh::new(data.clone(), policy).unwrap();
         assert_all_normals_unit(&mesh);
         assert_close(mesh.normals.at(0, 0), Vec3::Z, EPS);
-        assert_eq!(mesh.facets.iter().filter(|f| f.is_degenerate()).count(), 3);
+        assert_eq!(
+            mesh.facets().iter().filter(|f| f.is_degenerate()).count(),
+            3
+        );
         assert_eq!(mesh.bounds(), Some((Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0))));
         let tri = mesh.triangulate();
         assert_eq!(tri.triangles.len(), 5);
@@ -303,9 +309,12 @@ proptest! {
                     let r = mesh.topology();
                     let tri = mesh.triangulate();
                     prop_assert_eq!(tri.triangles.len(), r.triangles);
-                    prop_assert_eq!(tri.edges.len(), r.edges);
+                    prop_assert_eq!(mesh.edges().len(), r.edges);
                     prop_assert!(tri.triangles.iter().flatten().all(|&i| (i as usize) < tri.positions.len()));
-                    prop_assert!(tri.edges.iter().flatten().all(|&i| (i as usize) < tri.positions.len()));
+                    // Wireframes draw the mesh edges as render vertices: render vertex
+                    // v is mesh vertex v.
+                    prop_assert!(mesh.positions.len() <= tri.positions.len());
+                    prop_assert!(mesh.positions.iter().zip(&tri.positions).all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
                 }
             }
         }

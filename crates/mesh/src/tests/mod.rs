@@ -95,7 +95,7 @@ fn assert_all_normals_unit(mesh: &Mesh) {
         .normals
         .iter()
         .for_each(|&n| assert_unit(n));
-    for f in &mesh.facets {
+    for f in mesh.facets() {
         assert!(f.normal == Vec3::ZERO || (f.normal.length() - 1.0).abs() < EPS);
         assert!(f.area.is_finite() && f.area >= 0.0);
     }
@@ -104,21 +104,24 @@ fn assert_all_normals_unit(mesh: &Mesh) {
 /// The structural invariants of a [`Mesh`] (see the module docs).
 #[track_caller]
 fn assert_invariants(mesh: &Mesh) {
-    let mut uses = vec![0u32; mesh.edges.len()];
-    let mut first_facets = vec![Vec::new(); mesh.edges.len()];
-    for (f, facet) in mesh.facets.iter().enumerate() {
+    let mut uses = vec![0u32; mesh.edges().len()];
+    let mut first_facets = vec![Vec::new(); mesh.edges().len()];
+    for (f, facet) in mesh.facets().iter().enumerate() {
         let ring = facet.corners();
         for c in ring.clone() {
             let next = if c + 1 == ring.end { ring.start } else { c + 1 };
             let (a, b) = (mesh.corners[c], mesh.corners[next]);
-            let e = mesh.corner_edges[c] as usize;
-            assert_eq!(mesh.edges[e].vertices, [a.min(b), a.max(b)], "corner {c}");
+            let e = mesh.corner_edges()[c] as usize;
+            assert_eq!(mesh.edges()[e].vertices, [a.min(b), a.max(b)], "corner {c}");
             uses[e] += 1;
             first_facets[e].push(f as u32);
         }
     }
-    assert!(mesh.edges.windows(2).all(|w| w[0].vertices < w[1].vertices));
-    for (e, edge) in mesh.edges.iter().enumerate() {
+    assert!(mesh
+        .edges()
+        .windows(2)
+        .all(|w| w[0].vertices < w[1].vertices));
+    for (e, edge) in mesh.edges().iter().enumerate() {
         assert_eq!(edge.facet_count, uses[e]);
         let expected = [0, 1].map(|i| first_facets[e].get(i).copied().unwrap_or(NO_FACET));
         assert_eq!(edge.facets, expected, "edge {e}");

@@ -77,7 +77,7 @@ fn crease_splits_cube_corners_and_none_averages() {
         }
         // Split normals are the face normals.
         for (c, n) in normals.iter().enumerate() {
-            assert_close(*n, mesh.facets[c / 4].normal, EPS);
+            assert_close(*n, mesh.facets()[c / 4].normal, EPS);
         }
 
         let smooth = Mesh::new(bare_cube(), averaged(w, None)).unwrap();
@@ -97,7 +97,7 @@ fn crease_keeps_smooth_vertices_per_vertex() {
     let data = MeshData {
         positions: sphere.positions.clone(),
         corners: sphere.corners.clone(),
-        facet_sizes: Some(sphere.facets.iter().map(|f| f.len).collect()),
+        facet_sizes: Some(sphere.facets().iter().map(|f| f.len).collect()),
         ..data
     };
     let mesh = Mesh::new(data, NormalPolicy::default()).unwrap();
@@ -144,7 +144,7 @@ fn degenerate_duplicate_and_inverted_facets_give_unit_normals() {
             (4, 1),
             "{policy:?}"
         );
-        assert_eq!(mesh.facets[4].area, 0.0);
+        assert_eq!(mesh.facets()[4].area, 0.0);
         if let NormalPolicy::Average(_) = policy {
             // Value v is vertex v's (first) normal.
             assert_eq!(mesh.normals.values[4], FALLBACK_NORMAL, "isolated vertex");
@@ -168,8 +168,8 @@ fn file_normals_are_renormalised_and_repaired() {
     let normals = corner_normals(&mesh);
     assert_close(normals[0], Vec3::Z, EPS);
     // Corners of the zero and NaN values take their facet's normal.
-    assert_close(normals[1], mesh.facets[0].normal, EPS);
-    assert_close(normals[3], mesh.facets[1].normal, EPS);
+    assert_close(normals[1], mesh.facets()[0].normal, EPS);
+    assert_close(normals[3], mesh.facets()[1].normal, EPS);
     assert_close(normals[5], Vec3::new(1.0, 0.0, 1.0).normalize(), EPS);
 }
 
@@ -179,7 +179,7 @@ fn flat_policy_and_recompute() {
     assert_eq!(mesh.normal_source, NormalSource::Flat);
     assert_eq!(mesh.normals.values.len(), 6);
     for (c, n) in corner_normals(&mesh).iter().enumerate() {
-        assert_eq!(*n, mesh.facets[c / 4].normal);
+        assert_eq!(*n, mesh.facets()[c / 4].normal);
     }
     let policy = averaged(Weighting::Uniform, None);
     mesh.recompute_normals(policy);
@@ -205,4 +205,39 @@ fn polynomial_atan2_matches_libm() {
     assert!(worst < 1e-7, "max error {worst}");
     assert_eq!(crate::normals::atan2(0.0, 0.0), 0.0);
     assert!(crate::normals::atan2(f64::NAN, 1.0).is_nan());
+}
+
+#[test]
+fn a_bad_file_normal_all_of_whose_facets_agree_is_repaired_in_place() {
+    // Vertex 3 (zero normal) is in facet 1 only, vertex 4 (NaN) in the two degenerate
+    // facets only: each gets one normal, so the channel stays per vertex.
+    let p = vec![
+        Vec3::ZERO,
+        Vec3::X,
+        Vec3::Y,
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(2.0, 0.0, 0.0),
+    ];
+    let mut data = triangles(p, vec![0, 1, 2, 2, 1, 3, 0, 1, 4, 4, 1, 0]);
+    data.normals = Some(Channel::per_vertex(vec![
+        Vec3::Z,
+        Vec3::Z,
+        Vec3::Z,
+        Vec3::ZERO,
+        Vec3::new(f32::NAN, 0.0, 0.0),
+    ]));
+    let mesh = Mesh::new(data.clone(), NormalPolicy::default()).unwrap();
+    assert!(mesh.normals.indices.is_none(), "still per vertex");
+    assert_eq!(mesh.normals.values.len(), 5);
+    assert_eq!(mesh.normals.values[3], mesh.facets()[1].normal);
+    assert_eq!(mesh.normals.values[4], FALLBACK_NORMAL);
+    // A bad vertex whose facets disagree (+Z, tilted, and the fallback) makes the channel
+    // per corner.
+    assert_ne!(mesh.facets()[0].normal, mesh.facets()[1].normal);
+    data.normals.as_mut().unwrap().values[1] = Vec3::ZERO;
+    let mesh = Mesh::new(data, NormalPolicy::default()).unwrap();
+    assert!(mesh.normals.indices.is_some());
+    let normals = corner_normals(&mesh);
+    assert_eq!(normals[1], mesh.facets()[0].normal);
+    assert_eq!(normals[4], mesh.facets()[1].normal);
 }

@@ -15,9 +15,9 @@ fn fields_mesh(m: &Mesh) -> Vec<(&'static str, String)> {
     vec![
         ("positions", format!("{:?}", m.positions)),
         ("corners", format!("{:?}", m.corners)),
-        ("facets", format!("{:?}", m.facets)),
-        ("edges", format!("{:?}", m.edges)),
-        ("corner_edges", format!("{:?}", m.corner_edges)),
+        ("facets", format!("{:?}", m.facets())),
+        ("edges", format!("{:?}", m.edges())),
+        ("corner_edges", format!("{:?}", m.corner_edges())),
         ("normals", format!("{:?}", m.normals)),
         ("normal_source", format!("{:?}", m.normal_source)),
         ("uvs", format!("{:?}", m.uvs)),
@@ -36,7 +36,6 @@ fn fields_tri(t: &TriMesh) -> Vec<(&'static str, String)> {
         ("tri.triangles", format!("{:?}", t.triangles)),
         ("tri.triangle_facets", format!("{:?}", t.triangle_facets)),
         ("tri.facet_normals", format!("{:?}", t.facet_normals)),
-        ("tri.edges", format!("{:?}", t.edges)),
         ("tri.sphere", format!("{:?}", (t.center, t.radius))),
     ]
 }
@@ -109,7 +108,7 @@ fn shared_models_build_bit_identical_to_the_serial_build() {
             continue;
         };
         for mesh in &scene.meshes {
-            let sizes: Vec<u32> = mesh.facets.iter().map(|f| f.len).collect();
+            let sizes: Vec<u32> = mesh.facets().iter().map(|f| f.len).collect();
             let mut data = polygons(mesh.positions.clone(), mesh.corners.clone(), sizes);
             // The loader's meshes are those of its own copy of this crate (a dev-dependency
             // cycle): the channels are rebuilt from their plain data.
@@ -128,7 +127,7 @@ fn shared_models_build_bit_identical_to_the_serial_build() {
             assert_same(&data, &what);
             data.normals = Some(ch!(mesh.normals));
             assert_same(&data, &format!("{what} with normals"));
-            if mesh.facets.iter().all(|f| f.len == 3) {
+            if mesh.facets().iter().all(|f| f.len == 3) {
                 let triangles = MeshData {
                     facet_sizes: None,
                     normals: None,
@@ -148,7 +147,7 @@ fn primitives_build_bit_identical_to_the_serial_build() {
         Mesh::torus(1.0, 0.3, 24, 12).unwrap(),
     ];
     for m in meshes {
-        let sizes: Vec<u32> = m.facets.iter().map(|f| f.len).collect();
+        let sizes: Vec<u32> = m.facets().iter().map(|f| f.len).collect();
         let data = polygons(m.positions.clone(), m.corners.clone(), sizes);
         assert_same(&data, &m.name);
         let data = MeshData {

@@ -7,7 +7,7 @@ use crate::{MeshError, NormalSource, MAX_SEGMENTS};
 
 /// The centroid of a facet's corners.
 fn centroid(mesh: &Mesh, f: usize) -> Vec3 {
-    let ring = &mesh.corners[mesh.facets[f].corners()];
+    let ring = &mesh.corners[mesh.facets()[f].corners()];
     ring.iter()
         .map(|&v| mesh.positions[v as usize])
         .sum::<Vec3>()
@@ -49,7 +49,7 @@ fn sphere_layout_counts_and_topology() {
         let (a, b) = (1 + (i - 1) * s, 1 + i * s);
         assert!(mesh.positions[a as usize].y > mesh.positions[b as usize].y);
     }
-    for f in &mesh.facets {
+    for f in mesh.facets() {
         let ring = &mesh.corners[f.corners()];
         let at_pole = ring.iter().any(|&v| v == 0 || v == south);
         assert_eq!(f.len, if at_pole { 3 } else { 4 }, "{ring:?}");
@@ -75,9 +75,9 @@ fn sphere_normals_are_exact_and_outward() {
         assert_unit(n);
         assert_close(n, mesh.positions[v as usize] / 3.0, 1e-6);
     }
-    for f in 0..mesh.facets.len() {
+    for f in 0..mesh.facets().len() {
         assert!(
-            mesh.facets[f].normal.dot(centroid(&mesh, f)) > 0.0,
+            mesh.facets()[f].normal.dot(centroid(&mesh, f)) > 0.0,
             "facet {f} faces inwards"
         );
     }
@@ -101,7 +101,7 @@ fn other_primitives_are_closed_and_face_outwards() {
     ];
     for (mesh, euler) in &shapes {
         assert_closed(mesh, *euler);
-        for f in 0..mesh.facets.len() {
+        for f in 0..mesh.facets().len() {
             let c = centroid(mesh, f);
             // Outward from the axis for the torus tube, from the origin otherwise.
             let tube_centre = if mesh.name == "torus" {
@@ -110,15 +110,15 @@ fn other_primitives_are_closed_and_face_outwards() {
                 Vec3::ZERO
             };
             assert!(
-                mesh.facets[f].normal.dot(c - tube_centre) > 0.0,
+                mesh.facets()[f].normal.dot(c - tube_centre) > 0.0,
                 "{} facet {f}",
                 mesh.name
             );
             // Analytic corner normals lean the same way as their facet.
-            for k in mesh.facets[f].corners() {
+            for k in mesh.facets()[f].corners() {
                 let n = mesh.normals.at(k, mesh.corners[k]);
                 assert!(
-                    n.dot(mesh.facets[f].normal) > 0.5,
+                    n.dot(mesh.facets()[f].normal) > 0.5,
                     "{} corner {k}",
                     mesh.name
                 );
@@ -129,12 +129,12 @@ fn other_primitives_are_closed_and_face_outwards() {
     assert_eq!(
         (
             cube.positions.len(),
-            cube.facets.len(),
+            cube.facets().len(),
             cube.normals.values.len()
         ),
         (8, 6, 6)
     );
-    assert!(cube.facets.iter().all(|f| f.len == 4));
+    assert!(cube.facets().iter().all(|f| f.len == 4));
 
     let tube = Mesh::cylinder(1.0, 2.0, 12, false).unwrap().topology();
     assert_eq!((tube.boundary_edges, tube.euler_characteristic), (24, 0));

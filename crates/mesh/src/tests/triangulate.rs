@@ -25,7 +25,7 @@ fn concave_pentagon_gives_three_triangles_facing_the_facet() {
             NormalPolicy::Flat,
         )
         .unwrap();
-        let normal = mesh.facets[0].normal;
+        let normal = mesh.facets()[0].normal;
         assert_close(normal, rotation * Vec3::Z, EPS);
         let tri = mesh.triangulate();
         assert_eq!(tri.triangles.len(), 3);
@@ -145,12 +145,13 @@ fn render_vertices_follow_the_channels() {
             assert_close(tri.normals[r as usize], facet_normal, EPS);
         }
     }
-    // Wireframe edges join the right positions.
-    assert_eq!(tri.edges.len(), cube.edges.len());
-    for (e, r) in cube.edges.iter().zip(&tri.edges) {
+    // Wireframes draw the mesh edges as render-vertex pairs: the same positions (render
+    // vertex v is mesh vertex v, though this cube's seams split every vertex in three).
+    assert_eq!(cube.edges().len(), 12);
+    for e in cube.edges() {
         assert_eq!(
             e.vertices.map(|v| cube.positions[v as usize]),
-            r.map(|i| tri.positions[i as usize])
+            e.vertices.map(|v| tri.positions[v as usize])
         );
     }
 }
@@ -181,4 +182,29 @@ proptest::proptest! {
         }
         proptest::prop_assert!((total - shoelace).abs() < 1e-4 * shoelace, "{} vs {}", total, shoelace);
     }
+}
+
+#[test]
+fn a_mesh_of_triangles_keeps_no_facet_tables_and_computes_the_same_normals() {
+    let sphere = Mesh::sphere(1.0, 24, 12).unwrap().triangulate();
+    let corners = sphere.triangles.iter().flatten().copied().collect();
+    let mesh = Mesh::new(
+        triangles(sphere.positions.clone(), corners),
+        NormalPolicy::Flat,
+    )
+    .unwrap();
+    assert_eq!(mesh.corners.len(), 3 * mesh.facets().len());
+    let tri = mesh.triangulate();
+    assert!(tri.triangle_facets.is_empty() && tri.facet_normals.is_empty());
+    assert_eq!(tri.facet_count(), mesh.facets().len());
+    for (f, facet) in mesh.facets().iter().enumerate() {
+        assert_eq!(tri.facet_of(f), f);
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        assert_eq!(bits(tri.facet_normal(f)), bits(facet.normal), "facet {f}");
+    }
+    assert_eq!(tri.facet_normal(mesh.facets().len()), Vec3::ZERO);
+    // A polygon mesh keeps both.
+    let cube = Mesh::cube(1.0).unwrap().triangulate();
+    assert_eq!((cube.triangle_facets.len(), cube.facet_count()), (12, 6));
+    assert_eq!(cube.facet_of(11), 5);
 }

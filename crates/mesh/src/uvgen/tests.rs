@@ -87,7 +87,7 @@ fn no_triangle_smears_across_the_seam() {
                     continue;
                 }
                 // Only a cap may: its UVs are the planar map along the axis.
-                let f = &mesh.facets[tri.triangle_facets[t] as usize];
+                let f = &mesh.facets()[tri.facet_of(t)];
                 for c in f.corners() {
                     let p = mesh.positions[mesh.corners[c] as usize];
                     let want = g.cap(&frame, p, f.normal);
@@ -138,7 +138,7 @@ fn seam_triangles_are_as_narrow_as_the_others() {
     for (mesh, g, slices) in cases {
         let uvs = corner_uvs(&mesh, &generate_uvs(&mesh, &g));
         let mut seam_facets = 0;
-        for f in &mesh.facets {
+        for f in mesh.facets() {
             let us: Vec<f32> = f.corners().map(|c| uvs[c].x).collect();
             let (lo, hi) = us
                 .iter()
@@ -210,7 +210,7 @@ fn pole_corners_take_the_mean_longitude_of_their_facet() {
     );
     let south = mesh.positions.len() as u32 - 1;
     let mut poles = 0;
-    for f in &mesh.facets {
+    for f in mesh.facets() {
         let ring: Vec<usize> = f.corners().collect();
         let Some(&pole) = ring
             .iter()
@@ -262,7 +262,7 @@ fn box_map_gives_every_cube_face_the_whole_square() {
     let own = corner_uvs(&cube, &cube.uvs[0]);
     let got = corner_uvs(&cube, &ch);
     assert_eq!(got, own, "the cube's own upright face UVs");
-    for f in &cube.facets {
+    for f in cube.facets() {
         let mut square: Vec<[u32; 2]> = f.corners().map(|c| key(got[c])).collect();
         square.sort_unstable();
         let mut want = [Vec2::ZERO, Vec2::X, Vec2::Y, Vec2::ONE].map(key).to_vec();
@@ -277,7 +277,7 @@ fn box_map_uses_one_face_per_facet() {
     let mesh = Mesh::sphere(1.0, 24, 12).unwrap();
     let frame = uv_frame(&mesh);
     let uvs = corner_uvs(&mesh, &generate_uvs(&mesh, &UvGenerator::Box));
-    for f in &mesh.facets {
+    for f in mesh.facets() {
         for c in f.corners() {
             let p = mesh.positions[mesh.corners[c] as usize];
             assert_eq!(uvs[c], UvGenerator::Box.map(&frame, p, f.normal));

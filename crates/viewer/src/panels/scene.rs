@@ -78,7 +78,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
                     "{i}: {} ({} vertices, {} facets)",
                     m.name,
                     m.positions.len(),
-                    m.facets.len()
+                    m.facet_count()
                 ))
                 .id_salt(("mesh", i))
                 .show(ui, |ui| {

@@ -106,15 +106,15 @@ fn strips_and_fans_wind_counter_clockwise_with_u8_indices() {
     assert_eq!(scene.meshes.len(), 3);
     assert_eq!(scene.instances.len(), 3);
     for mesh in &scene.meshes[..2] {
-        assert_eq!(mesh.facets.len(), 2);
+        assert_eq!(mesh.facets().len(), 2);
         assert!(
-            mesh.facets.iter().all(|f| f.normal.z > 0.99),
+            mesh.facets().iter().all(|f| f.normal.z > 0.99),
             "{:?}",
-            mesh.facets
+            mesh.facets()
         );
     }
     let lines = &scene.meshes[2];
-    assert!(lines.facets.is_empty());
+    assert!((lines.facet_count() == 0));
     assert_eq!(lines.lines, [[0, 1], [2, 3]]);
     assert!(
         scene

@@ -41,7 +41,7 @@ fn non_finite_positions_drop_their_triangles() {
         json!([{"attributes": {"POSITION": p}, "indices": ix}]),
     ));
     let scene = load_text(&TempDir::new("gltf-nan-pos"), &text).unwrap();
-    assert_eq!(scene.meshes[0].facets.len(), 2);
+    assert_eq!(scene.meshes[0].facets().len(), 2);
     assert!(scene.meshes[0].positions.iter().all(|p| p.is_finite()));
     assert!(
         scene

@@ -30,8 +30,15 @@ pub(super) fn mesh(data: MeshData, policy: NormalPolicy) -> Mesh {
     let around = VertexCorners::new(positions.len(), &corners, &ring);
     let (edges, corner_edges) = adjacency::edges(corners.len(), &ring, &around);
     let (normals, normal_source) = match normals {
+        // Never parallel: the crate's own (which since keeps a per-vertex channel per
+        // vertex where it can).
         Some(read) => (
-            normals::from_file(read, &corners, &ring),
+            crate::normals::from_file(
+                read,
+                &corners,
+                &crate::adjacency::Ring::new(&facets, corners.len()),
+                |f| crate::normals::usable(facets[f].normal),
+            ),
             NormalSource::File,
         ),
         None => normals::generate(&positions, &corners, &ring, &around, policy),
@@ -40,9 +47,11 @@ pub(super) fn mesh(data: MeshData, policy: NormalPolicy) -> Mesh {
         name,
         positions,
         corners,
-        facets,
-        edges,
-        corner_edges,
+        facets: std::sync::OnceLock::from(facets),
+        edges: std::sync::OnceLock::from(crate::EdgeTable {
+            edges,
+            corner_edges,
+        }),
         normals,
         normal_source,
         uvs,

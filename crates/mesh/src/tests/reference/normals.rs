@@ -67,40 +67,6 @@ pub(crate) fn unit(v: Vec3) -> Option<Vec3> {
     Some(w / w.length())
 }
 
-/// Normals read from a file: renormalised; corners whose value is zero or non-finite get
-/// their facet's normal instead (the channel becomes per corner if it was not).
-pub(crate) fn from_file(mut ch: Channel<Vec3>, corners: &[u32], ring: &Ring) -> Channel<Vec3> {
-    let mut bad = vec![false; ch.values.len()];
-    for (value, bad) in ch.values.iter_mut().zip(&mut bad) {
-        match unit(*value) {
-            Some(n) => *value = n,
-            None => (*value, *bad) = (FALLBACK_NORMAL, true),
-        }
-    }
-    let used_bad = match &ch.indices {
-        None => corners.iter().any(|&v| bad[v as usize]),
-        Some(ix) => ix.iter().any(|&i| bad[i as usize]),
-    };
-    if !used_bad {
-        return ch;
-    }
-    let mut indices = ch.indices.take().unwrap_or_else(|| corners.to_vec());
-    // One replacement value per facet that needs one, appended on first use.
-    let mut replacement = vec![u32::MAX; ring.facets.len()];
-    for (c, index) in indices.iter_mut().enumerate() {
-        if bad[*index as usize] {
-            let f = ring.facet(c);
-            if replacement[f] == u32::MAX {
-                replacement[f] = ch.values.len() as u32;
-                ch.values.push(facet_normal(&ring.facets[f]));
-            }
-            *index = replacement[f];
-        }
-    }
-    ch.indices = Some(indices);
-    ch
-}
-
 fn facet_normal(facet: &Facet) -> Vec3 {
     if facet.is_degenerate() {
         FALLBACK_NORMAL

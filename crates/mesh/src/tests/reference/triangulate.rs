@@ -119,12 +119,12 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         .as_ref()
         .map(|ch| flatten(ch, &rv, colors_slot + 1, Vec4::new(1.0, 0.0, 0.0, 1.0)));
 
-    let triangle_count = mesh.facets.iter().map(|f| f.len as usize - 2).sum();
+    let triangle_count = mesh.facets().iter().map(|f| f.len as usize - 2).sum();
     let mut triangles = Vec::with_capacity(triangle_count);
     let mut triangle_facets = Vec::with_capacity(triangle_count);
     let mut local = Vec::new();
     let mut scratch = polygon::Scratch::default();
-    for (f, facet) in mesh.facets.iter().enumerate() {
+    for (f, facet) in mesh.facets().iter().enumerate() {
         let corners = facet.corners();
         let ring = &mesh.corners[corners.clone()];
         let render = &rv.of_corner[corners];
@@ -142,24 +142,12 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         }
     }
 
-    let mut edges = vec![[UNSET; 2]; mesh.edges.len()];
-    for facet in &mesh.facets {
-        let corners = facet.corners();
-        for c in corners.clone() {
-            let e = mesh.corner_edges[c] as usize;
-            if edges[e][0] == UNSET {
-                let n = if c + 1 == corners.end {
-                    corners.start
-                } else {
-                    c + 1
-                };
-                let (a, b) = (rv.of_corner[c], rv.of_corner[n]);
-                let forward = mesh.corners[c] == mesh.edges[e].vertices[0];
-                edges[e] = if forward { [a, b] } else { [b, a] };
-            }
-        }
+    // Since: a mesh of triangles keeps neither facet table (both implied).
+    let mut facet_normals: Vec<Vec3> = mesh.facets().iter().map(|f| f.normal).collect();
+    if triangle_count == mesh.facets().len() {
+        triangle_facets.clear();
+        facet_normals.clear();
     }
-
     let (center, radius) = mesh.bounding_sphere().unwrap_or((Vec3::ZERO, -1.0));
     TriMesh {
         positions,
@@ -169,8 +157,7 @@ pub(crate) fn triangulate(mesh: &Mesh) -> TriMesh {
         tangents,
         triangles,
         triangle_facets,
-        facet_normals: mesh.facets.iter().map(|f| f.normal).collect(),
-        edges,
+        facet_normals,
         vertex_of: Vec::new(),
         center,
         radius,
