@@ -276,10 +276,10 @@ impl<'a> Interp<'a> {
     ) -> Option<Self> {
         let var = varyings(tri, attrs, derivatives)?;
         let inv = tri.inv_area;
-        let lt = [0, 1, 2].map(|k| (edge_at(tri, k, tile.0, tile.1) - tri.bias(k)) as f32 * inv);
+        let lt = map3(|k| (edge_at(tri, k, tile.0, tile.1) - tri.bias(k)) as f32 * inv);
         let (lx, ly) = (
-            [0, 1, 2].map(|k| (tri.ab(k).0 * ONE) as f32 * inv),
-            [0, 1, 2].map(|k| (tri.ab(k).1 * ONE) as f32 * inv),
+            map3(|k| (tri.ab(k).0 * ONE) as f32 * inv),
+            map3(|k| (tri.ab(k).1 * ONE) as f32 * inv),
         );
         Some(Self {
             tri,
@@ -583,8 +583,8 @@ fn rows<'a>(
     if x0 > x1 || y0 > y1 {
         return None;
     }
-    let step_x = [0, 1, 2].map(|k| tri.ab(k).0 * ONE);
-    let step_y = [0, 1, 2].map(|k| tri.ab(k).1 * ONE);
+    let step_x = map3(|k| tri.ab(k).0 * ONE);
+    let step_y = map3(|k| tri.ab(k).1 * ONE);
     // Coverage in i32 lanes ("narrow"): the lane offsets `a_k ONE i` (i < 8) stay below
     // 2^28 in magnitude when |a_k| < 2^17 (edges under 512 px across), and a row's edge
     // value clamped to [-2^30, 2^30] keeps its sign after adding them, without overflow.
@@ -678,6 +678,13 @@ enum Coverage {
     None,
     Partial,
     Full,
+}
+
+/// `[f(0), f(1), f(2)]`, written out: `[0, 1, 2].map(f)` in the per-triangle set-up of a
+/// tile was compiled out of line (`array::try_map`, 4-5% of a frame of small triangles).
+#[inline(always)]
+fn map3<T>(mut f: impl FnMut(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
 }
 
 /// Edge function (biased) at the centre of pixel (x, y).
@@ -1299,7 +1306,7 @@ crate::simd::per_kernel! {
     /// weights lane by lane (eight `divss` for one `vdivps`); alone, every step is one
     /// eight-lane instruction.
     pub(crate) fn interp_group<L>(tri: &SetupTri, l: &[Lane; 3], v: &Varyings<'_>, out: GroupOut<'_>, mask: u32) {
-        let [p1, p2, inv_d] = perspective::<L>(tri, l.map(|x| x.get()));
+        let [p1, p2, inv_d] = perspective::<L>(tri, [l[0].get(), l[1].get(), l[2].get()]);
         let m = M8::<L>::from_bits(mask);
         let n = v.stride.min(MAX_VARYINGS).min(v.v0.len()).min(v.d1.len()).min(v.d2.len());
         let var = out.var;
@@ -1565,6 +1572,33 @@ mod tests {
             ..Camera::default()
         };
         cam.projection(W as f32 / H as f32) * cam.view()
+    }
+
+    /// A non-finite vertex in a triangle that needs clipping (another vertex far outside
+    /// the guard band and behind the eye) is culled as degenerate, whichever vertex it is,
+    /// and draws nothing; so is one whose other vertices are inside.
+    #[test]
+    fn a_non_finite_vertex_culls_its_triangle_on_every_path() {
+        let good = [
+            Vec4::new(-0.5, -0.5, 0.5, 1.0),
+            Vec4::new(0.5, -0.5, 0.5, 1.0),
+        ];
+        let far = Vec4::new(1e6, 0.2, 0.5, 1.0);
+        let behind = Vec4::new(0.1, 0.2, 0.5, -1.0);
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            let nan = Vec4::new(bad, 0.0, 0.5, 1.0);
+            for tri in [
+                [nan, far, behind],
+                [far, nan, good[0]],
+                [good[0], behind, nan],
+                [good[0], good[1], nan],
+            ] {
+                let (image, stats) = render(&tri, &[Vec2::ZERO; 3], &PerPixel(Value));
+                assert_eq!(stats.culled_degenerate, 1, "{tri:?}");
+                assert_eq!((stats.drawn, stats.clipped), (0, 0), "{tri:?}");
+                assert!(image.iter().all(|c| *c == Vec4::ZERO), "{tri:?}");
+            }
+        }
     }
 
     #[test]

@@ -636,11 +636,14 @@ pub(crate) fn assemble(
         stats: st,
     } = chunk;
     let stride = d.stride;
+    // With per-vertex records a non-finite vertex is caught by them (not projected: the
+    // triangle is degenerate) or before clipping; without, here. Tested by
+    // `a_non_finite_vertex_culls_its_triangle_on_every_path`.
     let fetch = |i: u32| -> Option<(Vec4, &[f32])> {
         let p = d.clip.get(i as usize)?;
         let k = i as usize * stride;
         let v = d.varyings.get(k..k + stride)?;
-        p.is_finite().then_some((*p, v))
+        (pre.is_some() || p.is_finite()).then_some((*p, v))
     };
     let (Some(a), Some(b), Some(c)) = (fetch(t[0]), fetch(t[1]), fetch(t[2])) else {
         st.culled_degenerate += 1;
@@ -688,8 +691,13 @@ pub(crate) fn assemble(
         let s = pv
             .iter()
             .all(|v| v.projected)
-            .then(|| pv.map(PreVert::screen));
+            .then(|| [pv[0].screen(), pv[1].screen(), pv[2].screen()]);
         let _ = push(s, [a.1, b.1, c.1], None, st);
+        return;
+    }
+    // Not finite: culled here, as without per-vertex records, not counted as clipped.
+    if !(a.0.is_finite() && b.0.is_finite() && c.0.is_finite()) {
+        st.culled_degenerate += 1;
         return;
     }
     st.clipped += 1;

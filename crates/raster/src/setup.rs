@@ -287,8 +287,9 @@ pub(crate) fn setup_projected<'a>(
     attrs.extend(v2.iter().zip(v0).map(|(a, b)| a - b));
     attrs.extend(std::iter::repeat_n(0.0, pad));
     Ok(SetupTri {
-        a: a.map(|v| v as i32),
-        b: b.map(|v| v as i32),
+        // Written out: `array::map` here was compiled out of line (a call per triangle).
+        a: [a[0] as i32, a[1] as i32, a[2] as i32],
+        b: [b[0] as i32, b[1] as i32, b[2] as i32],
         c,
         top_left: top_left_bits,
         x0: px0 as u32,
