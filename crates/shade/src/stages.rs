@@ -249,26 +249,30 @@ crate::simd::per_kernel! {
         let d = cx.d;
         let first = first_derivative(d);
         for (g, r) in regs.iter_mut().enumerate() {
-            let [base_t, gloss_t, normal_t, occlusion_t, emissive_t, mr_t] =
-                r.texel.map(|t| get4::<L>(&t));
+            // Each slot's texel loaded where it is used (a `map` over all six was compiled
+            // out of line, copying 24 lanes through the stack per group).
+            let [base_t, gloss_t, normal_t, occlusion_t, emissive_t, mr_t] = &r.texel;
             if d.metal_rough.is_some() {
+                let mr_t = get4::<L>(mr_t);
                 r.rough.set(mr_t[1]);
                 r.metal.set(mr_t[2]);
             }
             if d.base_map.is_some() {
                 let mut c = get4::<L>(&r.base);
-                for (c, t) in c.iter_mut().zip(base_t) {
+                for (c, t) in c.iter_mut().zip(get4::<L>(base_t)) {
                     *c *= t;
                 }
                 set4(&mut r.base, c);
             }
             if d.gloss.is_some() {
                 let ks = d.surface.specular;
+                let gloss_t = get4::<L>(gloss_t);
                 V3::new(gloss_t[0] * ks.x, gloss_t[1] * ks.y, gloss_t[2] * ks.z).set(&mut r.ks);
             }
             let f = b.group(g);
             let mut n = V3::<L>::get(&r.n);
             if let Some(map) = &d.normal_map {
+                let normal_t = get4::<L>(normal_t);
                 n = match d.layout.tangent_at() {
                     Some(k) => {
                         let v = f.var;
@@ -285,9 +289,10 @@ crate::simd::per_kernel! {
             n.set(&mut r.n);
             // glTF: ao = 1 + strength (r - 1), on the ambient (indirect) light only.
             if let Some(o) = &d.occlusion {
-                r.occlusion.set(F8::ONE + (occlusion_t[0] - F8::ONE) * o.scale);
+                r.occlusion.set(F8::ONE + (occlusion_t[0].get::<L>() - F8::ONE) * o.scale);
             }
             if d.emissive_map.is_some() {
+                let emissive_t = get4::<L>(emissive_t);
                 (V3::new(emissive_t[0], emissive_t[1], emissive_t[2]) * d.emissive)
                     .set(&mut r.emitted);
             }

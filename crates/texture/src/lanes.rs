@@ -168,11 +168,20 @@ impl Source for Packed<'_> {
     fn texel(self, i: i32) -> [f32; 4] {
         let t = self.0.get(i as u32 as usize).copied().unwrap_or(0);
         let k = 1.0 / U16_MAX;
+        // Through the bytes: the compiler then reads the four channels as one vector
+        // (shifts per channel were rebuilt with an insert per channel).
+        let b = t.to_le_bytes();
+        let c = [
+            u16::from_le_bytes([b[0], b[1]]),
+            u16::from_le_bytes([b[2], b[3]]),
+            u16::from_le_bytes([b[4], b[5]]),
+            u16::from_le_bytes([b[6], b[7]]),
+        ];
         [
-            f32::from(t as u16) * k,
-            f32::from((t >> 16) as u16) * k,
-            f32::from((t >> 32) as u16) * k,
-            f32::from((t >> 48) as u16) * k,
+            f32::from(c[0]) * k,
+            f32::from(c[1]) * k,
+            f32::from(c[2]) * k,
+            f32::from(c[3]) * k,
         ]
     }
 }
@@ -301,7 +310,13 @@ impl Texture {
         blend: Option<(&Footprint, &[f32; LANES], u32)>,
         mask: u32,
     ) -> [F8<L>; 4] {
-        self.filter_any(chain, a, blend, mask).map(F8::from_array)
+        let [r, g, b, a] = self.filter_any(chain, a, blend, mask);
+        [
+            F8::from_array(r),
+            F8::from_array(g),
+            F8::from_array(b),
+            F8::from_array(a),
+        ]
     }
 
     /// The base-level footprint of a nearest or bilinear sample at folded UVs.
