@@ -1137,12 +1137,17 @@ fn resolve_body<L: Level>(
             let mask = same::<L>(&n.vis.tri[o..o + LANES], id) & rest;
             rest &= !mask;
             if cur.as_ref().is_none_or(|c| c.0 != id) {
-                cur = lookup(chunks, id)
-                    .and_then(|(tri, attrs)| {
-                        let info = draw_info(&mut n.info, shader, tri.info.draw);
-                        Interp::new(tri, attrs, info.derivatives, (tile.x0, tile.y0))
-                    })
-                    .map(|it| (id, it, it.key()));
+                // Written without closures: `and_then`'s was compiled out of line, without
+                // the kernel's features.
+                cur = None;
+                if let Some((tri, attrs)) = lookup(chunks, id) {
+                    let info = draw_info(&mut n.info, shader, tri.info.draw);
+                    let from = (tile.x0, tile.y0);
+                    if let Some(it) = Interp::new(tri, attrs, info.derivatives, from) {
+                        let key = it.key();
+                        cur = Some((id, it, key));
+                    }
+                }
             }
             // (Every recorded triangle has its varyings: `rows` checked.)
             let Some((_, it, key)) = &cur else {
