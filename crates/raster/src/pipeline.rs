@@ -663,36 +663,21 @@ pub(crate) fn assemble(
         return;
     }
     let need = pv[0].guard | pv[1].guard | pv[2].guard;
-    let mut push =
-        |s: Option<[ScreenVert; 3]>, var: [&[f32]; 3], ccw: Option<bool>, st: &mut Stats| {
-            let set = match s {
-                Some(s) => setup_projected(s, var, vp, d.id, d.state, ccw, attrs),
-                None => Err(Reject::Degenerate),
-            };
-            match set {
-                Ok(s) => {
-                    if let Some(tx) = tiles_x {
-                        bin(tx, vp.reach, &s, out.len() as u16, bins);
-                    }
-                    out.push(s);
-                    true
-                }
-                Err(Reject::Backface) => {
-                    st.culled_backface += 1;
-                    false
-                }
-                Err(Reject::Degenerate) => {
-                    st.culled_degenerate += 1;
-                    false
-                }
-            }
-        };
     if need == 0 {
         let s = pv
             .iter()
             .all(|v| v.projected)
             .then(|| [pv[0].screen(), pv[1].screen(), pv[2].screen()]);
-        let _ = push(s, [a.1, b.1, c.1], None, st);
+        let _ = push(
+            d,
+            vp,
+            tiles_x,
+            (out, attrs, bins),
+            s,
+            [a.1, b.1, c.1],
+            None,
+            st,
+        );
         return;
     }
     // Not finite: culled here, as without per-vertex records, not counted as clipped.
@@ -723,7 +708,16 @@ pub(crate) fn assemble(
     for i in 1..poly.len() - 1 {
         let c = Corners::of([&poly[0], &poly[i], &poly[i + 1]], stride);
         let s = project3(c.pos, hw, hh, d.state.subpixel_bits);
-        any |= push(s, c.var, ccw, &mut rejected);
+        any |= push(
+            d,
+            vp,
+            tiles_x,
+            (out, attrs, bins),
+            s,
+            c.var,
+            ccw,
+            &mut rejected,
+        );
     }
     // Count the input triangle once: as drawn if any piece survived, else by the first reason.
     if !any {
@@ -731,6 +725,45 @@ pub(crate) fn assemble(
             st.culled_backface += 1;
         } else {
             st.culled_degenerate += 1;
+        }
+    }
+}
+
+/// Sets up one projected triangle (or piece) of draw `d` and appends it to the chunk's
+/// `(tris, attrs, bins)`, binned while it is still in registers; counts a rejection into
+/// `st`. True if it was kept. A function, not a closure: the closure was compiled out of
+/// line, without the kernel's features (a fifth of a frame of small triangles).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn push(
+    d: &Draw<'_>,
+    vp: Viewport,
+    tiles_x: Option<u32>,
+    (out, attrs, bins): (&mut Vec<SetupTri>, &mut Vec<f32>, &mut [Vec<u16>]),
+    s: Option<[ScreenVert; 3]>,
+    var: [&[f32]; 3],
+    ccw: Option<bool>,
+    st: &mut Stats,
+) -> bool {
+    let set = match s {
+        Some(s) => setup_projected(s, var, vp, d.id, d.state, ccw, attrs),
+        None => Err(Reject::Degenerate),
+    };
+    match set {
+        Ok(s) => {
+            if let Some(tx) = tiles_x {
+                bin(tx, vp.reach, &s, out.len() as u16, bins);
+            }
+            out.push(s);
+            true
+        }
+        Err(Reject::Backface) => {
+            st.culled_backface += 1;
+            false
+        }
+        Err(Reject::Degenerate) => {
+            st.culled_degenerate += 1;
+            false
         }
     }
 }
