@@ -52,9 +52,11 @@
 //!   clipped triangle carries its own vertices' 1/w and varyings (interpolated in clip
 //!   space), so this is the derivative of the original triangle's varying there too.
 //!
-//! The whole fill of a tile is one function per kernel ([`fill_tile`], through
-//! [`per_kernel!`](crate::simd::per_kernel)); the shader is called through `dyn` once per
-//! batch, so no shading code is compiled into it.
+//! The fill of a tile is a few functions per kernel (through
+//! [`per_kernel!`](crate::simd::per_kernel)): the loop over its triangles
+//! ([`fill_tile_k`]), the visibility pass, the direct and forward fills, the resolve and
+//! the interpolation, each called through a pointer picked once per tile; the shader is
+//! called through `dyn` once per batch, so no shading code is compiled into them.
 
 // Lane and edge loops index several arrays by one counter on purpose: that shape vectorises.
 #![allow(clippy::needless_range_loop)]

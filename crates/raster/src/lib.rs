@@ -58,7 +58,7 @@ pub use setup::{GUARD_BAND_PX, SUBPIXEL_BITS};
 
 /// Most varyings (floats per vertex) a draw can carry: 24 are the most the lit shader's
 /// layout needs (position, normal, five UV channels, colour, tangent), with room to spare.
-/// A draw with more is skipped and counted in [`Stats::draws_too_wide`].
+/// A draw with more is skipped and counted in [`Stats::too_wide`].
 pub const MAX_VARYINGS: usize = 32;
 
 /// What the fill loop tells the shader about the triangle being filled.
