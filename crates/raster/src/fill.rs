@@ -767,11 +767,7 @@ fn block<L: Level, const TEST: bool, const MODE: u8>(
 ) -> Counts {
     let tri = r.tri;
     let st = tri.state;
-    let mut row = [
-        edge_at(tri, 0, bx, y0),
-        edge_at(tri, 1, bx, y0),
-        edge_at(tri, 2, bx, y0),
-    ];
+    let mut row = map3(|k| edge_at(tri, k, bx, y0));
     let dx = bx - tile.x0;
     let zl = r.z_lanes::<L>(dx);
     for y in y0..=y1 {
@@ -866,11 +862,7 @@ fn block_ms<L: Level, const TEST: bool>(
 ) -> Counts {
     let tri = r.tri;
     let st = tri.state;
-    let mut row = [
-        edge_at(tri, 0, bx, y0),
-        edge_at(tri, 1, bx, y0),
-        edge_at(tri, 2, bx, y0),
-    ];
+    let mut row = map3(|k| edge_at(tri, k, bx, y0));
     for y in y0..=y1 {
         let mut cover = [span; SAMPLES];
         if TEST {
@@ -959,11 +951,7 @@ fn small<L: Level, const MODE: u8>(
     let tri = r.tri;
     let st = tri.state;
     let span = (1u32 << (x1 - x0 + 1)) - 1;
-    let mut row = [
-        edge_at(tri, 0, x0, y0),
-        edge_at(tri, 1, x0, y0),
-        edge_at(tri, 2, x0, y0),
-    ];
+    let mut row = map3(|k| edge_at(tri, k, x0, y0));
     let dx = x0 - tile.x0;
     let zl = r.z_lanes::<L>(dx);
     for y in y0..=y1 {

@@ -36,17 +36,7 @@ fn per_vertex(
     stride: usize,
     f: impl Fn(usize, &mut [f32]) + Sync + Send,
 ) -> usize {
-    if stride == 0 {
-        return 0;
-    }
-    let start = out.len();
-    out.resize(start + n * stride, 0.0);
-    out[start..]
-        .par_chunks_mut(stride)
-        .with_min_len(MIN_LEN)
-        .enumerate()
-        .for_each(|(k, o)| f(k, o));
-    stride
+    in_groups(out, n, stride, 1, f)
 }
 
 /// Appends `n` vertices of `stride` floats to `out` in parallel, eight at a time:
@@ -58,16 +48,28 @@ fn per_vertices(
     stride: usize,
     f: impl Fn(usize, &mut [f32]) + Sync + Send,
 ) -> usize {
+    in_groups(out, n, stride, LANES, f)
+}
+
+/// [`per_vertex`] and [`per_vertices`]: `f(k, floats)` writes the `group` vertices from `k`
+/// (fewer at the end).
+fn in_groups(
+    out: &mut Vec<f32>,
+    n: usize,
+    stride: usize,
+    group: usize,
+    f: impl Fn(usize, &mut [f32]) + Sync + Send,
+) -> usize {
     if stride == 0 {
         return 0;
     }
     let start = out.len();
     out.resize(start + n * stride, 0.0);
     out[start..]
-        .par_chunks_mut(stride * LANES)
-        .with_min_len(MIN_LEN / LANES)
+        .par_chunks_mut(stride * group)
+        .with_min_len(MIN_LEN / group)
         .enumerate()
-        .for_each(|(k, o)| f(k * LANES, o));
+        .for_each(|(k, o)| f(k * group, o));
     stride
 }
 
