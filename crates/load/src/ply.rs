@@ -371,7 +371,7 @@ fn parse_header(bytes: &[u8]) -> Result<Header, (usize, String)> {
         let raw = &rest[..len];
         at = (at + len + 1).min(bytes.len());
         line += 1;
-        let text = String::from_utf8_lossy(raw);
+        let text = crate::files::text(raw);
         let mut words = text.split_ascii_whitespace();
         let keyword = words.next().unwrap_or("");
         if line == 1 {

@@ -171,7 +171,7 @@ fn parse_binary(bytes: &[u8], tracker: &Tracker) -> Result<Vec<Vec3>, LoadError>
 /// The corner positions of an ASCII STL: every `vertex` line, checked to come in threes
 /// inside `outer loop` ... `endloop`.
 fn parse_ascii(path: &Path, bytes: &[u8], tracker: &Tracker) -> Result<Vec<Vec3>, LoadError> {
-    let text = String::from_utf8_lossy(bytes);
+    let text = crate::files::text(bytes);
     let err = |line: usize, message: String| {
         LoadError::from(StlError::Syntax {
             path: path.to_owned(),

@@ -93,7 +93,7 @@ pub(crate) fn load_obj(
         report,
         ..Scene::default()
     };
-    let text = String::from_utf8_lossy(&bytes);
+    let text = files::text(&bytes);
     if let Cow::Owned(t) = &text {
         budget.charge(t.len() as u64, || "UTF-8 copy of the OBJ text".into())?;
         let note = "file is not valid UTF-8: invalid bytes replaced";

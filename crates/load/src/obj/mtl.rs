@@ -96,7 +96,7 @@ impl MtlLibs<'_> {
         let name = path
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        let text = String::from_utf8_lossy(&bytes);
+        let text = crate::files::text(&bytes);
         let (clean, warnings) = sanitize(&name, &text);
         self.warnings.borrow_mut().extend(warnings);
         let library = tobj::load_mtl_buf(&mut clean.as_bytes());
