@@ -117,6 +117,16 @@ pub(crate) fn resolve_inside(
     Ok(canonical)
 }
 
+/// `bytes` as text: borrowed when they are valid UTF-8 (checked with `str::from_utf8`,
+/// several times faster on a large ASCII file than `String::from_utf8_lossy`, which walks
+/// the bytes chunk by chunk), else a copy with the invalid bytes replaced by U+FFFD.
+pub(crate) fn text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(s) => std::borrow::Cow::Borrowed(s),
+        Err(_) => String::from_utf8_lossy(bytes),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -143,15 +153,5 @@ mod tests {
         let budget = Budget::new(Path::new("t"), 100);
         assert!(read_capped(Path::new("/dev/zero"), &budget, "buffer").is_err());
         std::fs::remove_dir_all(&dir).unwrap();
-    }
-}
-
-/// `bytes` as text: borrowed when they are valid UTF-8 (checked with `str::from_utf8`,
-/// several times faster on a large ASCII file than `String::from_utf8_lossy`, which walks
-/// the bytes chunk by chunk), else a copy with the invalid bytes replaced by U+FFFD.
-pub(crate) fn text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
-    match std::str::from_utf8(bytes) {
-        Ok(s) => std::borrow::Cow::Borrowed(s),
-        Err(_) => String::from_utf8_lossy(bytes),
     }
 }
