@@ -1,5 +1,5 @@
 //! Animation, skinning and morph targets of the Khronos samples in
-//! `$REALIST_SHARED/models/gltf/khronos/` (skipped with a notice when `REALIST_SHARED` is
+//! `$REALIST_SHARED/models/gltf/khronos/` (reported as ignored when `REALIST_SHARED` is
 //! unset), each checked against a direct evaluation written here from what the file says,
 //! not through the loader's animation code:
 //!
@@ -24,17 +24,12 @@ use realist::load::{load, LoadOptions};
 use realist::render::{PreparedScene, RenderOptions, Renderer};
 use realist::scene::{Camera, Play};
 
-fn khronos(name: &str) -> Option<PathBuf> {
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        eprintln!("REALIST_SHARED is not set: skipping the Khronos sample {name}");
-        return None;
-    };
-    Some(
-        PathBuf::from(root)
-            .join("models/gltf/khronos")
-            .join(name)
-            .join(format!("{name}.gltf")),
-    )
+/// The Khronos sample `name` in the shared test data (for tests marked as needing it).
+fn khronos(name: &str) -> PathBuf {
+    realist_testkit::shared(name)
+        .join("models/gltf/khronos")
+        .join(name)
+        .join(format!("{name}.gltf"))
 }
 
 fn prepared(path: &std::path::Path) -> PreparedScene {
@@ -95,10 +90,9 @@ fn accessor(json: &serde_json::Value, i: usize) -> Vec<Vec<f32>> {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn animated_triangle_turns_a_full_circle_per_second() {
-    let Some(path) = khronos("AnimatedTriangle") else {
-        return;
-    };
+    let path = khronos("AnimatedTriangle");
     let mut p = prepared(&path);
     assert_eq!(p.scene().animations.len(), 1);
     assert_eq!(p.scene().animations[0].duration(), 1.0);
@@ -116,10 +110,9 @@ fn animated_triangle_turns_a_full_circle_per_second() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn simple_morph_is_linear_in_its_keyed_weights() {
-    let Some(path) = khronos("SimpleMorph") else {
-        return;
-    };
+    let path = khronos("SimpleMorph");
     let mut p = prepared(&path);
     let mut at = |t: f32| {
         p.pose_at(Play::One(0), t, false);
@@ -153,10 +146,9 @@ fn simple_morph_is_linear_in_its_keyed_weights() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn simple_skin_bends_by_its_joint_rotation() {
-    let Some(path) = khronos("SimpleSkin") else {
-        return;
-    };
+    let path = khronos("SimpleSkin");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     let attrs = &json["meshes"][0]["primitives"][0]["attributes"];
@@ -198,9 +190,7 @@ fn simple_skin_bends_by_its_joint_rotation() {
 /// framed on the union of the posed bounds, and compares with
 /// `tests/golden/anim-NAME-T.png`.
 fn goldens(name: &str, elevation: f32, times: &[f32]) {
-    let Some(path) = khronos(name) else {
-        return;
-    };
+    let path = khronos(name);
     let mut p = prepared(&path);
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     for &t in times {
@@ -238,6 +228,7 @@ fn goldens(name: &str, elevation: f32, times: &[f32]) {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn khronos_animation_goldens() {
     goldens("AnimatedTriangle", 15.0, &[0.0, 0.125, 0.5]);
     goldens("SimpleMorph", 15.0, &[0.5, 2.0, 3.5]);

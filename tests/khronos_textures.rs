@@ -1,5 +1,5 @@
 //! The Khronos texture samples in `$REALIST_SHARED/models/gltf/khronos/` render as their
-//! authors intend (skipped with a notice when `REALIST_SHARED` is unset):
+//! authors intend (reported as ignored when `REALIST_SHARED` is unset):
 //!
 //! - `TextureCoordinateTest`: four squares, each showing its corner of one texture (a
 //!   chequered corner mark and the label "Top Left", ..., "Bottom Right") upright, tinted
@@ -26,7 +26,6 @@
 //! The scenes are lit by one ambient light of 1 on non-specular materials, so a lit pixel
 //! is texel x factor (+ emission).
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -38,17 +37,15 @@ use realist::scene::{Camera, Light, Scene, Slot};
 use realist::shade::Shading;
 use realist::texture::{Filter, Texture, Wrap};
 
-fn khronos(name: &str) -> Option<Scene> {
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        eprintln!("REALIST_SHARED is not set: skipping the Khronos sample {name}");
-        return None;
-    };
-    let path = PathBuf::from(root)
+/// The Khronos sample `name` in the shared test data (for tests marked as needing it),
+/// loaded and made matte.
+fn khronos(name: &str) -> Scene {
+    let path = realist_testkit::shared(name)
         .join("models/gltf/khronos")
         .join(name)
         .join(format!("{name}.gltf"));
     let scene = load(&path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-    Some(matte(scene, &path))
+    matte(scene, &path)
 }
 
 /// Every material made a matte dielectric of the file's own `baseColorFactor`: specular
@@ -325,10 +322,9 @@ fn instance_bounds(scene: &Scene, inst: usize) -> (Vec3, Vec3) {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn texture_coordinate_test_squares_are_upright_and_in_their_corners() {
-    let Some(scene) = khronos("TextureCoordinateTest") else {
-        return;
-    };
+    let scene = khronos("TextureCoordinateTest");
     let scene = nearest(scene);
     // The squares lie in z = 0 facing -z (their normals), the grey plane behind at z =
     // 0.05. Looking along +z from -z, the view's right is world -x: the "TopLeft" square
@@ -435,10 +431,9 @@ fn misread(mode: Wrap) -> Wrap {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn texture_settings_test_shows_ticks_and_never_the_red_cross() {
-    let Some(scene) = khronos("TextureSettingsTest") else {
-        return;
-    };
+    let scene = khronos("TextureSettingsTest");
     // The root node maps the file's (x, y, z) to (-x, z, y): the rows lie in the plane
     // z = 0 facing -z (normals -y in the file), one above the other along y, the labels
     // beside them and the blue background behind (z = 0.1 to 0.15). Looking along +z
@@ -531,10 +526,9 @@ fn texture_settings_test_shows_ticks_and_never_the_red_cross() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn multi_uv_test_reads_the_emissive_map_through_the_second_set() {
-    let Some(scene) = khronos("MultiUVTest") else {
-        return;
-    };
+    let scene = khronos("MultiUVTest");
     let scene = nearest(scene);
     let mesh = &scene.meshes[0];
     assert_eq!(mesh.uvs.len(), 2, "TEXCOORD_0 and TEXCOORD_1");

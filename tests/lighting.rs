@@ -654,17 +654,14 @@ fn lights_that_cannot_reach_an_object_are_skipped_and_counted() {
 
 /// The shared teapot under every light type with attenuation and Euclidean fog, drawn in
 /// Phong by the renderer (4 x 4 supersampled) and by the f64 reference of `quality::general`
-/// at the same sample positions: only the arithmetic differs. Skipped with a notice when
-/// `REALIST_SHARED` is unset.
+/// at the same sample positions: only the arithmetic differs. Needs `REALIST_SHARED`.
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn shared_model_under_every_light_type_and_fog_agrees_with_the_f64_reference() {
     use realist::quality::{compare, general, LinearImage};
     use realist::render::{default_camera, render, RenderOptions};
-    let Some(dir) = std::env::var_os("REALIST_SHARED") else {
-        eprintln!("REALIST_SHARED is not set: skipping the shared-model reference test");
-        return;
-    };
-    let path = std::path::PathBuf::from(dir).join("models/obj/teapot.obj");
+    let dir = realist_testkit::shared("the shared-model reference test");
+    let path = dir.join("models/obj/teapot.obj");
     let scene = realist::load::load(&path, &realist::load::LoadOptions::default())
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let (lo, hi) = scene.bounds().expect("bounds");

@@ -1,6 +1,6 @@
 //! Every real model in `$REALIST_SHARED/models` renders in every shading mode: no panic, no
 //! NaN pixel, something drawn; the bunny's topology satisfies Euler-Poincare; spot's texture
-//! shows. Skipped with a notice when `REALIST_SHARED` is unset.
+//! shows. Reported as ignored when `REALIST_SHARED` is unset.
 
 mod common;
 
@@ -11,22 +11,9 @@ use realist::load::{load, load_texture, LoadOptions};
 use realist::render::{PreparedScene, RenderOptions};
 use realist::shade::Shading;
 
-fn shared() -> Option<PathBuf> {
-    match std::env::var_os("REALIST_SHARED") {
-        Some(dir) => {
-            let models = PathBuf::from(dir).join("models");
-            assert!(
-                models.is_dir(),
-                "REALIST_SHARED is set but {} is not a folder",
-                models.display()
-            );
-            Some(models)
-        }
-        None => {
-            eprintln!("REALIST_SHARED is not set: skipping the shared-model tests");
-            None
-        }
-    }
+/// `$REALIST_SHARED/models` (for tests marked as needing it).
+fn shared() -> PathBuf {
+    realist_testkit::shared("the shared-model tests").join("models")
 }
 
 fn models(root: &std::path::Path) -> Vec<PathBuf> {
@@ -54,8 +41,9 @@ fn models(root: &std::path::Path) -> Vec<PathBuf> {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn every_model_renders_in_every_mode() {
-    let Some(root) = shared() else { return };
+    let root = shared();
     let files = models(&root);
     assert!(
         files.len() >= 20,
@@ -92,8 +80,9 @@ fn every_model_renders_in_every_mode() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn bunny_topology_is_consistent_with_euler() {
-    let Some(root) = shared() else { return };
+    let root = shared();
     let scene = load(
         &root.join("obj/stanford-bunny.obj"),
         &LoadOptions::default(),
@@ -116,8 +105,9 @@ fn bunny_topology_is_consistent_with_euler() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn spot_shows_its_texture() {
-    let Some(root) = shared() else { return };
+    let root = shared();
     let scene = load(&root.join("obj/spot.obj"), &LoadOptions::default()).expect("spot");
     let texture = Arc::new(load_texture(&root.join("obj/spot_texture.png")).expect("texture"));
     let prepared = PreparedScene::new(scene);

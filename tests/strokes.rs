@@ -3,7 +3,7 @@
 //! - golden images of the Khronos samples `MeshPrimitiveModes` (every primitive mode, at the
 //!   default 1-pixel size and at 5-pixel points and 3-pixel lines) and `MultipleScenes`
 //!   (both scenes, chosen by `LoadOptions::scene`), from
-//!   `$REALIST_SHARED/models/gltf/khronos/` (skipped with a notice when `REALIST_SHARED` is
+//!   `$REALIST_SHARED/models/gltf/khronos/` (reported as ignored when `REALIST_SHARED` is
 //!   unset);
 //! - a line behind a nearer triangle is hidden where the triangle covers it;
 //! - a points and lines scene renders the same on 1 and 2 threads;
@@ -32,17 +32,12 @@ const STROKES: common::Tolerance = common::Tolerance {
     max_fraction: 0.002,
 };
 
-fn khronos(name: &str) -> Option<PathBuf> {
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        eprintln!("REALIST_SHARED is not set: skipping the Khronos sample {name}");
-        return None;
-    };
-    Some(
-        PathBuf::from(root)
-            .join("models/gltf/khronos")
-            .join(name)
-            .join(format!("{name}.gltf")),
-    )
+/// The Khronos sample `name` in the shared test data (for tests marked as needing it).
+fn khronos(name: &str) -> PathBuf {
+    realist_testkit::shared(name)
+        .join("models/gltf/khronos")
+        .join(name)
+        .join(format!("{name}.gltf"))
 }
 
 /// Renders `scene` head-on (front view), framed on its bounds.
@@ -63,10 +58,9 @@ fn front(scene: Scene, w: u32, h: u32, point: f32, line: f32) -> realist::raster
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn mesh_primitive_modes_golden() {
-    let Some(path) = khronos("MeshPrimitiveModes") else {
-        return;
-    };
+    let path = khronos("MeshPrimitiveModes");
     let scene = load(&path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     // Every mode is loaded: 7 meshes, 7 instances, the four point and line ones reported.
     assert_eq!((scene.meshes.len(), scene.instances.len()), (7, 7));
@@ -93,10 +87,9 @@ fn mesh_primitive_modes_golden() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn multiple_scenes_golden_and_choice() {
-    let Some(path) = khronos("MultipleScenes") else {
-        return;
-    };
+    let path = khronos("MultipleScenes");
     // The file's default scene is 1.
     let default = load(&path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(default.graph.drawn, Some(1));

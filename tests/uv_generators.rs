@@ -694,12 +694,10 @@ fn render_uv_flag_and_scene_file_key_draw_the_same() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn a_model_file_without_uvs_from_the_shared_models() {
     // The Stanford bunny (no vt, no vn): every generator covers it, finite and in range.
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        eprintln!("REALIST_SHARED is not set: skipping the bunny");
-        return;
-    };
+    let root = realist_testkit::shared("the bunny without UVs");
     let path = Path::new(&root).join("models/obj/stanford-bunny.obj");
     for g in generators() {
         let opts = LoadOptions {

@@ -355,16 +355,12 @@ pub fn temp_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
-/// colour-science's reference values, `$REALIST_SHARED/color/reference.json`, or `None`
-/// (with a printed notice naming `what` is skipped) when `REALIST_SHARED` is unset.
-pub fn colour_reference(what: &str) -> Option<serde_json::Value> {
-    let Some(root) = std::env::var_os("REALIST_SHARED") else {
-        println!("REALIST_SHARED is not set: skipping {what}");
-        return None;
-    };
-    let path = std::path::Path::new(&root).join("color/reference.json");
+/// colour-science's reference values, `$REALIST_SHARED/color/reference.json` (for tests
+/// marked as needing `REALIST_SHARED`: see [`realist_testkit::shared`]).
+pub fn colour_reference(what: &str) -> serde_json::Value {
+    let path = realist_testkit::shared(what).join("color/reference.json");
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    Some(serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display())))
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 /// One quad (two triangles) with per-vertex UVs and normal `normal`, textured with `texture`

@@ -33,21 +33,25 @@ impl Drop for TempDir {
     }
 }
 
-/// `$REALIST_SHARED`, or `None` after printing why the test is skipped.
-pub fn shared(test: &str) -> Option<PathBuf> {
-    match std::env::var_os("REALIST_SHARED") {
-        Some(dir) => {
-            let dir = PathBuf::from(dir);
-            assert!(
-                dir.join("models").is_dir(),
-                "REALIST_SHARED={} has no models/ folder",
-                dir.display()
-            );
-            Some(dir)
-        }
-        None => {
-            eprintln!("{test}: REALIST_SHARED is not set; skipped");
-            None
-        }
-    }
+/// `$REALIST_SHARED`: the shared test data (`../shared` beside a clone in CI). A test that
+/// needs it is marked `#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]`:
+/// the build script `build/shared_cfg.rs` sets that cfg when `REALIST_SHARED` or `CI` is
+/// set, so without the data the test is reported as ignored, and this is reached only when
+/// the data should be there. Panics naming what is missing (`what`: the test's words for
+/// the data it reads) when `REALIST_SHARED` is unset (under `CI`) or names no folder with
+/// a `models/` folder in it.
+pub fn shared(what: &str) -> PathBuf {
+    let Some(dir) = std::env::var_os("REALIST_SHARED") else {
+        panic!(
+            "{what}: REALIST_SHARED is not set, and CI is: the shared test data must be there \
+             (set REALIST_SHARED to the shared folder)"
+        );
+    };
+    let dir = PathBuf::from(dir);
+    assert!(
+        dir.join("models").is_dir(),
+        "{what}: REALIST_SHARED={} has no models/ folder",
+        dir.display()
+    );
+    dir
 }

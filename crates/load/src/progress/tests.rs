@@ -315,10 +315,9 @@ fn a_cancel_from_another_thread_ends_a_big_load_quickly() {
 }
 
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn the_bunny_cancels_quickly() {
-    let Some(shared) = shared("the_bunny_cancels_quickly") else {
-        return;
-    };
+    let shared = shared("the_bunny_cancels_quickly");
     let bunny = shared.join("models/obj/stanford-bunny.obj");
     let full = full_load_time(&bunny);
     for stage in [Stage::Parsing, Stage::Normals] {

@@ -355,10 +355,9 @@ fn a_budget_too_small_for_the_chunks_falls_back() {
 
 /// Every OBJ model of the shared folder (corpus files included) agrees, or falls back.
 #[test]
+#[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn shared_objs_agree() {
-    let Some(shared) = crate::tests::shared("shared_objs_agree") else {
-        return;
-    };
+    let shared = crate::tests::shared("shared_objs_agree");
     let mut files = Vec::new();
     let mut dirs = vec![shared.join("models"), shared.join("corpus")];
     while let Some(dir) = dirs.pop() {
