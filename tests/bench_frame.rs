@@ -82,13 +82,21 @@ fn bench_frame_json_and_centre_pixel() {
     let ms = |k: &str| j[k].as_f64().unwrap_or_else(|| panic!("{k} is a number"));
     assert!(ms("min_ms") > 0.0 && ms("min_ms") <= ms("median_ms"));
     assert!(ms("median_ms") <= ms("max_ms"));
-    assert!(ms("read_ms") >= 0.0 && ms("frame_read_ms") >= ms("read_ms"));
-    for stage in ["setup", "vertex", "raster", "fill", "resolve", "total"] {
-        assert!(
-            j["stages_ms"][stage].as_f64().is_some_and(|v| v >= 0.0),
-            "stage {stage}"
-        );
-    }
+    assert!(ms("read_ms") > 0.0 && ms("frame_read_ms") >= ms("read_ms"));
+    // The stages are parts of the frame: their medians add up to about the median total
+    // (medians of parts need not add up exactly), which lies within the frames' range.
+    let stage = |k: &str| {
+        j["stages_ms"][k]
+            .as_f64()
+            .unwrap_or_else(|| panic!("stage {k} is a number"))
+    };
+    let total = stage("total");
+    assert!(ms("min_ms") <= total && total <= ms("max_ms"), "{j}");
+    let parts: f64 = ["setup", "vertex", "raster", "fill", "resolve"]
+        .iter()
+        .map(|k| stage(k))
+        .sum();
+    assert!(parts > 0.0 && parts <= total * 1.1 + 0.05, "{j}");
 
     let img = image::open(&png).expect("the PNG").to_rgba8();
     let _ = std::fs::remove_file(&png);
@@ -183,7 +191,7 @@ fn bench_micro_rows_cover_the_image_once() {
                 assert_eq!(shaded, w * h);
                 assert!(r["work"].as_str().unwrap().starts_with("1536 triangles"));
                 assert!(r["ns_per_triangle"].as_f64().unwrap() > 0.0);
-                assert_eq!(r["model_ns"], 15.0);
+                assert!(r["model_ns"].as_f64().unwrap() > 0.0, "{r}");
             }
             _ => {
                 assert_eq!(shaded, w * h, "{r}");
@@ -194,11 +202,21 @@ fn bench_micro_rows_cover_the_image_once() {
             }
         }
     }
-    let model: Vec<f64> = rows[1..5]
-        .iter()
-        .map(|r| r["model_ns"].as_f64().unwrap())
-        .collect();
-    assert_eq!(model, [1.0, 1.0, 3.0, 4.0]);
+    // The machine model's figures are the README's (not restated here): each shaded row
+    // but PBR has one, and its `times_model` is its time over it.
+    for r in &rows[1..5] {
+        let (model, ns) = (r["model_ns"].as_f64(), r["ns_per_pixel"].as_f64());
+        let (Some(model), Some(ns)) = (model, ns) else {
+            panic!("{r}: model_ns and ns_per_pixel are numbers");
+        };
+        let x = r["times_model"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{r}: times_model"));
+        assert!(
+            model > 0.0 && (x - ns / model).abs() <= 0.01 * x.max(1.0),
+            "{r}"
+        );
+    }
     assert!(rows[5]["model_ns"].is_null());
 }
 
