@@ -166,10 +166,10 @@ pub(crate) struct FillFns {
     forward: fn(&mut Tile, &Rows<'_>, &mut FillScratch, &dyn FragmentShader),
     resolve: fn(&mut Tile, &[Chunk], &dyn FragmentShader, &mut FillScratch),
     interp: InterpFn,
-    /// The tile's loop over its triangles ([`fill_tile`]), compiled per kernel too: its
+    /// The tile's loop over its triangles ([`fill_tile_k`]), compiled per kernel too: its
     /// per-triangle work (bounds, edge values at the tile, classification) is scalar, but
     /// with the kernel's BMI and VEX encodings.
-    tile: TileFn,
+    pub(crate) tile: TileFn,
 }
 
 type TileFn = fn(&FillFns, &mut Tile, usize, &[Chunk], &dyn FragmentShader, &mut FillScratch);
@@ -188,23 +188,11 @@ impl FillFns {
     }
 }
 
-/// Fills tile number `index` with its binned triangles of `chunks`, in order, shading with
-/// `shader`; counts into `n`. The triangles' coverage, depth and shading run in the
-/// kernel's functions `f`, one call per triangle (and per resolve); the loop itself in the
-/// kernel's copy of [`fill_tile_k`].
-pub(crate) fn fill_tile(
-    f: &FillFns,
-    tile: &mut Tile,
-    index: usize,
-    chunks: &[Chunk],
-    shader: &dyn FragmentShader,
-    n: &mut FillScratch,
-) {
-    (f.tile)(f, tile, index, chunks, shader, n);
-}
-
 crate::simd::per_kernel! {
-    /// [`fill_tile`]'s loop, one copy per kernel.
+    /// Fills tile number `index` with its binned triangles of `chunks`, in order, shading
+    /// with `shader`; counts into `n`. The triangles' coverage, depth and shading run in the
+    /// kernel's functions `f`, one call per triangle (and per resolve); this loop is one copy
+    /// per kernel too, called through `f.tile`.
     fn fill_tile_k<L>(f: &FillFns, tile: &mut Tile, index: usize, chunks: &[Chunk], shader: &dyn FragmentShader, n: &mut FillScratch) {
         fill_tile_body(f, tile, index, chunks, shader, n);
     }

@@ -8,7 +8,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
-use super::fill::{fill_tile, FillFns, FillScratch};
+use super::fill::{FillFns, FillScratch};
 use super::framebuffer::{Target, TILE};
 use super::setup::{
     project, project3, setup_projected, Corners, Reject, ScreenVert, SetupTri, Viewport,
@@ -839,7 +839,7 @@ pub(crate) fn flush(
             // The worker's counters, visibility buffer and batches: allocated once per
             // thread, not per frame (the renderer allocates nothing after its first frame).
             let mut run = |n: &mut FillScratch| {
-                fill_tile(&fns, tile, index, chunks, shader, n);
+                (fns.tile)(&fns, tile, index, chunks, shader, n);
                 (n.shaded, n.depth_rejected, n.calls)
             };
             let (shaded, rejected, calls) = FILL.with(|cell| match cell.try_borrow_mut() {
