@@ -229,3 +229,93 @@ fn bench_accuracy_measures_a_scene_file() {
     assert!(out.join("reference.png").is_file());
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// A value outside `n`'s range, as the command line and the file both write it.
+fn out_of_range(n: &realist::render::Numeric) -> f64 {
+    use realist::render::Range;
+    match n.range {
+        Range::Between(_, hi) => hi * 2.0 + 1.0,
+        Range::Whole(_, hi) => f64::from(hi) + 1.0,
+        Range::OneOf(set) => (1..)
+            .map(f64::from)
+            .find(|v| !set.iter().any(|&s| f64::from(s) == *v))
+            .unwrap(),
+    }
+}
+
+/// The scene file (as JSON) that sets `key` to `v` on the demo: a dotted key is a table's
+/// (`shadow.size` is `{"shadow": {"size": v}}`). A setting that lives in a part the file
+/// must also turn on (the fog's two distances, the bump map) gets that part's other key.
+fn scene_setting(key: &str, v: f64) -> serde_json::Value {
+    let mut doc = serde_json::json!({ "model": "demo" });
+    let (table, leaf) = match key.split_once('.') {
+        Some((t, l)) => (Some(t), l),
+        None => (None, key),
+    };
+    let target = match table {
+        Some(t) => &mut doc
+            .as_object_mut()
+            .unwrap()
+            .entry(t)
+            .or_insert(serde_json::json!({})),
+        None => &mut doc,
+    };
+    target[leaf] = if v.fract() == 0.0 {
+        serde_json::json!(v as i64)
+    } else {
+        serde_json::json!(v)
+    };
+    match key {
+        "fog.near" => target["far"] = serde_json::json!(1e7),
+        "fog.far" => target["near"] = serde_json::json!(0.0),
+        "bump_scale" => target["bump"] = serde_json::json!("noise"),
+        _ => {}
+    }
+    doc
+}
+
+#[test]
+fn every_numeric_setting_out_of_range_gives_one_message_from_the_command_line_and_both_file_formats(
+) {
+    let dir = std::env::temp_dir().join(format!("realist-numeric-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |args: &[String]| {
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .arg("render")
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert!(!r.status.success(), "{args:?} was accepted");
+        String::from_utf8_lossy(&r.stderr).into_owned()
+    };
+    let mut flags = 0;
+    for n in realist::render::NUMERIC {
+        let v = out_of_range(n);
+        let message = n.check(v).unwrap_err();
+        let key = n.key;
+        assert!(message.starts_with(&format!("{key} = ")), "{message}");
+        if let Some(args) = n.flag_args(&v.to_string()) {
+            let mut all = vec!["--demo".to_owned(), "-o".into(), "x.png".into()];
+            all.extend(args);
+            let e = run(&all);
+            assert!(
+                e.contains(&message),
+                "{key} on the command line: {e}\nwanted: {message}"
+            );
+            flags += 1;
+        }
+        let doc = scene_setting(key, v);
+        let json = dir.join("s.json");
+        std::fs::write(&json, serde_json::to_string(&doc).unwrap()).unwrap();
+        let toml_file = dir.join("s.toml");
+        std::fs::write(&toml_file, toml::to_string(&doc).unwrap()).unwrap();
+        for file in [json, toml_file] {
+            let e = run(&[file.display().to_string(), "-o".into(), "x.png".into()]);
+            let want = format!("{}: {message}", file.display());
+            assert!(e.contains(&want), "{key} in a file: {e}\nwanted: {want}");
+        }
+    }
+    assert!(flags >= 12, "only {flags} settings have a flag");
+    let _ = std::fs::remove_dir_all(&dir);
+}

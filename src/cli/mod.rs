@@ -166,20 +166,9 @@ pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// `--msaa`: a sample count the rasterizer supports.
+/// `--msaa`: a sample count the rasterizer supports ([`realist::render::NUMERIC`]'s `msaa`).
 pub(crate) fn parse_msaa(s: &str) -> Result<u32, String> {
-    let n: u32 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad sample count '{s}'"))?;
-    if realist::raster::SAMPLE_COUNTS.contains(&n) {
-        Ok(n)
-    } else {
-        Err(format!(
-            "{n} samples per pixel is not supported (choose from {:?})",
-            realist::raster::SAMPLE_COUNTS
-        ))
-    }
+    realist::render::numeric("msaa").parser_u32()(s)
 }
 
 impl NormalArgs {
@@ -287,6 +276,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool, paused: boo
         flat_last_vertex: false,
         msaa: Some(4),
         samples: None,
+        subpixel_bits: None,
         scene: None,
         point_size: None,
         line_width: None,

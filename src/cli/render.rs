@@ -9,10 +9,11 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 
 use realist::load::{self, LoadOptions};
+use realist::render::numeric;
 use realist::render::{default_camera, PreparedScene, Renderer, Settings, View};
 use realist::scene::{self, Camera, Scene, Slot, SlotOverride, TextureSource};
 use realist::scenefile::schema::{Kw, UvChoice};
-use realist::scenefile::{self, Format, SceneFile, MAX_SAMPLES};
+use realist::scenefile::{self, Format, SceneFile};
 use realist::shade::Shading;
 use realist::texture::Filter;
 
@@ -67,7 +68,8 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "IMG|noise:SCALE")]
     pub bump: Option<String>,
     /// The bump height, replacing the default of --bump's kind.
-    #[arg(long, value_name = "SCALE", requires = "bump")]
+    #[arg(long, value_name = "SCALE", requires = "bump", allow_hyphen_values = true,
+          value_parser = numeric("bump_scale").parser_f32())]
     pub bump_scale: Option<f32>,
     /// Whether the materials' normal maps are read (default on).
     #[arg(long, value_name = "on|off", value_parser = parse_on_off)]
@@ -102,19 +104,23 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_parser = parse_msaa)]
     pub msaa: Option<u32>,
     /// Supersampling: N x N jittered passes per pixel, averaged in linear light (1 to 8).
-    #[arg(long)]
+    #[arg(long, value_parser = numeric("samples").parser_u32())]
     pub samples: Option<u32>,
+    /// Sub-pixel bits of the vertex snap (0 to 8, default 8): fewer bits move vertices to
+    /// a coarser grid, the precision experiment of the rasterizer's fixed-point set-up.
+    #[arg(long, value_name = "BITS", value_parser = numeric("subpixel_bits").parser_u32())]
+    pub subpixel_bits: Option<u32>,
     /// Which scene of a glTF file to draw, 0-based in file order (`realist info` lists
     /// them). Default: the file's default scene, else its first.
     #[arg(long, value_name = "N", conflicts_with = "demo")]
     pub scene: Option<usize>,
     /// Size of points (glTF POINTS, OBJ `p`) in pixels of the image: a square centred on
     /// the pixel nearest the point (default 1, whole pixels up to 64).
-    #[arg(long, value_name = "PX")]
+    #[arg(long, value_name = "PX", value_parser = numeric("point_size").parser_f32())]
     pub point_size: Option<f32>,
     /// Width of lines (glTF LINES, LINE_LOOP, LINE_STRIP, OBJ `l`) in pixels of the image
     /// (default 1, whole pixels up to 64).
-    #[arg(long, value_name = "PX")]
+    #[arg(long, value_name = "PX", value_parser = numeric("line_width").parser_f32())]
     pub line_width: Option<f32>,
     #[command(flatten)]
     pub lighting: LightingArgs,
@@ -276,22 +282,16 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
         s.filter = args.filter;
     }
     if let Some(n) = args.samples {
-        if !(1..=MAX_SAMPLES).contains(&n) {
-            bail!("--samples {n}: expected 1 to {MAX_SAMPLES}");
-        }
         s.samples = n;
     }
-    for (flag, value, slot) in [
-        ("--point-size", args.point_size, &mut s.point_size),
-        ("--line-width", args.line_width, &mut s.line_width),
-    ] {
-        if let Some(px) = value {
-            let max = realist::raster::MAX_STROKE_PX;
-            if !(px.is_finite() && (1.0..=max).contains(&px)) {
-                bail!("{flag} {px}: expected pixels from 1 to {max}");
-            }
-            *slot = px;
-        }
+    if let Some(bits) = args.subpixel_bits {
+        s.subpixel_bits = bits as u8;
+    }
+    if let Some(px) = args.point_size {
+        s.point_size = px;
+    }
+    if let Some(px) = args.line_width {
+        s.line_width = px;
     }
     let image = |p: &std::path::Path, srgb: bool| load::load_image(p, srgb).map(Arc::new);
     if let Some(t) = &args.texture {
@@ -303,11 +303,7 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
     if let Some(b) = &args.bump {
         let (source, scale) = TextureSource::bump_from_spec(b, image)
             .map_err(|e| anyhow::anyhow!("--bump {b}: {e}"))?;
-        let scale = match args.bump_scale {
-            Some(x) if x.is_finite() => x,
-            Some(x) => bail!("--bump-scale {x}: expected a finite number"),
-            None => scale,
-        };
+        let scale = args.bump_scale.unwrap_or(scale);
         s.slots
             .set(Slot::Bump, Some(SlotOverride::source(source, scale)));
     }

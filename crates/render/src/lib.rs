@@ -34,6 +34,7 @@ use crate::scene::{Camera, Scene};
 use crate::shade::Shading;
 
 mod frame;
+mod numeric;
 mod passes;
 mod pool;
 mod prepare;
@@ -45,6 +46,7 @@ mod vertex;
 
 pub use frame::Policy;
 pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};
+pub use numeric::{numeric, Numeric, Range, NUMERIC};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};

@@ -62,19 +62,21 @@ pub(super) fn doc(
         size: Some([view.width, view.height]),
         camera: Some(camera(&view.camera)),
         shading: s.shading.map(Kw),
-        msaa: Some(s.msaa),
-        samples: Some(s.samples),
+        msaa: Some(s.msaa.into()),
+        samples: Some(s.samples.into()),
         background: Some(rgba(s.background)),
         double_sided: Some(s.double_sided),
         wireframe_overlay: Some(s.wireframe_overlay),
         vertex_blinn: s.vertex_lighting.blinn.then_some(true),
         flat_last_vertex: s.vertex_lighting.provoking_vertex.then_some(true),
         overdraw: Some(s.output == Output::Overdraw),
-        subpixel_bits: Some(u32::from(s.subpixel_bits)),
+        subpixel_bits: Some(u32::from(s.subpixel_bits).into()),
+        point_size: (s.point_size != 1.0).then(|| tidy(s.point_size)),
+        line_width: (s.line_width != 1.0).then(|| tidy(s.line_width)),
         filter: s.filter.map(Kw),
         tone: Some(Kw(s.tone)),
-        exposure: (s.exposure != 0.0).then_some(s.exposure),
-        env_background: s.env_background,
+        exposure: (s.exposure != 0.0).then(|| tidy(s.exposure)),
+        env_background: s.env_background.map(tidy),
         light_scale: (light_scale != 1.0).then(|| tidy(light_scale)),
         ..SceneDoc::default()
     };
@@ -92,10 +94,10 @@ pub(super) fn doc(
                 ));
             }
             if view.rotation_deg != crate::texture::env::DEFAULT_ROTATION_DEG {
-                d.env_rotate = Some(view.rotation_deg);
+                d.env_rotate = Some(tidy(view.rotation_deg));
             }
             if view.intensity != 1.0 {
-                d.env_intensity = Some(view.intensity);
+                d.env_intensity = Some(tidy(view.intensity));
             }
         }
     }
@@ -142,7 +144,7 @@ pub(super) fn doc(
                     }
                     _ => spec(source, &mut notes),
                 };
-                d.bump_scale = d.bump.as_ref().map(|_| *scale);
+                d.bump_scale = d.bump.as_ref().map(|_| tidy(*scale));
             }
             (Slot::Normal, SlotOverride::Off) => d.normal_map = Some(false),
             (slot, _) => notes.push(format!(
@@ -179,8 +181,8 @@ pub(super) fn doc(
         distance: Some(Kw(f.distance)),
     });
     d.shadow = Some(ShadowSpec {
-        size: Some(s.shadow.size),
-        pcf: Some(s.shadow.pcf),
+        size: Some(s.shadow.size.into()),
+        pcf: Some(s.shadow.pcf.into()),
         bias: Some(tidy(s.shadow.bias)),
         slope: Some(tidy(s.shadow.slope)),
         all_lights: None,

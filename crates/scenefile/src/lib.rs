@@ -54,7 +54,7 @@ pub use compare::RgbImage;
 pub use compare::{compose, Comparison, Variant};
 pub use convert::{orbit_camera, parse_light, LIGHT_SYNTAX};
 pub use schema::SceneDoc;
-pub use settings::{add_lights, shadow_every_light, MAX_GROUND_EXTENT, MAX_PCF, MAX_SAMPLES};
+pub use settings::{add_lights, shadow_every_light};
 
 /// Largest scene file read.
 pub const MAX_FILE_BYTES: u64 = 4 << 20;
@@ -91,6 +91,10 @@ pub enum SceneFileError {
         key: String,
         reason: String,
     },
+    /// A numeric setting is out of its range: the message is the setting's own
+    /// ([`crate::render::Numeric::check`]), the same as the command line's.
+    #[error("{path}: {message}")]
+    Setting { path: PathBuf, message: String },
     /// The model (or an image) could not be loaded; the message names that file.
     #[error("{path}: {source}")]
     Load { path: PathBuf, source: LoadError },
@@ -374,6 +378,16 @@ impl SceneFile {
             l.intensity *= scale;
         }
         Ok(scene)
+    }
+
+    /// The numeric setting `key` ([`crate::render::NUMERIC`]) checked: `v`, or its message.
+    pub(crate) fn number(&self, key: &str, v: f64) -> Result<f64, SceneFileError> {
+        crate::render::numeric(key)
+            .check(v)
+            .map_err(|message| SceneFileError::Setting {
+                path: self.path.clone(),
+                message,
+            })
     }
 
     /// An `Invalid` error for `key`.

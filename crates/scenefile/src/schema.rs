@@ -123,6 +123,35 @@ impl Keyword for UvChoice {
     }
 }
 
+/// A whole number in the file, read as any number so that a fraction or a value beyond
+/// `u32` gets the setting's own message ([`crate::render::Numeric::check`]) rather than
+/// a type error; written as an integer when it is one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Count(pub f64);
+
+impl From<u32> for Count {
+    fn from(n: u32) -> Self {
+        Count(f64::from(n))
+    }
+}
+
+impl Serialize for Count {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let v = self.0;
+        if v.fract() == 0.0 && v.abs() < 9.0e15 {
+            s.serialize_i64(v as i64)
+        } else {
+            s.serialize_f64(v)
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Count {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        f64::deserialize(d).map(Count)
+    }
+}
+
 /// Defines a keyword enum local to the file format.
 macro_rules! keywords {
     ($(#[$m:meta])* $name:ident { $($variant:ident = $word:literal),* $(,)? }) => {
@@ -237,9 +266,9 @@ pub struct SceneDoc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shading: Option<Kw<Shading>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub msaa: Option<u32>,
+    pub msaa: Option<Count>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub samples: Option<u32>,
+    pub samples: Option<Count>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub background: Option<Rgba>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -253,7 +282,11 @@ pub struct SceneDoc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub overdraw: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub subpixel_bits: Option<u32>,
+    pub subpixel_bits: Option<Count>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point_size: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub line_width: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub filter: Option<Kw<Filter>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -261,7 +294,7 @@ pub struct SceneDoc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bump: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bump_scale: Option<f32>,
+    pub bump_scale: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_map: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -269,17 +302,17 @@ pub struct SceneDoc {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tone: Option<Kw<ToneMap>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub exposure: Option<f32>,
+    pub exposure: Option<f64>,
     /// `none`, `studio`, `sky`, `uniform` or an equirectangular `.hdr` / `.exr` path.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub env: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub env_rotate: Option<f32>,
+    pub env_rotate: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub env_intensity: Option<f32>,
+    pub env_intensity: Option<f64>,
     /// The environment drawn as the background, blurred to this roughness (0 to 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub env_background: Option<f32>,
+    pub env_background: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lights: Option<Kw<LightsMode>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -450,9 +483,9 @@ pub struct FogSpec {
 #[serde(deny_unknown_fields)]
 pub struct ShadowSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub size: Option<u32>,
+    pub size: Option<Count>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pcf: Option<u32>,
+    pub pcf: Option<Count>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bias: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -504,7 +537,7 @@ pub struct VariantSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bump: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bump_scale: Option<f32>,
+    pub bump_scale: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uv: Option<Kw<UvChoice>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]

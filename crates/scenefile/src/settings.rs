@@ -8,14 +8,7 @@ use super::{
 };
 use crate::render::{Environment, Ground, Lights, Output, Settings, VertexLighting};
 use crate::scene::{Light, Scene, Slot, SlotOverride, SlotOverrides, TextureSource};
-use crate::shade::{Fog, ShadowSettings, MAX_SHADOW_SIZE};
-
-/// Largest PCF radius (`(2r + 1)²` taps per pixel and light).
-pub const MAX_PCF: u32 = 16;
-/// Largest supersampling factor (samples per pixel side).
-pub const MAX_SAMPLES: u32 = 8;
-/// Largest ground extent (multiples of the scene's radius).
-pub const MAX_GROUND_EXTENT: f64 = 1000.0;
+use crate::shade::{Fog, ShadowSettings};
 
 impl SceneFile {
     /// What the file draws, with a model path resolved against the file's folder.
@@ -54,13 +47,13 @@ impl SceneFile {
                     format!("{w}x{h}: each side must be 1 to {MAX_SIDE}"),
                 ));
             }
-            let px = u64::from(w) * u64::from(h) * u64::from(d.msaa.unwrap_or(1).max(1));
+            let px = u64::from(w) * u64::from(h) * d.msaa.map_or(1.0, |c| c.0).max(1.0) as u64;
             if px > MAX_PIXELS {
                 return Err(self.invalid(
                     "size",
                     format!(
                         "{w}x{h} with {}x multisampling is {px} samples; at most {MAX_PIXELS}",
-                        d.msaa.unwrap_or(1)
+                        d.msaa.map_or(1.0, |c| c.0)
                     ),
                 ));
             }
@@ -137,7 +130,7 @@ impl SceneFile {
         prefix: &str,
         texture: Option<&str>,
         bump: Option<&str>,
-        bump_scale: Option<f32>,
+        bump_scale: Option<f64>,
         slots: &mut SlotOverrides,
     ) -> Result<(), SceneFileError> {
         let key = |k: &str| format!("{prefix}{k}");
@@ -156,10 +149,11 @@ impl SceneFile {
                 TextureSource::bump_from_spec(b, |_, srgb| image(b, "bump", srgb))
                     .map_err(|e| self.invalid(key("bump"), e))?;
             let scale = match bump_scale {
-                Some(x) if x.is_finite() => x,
-                Some(x) => {
-                    return Err(self.invalid(key("bump_scale"), format!("{x} is not finite")))
-                }
+                Some(x) if prefix.is_empty() => self.number("bump_scale", x)? as f32,
+                Some(x) => crate::render::numeric("bump_scale")
+                    .check(x)
+                    .map_err(|m| self.invalid(key("bump_scale"), m))?
+                    as f32,
                 None => scale,
             };
             slots.set(Slot::Bump, Some(SlotOverride::source(source, scale)));
@@ -184,13 +178,7 @@ impl SceneFile {
             ..Settings::default()
         };
         if let Some(ev) = d.exposure {
-            if !(ev.is_finite() && ev.abs() <= 64.0) {
-                return Err(self.invalid(
-                    "exposure",
-                    format!("{ev} is not a number of stops from -64 to 64"),
-                ));
-            }
-            s.exposure = ev;
+            s.exposure = self.number("exposure", ev)? as f32;
         }
         if let Some(name) = &d.env {
             let builtin = matches!(name.as_str(), "none" | "off")
@@ -206,23 +194,26 @@ impl SceneFile {
                 s.environment = env;
             }
         }
-        if d.env_rotate.is_some() || d.env_intensity.is_some() {
-            let key = if d.env_rotate.is_some() {
+        let rotate = d
+            .env_rotate
+            .map(|v| self.number("env_rotate", v))
+            .transpose()?;
+        let intensity = d
+            .env_intensity
+            .map(|v| self.number("env_intensity", v))
+            .transpose()?;
+        if rotate.is_some() || intensity.is_some() {
+            let key = if rotate.is_some() {
                 "env_rotate"
             } else {
                 "env_intensity"
             };
             s.environment = std::mem::take(&mut s.environment)
-                .adjusted(d.env_rotate, d.env_intensity)
+                .adjusted(rotate.map(|v| v as f32), intensity.map(|v| v as f32))
                 .map_err(|e| self.invalid(key, e))?;
         }
         if let Some(b) = d.env_background {
-            if !(0.0..=1.0).contains(&b) {
-                return Err(
-                    self.invalid("env_background", format!("{b} is not a blur from 0 to 1"))
-                );
-            }
-            s.env_background = Some(b);
+            s.env_background = Some(self.number("env_background", b)? as f32);
         }
         if d.overdraw == Some(true) {
             s.output = Output::Overdraw;
@@ -231,31 +222,19 @@ impl SceneFile {
             s.background = color("background", b, 1.0, true).map_err(err)?;
         }
         if let Some(bits) = d.subpixel_bits {
-            let max = crate::raster::SUBPIXEL_BITS;
-            if bits > max {
-                return Err(self.invalid("subpixel_bits", format!("{bits} is above {max}")));
-            }
-            s.subpixel_bits = bits as u8;
+            s.subpixel_bits = self.number("subpixel_bits", bits.0)? as u8;
+        }
+        if let Some(px) = d.point_size {
+            s.point_size = self.number("point_size", px)? as f32;
+        }
+        if let Some(px) = d.line_width {
+            s.line_width = self.number("line_width", px)? as f32;
         }
         if let Some(n) = d.samples {
-            if !(1..=MAX_SAMPLES).contains(&n) {
-                return Err(
-                    self.invalid("samples", format!("{n} is not between 1 and {MAX_SAMPLES}"))
-                );
-            }
-            s.samples = n;
+            s.samples = self.number("samples", n.0)? as u32;
         }
         if let Some(n) = d.msaa {
-            if !crate::raster::SAMPLE_COUNTS.contains(&n) {
-                return Err(self.invalid(
-                    "msaa",
-                    format!(
-                        "{n} samples per pixel is not supported (choose from {:?})",
-                        crate::raster::SAMPLE_COUNTS
-                    ),
-                ));
-            }
-            s.msaa = n;
+            s.msaa = self.number("msaa", n.0)? as u32;
         }
         let load = |written: &str, key: &str| {
             convert::image(&self.resolve_path(written))
@@ -297,8 +276,8 @@ impl SceneFile {
         }
         if let Some(f) = &d.fog {
             let mut fog = Fog {
-                near: ranged("fog.near", f.near, 0.0, 1e7).map_err(err)?,
-                far: ranged("fog.far", f.far, 0.0, 1e7).map_err(err)?,
+                near: self.number("fog.near", f.near)? as f32,
+                far: self.number("fog.far", f.far)? as f32,
                 distance: f.distance.map_or_else(Default::default, |k| k.0),
                 ..Fog::default()
             };
@@ -315,28 +294,13 @@ impl SceneFile {
         }
         if let Some(sh) = &d.shadow {
             let dflt = ShadowSettings::default();
-            let size = sh.size.unwrap_or(dflt.size);
-            if !(16..=MAX_SHADOW_SIZE).contains(&size) {
-                return Err(self.invalid(
-                    "shadow.size",
-                    format!("{size} is not between 16 and {MAX_SHADOW_SIZE}"),
-                ));
-            }
-            let pcf = sh.pcf.unwrap_or(dflt.pcf);
-            if pcf > MAX_PCF {
-                return Err(self.invalid("shadow.pcf", format!("{pcf} is above {MAX_PCF}")));
-            }
+            let number =
+                |key: &str, v: Option<f64>, dflt: f64| v.map_or(Ok(dflt), |v| self.number(key, v));
             s.shadow = ShadowSettings {
-                size,
-                pcf,
-                bias: sh
-                    .bias
-                    .map_or(Ok(dflt.bias), |b| ranged("shadow.bias", b, 0.0, 1e4))
-                    .map_err(err)?,
-                slope: sh
-                    .slope
-                    .map_or(Ok(dflt.slope), |b| ranged("shadow.slope", b, 0.0, 1e4))
-                    .map_err(err)?,
+                size: number("shadow.size", sh.size.map(|c| c.0), f64::from(dflt.size))? as u32,
+                pcf: number("shadow.pcf", sh.pcf.map(|c| c.0), f64::from(dflt.pcf))? as u32,
+                bias: number("shadow.bias", sh.bias, f64::from(dflt.bias))? as f32,
+                slope: number("shadow.slope", sh.slope, f64::from(dflt.slope))? as f32,
             };
         }
         if let Some(g) = &d.ground {
@@ -349,16 +313,11 @@ impl SceneFile {
                         color("ground.color", c, 1.0, false).map(|c| c.truncate())
                     })
                     .map_err(err)?,
-                extent: g
-                    .extent
-                    .map_or(Ok(dflt.extent), |e| {
-                        ranged("ground.extent", e, 0.0, MAX_GROUND_EXTENT)
-                    })
-                    .map_err(err)?,
+                extent: match g.extent {
+                    Some(e) => self.number("ground.extent", e)? as f32,
+                    None => dflt.extent,
+                },
             };
-            if ground.extent <= 0.0 {
-                return Err(self.invalid("ground.extent", "must be above 0"));
-            }
             s.ground = g.on.unwrap_or(true).then_some(ground);
         }
         Ok(s)

@@ -9,7 +9,7 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use crate::render::{Lights, Settings};
+use crate::render::{Lights, Settings, NUMERIC};
 use crate::scene::{AlphaMode, Attenuation, Light, Material};
 
 /// What NaN becomes for the comparison: a subnormal no widget produces.
@@ -69,6 +69,12 @@ fn material(m: &mut Material) {
     if let AlphaMode::Mask(c) = &mut m.alpha_mode {
         f(c);
     }
+    if let Some(p) = &mut m.pbr {
+        f(&mut p.ior);
+        f(&mut p.specular);
+        v3(&mut p.specular_color);
+        f(&mut p.emissive_strength);
+    }
 }
 
 /// `s` with every NaN the viewer can hold replaced by [`NAN_STANDS_FOR`].
@@ -84,17 +90,17 @@ pub fn canonical(s: &Settings) -> Settings {
     }
     if let Some(fog) = &mut s.fog {
         v3(&mut fog.color);
-        f(&mut fog.near);
-        f(&mut fog.far);
     }
     if let Some(g) = &mut s.ground {
         v3(&mut g.color);
-        f(&mut g.extent);
     }
-    f(&mut s.shadow.bias);
-    f(&mut s.shadow.slope);
-    f(&mut s.point_size);
-    f(&mut s.line_width);
+    // Every numeric setting, from its one description (exposure, the environment's turn
+    // and strength, the fog's distances, ...).
+    for n in NUMERIC {
+        if (n.get)(&s).is_some_and(f64::is_nan) {
+            (n.set)(&mut s, f64::from(NAN_STANDS_FOR));
+        }
+    }
     s
 }
 
@@ -102,4 +108,69 @@ pub fn canonical(s: &Settings) -> Settings {
 #[must_use]
 pub fn same(a: &Settings, b: &Settings) -> bool {
     a == b || canonical(a) == canonical(b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::{Environment, Ground};
+    use crate::scene::{PbrMaterial, Slot, SlotOverride, TextureSource};
+
+    /// Settings in which every numeric setting is present (fog, ground, an environment, a
+    /// bump override, a blurred background).
+    fn full() -> Settings {
+        let mut s = Settings {
+            fog: Some(crate::shade::Fog::default()),
+            ground: Some(Ground::default()),
+            env_background: Some(0.5),
+            environment: Environment::On(crate::texture::env::EnvView::new(
+                Environment::builtin("uniform").unwrap(),
+            )),
+            ..Settings::default()
+        };
+        let noise =
+            TextureSource::bump_from_spec("noise", |_, _| Err::<_, String>("no image".into()))
+                .unwrap()
+                .0;
+        s.slots
+            .set(Slot::Bump, Some(SlotOverride::source(noise, 0.1)));
+        s
+    }
+
+    #[test]
+    fn a_nan_in_any_numeric_setting_matches_itself_and_nothing_else() {
+        for n in NUMERIC {
+            let mut a = full();
+            assert!(
+                (n.get)(&a).is_some(),
+                "{}: not present in the test settings",
+                n.key
+            );
+            (n.set)(&mut a, f64::NAN);
+            if !(n.get)(&a).is_some_and(f64::is_nan) {
+                continue; // a whole number: cannot hold a NaN
+            }
+            assert!(same(&a, &a.clone()), "{}: NaN against itself", n.key);
+            assert!(!same(&a, &full()), "{}: NaN against the default", n.key);
+        }
+    }
+
+    #[test]
+    fn a_nan_in_a_pbr_material_float_matches_itself() {
+        let mut m = Material::default();
+        m.pbr = Some(PbrMaterial::default());
+        let mut s = Settings::default();
+        for k in 0..4 {
+            let mut m = m.clone();
+            let p = m.pbr.as_mut().unwrap();
+            match k {
+                0 => p.ior = f32::NAN,
+                1 => p.specular = f32::NAN,
+                2 => p.specular_color.y = f32::NAN,
+                _ => p.emissive_strength = f32::NAN,
+            }
+            s.materials = Some(vec![m]);
+            assert!(same(&s, &s.clone()), "field {k}");
+        }
+    }
 }
