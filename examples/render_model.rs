@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 
 use realist::load::{self, LoadOptions};
-use realist::render::{self, PreparedScene, RenderOptions};
+use realist::render::{self, PreparedScene, Settings, Shot};
 use realist::scene;
 use realist::shade::Shading;
 
@@ -23,11 +23,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Triangulate once, render many times.
     let prepared = PreparedScene::new(scene);
     for mode in Shading::ALL {
-        let opts = RenderOptions {
+        let opts = Shot {
             width: 640,
             height: 360,
-            shading: Some(mode),
-            ..RenderOptions::default()
+            settings: Settings {
+                shading: Some(mode),
+                ..Settings::default()
+            },
+            ..Shot::default()
         };
         let frame = render::render(&prepared, &opts);
         let path = out.join(format!("{mode}.png"));

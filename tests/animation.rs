@@ -21,7 +21,7 @@ use std::path::PathBuf;
 use base64::Engine;
 use glam::{Quat, Vec3};
 use realist::load::{load, LoadOptions};
-use realist::render::{PreparedScene, RenderOptions, Renderer};
+use realist::render::{PreparedScene, Renderer, Settings, Shot};
 use realist::scene::{Camera, Play};
 
 /// The Khronos sample `name` in the shared test data (for tests marked as needing it).
@@ -199,7 +199,7 @@ fn goldens(name: &str, elevation: f32, times: &[f32]) {
         (lo, hi) = (lo.min(a), hi.max(b));
     }
     let (w, h) = (160, 120);
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
         camera: Some(Camera::frame_box(
@@ -209,10 +209,13 @@ fn goldens(name: &str, elevation: f32, times: &[f32]) {
             20.0,
             elevation,
         )),
-        double_sided: true,
-        ..RenderOptions::default()
+        settings: Settings {
+            double_sided: true,
+            ..Settings::default()
+        },
     };
-    let (settings, view) = (opts.settings(), opts.view(p.scene()));
+    let view = opts.view(p.scene());
+    let settings = opts.settings;
     for &t in times {
         p.pose_at(Play::All, t, true);
         let mut r = Renderer::new();

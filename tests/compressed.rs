@@ -32,7 +32,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use realist::load::{load, LoadError, LoadOptions};
-use realist::render::{PreparedScene, RenderOptions};
+use realist::render::{PreparedScene, Settings, Shot};
 use realist::scene::{Play, Scene};
 use realist::shade::Shading;
 
@@ -58,13 +58,16 @@ fn load_clean(rel: &str) -> Scene {
 /// Renders `scene` posed at `t` (if any) with the default camera of `framing`, in the
 /// scene's own shading or in `shading`.
 fn render(scene: &Scene, framing: &Scene, t: Option<f32>, shading: Option<Shading>) -> Vec<u8> {
-    let framed = RenderOptions {
+    let framed = Shot {
         width: SIZE,
         height: SIZE,
-        shading,
-        ..RenderOptions::default()
+        settings: Settings {
+            shading,
+            ..Settings::default()
+        },
+        ..Shot::default()
     };
-    let opts = RenderOptions {
+    let opts = Shot {
         camera: Some(framed.view(framing).camera),
         ..framed
     };
@@ -78,7 +81,7 @@ fn render(scene: &Scene, framing: &Scene, t: Option<f32>, shading: Option<Shadin
         .expect("pool");
     pool.install(|| {
         let mut renderer = realist::render::Renderer::new();
-        renderer.render(&prepared, &opts.settings(), &opts.view(prepared.scene()));
+        renderer.render(&prepared, &opts.settings, &opts.view(prepared.scene()));
         let fb = renderer.take_target().expect("a frame").resolve();
         common::assert_finite(&fb, "compressed");
         fb.to_srgb8()

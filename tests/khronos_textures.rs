@@ -32,7 +32,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use realist::load::{load, LoadOptions};
 use realist::raster::Framebuffer;
-use realist::render::{render, Lights, PreparedScene, RenderOptions};
+use realist::render::{render, Lights, PreparedScene, Settings, Shot};
 use realist::scene::{Camera, Light, Scene, Slot};
 use realist::shade::Shading;
 use realist::texture::{Filter, Texture, Wrap};
@@ -95,16 +95,18 @@ fn nearest(mut scene: Scene) -> Scene {
 }
 
 fn draw(scene: &Scene, camera: &Camera, w: u32, h: u32) -> Framebuffer {
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
         camera: Some(camera.clone()),
-        shading: Some(Shading::Textured),
-        lights: Lights::Custom {
-            lights: vec![Light::ambient(Vec3::ONE)],
-            follow_camera: false,
+        settings: Settings {
+            shading: Some(Shading::Textured),
+            lights: Lights::Custom {
+                lights: vec![Light::ambient(Vec3::ONE)],
+                follow_camera: false,
+            },
+            ..Settings::default()
         },
-        ..RenderOptions::default()
     };
     render(&PreparedScene::new(scene.clone()), &opts).image()
 }

@@ -659,7 +659,7 @@ fn lights_that_cannot_reach_an_object_are_skipped_and_counted() {
 #[cfg_attr(not(realist_shared), ignore = "needs REALIST_SHARED")]
 fn shared_model_under_every_light_type_and_fog_agrees_with_the_f64_reference() {
     use realist::quality::{compare, general, LinearImage};
-    use realist::render::{default_camera, render, RenderOptions};
+    use realist::render::{default_camera, render, Shot};
     let dir = realist_testkit::shared("the shared-model reference test");
     let path = dir.join("models/obj/teapot.obj");
     let scene = realist::load::load(&path, &realist::load::LoadOptions::default())
@@ -700,20 +700,22 @@ fn shared_model_under_every_light_type_and_fog_agrees_with_the_f64_reference() {
         far: (camera.eye - c).length() + 1.5 * r,
         distance: FogDistance::Euclidean,
     };
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
-        shading: Some(Shading::Phong),
         camera: Some(camera),
-        background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-        lights: Lights::Custom {
-            lights,
-            follow_camera: false,
+        settings: Settings {
+            shading: Some(Shading::Phong),
+            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            lights: Lights::Custom {
+                lights,
+                follow_camera: false,
+            },
+            fog: Some(fog),
+            ..Settings::default()
         },
-        fog: Some(fog),
-        ..RenderOptions::default()
     };
-    let big = RenderOptions {
+    let big = Shot {
         width: w * ss,
         height: h * ss,
         ..opts.clone()
@@ -722,8 +724,11 @@ fn shared_model_under_every_light_type_and_fog_agrees_with_the_f64_reference() {
     let ras = LinearImage::from_framebuffer(&frame.image()).downsample(ss);
     let reference = general::reference(&scene, &opts, ss, false).expect("reference");
     let same = compare(&ras, &reference, 1.0);
-    let unfogged = RenderOptions {
-        fog: None,
+    let unfogged = Shot {
+        settings: Settings {
+            fog: None,
+            ..opts.clone().settings
+        },
         ..opts.clone()
     };
     let no_fog = compare(
@@ -749,16 +754,19 @@ fn shared_model_under_every_light_type_and_fog_agrees_with_the_f64_reference() {
     assert!(no_fog.mean_de2000 > 0.25, "{no_fog:?}");
     assert!(blinn.mean_de2000 > 0.05, "{blinn:?}");
     // Every light shows: the reference without it differs.
-    let Lights::Custom { lights, .. } = &opts.lights else {
+    let Lights::Custom { lights, .. } = &opts.settings.lights else {
         unreachable!()
     };
     for k in 1..lights.len() {
         let mut fewer = lights.clone();
         let gone = fewer.remove(k);
-        let without = RenderOptions {
-            lights: Lights::Custom {
-                lights: fewer,
-                follow_camera: false,
+        let without = Shot {
+            settings: Settings {
+                lights: Lights::Custom {
+                    lights: fewer,
+                    follow_camera: false,
+                },
+                ..opts.clone().settings
             },
             ..opts.clone()
         };

@@ -10,7 +10,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use realist::load::{load, LoadError, LoadOptions};
-use realist::render::{PreparedScene, RenderOptions};
+use realist::render::{PreparedScene, Settings, Shot};
 use realist::shade::Shading;
 
 /// xorshift64*: small, deterministic, good enough to pick mutations.
@@ -118,11 +118,14 @@ fn run(path: &Path, tally: &mut Tally, what: &str) {
         Ok(scene) => {
             let prepared = PreparedScene::new(scene);
             for mode in [Shading::Phong, Shading::Wireframe] {
-                let opts = RenderOptions {
+                let opts = Shot {
                     width: 24,
                     height: 16,
-                    shading: Some(mode),
-                    ..RenderOptions::default()
+                    settings: Settings {
+                        shading: Some(mode),
+                        ..Settings::default()
+                    },
+                    ..Shot::default()
                 };
                 let fb = realist::render::render(&prepared, &opts).image();
                 assert!(

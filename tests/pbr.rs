@@ -12,7 +12,7 @@ use std::sync::Arc;
 use glam::{DVec3, Vec3, Vec4};
 use realist::color::srgb_decode;
 use realist::quality::{compare, general, LinearImage};
-use realist::render::{render, Environment, Lights, PreparedScene, RenderOptions};
+use realist::render::{render, Environment, Lights, PreparedScene, Settings, Shot};
 use realist::scene::{Camera, Light, Scene};
 use realist::shade::brdf;
 use realist::shade::{PbrParams, Shading, Surface};
@@ -32,25 +32,27 @@ fn model(name: &str) -> Scene {
 }
 
 /// `lights` only (none: an empty list), black background, the mode the file asks for.
-fn options(w: u32, h: u32, camera: Camera, lights: Vec<Light>) -> RenderOptions {
-    RenderOptions {
+fn options(w: u32, h: u32, camera: Camera, lights: Vec<Light>) -> Shot {
+    Shot {
         width: w,
         height: h,
-        shading: None,
         camera: Some(camera),
-        background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-        lights: Lights::Custom {
-            lights,
-            follow_camera: false,
+        settings: Settings {
+            shading: None,
+            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            lights: Lights::Custom {
+                lights,
+                follow_camera: false,
+            },
+            environment: Environment::Off,
+            ..Settings::default()
         },
-        environment: Environment::Off,
-        ..RenderOptions::default()
     }
 }
 
 /// The renderer's image at `SS` x the size, averaged down, in linear light.
-fn rendered(scene: &Scene, opts: &RenderOptions) -> LinearImage {
-    let big = RenderOptions {
+fn rendered(scene: &Scene, opts: &Shot) -> LinearImage {
+    let big = Shot {
         width: opts.width * SS,
         height: opts.height * SS,
         ..opts.clone()
@@ -106,8 +108,11 @@ fn glb_materials_open_in_pbr_with_their_factors() {
     // No mode forced: the frame is drawn in pbr (its metal column differs from Phong's).
     let opts = options(40, 40, grid_camera(), grid_lights());
     let auto = render(&PreparedScene::new(scene.clone()), &opts).image();
-    let forced = RenderOptions {
-        shading: Some(Shading::Pbr),
+    let forced = Shot {
+        settings: Settings {
+            shading: Some(Shading::Pbr),
+            ..opts.clone().settings
+        },
         ..opts.clone()
     };
     let pbr = render(&PreparedScene::new(scene.clone()), &forced).image();
@@ -127,8 +132,11 @@ fn sphere_grid_matches_the_f64_reference_under_a_directional_light() {
     let ras = rendered(&scene, &opts);
     let reference = general::reference(&scene, &opts, SS, true).expect("reference");
     let same = compare(&ras, &reference, 1.0);
-    let blinn = RenderOptions {
-        shading: Some(Shading::Blinn),
+    let blinn = Shot {
+        settings: Settings {
+            shading: Some(Shading::Blinn),
+            ..opts.clone().settings
+        },
         ..opts.clone()
     };
     let other = compare(&rendered(&scene, &blinn), &reference, 1.0);
@@ -176,8 +184,11 @@ fn hdr_environment() -> EnvView {
 /// no prefiltering, table or SH): the mean ΔE00 and the 95th percentile.
 fn grid_under(env: EnvView) -> (f64, f64) {
     let scene = model("sphere-grid.glb");
-    let opts = RenderOptions {
-        environment: Environment::On(env),
+    let opts = Shot {
+        settings: Settings {
+            environment: Environment::On(env),
+            ..options(120, 120, grid_camera(), vec![]).settings
+        },
         ..options(120, 120, grid_camera(), vec![])
     };
     let ras = rendered(&scene, &opts);
@@ -237,9 +248,12 @@ fn sphere_grid_matches_the_reference_under_an_hdr_environment() {
 fn the_metal_column_is_not_black() {
     let scene = model("sphere-grid.glb");
     let n = 100;
-    let opts = RenderOptions {
-        lights: Lights::Auto,
-        environment: Environment::Auto,
+    let opts = Shot {
+        settings: Settings {
+            lights: Lights::Auto,
+            environment: Environment::Auto,
+            ..options(n, n, grid_camera(), vec![]).settings
+        },
         ..options(n, n, grid_camera(), vec![])
     };
     let frame = render(&PreparedScene::new(scene), &opts).image();
@@ -435,8 +449,11 @@ fn white_furnace() {
     let n = 100;
     // One stop down, so a sphere reflecting more than it receives is not hidden by the
     // clamp at 1 of the default tone map: every sphere must read 0.5.
-    let opts = RenderOptions {
-        exposure: -1.0,
+    let opts = Shot {
+        settings: Settings {
+            exposure: -1.0,
+            ..options(n, n, grid_camera(), vec![Light::ambient(Vec3::ONE)]).settings
+        },
         ..options(n, n, grid_camera(), vec![Light::ambient(Vec3::ONE)])
     };
     let frame = render(&PreparedScene::new(scene), &opts).image();

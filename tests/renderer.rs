@@ -12,9 +12,7 @@ use realist::quality::metrics::compare;
 use realist::quality::sphere::SphereSetup;
 use realist::quality::LinearImage;
 use realist::raster::Target;
-use realist::render::{
-    self, Interrupted, Output, PreparedScene, RenderOptions, Renderer, Settings, View,
-};
+use realist::render::{self, Interrupted, Output, PreparedScene, Renderer, Settings, Shot, View};
 use realist::scene::{self, Camera, Instance, Light, Material, Scene, Style};
 use realist::shade::Shading;
 
@@ -63,13 +61,15 @@ fn jittered_supersampling_matches_a_larger_render_box_filtered() {
         let jittered = linear(r.target().expect("frame"));
         let big = render::render(
             &scene,
-            &RenderOptions {
+            &Shot {
                 width: W * n,
                 height: H * n,
-                shading: Some(Shading::Phong),
                 camera: Some(setup.camera.clone()),
-                background: black,
-                ..RenderOptions::default()
+                settings: Settings {
+                    shading: Some(Shading::Phong),
+                    background: black,
+                    ..Settings::default()
+                },
             },
         );
         let boxed = LinearImage::from_framebuffer(&big.image()).downsample(n);

@@ -6,7 +6,7 @@ mod common;
 use common::{assert_finite, covered, render, render_with, scene_of, triangles};
 use glam::{Vec3, Vec4};
 use realist::mesh::Mesh;
-use realist::render::RenderOptions;
+use realist::render::{Settings, Shot};
 use realist::scene::{self, Camera, Material};
 use realist::shade::Shading;
 
@@ -32,12 +32,14 @@ fn one_and_two_threads_are_bit_identical() {
         Some(Shading::Flat),
         Some(Shading::Wireframe),
     ] {
-        let opts = RenderOptions {
+        let opts = Shot {
             width: 333,
             height: 201,
-            shading: mode,
             camera: demo.cameras.first().cloned(),
-            ..RenderOptions::default()
+            settings: Settings {
+                shading: mode,
+                ..Settings::default()
+            },
         };
         let (a, sa) = render_with(&demo, &opts, 1);
         let (b, sb) = render_with(&demo, &opts, 2);
@@ -86,7 +88,7 @@ fn floor_crossing_the_near_plane_renders_below_the_horizon() {
     let (w, h) = (160u32, 120u32);
     let fb = render(&scene, w, h, Some(Shading::Flat), Some(cam));
     assert_finite(&fb, "floor");
-    let bg = RenderOptions::default().background;
+    let bg = Shot::default().settings.background;
     for y in 0..h {
         let row: Vec<bool> = (0..w).map(|x| fb.pixel(x, y) != bg).collect();
         // The horizon is at the image centre; the floor recedes to it, so rows just below the
@@ -272,12 +274,14 @@ fn sheared_instance_at_the_view_edge_is_not_culled() {
         scene.instances[0].world = glam::Mat4::from_translation(Vec3::new(x, 0.0, 0.0))
             * glam::Mat4::from_scale(Vec3::new(10.0, 1.0, 1.0))
             * glam::Mat4::from_rotation_z(std::f32::consts::FRAC_PI_4);
-        let opts = RenderOptions {
+        let opts = Shot {
             width: 64,
             height: 64,
-            shading: Some(Shading::Flat),
             camera: Some(cam.clone()),
-            ..RenderOptions::default()
+            settings: Settings {
+                shading: Some(Shading::Flat),
+                ..Settings::default()
+            },
         };
         let (_, stats) = common::render_with(&scene, &opts, 2);
         // Exact visibility: does any transformed corner project inside the view?

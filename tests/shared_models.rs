@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use realist::load::{load, load_texture, LoadOptions};
-use realist::render::{PreparedScene, RenderOptions};
+use realist::render::{PreparedScene, Settings, Shot};
 use realist::shade::Shading;
 
 /// `$REALIST_SHARED/models` (for tests marked as needing it).
@@ -55,11 +55,14 @@ fn every_model_renders_in_every_mode() {
         let scene = load(path, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
         let prepared = PreparedScene::new(scene);
         for mode in Shading::ALL {
-            let opts = RenderOptions {
+            let opts = Shot {
                 width: 96,
                 height: 72,
-                shading: Some(mode),
-                ..RenderOptions::default()
+                settings: Settings {
+                    shading: Some(mode),
+                    ..Settings::default()
+                },
+                ..Shot::default()
             };
             let fb = realist::render::render(&prepared, &opts).image();
             let what = format!("{} {mode}", path.display());
@@ -119,12 +122,15 @@ fn spot_shows_its_texture() {
                 realist::scene::SlotOverride::source(realist::scene::TextureSource::Image(t), 1.0)
             }),
         );
-        let opts = RenderOptions {
+        let opts = Shot {
             width: 160,
             height: 120,
-            shading: Some(Shading::Textured),
-            slots,
-            ..RenderOptions::default()
+            settings: Settings {
+                shading: Some(Shading::Textured),
+                slots,
+                ..Settings::default()
+            },
+            ..Shot::default()
         };
         realist::render::render(&prepared, &opts).image()
     };
@@ -132,7 +138,7 @@ fn spot_shows_its_texture() {
     let textured = render(Some(texture));
     // Spot's black patches: pixels much darker than anything the untextured render has on
     // the cow, and a warm (red > blue) muzzle/horn colour.
-    let bg = RenderOptions::default().background;
+    let bg = Shot::default().settings.background;
     let dark = |fb: &realist::raster::Framebuffer| {
         fb.color
             .iter()

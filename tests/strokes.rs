@@ -22,7 +22,7 @@ use std::path::PathBuf;
 use glam::{Mat4, Vec3, Vec4};
 use realist::load::{load, LoadError, LoadOptions};
 use realist::mesh::{Mesh, MeshData, NormalPolicy};
-use realist::render::{PreparedScene, RenderOptions, Renderer};
+use realist::render::{PreparedScene, Renderer, Settings, Shot};
 use realist::scene::{Camera, Instance, Material, Scene, Style};
 
 /// Golden images with points, lines and PBR-shaded triangles: coverage is exact; shading
@@ -44,16 +44,18 @@ fn khronos(name: &str) -> PathBuf {
 fn front(scene: Scene, w: u32, h: u32, point: f32, line: f32) -> realist::raster::Framebuffer {
     let p = PreparedScene::new(scene);
     let (lo, hi) = p.bounds().expect("bounds");
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
         camera: Some(Camera::frame_box(lo, hi, w as f32 / h as f32, 0.0, 0.0)),
-        point_size: point,
-        line_width: line,
-        ..RenderOptions::default()
+        settings: Settings {
+            point_size: point,
+            line_width: line,
+            ..Settings::default()
+        },
     };
     let mut r = Renderer::new();
-    r.render(&p, &opts.settings(), &opts.view(p.scene()));
+    r.render(&p, &opts.settings, &opts.view(p.scene()));
     r.take_target().expect("a frame").resolve()
 }
 
@@ -213,11 +215,11 @@ fn a_line_behind_a_triangle_is_hidden() {
         vec![0, 1, 2, 0, 2, 3],
     );
     let render = |s: &Scene| {
-        let opts = RenderOptions {
+        let opts = Shot {
             width: 96,
             height: 64,
             camera: Some(camera()),
-            ..RenderOptions::default()
+            ..Shot::default()
         };
         common::render_with(s, &opts, 2).0
     };
@@ -271,13 +273,15 @@ fn one_and_two_threads_draw_the_same_points_and_lines() {
         meshes,
         &[Vec4::new(0.9, 0.8, 0.1, 1.0), Vec4::new(0.2, 0.4, 0.9, 1.0)],
     );
-    let opts = RenderOptions {
+    let opts = Shot {
         width: 200,
         height: 150,
         camera: Some(camera()),
-        point_size: 3.0,
-        line_width: 2.0,
-        ..RenderOptions::default()
+        settings: Settings {
+            point_size: 3.0,
+            line_width: 2.0,
+            ..Settings::default()
+        },
     };
     let (one, stats) = common::render_with(&s, &opts, 1);
     let (two, _) = common::render_with(&s, &opts, 2);
@@ -318,10 +322,10 @@ fn obj_points_and_lines_load_and_draw() {
         (lo, hi),
         (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0))
     );
-    let opts = RenderOptions {
+    let opts = Shot {
         width: 64,
         height: 64,
-        ..RenderOptions::default()
+        ..Shot::default()
     };
     let (fb, stats) = common::render_with(&scene, &opts, 2);
     assert_eq!((stats.lines_drawn, stats.points_drawn), (4, 2));

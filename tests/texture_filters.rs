@@ -20,7 +20,7 @@ use common::{check_golden, Tolerance};
 use glam::{Vec2, Vec3, Vec4};
 use realist::color::{delta_e_2000, xyz_to_lab, RgbSpace};
 use realist::raster::Framebuffer;
-use realist::render::RenderOptions;
+use realist::render::{Settings, Shot};
 use realist::scene::{Camera, Scene};
 use realist::shade::Shading;
 use realist::texture::{Filter, Sampler, Texture, Wrap};
@@ -38,13 +38,15 @@ const FILTERED: Tolerance = Tolerance {
 const BACKGROUND: Vec4 = Vec4::new(1.0, 0.0, 1.0, 1.0);
 
 fn render(scene: &Scene, w: u32, h: u32, camera: Camera) -> Framebuffer {
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
-        shading: Some(Shading::Textured),
         camera: Some(camera),
-        background: BACKGROUND,
-        ..RenderOptions::default()
+        settings: Settings {
+            shading: Some(Shading::Textured),
+            background: BACKGROUND,
+            ..Settings::default()
+        },
     };
     let fb = common::render_with(scene, &opts, 2).0;
     common::assert_finite(&fb, "texture filters");

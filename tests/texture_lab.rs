@@ -11,7 +11,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use realist::mesh::Mesh;
 use realist::quality::{compare, general, LinearImage};
-use realist::render::{render, Lights, PreparedScene, RenderOptions};
+use realist::render::{render, Lights, PreparedScene, Settings, Shot};
 use realist::scene::{
     Camera, Light, Material, Scene, Slot, SlotOverride, SlotOverrides, TextureSource,
 };
@@ -74,11 +74,10 @@ fn bumps() -> Arc<Texture> {
     Arc::new(Texture::from_texels("bumps", n, n, Texels::Linear16(texels)).expect("texture"))
 }
 
-fn options(slots: SlotOverrides, shading: Shading, w: u32, h: u32) -> RenderOptions {
-    RenderOptions {
+fn options(slots: SlotOverrides, shading: Shading, w: u32, h: u32) -> Shot {
+    Shot {
         width: w,
         height: h,
-        shading: Some(shading),
         camera: Some(Camera {
             eye: Vec3::new(0.0, 1.6, 1.9),
             target: Vec3::new(0.0, 0.0, 0.1),
@@ -86,16 +85,19 @@ fn options(slots: SlotOverrides, shading: Shading, w: u32, h: u32) -> RenderOpti
             far: 20.0,
             ..Camera::default()
         }),
-        background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-        slots,
-        lights: Lights::Auto,
-        ..RenderOptions::default()
+        settings: Settings {
+            shading: Some(shading),
+            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            slots,
+            lights: Lights::Auto,
+            ..Settings::default()
+        },
     }
 }
 
 /// The renderer's image at `SS` x the size, averaged down, in linear light.
-fn rendered(scene: &Scene, opts: &RenderOptions) -> LinearImage {
-    let big = RenderOptions {
+fn rendered(scene: &Scene, opts: &Shot) -> LinearImage {
+    let big = Shot {
         width: opts.width * SS,
         height: opts.height * SS,
         ..opts.clone()
@@ -198,7 +200,7 @@ fn normal_maps_on_a_mesh_without_tangents_take_their_frame_from_the_uvs() {
 /// `models/texture/normal-plane.glb` (tangent-space bumps with the normal scale 1 and 0.5,
 /// the file's MikkTSpace tangents, or none if `strip`), matte, under a light 10° above
 /// the planes, and the options that render it.
-fn normal_planes(strip: bool) -> (Scene, RenderOptions) {
+fn normal_planes(strip: bool) -> (Scene, Shot) {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/texture/normal-plane.glb");
     let mut scene = realist::load::load(&path, &realist::load::LoadOptions::default())
@@ -224,7 +226,7 @@ fn normal_planes(strip: bool) -> (Scene, RenderOptions) {
         Light::directional(travel.normalize(), Vec3::ONE),
         Light::ambient(Vec3::splat(0.05)),
     ];
-    let opts = RenderOptions {
+    let opts = Shot {
         camera: None,
         ..options(SlotOverrides::default(), Shading::Textured, 128, 64)
     };
@@ -240,8 +242,11 @@ fn normal_planes_agree(what: &str, strip: bool) -> LinearImage {
     let same = compare(&ras, &reference, 1.0);
     let mut off = SlotOverrides::default();
     off.set(Slot::Normal, Some(SlotOverride::Off));
-    let without = RenderOptions {
-        slots: off,
+    let without = Shot {
+        settings: Settings {
+            slots: off,
+            ..opts.clone().settings
+        },
         ..opts.clone()
     };
     let flat = compare(&rendered(&scene, &without), &reference, 1.0);
@@ -273,7 +278,7 @@ fn solid_textures_on_a_sphere_agree_with_the_f64_reference() {
                 1.0,
             )),
         );
-        let opts = RenderOptions {
+        let opts = Shot {
             camera: None,
             ..options(slots, Shading::Textured, 80, 60)
         };
@@ -309,10 +314,9 @@ fn face_on(side: u32, texels: u32, shading: Shading) -> (Vec4, Vec4) {
         Slot::BaseColor,
         Some(SlotOverride::source(TextureSource::Image(image), 1.0)),
     );
-    let opts = RenderOptions {
+    let opts = Shot {
         width: side * 2,
         height: side * 2,
-        shading: Some(shading),
         camera: Some(Camera {
             eye: Vec3::new(0.0, 5.0, 0.0),
             target: Vec3::ZERO,
@@ -322,8 +326,11 @@ fn face_on(side: u32, texels: u32, shading: Shading) -> (Vec4, Vec4) {
             far: 20.0,
             ..Camera::default()
         }),
-        slots,
-        ..RenderOptions::default()
+        settings: Settings {
+            shading: Some(shading),
+            slots,
+            ..Settings::default()
+        },
     };
     let fb = render(&PreparedScene::new(scene), &opts).image();
     let at = |x: u32, y: u32| fb.color[(y * fb.width + x) as usize];

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use realist::load::{load, LoadOptions};
-use realist::render::{render, Lights, PreparedScene, RenderOptions};
+use realist::render::{render, Lights, PreparedScene, Settings, Shot};
 use realist::scene::{Camera, Light, Scene};
 use realist::shade::Shading;
 
@@ -143,13 +143,15 @@ fn texture_transforms_read_the_texels_the_worked_values_name() {
     let (scene, lights) = unlit(scene);
     let (w, h) = (1200, 200);
     let camera = front_camera();
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
         camera: Some(camera.clone()),
-        lights,
-        shading: Some(Shading::Textured),
-        ..RenderOptions::default()
+        settings: Settings {
+            lights,
+            shading: Some(Shading::Textured),
+            ..Settings::default()
+        },
     };
     let image = render(&PreparedScene::new(scene.clone()), &opts).image();
     let mut checked = 0;
@@ -209,12 +211,14 @@ fn a_second_uv_set_feeds_the_slot_that_names_it() {
         ortho: Some(1.2),
         ..front_camera()
     };
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
         camera: Some(camera.clone()),
-        lights,
-        ..RenderOptions::default()
+        settings: Settings {
+            lights,
+            ..Settings::default()
+        },
     };
     let image = render(&PreparedScene::new(scene.clone()), &opts).image();
     // (u0, v0) = (0.3, 0.4): emissive texel (19, 25), black; (0.05, 0.55): the emissive
@@ -272,12 +276,14 @@ fn gltfpack_quantised_uvs_render_like_the_original() {
         target: Vec3::ZERO,
         ..Camera::default()
     };
-    let opts = RenderOptions {
+    let opts = Shot {
         width: 480,
         height: 360,
         camera: Some(camera),
-        shading: Some(Shading::Textured),
-        ..RenderOptions::default()
+        settings: Settings {
+            shading: Some(Shading::Textured),
+            ..Settings::default()
+        },
     };
     let frame = |s: &Scene| render(&PreparedScene::new(s.clone()), &opts).srgb8();
     let (a, b) = (frame(&original), frame(&packed));

@@ -17,7 +17,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use realist::load::{load, LoadOptions};
 use realist::mesh::{generate_uvs, uv_frame, Channel, Mesh, MAX_WRAP_EXTENT};
 use realist::raster::Framebuffer;
-use realist::render::{render, Lights, PreparedScene, RenderOptions};
+use realist::render::{render, Lights, PreparedScene, Settings, Shot};
 use realist::scene::{Camera, Instance, Light, Material, Scene, Style};
 use realist::shade::Shading;
 use realist::texture::{Axis, Texture, UvGenerator};
@@ -348,7 +348,7 @@ const SIZE: u32 = 240;
 
 /// The sphere seen from +z (its seam, longitude 0, faces the camera), orthographic.
 fn frame(scene: Scene) -> Framebuffer {
-    let opts = RenderOptions {
+    let opts = Shot {
         width: SIZE,
         height: SIZE,
         camera: Some(Camera {
@@ -359,23 +359,25 @@ fn frame(scene: Scene) -> Framebuffer {
             far: 20.0,
             ..Camera::default()
         }),
-        slots: {
-            let mut slots = realist::scene::SlotOverrides::default();
-            slots.set(
-                realist::scene::Slot::BaseColor,
-                Some(realist::scene::SlotOverride::source(
-                    realist::scene::TextureSource::Image(chequer()),
-                    1.0,
-                )),
-            );
-            slots
+        settings: Settings {
+            slots: {
+                let mut slots = realist::scene::SlotOverrides::default();
+                slots.set(
+                    realist::scene::Slot::BaseColor,
+                    Some(realist::scene::SlotOverride::source(
+                        realist::scene::TextureSource::Image(chequer()),
+                        1.0,
+                    )),
+                );
+                slots
+            },
+            shading: Some(Shading::Textured),
+            lights: Lights::Custom {
+                lights: vec![Light::ambient(Vec3::ONE)],
+                follow_camera: false,
+            },
+            ..Settings::default()
         },
-        shading: Some(Shading::Textured),
-        lights: Lights::Custom {
-            lights: vec![Light::ambient(Vec3::ONE)],
-            follow_camera: false,
-        },
-        ..RenderOptions::default()
     };
     render(&PreparedScene::new(scene), &opts).image()
 }

@@ -12,7 +12,7 @@ use realist::quality::sweep::{self, ModelSetup, Subject};
 use realist::texture::Filter;
 
 use realist::load::LoadOptions;
-use realist::render::RenderOptions;
+use realist::render::{Settings, Shot};
 use realist::scenefile::{self, Format, SceneFile};
 
 use super::{load_model, parse_size, NormalArgs};
@@ -227,13 +227,16 @@ fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
     if let Some(c) = camera {
         setup.camera = c;
     }
-    setup.base = Box::new(RenderOptions {
-        double_sided: settings.double_sided,
-        slots: settings.slots.clone(),
-        lights,
-        fog: settings.fog,
-        tone: settings.tone,
-        ..RenderOptions::default()
+    setup.base = Box::new(Shot {
+        settings: Settings {
+            double_sided: settings.double_sided,
+            slots: settings.slots.clone(),
+            lights,
+            fog: settings.fog,
+            tone: settings.tone,
+            ..Settings::default()
+        },
+        ..Shot::default()
     });
     Ok(setup)
 }

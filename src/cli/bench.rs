@@ -12,7 +12,7 @@ use std::time::Instant;
 use anyhow::Result;
 use glam::Vec3;
 
-use realist::render::{PreparedScene, RenderOptions, Renderer};
+use realist::render::{PreparedScene, Renderer, Settings, Shot};
 use realist::scene::{Camera, Scene};
 use realist::shade::Shading;
 
@@ -81,17 +81,20 @@ pub(super) fn bench(args: &BenchArgs) -> Result<()> {
         let (w, h) = parse_size(res).map_err(anyhow::Error::msg)?;
         for mode in args.shading.split(',') {
             let shading: Shading = mode.parse().map_err(anyhow::Error::msg)?;
-            let opts = RenderOptions {
+            let opts = Shot {
                 width: w,
                 height: h,
-                shading: Some(shading),
                 camera: Some(camera.clone()),
-                double_sided: args.no_cull,
-                ..RenderOptions::default()
+                settings: Settings {
+                    shading: Some(shading),
+                    double_sided: args.no_cull,
+                    ..Settings::default()
+                },
             };
             // A reused renderer, as in an interactive viewer; "read" adds the sRGB encode,
             // like the peer's read-back of the RGBA8 frame.
-            let (settings, view) = (opts.settings(), opts.view(prepared.scene()));
+            let view = opts.view(prepared.scene());
+            let settings = opts.settings;
             let mut renderer = Renderer::new();
             let mut pixels = vec![[0u8; 4]; (w * h) as usize];
             let (rounds, reads): (Vec<f64>, Vec<f64>) = pool.install(|| {

@@ -10,7 +10,7 @@ use base64::Engine as _;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use realist::mesh::{Channel, Mesh, MeshData, NormalPolicy};
 use realist::raster::Framebuffer;
-use realist::render::{PreparedScene, RenderOptions, Renderer, Settings};
+use realist::render::{PreparedScene, Renderer, Settings, Shot};
 use realist::scene::{Camera, Instance, Light, Material, Scene, Style, TextureSlot};
 use realist::shade::Shading;
 use realist::simd::KernelKind;
@@ -87,7 +87,7 @@ pub fn checker_cube() -> Scene {
 /// Renders with explicit options on a pool of `threads` threads.
 pub fn render_with(
     scene: &Scene,
-    opts: &RenderOptions,
+    opts: &Shot,
     threads: usize,
 ) -> (Framebuffer, realist::raster::Stats) {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -99,7 +99,7 @@ pub fn render_with(
         // Every kernel this machine has renders the scene; they must agree bit for bit (no
         // fused multiply-add, no approximate instruction: `realist_simd::level`), and the
         // portable kernel's frame is the one checked against the goldens.
-        let (settings, view) = (opts.settings(), opts.view(prepared.scene()));
+        let (settings, view) = (opts.settings.clone(), opts.view(prepared.scene()));
         let mut first: Option<(Framebuffer, realist::raster::Stats)> = None;
         for kernel in KernelKind::available_kinds() {
             let mut renderer = Renderer::new();
@@ -140,12 +140,14 @@ pub fn render(
     shading: Option<Shading>,
     camera: Option<Camera>,
 ) -> Framebuffer {
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w,
         height: h,
-        shading,
         camera,
-        ..RenderOptions::default()
+        settings: Settings {
+            shading,
+            ..Settings::default()
+        },
     };
     render_with(scene, &opts, 2).0
 }
@@ -160,7 +162,7 @@ pub fn assert_finite(fb: &Framebuffer, what: &str) {
 
 /// Number of pixels whose colour differs from the background.
 pub fn covered(fb: &Framebuffer) -> usize {
-    let bg = RenderOptions::default().background;
+    let bg = Shot::default().settings.background;
     fb.color.iter().filter(|c| **c != bg).count()
 }
 

@@ -73,7 +73,7 @@ use rayon::prelude::*;
 use super::LinearImage;
 use crate::mesh::TriMesh;
 use crate::microfacet;
-use crate::render::{default_camera, frame_lights, Policy, RenderOptions};
+use crate::render::{default_camera, frame_lights, Policy, Shot};
 use crate::scene::{AlphaMode, Material, Scene, Slot, SlotOverride, TextureSource, UvTransform};
 use crate::shade::brdf::{self, Pbr};
 use crate::shade::{illuminate, maps, Fog, LightSet, Surface, SurfaceAt};
@@ -123,7 +123,7 @@ pub enum ReferenceError {
 /// a field of view outside (0, 180) degrees, or its eye on its target.
 pub fn reference(
     scene: &Scene,
-    opts: &RenderOptions,
+    opts: &Shot,
     samples: u32,
     blinn: bool,
 ) -> Result<LinearImage, ReferenceError> {
@@ -157,7 +157,7 @@ pub const ENV_SAMPLES: u32 = 128;
 /// As [`reference`].
 pub fn reference_env(
     scene: &Scene,
-    opts: &RenderOptions,
+    opts: &Shot,
     samples: u32,
     blinn: bool,
     env_samples: u32,
@@ -168,7 +168,7 @@ pub fn reference_env(
 /// [`reference`] with a given band size in samples (tests vary it).
 fn render(
     scene: &Scene,
-    opts: &RenderOptions,
+    opts: &Shot,
     samples: u32,
     blinn: bool,
     band_samples: u64,
@@ -286,7 +286,7 @@ struct View {
 impl View {
     fn new(
         scene: &Scene,
-        opts: &RenderOptions,
+        opts: &Shot,
         samples: u32,
         blinn: bool,
         env_samples: u32,
@@ -368,8 +368,13 @@ impl View {
         )
         .as_mat4();
         let mut lights = LightSet::default();
-        frame_lights(&scene.lights, &opts.lights, cam_to_world, &mut lights);
-        lights.env = opts.settings().environment.view();
+        frame_lights(
+            &scene.lights,
+            &opts.settings.lights,
+            cam_to_world,
+            &mut lights,
+        );
+        lights.env = opts.settings.environment.view();
         let punctual = LightSet {
             ambient: glam::Vec3::ZERO,
             env: None,
@@ -385,10 +390,10 @@ impl View {
             lights,
             punctual,
             env_samples,
-            fog: opts.fog.filter(Fog::is_valid),
-            tone: opts.tone,
-            exposure: f64::from(opts.settings().exposure_scale()),
-            background: opts.background.truncate().as_dvec3(),
+            fog: opts.settings.fog.filter(Fog::is_valid),
+            tone: opts.settings.tone,
+            exposure: f64::from(opts.settings.exposure_scale()),
+            background: opts.settings.background.truncate().as_dvec3(),
             blinn,
         })
     }
@@ -684,13 +689,13 @@ fn image_height_slope(t: &Texture, uv: DVec2, s: Sampler) -> DVec2 {
 /// material's texture if it exists and the mesh has its UV set.
 fn ref_slot<'a>(
     scene: &'a Scene,
-    opts: &'a RenderOptions,
+    opts: &'a Shot,
     tri: &TriMesh,
     m: &Material,
     slot: Slot,
 ) -> Option<RefSlot<'a>> {
     let own = m.slot(slot);
-    match opts.slots.get(slot) {
+    match opts.settings.slots.get(slot) {
         Some(SlotOverride::Off) => None,
         Some(SlotOverride::Source {
             source,
@@ -729,7 +734,7 @@ fn ref_slot<'a>(
 
 fn instances<'a>(
     scene: &'a Scene,
-    opts: &'a RenderOptions,
+    opts: &'a Shot,
     meshes: &'a [TriMesh],
     view: &View,
 ) -> Vec<Inst<'a>> {
@@ -759,7 +764,7 @@ fn instances<'a>(
             || occlusion.is_some()
             || emissive_map.is_some()
             || bump.is_some();
-        let policy = Policy::new(opts.shading, inst.style, &m, mapped);
+        let policy = Policy::new(opts.settings.shading, inst.style, &m, mapped);
         let textured = policy.textured;
         let textured_only = |s: Option<RefSlot<'a>>| s.filter(|_| textured);
         let world = inst.world.as_dmat4();
@@ -776,7 +781,7 @@ fn instances<'a>(
             normal: if m3.determinant() < 0.0 { -cof } else { cof },
             mvp: view.vp * world,
             flip: det < 0.0,
-            cull: !(m.double_sided || opts.double_sided),
+            cull: !(m.double_sided || opts.settings.double_sided),
             base: policy.base.as_dvec4(),
             surface: policy.surface,
             unlit: policy.unlit,
@@ -1321,7 +1326,7 @@ mod tests {
 
     use super::*;
     use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};
-    use crate::render::{self, PreparedScene};
+    use crate::render::{self, PreparedScene, Settings};
     use crate::scene::{Camera, Instance, Light, Material};
     use crate::sphere::SphereSetup;
     use crate::texture::Sampler;
@@ -1329,8 +1334,8 @@ mod tests {
 
     /// The rasterizer at `ss` x `ss` supersampling, box-filtered: its samples sit exactly
     /// where [`reference`] with `samples = ss` puts them.
-    fn raster(scene: &Scene, opts: &RenderOptions, ss: u32) -> LinearImage {
-        let big = RenderOptions {
+    fn raster(scene: &Scene, opts: &Shot, ss: u32) -> LinearImage {
+        let big = Shot {
             width: opts.width * ss,
             height: opts.height * ss,
             ..opts.clone()
@@ -1343,13 +1348,15 @@ mod tests {
         compare(test, reference, DEFAULT_DE_THRESHOLD)
     }
 
-    fn black(width: u32, height: u32, camera: Option<Camera>) -> RenderOptions {
-        RenderOptions {
+    fn black(width: u32, height: u32, camera: Option<Camera>) -> Shot {
+        Shot {
             width,
             height,
             camera,
-            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-            ..RenderOptions::default()
+            settings: Settings {
+                background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+                ..Settings::default()
+            },
         }
     }
 
@@ -1421,8 +1428,11 @@ mod tests {
     #[test]
     fn tessellated_sphere_matches_the_analytic_sphere() {
         let setup = SphereSetup::standard(320, 180);
-        let opts = RenderOptions {
-            shading: Some(Shading::Phong),
+        let opts = Shot {
+            settings: Settings {
+                shading: Some(Shading::Phong),
+                ..black(320, 180, Some(setup.camera.clone())).settings
+            },
             ..black(320, 180, Some(setup.camera.clone()))
         };
         let analytic = setup.reference(false);
@@ -1438,8 +1448,11 @@ mod tests {
         assert!(coarse.mean_de2000 > 0.3, "{coarse:?}");
         // Both residues vanish together: a 1024 x 512 mesh at the analytic reference's own
         // edge sampling agrees to a mean of 1e-4 (measured 0.00009).
-        let opts = RenderOptions {
-            shading: Some(Shading::Phong),
+        let opts = Shot {
+            settings: Settings {
+                shading: Some(Shading::Phong),
+                ..black(320, 180, Some(setup.camera.clone())).settings
+            },
             ..black(320, 180, Some(setup.camera.clone()))
         };
         let finest = reference(&setup.scene(1024, 512).unwrap(), &opts, 16, false).unwrap();
@@ -1452,11 +1465,14 @@ mod tests {
 
     /// The demo scene, every instance forced to `mode`, with its own camera.
     /// Its spotlight's shadow is turned off: the reference draws no shadows.
-    fn demo(mode: Shading, width: u32, height: u32) -> (Scene, RenderOptions) {
+    fn demo(mode: Shading, width: u32, height: u32) -> (Scene, Shot) {
         let mut scene = crate::scene::demo();
         scene.lights.iter_mut().for_each(|l| l.shadow = false);
-        let opts = RenderOptions {
-            shading: Some(mode),
+        let opts = Shot {
+            settings: Settings {
+                shading: Some(mode),
+                ..black(width, height, Some(scene.cameras[0].clone())).settings
+            },
             ..black(width, height, Some(scene.cameras[0].clone()))
         };
         (scene, opts)
@@ -1496,7 +1512,7 @@ mod tests {
     /// A checkered sphere (material texture, repeat), a mirrored and stretched copy of it,
     /// and a vertex-coloured quad whose UVs run over -1..2 (a grid with mirrored repeat);
     /// default camera and light rig.
-    fn textured() -> (Scene, RenderOptions) {
+    fn textured() -> (Scene, Shot) {
         let mut scene = Scene::default();
         let checker = Texture::checker(64, 8, [230, 40, 30, 255], [40, 90, 220, 255]);
         scene.textures.push(Arc::new(checker));
@@ -1578,8 +1594,11 @@ mod tests {
         let ras = raster(&scene, &opts, 4);
         let same = de(&ras, &reference(&scene, &opts, 4, true).unwrap());
         let dense = de(&ras, &reference(&scene, &opts, 8, true).unwrap());
-        let plain = RenderOptions {
-            shading: Some(Shading::Blinn),
+        let plain = Shot {
+            settings: Settings {
+                shading: Some(Shading::Blinn),
+                ..opts.clone().settings
+            },
             ..opts.clone()
         };
         let untextured = de(&ras, &reference(&scene, &plain, 4, true).unwrap());
@@ -1621,8 +1640,11 @@ mod tests {
         let mut sphere = Mesh::sphere(1.0, 48, 24).unwrap();
         sphere.material = Some(0);
         place(&mut scene, sphere, Mat4::IDENTITY);
-        let opts = RenderOptions {
-            shading: Some(Shading::Phong),
+        let opts = Shot {
+            settings: Settings {
+                shading: Some(Shading::Phong),
+                ..black(160, 120, None).settings
+            },
             ..black(160, 120, None)
         };
         let ras = raster(&scene, &opts, 4);
@@ -1730,13 +1752,16 @@ mod tests {
     fn non_finite_input_empty_scenes_and_bad_requests() {
         let opts = black(40, 30, Some(Camera::default()));
         let background = [0.25, 0.5, 0.75];
-        let opts = RenderOptions {
-            background: Vec4::new(0.25, 0.5, 0.75, 1.0),
+        let opts = Shot {
+            settings: Settings {
+                background: Vec4::new(0.25, 0.5, 0.75, 1.0),
+                ..opts.settings.clone()
+            },
             ..opts
         };
         // Empty scene, with and without the default camera.
         for camera in [None, Some(Camera::default())] {
-            let o = RenderOptions {
+            let o = Shot {
                 camera,
                 ..opts.clone()
             };
@@ -1791,10 +1816,10 @@ mod tests {
         assert!(img.rgb.iter().all(|c| c.iter().all(|v| v.is_finite())));
         let _ = raster(&scene, &opts, 2);
         // Refused requests.
-        let bad = |o: &RenderOptions, s: u32| reference(&scene, o, s, false).unwrap_err();
+        let bad = |o: &Shot, s: u32| reference(&scene, o, s, false).unwrap_err();
         assert_eq!(bad(&opts, 0), ReferenceError::Samples(0));
         assert_eq!(bad(&opts, 65), ReferenceError::Samples(65));
-        let huge = RenderOptions {
+        let huge = Shot {
             width: 8192,
             height: 8192,
             ..opts.clone()
@@ -1802,7 +1827,7 @@ mod tests {
         assert!(
             matches!(bad(&huge, 8), ReferenceError::TooLarge { total, .. } if total == 1 << 32)
         );
-        let empty = RenderOptions {
+        let empty = Shot {
             width: 0,
             ..opts.clone()
         };
@@ -1825,7 +1850,7 @@ mod tests {
                 ..Camera::default()
             },
         ] {
-            let o = RenderOptions {
+            let o = Shot {
                 camera: Some(camera),
                 ..opts.clone()
             };
@@ -1851,13 +1876,16 @@ mod tests {
             ..Camera::default()
         };
         let opts = black(32, 32, Some(camera));
-        let centre = |scene: &Scene, opts: &RenderOptions| {
+        let centre = |scene: &Scene, opts: &Shot| {
             reference(scene, opts, 2, false).unwrap().rgb[16 * 32 + 16]
         };
         assert_eq!(centre(&scene, &opts), [0.0; 3], "culled");
         let want = [0.1 * 0.5 + 0.8 * 0.5; 3];
-        let both = RenderOptions {
-            double_sided: true,
+        let both = Shot {
+            settings: Settings {
+                double_sided: true,
+                ..opts.clone().settings
+            },
             ..opts.clone()
         };
         assert!(close(centre(&scene, &both), want));
@@ -1987,7 +2015,7 @@ mod tests {
             square(0.5, 0.6, Some(ramp), 3),
             Mat4::from_translation(Vec3::X),
         );
-        let opts = RenderOptions {
+        let opts = Shot {
             width: 61,
             height: 37,
             ..opts

@@ -18,7 +18,7 @@ use super::sphere::{Shape, SphereSetup};
 use super::{compare, metrics, LinearImage, Metrics};
 use crate::overlay::{Canvas, Color, HAlign, Path2, Stroke, VAlign};
 use crate::raster::SUBPIXEL_BITS;
-use crate::render::{self, PreparedScene, RenderOptions, Renderer};
+use crate::render::{self, PreparedScene, Renderer, Settings, Shot};
 use crate::scene::{Camera, Scene};
 use crate::shade::Shading;
 use crate::texture::Filter;
@@ -105,7 +105,7 @@ pub struct ModelSetup {
     /// What every render and reference of the sweep starts from (lights, fog, tone
     /// mapping, sidedness, texture; e.g. from a scene file); size, shading, camera,
     /// background and the knobs are set by the sweep.
-    pub base: Box<RenderOptions>,
+    pub base: Box<Shot>,
 }
 
 impl ModelSetup {
@@ -137,14 +137,16 @@ impl ModelSetup {
         })
     }
 
-    fn options(&self, shading: Shading) -> RenderOptions {
-        RenderOptions {
+    fn options(&self, shading: Shading) -> Shot {
+        Shot {
             width: self.width,
             height: self.height,
-            shading: Some(shading),
             camera: Some(self.camera.clone()),
-            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-            ..(*self.base).clone()
+            settings: Settings {
+                shading: Some(shading),
+                background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+                ..self.base.settings.clone()
+            },
         }
     }
 }
@@ -170,10 +172,10 @@ impl Subject {
     }
 
     /// The options every render of the subject starts from ([`ModelSetup::base`]).
-    fn base_options(&self) -> RenderOptions {
+    fn base_options(&self) -> Shot {
         match self {
             Subject::Model(m) => (*m.base).clone(),
-            _ => RenderOptions::default(),
+            _ => Shot::default(),
         }
     }
 
@@ -397,19 +399,22 @@ pub fn run_setting(
     let scene = subject.scene(&s)?;
     let prepared = PreparedScene::new(scene);
     let (w, h) = subject.size();
-    let opts = RenderOptions {
+    let opts = Shot {
         width: w * s.ss,
         height: h * s.ss,
-        shading: Some(s.shading),
         camera: Some(subject.camera().clone()),
-        background: Vec4::new(0.0, 0.0, 0.0, 1.0),
-        subpixel_bits: s.bits,
-        msaa: s.msaa,
-        ..subject.base_options()
+        settings: Settings {
+            shading: Some(s.shading),
+            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            subpixel_bits: s.bits,
+            msaa: s.msaa,
+            ..subject.base_options().settings
+        },
     };
     // Frames into one reused renderer, as a viewer renders them (no allocation after the
     // warm-up), timed alone: resolving to f64 is the metric's cost, not the renderer's.
-    let (settings, view) = (opts.settings(), opts.view(prepared.scene()));
+    let view = opts.view(prepared.scene());
+    let settings = opts.settings;
     let mut renderer = Renderer::new();
     renderer.render(&prepared, &settings, &view);
     let mut times = Vec::with_capacity(runs);

@@ -31,7 +31,6 @@ use glam::Vec4;
 
 use crate::raster::{Framebuffer, Stats, Target};
 use crate::scene::{Camera, Scene};
-use crate::shade::Shading;
 
 mod frame;
 mod numeric;
@@ -52,89 +51,30 @@ pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
 pub use settings::{Environment, Ground, Lights, Output, Settings, ToneMap, VertexLighting, View};
 
-/// Everything about a one-shot frame: [`Settings`] and [`View`] in one struct, the camera
-/// optional ([`default_camera`] when absent).
+/// A one-shot frame: the [`Settings`], the size and the camera (`None`:
+/// [`default_camera`] for the scene). The settings are the viewer's and the scene files',
+/// whole, so a one-shot frame and the f64 reference see every one of them.
 #[derive(Clone, Debug)]
-pub struct RenderOptions {
+pub struct Shot {
+    pub settings: Settings,
     pub width: u32,
     pub height: u32,
-    /// Forces one mode on every instance; `None` = each instance's style, else Phong.
-    pub shading: Option<Shading>,
     /// `None` = [`default_camera`].
     pub camera: Option<Camera>,
-    /// Per-slot replacements of the materials' textures (see [`Settings::slots`]).
-    pub slots: crate::scene::SlotOverrides,
-    /// Linear RGBA.
-    pub background: Vec4,
-    /// Draw every material double-sided: no back-face culling, back faces lit from behind.
-    pub double_sided: bool,
-    /// Sub-pixel bits of the vertex snap (see [`crate::raster::DrawState::subpixel_bits`]);
-    /// the default is the rasterizer's full [`crate::raster::SUBPIXEL_BITS`].
-    pub subpixel_bits: u8,
-    /// Multisampling: 1 or 4 samples per pixel (see [`Settings::msaa`]).
-    pub msaa: u32,
-    /// The lights (see [`Settings::lights`]).
-    pub lights: Lights,
-    /// See [`Settings::fog`].
-    pub fog: Option<crate::shade::Fog>,
-    /// See [`Settings::exposure`].
-    pub exposure: f32,
-    /// See [`Settings::environment`].
-    pub environment: Environment,
-    /// See [`Settings::tone`].
-    pub tone: ToneMap,
-    /// See [`Settings::point_size`].
-    pub point_size: f32,
-    /// See [`Settings::line_width`].
-    pub line_width: f32,
 }
 
-impl Default for RenderOptions {
+impl Default for Shot {
     fn default() -> Self {
-        let s = Settings::default();
         Self {
+            settings: Settings::default(),
             width: 1280,
             height: 720,
-            shading: None,
             camera: None,
-            slots: crate::scene::SlotOverrides::default(),
-            background: s.background,
-            double_sided: false,
-            subpixel_bits: s.subpixel_bits,
-            msaa: s.msaa,
-            lights: Lights::Auto,
-            fog: None,
-            exposure: 0.0,
-            environment: Environment::Auto,
-            tone: ToneMap::Clamp,
-            point_size: s.point_size,
-            line_width: s.line_width,
         }
     }
 }
 
-impl RenderOptions {
-    /// The settings part.
-    #[must_use]
-    pub fn settings(&self) -> Settings {
-        Settings {
-            shading: self.shading,
-            background: self.background,
-            double_sided: self.double_sided,
-            subpixel_bits: self.subpixel_bits,
-            slots: self.slots.clone(),
-            msaa: self.msaa,
-            lights: self.lights.clone(),
-            fog: self.fog,
-            exposure: self.exposure,
-            environment: self.environment.clone(),
-            tone: self.tone,
-            point_size: self.point_size,
-            line_width: self.line_width,
-            ..Settings::default()
-        }
-    }
-
+impl Shot {
     /// The view part, with [`default_camera`] for `scene` if no camera is set.
     #[must_use]
     pub fn view(&self, scene: &Scene) -> View {
@@ -177,10 +117,10 @@ impl Frame {
 /// Renders one frame of `scene` on the current rayon pool (allocating its memory; a viewer
 /// keeps a [`Renderer`] instead).
 #[must_use]
-pub fn render(scene: &PreparedScene, opts: &RenderOptions) -> Frame {
-    let view = opts.view(scene.scene());
+pub fn render(scene: &PreparedScene, shot: &Shot) -> Frame {
+    let view = shot.view(scene.scene());
     let mut r = Renderer::new();
-    let stats = r.render(scene, &opts.settings(), &view).stats;
+    let stats = r.render(scene, &shot.settings, &view).stats;
     Frame {
         target: r.take_target().expect("a frame was rendered"),
         stats,

@@ -157,8 +157,10 @@ mod tests {
 
     #[test]
     fn a_nan_in_a_pbr_material_float_matches_itself() {
-        let mut m = Material::default();
-        m.pbr = Some(PbrMaterial::default());
+        let m = Material {
+            pbr: Some(PbrMaterial::default()),
+            ..Material::default()
+        };
         let mut s = Settings::default();
         for k in 0..4 {
             let mut m = m.clone();
