@@ -6,7 +6,7 @@
 
 mod common;
 
-use realist::render::{self, PreparedScene, RenderOptions};
+use realist::render::{self, PreparedScene, Shot};
 use realist::scene::Play;
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
@@ -43,10 +43,10 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         }
     }
     prepared.pose_at(Play::All, 0.5 * scale, true);
-    let opts = RenderOptions {
+    let opts = Shot {
         width: 32,
         height: 32,
-        ..RenderOptions::default()
+        ..Shot::default()
     };
     let frame = render::render(&prepared, &opts);
     let image = frame.image();

@@ -4,7 +4,7 @@
 
 mod common;
 
-use realist::render::{self, PreparedScene, RenderOptions};
+use realist::render::{self, PreparedScene, Settings, Shot};
 use realist::shade::Shading;
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
@@ -22,11 +22,14 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     };
     let prepared = PreparedScene::new(scene);
     for mode in Shading::ALL {
-        let opts = RenderOptions {
+        let opts = Shot {
             width: 64,
             height: 64,
-            shading: Some(mode),
-            ..RenderOptions::default()
+            settings: Settings {
+                shading: Some(mode),
+                ..Settings::default()
+            },
+            ..Shot::default()
         };
         let frame = render::render(&prepared, &opts);
         let image = frame.image();

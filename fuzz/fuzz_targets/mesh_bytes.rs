@@ -4,7 +4,7 @@
 
 mod common;
 
-use realist::render::{self, PreparedScene, RenderOptions};
+use realist::render::{self, PreparedScene, Shot};
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let Some((&selector, body)) = data.split_first() else {
@@ -19,10 +19,10 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         assert!(lo.is_finite() && hi.is_finite(), "bounds {lo} {hi}");
     }
     let prepared = PreparedScene::new(scene);
-    let opts = RenderOptions {
+    let opts = Shot {
         width: 32,
         height: 32,
-        ..RenderOptions::default()
+        ..Shot::default()
     };
     let frame = render::render(&prepared, &opts);
     let image = frame.image();
