@@ -113,7 +113,8 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let (w, h) = subject.size();
     let title = format!("{name} at {w}x{h}: time versus error (one knob at a time)");
-    let png = sweep::plot(rows, &front, &title)
+    let axes = ["median render time (ms, log)", "mean \u{0394}E00 vs reference (log)"];
+    let png = realist::overlay::chart::pareto(&chart_points(rows), &front, &title, axes)
         .to_png()
         .map_err(|e| anyhow::anyhow!("encoding plot: {e}"))?;
     let plot_path = args.out.join("pareto.png");
@@ -268,4 +269,17 @@ fn write_png(path: &Path, width: u32, height: u32, rgb: Vec<u8>) -> Result<()> {
         .context("image size mismatch")?
         .save(path)
         .with_context(|| format!("writing {}", path.display()))
+}
+
+/// The sweep's rows as chart points: median time against mean ΔE00, coloured by knob,
+/// labelled by setting.
+fn chart_points(rows: &[sweep::Row]) -> Vec<realist::overlay::chart::ChartPoint> {
+    rows.iter()
+        .map(|r| realist::overlay::chart::ChartPoint {
+            x: r.ms,
+            y: r.metrics.mean_de2000,
+            series: r.knob,
+            label: r.setting.label(),
+        })
+        .collect()
 }

@@ -27,12 +27,14 @@
 //! | `svg.rs` | the SVG backend |
 //! | `tests.rs` | raster coverage tests of the canvas |
 //! | `chroma/` | the chromaticity diagram |
+//! | `chart.rs` | charts of measurements (the accuracy sweep's time against error) |
 
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
 use realist_color as color;
 use realist_texture as texture;
 
 mod canvas;
+pub mod chart;
 pub mod chroma;
 mod path;
 mod svg;

@@ -13,7 +13,6 @@
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
 use realist_color as color;
 use realist_mesh as mesh;
-use realist_overlay as overlay;
 use realist_raster as raster;
 use realist_render as render;
 use realist_scene as scene;
