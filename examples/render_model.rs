@@ -34,9 +34,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let frame = render::render(&prepared, &opts);
         let path = out.join(format!("{mode}.png"));
-        image::RgbImage::from_raw(opts.width, opts.height, frame.srgb8())
-            .ok_or("size mismatch")?
-            .save(&path)?;
+        realist::color::png::Png::rgb(opts.width, opts.height, &frame.srgb8())
+            .with_text("Description", format!("shading {mode}"))
+            .write(&path)?;
         println!(
             "{mode:>9}: {} pixels shaded -> {}",
             frame.stats.pixels_shaded,

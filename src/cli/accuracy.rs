@@ -113,7 +113,10 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         .with_context(|| format!("writing {}", csv_path.display()))?;
     let (w, h) = subject.size();
     let title = format!("{name} at {w}x{h}: time versus error (one knob at a time)");
-    let axes = ["median render time (ms, log)", "mean \u{0394}E00 vs reference (log)"];
+    let axes = [
+        "median render time (ms, log)",
+        "mean \u{0394}E00 vs reference (log)",
+    ];
     let png = realist::overlay::chart::pareto(&chart_points(rows), &front, &title, axes)
         .to_png()
         .map_err(|e| anyhow::anyhow!("encoding plot: {e}"))?;
@@ -265,10 +268,10 @@ fn remove_previous_images(dir: &Path) -> Result<()> {
 }
 
 fn write_png(path: &Path, width: u32, height: u32, rgb: Vec<u8>) -> Result<()> {
-    image::RgbImage::from_raw(width, height, rgb)
-        .context("image size mismatch")?
-        .save(path)
-        .with_context(|| format!("writing {}", path.display()))
+    realist::color::png::Png::rgb(width, height, &rgb)
+        .with_text("Source", "realist bench accuracy")
+        .write(path)
+        .map_err(anyhow::Error::msg)
 }
 
 /// The sweep's rows as chart points: median time against mean ΔE00, coloured by knob,

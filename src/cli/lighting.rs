@@ -156,7 +156,7 @@ pub(crate) fn parse_fog(s: &str) -> Result<Fog, String> {
         [hex] if hex.starts_with('#') => {
             let c = realist::overlay::Color::hex(hex)
                 .ok_or_else(|| format!("--fog: bad colour '{hex}'"))?;
-            let lin = |b: u8| realist::color::srgb_decode(f64::from(b) / 255.0) as f32;
+            let lin = realist::color::srgb8_decode;
             fog.color = Vec3::new(lin(c.r), lin(c.g), lin(c.b));
         }
         [r, g, b] => fog.color = Vec3::new(num(r)?, num(g)?, num(b)?),

@@ -185,9 +185,9 @@ pub fn check_golden_rgb(name: &str, w: u32, h: u32, got: Vec<u8>, tol: Tolerance
     let path = golden_dir().join(format!("{name}.png"));
     if std::env::var_os("REPLACE").is_some() {
         std::fs::create_dir_all(golden_dir()).expect("golden dir");
-        image::RgbImage::from_raw(w, h, got)
-            .expect("size")
-            .save(&path)
+        realist::color::png::Png::rgb(w, h, &got)
+            .with_text("Source", format!("golden {name}"))
+            .write(&path)
             .expect("write golden");
         eprintln!("wrote golden {}", path.display());
         return;
@@ -229,10 +229,9 @@ pub fn check_golden_rgb(name: &str, w: u32, h: u32, got: Vec<u8>, tol: Tolerance
             .join("target")
             .join("golden-diff");
         std::fs::create_dir_all(&out).expect("diff dir");
+        let _ = realist::color::png::Png::rgb(w, h, &got).write(&out.join(format!("{name}.png")));
         let _ =
-            image::RgbImage::from_raw(w, h, got).map(|i| i.save(out.join(format!("{name}.png"))));
-        let _ = image::RgbImage::from_raw(w, h, diff)
-            .map(|i| i.save(out.join(format!("{name}-diff.png"))));
+            realist::color::png::Png::rgb(w, h, &diff).write(&out.join(format!("{name}-diff.png")));
         panic!(
             "golden {name}: {over} pixels ({:.4}%) differ by more than {} (worst {worst}); allowed {:.4}%. See {}",
             fraction * 100.0,

@@ -19,6 +19,7 @@
 //! | `delta_e.rs` | ΔE 1976, 1994, 2000 |
 //! | `space.rs` | RGB spaces, matrices from primaries, transfer curves, Bradford |
 //! | `cmf.rs`, `cmf_data.rs` | the CIE 1931 and 1964 observers at 1 nm, spectral locus, illuminants |
+//! | `png.rs` | the one PNG writer, with the image's metadata |
 //! | `planck.rs` | Planckian locus (integrated and approximated), daylight locus, CCT |
 
 mod cie;
@@ -28,6 +29,7 @@ mod delta_e;
 mod matrix;
 mod models;
 mod planck;
+pub mod png;
 mod rgba;
 mod space;
 mod transfer;
@@ -43,7 +45,8 @@ pub use space::{
     adapt, bradford, normalised_primary_matrix, RgbSpace, SpaceError, Transfer, BRADFORD,
 };
 pub use transfer::{
-    linear_to_srgb, srgb_decode, srgb_decode3, srgb_encode, srgb_encode3, srgb_to_linear,
+    linear_to_srgb, srgb8, srgb8_decode, srgb8_decode_table, srgb8_f64, srgb_decode, srgb_decode3,
+    srgb_encode, srgb_encode3, srgb_to_linear, unorm8, Srgb8Table, ENCODE_STEPS,
 };
 
 /// Encoded sRGB (components in [0, 1]) to XYZ (D65, Y of white = 1), with the IEC matrix.

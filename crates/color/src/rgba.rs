@@ -7,8 +7,6 @@
 
 use std::ops::{Add, AddAssign, Div, Mul, MulAssign, Sub};
 
-use super::transfer::{srgb_decode, srgb_encode};
-
 /// A linear-light RGBA colour with f32 components. Alpha is straight (not premultiplied).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Rgba {
@@ -37,20 +35,19 @@ impl Rgba {
     /// From 8-bit encoded sRGB with alpha (alpha is linear already).
     #[must_use]
     pub fn from_srgb8(c: [u8; 4]) -> Self {
-        let d = |v: u8| srgb_decode(f64::from(v) / 255.0) as f32;
+        let d = crate::transfer::srgb8_decode;
         Self::new(d(c[0]), d(c[1]), d(c[2]), f32::from(c[3]) / 255.0)
     }
 
     /// To 8-bit encoded sRGB with alpha, clamping to [0, 1] first (NaN becomes 0).
     #[must_use]
     pub fn to_srgb8(self) -> [u8; 4] {
-        let q = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-        let e = |v: f32| q(srgb_encode(f64::from(finite_or_zero(v))));
+        let e = |v: f32| crate::transfer::srgb8_f64(f64::from(v));
         [
             e(self.r),
             e(self.g),
             e(self.b),
-            q(f64::from(finite_or_zero(self.a))),
+            crate::transfer::unorm8(self.a),
         ]
     }
 

@@ -622,11 +622,6 @@ impl Layout {
     }
 }
 
-/// The exact sRGB decoding of every 8-bit value.
-fn srgb_table() -> [f32; 256] {
-    std::array::from_fn(|i| crate::color::srgb_decode(i as f64 / 255.0) as f32)
-}
-
 /// What the body is read into.
 struct Sink<'a> {
     layout: &'a Layout,
@@ -785,7 +780,7 @@ fn read_ascii(
             message,
         })
     };
-    let table = srgb_table();
+    let table = crate::color::srgb8_decode_table();
     let mut lines = body.split(|&c| c == b'\n').enumerate();
     let mut done = 0u64;
     let mut next_line = |done: &mut u64| {
@@ -902,7 +897,7 @@ fn read_ascii(
                 ));
             }
             if is_vertex {
-                sink.vertex(&row, &table);
+                sink.vertex(&row, table);
             } else if is_face {
                 sink.sizes.push((sink.corners.len() - start) as u32);
                 sink.charge_corners()?;
@@ -990,7 +985,7 @@ fn read_binary(
             message,
         })
     };
-    let table = srgb_table();
+    let table = crate::color::srgb8_decode_table();
     let layout = sink.layout;
     let mut cur = Cursor {
         bytes: body,
@@ -1065,7 +1060,7 @@ fn read_binary(
                 }
             }
             if is_vertex {
-                sink.vertex(&row, &table);
+                sink.vertex(&row, table);
             } else if is_face {
                 sink.sizes.push((sink.corners.len() - start) as u32);
                 sink.charge_corners()?;

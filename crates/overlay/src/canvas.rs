@@ -318,9 +318,27 @@ impl Canvas {
         Mask::new(self.width, self.height).expect("Canvas::new keeps both sides in 1..=MAX_SIDE")
     }
 
-    /// PNG bytes of [`Canvas::to_pixmap`] (tiny-skia's encoder; straight alpha, sRGB).
+    /// [`Canvas::to_pixmap`] as straight-alpha sRGB RGBA8, rows top first.
+    #[must_use]
+    pub fn to_rgba8(&self) -> Vec<u8> {
+        self.to_pixmap()
+            .pixels()
+            .iter()
+            .flat_map(|p| {
+                let c = p.demultiply();
+                [c.red(), c.green(), c.blue(), c.alpha()]
+            })
+            .collect()
+    }
+
+    /// PNG bytes of the drawing (straight alpha, sRGB), through realist's one PNG writer
+    /// ([`crate::color::png::Png`]).
+    ///
+    /// # Errors
+    /// Never for a canvas (its size and bytes agree); the writer's message otherwise.
     pub fn to_png(&self) -> Result<Vec<u8>, String> {
-        self.to_pixmap().encode_png().map_err(|e| e.to_string())
+        let rgba = self.to_rgba8();
+        crate::color::png::Png::rgba(self.width, self.height, &rgba).encode()
     }
 
     /// A standalone SVG 1.1 document of the same drawing.

@@ -36,7 +36,11 @@ pub fn pareto(points: &[ChartPoint], front: &[usize], title: &str, labels: [&str
     c.background(Color::rgb(255, 255, 255));
     let ink = Color::rgb(0x33, 0x33, 0x33);
     let positive = |v: f64| v.is_finite() && v > 0.0;
-    let xs: Vec<f64> = points.iter().map(|r| r.x).filter(|&v| positive(v)).collect();
+    let xs: Vec<f64> = points
+        .iter()
+        .map(|r| r.x)
+        .filter(|&v| positive(v))
+        .collect();
     let ys: Vec<f64> = points
         .iter()
         .map(|r| r.y)
@@ -152,15 +156,7 @@ pub fn pareto(points: &[ChartPoint], front: &[usize], title: &str, labels: [&str
             } else {
                 (5.0, VAlign::Top)
             };
-            c.text(
-                &r.label,
-                x + 9.0,
-                y + dy,
-                12.0,
-                ink,
-                HAlign::Left,
-                v,
-            );
+            c.text(&r.label, x + 9.0, y + dy, 12.0, ink, HAlign::Left, v);
         }
     }
     for (k, knob) in series.iter().enumerate() {
@@ -194,7 +190,6 @@ fn decade(d: i32) -> String {
         _ => format!("1e{d}"),
     }
 }
-
 
 #[cfg(test)]
 mod tests {

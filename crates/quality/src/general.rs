@@ -1122,16 +1122,7 @@ impl Tri {
 /// Exact sRGB decoding of the 256 byte values, in f64.
 fn srgb_table() -> &'static [f64; 256] {
     static TABLE: OnceLock<[f64; 256]> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        std::array::from_fn(|i| {
-            let c = i as f64 / 255.0;
-            if c <= 0.04045 {
-                c / 12.92
-            } else {
-                ((c + 0.055) / 1.055).powf(2.4)
-            }
-        })
-    })
+    TABLE.get_or_init(|| std::array::from_fn(|i| crate::color::srgb_decode(i as f64 / 255.0)))
 }
 
 /// Texel (x, y) in linear light, 8-bit sRGB decoded exactly in f64; transparent black

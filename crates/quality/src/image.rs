@@ -1,6 +1,5 @@
 //! [`LinearImage`]: linear-light RGB in f64, the currency of references and metrics.
 
-use crate::color::srgb_encode;
 use crate::raster::Framebuffer;
 
 /// A linear-light RGB image in f64, row-major, top row first.
@@ -70,7 +69,7 @@ impl LinearImage {
     pub fn to_srgb8(&self) -> Vec<u8> {
         self.rgb
             .iter()
-            .flat_map(|c| c.map(|v| (srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8))
+            .flat_map(|c| c.map(crate::color::srgb8_f64))
             .collect()
     }
 }

@@ -361,7 +361,8 @@ impl Target {
     /// and blue values first (a loop the compiler vectorises), then the table lookups.
     #[must_use]
     pub fn to_srgb8(&self) -> Vec<u8> {
-        let lut = encode_table();
+        let lut = crate::color::Srgb8Table::get();
+        let entries = lut.entries();
         let row_bytes = self.width as usize * 3;
         let mut out = vec![0u8; row_bytes * self.height as usize];
         let tiles_x = self.tiles_x as usize;
@@ -372,7 +373,7 @@ impl Target {
                 for t in row {
                     let (x0, w) = (t.x0 as usize, t.w as usize);
                     if let Some(c) = t.pending_clear {
-                        let rgb = [encode(lut, c.x), encode(lut, c.y), encode(lut, c.z)];
+                        let rgb = [lut.encode(c.x), lut.encode(c.y), lut.encode(c.z)];
                         for y in 0..t.h as usize {
                             band[y * row_bytes + x0 * 3..][..w * 3]
                                 .chunks_exact_mut(3)
@@ -402,14 +403,14 @@ impl Target {
                                 &mean[..w]
                             };
                             for (i, &v) in index.iter_mut().zip(src) {
-                                *i = encode_index(v);
+                                *i = crate::color::Srgb8Table::index(v);
                             }
                         }
                         let dst = &mut band[y * row_bytes + x0 * 3..][..w * 3];
                         for (x, px) in dst.chunks_exact_mut(3).enumerate() {
-                            px[0] = lut[index[0][x] as usize];
-                            px[1] = lut[index[1][x] as usize];
-                            px[2] = lut[index[2][x] as usize];
+                            px[0] = entries[index[0][x] as usize];
+                            px[1] = entries[index[1][x] as usize];
+                            px[2] = entries[index[2][x] as usize];
                         }
                     }
                 }
@@ -449,10 +450,10 @@ impl Target {
     ) {
         let w = self.width as usize;
         assert_eq!(out.len(), w * self.height as usize, "output size");
-        let lut = encode_table();
+        let lut = crate::color::Srgb8Table::get();
         let px = |c: Vec4| {
             let c = map(c);
-            make([encode(lut, c.x), encode(lut, c.y), encode(lut, c.z), 255])
+            make([lut.encode(c.x), lut.encode(c.y), lut.encode(c.z), 255])
         };
         out.par_chunks_mut(w * TILE as usize)
             .enumerate()
@@ -664,114 +665,20 @@ impl Framebuffer {
     /// 8-bit sRGB-encoded RGB, row-major (out-of-range values are clamped; NaN becomes 0).
     #[must_use]
     pub fn to_srgb8(&self) -> Vec<u8> {
-        let lut = encode_table();
+        let lut = crate::color::Srgb8Table::get();
         let mut out = Vec::with_capacity(self.color.len() * 3);
         for c in &self.color {
             for v in [c.x, c.y, c.z] {
-                out.push(encode(lut, v));
+                out.push(lut.encode(v));
             }
         }
         out
     }
 }
 
-pub(crate) const ENCODE_STEPS: usize = 16384;
-
-/// The table entry of linear value `i / ENCODE_STEPS`.
-fn encode_entry(i: usize) -> u8 {
-    (crate::color::linear_to_srgb(i as f32 / ENCODE_STEPS as f32) * 255.0 + 0.5) as u8
-}
-
-/// Linear -> sRGB byte through a 16384-entry table indexed by the rounded linear value:
-/// within one code value of the exact transfer everywhere (the table step is 1/16384, and
-/// sRGB's steepest slope, 12.92 * 255 codes per unit at 0, moves 0.2 codes per step).
-///
-/// The entries rise with the index, so the table is built from where each of the 255 steps
-/// lies (a binary search each: about 3,600 evaluations of the transfer instead of 16,385;
-/// a test checks it entry by entry against [`encode_entry`]).
-pub(crate) fn encode_table() -> &'static [u8; ENCODE_STEPS + 1] {
-    static TABLE: std::sync::OnceLock<[u8; ENCODE_STEPS + 1]> = std::sync::OnceLock::new();
-    TABLE.get_or_init(|| {
-        let mut table = [0u8; ENCODE_STEPS + 1];
-        let mut from = 0usize;
-        while from <= ENCODE_STEPS {
-            let code = encode_entry(from);
-            // The first index past `from` whose entry is above `code`.
-            let (mut lo, mut hi) = (from + 1, ENCODE_STEPS + 1);
-            while lo < hi {
-                let mid = lo + (hi - lo) / 2;
-                if encode_entry(mid) > code {
-                    hi = mid;
-                } else {
-                    lo = mid + 1;
-                }
-            }
-            table[from..lo].fill(code);
-            from = lo;
-        }
-        table
-    })
-}
-
-/// The table index of linear value `v`: rounded, clamped to the table, 0 for NaN (written
-/// without branches, so a loop of them vectorises).
-#[inline(always)]
-pub(crate) fn encode_index(v: f32) -> u32 {
-    // `f32::max` returns the other operand for NaN; after the clamp the cast is exact
-    // truncation, as `as usize` is for these values.
-    (v * ENCODE_STEPS as f32 + 0.5)
-        .max(0.0)
-        .min(ENCODE_STEPS as f32) as u32
-}
-
-#[inline(always)]
-pub(crate) fn encode(lut: &[u8; ENCODE_STEPS + 1], v: f32) -> u8 {
-    // `as usize` saturates and maps NaN to 0; the clamp bounds the index.
-    lut[((v * ENCODE_STEPS as f32 + 0.5) as usize).min(ENCODE_STEPS)]
-}
-
-#[cfg(test)]
-mod encode_tests {
-    use super::*;
-
-    #[test]
-    fn encode_table_and_index_match_the_direct_forms() {
-        let lut = encode_table();
-        for (i, &e) in lut.iter().enumerate() {
-            assert_eq!(e, encode_entry(i), "entry {i}");
-        }
-        let special = [
-            f32::NAN,
-            -f32::NAN,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            -0.0,
-            0.0,
-        ];
-        let steps = (0..=70_000).map(|i| i as f32 / 65_536.0 - 0.01);
-        let bits = (0..1u32 << 16).map(|i| f32::from_bits(i.wrapping_mul(0x9E37_79B9)));
-        for v in special.into_iter().chain(steps).chain(bits) {
-            let direct = ((v * ENCODE_STEPS as f32 + 0.5) as usize).min(ENCODE_STEPS);
-            assert_eq!(encode_index(v) as usize, direct, "{v}");
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn encode_matches_exact_transfer() {
-        for i in 0..=10_000 {
-            let v = i as f32 / 10_000.0;
-            let exact = (crate::color::linear_to_srgb(v) * 255.0 + 0.5) as i32;
-            let got = i32::from(encode(encode_table(), v));
-            assert!((exact - got).abs() <= 1, "{v}: {exact} vs {got}");
-        }
-        assert_eq!(encode(encode_table(), f32::NAN), 0);
-        assert_eq!(encode(encode_table(), 7.0), 255);
-    }
 
     #[test]
     fn resolve_odd_size() {

@@ -295,8 +295,7 @@ fn linear_table() -> &'static [f32; 256] {
 
 /// sRGB-encoded byte -> linear light, exact piecewise sRGB transfer.
 fn srgb_table() -> &'static [f32; 256] {
-    static TABLE: std::sync::OnceLock<[f32; 256]> = std::sync::OnceLock::new();
-    TABLE.get_or_init(|| std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0)))
+    crate::color::srgb8_decode_table()
 }
 
 pub use crate::color::{linear_to_srgb, srgb_to_linear};
@@ -352,15 +351,9 @@ impl Texture {
         if let Texels::Srgb8(t) = &self.texels {
             return std::borrow::Cow::Borrowed(t);
         }
-        let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
         let encode = |c: Vec4| {
-            let c = c.clamp(Vec4::ZERO, Vec4::ONE);
-            [
-                byte(linear_to_srgb(c.x)),
-                byte(linear_to_srgb(c.y)),
-                byte(linear_to_srgb(c.z)),
-                byte(c.w),
-            ]
+            use crate::color::{srgb8, unorm8};
+            [srgb8(c.x), srgb8(c.y), srgb8(c.z), unorm8(c.w)]
         };
         let (w, h) = (self.width, self.height);
         std::borrow::Cow::Owned(

@@ -191,7 +191,7 @@ fn display_color(radiance: Vec3) -> Color32 {
         Vec3::ONE
     };
     let c = c * 0.7 + Vec3::splat(0.3);
-    let e = |v: f32| (crate::texture::linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+    let e = crate::color::srgb8;
     Color32::from_rgb(e(c.x), e(c.y), e(c.z))
 }
 

@@ -274,7 +274,7 @@ fn time_frames(
 fn write_png(renderer: &Renderer, path: &std::path::Path) -> Result<()> {
     let target = renderer.target().context("no frame was rendered")?;
     let fb = target.resolve();
-    let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let byte = realist::color::unorm8;
     let bytes: Vec<u8> = fb
         .color
         .iter()
@@ -288,10 +288,17 @@ fn write_png(renderer: &Renderer, path: &std::path::Path) -> Result<()> {
             ]
         })
         .collect();
-    let img = image::RgbaImage::from_raw(fb.width, fb.height, bytes)
-        .context("framebuffer size mismatch")?;
-    img.save(path)
-        .with_context(|| format!("could not write {}", path.display()))
+    // Linear values: no sRGB chunk.
+    realist::color::png::Png {
+        srgb: false,
+        ..realist::color::png::Png::rgba(fb.width, fb.height, &bytes)
+    }
+    .with_text(
+        "Description",
+        "linear RGB x 255 (no sRGB encoding), alpha: drawn",
+    )
+    .write(path)
+    .map_err(anyhow::Error::msg)
 }
 
 fn round3(x: f64) -> f64 {

@@ -592,8 +592,7 @@ pub fn overdraw_legend(painter: &egui::Painter, rect: Rect) {
     for i in 0..steps {
         let c = 16.0 * i as f32 / (steps - 1) as f32;
         let col = crate::render::overdraw_color(c);
-        let enc =
-            |v: f32| (crate::texture::linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+        let enc = crate::color::srgb8;
         let x = origin.x + w * i as f32 / steps as f32;
         painter.rect_filled(
             Rect::from_min_size(Pos2::new(x, origin.y), Vec2::new(w / steps as f32 + 0.5, h)),

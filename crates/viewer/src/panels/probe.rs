@@ -16,7 +16,7 @@ fn v3(v: Vec3) -> String {
 
 /// A swatch of a linear colour.
 fn swatch(ui: &mut egui::Ui, linear: Vec3) {
-    let e = |v: f32| (srgb_encode(f64::from(v).clamp(0.0, 1.0)) * 255.0).round() as u8;
+    let e = |v: f32| color::srgb8_f64(f64::from(v));
     let (rect, _) = ui.allocate_exact_size(egui::vec2(28.0, 14.0), egui::Sense::hover());
     ui.painter().rect_filled(
         rect,

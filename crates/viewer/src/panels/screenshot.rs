@@ -72,9 +72,9 @@ fn file_name(folder: &str, scene: &str, w: u32, h: u32) -> PathBuf {
 }
 
 fn save_png(path: &std::path::Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), String> {
-    let img = image::RgbaImage::from_raw(w, h, rgba).ok_or("image size mismatch")?;
-    img.save(path)
-        .map_err(|e| format!("{}: could not write: {e}", path.display()))
+    crate::color::png::Png::rgba(w, h, &rgba)
+        .with_text("Source", "realist viewer screenshot")
+        .write(path)
 }
 
 /// F12: the frame on screen, as it is, at the window's size.
