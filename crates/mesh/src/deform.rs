@@ -221,18 +221,6 @@ fn sphere(positions: &[Vec3]) -> Option<(Vec3, f32, (Vec3, Vec3))> {
     Some((centre, r2.sqrt(), (lo, hi)))
 }
 
-/// The cofactor matrix of `m` (`det(m) * m^-T`): transforms normals, defined for singular
-/// matrices; negated when `m` mirrors, so normals stay outward.
-#[must_use]
-pub fn cofactor(m: Mat3) -> Mat3 {
-    let c = Mat3::from_cols(
-        m.y_axis.cross(m.z_axis),
-        m.z_axis.cross(m.x_axis),
-        m.x_axis.cross(m.y_axis),
-    );
-    if m.determinant() < 0.0 {
-        -c
-    } else {
-        c
-    }
-}
+/// The cofactor matrix of `m` (`det(m) * m^-T`), the normal matrix: see
+/// [`crate::geom::normal_matrix`].
+pub use crate::geom::normal_matrix as cofactor;

@@ -48,6 +48,7 @@
 //! | `primitives.rs` | sphere, cylinder, cone, torus, cube with analytic normals and UVs |
 
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
+use realist_geom as geom;
 use realist_texture as texture;
 
 use glam::{Vec2, Vec3, Vec4};

@@ -31,6 +31,7 @@
 
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
 use realist_color as color;
+use realist_geom as geom;
 use realist_texture as texture;
 
 mod canvas;

@@ -768,17 +768,11 @@ fn instances<'a>(
         let textured = policy.textured;
         let textured_only = |s: Option<RefSlot<'a>>| s.filter(|_| textured);
         let world = inst.world.as_dmat4();
-        let m3 = DMat3::from_mat4(world);
-        let cof = DMat3::from_cols(
-            m3.y_axis.cross(m3.z_axis),
-            m3.z_axis.cross(m3.x_axis),
-            m3.x_axis.cross(m3.y_axis),
-        );
         let det = world.determinant();
         out.push(Inst {
             tri,
             world,
-            normal: if m3.determinant() < 0.0 { -cof } else { cof },
+            normal: crate::geom::normal_matrix_f64(DMat3::from_mat4(world)),
             mvp: view.vp * world,
             flip: det < 0.0,
             cull: !(m.double_sided || opts.settings.double_sided),
@@ -923,21 +917,12 @@ fn clip_near_far(tri: &[DVec4; 3]) -> Vec<DVec4> {
     let planes: [fn(DVec4) -> f64; 2] = [|c| c.w - c.z, |c| c.z];
     for d in planes {
         let mut out = Vec::with_capacity(poly.len() + 1);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            let (da, db) = (d(a), d(b));
-            if da >= 0.0 {
-                out.push(a);
-            }
-            if (da >= 0.0) != (db >= 0.0) {
-                let (i, o, di, d_o) = if da >= 0.0 {
-                    (a, b, da, db)
-                } else {
-                    (b, a, db, da)
-                };
-                out.push(i + (o - i) * (di / (di - d_o)).clamp(0.0, 1.0));
-            }
-        }
+        crate::geom::clip_polygon(
+            &poly,
+            |p| d(*p) >= 0.0,
+            |&i, &o| i + (o - i) * crate::geom::crossing(d(i), d(o)),
+            &mut out,
+        );
         poly = out;
         if poly.len() < 3 {
             return Vec::new();

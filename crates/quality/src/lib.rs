@@ -12,6 +12,7 @@
 
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
 use realist_color as color;
+use realist_geom as geom;
 use realist_mesh as mesh;
 use realist_raster as raster;
 use realist_render as render;

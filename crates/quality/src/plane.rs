@@ -390,19 +390,13 @@ fn rect_area(q: &[[f64; 2]], r: [f64; 4]) -> f64 {
             }
         };
         let mut out = Vec::with_capacity(poly.len() + 2);
-        for i in 0..poly.len() {
-            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            let (ia, ib) = (inside(&a), inside(&b));
-            if ia {
-                out.push(a);
-            }
-            if ia != ib {
-                let t = (bound - a[axis]) / (b[axis] - a[axis]);
-                let mut p = [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
-                p[axis] = bound;
-                out.push(p);
-            }
-        }
+        let cut = |i: &[f64; 2], o: &[f64; 2]| {
+            let t = (bound - i[axis]) / (o[axis] - i[axis]);
+            let mut p = [i[0] + (o[0] - i[0]) * t, i[1] + (o[1] - i[1]) * t];
+            p[axis] = bound;
+            p
+        };
+        crate::geom::clip_polygon(&poly, inside, cut, &mut out);
         poly = out;
     }
     if poly.len() < 3 {

@@ -79,6 +79,15 @@ pub(crate) struct Poly {
     n: usize,
 }
 
+impl Extend<ClipVertex> for Poly {
+    #[inline]
+    fn extend<I: IntoIterator<Item = ClipVertex>>(&mut self, iter: I) {
+        for p in iter {
+            self.push(p);
+        }
+    }
+}
+
 impl Poly {
     /// A polygon with the vertices of `tri`, whose first `stride` varyings are interpolated.
     pub fn triangle(tri: [ClipVertex; 3], stride: usize) -> Self {
@@ -117,25 +126,13 @@ pub(crate) fn clip_polygon(poly: Poly, planes: u8, g: Vec2) -> Poly {
             continue;
         }
         out.n = 0;
-        let n = poly.n;
-        for i in 0..n {
-            let a = poly.v[i];
-            let b = poly.v[(i + 1) % n];
-            let da = distance(a.pos, plane, g);
-            let db = distance(b.pos, plane, g);
-            let a_in = da >= 0.0;
-            let b_in = db >= 0.0;
-            if a_in {
-                out.push(a);
-            }
-            if a_in != b_in {
-                out.push(if a_in {
-                    intersect(&a, &b, plane, g, poly.stride)
-                } else {
-                    intersect(&b, &a, plane, g, poly.stride)
-                });
-            }
-        }
+        let stride = poly.stride;
+        crate::geom::clip_polygon(
+            poly.as_slice(),
+            |v| distance(v.pos, plane, g) >= 0.0,
+            |i, o| intersect(i, o, plane, g, stride),
+            &mut out,
+        );
         std::mem::swap(&mut poly, &mut out);
         if poly.n < 3 {
             poly.n = 0;
@@ -157,7 +154,7 @@ pub(crate) fn clip_polygon(poly: Poly, planes: u8, g: Vec2) -> Poly {
 fn intersect(i: &ClipVertex, o: &ClipVertex, plane: u8, g: Vec2, stride: usize) -> ClipVertex {
     let (pi, po) = (i.pos.as_dvec4(), o.pos.as_dvec4());
     let (di, d_o) = (distance64(pi, plane, g), distance64(po, plane, g));
-    let t = (di / (di - d_o)).clamp(0.0, 1.0);
+    let t = crate::geom::crossing(di, d_o);
     let tf = t as f32;
     let mut var = i.var;
     for (v, w) in var[..stride].iter_mut().zip(&o.var[..stride]) {

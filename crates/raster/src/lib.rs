@@ -34,6 +34,7 @@
 
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
 use realist_color as color;
+use realist_geom as geom;
 use realist_simd as simd;
 
 mod clip;

@@ -98,32 +98,12 @@ pub fn draw_lines(
     }
 }
 
-/// Liang-Barsky clip of a screen segment to [0, w) x [0, h); z is interpolated along.
+/// The part of a screen segment in [0, w) x [0, h) (Liang-Barsky); z is interpolated along.
 fn clip_to_rect(a: Vec4, b: Vec4, w: f32, h: f32) -> Option<(Vec4, Vec4)> {
+    let hi = [w - 1e-3, h - 1e-3];
+    let (t0, t1) = crate::geom::clip_segment([a.x, a.y], [b.x, b.y], [0.0, 0.0], hi)?;
     let d = b - a;
-    let (mut t0, mut t1) = (0.0f32, 1.0f32);
-    let lim_x = w - 1e-3;
-    let lim_y = h - 1e-3;
-    for (p, q) in [
-        (-d.x, a.x),
-        (d.x, lim_x - a.x),
-        (-d.y, a.y),
-        (d.y, lim_y - a.y),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
-        }
-    }
-    (t0 <= t1).then(|| (a + d * t0, a + d * t1))
+    Some((a + d * t0, a + d * t1))
 }
 
 fn bresenham(target: &mut Target, depth: Option<&DepthCopy>, a: Vec4, b: Vec4, style: &LineStyle) {

@@ -532,19 +532,8 @@ impl FlatMesh {
     }
 }
 
-/// Transforms normals of a model -> world matrix: the cofactor matrix of its 3x3 part, which
-/// equals det * (M^-1)^T and stays defined for singular matrices (a flattened mesh keeps the
-/// normal of its plane); the sign of the determinant keeps mirrored normals outward.
+/// Transforms normals of a model -> world matrix: the normal matrix of its 3x3 part
+/// ([`crate::mesh::cofactor`]).
 pub(crate) fn normal_matrix(world: Mat4) -> Mat3 {
-    let m = Mat3::from_mat4(world);
-    let cof = Mat3::from_cols(
-        m.y_axis.cross(m.z_axis),
-        m.z_axis.cross(m.x_axis),
-        m.x_axis.cross(m.y_axis),
-    );
-    if m.determinant() < 0.0 {
-        -cof
-    } else {
-        cof
-    }
+    crate::mesh::cofactor(Mat3::from_mat4(world))
 }

@@ -120,31 +120,13 @@ impl Projector {
     }
 }
 
-/// Liang-Barsky: the part of segment `a`-`b` inside `r`.
+/// The part of segment `a`-`b` inside `r` (Liang-Barsky, [`crate::geom::clip_segment`]).
 #[must_use]
 pub fn clip_2d(a: Pos2, b: Pos2, r: Rect) -> Option<[Pos2; 2]> {
+    let (lo, hi) = ([r.left(), r.top()], [r.right(), r.bottom()]);
+    let (t0, t1) = crate::geom::clip_segment([a.x, a.y], [b.x, b.y], lo, hi)?;
     let d = b - a;
-    let (mut t0, mut t1) = (0.0f32, 1.0f32);
-    for (p, q) in [
-        (-d.x, a.x - r.left()),
-        (d.x, r.right() - a.x),
-        (-d.y, a.y - r.top()),
-        (d.y, r.bottom() - a.y),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let t = q / p;
-            if p < 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-    }
-    (t0 <= t1).then(|| [a + d * t0, a + d * t1])
+    Some([a + d * t0, a + d * t1])
 }
 
 /// One light's gizmo, on the screen.

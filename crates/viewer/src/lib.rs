@@ -22,6 +22,7 @@
 
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
 use realist_color as color;
+use realist_geom as geom;
 use realist_load as load;
 use realist_mesh as mesh;
 use realist_overlay as overlay;

@@ -37,17 +37,11 @@ pub fn clip_convex(subject: &[[f64; 2]], clip: &[[f64; 2]]) -> Vec<[f64; 2]> {
         let (a, b) = (clip[i], clip[(i + 1) % clip.len()]);
         let side = |p: [f64; 2]| (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]);
         let input = std::mem::take(&mut out);
-        for j in 0..input.len() {
-            let (p, q) = (input[j], input[(j + 1) % input.len()]);
-            let (sp, sq) = (side(p), side(q));
-            if sp >= 0.0 {
-                out.push(p);
-            }
-            if (sp >= 0.0) != (sq >= 0.0) {
-                let t = sp / (sp - sq);
-                out.push([p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t]);
-            }
-        }
+        let cut = |p: &[f64; 2], q: &[f64; 2]| {
+            let t = crate::geom::crossing(side(*p), side(*q));
+            [p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t]
+        };
+        crate::geom::clip_polygon(&input, |p| side(*p) >= 0.0, cut, &mut out);
         if out.is_empty() {
             break;
         }
