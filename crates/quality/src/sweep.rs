@@ -218,7 +218,23 @@ impl Subject {
             (Subject::Plane(_), _) => 0,
             (_, Shading::Blinn) => 1,
             (_, Shading::Textured) => 2,
-            _ => 0,
+            (
+                Subject::Shape(_) | Subject::Model(_),
+                Shading::Wireframe
+                | Shading::Flat
+                | Shading::Gouraud
+                | Shading::Phong
+                | Shading::Pbr
+                | Shading::Normals
+                | Shading::Depth
+                | Shading::Uv
+                | Shading::UvChecker
+                | Shading::MipLevel
+                | Shading::TexelDensity
+                | Shading::Anisotropy
+                | Shading::Tangents
+                | Shading::TangentNormals,
+            ) => 0,
         }
     }
 

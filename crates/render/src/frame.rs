@@ -245,7 +245,20 @@ impl Policy {
             base: match mode {
                 Shading::UvChecker => Vec4::ONE,
                 Shading::Pbr => finite_or_white(m.base_color),
-                _ => finite_or_white(phong_base(m)),
+                Shading::Wireframe
+                | Shading::Flat
+                | Shading::Gouraud
+                | Shading::Phong
+                | Shading::Blinn
+                | Shading::Textured
+                | Shading::Normals
+                | Shading::Depth
+                | Shading::Uv
+                | Shading::MipLevel
+                | Shading::TexelDensity
+                | Shading::Anisotropy
+                | Shading::Tangents
+                | Shading::TangentNormals => finite_or_white(phong_base(m)),
             },
             surface: if pbr {
                 pbr_surface(m)
@@ -400,7 +413,21 @@ pub(crate) fn resolve(
             sampler: Sampler::default(),
             scale: 1.0,
         }),
-        _ => base_map.filter(|_| textured),
+        Shading::Wireframe
+        | Shading::Flat
+        | Shading::Gouraud
+        | Shading::Phong
+        | Shading::Blinn
+        | Shading::Textured
+        | Shading::Pbr
+        | Shading::Normals
+        | Shading::Depth
+        | Shading::Uv
+        | Shading::MipLevel
+        | Shading::TexelDensity
+        | Shading::Anisotropy
+        | Shading::Tangents
+        | Shading::TangentNormals => base_map.filter(|_| textured),
     };
     let mut layout = LitLayout {
         color: tri.colors.is_some(),

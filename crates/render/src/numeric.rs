@@ -80,14 +80,14 @@ impl Numeric {
     #[must_use]
     pub fn message(&self, written: &str) -> String {
         let range = match self.range {
-            Range::Between(lo, hi) => format!("from {lo} to {hi}"),
-            Range::Whole(lo, hi) => format!("(a whole number) from {lo} to {hi}"),
+            Range::Between(lo, hi) => format!(" from {lo} to {hi}"),
+            Range::Whole(lo, hi) => format!(", a whole number from {lo} to {hi}"),
             Range::OneOf(set) => {
                 let names: Vec<String> = set.iter().map(u32::to_string).collect();
-                format!("one of {}", names.join(", "))
+                format!(", one of {}", names.join(", "))
             }
         };
-        format!("{} = {written}: expected {} {range}", self.key, self.what)
+        format!("{} = {written}: expected {}{range}", self.key, self.what)
     }
 
     /// The command-line flag (`--shadow-size`), or `None` when there is none.
@@ -370,10 +370,10 @@ mod tests {
         assert!(s
             .check(2.5)
             .unwrap_err()
-            .contains("whole number) from 1 to 8"));
+            .contains(", a whole number from 1 to 8"));
         assert_eq!(
             numeric("msaa").check(2.0).unwrap_err(),
-            "msaa = 2: expected samples per pixel one of 1, 4"
+            "msaa = 2: expected samples per pixel, one of 1, 4"
         );
         assert_eq!(
             numeric("shadow.size").flag_name().as_deref(),

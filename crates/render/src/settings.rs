@@ -217,7 +217,7 @@ impl PartialEq for Environment {
                     && a.rotation_deg == b.rotation_deg
                     && a.intensity == b.intensity
             }
-            _ => false,
+            (Environment::Auto | Environment::Off | Environment::On(_), _) => false,
         }
     }
 }

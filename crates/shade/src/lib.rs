@@ -127,7 +127,17 @@ impl Shading {
             Shading::Anisotropy => Some(TexView::Anisotropy),
             Shading::Tangents => Some(TexView::Tangents),
             Shading::TangentNormals => Some(TexView::TangentNormals),
-            _ => None,
+            Shading::Wireframe
+            | Shading::Flat
+            | Shading::Gouraud
+            | Shading::Phong
+            | Shading::Blinn
+            | Shading::Textured
+            | Shading::Pbr
+            | Shading::Normals
+            | Shading::Depth
+            | Shading::Uv
+            | Shading::UvChecker => None,
         }
     }
 

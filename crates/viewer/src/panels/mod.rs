@@ -206,7 +206,6 @@ pub fn keyboard(app: &mut ViewerApp, ui: &egui::Ui) {
 pub fn act(app: &mut ViewerApp, a: Action) {
     let aspect = app.viewport.aspect();
     let nav = &mut app.nav;
-    let mut camera = true;
     match a {
         Action::ViewFront => nav.set_view(Named::Front),
         Action::ViewBack => nav.set_view(Named::Back),
@@ -229,14 +228,8 @@ pub fn act(app: &mut ViewerApp, a: Action) {
         }),
         Action::FovDown => nav.set_fov_degrees(nav.fov_degrees() - 5.0),
         Action::FovUp => nav.set_fov_degrees(nav.fov_degrees() + 5.0),
-        _ => camera = false,
-    }
-    if camera {
-        return;
-    }
-    let s = &mut app.settings;
-    match a {
         Action::NextShading | Action::PrevShading => {
+            let s = &mut app.settings;
             let k = s
                 .shading
                 .and_then(|m| CYCLE.iter().position(|c| *c == m))
@@ -249,8 +242,11 @@ pub fn act(app: &mut ViewerApp, a: Action) {
             };
             s.shading = Some(CYCLE[next]);
         }
-        Action::ToggleWireOverlay => s.wireframe_overlay = !s.wireframe_overlay,
+        Action::ToggleWireOverlay => {
+            app.settings.wireframe_overlay = !app.settings.wireframe_overlay;
+        }
         Action::ToggleOverdraw => {
+            let s = &mut app.settings;
             s.output = match s.output {
                 Output::Shaded => Output::Overdraw,
                 Output::Overdraw => Output::Shaded,
@@ -292,7 +288,6 @@ pub fn act(app: &mut ViewerApp, a: Action) {
                 app.timeline.toggle(length);
             }
         }
-        _ => {}
     }
 }
 
@@ -565,7 +560,23 @@ fn cheat_sheet(app: &ViewerApp, ui: &mut egui::Ui) {
             Action::ToggleSplit => on(app.split.enabled).into(),
             Action::ToggleLightGizmos => on(app.panels.lights.gizmos).into(),
             Action::TogglePanels => on(app.panels.visible).into(),
-            _ => String::new(),
+            Action::TogglePlay => on(app.timeline.playing).into(),
+            Action::CheatSheet => on(app.panels.cheat_sheet).into(),
+            // One-shot actions: nothing to show.
+            Action::ViewFront
+            | Action::ViewBack
+            | Action::ViewRight
+            | Action::ViewLeft
+            | Action::ViewTop
+            | Action::ViewBottom
+            | Action::ViewIso
+            | Action::Reset
+            | Action::FrameAll
+            | Action::Screenshot
+            | Action::Open
+            | Action::PrevFile
+            | Action::NextFile
+            | Action::Reload => String::new(),
         }
     };
     egui::Grid::new("keys").striped(true).show(ui, |ui| {
