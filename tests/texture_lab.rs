@@ -419,3 +419,63 @@ fn the_tangent_normals_view_takes_its_frame_from_the_uvs_without_tangents() {
         &shown,
     );
 }
+
+/// A 64 x 64 height image rising linearly, `du` per texel along u (columns) and `dv` per
+/// texel along v (rows), from 0.25 at the first texel (16-bit linear).
+fn ramp_height(du: f32, dv: f32) -> Arc<Texture> {
+    let n = 64u32;
+    let texels = (0..n * n)
+        .map(|i| {
+            let h = 0.25 + du * (i % n) as f32 + dv * (i / n) as f32;
+            let v = (h * 65535.0).round() as u16;
+            [v, v, v, u16::MAX]
+        })
+        .collect();
+    Arc::new(Texture::from_texels("ramp", n, n, Texels::Linear16(texels)).expect("texture"))
+}
+
+/// Bump mapping against the geometry of a height field, computed here and not by the
+/// renderer's functions: on the plane (facing +Y, u along +X, v along +Z), a height image
+/// rising `du`, `dv` per texel and scaled by `s` (heights in texel widths: 1 over one
+/// texel is 45°) is the surface y = H(x, z) with slopes H_x = s du, H_z = s dv, whose
+/// normal is (-H_x, 1, -H_z) normalised: it leans away from where the surface rises. The
+/// probe's shading normal must be that normal, and the rasterizer's pixel the Lambert
+/// term with it; a wrong sign or scale of the gradient fails both.
+#[test]
+fn a_height_ramp_tilts_the_normal_as_the_slope_of_its_surface() {
+    let (du, dv, s) = (0.004f32, 0.002f32, 10.0f32);
+    let want = Vec3::new(-s * du, 1.0, -s * dv).normalize();
+    let scene = plane_scene();
+    let (w, h) = (96, 72);
+    let slots = bump_slots(TextureSource::Image(ramp_height(du, dv)), s);
+    let shot = options(slots, Shading::Textured, w, h);
+    let prepared = PreparedScene::new(scene.clone());
+    let view = shot.view(&scene);
+    let (px, py) = (w / 2, h / 2);
+    let p = realist::render::probe(&prepared, &shot.settings, &view, px, py).expect("the plane");
+    let uv = p.uv.expect("uv");
+    assert!(
+        (0.2..0.8).contains(&uv.x) && (0.2..0.8).contains(&uv.y),
+        "probed inside the plane: {uv}"
+    );
+    assert!(
+        (p.normal - want).length() < 2e-3,
+        "shading normal {} against the height field's {want}",
+        p.normal
+    );
+    // The rasterizer's own pixel: ambient 0.05 plus the Lambert term of the light (white,
+    // intensity 1) with that normal; without the bump, with the normal (0, 1, 0).
+    let l = -match scene.lights[0].kind {
+        realist::scene::LightKind::Directional => scene.lights[0].direction.normalize(),
+        k => panic!("the plane's first light is directional, not {k:?}"),
+    };
+    let lit = |n: Vec3| 0.05 + n.dot(l).max(0.0);
+    let frame = render(&prepared, &shot).image();
+    let got = frame.pixel(px, py).x;
+    let (bumped, flat) = (lit(want), lit(Vec3::Y));
+    assert!(
+        (got - bumped).abs() < 0.01 * bumped,
+        "pixel {got}, the height field's normal gives {bumped} (flat {flat})"
+    );
+    assert!((flat - bumped).abs() > 0.1 * bumped, "the bump shows");
+}
