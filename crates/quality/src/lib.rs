@@ -5,7 +5,7 @@
 //! |---|---|
 //! | `image.rs` | [`LinearImage`]: f64 linear RGB, supersampling resolve |
 //! | `metrics.rs` | RMSE, PSNR, max error, CIEDE2000 mean / p95 / count, heat map |
-//! | `general.rs` | the f64 reference of any scene: homogeneous visibility, heavy supersampling |
+//! | `general/` | the f64 reference of any scene: `mod.rs` the request, the camera and the bands; `instances.rs` the scene as drawn (alpha, slots, bump); `coverage.rs` homogeneous visibility; `texels.rs` f64 texel reads |
 //! | `sphere.rs` | the ray-cast sphere reference and its rasterizer scene |
 //! | `plane.rs` | the exactly box-filtered textured plane reference and its scene |
 //! | `sweep.rs` | one knob at a time: settings, timings, metrics, Pareto front, plot |
