@@ -153,16 +153,23 @@ fn bump_scale(s: &Settings) -> Option<f64> {
     }
 }
 
+/// A setting held in one field of [`Settings`].
+macro_rules! scalar {
+    ($key:literal, $what:literal, $range:expr, $flag:expr, $($field:ident).+ : $t:ty) => {
+        Numeric {
+            key: $key,
+            what: $what,
+            range: $range,
+            flag: $flag,
+            get: |s| Some(f64::from(s.$($field).+)),
+            set: |s, v| s.$($field).+ = v as $t,
+        }
+    };
+}
+
 /// Every numeric setting.
 pub static NUMERIC: &[Numeric] = &[
-    Numeric {
-        key: "exposure",
-        what: "a number of stops",
-        range: Range::Between(-64.0, 64.0),
-        flag: None,
-        get: |s| Some(f64::from(s.exposure)),
-        set: |s, v| s.exposure = v as f32,
-    },
+    scalar!("exposure", "a number of stops", Range::Between(-64.0, 64.0), None, exposure: f32),
     Numeric {
         key: "env_rotate",
         what: "degrees",
@@ -199,46 +206,11 @@ pub static NUMERIC: &[Numeric] = &[
             }
         },
     },
-    Numeric {
-        key: "samples",
-        what: "samples per pixel side",
-        range: Range::Whole(1, 8),
-        flag: None,
-        get: |s| Some(f64::from(s.samples)),
-        set: |s, v| s.samples = v as u32,
-    },
-    Numeric {
-        key: "msaa",
-        what: "samples per pixel",
-        range: Range::OneOf(&SAMPLE_COUNTS),
-        flag: None,
-        get: |s| Some(f64::from(s.msaa)),
-        set: |s, v| s.msaa = v as u32,
-    },
-    Numeric {
-        key: "subpixel_bits",
-        what: "bits of the vertex snap",
-        range: Range::Whole(0, SUBPIXEL_BITS),
-        flag: None,
-        get: |s| Some(f64::from(s.subpixel_bits)),
-        set: |s, v| s.subpixel_bits = v as u8,
-    },
-    Numeric {
-        key: "point_size",
-        what: "pixels",
-        range: Range::Between(1.0, MAX_STROKE_PX as f64),
-        flag: None,
-        get: |s| Some(f64::from(s.point_size)),
-        set: |s, v| s.point_size = v as f32,
-    },
-    Numeric {
-        key: "line_width",
-        what: "pixels",
-        range: Range::Between(1.0, MAX_STROKE_PX as f64),
-        flag: None,
-        get: |s| Some(f64::from(s.line_width)),
-        set: |s, v| s.line_width = v as f32,
-    },
+    scalar!("samples", "samples per pixel side", Range::Whole(1, 8), None, samples: u32),
+    scalar!("msaa", "samples per pixel", Range::OneOf(&SAMPLE_COUNTS), None, msaa: u32),
+    scalar!("subpixel_bits", "bits of the vertex snap", Range::Whole(0, SUBPIXEL_BITS), None, subpixel_bits: u8),
+    scalar!("point_size", "pixels", Range::Between(1.0, MAX_STROKE_PX as f64), None, point_size: f32),
+    scalar!("line_width", "pixels", Range::Between(1.0, MAX_STROKE_PX as f64), None, line_width: f32),
     Numeric {
         key: "bump_scale",
         what: "a height scale",
@@ -251,38 +223,10 @@ pub static NUMERIC: &[Numeric] = &[
             }
         },
     },
-    Numeric {
-        key: "shadow.size",
-        what: "texels per side",
-        range: Range::Whole(16, MAX_SHADOW_SIZE),
-        flag: None,
-        get: |s| Some(f64::from(s.shadow.size)),
-        set: |s, v| s.shadow.size = v as u32,
-    },
-    Numeric {
-        key: "shadow.pcf",
-        what: "a filter radius in texels",
-        range: Range::Whole(0, 16),
-        flag: Some("--pcf {}"),
-        get: |s| Some(f64::from(s.shadow.pcf)),
-        set: |s, v| s.shadow.pcf = v as u32,
-    },
-    Numeric {
-        key: "shadow.bias",
-        what: "a depth bias in texels",
-        range: Range::Between(0.0, 1e4),
-        flag: Some(""),
-        get: |s| Some(f64::from(s.shadow.bias)),
-        set: |s, v| s.shadow.bias = v as f32,
-    },
-    Numeric {
-        key: "shadow.slope",
-        what: "a slope bias in texels",
-        range: Range::Between(0.0, 1e4),
-        flag: Some(""),
-        get: |s| Some(f64::from(s.shadow.slope)),
-        set: |s, v| s.shadow.slope = v as f32,
-    },
+    scalar!("shadow.size", "texels per side", Range::Whole(16, MAX_SHADOW_SIZE), None, shadow.size: u32),
+    scalar!("shadow.pcf", "a filter radius in texels", Range::Whole(0, 16), Some("--pcf {}"), shadow.pcf: u32),
+    scalar!("shadow.bias", "a depth bias in texels", Range::Between(0.0, 1e4), Some(""), shadow.bias: f32),
+    scalar!("shadow.slope", "a slope bias in texels", Range::Between(0.0, 1e4), Some(""), shadow.slope: f32),
     Numeric {
         key: "ground.extent",
         what: "multiples of the scene's radius",
