@@ -38,9 +38,9 @@ pub(crate) struct RenderArgs {
     /// Image size WIDTHxHEIGHT (default 1280x720, or the scene file's).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
-    /// wireframe, flat, gouraud, phong, blinn, textured, normals, depth or uv (default: phong;
-    /// the demo keeps its per-sphere styles unless a mode is given).
-    #[arg(long)]
+    /// The shading mode (default: pbr for glTF materials, textured for a model with
+    /// textures, else phong; the demo keeps its per-sphere styles unless a mode is given).
+    #[arg(long, long_help = shading_help())]
     pub shading: Option<Shading>,
     /// Worker threads (default: all cores).
     #[arg(long)]
@@ -128,6 +128,15 @@ pub(crate) struct RenderArgs {
     pub normals: NormalArgs,
     #[command(flatten)]
     pub sequence: SequenceArgs,
+}
+
+/// `--shading`'s long help: the default, then every mode from its description.
+fn shading_help() -> String {
+    format!(
+        "The shading mode (default: pbr for glTF materials, textured for a model with \
+         textures, else phong; the demo keeps its per-sphere styles unless a mode is given):\n\n{}",
+        Shading::help()
+    )
 }
 
 /// `on` or `off` (also true/false, yes/no, 1/0).

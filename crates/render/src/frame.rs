@@ -13,6 +13,7 @@ use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
 use crate::scene::{
     AlphaMode, Light, Material, Slot, SlotOverride, Style, TextureSource, UvTransform,
 };
+use crate::shade::mode::{Base, Pass};
 use crate::shade::stages::Program;
 use crate::shade::{
     DrawParams, Fog, LightSet, LitLayout, PbrParams, Shading, SlotParams, Surface, TexView,
@@ -237,28 +238,12 @@ impl Policy {
         let finite_or_white = |c: Vec4| if c.is_finite() { c } else { Vec4::ONE };
         Self {
             mode,
-            textured: matches!(
-                mode,
-                Shading::Textured | Shading::TangentNormals | Shading::Pbr
-            ),
+            textured: mode.mode().maps,
             pbr,
-            base: match mode {
-                Shading::UvChecker => Vec4::ONE,
-                Shading::Pbr => finite_or_white(m.base_color),
-                Shading::Wireframe
-                | Shading::Flat
-                | Shading::Gouraud
-                | Shading::Phong
-                | Shading::Blinn
-                | Shading::Textured
-                | Shading::Normals
-                | Shading::Depth
-                | Shading::Uv
-                | Shading::MipLevel
-                | Shading::TexelDensity
-                | Shading::Anisotropy
-                | Shading::Tangents
-                | Shading::TangentNormals => finite_or_white(phong_base(m)),
+            base: match mode.mode().base {
+                Base::UvGrid => Vec4::ONE,
+                Base::Pbr => finite_or_white(m.base_color),
+                Base::Material => finite_or_white(phong_base(m)),
             },
             surface: if pbr {
                 pbr_surface(m)
@@ -383,9 +368,8 @@ pub(crate) fn resolve(
     let policy = Policy::new(settings.shading, inst.style, m, mapped);
     let mode = policy.mode;
     let view = mode.tex_view().unwrap_or_default();
-    let debug =
-        matches!(mode, Shading::Normals | Shading::Depth | Shading::Uv) || view != TexView::Lit;
-    let blend = m.alpha_mode == AlphaMode::Blend && !debug && mode != Shading::Wireframe;
+    let debug = mode.mode().debug();
+    let blend = m.alpha_mode == AlphaMode::Blend && !debug && mode.mode().pass != Pass::Edges;
     let double_sided = m.double_sided || settings.double_sided;
     let mut state = DrawState {
         cull: if double_sided { Cull::None } else { Cull::Back },
@@ -405,29 +389,16 @@ pub(crate) fn resolve(
     }
     let per_pixel = mode.per_pixel();
     let Policy { textured, pbr, .. } = policy;
-    let base_map = match mode {
-        Shading::UvChecker => tri.uv_set(0).map(|_| Found {
+    let base_map = if mode.mode().base == Base::UvGrid {
+        tri.uv_set(0).map(|_| Found {
             source: TextureSource::Procedural(Arc::clone(uv_grid())),
             uv_set: 0,
             transform: UvTransform::IDENTITY,
             sampler: Sampler::default(),
             scale: 1.0,
-        }),
-        Shading::Wireframe
-        | Shading::Flat
-        | Shading::Gouraud
-        | Shading::Phong
-        | Shading::Blinn
-        | Shading::Textured
-        | Shading::Pbr
-        | Shading::Normals
-        | Shading::Depth
-        | Shading::Uv
-        | Shading::MipLevel
-        | Shading::TexelDensity
-        | Shading::Anisotropy
-        | Shading::Tangents
-        | Shading::TangentNormals => base_map.filter(|_| textured),
+        })
+    } else {
+        base_map.filter(|_| textured)
     };
     let mut layout = LitLayout {
         color: tri.colors.is_some(),
@@ -548,12 +519,11 @@ pub(crate) fn resolve(
         measure,
         layout,
         mapped,
-        blinn: matches!(
-            mode,
-            Shading::Blinn | Shading::Textured | Shading::UvChecker
-        ) || (settings.vertex_lighting.blinn
-            && matches!(mode, Shading::Gouraud | Shading::Flat)),
-        provoking_vertex: settings.vertex_lighting.provoking_vertex && mode == Shading::Flat,
+        blinn: mode.mode().blinn
+            || (settings.vertex_lighting.blinn
+                && matches!(mode.mode().pass, Pass::Vertices | Pass::Facets)),
+        provoking_vertex: settings.vertex_lighting.provoking_vertex
+            && mode.mode().pass == Pass::Facets,
         alpha: if debug {
             AlphaMode::Opaque
         } else {

@@ -20,8 +20,9 @@ use crate::raster::{
     self, Bins, Cull, DepthCopy, Draw, DrawList, DrawState, LineStyle, Stats, StrokeStyle, Target,
 };
 use crate::scene::Camera;
+use crate::shade::mode::Pass;
 use crate::shade::{
-    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader, Shading,
+    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader,
 };
 
 /// Everything a pass reads and writes.
@@ -241,15 +242,15 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     }
     let fdr = &*fd;
     if !solid(cx, fdr, &|_, fi| {
-        !fi.blend && fi.mode != Shading::Wireframe && fi.tris
+        !fi.blend && fi.mode.mode().pass != Pass::Edges && fi.tris
     }) {
         return false;
     }
-    let wire = |_: usize, fi: &FrameInst| !fi.blend && fi.mode == Shading::Wireframe;
+    let wire = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass == Pass::Edges;
     let mut depth = std::mem::take(&mut fd.depth);
     let mut done = wireframe(cx, fd, &wire, false, &mut depth);
     if done && overlay {
-        let shaded = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;
+        let shaded = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass != Pass::Edges;
         done = wireframe(cx, fd, &shaded, true, &mut depth);
     }
     fd.depth = depth;
@@ -330,7 +331,7 @@ pub(super) fn centre_depth(cx: &mut Cx, fd: &FrameData) -> bool {
     cx.target.clear_depth();
     let scene = cx.scene;
     let saved = *cx.stats;
-    let opaque = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;
+    let opaque = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass != Pass::Edges;
     let (done, g) = group_with(
         cx,
         &fd.insts,
@@ -355,7 +356,7 @@ pub(super) fn centre_depth(cx: &mut Cx, fd: &FrameData) -> bool {
 pub(super) fn shadow_depth(cx: &mut Cx, fd: &FrameData, culled: &[FrameInst]) -> bool {
     let scene = cx.scene;
     let saved = *cx.stats;
-    let caster = |_: usize, fi: &FrameInst| !fi.blend && fi.mode != Shading::Wireframe;
+    let caster = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass != Pass::Edges;
     let state = |s: DrawState| DrawState {
         color_write: false,
         cull: Cull::None,
@@ -399,9 +400,10 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
         kernel: cx.bins.kernel,
     };
     let params: &[DrawParams] = &fd.params;
-    let of = |mode: Shading| move |k: usize, fi: &FrameInst| fi.mode == mode && pick(k, fi);
+    let of =
+        |pass: Pass| move |k: usize, fi: &FrameInst| fi.mode.mode().pass == pass && pick(k, fi);
 
-    let flat_pick = of(Shading::Flat);
+    let flat_pick = of(Pass::Facets);
     if fd.insts.iter().enumerate().any(|(k, fi)| flat_pick(k, fi)) {
         let mut facets = cx.pool.take::<FacetScratch>();
         let shader = ColorShader {
@@ -423,7 +425,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     let (done, g) = group_with(
         cx,
         &fd.insts,
-        &of(Shading::Gouraud),
+        &of(Pass::Vertices),
         Geometry::Indexed,
         &mut |fi, out| lit.gouraud(fi, out),
         &shader,
@@ -442,11 +444,7 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     if !lit_group(cx, fd, &per_pixel) {
         return false;
     }
-    for (mode, debug) in [
-        (Shading::Normals, Debug::Normals),
-        (Shading::Depth, Debug::Depth),
-        (Shading::Uv, Debug::Uv),
-    ] {
+    for debug in [Debug::Normals, Debug::Depth, Debug::Uv] {
         let shader = DebugShader {
             mode: debug,
             near: cx.camera.near,
@@ -454,7 +452,14 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
             kernel: cx.bins.kernel,
         };
         let vertex = |fi: &FrameInst, out: &mut Vec<f32>| vertex::debug(scene, fi, debug, out);
-        if !group(cx, fd, &of(mode), Geometry::Indexed, vertex, &shader) {
+        if !group(
+            cx,
+            fd,
+            &of(Pass::Debug(debug)),
+            Geometry::Indexed,
+            vertex,
+            &shader,
+        ) {
             return false;
         }
     }

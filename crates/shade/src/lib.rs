@@ -30,6 +30,7 @@ use realist_texture::microfacet;
 pub mod brdf;
 mod lighting;
 pub mod maps;
+pub mod mode;
 mod shaders;
 mod shadow;
 pub mod stages;
@@ -96,59 +97,21 @@ impl Shading {
     /// The mode's command-line name.
     #[must_use]
     pub fn name(self) -> &'static str {
-        match self {
-            Shading::Wireframe => "wireframe",
-            Shading::Flat => "flat",
-            Shading::Gouraud => "gouraud",
-            Shading::Phong => "phong",
-            Shading::Blinn => "blinn",
-            Shading::Textured => "textured",
-            Shading::Pbr => "pbr",
-            Shading::Normals => "normals",
-            Shading::Depth => "depth",
-            Shading::Uv => "uv",
-            Shading::UvChecker => "uv-checker",
-            Shading::MipLevel => "mip-level",
-            Shading::TexelDensity => "texel-density",
-            Shading::Anisotropy => "anisotropy",
-            Shading::Tangents => "tangents",
-            Shading::TangentNormals => "tangent-normals",
-        }
+        self.mode().name
     }
-}
 
-impl Shading {
     /// The texture debug view the mode shows through the lit shader, if it is one.
     #[must_use]
     pub fn tex_view(self) -> Option<TexView> {
-        match self {
-            Shading::MipLevel => Some(TexView::MipLevel),
-            Shading::TexelDensity => Some(TexView::TexelDensity),
-            Shading::Anisotropy => Some(TexView::Anisotropy),
-            Shading::Tangents => Some(TexView::Tangents),
-            Shading::TangentNormals => Some(TexView::TangentNormals),
-            Shading::Wireframe
-            | Shading::Flat
-            | Shading::Gouraud
-            | Shading::Phong
-            | Shading::Blinn
-            | Shading::Textured
-            | Shading::Pbr
-            | Shading::Normals
-            | Shading::Depth
-            | Shading::Uv
-            | Shading::UvChecker => None,
-        }
+        let view = self.mode().view;
+        (view != TexView::Lit).then_some(view)
     }
 
     /// True for the modes drawn by the per-pixel lit shader (its lighting or its debug
     /// views).
     #[must_use]
     pub fn per_pixel(self) -> bool {
-        matches!(
-            self,
-            Shading::Phong | Shading::Blinn | Shading::Textured | Shading::Pbr | Shading::UvChecker
-        ) || self.tex_view().is_some()
+        self.mode().pass == mode::Pass::PerPixel
     }
 }
 
