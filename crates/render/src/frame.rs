@@ -287,19 +287,23 @@ pub(crate) struct Resolved {
 }
 
 /// A slot as one draw reads it: the material's own texture or the settings' override.
-struct Found {
-    source: TextureSource,
-    uv_set: u32,
-    transform: UvTransform,
-    sampler: Sampler,
-    scale: f32,
+#[derive(Clone, Debug)]
+pub struct Found {
+    pub source: TextureSource,
+    pub uv_set: u32,
+    pub transform: UvTransform,
+    pub sampler: Sampler,
+    /// The slot's scalar (normal scale, occlusion strength, bump height).
+    pub scale: f32,
 }
 
 /// What draws of material `m` on mesh `tri` read in `slot`: the settings' override if there
 /// is one (an image or a 2D pattern needs the mesh to have its UV set; a solid texture needs
-/// nothing), else the material's texture if it exists and the mesh has its UV set.
-fn found(
-    scene: &PreparedScene,
+/// nothing), else the material's texture if it exists and the mesh has its UV set. The
+/// renderer and the f64 reference both read the slots through it.
+#[must_use]
+pub fn found(
+    scene: &crate::scene::Scene,
     settings: &Settings,
     tri: &TriMesh,
     m: &Material,
@@ -329,7 +333,7 @@ fn found(
         None => {
             let t = own?;
             tri.uv_set(t.uv_set)?;
-            let texture = scene.scene().textures.get(t.texture)?;
+            let texture = scene.textures.get(t.texture)?;
             Some(Found {
                 source: TextureSource::Image(Arc::clone(texture)),
                 uv_set: t.uv_set,
@@ -353,7 +357,7 @@ pub(crate) fn resolve(
         .as_ref()
         .and_then(|ms| ms.get(inst.material))
         .unwrap_or(&scene.materials[inst.material]);
-    let slot = |s: Slot| found(scene, settings, tri, m, s);
+    let slot = |s: Slot| found(scene.scene(), settings, tri, m, s);
     let base_map = slot(Slot::BaseColor);
     let normal_map = slot(Slot::Normal);
     let occlusion = slot(Slot::Occlusion);

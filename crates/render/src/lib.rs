@@ -43,7 +43,7 @@ mod settings;
 mod shadows;
 mod vertex;
 
-pub use frame::Policy;
+pub use frame::{found, Found, Policy};
 pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};
 pub use numeric::{numeric, Numeric, Range, NUMERIC};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};

@@ -27,44 +27,37 @@ pub(super) struct Inst<'a> {
     /// Emitted light (linear RGB), added after lighting.
     pub(super) emissive: DVec3,
     /// Base-colour texture (textured mode).
-    pub(super) texture: Option<RefSlot<'a>>,
+    pub(super) texture: Option<RefSlot>,
     /// Gloss map (multiplies `K_s`), in the per-pixel modes the reference stands for but
     /// `pbr`.
-    pub(super) gloss: Option<RefSlot<'a>>,
+    pub(super) gloss: Option<RefSlot>,
     /// Metallic-roughness texture (`pbr`): G multiplies roughness, B metallic.
-    pub(super) metal_rough: Option<RefSlot<'a>>,
+    pub(super) metal_rough: Option<RefSlot>,
     /// `KHR_materials_unlit`: the base colour is the colour.
     pub(super) unlit: bool,
     /// Normal map, occlusion and emissive map (textured mode).
-    pub(super) normal_map: Option<RefSlot<'a>>,
-    pub(super) occlusion: Option<RefSlot<'a>>,
-    pub(super) emissive_map: Option<RefSlot<'a>>,
+    pub(super) normal_map: Option<RefSlot>,
+    pub(super) occlusion: Option<RefSlot>,
+    pub(super) emissive_map: Option<RefSlot>,
     /// Bump map (textured mode).
-    pub(super) bump: Option<RefSlot<'a>>,
+    pub(super) bump: Option<RefSlot>,
     /// The handedness of the world matrix (-1 mirrors the tangent frame).
     pub(super) handed: f64,
-}
-
-/// Where a slot's values come from, as the reference reads them.
-#[derive(Clone, Copy)]
-pub(super) enum RefSource<'a> {
-    Image(&'a Texture),
-    Procedural(&'a ProceduralTexture),
 }
 
 /// A texture slot as the reference reads it: the image or procedural texture, its sampler,
 /// the UV set and the transform of its UVs, and its scalar (normal scale, occlusion
 /// strength, bump height).
-#[derive(Clone, Copy)]
-pub(super) struct RefSlot<'a> {
-    pub(super) source: RefSource<'a>,
+#[derive(Clone)]
+pub(super) struct RefSlot {
+    pub(super) source: TextureSource,
     pub(super) uv_set: u32,
     pub(super) transform: UvTransform,
     pub(super) sampler: Sampler,
     pub(super) scale: f64,
 }
 
-impl RefSlot<'_> {
+impl RefSlot {
     /// The UV of the slot's set at corner `k` of triangle `v`, transformed (in f64).
     pub(super) fn corner_uv(&self, tri: &TriMesh, v: [usize; 3], k: usize) -> DVec2 {
         let uv = tri
@@ -84,21 +77,21 @@ impl RefSlot<'_> {
     /// the UV of its set, interpolated and transformed (in f64); a procedural texture
     /// evaluated at a point (no footprint: the supersampling filters it).
     pub(super) fn at(&self, tri: &TriMesh, v: [usize; 3], b: DVec3) -> DVec4 {
-        match self.source {
-            RefSource::Image(t) => {
+        match &self.source {
+            TextureSource::Image(t) => {
                 if tri.uv_set(self.uv_set).is_none() {
                     return DVec4::ONE;
                 }
                 sample_texture(t, self.uv(tri, v, b), self.sampler)
             }
-            RefSource::Procedural(p) => p.color(&self.point(tri, v, b)).as_dvec4(),
+            TextureSource::Procedural(p) => p.color(&self.point(tri, v, b)).as_dvec4(),
         }
     }
 
     /// A procedural texture's sample point at barycentrics `b` (no footprint).
     pub(super) fn point(&self, tri: &TriMesh, v: [usize; 3], b: DVec3) -> SamplePoint {
-        match self.source {
-            RefSource::Procedural(p) if p.domain() == Domain::Object => {
+        match &self.source {
+            TextureSource::Procedural(p) if p.domain() == Domain::Object => {
                 let l = solid_corners(tri, v);
                 SamplePoint::position((l[0] * b.x + l[1] * b.y + l[2] * b.z).as_vec3(), 0.0)
             }
@@ -147,12 +140,12 @@ impl RefSlot<'_> {
                 self.scale,
             )
         };
-        match self.source {
-            RefSource::Image(t) => {
+        match &self.source {
+            TextureSource::Image(t) => {
                 tri.uv_set(self.uv_set)?;
                 uv_slope(image_height_slope(t, self.uv(tri, v, b), self.sampler))
             }
-            RefSource::Procedural(pt) => {
+            TextureSource::Procedural(pt) => {
                 let g = pt.height_gradient(&self.point(tri, v, b)).as_dvec3();
                 if pt.domain() == Domain::Uv {
                     return uv_slope(g.truncate());
@@ -212,52 +205,23 @@ pub(super) fn image_height_slope(t: &Texture, uv: DVec2, s: Sampler) -> DVec2 {
     }
 }
 
-/// What draws of material `m` on mesh `tri` read in `slot`, as `render::frame::found`
-/// decides it: the options' override (an image or a 2D pattern needs the UV set), else the
-/// material's texture if it exists and the mesh has its UV set.
-pub(super) fn ref_slot<'a>(
-    scene: &'a Scene,
-    opts: &'a Shot,
+/// What draws of material `m` on mesh `tri` read in `slot`: the renderer's own choice
+/// ([`crate::render::found`]), read here in f64.
+pub(super) fn ref_slot(
+    scene: &Scene,
+    opts: &Shot,
     tri: &TriMesh,
     m: &Material,
     slot: Slot,
-) -> Option<RefSlot<'a>> {
-    let own = m.slot(slot);
-    match opts.settings.slots.get(slot) {
-        Some(SlotOverride::Off) => None,
-        Some(SlotOverride::Source {
-            source,
-            uv_set,
-            transform,
-            sampler,
-            scale,
-        }) => {
-            if source.needs_uv() {
-                tri.uv_set(*uv_set)?;
-            }
-            Some(RefSlot {
-                source: match source {
-                    TextureSource::Image(t) => RefSource::Image(t),
-                    TextureSource::Procedural(p) => RefSource::Procedural(p),
-                },
-                uv_set: *uv_set,
-                transform: *transform,
-                sampler: sampler.or(own.map(|t| t.sampler)).unwrap_or_default(),
-                scale: f64::from(*scale),
-            })
-        }
-        None => {
-            let t = own?;
-            tri.uv_set(t.uv_set)?;
-            Some(RefSlot {
-                source: RefSource::Image(scene.textures.get(t.texture)?),
-                uv_set: t.uv_set,
-                transform: t.transform,
-                sampler: t.sampler,
-                scale: f64::from(t.scale),
-            })
-        }
-    }
+) -> Option<RefSlot> {
+    let f = crate::render::found(scene, &opts.settings, tri, m, slot)?;
+    Some(RefSlot {
+        source: f.source,
+        uv_set: f.uv_set,
+        transform: f.transform,
+        sampler: f.sampler,
+        scale: f64::from(f.scale),
+    })
 }
 
 pub(super) fn instances<'a>(
@@ -294,7 +258,7 @@ pub(super) fn instances<'a>(
             || bump.is_some();
         let policy = Policy::new(opts.settings.shading, inst.style, &m, mapped);
         let textured = policy.textured;
-        let textured_only = |s: Option<RefSlot<'a>>| s.filter(|_| textured);
+        let textured_only = |s: Option<RefSlot>| s.filter(|_| textured);
         let world = inst.world.as_dmat4();
         let det = world.determinant();
         out.push(Inst {

@@ -74,12 +74,10 @@ use super::LinearImage;
 use crate::mesh::TriMesh;
 use crate::microfacet;
 use crate::render::{default_camera, frame_lights, Policy, Shot};
-use crate::scene::{AlphaMode, Material, Scene, Slot, SlotOverride, TextureSource, UvTransform};
+use crate::scene::{AlphaMode, Material, Scene, Slot, TextureSource, UvTransform};
 use crate::shade::brdf::{self, Pbr};
 use crate::shade::{illuminate, maps, Fog, LightSet, Surface, SurfaceAt};
-use crate::texture::{
-    Domain, Filter, ProceduralTexture, SamplePoint, Sampler, Texels, Texture, Wrap,
-};
+use crate::texture::{Domain, Filter, SamplePoint, Sampler, Texels, Texture, Wrap};
 
 /// Largest number of samples per pixel side.
 pub const MAX_SAMPLES: u32 = 64;
