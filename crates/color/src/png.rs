@@ -142,8 +142,9 @@ impl<'a> Png<'a> {
             let file = std::fs::File::create(&tmp).map_err(|e| fail(&e))?;
             let mut buf = std::io::BufWriter::with_capacity(1 << 20, file);
             self.encode_to(&mut buf).map_err(|e| fail(&e))?;
-            let file = buf.into_inner().map_err(|e| fail(&e.error()))?;
-            file.sync_data().ok();
+            // No fsync: the rename is what keeps readers from half a file, and a
+            // sequence writes hundreds of frames.
+            buf.into_inner().map_err(|e| fail(&e.error()))?;
             std::fs::rename(&tmp, path).map_err(|e| fail(&e))
         })();
         if result.is_err() {
