@@ -22,6 +22,9 @@ use realist::scene::Play;
 use realist::shade::Shading;
 use realist::viewer::keys::{self, BINDINGS, MOUSE};
 use realist::viewer::navigate::{UpAxis, ORBIT_RADIANS_PER_HEIGHT};
+use realist::viewer::panels::{
+    Cx, Dock, EnvironmentPanel, Installed, LightsPanel, Panel, SavePanel, ShadingPanel,
+};
 use realist::viewer::timeline::Clock;
 use realist::viewer::{ViewerApp, ViewerOptions};
 
@@ -379,7 +382,7 @@ fn orbit_with_a_drag() {
         turned > 140.0 * per_px - 1e-4 && turned < 160.0 * per_px + 1e-4,
         "turned {turned} rad for a 160 px drag ({per_px} rad/px)"
     );
-    assert!(app.panels.probe.is_none(), "a drag is not a click");
+    assert!(app.shared.probe.is_none(), "a drag is not a click");
     assert_current_frame(app);
     assert!(app.shown.as_ref().unwrap().job > job, "a new frame");
     assert_frame_changed(app, &image, "orbit right");
@@ -470,7 +473,7 @@ fn keys_change_the_view_the_overlays_and_the_panels() {
     // H: the cheat sheet lists every binding, with the toggles' states.
     assert!(h.query_by_label("Keys and mouse").is_none());
     press(&mut h, Modifiers::NONE, Key::H);
-    assert!(h.state().panels.cheat_sheet);
+    assert!(h.state().shared.cheat_sheet);
     h.get_by_label("Keys and mouse");
     for b in BINDINGS {
         let key = keys::describe(b);
@@ -498,7 +501,7 @@ fn keys_change_the_view_the_overlays_and_the_panels() {
     let narrow = h.state().viewport.size_px;
     h.get_by_label("Shading");
     press(&mut h, Modifiers::NONE, Key::Tab);
-    assert!(!h.state().panels.visible);
+    assert!(!h.state().shared.panels_visible);
     assert!(
         h.query_by_label("Shading").is_none(),
         "the side panel is gone"
@@ -510,7 +513,10 @@ fn keys_change_the_view_the_overlays_and_the_panels() {
     let focused = |h: &App| h.ctx.memory(|m| m.focused());
     assert_eq!(focused(&h), None, "Tab does not move egui's focus");
     press(&mut h, Modifiers::NONE, Key::Tab);
-    assert!(h.state().panels.visible, "Tab shows the panels again");
+    assert!(
+        h.state().shared.panels_visible,
+        "Tab shows the panels again"
+    );
     h.get_by_label("Shading");
     assert_eq!(h.state().viewport.size_px, narrow);
     // A focused widget (Shift+Tab is egui's) does not keep the keys from the viewer.
@@ -630,7 +636,7 @@ fn probe_a_pixel_against_the_renderer_buffers() {
         // showing the probe does not take room from the viewport.
         assert_eq!(app.viewport.rect, rect, "the viewport keeps its place");
         assert_eq!(app.shown.as_ref().unwrap().job, job, "no new frame");
-        let pv = app.panels.probe.as_ref().expect("the probe panel");
+        let pv = app.shared.probe.as_ref().expect("the probe panel");
         assert_eq!(pv.pixel, [x, y]);
         assert_eq!(pv.frame_size, [w, hgt]);
         let probe = pv.probe.as_ref().expect("the probe hits the torus");
@@ -655,7 +661,7 @@ fn probe_a_pixel_against_the_renderer_buffers() {
     let corner = rect.min + Vec2::new(1.5, 1.5) / ppp;
     assert_eq!(at(1, 1), 0.0, "nothing drawn in the corner");
     click_at(&mut h, corner);
-    let pv = h.state().panels.probe.as_ref().expect("the probe panel");
+    let pv = h.state().shared.probe.as_ref().expect("the probe panel");
     assert_eq!(pv.pixel, [1, 1]);
     assert!(pv.probe.is_none() && pv.buffer_depth.is_none());
 }
@@ -950,7 +956,7 @@ fn gizmos_show_each_light_where_the_camera_sees_it_and_toggle() {
         .all(|g| g.kind == LightKind::Directional && g.lines.len() == 3));
     h.key_press(Key::L);
     h.run();
-    assert!(!h.state().panels.lights.gizmos);
+    assert!(!h.state().shared.light_gizmos);
     assert!(h.state().viewport.gizmos.is_empty(), "L hides them");
     h.key_press(Key::L);
     h.run();
@@ -1206,7 +1212,7 @@ fn the_probe_lists_every_light_with_its_share() {
     click_at(&mut h, at);
     let probe = h
         .state()
-        .panels
+        .shared
         .probe
         .clone()
         .unwrap()
@@ -1233,7 +1239,7 @@ fn the_probe_lists_every_light_with_its_share() {
     click_at(&mut h, at);
     let probe = h
         .state()
-        .panels
+        .shared
         .probe
         .clone()
         .unwrap()
@@ -1285,20 +1291,29 @@ fn a_rect_light_projects_a_chosen_image_and_a_bad_file_shows_its_error() {
         .set_missing_glyph_policy(egui::MissingGlyphPolicy::Tofu);
     h.get_by_label("light 4 choose image").click_accesskit();
     h.run_steps(4);
-    assert!(matches!(h.state().panels.lights.slide_picker, Some((4, _))));
+    assert!(matches!(
+        h.state().panel::<LightsPanel>().unwrap().slide_picker,
+        Some((4, _))
+    ));
     h.get_by_label_contains("Image for the rectangular spotlight");
-    h.state_mut().panels.lights.slide_picker = None;
+    h.state_mut()
+        .panels
+        .get_mut::<LightsPanel>()
+        .unwrap()
+        .slide_picker = None;
     h.run();
 
     // A file that is not an image: the error, one line, and nothing else changes.
     let bad = dir.join("bad.png");
     std::fs::write(&bad, b"not a png at all").unwrap();
-    realist::viewer::panels::lights::read_image(h.state_mut(), 4, bad.clone());
+    h.state_mut()
+        .with_panel(|p: &mut LightsPanel, cx| p.read_image(cx, 4, bad.clone()))
+        .unwrap();
     h.run();
     let e = h
         .state()
-        .panels
-        .lights
+        .panel::<LightsPanel>()
+        .unwrap()
         .slide_error
         .clone()
         .expect("an error");
@@ -1310,12 +1325,14 @@ fn a_rect_light_projects_a_chosen_image_and_a_bad_file_shows_its_error() {
     assert_eq!(h.get_all_by_label(&e).count(), 2, "{e}");
     assert!(custom_lights(h.state()).0[4].image.is_none());
     let missing = dir.join("missing.png");
-    realist::viewer::panels::lights::read_image(h.state_mut(), 4, missing);
+    h.state_mut()
+        .with_panel(|p: &mut LightsPanel, cx| p.read_image(cx, 4, missing))
+        .unwrap();
     h.run();
     assert!(h
         .state()
-        .panels
-        .lights
+        .panel::<LightsPanel>()
+        .unwrap()
         .slide_error
         .clone()
         .unwrap()
@@ -1325,9 +1342,11 @@ fn a_rect_light_projects_a_chosen_image_and_a_bad_file_shows_its_error() {
     // A red slide: the light's patch turns red.
     let red = dir.join("red.png");
     write_png(&red, [255, 0, 0]);
-    realist::viewer::panels::lights::read_image(h.state_mut(), 4, red);
+    h.state_mut()
+        .with_panel(|p: &mut LightsPanel, cx| p.read_image(cx, 4, red))
+        .unwrap();
     h.run();
-    assert_eq!(h.state().panels.lights.slide_error, None);
+    assert_eq!(h.state().panel::<LightsPanel>().unwrap().slide_error, None);
     let image = custom_lights(h.state()).0[4]
         .image
         .clone()
@@ -1541,7 +1560,10 @@ fn save_scene_to(h: &mut App, path: &Path) {
     h.get_by_label("scene file path")
         .set_text_value_accesskit(path.to_str().expect("UTF-8 path"));
     h.run();
-    assert_eq!(h.state().panels.save.path, path.to_str().unwrap());
+    assert_eq!(
+        h.state().panel::<SavePanel>().unwrap().path,
+        path.to_str().unwrap()
+    );
     activate(h, "Save scene");
 }
 
@@ -1563,7 +1585,7 @@ fn a_scene_saved_by_the_viewer_opens_again_with_its_settings_camera_and_frame() 
     assert_eq!(custom_lights(h.state()).0[2].intensity, 2.5);
     assert_eq!(h.state().scene_file.as_ref().map(|f| &f.file.path), None);
     assert_eq!(
-        h.state().panels.save.path,
+        h.state().panel::<SavePanel>().unwrap().path,
         "scene.toml",
         "the demo's default"
     );
@@ -1699,7 +1721,7 @@ fn a_scene_file_sets_model_settings_and_camera_and_reloads() {
     assert_ne!(view.width * 9, view.height * 16, "the viewport is not 16:9");
     assert_current_frame(app);
     assert_eq!(
-        app.panels.save.path,
+        app.panel::<SavePanel>().unwrap().path,
         path.to_str().unwrap(),
         "saves over it"
     );
@@ -2036,7 +2058,8 @@ fn a_missing_or_broken_image_file_shows_its_error_and_changes_nothing() {
         load_slot_image(&mut h, "base colour", file);
         let app = h.state();
         let e = app
-            .panels
+            .panel::<ShadingPanel>()
+            .unwrap()
             .lab
             .errors
             .get(&(realist::viewer::panels::Side::A, Slot::BaseColor))
@@ -2065,9 +2088,9 @@ fn a_missing_or_broken_image_file_shows_its_error_and_changes_nothing() {
     load_slot_image(&mut h, "base colour", &red);
     let app = h.state();
     assert!(
-        app.panels.lab.errors.is_empty(),
+        app.panel::<ShadingPanel>().unwrap().lab.errors.is_empty(),
         "{:?}",
-        app.panels.lab.errors
+        app.panel::<ShadingPanel>().unwrap().lab.errors
     );
     match slot_source(app, Slot::BaseColor) {
         Some(TextureSource::Image(t)) => {
@@ -2192,12 +2215,14 @@ fn environment_rotation_exposure_and_a_bad_file() {
     let frame = shown_image(&h);
     let bad = dir.join("bad.hdr");
     std::fs::write(&bad, b"#?RADIANCE\nnot really\n").unwrap();
-    realist::viewer::panels::environment::read_environment(h.state_mut(), &bad);
+    h.state_mut()
+        .with_panel(|p: &mut EnvironmentPanel, cx| p.read_environment(cx, &bad))
+        .unwrap();
     h.run();
     let e = h
         .state()
-        .panels
-        .environment
+        .panel::<EnvironmentPanel>()
+        .unwrap()
         .env_error
         .clone()
         .expect("an error");
@@ -2216,7 +2241,12 @@ fn environment_rotation_exposure_and_a_bad_file() {
         (v.env.name(), v.rotation_deg, v.intensity),
         ("studio", 200.0, 2.0)
     );
-    assert!(h.state().panels.environment.env_error.is_none());
+    assert!(h
+        .state()
+        .panel::<EnvironmentPanel>()
+        .unwrap()
+        .env_error
+        .is_none());
     choose(&mut h, "environment", "none");
     assert_eq!(h.state().settings.environment, Environment::Off);
 }
@@ -2253,7 +2283,7 @@ fn the_probe_lists_the_brdf_terms_of_a_pbr_pixel() {
     );
     let probe = h
         .state()
-        .panels
+        .shared
         .probe
         .clone()
         .unwrap()
@@ -2446,4 +2476,95 @@ fn the_node_tree_lists_scenes_and_nodes_and_frames_a_node() {
     assert_ne!(h.state().nav, before, "framing moved the camera");
     assert_eq!(h.state().notice.as_deref(), Some("framed node 9: bar"));
     assert_current_frame(h.state());
+}
+
+/// A panel from outside the viewer crate, added with `Panels::add` and nothing else: it
+/// counts what the dispatch tells it, edits a setting through its context and asks the
+/// session for a notice.
+#[derive(Default)]
+struct Tally {
+    passes: usize,
+    polls: usize,
+    actions: Vec<keys::Action>,
+    installed: Vec<bool>,
+}
+
+impl Panel for Tally {
+    fn dock(&self) -> Dock {
+        Dock::Right
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        self.passes += 1;
+        egui::CollapsingHeader::new("Tally")
+            .default_open(true)
+            .show(ui, |ui| {
+                if ui.button("tally: wireframe on").clicked() {
+                    cx.settings.wireframe_overlay = true;
+                    cx.notice("tally turned the wireframe on");
+                }
+            });
+    }
+
+    fn poll(&mut self, _cx: &mut Cx<'_>) {
+        self.polls += 1;
+    }
+
+    fn file_menu(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        if ui.button("Tally from the menu").clicked() {
+            cx.notice("tally's menu entry");
+            ui.close();
+        }
+    }
+
+    fn act(&mut self, action: keys::Action, _cx: &mut Cx<'_>) {
+        self.actions.push(action);
+    }
+
+    fn installed(&mut self, what: &Installed<'_>) {
+        self.installed.push(what.fresh);
+    }
+}
+
+#[test]
+fn a_panel_added_to_the_list_is_laid_out_and_told_of_keys_scenes_and_its_menu() {
+    let dir = temp_dir("added-panel");
+    let mut h = viewer_with(None, &dir, 1, |app| app.panels.add(Box::<Tally>::default()));
+    let tally = |h: &App| -> (usize, usize, Vec<keys::Action>, Vec<bool>) {
+        let t = h.state().panel::<Tally>().expect("the added panel");
+        (t.passes, t.polls, t.actions.clone(), t.installed.clone())
+    };
+    // Laid out in its dock every pass, polled every pass.
+    h.get_by_label("Tally");
+    let (passes, polls, _, _) = tally(&h);
+    assert!(
+        passes > 0 && polls >= passes,
+        "{passes} passes, {polls} polls"
+    );
+
+    // Its button edits the settings through the context: the frame follows, and the
+    // notice it asked for is in the status bar.
+    let plain = shown_image(&h);
+    h.get_by_label("tally: wireframe on").click();
+    h.run();
+    assert!(h.state().settings.wireframe_overlay);
+    assert_frame_changed(h.state(), &plain, "the added panel's setting");
+    h.get_by_label("tally turned the wireframe on");
+
+    // Every key's action reaches it after the viewer's own.
+    h.key_press_modifiers(Modifiers::NONE, Key::E);
+    h.run();
+    assert!(!h.state().settings.wireframe_overlay);
+    assert_eq!(tally(&h).2, vec![keys::Action::ToggleWireOverlay]);
+
+    // A new scene: told it is fresh.
+    drop_file(&mut h, &model("torus.obj"));
+    assert_eq!(tally(&h).3.last(), Some(&true));
+
+    // Its File menu entry.
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label("Tally from the menu").click();
+    h.run();
+    h.get_by_label("tally's menu entry");
 }

@@ -16,7 +16,8 @@ use super::files::{sibling_model, FileWatcher, RecentFiles};
 use super::lab::{self, UvTask};
 use super::loader::{self, FromFile, LoadTask, Loaded, OpenScene};
 use super::navigate::Navigator;
-use super::panels::{self, Panels};
+use super::panels::{Command, Cx, Installed, Panel, Panels, Session, Shared, UvView};
+use super::timeline::Timeline;
 use super::viewport::ViewportState;
 use super::worker::{Frame, Job, Level, RenderHost};
 use crate::mesh::NormalOptions;
@@ -117,12 +118,17 @@ pub struct ViewerApp {
     watcher: Option<FileWatcher>,
     file_changed: Arc<AtomicBool>,
     repaint: Arc<dyn Fn() + Send + Sync>,
+    /// Every panel, each with its own state.
     pub panels: Panels,
+    /// What the panels, the viewport and the keys share (toggles, the probed pixel).
+    pub shared: Shared,
+    /// The last "Save scene": the message, or why not.
+    saved: Option<Result<String, String>>,
     pub viewport: ViewportState,
     /// A short message for the status bar (e.g. where a screenshot went).
     pub notice: Option<String>,
     /// Animation playback.
-    pub timeline: super::timeline::Timeline,
+    pub timeline: Timeline,
     /// The sphere around every pose of the open scene's animations (`None`: a still
     /// scene), for framing it.
     pub motion_sphere: Option<(glam::Vec3, f32)>,
@@ -200,18 +206,20 @@ impl ViewerApp {
             file_changed: Arc::new(AtomicBool::new(false)),
             repaint,
             panels: Panels::default(),
+            shared: Shared::default(),
+            saved: None,
             viewport: ViewportState::default(),
             notice: recent_problem,
-            timeline: super::timeline::Timeline::default(),
+            timeline: Timeline::default(),
             motion_sphere: None,
             frame_pending: true,
             title: String::new(),
             trace: std::env::var_os("REALIST_VIEWER_LOG")
                 .and_then(|p| std::fs::File::create(p).ok()),
         };
-        app.panels.visible = !opts.hide_panels;
+        app.shared.panels_visible = !opts.hide_panels;
         app.timeline.autoplay = !opts.paused;
-        app.panels.save.path = app.default_save_path();
+        app.installed(true, None);
         if let Some(m) = opts.model {
             app.open(m);
         }
@@ -259,22 +267,24 @@ impl ViewerApp {
                     .unwrap_or_else(|| scene.bounding_sphere());
                 let aspect = self.viewport.aspect();
                 let same = self.model.as_deref() == Some(path.as_path());
-                if let Some(f) = from_file {
+                let file = from_file.is_some();
+                let fresh = if let Some(f) = from_file {
                     // A scene file (opened or reloaded) sets everything it names: its
                     // settings now, its camera once the viewport's aspect is known.
                     self.nav = Navigator::new(center, radius, aspect);
                     self.frame_pending = true;
-                    self.panels.on_new_scene();
                     self.install_file_settings(f, &path);
+                    true
                 } else if same {
                     // A reload keeps the camera; only the scene's extent may have changed.
                     self.nav.new_scene(center, radius, aspect);
+                    false
                 } else {
                     self.nav = Navigator::new(center, radius, aspect);
                     self.frame_pending = true;
                     self.settings.materials = None;
-                    self.panels.on_new_scene();
-                }
+                    true
+                };
                 if self.scene_file.is_some() && !loader::is_scene_file(&path) {
                     self.scene_file = None;
                 }
@@ -293,8 +303,9 @@ impl ViewerApp {
                 self.save_state();
                 self.watch(&path);
                 self.model = Some(path);
-                self.panels.probe = None;
-                self.panels.save.path = self.default_save_path();
+                self.shared.probe = None;
+                let taken = file.then(|| self.settings.clone());
+                self.installed(fresh, taken.as_ref());
             }
             Err(e) => {
                 if self.model.is_none() && self.scene.scene().instances.is_empty() {
@@ -318,8 +329,6 @@ impl ViewerApp {
         self.split.b.fog = settings.fog;
         self.split.b.shadow = settings.shadow;
         self.split.b.ground = settings.ground;
-        self.panels.environment.fog = settings.fog;
-        self.panels.environment.ground = settings.ground;
         self.settings = settings;
         self.scene_file = Some(open);
         let mut notice = format!("opened scene file {}", path.display());
@@ -441,9 +450,22 @@ impl ViewerApp {
         self.model = None;
         self.scene_file = None;
         self.watcher = None;
-        self.panels.save.path = self.default_save_path();
         self.settings.materials = None;
-        self.panels.on_new_scene();
+        self.installed(true, None);
+    }
+
+    /// Tells the panels that a scene was installed (`fresh`: another scene; `settings`: a
+    /// scene file's), and forgets the probed pixel and the hovered light.
+    fn installed(&mut self, fresh: bool, settings: Option<&Settings>) {
+        if fresh {
+            self.shared.probe = None;
+            self.shared.hovered_light = None;
+        }
+        self.panels.installed(&Installed {
+            fresh,
+            settings,
+            save_path: self.default_save_path(),
+        });
     }
 
     /// Opens the previous (`step` = -1) or next (+1) model in the current model's folder.
@@ -485,7 +507,7 @@ impl ViewerApp {
         self.shown_uv = uv;
         self.uv_task = None;
         // The probe's UV and shading belong to the old coordinates.
-        self.panels.probe = None;
+        self.shared.probe = None;
         self.notice = Some(match uv {
             None => "texture coordinates: the model's own".to_owned(),
             Some(g) => {
@@ -514,19 +536,27 @@ impl ViewerApp {
     pub fn ui_contents(&mut self, ui: &mut egui::Ui) {
         let pass = Instant::now();
         self.interacting = false;
-        self.poll_background(ui.ctx());
+        self.poll_background();
         self.take_frames(ui.ctx());
-        panels::keyboard(self, ui);
-        panels::menu_bar(self, ui);
-        panels::status_bar(self, ui);
-        super::timeline::bar(self, ui);
-        if self.panels.visible {
-            panels::side_panels(self, ui);
+        let mut commands = Vec::new();
+        {
+            let (mut cx, panels, timeline) = self.parts(&mut commands);
+            panels.poll(&mut cx);
+            panels.keyboard(ui, &mut cx);
+            panels.menu_bar(ui, &mut cx);
+            panels.status_bar(ui, &mut cx);
+            timeline.bar(cx.session.scene.scene(), ui);
+            if cx.shared.panels_visible {
+                panels.side_panels(ui, &mut cx);
+            }
+            egui::CentralPanel::default()
+                .frame(egui::Frame::NONE)
+                .show(ui, |ui| super::viewport::show(&mut cx, ui));
+            panels.windows(ui, &mut cx);
         }
-        egui::CentralPanel::default()
-            .frame(egui::Frame::NONE)
-            .show(ui, |ui| super::viewport::show(self, ui));
-        panels::windows(self, ui.ctx());
+        for c in commands {
+            self.apply(c);
+        }
         if self.frame_pending && self.viewport.size_px[0] > 0 {
             // Framed for the viewport's real aspect (a portrait window needs more distance),
             // or the scene file's camera with that aspect (the window keeps its size).
@@ -549,7 +579,18 @@ impl ViewerApp {
             self.frame_pending = false;
         }
         self.update_title(ui.ctx());
-        super::timeline::step(self, ui.ctx());
+        let behind = self
+            .shown
+            .as_ref()
+            .is_some_and(|s| s.job != self.host.submitted())
+            && self.host.busy();
+        self.interacting |= self.timeline.step(
+            &mut self.scene,
+            &self.base,
+            behind,
+            self.synchronous,
+            ui.ctx(),
+        );
         self.submit_if_changed();
         if self.loading.is_some() {
             // The progress bar moves: look again in a moment (nothing else polls).
@@ -563,6 +604,115 @@ impl ViewerApp {
             self.interacting
         );
         self.trace_line(&line);
+    }
+
+    /// The panels' view of the app for one pass (see [`Cx`]), the panels and the timeline,
+    /// borrowed apart.
+    fn parts<'a>(
+        &'a mut self,
+        commands: &'a mut Vec<Command>,
+    ) -> (Cx<'a>, &'a mut Panels, &'a mut Timeline) {
+        let settled = self.settled();
+        let session = Session {
+            scene: &self.scene,
+            shown: self.shown.as_ref(),
+            model: self.model.as_deref(),
+            scene_file: self.scene_file.as_ref(),
+            load_millis: self.load_millis,
+            loading: self.loading.as_ref(),
+            error: self.error.as_deref(),
+            notice: self.notice.as_deref(),
+            recent: self.recent.list(),
+            uv: UvView {
+                chosen: self.uv,
+                pending: self.uv_task.is_some(),
+            },
+            synchronous: self.synchronous,
+            repaint: &self.repaint,
+            playing: self.timeline.playing,
+            settled,
+            saved: self.saved.as_ref(),
+        };
+        let cx = Cx {
+            settings: &mut self.settings,
+            split: &mut self.split,
+            max_samples: &mut self.max_samples,
+            nav: &mut self.nav,
+            shared: &mut self.shared,
+            viewport: &mut self.viewport,
+            interacting: &mut self.interacting,
+            session,
+            commands,
+        };
+        (cx, &mut self.panels, &mut self.timeline)
+    }
+
+    /// Runs `f` on the panel of type `P` with the panels' view of the app, then does what
+    /// it asked (for tests and scripted use: what a click in that panel would do).
+    /// `None` if there is no such panel.
+    pub fn with_panel<P: Panel, R>(
+        &mut self,
+        f: impl FnOnce(&mut P, &mut Cx<'_>) -> R,
+    ) -> Option<R> {
+        let mut commands = Vec::new();
+        let out = {
+            let (mut cx, panels, _) = self.parts(&mut commands);
+            let p = panels.get_mut::<P>()?;
+            f(p, &mut cx)
+        };
+        for c in commands {
+            self.apply(c);
+        }
+        Some(out)
+    }
+
+    /// Does what a panel asked.
+    fn apply(&mut self, c: Command) {
+        match c {
+            Command::Open(p) => self.open(p),
+            Command::OpenDemo => self.open_demo(),
+            Command::Reload => self.reload(),
+            Command::StepFile(step) => self.step_file(step),
+            Command::SaveScene(path) => self.save_scene_reported(&path),
+            Command::SetUv(uv) => self.set_uv_generator(uv),
+            Command::TogglePlay => {
+                let scene = Arc::clone(self.scene.scene());
+                if scene.animations.is_empty() {
+                    self.notice = Some("this scene has no animation".into());
+                } else {
+                    let length = super::timeline::duration(&scene, self.timeline.play);
+                    self.timeline.toggle(length);
+                }
+            }
+            Command::Notice(n) => self.notice = Some(n),
+            Command::Error(e) => self.error = Some(e),
+            Command::DismissError => self.error = None,
+        }
+    }
+
+    /// Saves the scene file at `path` ([`ViewerApp::save_scene`]) and says how it went in
+    /// the status bar and the scene file section.
+    pub fn save_scene_reported(&mut self, path: &Path) {
+        let result = if path.as_os_str().is_empty() {
+            Err("no path to save the scene file to".to_owned())
+        } else {
+            self.save_scene(path).map(|notes| {
+                let shown = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
+                let mut msg = format!("saved scene file {}", shown.display());
+                if !notes.is_empty() {
+                    msg += &format!(" (left out: {})", notes.join("; "));
+                }
+                msg
+            })
+        };
+        match &result {
+            Ok(msg) => {
+                self.notice = Some(msg.clone());
+                self.error = None;
+            }
+            Err(e) => self.error = Some(e.clone()),
+        }
+        self.saved = Some(result);
     }
 
     /// Names the open file in the window's title when it changes.
@@ -599,18 +749,9 @@ impl ViewerApp {
         Arc::clone(&self.repaint)
     }
 
-    /// Loads that finished (models and slide images), and files that changed on disk.
-    fn poll_background(&mut self, _ctx: &egui::Context) {
-        let slide = self
-            .panels
-            .lights
-            .slide_load
-            .as_ref()
-            .and_then(|t| t.poll().map(|o| (t.light, o)));
-        if let Some((light, out)) = slide {
-            self.panels.lights.slide_load = None;
-            panels::lights::install_image(self, light, out);
-        }
+    /// Loads that finished (models, texture coordinates), and files that changed on disk
+    /// (the panels' own background work is theirs: [`Panel::poll`]).
+    fn poll_background(&mut self) {
         if let Some(out) = self.loading.as_ref().and_then(LoadTask::poll) {
             self.loading = None;
             self.finish_load(out);
@@ -631,7 +772,6 @@ impl ViewerApp {
                 }
             }
         }
-        panels::textures::poll_images(self);
         if self.file_changed.swap(false, Ordering::SeqCst) && self.loading.is_none() {
             self.notice = Some("file changed on disk: reloaded".into());
             self.reload();
@@ -736,12 +876,7 @@ impl ViewerApp {
     /// The view of the viewport as it is now.
     #[must_use]
     pub fn current_view(&self) -> View {
-        let [w, h] = self.viewport.size_px;
-        View {
-            camera: self.nav.camera(w.max(1) as f32 / h.max(1) as f32),
-            width: w.max(1),
-            height: h.max(1),
-        }
+        super::viewport::view_of(&self.nav, &self.viewport)
     }
 
     /// Submits a job if the view, the scene or the settings changed since the last one.
@@ -796,24 +931,36 @@ impl ViewerApp {
     /// draws ("scene.toml (torus.obj)").
     #[must_use]
     pub fn scene_name(&self) -> String {
-        let name = |p: &Path| {
-            p.file_name().map_or_else(
-                || p.display().to_string(),
-                |n| n.to_string_lossy().into_owned(),
-            )
-        };
-        let file = self.model.as_deref().map(name);
-        match (&self.scene_file, file) {
-            (Some(f), Some(file)) => {
-                let drawn = match &f.model {
-                    ModelSource::Demo => "demo".to_owned(),
-                    ModelSource::File(m) => name(m),
-                    ModelSource::Primitive(_) => "primitive".to_owned(),
-                };
-                format!("{file} ({drawn})")
-            }
-            (_, Some(file)) => file,
-            (_, None) => "demo (the textbook's figure 9-8)".into(),
+        scene_name(self.model.as_deref(), self.scene_file.as_ref())
+    }
+
+    /// The panel of type `P`.
+    #[must_use]
+    pub fn panel<P: Panel>(&self) -> Option<&P> {
+        self.panels.get::<P>()
+    }
+}
+
+/// The name shown for a scene from `model` (`None`: the demo), opened through `scene_file`.
+#[must_use]
+pub fn scene_name(model: Option<&Path>, scene_file: Option<&OpenScene>) -> String {
+    let name = |p: &Path| {
+        p.file_name().map_or_else(
+            || p.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        )
+    };
+    let file = model.map(name);
+    match (scene_file, file) {
+        (Some(f), Some(file)) => {
+            let drawn = match &f.model {
+                ModelSource::Demo => "demo".to_owned(),
+                ModelSource::File(m) => name(m),
+                ModelSource::Primitive(_) => "primitive".to_owned(),
+            };
+            format!("{file} ({drawn})")
         }
+        (_, Some(file)) => file,
+        (_, None) => "demo (the textbook's figure 9-8)".into(),
     }
 }

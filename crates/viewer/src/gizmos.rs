@@ -20,7 +20,7 @@
 use eframe::egui::{self, Align2, Color32, FontId, Pos2, Rect, Stroke};
 use glam::{Mat4, Vec3, Vec4Swizzles};
 
-use super::app::ViewerApp;
+use super::panels::Cx;
 use crate::render::{frame_lights, View};
 use crate::scene::LightKind;
 use crate::shade::{LightSet, Source};
@@ -272,19 +272,19 @@ pub fn gizmo(
 /// The gizmos of every light of the frame on screen (or of the current view before the
 /// first frame), for the viewport `rect`.
 #[must_use]
-pub fn build(app: &ViewerApp, rect: Rect) -> Vec<Gizmo> {
-    let view = app
+pub fn build(cx: &Cx<'_>, rect: Rect) -> Vec<Gizmo> {
+    let view = cx
+        .session
         .shown
-        .as_ref()
-        .map_or_else(|| app.current_view(), |s| s.view.clone());
+        .map_or_else(|| cx.view(), |s| s.view.clone());
     let cam = &view.camera;
     let cam_to_world = cam.view().inverse();
     let mut set = LightSet::default();
-    let scene = app.scene.scene();
-    frame_lights(&scene.lights, &app.settings.lights, cam_to_world, &mut set);
-    let names = super::panels::light_names(app);
+    let scene = cx.session.scene.scene();
+    frame_lights(&scene.lights, &cx.settings.lights, cam_to_world, &mut set);
+    let names = super::panels::light_names(cx.settings, cx.session.scene);
     let p = Projector::new(&view, rect);
-    let (center, radius) = app.scene.bounding_sphere();
+    let (center, radius) = cx.session.scene.bounding_sphere();
     set.sources
         .iter()
         .map(|s| {

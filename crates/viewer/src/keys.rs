@@ -1,7 +1,13 @@
-//! Key and mouse bindings, in the spirit of f3d, as one table: the dispatcher and the `H`
-//! cheat sheet both read it, so the sheet lists every binding there is.
+//! Key and mouse bindings, in the spirit of f3d, as one table, and what each action does
+//! ([`act`], one exhaustive match): the dispatcher and the `H` cheat sheet both read the
+//! table, so the sheet lists every binding there is with the state of each toggle.
 
-use eframe::egui::{Key, Modifiers};
+use eframe::egui::{self, Color32, Key, Modifiers};
+
+use crate::navigate::{Mode, UpAxis, View as Named};
+use crate::panels::{Command, CostView, Cx};
+use crate::render::Output;
+use crate::shade::Shading;
 
 /// Something a key does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -192,6 +198,151 @@ pub fn describe(b: &Binding) -> String {
         k => k.name(),
     });
     s
+}
+
+/// Shading modes in the order the `M` key cycles them.
+const CYCLE: [Shading; Shading::ALL.len()] = Shading::ALL;
+
+/// Does what a key or menu entry asks, as far as the camera, the settings, the shared
+/// toggles and the session go; the actions a panel owns (`Screenshot` for the screenshot
+/// window, `Open` for the file picker) are its own ([`crate::panels::Panels::act`]).
+pub fn act(a: Action, cx: &mut Cx<'_>) {
+    let aspect = cx.viewport.aspect();
+    let nav = &mut *cx.nav;
+    match a {
+        Action::ViewFront => nav.set_view(Named::Front),
+        Action::ViewBack => nav.set_view(Named::Back),
+        Action::ViewRight => nav.set_view(Named::Right),
+        Action::ViewLeft => nav.set_view(Named::Left),
+        Action::ViewTop => nav.set_view(Named::Top),
+        Action::ViewBottom => nav.set_view(Named::Bottom),
+        Action::ViewIso => nav.set_view(Named::Isometric),
+        Action::ToggleOrtho => nav.toggle_ortho(),
+        Action::Reset => nav.reset(),
+        Action::FrameAll => {
+            let (c, r) = cx.session.scene.bounding_sphere();
+            nav.frame(c, r, aspect);
+        }
+        Action::UpY => nav.set_up_axis(UpAxis::Y, aspect),
+        Action::UpZ => nav.set_up_axis(UpAxis::Z, aspect),
+        Action::ToggleTrackball => nav.set_mode(match nav.mode() {
+            Mode::Turntable => Mode::Trackball,
+            Mode::Trackball => Mode::Turntable,
+        }),
+        Action::FovDown => nav.set_fov_degrees(nav.fov_degrees() - 5.0),
+        Action::FovUp => nav.set_fov_degrees(nav.fov_degrees() + 5.0),
+        Action::NextShading | Action::PrevShading => {
+            let s = &mut *cx.settings;
+            let k = s
+                .shading
+                .and_then(|m| CYCLE.iter().position(|c| *c == m))
+                .unwrap_or(3);
+            let n = CYCLE.len();
+            let next = if a == Action::NextShading {
+                (k + 1) % n
+            } else {
+                (k + n - 1) % n
+            };
+            s.shading = Some(CYCLE[next]);
+        }
+        Action::ToggleWireOverlay => {
+            cx.settings.wireframe_overlay = !cx.settings.wireframe_overlay;
+        }
+        Action::ToggleOverdraw => {
+            let s = &mut *cx.settings;
+            s.output = match s.output {
+                Output::Shaded => Output::Overdraw,
+                Output::Overdraw => Output::Shaded,
+            }
+        }
+        Action::ToggleTileGrid => cx.shared.tile_grid = !cx.shared.tile_grid,
+        Action::CycleTileCost => {
+            cx.shared.tile_cost = match cx.shared.tile_cost {
+                CostView::Off => CostView::Time,
+                CostView::Time => CostView::Fragments,
+                CostView::Fragments => CostView::Off,
+            }
+        }
+        Action::CycleAntialias => {
+            *cx.max_samples = match *cx.max_samples {
+                1 => 2,
+                2 => 4,
+                _ => 1,
+            }
+        }
+        Action::ToggleMultisampling => {
+            cx.settings.msaa = if cx.settings.msaa > 1 { 1 } else { 4 };
+        }
+        Action::ToggleSplit => cx.split.enabled = !cx.split.enabled,
+        Action::ToggleLightGizmos => cx.shared.light_gizmos = !cx.shared.light_gizmos,
+        Action::CheatSheet => cx.shared.cheat_sheet = !cx.shared.cheat_sheet,
+        Action::PrevFile => cx.ask(Command::StepFile(-1)),
+        Action::NextFile => cx.ask(Command::StepFile(1)),
+        Action::Reload => cx.ask(Command::Reload),
+        Action::TogglePanels => cx.shared.panels_visible = !cx.shared.panels_visible,
+        Action::TogglePlay => cx.ask(Command::TogglePlay),
+        // A panel's: the screenshot window saves the frame, the panels open the picker.
+        Action::Screenshot | Action::Open => {}
+    }
+}
+
+/// The `H` cheat sheet: every binding with the current state of each toggle.
+pub fn cheat_sheet(ui: &mut egui::Ui, cx: &Cx<'_>) {
+    let on = |b: bool| if b { "on" } else { "off" };
+    let state = |a: Action| -> String {
+        match a {
+            Action::ToggleOrtho => (if cx.nav.is_ortho() {
+                "orthographic"
+            } else {
+                "perspective"
+            })
+            .into(),
+            Action::UpY | Action::UpZ => format!("up: {:?}", cx.nav.up_axis()),
+            Action::ToggleTrackball => format!("{:?}", cx.nav.mode()).to_lowercase(),
+            Action::FovDown | Action::FovUp => format!("{:.0} degrees", cx.nav.fov_degrees()),
+            Action::NextShading | Action::PrevShading => crate::panels::describe(cx.settings),
+            Action::ToggleWireOverlay => on(cx.settings.wireframe_overlay).into(),
+            Action::ToggleOverdraw => on(cx.settings.output == Output::Overdraw).into(),
+            Action::ToggleTileGrid => on(cx.shared.tile_grid).into(),
+            Action::CycleTileCost => format!("{:?}", cx.shared.tile_cost).to_lowercase(),
+            Action::CycleAntialias => format!("up to {0}x{0}", *cx.max_samples),
+            Action::ToggleMultisampling => format!("{}x", cx.settings.msaa),
+            Action::ToggleSplit => on(cx.split.enabled).into(),
+            Action::ToggleLightGizmos => on(cx.shared.light_gizmos).into(),
+            Action::TogglePanels => on(cx.shared.panels_visible).into(),
+            Action::TogglePlay => on(cx.session.playing).into(),
+            Action::CheatSheet => on(cx.shared.cheat_sheet).into(),
+            // One-shot actions: nothing to show.
+            Action::ViewFront
+            | Action::ViewBack
+            | Action::ViewRight
+            | Action::ViewLeft
+            | Action::ViewTop
+            | Action::ViewBottom
+            | Action::ViewIso
+            | Action::Reset
+            | Action::FrameAll
+            | Action::Screenshot
+            | Action::Open
+            | Action::PrevFile
+            | Action::NextFile
+            | Action::Reload => String::new(),
+        }
+    };
+    egui::Grid::new("keys").striped(true).show(ui, |ui| {
+        for b in BINDINGS {
+            ui.monospace(describe(b));
+            ui.label(b.what);
+            ui.label(egui::RichText::new(state(b.action)).color(Color32::from_rgb(120, 200, 255)));
+            ui.end_row();
+        }
+        for (m, what) in MOUSE {
+            ui.monospace(*m);
+            ui.label(*what);
+            ui.label("");
+            ui.end_row();
+        }
+    });
 }
 
 #[cfg(test)]

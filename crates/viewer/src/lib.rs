@@ -3,12 +3,12 @@
 //!
 //! | module | owns |
 //! |---|---|
-//! | [`app`] | [`ViewerApp`]: the state and the whole UI in one method ([`ViewerApp::ui_contents`]) that eframe and the UI tests both drive |
+//! | [`app`] | [`ViewerApp`]: the session (scene, render worker, loads, files) and the UI pass ([`ViewerApp::ui_contents`]) that eframe and the UI tests both drive; it lends the panels a [`panels::Cx`] and carries out the [`panels::Command`]s they queue |
 //! | [`worker`] | the render thread: coalesced jobs, abandoned stale frames, progressive quality |
 //! | [`loader`] | loading and preparing a model or a scene file off the UI thread, with progress and cancel |
 //! | [`viewport`] | the image, mouse navigation, picking, the probe click, overlays (tile grid and cost, split divider) |
-//! | [`keys`] | the key bindings table behind both the dispatcher and the cheat sheet |
-//! | [`panels`] | shading, split view, saving the scene file, scene, lights, fog / tone map / shadows / ground, materials, probe, colour, stats |
+//! | [`keys`] | the key bindings table behind both the dispatcher and the cheat sheet, and what each action does (one exhaustive match) |
+//! | [`panels`] | the [`panels::Panel`] trait and the panel list: shading and split view (with the texture lab), lights, environment / fog / tone map / shadows / ground, materials, stats, probe, scene file, scene, colour, screenshot; the menu and status bars |
 //! | [`gizmos`] | each light's position and cone drawn over the view |
 //! | [`slide`] | reading a rectangular spotlight's projected image off the UI thread |
 //! | [`lab`] | the texture lab's work off the UI thread: a slot's image file read, a model's UVs generated |

@@ -17,7 +17,6 @@ use std::time::{Duration, Instant};
 
 use eframe::egui;
 
-use super::app::ViewerApp;
 use crate::render::PreparedScene;
 use crate::scene::Play;
 
@@ -231,148 +230,152 @@ fn animation_name(scene: &crate::scene::Scene, i: usize) -> String {
     }
 }
 
-/// One step of playback, before the UI pass submits its job: follows a new scene, advances
-/// the clock and, when the pose on screen is not the one wanted and the render thread can
-/// take another frame, poses the spare copy and puts it on screen.
-pub fn step(app: &mut ViewerApp, ctx: &egui::Context) {
-    let scene = Arc::clone(app.scene.scene());
-    let base = app.base_scene();
-    let synchronous = app.is_synchronous();
-    let tl = &mut app.timeline;
-    if !same(tl.base.as_ref(), &base) {
-        // Another file (or the same one reloaded): start over, playing if it animates.
-        *tl = Timeline {
-            speed: tl.speed,
-            looping: tl.looping,
-            autoplay: tl.autoplay,
-            clock: tl.clock,
-            origin: tl.origin,
-            base: Some(Arc::downgrade(&base)),
-            ..Timeline::default()
+impl Timeline {
+    /// One step of playback, before the UI pass submits its job: follows a new scene, advances
+    /// the clock and, when the pose on screen is not the one wanted and the render thread can
+    /// take another frame, poses the spare copy and puts it on screen.
+    /// `drawn` is what is drawn (replaced by a posed copy), `base` the scene as loaded,
+    /// `behind` says the render thread still draws a frame older than the last job.
+    /// Returns whether the view moves (a pose was put on screen while playing).
+    pub fn step(
+        &mut self,
+        drawn: &mut Arc<PreparedScene>,
+        base: &Arc<crate::scene::Scene>,
+        behind: bool,
+        synchronous: bool,
+        ctx: &egui::Context,
+    ) -> bool {
+        let scene = Arc::clone(drawn.scene());
+        let tl = self;
+        if !same(tl.base.as_ref(), base) {
+            // Another file (or the same one reloaded): start over, playing if it animates.
+            *tl = Timeline {
+                speed: tl.speed,
+                looping: tl.looping,
+                autoplay: tl.autoplay,
+                clock: tl.clock,
+                origin: tl.origin,
+                base: Some(Arc::downgrade(base)),
+                ..Timeline::default()
+            };
+            if tl.autoplay && !scene.animations.is_empty() {
+                tl.play(duration(&scene, tl.play));
+            }
+        }
+        if scene.animations.is_empty() {
+            tl.spare = None;
+            tl.prepared = None;
+            return false;
+        }
+        if !same(tl.prepared.as_ref(), drawn) {
+            // A scene prepared anew (opened, or the texture lab's coordinates): its copy is made
+            // from it, and it is posed again.
+            tl.spare = None;
+            tl.shown = None;
+        }
+        let length = duration(&scene, tl.play);
+        tl.advance(length);
+        let wanted = (tl.play, tl.time);
+        if tl.shown == Some(wanted) {
+            return false;
+        }
+        let now = tl.now();
+        if tl.playing {
+            // One frame in flight: the next pose waits for the frame on screen to be the last
+            // one submitted, and for its turn at MAX_FPS.
+            if behind {
+                return false; // the render thread repaints when its frame is ready
+            }
+            if let Some(at) = tl.submitted_at {
+                let wait = 1.0 / MAX_FPS - (now - at);
+                if wait > 0.0 && tl.clock == Clock::Wall {
+                    ctx.request_repaint_after(Duration::from_secs_f64(wait));
+                    return false;
+                }
+            }
+        }
+        if tl.spare.is_none() {
+            tl.spare = Some(Arc::new((**drawn).clone()));
+        }
+        let Some(spare) = tl.spare.as_mut().and_then(Arc::get_mut) else {
+            // The render thread still draws from the spare: look again in a moment.
+            ctx.request_repaint_after(Duration::from_millis(2));
+            return false;
         };
-        if tl.autoplay && !scene.animations.is_empty() {
-            tl.play(duration(&scene, tl.play));
-        }
-    }
-    if scene.animations.is_empty() {
-        tl.spare = None;
-        tl.prepared = None;
-        return;
-    }
-    if !same(tl.prepared.as_ref(), &app.scene) {
-        // A scene prepared anew (opened, or the texture lab's coordinates): its copy is made
-        // from it, and it is posed again.
-        tl.spare = None;
-        tl.shown = None;
-    }
-    let length = duration(&scene, tl.play);
-    tl.advance(length);
-    let wanted = (tl.play, tl.time);
-    if tl.shown == Some(wanted) {
-        return;
-    }
-    let now = tl.now();
-    if tl.playing {
-        // One frame in flight: the next pose waits for the frame on screen to be the last
-        // one submitted, and for its turn at MAX_FPS.
-        let behind = app
-            .shown
-            .as_ref()
-            .is_some_and(|s| s.job != app.host.submitted())
-            && app.host.busy();
-        if behind {
-            return; // the render thread repaints when its frame is ready
-        }
-        if let Some(at) = tl.submitted_at {
-            let wait = 1.0 / MAX_FPS - (now - at);
-            if wait > 0.0 && tl.clock == Clock::Wall {
-                ctx.request_repaint_after(Duration::from_secs_f64(wait));
-                return;
+        spare.pose_at(wanted.0, wanted.1, tl.looping);
+        let spare = tl.spare.take().expect("the spare exists");
+        tl.spare = Some(std::mem::replace(drawn, spare));
+        tl.prepared = Some(Arc::downgrade(drawn));
+        tl.shown = Some(wanted);
+        tl.submitted_at = Some(now);
+        if tl.playing {
+            // The next step runs when this frame is shown (the render thread repaints then).
+            if synchronous || tl.clock != Clock::Wall {
+                ctx.request_repaint();
             }
         }
+        tl.playing
     }
-    if tl.spare.is_none() {
-        tl.spare = Some(Arc::new((*app.scene).clone()));
-    }
-    let Some(spare) = tl.spare.as_mut().and_then(Arc::get_mut) else {
-        // The render thread still draws from the spare: look again in a moment.
-        ctx.request_repaint_after(Duration::from_millis(2));
-        return;
-    };
-    spare.pose_at(wanted.0, wanted.1, tl.looping);
-    let spare = tl.spare.take().expect("the spare exists");
-    tl.spare = Some(std::mem::replace(&mut app.scene, spare));
-    tl.prepared = Some(Arc::downgrade(&app.scene));
-    tl.shown = Some(wanted);
-    tl.submitted_at = Some(now);
-    app.interacting |= tl.playing;
-    if tl.playing {
-        // The next step runs when this frame is shown (the render thread repaints then).
-        if synchronous || tl.clock != Clock::Wall {
-            ctx.request_repaint();
-        }
-    }
-}
 
-/// The timeline bar (only for a scene with animations): play / pause, the time (drag to
-/// scrub), speed, loop and which animation plays.
-pub fn bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let scene = Arc::clone(app.scene.scene());
-    if scene.animations.is_empty() {
-        return;
-    }
-    egui::Panel::bottom("timeline").show(ui, |ui| {
-        ui.horizontal(|ui| {
-            let tl = &mut app.timeline;
-            let length = duration(&scene, tl.play);
-            let label = if tl.playing { "Pause" } else { "Play" };
-            let button = ui
-                .button(label)
-                .on_hover_text("play or pause the animation (Space)");
-            if button.clicked() {
-                tl.toggle(length);
-                // Space is the viewer's key: a focused button would take it as a click too.
-                button.surrender_focus();
-            }
-            let mut t = tl.time;
-            let slider = egui::Slider::new(&mut t, 0.0..=length.max(1e-3))
-                .show_value(false)
-                .text("time");
-            let r = ui.add(slider);
-            if r.changed() {
-                tl.seek(t, length);
-            }
-            ui.monospace(format!("{:.2} / {:.2} s", tl.time, length));
-            let mut speed = tl.speed;
-            egui::ComboBox::new("timeline-speed", "speed")
-                .selected_text(format!("{}x", tl.speed))
-                .width(60.0)
-                .show_ui(ui, |ui| {
-                    for s in SPEEDS {
-                        ui.selectable_value(&mut speed, s, format!("{s}x"));
-                    }
-                });
-            if speed != tl.speed {
-                tl.set_speed(speed);
-            }
-            ui.checkbox(&mut tl.looping, "loop");
-            let mut play = tl.play;
-            egui::ComboBox::new("timeline-animation", "animation")
-                .selected_text(play_name(&scene, play))
-                .show_ui(ui, |ui| {
-                    if scene.animations.len() > 1 {
-                        ui.selectable_value(&mut play, Play::All, play_name(&scene, Play::All));
-                    }
-                    for i in 0..scene.animations.len() {
-                        ui.selectable_value(&mut play, Play::One(i), animation_name(&scene, i));
-                    }
-                    ui.selectable_value(&mut play, Play::Rest, "rest pose");
-                });
-            if play != tl.play {
-                tl.choose(play, duration(&scene, play));
-            }
+    /// The timeline bar (only for a scene with animations): play / pause, the time (drag to
+    /// scrub), speed, loop and which animation plays.
+    pub fn bar(&mut self, scene: &crate::scene::Scene, ui: &mut egui::Ui) {
+        if scene.animations.is_empty() {
+            return;
+        }
+        egui::Panel::bottom("timeline").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                let tl = &mut *self;
+                let length = duration(scene, tl.play);
+                let label = if tl.playing { "Pause" } else { "Play" };
+                let button = ui
+                    .button(label)
+                    .on_hover_text("play or pause the animation (Space)");
+                if button.clicked() {
+                    tl.toggle(length);
+                    // Space is the viewer's key: a focused button would take it as a click too.
+                    button.surrender_focus();
+                }
+                let mut t = tl.time;
+                let slider = egui::Slider::new(&mut t, 0.0..=length.max(1e-3))
+                    .show_value(false)
+                    .text("time");
+                let r = ui.add(slider);
+                if r.changed() {
+                    tl.seek(t, length);
+                }
+                ui.monospace(format!("{:.2} / {:.2} s", tl.time, length));
+                let mut speed = tl.speed;
+                egui::ComboBox::new("timeline-speed", "speed")
+                    .selected_text(format!("{}x", tl.speed))
+                    .width(60.0)
+                    .show_ui(ui, |ui| {
+                        for s in SPEEDS {
+                            ui.selectable_value(&mut speed, s, format!("{s}x"));
+                        }
+                    });
+                if speed != tl.speed {
+                    tl.set_speed(speed);
+                }
+                ui.checkbox(&mut tl.looping, "loop");
+                let mut play = tl.play;
+                egui::ComboBox::new("timeline-animation", "animation")
+                    .selected_text(play_name(scene, play))
+                    .show_ui(ui, |ui| {
+                        if scene.animations.len() > 1 {
+                            ui.selectable_value(&mut play, Play::All, play_name(scene, Play::All));
+                        }
+                        for i in 0..scene.animations.len() {
+                            ui.selectable_value(&mut play, Play::One(i), animation_name(scene, i));
+                        }
+                        ui.selectable_value(&mut play, Play::Rest, "rest pose");
+                    });
+                if play != tl.play {
+                    tl.choose(play, duration(scene, play));
+                }
+            });
         });
-    });
+    }
 }
 
 #[cfg(test)]

@@ -11,10 +11,11 @@ use eframe::egui::{
     StrokeKind, Vec2,
 };
 
-use super::app::ViewerApp;
 use super::navigate::pixel_to_ndc;
+use super::navigate::Navigator;
+use super::panels::Cx;
 use super::panels::{CostView, ProbeView, Side};
-use crate::render::{self, Output};
+use crate::render::{self, Output, View};
 
 /// Wheel travel (points) per dolly step.
 const POINTS_PER_STEP: f32 = 50.0;
@@ -61,32 +62,43 @@ impl ViewportState {
     }
 }
 
+/// The view of a viewport of `vp`'s size through `nav`'s camera.
+#[must_use]
+pub fn view_of(nav: &Navigator, vp: &ViewportState) -> View {
+    let [w, h] = vp.size_px;
+    View {
+        camera: nav.camera(w.max(1) as f32 / h.max(1) as f32),
+        width: w.max(1),
+        height: h.max(1),
+    }
+}
+
 /// Lays out the viewport and handles its input.
-pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
+pub fn show(cx: &mut Cx<'_>, ui: &mut egui::Ui) {
     let (rect, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
     let ppp = ui.ctx().pixels_per_point();
     let size = (rect.size() * ppp).round();
-    app.viewport.rect = rect;
-    app.viewport.size_px = [size.x.max(1.0) as u32, size.y.max(1.0) as u32];
-    app.viewport.pixels_per_point = ppp;
-    let divider = split_divider(app, ui, rect);
+    cx.viewport.rect = rect;
+    cx.viewport.size_px = [size.x.max(1.0) as u32, size.y.max(1.0) as u32];
+    cx.viewport.pixels_per_point = ppp;
+    let divider = split_divider(cx, ui, rect);
     if !divider {
-        navigate(app, ui, &resp);
+        navigate(cx, ui, &resp);
     }
-    app.viewport.gizmos = if app.panels.lights.gizmos && app.settings.output == Output::Shaded {
-        super::gizmos::build(app, rect)
+    cx.viewport.gizmos = if cx.shared.light_gizmos && cx.settings.output == Output::Shaded {
+        super::gizmos::build(cx, rect)
     } else {
         Vec::new()
     };
-    paint(app, ui, rect);
+    paint(cx, ui, rect);
 }
 
 /// The split divider: a handle to drag. Returns true while it is being dragged.
-fn split_divider(app: &mut ViewerApp, ui: &mut egui::Ui, rect: Rect) -> bool {
-    if !app.split.enabled {
+fn split_divider(cx: &mut Cx<'_>, ui: &mut egui::Ui, rect: Rect) -> bool {
+    if !cx.split.enabled {
         return false;
     }
-    let x = rect.left() + rect.width() * app.split.divider;
+    let x = rect.left() + rect.width() * cx.split.divider;
     let grab = Rect::from_x_y_ranges(x - DIVIDER_GRAB..=x + DIVIDER_GRAB, rect.y_range());
     let r = ui.interact(grab, ui.scope_id().with("split-divider"), Sense::drag());
     if r.hovered() || r.dragged() {
@@ -94,15 +106,15 @@ fn split_divider(app: &mut ViewerApp, ui: &mut egui::Ui, rect: Rect) -> bool {
     }
     if r.dragged() {
         if let Some(p) = r.interact_pointer_pos() {
-            app.split.divider = ((p.x - rect.left()) / rect.width()).clamp(0.0, 1.0);
+            cx.split.divider = ((p.x - rect.left()) / rect.width()).clamp(0.0, 1.0);
         }
     }
     r.dragged()
 }
 
 /// Mouse navigation, picking and probing.
-fn navigate(app: &mut ViewerApp, ui: &mut egui::Ui, resp: &egui::Response) {
-    let vp = app.viewport.clone();
+fn navigate(cx: &mut Cx<'_>, ui: &mut egui::Ui, resp: &egui::Response) {
+    let vp = cx.viewport.clone();
     let height = vp.size_px[1] as f32;
     let aspect = vp.aspect();
     let shift = ui.input(|i| i.modifiers.shift);
@@ -112,13 +124,13 @@ fn navigate(app: &mut ViewerApp, ui: &mut egui::Ui, resp: &egui::Response) {
         if resp.dragged_by(PointerButton::Middle)
             || (resp.dragged_by(PointerButton::Primary) && shift)
         {
-            app.nav.pan(delta.x, delta.y, height);
+            cx.nav.pan(delta.x, delta.y, height);
             moved = true;
         } else if resp.dragged_by(PointerButton::Primary) {
-            app.nav.orbit(delta.x, delta.y, height);
+            cx.nav.orbit(delta.x, delta.y, height);
             moved = true;
         } else if resp.dragged_by(PointerButton::Secondary) {
-            app.nav.dolly(-delta.y / POINTS_PER_STEP);
+            cx.nav.dolly(-delta.y / POINTS_PER_STEP);
             moved = true;
         }
     }
@@ -137,31 +149,31 @@ fn navigate(app: &mut ViewerApp, ui: &mut egui::Ui, resp: &egui::Response) {
                     let px = vp.to_pixels(p);
                     let ndc =
                         pixel_to_ndc(glam::Vec2::new(px.x, px.y), glam::Vec2::from(size(&vp)));
-                    app.nav.dolly_at(steps, ndc, aspect);
+                    cx.nav.dolly_at(steps, ndc, aspect);
                 }
-                None => app.nav.dolly(steps),
+                None => cx.nav.dolly(steps),
             }
             moved = true;
         }
         if zoom != 1.0 && zoom.is_finite() && zoom > 0.0 {
             // Ctrl + wheel (or a pinch): dolly towards the centre.
-            app.nav
+            cx.nav
                 .dolly(zoom.ln() / (1.0 / super::navigate::DOLLY_PER_STEP).ln());
             moved = true;
         }
     }
     let pos = resp.interact_pointer_pos();
     if resp.double_clicked() || resp.clicked_by(PointerButton::Middle) {
-        if let Some(p) = pos.and_then(|p| pick(app, p)) {
-            app.nav.center_on(p);
+        if let Some(p) = pos.and_then(|p| pick(cx, p)) {
+            cx.nav.center_on(p);
             moved = true;
         }
     } else if resp.clicked() {
         if let Some(p) = pos {
-            probe_at(app, p);
+            probe_at(cx, p);
         }
     }
-    app.interacting |= moved;
+    *cx.interacting |= moved;
 }
 
 fn size(vp: &ViewportState) -> [f32; 2] {
@@ -169,9 +181,9 @@ fn size(vp: &ViewportState) -> [f32; 2] {
 }
 
 /// The frame pixel under a screen point, and the frame's size.
-fn frame_pixel(app: &ViewerApp, p: Pos2) -> Option<(u32, u32)> {
-    let s = app.shown.as_ref()?;
-    let r = app.viewport.rect;
+fn frame_pixel(cx: &Cx<'_>, p: Pos2) -> Option<(u32, u32)> {
+    let s = cx.session.shown?;
+    let r = cx.viewport.rect;
     let u = (p - r.min) / r.size();
     if !(0.0..1.0).contains(&u.x) || !(0.0..1.0).contains(&u.y) {
         return None;
@@ -183,30 +195,30 @@ fn frame_pixel(app: &ViewerApp, p: Pos2) -> Option<(u32, u32)> {
 
 /// The world point under a screen point, from the shown frame's depth buffer.
 #[must_use]
-pub fn pick(app: &ViewerApp, p: Pos2) -> Option<glam::Vec3> {
-    let s = app.shown.as_ref()?;
-    let (x, y) = frame_pixel(app, p)?;
+pub fn pick(cx: &Cx<'_>, p: Pos2) -> Option<glam::Vec3> {
+    let s = cx.session.shown?;
+    let (x, y) = frame_pixel(cx, p)?;
     let depth = *s.depth.get((y * s.view.width + x) as usize)?;
     render::unproject(&s.view, x as f32 + 0.5, y as f32 + 0.5, depth)
 }
 
 /// Probes the pixel under a screen point with the settings of the half it is in.
-pub fn probe_at(app: &mut ViewerApp, p: Pos2) {
-    let Some(s) = app.shown.as_ref() else {
+pub fn probe_at(cx: &mut Cx<'_>, p: Pos2) {
+    let Some(s) = cx.session.shown else {
         return;
     };
-    let Some((x, y)) = frame_pixel(app, p) else {
+    let Some((x, y)) = frame_pixel(cx, p) else {
         return;
     };
-    let r = app.viewport.rect;
-    let side = if app.split.enabled && p.x > r.left() + r.width() * app.split.divider {
+    let r = cx.viewport.rect;
+    let side = if cx.split.enabled && p.x > r.left() + r.width() * cx.split.divider {
         Side::B
     } else {
         Side::A
     };
     let settings = match side {
-        Side::A => &app.settings,
-        Side::B => &app.split.b,
+        Side::A => &*cx.settings,
+        Side::B => &cx.split.b,
     };
     let shown_rgb = match side {
         Side::A => {
@@ -216,9 +228,9 @@ pub fn probe_at(app: &mut ViewerApp, p: Pos2) {
         }
         Side::B => None,
     };
-    let probe = render::probe(&app.scene, settings, &s.view, x, y);
+    let probe = render::probe(cx.session.scene, settings, &s.view, x, y);
     let depth = s.depth.get((y * s.view.width + x) as usize).copied();
-    app.panels.probe = Some(ProbeView {
+    cx.shared.probe = Some(ProbeView {
         pixel: [x, y],
         frame_size: [s.view.width, s.view.height],
         at: p,
@@ -227,22 +239,22 @@ pub fn probe_at(app: &mut ViewerApp, p: Pos2) {
         shown_rgb,
         buffer_depth: depth.filter(|d| *d > 0.0),
     });
-    app.panels.open_probe = true;
+    cx.shared.open_probe = true;
 }
 
 /// Paints the frame, the split halves and the overlays.
-fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
+fn paint(cx: &Cx<'_>, ui: &egui::Ui, rect: Rect) {
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 0.0, Color32::from_gray(12));
-    let Some(s) = &app.shown else {
-        loading(app, &painter, rect);
+    let Some(s) = cx.session.shown else {
+        loading(cx, &painter, rect);
         return;
     };
     let full = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
     let white = Color32::WHITE;
-    match (&s.tex_b, app.split.enabled) {
+    match (&s.tex_b, cx.split.enabled) {
         (Some(tex_b), true) => {
-            let d = app.split.divider;
+            let d = cx.split.divider;
             let x = rect.left() + rect.width() * d;
             let (left, right) = (
                 Rect::from_min_max(rect.min, Pos2::new(x, rect.max.y)),
@@ -251,7 +263,7 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
             let uv_l = Rect::from_min_max(Pos2::ZERO, Pos2::new(d, 1.0));
             let uv_r = Rect::from_min_max(Pos2::new(d, 0.0), Pos2::new(1.0, 1.0));
             painter.image(s.tex_a.id(), left, uv_l, white);
-            let right_tex = match (&s.tex_heat, app.split.heat) {
+            let right_tex = match (&s.tex_heat, cx.split.heat) {
                 (Some(h), true) => h.id(),
                 _ => tex_b.id(),
             };
@@ -272,11 +284,11 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
             label(
                 rect.left_top() + Vec2::new(8.0, 6.0),
                 Align2::LEFT_TOP,
-                "A: ".to_owned() + &super::panels::describe(&app.settings),
+                "A: ".to_owned() + &super::panels::describe(&*cx.settings),
             );
-            let right_text = match (s.heat, app.split.heat) {
+            let right_text = match (s.heat, cx.split.heat) {
                 (Some((mean, p95)), true) => format!("ΔE00 A vs B: mean {mean:.3}, p95 {p95:.3}"),
-                _ => "B: ".to_owned() + &super::panels::describe(&app.split.b),
+                _ => "B: ".to_owned() + &super::panels::describe(&cx.split.b),
             };
             label(
                 rect.right_top() + Vec2::new(-8.0, 6.0),
@@ -288,12 +300,12 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
             painter.image(s.tex_a.id(), rect, full, white);
         }
     }
-    tiles(app, &painter, rect);
-    super::gizmos::paint(&painter, &app.viewport.gizmos, app.panels.lights.hovered);
-    if app.settings.output == Output::Overdraw {
-        super::panels::overdraw_legend(&painter, rect);
+    tiles(cx, &painter, rect);
+    super::gizmos::paint(&painter, &cx.viewport.gizmos, cx.shared.hovered_light);
+    if cx.settings.output == Output::Overdraw {
+        overdraw_legend(&painter, rect);
     }
-    if let Some(pv) = &app.panels.probe {
+    if let Some(pv) = &cx.shared.probe {
         if s.view.width == pv.frame_size[0] && s.view.height == pv.frame_size[1] {
             let c = rect.min
                 + Vec2::new(
@@ -306,8 +318,8 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
             painter.line_segment([c + Vec2::X * 3.0, c + Vec2::X * 10.0], stroke);
         }
     }
-    loading(app, &painter, rect);
-    if let Some(e) = &app.error {
+    loading(cx, &painter, rect);
+    if let Some(e) = cx.session.error {
         // Also in the status bar; here so it cannot be missed.
         let bar = Rect::from_min_size(
             rect.left_bottom() - Vec2::new(0.0, 30.0),
@@ -336,8 +348,8 @@ fn paint(app: &ViewerApp, ui: &egui::Ui, rect: Rect) {
 }
 
 /// "Loading NAME: stage, percent" in the middle of the viewport while a load runs.
-fn loading(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
-    let Some(t) = &app.loading else {
+fn loading(cx: &Cx<'_>, painter: &egui::Painter, rect: Rect) {
+    let Some(t) = cx.session.loading else {
         return;
     };
     let (stage, fraction, _) = t.status();
@@ -356,15 +368,15 @@ fn loading(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
 }
 
 /// The 64x64 tile grid and the per-tile cost heat map of the shown frame.
-fn tiles(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
-    let Some(s) = &app.shown else {
+fn tiles(cx: &Cx<'_>, painter: &egui::Painter, rect: Rect) {
+    let Some(s) = cx.session.shown else {
         return;
     };
     let (fw, fh) = (s.view.width as f32, s.view.height as f32);
     let tile = crate::raster::TILE as f32;
     let (sx, sy) = (rect.width() / fw, rect.height() / fh);
-    if app.panels.tile_cost != CostView::Off && !s.tile_costs.is_empty() {
-        let value = |c: &crate::raster::TileCost| match app.panels.tile_cost {
+    if cx.shared.tile_cost != CostView::Off && !s.tile_costs.is_empty() {
+        let value = |c: &crate::raster::TileCost| match cx.shared.tile_cost {
             CostView::Time => c.nanos as f32,
             _ => c.fragments as f32,
         };
@@ -388,7 +400,7 @@ fn tiles(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
             );
             painter.rect_filled(r, 0.0, Color32::from_rgba_unmultiplied(cr, cg, cb, 150));
         }
-        let what = match app.panels.tile_cost {
+        let what = match cx.shared.tile_cost {
             CostView::Time => format!("tile fill time, max {:.2} ms", max * 1e-6),
             _ => format!("fragments per tile, max {max:.0}"),
         };
@@ -400,7 +412,7 @@ fn tiles(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
             Color32::WHITE,
         );
     }
-    if app.panels.tile_grid || app.panels.tile_cost != CostView::Off {
+    if cx.shared.tile_grid || cx.shared.tile_cost != CostView::Off {
         let stroke = Stroke::new(1.0, Color32::from_rgba_unmultiplied(255, 255, 255, 70));
         let mut x = tile;
         while x < fw {
@@ -422,4 +434,44 @@ fn tiles(app: &ViewerApp, painter: &egui::Painter, rect: Rect) {
         }
         painter.rect_stroke(rect, 0.0, stroke, StrokeKind::Inside);
     }
+}
+
+/// The overdraw colour ramp, bottom right of the viewport.
+pub fn overdraw_legend(painter: &egui::Painter, rect: Rect) {
+    let (w, h) = (220.0, 14.0);
+    let origin = rect.right_bottom() + Vec2::new(-w - 12.0, -h - 26.0);
+    let steps = 64;
+    for i in 0..steps {
+        let c = 16.0 * i as f32 / (steps - 1) as f32;
+        let col = crate::render::overdraw_color(c);
+        let enc = crate::color::srgb8;
+        let x = origin.x + w * i as f32 / steps as f32;
+        painter.rect_filled(
+            Rect::from_min_size(Pos2::new(x, origin.y), Vec2::new(w / steps as f32 + 0.5, h)),
+            0.0,
+            Color32::from_rgb(enc(col.x), enc(col.y), enc(col.z)),
+        );
+    }
+    for (v, label) in [
+        (0.0, "0"),
+        (1.0, "1"),
+        (4.0, "4"),
+        (10.0, "10"),
+        (16.0, "16+"),
+    ] {
+        painter.text(
+            Pos2::new(origin.x + w * v / 16.0, origin.y + h + 2.0),
+            Align2::CENTER_TOP,
+            label,
+            FontId::monospace(11.0),
+            Color32::WHITE,
+        );
+    }
+    painter.text(
+        origin + Vec2::new(0.0, -3.0),
+        Align2::LEFT_BOTTOM,
+        "fragments per pixel",
+        FontId::monospace(11.0),
+        Color32::WHITE,
+    );
 }

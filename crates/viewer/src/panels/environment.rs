@@ -11,7 +11,7 @@ use eframe::egui;
 use glam::Vec3;
 
 use super::edit;
-use crate::app::ViewerApp;
+use super::{file_dialog, Cx, Dock, Installed, Panel};
 use crate::render::{Environment, Ground, ToneMap};
 use crate::shade::{Fog, FogDistance, MAX_SHADOW_SIZE};
 use crate::texture::env::{default_cache_dir, BUILTIN_NAMES, DEFAULT_ROTATION_DEG};
@@ -21,9 +21,9 @@ pub const SHADOW_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
 /// Largest PCF radius offered ((2r + 1)² taps).
 pub const MAX_PCF: u32 = 4;
 
-/// What the section remembers while fog or the ground is off.
+/// The environment section, with what it remembers while fog or the ground is off.
 #[derive(Default)]
-pub struct EnvironmentUi {
+pub struct EnvironmentPanel {
     pub fog: Option<Fog>,
     pub ground: Option<Ground>,
     /// The open picker for an environment image.
@@ -32,10 +32,43 @@ pub struct EnvironmentUi {
     pub env_error: Option<String>,
 }
 
+impl Panel for EnvironmentPanel {
+    fn dock(&self) -> Dock {
+        Dock::Left
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        egui::CollapsingHeader::new("Environment, exposure, fog, tone map, shadows")
+            .id_salt("environment")
+            .show(ui, |ui| self.show(cx, ui));
+    }
+
+    fn dialogs(&mut self, ctx: &egui::Context, cx: &mut Cx<'_>) {
+        if let Some(dialog) = &mut self.picker {
+            if dialog.show(ctx).selected() {
+                if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
+                    self.picker = None;
+                    self.read_environment(cx, &p);
+                }
+            } else if !dialog.visible() {
+                self.picker = None;
+            }
+        }
+    }
+
+    fn installed(&mut self, what: &Installed<'_>) {
+        // A scene file's fog and ground come back when they are turned off and on again.
+        if let Some(s) = what.settings {
+            self.fog = s.fog;
+            self.ground = s.ground;
+        }
+    }
+}
+
 /// Fog for the current view: from the front of the scene's bounding sphere to its back.
-fn default_fog(app: &ViewerApp) -> Fog {
-    let (c, r) = app.scene.bounding_sphere();
-    let eye = app.current_view().camera.eye;
+fn default_fog(cx: &Cx<'_>) -> Fog {
+    let (c, r) = cx.session.scene.bounding_sphere();
+    let eye = cx.view().camera.eye;
     let d = (c - eye).length();
     let d = if d.is_finite() { d } else { 2.0 * r };
     Fog {
@@ -45,42 +78,34 @@ fn default_fog(app: &ViewerApp) -> Fog {
     }
 }
 
-/// The environment section.
-pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    image_lighting(app, ui);
-    ui.separator();
-    fog(app, ui);
-    ui.separator();
-    tone(app, ui);
-    ui.separator();
-    shadows(app, ui);
-    ui.separator();
-    ground(app, ui);
-    let (a, b) = (&app.settings, &mut app.split.b);
-    if b.fog != a.fog || b.shadow != a.shadow || b.ground != a.ground {
-        b.fog = a.fog;
-        b.shadow = a.shadow;
-        b.ground = a.ground;
+impl EnvironmentPanel {
+    /// The environment section.
+    pub fn show(&mut self, cx: &mut Cx<'_>, ui: &mut egui::Ui) {
+        self.image_lighting(cx, ui);
+        ui.separator();
+        self.fog(cx, ui);
+        ui.separator();
+        tone(cx, ui);
+        ui.separator();
+        shadows(cx, ui);
+        ui.separator();
+        self.ground(cx, ui);
+        let (a, b) = (&*cx.settings, &mut cx.split.b);
+        if b.fog != a.fog || b.shadow != a.shadow || b.ground != a.ground {
+            b.fog = a.fog;
+            b.shadow = a.shadow;
+            b.ground = a.ground;
+        }
     }
-}
 
-/// What the environment is called in the picker.
-fn env_label(e: &Environment) -> String {
-    match e {
-        Environment::Auto => "studio (default)".into(),
-        Environment::Off => "none".into(),
-        Environment::On(v) => v.env.name().to_owned(),
-    }
-}
-
-/// The environment, its rotation and intensity, the background and the exposure.
-fn image_lighting(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    ui.label("image-based lighting of pbr surfaces (the split sum)");
-    let s = &mut app.settings;
-    let mut pick = None;
-    ui.horizontal(|ui| {
-        ui.label("environment");
-        egui::ComboBox::from_id_salt("environment")
+    /// The environment, its rotation and intensity, the background and the exposure.
+    fn image_lighting(&mut self, cx: &mut Cx<'_>, ui: &mut egui::Ui) {
+        ui.label("image-based lighting of pbr surfaces (the split sum)");
+        let s = &mut cx.settings;
+        let mut pick = None;
+        ui.horizontal(|ui| {
+            ui.label("environment");
+            egui::ComboBox::from_id_salt("environment")
             .selected_text(env_label(&s.environment))
             .show_ui(ui, |ui| {
                 if ui
@@ -107,82 +132,206 @@ fn image_lighting(app: &mut ViewerApp, ui: &mut egui::Ui) {
             })
             .response
             .accessible_name("environment");
-    });
-    match pick {
-        Some("file") => open_env_picker(app),
-        Some(name) => {
-            let old = app.settings.environment.view();
-            match Environment::named(name, |n: &str| n.into(), None) {
-                Ok((env, _)) => {
-                    app.settings.environment = keep_turn(env, old);
-                    app.panels.environment.env_error = None;
+        });
+        match pick {
+            Some("file") => self.open_env_picker(cx),
+            Some(name) => {
+                let old = cx.settings.environment.view();
+                match Environment::named(name, |n: &str| n.into(), None) {
+                    Ok((env, _)) => {
+                        cx.settings.environment = keep_turn(env, old);
+                        self.env_error = None;
+                    }
+                    Err(e) => self.env_error = Some(e),
                 }
-                Err(e) => app.panels.environment.env_error = Some(e),
             }
+            None => {}
         }
-        None => {}
-    }
-    let s = &mut app.settings;
-    if let Some(mut view) = s.environment.view() {
-        let mut changed = false;
-        egui::Grid::new("env-grid").num_columns(2).show(ui, |ui| {
-            ui.label("rotation about +Y").on_hover_text(format!(
+        let s = &mut cx.settings;
+        if let Some(mut view) = s.environment.view() {
+            let mut changed = false;
+            egui::Grid::new("env-grid").num_columns(2).show(ui, |ui| {
+                ui.label("rotation about +Y").on_hover_text(format!(
                 "{DEFAULT_ROTATION_DEG}° puts the image centre at +Z, as the Khronos sample viewer"
             ));
-            changed |= edit::drag_with(
-                ui,
-                &mut view.rotation_deg,
-                -360.0..=360.0,
-                1.0,
-                "environment rotation",
-                "°",
-            );
-            ui.end_row();
-            ui.label("intensity");
-            changed |= edit::slider(
-                ui,
-                &mut view.intensity,
-                0.0..=16.0,
-                true,
-                "environment intensity",
-            );
-            ui.end_row();
-        });
-        if changed {
-            s.environment = Environment::On(view);
+                changed |= edit::drag_with(
+                    ui,
+                    &mut view.rotation_deg,
+                    -360.0..=360.0,
+                    1.0,
+                    "environment rotation",
+                    "°",
+                );
+                ui.end_row();
+                ui.label("intensity");
+                changed |= edit::slider(
+                    ui,
+                    &mut view.intensity,
+                    0.0..=16.0,
+                    true,
+                    "environment intensity",
+                );
+                ui.end_row();
+            });
+            if changed {
+                s.environment = Environment::On(view);
+            }
+            let mut shown = s.env_background.is_some();
+            if ui
+                .checkbox(&mut shown, "shown behind the model")
+                .on_hover_text("the environment instead of the background colour, blurred")
+                .changed()
+            {
+                s.env_background = shown.then_some(0.0);
+            }
+            if let Some(blur) = &mut s.env_background {
+                ui.horizontal(|ui| {
+                    ui.label("blur (roughness)");
+                    edit::slider(ui, blur, 0.0..=1.0, false, "environment background blur");
+                });
+            }
         }
-        let mut shown = s.env_background.is_some();
+        if let Some(e) = &self.env_error {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        ui.horizontal(|ui| {
+            ui.label("exposure").on_hover_text(
+                "stops: colours are multiplied by 2^EV before the tone map (lights are in lux: \
+             a sunlit glTF scene wants about -15)",
+            );
+            edit::drag_with(
+                ui,
+                &mut cx.settings.exposure,
+                -24.0..=24.0,
+                0.05,
+                "exposure in stops",
+                " EV",
+            );
+        });
+    }
+
+    /// Opens the picker for an environment image.
+    fn open_env_picker(&mut self, cx: &mut Cx<'_>) {
+        let filter = Box::new(|p: &std::path::Path| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "hdr" | "exr"))
+        });
+        self.picker = Some(file_dialog(
+            cx,
+            "Environment (equirectangular .hdr or .exr)",
+            filter,
+        ));
+    }
+
+    /// Lights the scene with the equirectangular image at `path`, prefiltered once and cached
+    /// by content (a second open is instant), or shows why it cannot (in the section and the
+    /// status bar); the scene and the other settings stay as they were.
+    pub fn read_environment(&mut self, cx: &mut Cx<'_>, path: &std::path::Path) {
+        let old = cx.settings.environment.view();
+        let cache = default_cache_dir();
+        match Environment::named(
+            &path.display().to_string(),
+            |n: &str| n.into(),
+            cache.as_deref(),
+        ) {
+            Ok((env, note)) => {
+                cx.settings.environment = keep_turn(env, old);
+                self.env_error = None;
+                if let Some(n) = note {
+                    cx.notice(format!("{}: {n}", path.display()));
+                }
+            }
+            Err(e) => {
+                let e = format!("{}: {e}", path.display());
+                cx.notice(e.clone());
+                self.env_error = Some(e);
+            }
+        }
+    }
+
+    fn fog(&mut self, cx: &mut Cx<'_>, ui: &mut egui::Ui) {
+        let mut on = cx.settings.fog.is_some();
         if ui
-            .checkbox(&mut shown, "shown behind the model")
-            .on_hover_text("the environment instead of the background colour, blurred")
+            .checkbox(
+                &mut on,
+                "fog (linear, the textbook's pipeline chapter, §5.1)",
+            )
             .changed()
         {
-            s.env_background = shown.then_some(0.0);
+            let fog = on.then(|| self.fog.unwrap_or_else(|| default_fog(cx)));
+            cx.settings.fog = fog;
         }
-        if let Some(blur) = &mut s.env_background {
+        let Some(f) = &mut cx.settings.fog else {
+            return;
+        };
+        let speed = f64::from(cx.session.scene.bounding_sphere().1 * 0.01).max(1e-4);
+        egui::Grid::new("fog-grid").num_columns(2).show(ui, |ui| {
+            ui.label("colour");
+            edit::colour(ui, &mut f.color, "fog colour");
+            ui.end_row();
+            ui.label("near / far")
+                .on_hover_text("no fog within near, only fog beyond far, linear between");
+            let (mut near, mut far) = (f.near, f.far);
+            let (cn, cf) = ui
+                .horizontal(|ui| {
+                    (
+                        edit::drag(ui, &mut near, 0.0..=f32::MAX, speed, "fog near"),
+                        edit::drag(ui, &mut far, 1e-3..=f32::MAX, speed, "fog far"),
+                    )
+                })
+                .inner;
+            if cn || cf {
+                (f.near, f.far) = ordered(near, far, cn);
+            }
+            ui.end_row();
+            ui.label("distance");
             ui.horizontal(|ui| {
-                ui.label("blur (roughness)");
-                edit::slider(ui, blur, 0.0..=1.0, false, "environment background blur");
+                ui.selectable_value(&mut f.distance, FogDistance::Euclidean, "from the eye")
+                    .on_hover_text("spherical: the same as the camera turns");
+                ui.selectable_value(&mut f.distance, FogDistance::Depth, "camera depth")
+                    .on_hover_text("along the line of sight: changes as the camera turns");
             });
+            ui.end_row();
+        });
+        self.fog = Some(*f);
+    }
+
+    fn ground(&mut self, cx: &mut Cx<'_>, ui: &mut egui::Ui) {
+        let mut on = cx.settings.ground.is_some();
+        if ui
+            .checkbox(&mut on, "ground plane under the scene (catches shadows)")
+            .changed()
+        {
+            cx.settings.ground = on.then(|| self.ground.unwrap_or_default());
         }
+        let Some(g) = &mut cx.settings.ground else {
+            return;
+        };
+        egui::Grid::new("ground-grid")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("colour");
+                let mut c: Vec3 = g.color;
+                if edit::colour(ui, &mut c, "ground colour") {
+                    g.color = c;
+                }
+                ui.end_row();
+                ui.label("half-size").on_hover_text("in scene radii");
+                edit::drag(ui, &mut g.extent, 0.1..=100.0, 0.05, "ground extent");
+                ui.end_row();
+            });
+        self.ground = Some(*g);
     }
-    if let Some(e) = &app.panels.environment.env_error {
-        ui.colored_label(ui.visuals().error_fg_color, e);
+}
+
+/// What the environment is called in the picker.
+fn env_label(e: &Environment) -> String {
+    match e {
+        Environment::Auto => "studio (default)".into(),
+        Environment::Off => "none".into(),
+        Environment::On(v) => v.env.name().to_owned(),
     }
-    ui.horizontal(|ui| {
-        ui.label("exposure").on_hover_text(
-            "stops: colours are multiplied by 2^EV before the tone map (lights are in lux: \
-             a sunlit glTF scene wants about -15)",
-        );
-        edit::drag_with(
-            ui,
-            &mut app.settings.exposure,
-            -24.0..=24.0,
-            0.05,
-            "exposure in stops",
-            " EV",
-        );
-    });
 }
 
 /// `env` with the rotation and intensity of `old` (the user's), if both are on.
@@ -195,102 +344,6 @@ fn keep_turn(env: Environment, old: Option<crate::texture::env::EnvView>) -> Env
         }
         (env, _) => env,
     }
-}
-
-/// Opens the picker for an environment image.
-fn open_env_picker(app: &mut ViewerApp) {
-    let filter = Box::new(|p: &std::path::Path| {
-        p.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "hdr" | "exr"))
-    });
-    let mut dialog = egui_file::FileDialog::open_file()
-        .show_files_filter(filter)
-        .title("Environment (equirectangular .hdr or .exr)");
-    if let Some(dir) = app.model.as_deref().and_then(std::path::Path::parent) {
-        dialog = dialog.initial_path(dir);
-    }
-    dialog.open();
-    app.panels.environment.picker = Some(dialog);
-}
-
-/// Lights the scene with the equirectangular image at `path`, prefiltered once and cached
-/// by content (a second open is instant), or shows why it cannot (in the section and the
-/// status bar); the scene and the other settings stay as they were.
-pub fn read_environment(app: &mut ViewerApp, path: &std::path::Path) {
-    let old = app.settings.environment.view();
-    let cache = default_cache_dir();
-    match Environment::named(
-        &path.display().to_string(),
-        |n: &str| n.into(),
-        cache.as_deref(),
-    ) {
-        Ok((env, note)) => {
-            app.settings.environment = keep_turn(env, old);
-            app.panels.environment.env_error = None;
-            app.notice = note.map(|n| format!("{}: {n}", path.display()));
-        }
-        Err(e) => {
-            let e = format!("{}: {e}", path.display());
-            app.notice = Some(e.clone());
-            app.panels.environment.env_error = Some(e);
-        }
-    }
-}
-
-fn fog(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let mut on = app.settings.fog.is_some();
-    if ui
-        .checkbox(
-            &mut on,
-            "fog (linear, the textbook's pipeline chapter, §5.1)",
-        )
-        .changed()
-    {
-        app.settings.fog = if on {
-            Some(
-                app.panels
-                    .environment
-                    .fog
-                    .unwrap_or_else(|| default_fog(app)),
-            )
-        } else {
-            None
-        };
-    }
-    let Some(f) = &mut app.settings.fog else {
-        return;
-    };
-    let speed = f64::from(app.scene.bounding_sphere().1 * 0.01).max(1e-4);
-    egui::Grid::new("fog-grid").num_columns(2).show(ui, |ui| {
-        ui.label("colour");
-        edit::colour(ui, &mut f.color, "fog colour");
-        ui.end_row();
-        ui.label("near / far")
-            .on_hover_text("no fog within near, only fog beyond far, linear between");
-        let (mut near, mut far) = (f.near, f.far);
-        let (cn, cf) = ui
-            .horizontal(|ui| {
-                (
-                    edit::drag(ui, &mut near, 0.0..=f32::MAX, speed, "fog near"),
-                    edit::drag(ui, &mut far, 1e-3..=f32::MAX, speed, "fog far"),
-                )
-            })
-            .inner;
-        if cn || cf {
-            (f.near, f.far) = ordered(near, far, cn);
-        }
-        ui.end_row();
-        ui.label("distance");
-        ui.horizontal(|ui| {
-            ui.selectable_value(&mut f.distance, FogDistance::Euclidean, "from the eye")
-                .on_hover_text("spherical: the same as the camera turns");
-            ui.selectable_value(&mut f.distance, FogDistance::Depth, "camera depth")
-                .on_hover_text("along the line of sight: changes as the camera turns");
-        });
-        ui.end_row();
-    });
-    app.panels.environment.fog = Some(*f);
 }
 
 /// Fog distances kept `0 <= near < far`: the edited one wins, the other moves out of its
@@ -308,8 +361,8 @@ pub fn ordered(near: f32, far: f32, near_edited: bool) -> (f32, f32) {
     }
 }
 
-fn tone(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    tone_map(ui, &mut app.settings.tone, "a");
+fn tone(cx: &mut Cx<'_>, ui: &mut egui::Ui) {
+    tone_map(ui, &mut cx.settings.tone, "a");
 }
 
 /// The tone map selector of one side of the split (`id` "a" or "b").
@@ -343,8 +396,8 @@ pub fn tone_map(ui: &mut egui::Ui, tone: &mut ToneMap, id: &str) {
     });
 }
 
-fn shadows(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let casting: Vec<String> = super::lights::effective(app)
+fn shadows(cx: &mut Cx<'_>, ui: &mut egui::Ui) {
+    let casting: Vec<String> = super::lights::effective(cx.settings, cx.session.scene)
         .0
         .iter()
         .enumerate()
@@ -362,7 +415,7 @@ fn shadows(app: &mut ViewerApp, ui: &mut egui::Ui) {
     } else {
         format!("Shadows cast by: {}", casting.join(", "))
     });
-    let s = &mut app.settings.shadow;
+    let s = &mut cx.settings.shadow;
     egui::Grid::new("shadow-grid")
         .num_columns(2)
         .show(ui, |ui| {
@@ -396,31 +449,4 @@ fn shadows(app: &mut ViewerApp, ui: &mut egui::Ui) {
             });
             ui.end_row();
         });
-}
-
-fn ground(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let mut on = app.settings.ground.is_some();
-    if ui
-        .checkbox(&mut on, "ground plane under the scene (catches shadows)")
-        .changed()
-    {
-        app.settings.ground = on.then(|| app.panels.environment.ground.unwrap_or_default());
-    }
-    let Some(g) = &mut app.settings.ground else {
-        return;
-    };
-    egui::Grid::new("ground-grid")
-        .num_columns(2)
-        .show(ui, |ui| {
-            ui.label("colour");
-            let mut c: Vec3 = g.color;
-            if edit::colour(ui, &mut c, "ground colour") {
-                g.color = c;
-            }
-            ui.end_row();
-            ui.label("half-size").on_hover_text("in scene radii");
-            edit::drag(ui, &mut g.extent, 0.1..=100.0, 0.05, "ground extent");
-            ui.end_row();
-        });
-    app.panels.environment.ground = Some(*g);
 }

@@ -21,19 +21,17 @@ use eframe::egui;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 
 use super::edit;
-use crate::app::ViewerApp;
+use super::{file_dialog, Cx, Dock, Panel};
 use crate::navigate::UpAxis;
-use crate::render::Lights;
+use crate::render::{Lights, PreparedScene, Settings};
 use crate::scene::{Attenuation, Light, LightKind};
 use crate::shade::MAX_HALF_ANGLE;
 use crate::slide::{self, SlideLoad};
 
-/// UI state of the light editor and the gizmos.
-pub struct LightsUi {
-    /// Draw each light's position and cone over the view (`L`).
-    pub gizmos: bool,
-    /// The light whose editor the pointer is over: its gizmo is drawn wider.
-    pub hovered: Option<usize>,
+/// The light editor (the gizmos' toggle and the light under the pointer are in
+/// [`super::Shared`], which the viewport reads).
+#[derive(Default)]
+pub struct LightsPanel {
     /// The image picker, open for this light.
     pub slide_picker: Option<(usize, egui_file::FileDialog)>,
     /// An image being decoded.
@@ -42,14 +40,37 @@ pub struct LightsUi {
     pub slide_error: Option<String>,
 }
 
-impl Default for LightsUi {
-    fn default() -> Self {
-        Self {
-            gizmos: true,
-            hovered: None,
-            slide_picker: None,
-            slide_load: None,
-            slide_error: None,
+impl Panel for LightsPanel {
+    fn dock(&self) -> Dock {
+        Dock::Left
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        egui::CollapsingHeader::new("Lights").show(ui, |ui| self.lights(ui, cx));
+    }
+
+    fn poll(&mut self, cx: &mut Cx<'_>) {
+        let done = self
+            .slide_load
+            .as_ref()
+            .and_then(|t| t.poll().map(|o| (t.light, o)));
+        if let Some((light, out)) = done {
+            self.slide_load = None;
+            self.install_image(cx, light, out);
+        }
+    }
+
+    fn dialogs(&mut self, ctx: &egui::Context, cx: &mut Cx<'_>) {
+        if let Some((light, dialog)) = &mut self.slide_picker {
+            let light = *light;
+            if dialog.show(ctx).selected() {
+                if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
+                    self.slide_picker = None;
+                    self.read_image(cx, light, p);
+                }
+            } else if !dialog.visible() {
+                self.slide_picker = None;
+            }
         }
     }
 }
@@ -59,21 +80,21 @@ impl Default for LightsUi {
 /// (camera space).
 /// The order is the frame's (the probe's and the gizmos' light numbers).
 #[must_use]
-pub fn effective(app: &ViewerApp) -> (Vec<Light>, bool) {
-    match &app.settings.lights {
+pub fn effective(settings: &Settings, scene: &PreparedScene) -> (Vec<Light>, bool) {
+    match &settings.lights {
         Lights::Custom {
             lights,
             follow_camera,
         } => (lights.clone(), *follow_camera),
-        Lights::Auto if app.scene.lights().is_empty() => (Light::default_rig(Mat3::IDENTITY), true),
-        Lights::Auto => (app.scene.lights().to_vec(), false),
+        Lights::Auto if scene.lights().is_empty() => (Light::default_rig(Mat3::IDENTITY), true),
+        Lights::Auto => (scene.lights().to_vec(), false),
     }
 }
 
 /// The names of the frame's lights, in its order.
 #[must_use]
-pub fn light_names(app: &ViewerApp) -> Vec<String> {
-    effective(app)
+pub fn light_names(settings: &Settings, scene: &PreparedScene) -> Vec<String> {
+    effective(settings, scene)
         .0
         .iter()
         .map(|l| l.name.to_string())
@@ -96,14 +117,14 @@ struct Space {
 }
 
 impl Space {
-    fn new(app: &ViewerApp, follow: bool) -> Self {
-        let (c, radius) = app.scene.bounding_sphere();
-        let cam = app.current_view().camera;
+    fn new(cx: &Cx<'_>, follow: bool) -> Self {
+        let (c, radius) = cx.session.scene.bounding_sphere();
+        let cam = cx.view().camera;
         let view = cam.view();
         let to_world = view.inverse();
         let axis = |v: Vec3| to_world.transform_vector3(v).normalize_or(v);
         let (right, up, back) = (axis(Vec3::X), axis(Vec3::Y), axis(Vec3::Z));
-        let aspect = app.viewport.aspect();
+        let aspect = cx.viewport.aspect();
         let distance = (cam.target - cam.eye).length();
         let depth = if distance.is_finite() && distance > 0.0 {
             0.55 * distance
@@ -133,7 +154,7 @@ impl Space {
             center: c,
             radius,
             up,
-            compass: match app.nav.up_axis() {
+            compass: match cx.nav.up_axis() {
                 UpAxis::Y => [Vec3::X, Vec3::NEG_Z, Vec3::Y],
                 UpAxis::Z => [Vec3::X, Vec3::Y, Vec3::Z],
             },
@@ -192,101 +213,103 @@ fn new_light(kind: LightKind, s: &Space, n: usize) -> Light {
     light.with_name(format!("{} {n}", kind.name()))
 }
 
-/// The light editor section.
-pub fn lights(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let (mut list, mut follow) = effective(app);
-    let mut changed = false;
-    ui.checkbox(
-        &mut app.panels.lights.gizmos,
-        "show the lights and their cones in the view (L)",
-    );
-    let mut f = follow;
-    if ui
-        .checkbox(
-            &mut f,
-            "follow the camera (positions and directions in camera space)",
-        )
-        .changed()
-    {
-        let view = app.current_view().camera.view();
-        let m: Mat4 = if f { view } else { view.inverse() };
-        for l in &mut list {
-            *l = l.transformed(m);
-        }
-        follow = f;
-        changed = true;
-    }
-    let space = Space::new(app, follow);
-    let mut requests = Vec::new();
-    let mut hovered = None;
-    let loading = app.panels.lights.slide_load.as_ref().map(|s| s.light);
-    for (i, l) in list.iter_mut().enumerate() {
-        let r = egui::CollapsingHeader::new(header(i, l))
-            .id_salt(("light", i))
-            .show(ui, |ui| {
-                changed |= light_editor(ui, i, l, &space, loading == Some(i), &mut requests);
-            });
-        let body = r
-            .body_response
-            .as_ref()
-            .is_some_and(egui::Response::contains_pointer);
-        if body || r.header_response.contains_pointer() {
-            hovered = Some(i);
-        }
-    }
-    app.panels.lights.hovered = hovered;
-    for q in requests {
-        match q {
-            Request::Remove(i) if i < list.len() => {
-                list.remove(i);
-                changed = true;
+impl LightsPanel {
+    /// The light editor section.
+    fn lights(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        let (mut list, mut follow) = effective(cx.settings, cx.session.scene);
+        let mut changed = false;
+        ui.checkbox(
+            &mut cx.shared.light_gizmos,
+            "show the lights and their cones in the view (L)",
+        );
+        let mut f = follow;
+        if ui
+            .checkbox(
+                &mut f,
+                "follow the camera (positions and directions in camera space)",
+            )
+            .changed()
+        {
+            let view = cx.view().camera.view();
+            let m: Mat4 = if f { view } else { view.inverse() };
+            for l in &mut list {
+                *l = l.transformed(m);
             }
-            Request::Duplicate(i) if i < list.len() => {
-                let mut copy = list[i].clone();
-                copy.name = Cow::Owned(format!("{} copy", copy.name));
-                list.insert(i + 1, copy);
-                changed = true;
-            }
-            Request::PickImage(i) => open_image_picker(app, i),
-            _ => {}
+            follow = f;
+            changed = true;
         }
-    }
-    ui.horizontal_wrapped(|ui| {
-        ui.label("add");
-        for kind in LightKind::ALL {
-            if ui
-                .button(format!("+ {}", kind.name()))
-                .on_hover_text(format!("add a {} light", kind.name()))
-                .clicked()
-            {
-                list.push(new_light(kind, &space, list.len()));
-                changed = true;
+        let space = Space::new(cx, follow);
+        let mut requests = Vec::new();
+        let mut hovered = None;
+        let loading = self.slide_load.as_ref().map(|s| s.light);
+        for (i, l) in list.iter_mut().enumerate() {
+            let r = egui::CollapsingHeader::new(header(i, l))
+                .id_salt(("light", i))
+                .show(ui, |ui| {
+                    changed |= light_editor(ui, i, l, &space, loading == Some(i), &mut requests);
+                });
+            let body = r
+                .body_response
+                .as_ref()
+                .is_some_and(egui::Response::contains_pointer);
+            if body || r.header_response.contains_pointer() {
+                hovered = Some(i);
             }
         }
-    });
-    if let Some(e) = app.panels.lights.slide_error.clone() {
+        cx.shared.hovered_light = hovered;
+        for q in requests {
+            match q {
+                Request::Remove(i) if i < list.len() => {
+                    list.remove(i);
+                    changed = true;
+                }
+                Request::Duplicate(i) if i < list.len() => {
+                    let mut copy = list[i].clone();
+                    copy.name = Cow::Owned(format!("{} copy", copy.name));
+                    list.insert(i + 1, copy);
+                    changed = true;
+                }
+                Request::PickImage(i) => self.open_image_picker(cx, i),
+                _ => {}
+            }
+        }
         ui.horizontal_wrapped(|ui| {
-            ui.colored_label(egui::Color32::from_rgb(255, 110, 90), e);
-            if ui.small_button("dismiss").clicked() {
-                app.panels.lights.slide_error = None;
+            ui.label("add");
+            for kind in LightKind::ALL {
+                if ui
+                    .button(format!("+ {}", kind.name()))
+                    .on_hover_text(format!("add a {} light", kind.name()))
+                    .clicked()
+                {
+                    list.push(new_light(kind, &space, list.len()));
+                    changed = true;
+                }
             }
         });
-    }
-    if changed {
-        app.settings.lights = Lights::Custom {
-            lights: list,
-            follow_camera: follow,
-        };
-    }
-    if app.settings.lights != Lights::Auto
-        && ui
-            .button("back to the scene's lights (or the default rig)")
-            .clicked()
-    {
-        app.settings.lights = Lights::Auto;
-    }
-    if app.split.b.lights != app.settings.lights {
-        app.split.b.lights = app.settings.lights.clone();
+        if let Some(e) = self.slide_error.clone() {
+            ui.horizontal_wrapped(|ui| {
+                ui.colored_label(egui::Color32::from_rgb(255, 110, 90), e);
+                if ui.small_button("dismiss").clicked() {
+                    self.slide_error = None;
+                }
+            });
+        }
+        if changed {
+            cx.settings.lights = Lights::Custom {
+                lights: list,
+                follow_camera: follow,
+            };
+        }
+        if cx.settings.lights != Lights::Auto
+            && ui
+                .button("back to the scene's lights (or the default rig)")
+                .clicked()
+        {
+            cx.settings.lights = Lights::Auto;
+        }
+        if cx.split.b.lights != cx.settings.lights {
+            cx.split.b.lights = cx.settings.lights.clone();
+        }
     }
 }
 
@@ -596,55 +619,58 @@ fn attenuation_rows(ui: &mut egui::Ui, id: &str, i: usize, l: &mut Light, s: &Sp
     changed
 }
 
-/// Opens the image picker for light `light`.
-fn open_image_picker(app: &mut ViewerApp, light: usize) {
-    let filter = Box::new(|p: &std::path::Path| {
-        p.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| slide::EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
-    });
-    let mut dialog = egui_file::FileDialog::open_file()
-        .show_files_filter(filter)
-        .title("Image for the rectangular spotlight (.png, .jpg)");
-    if let Some(dir) = app.model.as_deref().and_then(std::path::Path::parent) {
-        dialog = dialog.initial_path(dir);
+impl LightsPanel {
+    /// Opens the image picker for light `light`.
+    fn open_image_picker(&mut self, cx: &Cx<'_>, light: usize) {
+        let filter = Box::new(|p: &std::path::Path| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| slide::EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+        });
+        let dialog = file_dialog(
+            cx,
+            "Image for the rectangular spotlight (.png, .jpg)",
+            filter,
+        );
+        self.slide_picker = Some((light, dialog));
     }
-    dialog.open();
-    app.panels.lights.slide_picker = Some((light, dialog));
-}
 
-/// Reads `path` as the image of light `light`: now in synchronous mode (tests), else on a
-/// thread of its own ([`crate::app::ViewerApp::poll_background`] installs it).
-pub fn read_image(app: &mut ViewerApp, light: usize, path: PathBuf) {
-    if app.is_synchronous() {
-        let out = slide::decode(&path).map(std::sync::Arc::new);
-        install_image(app, light, out);
-    } else {
-        app.panels.lights.slide_load = Some(SlideLoad::start(light, path, app.repaint_handle()));
-    }
-}
-
-/// Gives light `light` a decoded image, or shows why there is none.
-pub fn install_image(app: &mut ViewerApp, light: usize, out: slide::Outcome) {
-    let texture = match out {
-        Ok(t) => t,
-        Err(e) => {
-            // Also in the status bar: the editor may be scrolled away or shut.
-            app.notice = Some(e.clone());
-            app.panels.lights.slide_error = Some(e);
-            return;
+    /// Reads `path` as the image of light `light`: now in synchronous mode (tests), else on a
+    /// thread of its own ([`Panel::poll`] installs it).
+    pub fn read_image(&mut self, cx: &mut Cx<'_>, light: usize, path: PathBuf) {
+        if cx.session.synchronous {
+            let out = slide::decode(&path).map(std::sync::Arc::new);
+            self.install_image(cx, light, out);
+        } else {
+            self.slide_load = Some(SlideLoad::start(
+                light,
+                path,
+                std::sync::Arc::clone(cx.session.repaint),
+            ));
         }
-    };
-    let (mut list, follow_camera) = effective(app);
-    let Some(l) = list.get_mut(light) else {
-        app.panels.lights.slide_error =
-            Some(format!("{}: light {light} no longer exists", texture.name));
-        return;
-    };
-    l.image = Some(texture);
-    app.panels.lights.slide_error = None;
-    app.settings.lights = Lights::Custom {
-        lights: list,
-        follow_camera,
-    };
+    }
+
+    /// Gives light `light` a decoded image, or shows why there is none.
+    fn install_image(&mut self, cx: &mut Cx<'_>, light: usize, out: slide::Outcome) {
+        let texture = match out {
+            Ok(t) => t,
+            Err(e) => {
+                // Also in the status bar: the editor may be scrolled away or shut.
+                cx.notice(e.clone());
+                self.slide_error = Some(e);
+                return;
+            }
+        };
+        let (mut list, follow_camera) = effective(cx.settings, cx.session.scene);
+        let Some(l) = list.get_mut(light) else {
+            self.slide_error = Some(format!("{}: light {light} no longer exists", texture.name));
+            return;
+        };
+        l.image = Some(texture);
+        self.slide_error = None;
+        cx.settings.lights = Lights::Custom {
+            lights: list,
+            follow_camera,
+        };
+    }
 }

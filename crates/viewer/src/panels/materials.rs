@@ -4,8 +4,7 @@
 //! overrides ([`crate::render::Settings::materials`]) so the frame follows; "restore the
 //! file's materials" drops them.
 
-use super::edit;
-use crate::app::ViewerApp;
+use super::{edit, Cx, Dock, Installed, Panel};
 use crate::scene::{AlphaMode, Material};
 use eframe::egui;
 
@@ -23,37 +22,61 @@ fn mode_name(m: AlphaMode) -> &'static str {
 /// The glTF default alpha cutoff.
 const DEFAULT_CUTOFF: f32 = 0.5;
 
-/// The material editor section.
-pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let scene_materials = &app.scene.scene().materials;
-    if scene_materials.is_empty() {
-        ui.label("the model has no materials: every mesh uses the default material");
-        return;
+/// The material editor section: the material selected.
+#[derive(Default)]
+pub struct MaterialsPanel {
+    material: usize,
+}
+
+impl Panel for MaterialsPanel {
+    fn dock(&self) -> Dock {
+        Dock::Left
     }
-    let mut list: Vec<Material> = app
-        .settings
-        .materials
-        .clone()
-        .unwrap_or_else(|| scene_materials.clone());
-    let k = app.panels.material.min(list.len() - 1);
-    egui::ComboBox::from_id_salt("material")
-        .selected_text(format!("{k}: {}", list[k].name))
-        .show_ui(ui, |ui| {
-            for (i, m) in list.iter().enumerate().take(500) {
-                ui.selectable_value(&mut app.panels.material, i, format!("{i}: {}", m.name));
-            }
-        })
-        .response
-        .accessible_name("material");
-    let changed = editor(ui, &mut list[k]);
-    if changed {
-        app.settings.materials = Some(list);
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        egui::CollapsingHeader::new("Materials").show(ui, |ui| self.show(ui, cx));
     }
-    if app.settings.materials.is_some() && ui.button("restore the file's materials").clicked() {
-        app.settings.materials = None;
+
+    fn installed(&mut self, what: &Installed<'_>) {
+        if what.fresh {
+            self.material = 0;
+        }
     }
-    if app.split.b.materials != app.settings.materials {
-        app.split.b.materials = app.settings.materials.clone();
+}
+
+impl MaterialsPanel {
+    /// The material editor section.
+    fn show(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        let scene_materials = &cx.session.scene.scene().materials;
+        if scene_materials.is_empty() {
+            ui.label("the model has no materials: every mesh uses the default material");
+            return;
+        }
+        let mut list: Vec<Material> = cx
+            .settings
+            .materials
+            .clone()
+            .unwrap_or_else(|| scene_materials.clone());
+        let k = self.material.min(list.len() - 1);
+        egui::ComboBox::from_id_salt("material")
+            .selected_text(format!("{k}: {}", list[k].name))
+            .show_ui(ui, |ui| {
+                for (i, m) in list.iter().enumerate().take(500) {
+                    ui.selectable_value(&mut self.material, i, format!("{i}: {}", m.name));
+                }
+            })
+            .response
+            .accessible_name("material");
+        let changed = editor(ui, &mut list[k]);
+        if changed {
+            cx.settings.materials = Some(list);
+        }
+        if cx.settings.materials.is_some() && ui.button("restore the file's materials").clicked() {
+            cx.settings.materials = None;
+        }
+        if cx.split.b.materials != cx.settings.materials {
+            cx.split.b.materials = cx.settings.materials.clone();
+        }
     }
 }
 

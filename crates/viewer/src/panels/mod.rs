@@ -1,18 +1,28 @@
-//! The panels around the viewport: the menu bar, the status bar, the side panels (shading,
-//! split view, scene file, scene, lights and materials, probe, colour, stats) and the windows (cheat
-//! sheet, file picker, screenshot). Each section lives in its own file; this one holds the
-//! layout, the keyboard dispatcher and the shared panel state.
+//! The panels around the viewport. Each panel is a struct in its own file that owns its
+//! state and implements [`Panel`]; it sees the viewer only through a [`Cx`]: the settings it
+//! edits, the camera, what the panels and the viewport share ([`Shared`]), a read-only view
+//! of the session ([`Session`]) and a queue of [`Command`]s that the app carries out after
+//! the UI pass (open a file, save the scene file, generate texture coordinates, ...). A new
+//! panel is a new file and a line in [`Panels::default`]'s list.
+//!
+//! The menu bar, the status bar and the open-file picker are in [`chrome`]; the keys and
+//! what they do in [`crate::keys`].
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use eframe::egui::{self, Align2, Color32, FontId, Pos2, Rect, Vec2};
+use eframe::egui::{self, Pos2};
 
-use super::app::ViewerApp;
-use super::keys::{self, Action, BINDINGS, MOUSE};
-use super::navigate::{Mode, UpAxis, View as Named};
-use crate::render::{Output, Settings};
-use crate::shade::Shading;
+use super::app::Split;
+use super::app::{scene_name, Shown};
+use super::keys::Action;
+use super::loader::{LoadTask, OpenScene};
+use super::navigate::Navigator;
+use super::viewport::ViewportState;
+use crate::render::{Output, PreparedScene, Settings, View};
+use crate::texture::UvGenerator;
 
+pub mod chrome;
 mod colour;
 pub mod edit;
 pub mod environment;
@@ -22,16 +32,61 @@ mod probe;
 pub mod save;
 mod scene;
 mod screenshot;
-mod shading;
+pub mod shading;
 mod stats;
 pub mod text;
 pub mod textures;
 
-pub use colour::ColourState;
-pub use environment::EnvironmentUi;
-pub use lights::{light_names, LightsUi};
-pub use save::SaveUi;
-pub use screenshot::Screenshot;
+pub use colour::ColourPanel;
+pub use environment::EnvironmentPanel;
+pub use lights::{light_names, LightsPanel};
+pub use materials::MaterialsPanel;
+pub use probe::ProbePanel;
+pub use save::SavePanel;
+pub use scene::ScenePanel;
+pub use screenshot::ScreenshotPanel;
+pub use shading::ShadingPanel;
+pub use stats::StatsPanel;
+
+/// Where a panel sits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dock {
+    /// The left side panel (what is drawn and how).
+    Left,
+    /// The right side panel (what is there: probe, scene, colour).
+    Right,
+    /// Its own floating window (drawn every pass; it decides whether it is open).
+    Window,
+}
+
+/// A panel: its sections, its windows and dialogs, and what it does on keys and new scenes.
+/// Only [`Panel::dock`] and [`Panel::ui`] are required.
+pub trait Panel: std::any::Any {
+    /// Where it sits.
+    fn dock(&self) -> Dock;
+    /// Draws its sections (each a collapsing header) into its side panel, or its window.
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>);
+    /// Every pass before the layout, open or not: background work that finished.
+    fn poll(&mut self, _cx: &mut Cx<'_>) {}
+    /// Every pass after the layout, open or not: its file dialogs.
+    fn dialogs(&mut self, _ctx: &egui::Context, _cx: &mut Cx<'_>) {}
+    /// Its entries in the File menu.
+    fn file_menu(&mut self, _ui: &mut egui::Ui, _cx: &mut Cx<'_>) {}
+    /// A key's action (every panel sees every action after [`crate::keys::act`]).
+    fn act(&mut self, _action: Action, _cx: &mut Cx<'_>) {}
+    /// A scene was installed.
+    fn installed(&mut self, _what: &Installed<'_>) {}
+}
+
+/// What changed when a scene was installed.
+pub struct Installed<'a> {
+    /// Another scene (not the same file reloaded): what belonged to the old one goes.
+    pub fresh: bool,
+    /// A scene file's settings, taken as they are.
+    pub settings: Option<&'a Settings>,
+    /// Where "Save scene" writes unless told otherwise.
+    pub save_path: String,
+}
 
 /// Which tile cost the viewport shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -68,67 +123,314 @@ pub struct ProbeView {
     pub buffer_depth: Option<f32>,
 }
 
-/// UI state of the panels and windows.
-pub struct Panels {
-    pub visible: bool,
+/// What the panels, the viewport and the keys share: the toggles a key and a panel both
+/// change, and the probed pixel the viewport sets and the probe panel shows.
+#[derive(Clone, Debug)]
+pub struct Shared {
+    /// The side panels are shown (Tab).
+    pub panels_visible: bool,
+    /// The keys window (H).
     pub cheat_sheet: bool,
+    /// The 64x64 tile grid over the view (G).
     pub tile_grid: bool,
+    /// The tile cost over the view (K).
     pub tile_cost: CostView,
+    /// Each light's position and cone over the view (L).
+    pub light_gizmos: bool,
+    /// The light whose row the pointer is over (its gizmo is highlighted).
+    pub hovered_light: Option<usize>,
+    /// The pixel last probed.
     pub probe: Option<ProbeView>,
     /// Scroll the side panel to the probe section once.
     pub open_probe: bool,
-    pub picker: Option<egui_file::FileDialog>,
-    pub screenshot: Screenshot,
-    pub colour: ColourState,
-    /// Material selected in the material editor.
-    pub material: usize,
-    /// Thumbnails of the scene's textures (built on first view).
-    pub thumbnails: Vec<Option<egui::TextureHandle>>,
-    /// Topology reports of the meshes opened in the scene section.
-    pub topology: std::collections::HashMap<usize, crate::mesh::TopologyReport>,
-    /// The light editor and the gizmos.
-    pub lights: LightsUi,
-    /// Fog and ground values kept while they are off.
-    pub environment: EnvironmentUi,
-    /// Saving the scene file.
-    pub save: SaveUi,
-    /// The texture lab's image paths, errors, reads and picker.
-    pub lab: textures::LabUi,
 }
 
-impl Default for Panels {
+impl Default for Shared {
     fn default() -> Self {
         Self {
-            visible: true,
+            panels_visible: true,
             cheat_sheet: false,
             tile_grid: false,
             tile_cost: CostView::Off,
+            light_gizmos: true,
+            hovered_light: None,
             probe: None,
             open_probe: false,
-            picker: None,
-            screenshot: Screenshot::default(),
-            colour: ColourState::default(),
-            material: 0,
-            thumbnails: Vec::new(),
-            topology: std::collections::HashMap::new(),
-            lights: LightsUi::default(),
-            environment: EnvironmentUi::default(),
-            save: SaveUi::default(),
-            lab: textures::LabUi::default(),
         }
     }
 }
 
+/// The model's texture coordinates as the controls show them.
+#[derive(Clone, Copy, Debug)]
+pub struct UvView {
+    /// The generator chosen (`None`: the file's UVs).
+    pub chosen: Option<UvGenerator>,
+    /// Still being generated.
+    pub pending: bool,
+}
+
+/// What the panels may read about the session: the scene, the frame on screen, the files.
+pub struct Session<'a> {
+    /// What is drawn.
+    pub scene: &'a Arc<PreparedScene>,
+    /// The frame on screen.
+    pub shown: Option<&'a Shown>,
+    /// The file the scene came from, a model or a scene file (`None`: the built-in demo).
+    pub model: Option<&'a Path>,
+    /// The scene file open.
+    pub scene_file: Option<&'a OpenScene>,
+    /// How long the model took to load and prepare.
+    pub load_millis: Option<f64>,
+    /// A load under way.
+    pub loading: Option<&'a LoadTask>,
+    /// The last error, shown until dismissed or the next success.
+    pub error: Option<&'a str>,
+    /// The status bar's message.
+    pub notice: Option<&'a str>,
+    /// The recent files, newest first.
+    pub recent: &'a [PathBuf],
+    /// The texture coordinates chosen.
+    pub uv: UvView,
+    /// Loads and renders run in the calling thread (UI tests).
+    pub synchronous: bool,
+    /// What wakes the UI from another thread.
+    pub repaint: &'a Arc<dyn Fn() + Send + Sync>,
+    /// An animation plays.
+    pub playing: bool,
+    /// The frame on screen is the final one for the current view and settings.
+    pub settled: bool,
+    /// The last "Save scene": the message, or why not.
+    pub saved: Option<&'a Result<String, String>>,
+}
+
+impl Session<'_> {
+    /// The name shown for the scene (see [`crate::ViewerApp::scene_name`]).
+    #[must_use]
+    pub fn name(&self) -> String {
+        scene_name(self.model, self.scene_file)
+    }
+
+    /// The folder of the open file (where file pickers start).
+    #[must_use]
+    pub fn folder(&self) -> Option<&Path> {
+        self.model.and_then(Path::parent)
+    }
+}
+
+/// What a panel asks of the session; the app does it after the UI pass, in order.
+#[derive(Clone, Debug)]
+pub enum Command {
+    /// Open a model or a scene file.
+    Open(PathBuf),
+    /// Show the built-in demo.
+    OpenDemo,
+    /// Load the open file again.
+    Reload,
+    /// The previous (-1) or next (+1) model in the open file's folder.
+    StepFile(i32),
+    /// Save the scene file there.
+    SaveScene(PathBuf),
+    /// Draw the model with these texture coordinates (`None`: its own).
+    SetUv(Option<UvGenerator>),
+    /// Play or pause the animation.
+    TogglePlay,
+    /// A message for the status bar.
+    Notice(String),
+    /// An error for the status bar.
+    Error(String),
+    /// Clear the status bar's error.
+    DismissError,
+}
+
+/// A panel's narrow view of the viewer for one call.
+pub struct Cx<'a> {
+    /// Side A's settings (the frame).
+    pub settings: &'a mut Settings,
+    /// The split view, side B's settings among them.
+    pub split: &'a mut Split,
+    /// Refine a still image up to this many samples per axis (1, 2 or 4).
+    pub max_samples: &'a mut u32,
+    /// The camera controller.
+    pub nav: &'a mut Navigator,
+    /// What the panels, the viewport and the keys share.
+    pub shared: &'a mut Shared,
+    /// The viewport's rectangle and size.
+    pub viewport: &'a mut ViewportState,
+    /// The camera moved by input during this pass.
+    pub interacting: &'a mut bool,
+    /// The session, read-only.
+    pub session: Session<'a>,
+    /// Requests to the session.
+    pub commands: &'a mut Vec<Command>,
+}
+
+impl Cx<'_> {
+    /// The scene drawn.
+    #[must_use]
+    pub fn scene(&self) -> &Arc<PreparedScene> {
+        self.session.scene
+    }
+
+    /// The view of the viewport as it is now.
+    #[must_use]
+    pub fn view(&self) -> View {
+        super::viewport::view_of(self.nav, self.viewport)
+    }
+
+    /// Asks the session to do `c` after this pass.
+    pub fn ask(&mut self, c: Command) {
+        self.commands.push(c);
+    }
+
+    /// A message for the status bar.
+    pub fn notice(&mut self, message: impl Into<String>) {
+        self.commands.push(Command::Notice(message.into()));
+    }
+
+    /// Side `side`'s settings.
+    pub fn side(&mut self, side: Side) -> &mut Settings {
+        match side {
+            Side::A => self.settings,
+            Side::B => &mut self.split.b,
+        }
+    }
+}
+
+/// Every panel, in the order they are laid out, and the open-file picker.
+pub struct Panels {
+    list: Vec<Box<dyn Panel>>,
+    /// The open-file picker.
+    picker: Option<egui_file::FileDialog>,
+}
+
+impl Default for Panels {
+    fn default() -> Self {
+        // The panel list: a new panel is a line here and a file of its own.
+        let list: Vec<Box<dyn Panel>> = vec![
+            Box::new(ShadingPanel::default()),
+            Box::new(LightsPanel::default()),
+            Box::new(EnvironmentPanel::default()),
+            Box::new(MaterialsPanel::default()),
+            Box::new(StatsPanel),
+            Box::new(ProbePanel),
+            Box::new(SavePanel::default()),
+            Box::new(ScenePanel::default()),
+            Box::new(ColourPanel::default()),
+            Box::new(ScreenshotPanel::default()),
+        ];
+        Self { list, picker: None }
+    }
+}
+
 impl Panels {
-    /// Forgets what belonged to the previous scene.
-    pub fn on_new_scene(&mut self) {
-        self.probe = None;
-        self.material = 0;
-        self.thumbnails.clear();
-        self.topology.clear();
-        self.colour = ColourState::default();
-        self.lights.hovered = None;
-        self.lab.on_new_scene();
+    /// Adds `panel` after the others of its dock (a panel of another crate, or a test's).
+    pub fn add(&mut self, panel: Box<dyn Panel>) {
+        self.list.push(panel);
+    }
+
+    /// The panel of type `P`.
+    #[must_use]
+    pub fn get<P: Panel>(&self) -> Option<&P> {
+        self.list
+            .iter()
+            .find_map(|p| (p.as_ref() as &dyn std::any::Any).downcast_ref::<P>())
+    }
+
+    /// The panel of type `P`, to change.
+    pub fn get_mut<P: Panel>(&mut self) -> Option<&mut P> {
+        self.list
+            .iter_mut()
+            .find_map(|p| (p.as_mut() as &mut dyn std::any::Any).downcast_mut::<P>())
+    }
+
+    /// Tells every panel that a scene was installed.
+    pub fn installed(&mut self, what: &Installed<'_>) {
+        for p in &mut self.list {
+            p.installed(what);
+        }
+    }
+
+    /// Every panel's background work.
+    pub fn poll(&mut self, cx: &mut Cx<'_>) {
+        for p in &mut self.list {
+            p.poll(cx);
+        }
+    }
+
+    /// Does what a key or a menu entry asks: the keys' own part, then each panel's.
+    pub fn act(&mut self, a: Action, cx: &mut Cx<'_>) {
+        super::keys::act(a, cx);
+        if a == Action::Open {
+            self.open_picker(cx);
+        }
+        for p in &mut self.list {
+            p.act(a, cx);
+        }
+    }
+
+    /// Opens the file picker (drawn by egui, so it works anywhere, Xvfb included).
+    pub fn open_picker(&mut self, cx: &Cx<'_>) {
+        let filter =
+            Box::new(|p: &Path| super::files::is_model(p) || super::loader::is_scene_file(p));
+        self.picker = Some(file_dialog(
+            cx,
+            "Open a model (.obj, .gltf, .glb, .stl, .ply) or a scene file (.toml, .json)",
+            filter,
+        ));
+    }
+
+    /// The side panels.
+    pub fn side_panels(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        egui::Panel::left("controls")
+            .resizable(true)
+            .default_size(320.0)
+            .size_range(200.0..=420.0)
+            .show(ui, |ui| {
+                text::bounded("controls-scroll").show(ui, |ui| self.docked(Dock::Left, ui, cx));
+            });
+        egui::Panel::right("inspect")
+            .resizable(true)
+            .default_size(400.0)
+            .size_range(220.0..=520.0)
+            .show(ui, |ui| {
+                // Wide rows (the probe's light shares) scroll sideways: growing the panel
+                // would shrink the viewport and re-render the frame just probed.
+                text::bounded("inspect-scroll").show(ui, |ui| self.docked(Dock::Right, ui, cx));
+            });
+    }
+
+    /// The panels docked at `dock`, in list order.
+    fn docked(&mut self, dock: Dock, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        for p in self.list.iter_mut().filter(|p| p.dock() == dock) {
+            p.ui(ui, cx);
+        }
+    }
+
+    /// The floating windows and the dialogs.
+    pub fn windows(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        let ctx = ui.ctx().clone();
+        if cx.shared.cheat_sheet {
+            let mut open = true;
+            egui::Window::new("Keys and mouse")
+                .open(&mut open)
+                .collapsible(false)
+                .show(&ctx, |ui| super::keys::cheat_sheet(ui, cx));
+            cx.shared.cheat_sheet &= open;
+        }
+        if let Some(dialog) = &mut self.picker {
+            if dialog.show(&ctx).selected() {
+                if let Some(p) = dialog.path().map(Path::to_path_buf) {
+                    self.picker = None;
+                    cx.ask(Command::Open(p));
+                }
+            } else if !dialog.visible() {
+                self.picker = None;
+            }
+        }
+        self.docked(Dock::Window, ui, cx);
+        for p in &mut self.list {
+            p.dialogs(&ctx, cx);
+        }
     }
 }
 
@@ -137,6 +439,22 @@ fn row(ui: &mut egui::Ui, key: &str, value: String) {
     ui.label(key);
     ui.monospace(value);
     ui.end_row();
+}
+
+/// A file dialog for one file, starting in the open model's folder.
+fn file_dialog(
+    cx: &Cx<'_>,
+    title: &str,
+    filter: egui_file::Filter<PathBuf>,
+) -> egui_file::FileDialog {
+    let mut dialog = egui_file::FileDialog::open_file()
+        .show_files_filter(filter)
+        .title(title);
+    if let Some(dir) = cx.session.folder() {
+        dialog = dialog.initial_path(dir);
+    }
+    dialog.open();
+    dialog
 }
 
 /// A one-line description of settings, for the split view's labels.
@@ -158,479 +476,4 @@ pub fn describe(s: &Settings) -> String {
         d = "overdraw".into();
     }
     d
-}
-
-/// Shading modes in the order the `M` key cycles them.
-const CYCLE: [Shading; Shading::ALL.len()] = Shading::ALL;
-
-/// Key presses (ignored while a text field has the keyboard) and dropped files.
-pub fn keyboard(app: &mut ViewerApp, ui: &egui::Ui) {
-    let ctx = ui.ctx().clone();
-    // A dropped file opens whatever has the keyboard.
-    let dropped: Option<PathBuf> =
-        ctx.input(|i| i.raw.dropped_files.first().map(|f| f.path().to_owned()));
-    if let Some(p) = dropped {
-        app.open(p);
-    }
-    // Only a text field: any focused widget (a button reached with Tab) would swallow
-    // every key.
-    if ctx.text_edit_focused() {
-        return;
-    }
-    let pressed: Vec<(egui::Key, egui::Modifiers)> = ctx.input(|i| {
-        i.events
-            .iter()
-            .filter_map(|e| match e {
-                egui::Event::Key {
-                    key,
-                    pressed: true,
-                    modifiers,
-                    ..
-                } => Some((*key, *modifiers)),
-                _ => None,
-            })
-            .collect()
-    });
-    for (key, mods) in pressed {
-        if let Some(a) = keys::action_for(key, mods) {
-            if key == egui::Key::Tab {
-                // Tab is ours (hide / show the panels), not egui's focus traversal.
-                ctx.memory_mut(|m| m.move_focus(egui::FocusDirection::None));
-            }
-            act(app, a);
-        }
-    }
-}
-
-/// Does what a key or menu entry asks.
-pub fn act(app: &mut ViewerApp, a: Action) {
-    let aspect = app.viewport.aspect();
-    let nav = &mut app.nav;
-    match a {
-        Action::ViewFront => nav.set_view(Named::Front),
-        Action::ViewBack => nav.set_view(Named::Back),
-        Action::ViewRight => nav.set_view(Named::Right),
-        Action::ViewLeft => nav.set_view(Named::Left),
-        Action::ViewTop => nav.set_view(Named::Top),
-        Action::ViewBottom => nav.set_view(Named::Bottom),
-        Action::ViewIso => nav.set_view(Named::Isometric),
-        Action::ToggleOrtho => nav.toggle_ortho(),
-        Action::Reset => nav.reset(),
-        Action::FrameAll => {
-            let (c, r) = app.scene.bounding_sphere();
-            nav.frame(c, r, aspect);
-        }
-        Action::UpY => nav.set_up_axis(UpAxis::Y, aspect),
-        Action::UpZ => nav.set_up_axis(UpAxis::Z, aspect),
-        Action::ToggleTrackball => nav.set_mode(match nav.mode() {
-            Mode::Turntable => Mode::Trackball,
-            Mode::Trackball => Mode::Turntable,
-        }),
-        Action::FovDown => nav.set_fov_degrees(nav.fov_degrees() - 5.0),
-        Action::FovUp => nav.set_fov_degrees(nav.fov_degrees() + 5.0),
-        Action::NextShading | Action::PrevShading => {
-            let s = &mut app.settings;
-            let k = s
-                .shading
-                .and_then(|m| CYCLE.iter().position(|c| *c == m))
-                .unwrap_or(3);
-            let n = CYCLE.len();
-            let next = if a == Action::NextShading {
-                (k + 1) % n
-            } else {
-                (k + n - 1) % n
-            };
-            s.shading = Some(CYCLE[next]);
-        }
-        Action::ToggleWireOverlay => {
-            app.settings.wireframe_overlay = !app.settings.wireframe_overlay;
-        }
-        Action::ToggleOverdraw => {
-            let s = &mut app.settings;
-            s.output = match s.output {
-                Output::Shaded => Output::Overdraw,
-                Output::Overdraw => Output::Shaded,
-            }
-        }
-        Action::ToggleTileGrid => app.panels.tile_grid = !app.panels.tile_grid,
-        Action::CycleTileCost => {
-            app.panels.tile_cost = match app.panels.tile_cost {
-                CostView::Off => CostView::Time,
-                CostView::Time => CostView::Fragments,
-                CostView::Fragments => CostView::Off,
-            }
-        }
-        Action::CycleAntialias => {
-            app.max_samples = match app.max_samples {
-                1 => 2,
-                2 => 4,
-                _ => 1,
-            }
-        }
-        Action::ToggleMultisampling => {
-            app.settings.msaa = if app.settings.msaa > 1 { 1 } else { 4 };
-        }
-        Action::ToggleSplit => app.split.enabled = !app.split.enabled,
-        Action::ToggleLightGizmos => app.panels.lights.gizmos = !app.panels.lights.gizmos,
-        Action::CheatSheet => app.panels.cheat_sheet = !app.panels.cheat_sheet,
-        Action::Screenshot => screenshot::quick(app),
-        Action::Open => open_picker(app),
-        Action::PrevFile => app.step_file(-1),
-        Action::NextFile => app.step_file(1),
-        Action::Reload => app.reload(),
-        Action::TogglePanels => app.panels.visible = !app.panels.visible,
-        Action::TogglePlay => {
-            let scene = std::sync::Arc::clone(app.scene.scene());
-            if scene.animations.is_empty() {
-                app.notice = Some("this scene has no animation".into());
-            } else {
-                let length = super::timeline::duration(&scene, app.timeline.play);
-                app.timeline.toggle(length);
-            }
-        }
-    }
-}
-
-/// Opens the file picker (drawn by egui, so it works anywhere, Xvfb included).
-pub fn open_picker(app: &mut ViewerApp) {
-    let filter = Box::new(|p: &std::path::Path| {
-        super::files::is_model(p) || super::loader::is_scene_file(p)
-    });
-    let mut dialog = egui_file::FileDialog::open_file()
-        .show_files_filter(filter)
-        .title("Open a model (.obj, .gltf, .glb, .stl, .ply) or a scene file (.toml, .json)");
-    if let Some(dir) = app.model.as_deref().and_then(std::path::Path::parent) {
-        dialog = dialog.initial_path(dir);
-    }
-    dialog.open();
-    app.panels.picker = Some(dialog);
-}
-
-/// The menu bar.
-pub fn menu_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    egui::Panel::top("menu").show(ui, |ui| {
-        egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| {
-                if ui.button("Open...  (Ctrl+O)").clicked() {
-                    open_picker(app);
-                    ui.close();
-                }
-                ui.menu_button("Recent", |ui| {
-                    let list = app.recent.list().to_vec();
-                    if list.is_empty() {
-                        ui.label("(none yet)");
-                    }
-                    for p in list {
-                        if ui.button(p.display().to_string()).clicked() {
-                            app.open(p);
-                            ui.close();
-                        }
-                    }
-                });
-                let has = app.model.is_some();
-                if ui
-                    .add_enabled(has, egui::Button::new("Reload  (Up)"))
-                    .clicked()
-                {
-                    app.reload();
-                }
-                if ui
-                    .add_enabled(has, egui::Button::new("Previous in folder  (Left)"))
-                    .clicked()
-                {
-                    app.step_file(-1);
-                }
-                if ui
-                    .add_enabled(has, egui::Button::new("Next in folder  (Right)"))
-                    .clicked()
-                {
-                    app.step_file(1);
-                }
-                if ui.button("Demo scene").clicked() {
-                    app.open_demo();
-                    ui.close();
-                }
-                ui.separator();
-                if ui
-                    .button("Save scene  (to the Scene file section's path)")
-                    .clicked()
-                {
-                    save::save(app);
-                    ui.close();
-                }
-                if ui.button("Screenshot...  (F12 saves at once)").clicked() {
-                    app.panels.screenshot.open = true;
-                    ui.close();
-                }
-            });
-            ui.menu_button("View", |ui| {
-                for (label, a) in [
-                    ("Front  (1)", Action::ViewFront),
-                    ("Right  (3)", Action::ViewRight),
-                    ("Top  (7)", Action::ViewTop),
-                    ("Isometric  (9)", Action::ViewIso),
-                    ("Orthographic  (5)", Action::ToggleOrtho),
-                    ("Frame all  (F)", Action::FrameAll),
-                    ("Reset camera  (Enter)", Action::Reset),
-                    ("+Y up  (Ctrl+Y)", Action::UpY),
-                    ("+Z up  (Ctrl+Z)", Action::UpZ),
-                    ("Trackball / turntable  (T)", Action::ToggleTrackball),
-                ] {
-                    if ui.button(label).clicked() {
-                        act(app, a);
-                    }
-                }
-            });
-            if ui.button("Keys (H)").clicked() {
-                app.panels.cheat_sheet = !app.panels.cheat_sheet;
-            }
-        });
-    });
-}
-
-/// The status bar: file, load progress, quality level, timings, errors. One line whatever
-/// it shows (a wrapped second line would take its height from the viewport): the file name
-/// is cut in the middle, the message at its end, each whole on hover.
-pub fn status_bar(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    egui::Panel::bottom("status").show(ui, |ui| {
-        ui.horizontal(|ui| {
-            let name_width = (ui.available_width() / 3.0).max(80.0);
-            text::elided_middle(ui, &app.scene_name(), name_width, true);
-            ui.label(format!("{} triangles", app.scene.triangle_count()));
-            if let Some(t) = &app.loading {
-                let (stage, fraction, secs) = t.status();
-                let name = t
-                    .path
-                    .file_name()
-                    .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-                ui.separator();
-                ui.label("loading");
-                text::elided_middle(ui, &name, 160.0, false);
-                ui.label(format!("{} ({secs:.1} s)", stage.name()));
-                ui.add(
-                    egui::ProgressBar::new(fraction.unwrap_or(0.0))
-                        .desired_width(120.0)
-                        .show_percentage(),
-                );
-                if ui.button("Cancel").clicked() {
-                    t.cancel();
-                }
-            }
-            if let Some(s) = &app.shown {
-                ui.separator();
-                let r = &s.report_a;
-                let state = if app.settled() { "" } else { " …" };
-                ui.label(format!(
-                    "{}x{} {}{state}: {:.1} ms",
-                    s.view.width,
-                    s.view.height,
-                    s.level.label(),
-                    r.times.total
-                ));
-            }
-            if let Some(e) = app.error.clone() {
-                ui.separator();
-                if ui.small_button("dismiss").clicked() {
-                    app.error = None;
-                }
-                text::elided_end(
-                    ui,
-                    egui::RichText::new(e).color(Color32::from_rgb(255, 110, 90)),
-                );
-            } else if let Some(n) = &app.notice {
-                ui.separator();
-                text::elided_end(ui, n.as_str());
-            }
-        });
-    });
-}
-
-/// The side panels.
-pub fn side_panels(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    egui::Panel::left("controls")
-        .resizable(true)
-        .default_size(320.0)
-        .size_range(200.0..=420.0)
-        .show(ui, |ui| {
-            text::bounded("controls-scroll").show(ui, |ui| {
-                egui::CollapsingHeader::new("Shading")
-                    .default_open(true)
-                    .show(ui, |ui| shading::show(app, ui));
-                egui::CollapsingHeader::new("Split view A | B")
-                    .show(ui, |ui| shading::split(app, ui));
-                egui::CollapsingHeader::new("Lights").show(ui, |ui| lights::lights(app, ui));
-                egui::CollapsingHeader::new("Environment, exposure, fog, tone map, shadows")
-                    .id_salt("environment")
-                    .show(ui, |ui| environment::show(app, ui));
-                egui::CollapsingHeader::new("Materials").show(ui, |ui| materials::show(app, ui));
-                egui::CollapsingHeader::new("Stats").show(ui, |ui| stats::show(app, ui));
-            });
-        });
-    egui::Panel::right("inspect")
-        .resizable(true)
-        .default_size(400.0)
-        .size_range(220.0..=520.0)
-        .show(ui, |ui| {
-            // Wide rows (the probe's light shares) scroll sideways: growing the panel would
-            // shrink the viewport and re-render the frame just probed.
-            text::bounded("inspect-scroll").show(ui, |ui| {
-                let open = std::mem::take(&mut app.panels.open_probe).then_some(true);
-                egui::CollapsingHeader::new("Pixel probe")
-                    .default_open(true)
-                    .open(open)
-                    .show(ui, |ui| probe::show(app, ui));
-                egui::CollapsingHeader::new("Scene file")
-                    .default_open(true)
-                    .show(ui, |ui| save::show(app, ui));
-                egui::CollapsingHeader::new("Scene")
-                    .default_open(true)
-                    .show(ui, |ui| scene::show(app, ui));
-                egui::CollapsingHeader::new("Colour (CIE 1931)")
-                    .show(ui, |ui| colour::show(app, ui));
-            });
-        });
-}
-
-/// The floating windows.
-pub fn windows(app: &mut ViewerApp, ctx: &egui::Context) {
-    if app.panels.cheat_sheet {
-        let mut open = true;
-        egui::Window::new("Keys and mouse")
-            .open(&mut open)
-            .collapsible(false)
-            .show(ctx, |ui| cheat_sheet(app, ui));
-        app.panels.cheat_sheet &= open;
-    }
-    if let Some(dialog) = &mut app.panels.picker {
-        if dialog.show(ctx).selected() {
-            if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
-                app.panels.picker = None;
-                app.open(p);
-            }
-        } else if !dialog.visible() {
-            app.panels.picker = None;
-        }
-    }
-    if let Some((light, dialog)) = &mut app.panels.lights.slide_picker {
-        let light = *light;
-        if dialog.show(ctx).selected() {
-            if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
-                app.panels.lights.slide_picker = None;
-                lights::read_image(app, light, p);
-            }
-        } else if !dialog.visible() {
-            app.panels.lights.slide_picker = None;
-        }
-    }
-    if let Some(dialog) = &mut app.panels.environment.picker {
-        if dialog.show(ctx).selected() {
-            if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
-                app.panels.environment.picker = None;
-                environment::read_environment(app, &p);
-            }
-        } else if !dialog.visible() {
-            app.panels.environment.picker = None;
-        }
-    }
-    textures::after_ui(app, ctx);
-    screenshot::window(app, ctx);
-}
-
-/// The `H` cheat sheet: every binding with the current state of each toggle.
-fn cheat_sheet(app: &ViewerApp, ui: &mut egui::Ui) {
-    let on = |b: bool| if b { "on" } else { "off" };
-    let state = |a: Action| -> String {
-        match a {
-            Action::ToggleOrtho => (if app.nav.is_ortho() {
-                "orthographic"
-            } else {
-                "perspective"
-            })
-            .into(),
-            Action::UpY | Action::UpZ => format!("up: {:?}", app.nav.up_axis()),
-            Action::ToggleTrackball => format!("{:?}", app.nav.mode()).to_lowercase(),
-            Action::FovDown | Action::FovUp => format!("{:.0} degrees", app.nav.fov_degrees()),
-            Action::NextShading | Action::PrevShading => describe(&app.settings),
-            Action::ToggleWireOverlay => on(app.settings.wireframe_overlay).into(),
-            Action::ToggleOverdraw => on(app.settings.output == Output::Overdraw).into(),
-            Action::ToggleTileGrid => on(app.panels.tile_grid).into(),
-            Action::CycleTileCost => format!("{:?}", app.panels.tile_cost).to_lowercase(),
-            Action::CycleAntialias => format!("up to {0}x{0}", app.max_samples),
-            Action::ToggleMultisampling => format!("{}x", app.settings.msaa),
-            Action::ToggleSplit => on(app.split.enabled).into(),
-            Action::ToggleLightGizmos => on(app.panels.lights.gizmos).into(),
-            Action::TogglePanels => on(app.panels.visible).into(),
-            Action::TogglePlay => on(app.timeline.playing).into(),
-            Action::CheatSheet => on(app.panels.cheat_sheet).into(),
-            // One-shot actions: nothing to show.
-            Action::ViewFront
-            | Action::ViewBack
-            | Action::ViewRight
-            | Action::ViewLeft
-            | Action::ViewTop
-            | Action::ViewBottom
-            | Action::ViewIso
-            | Action::Reset
-            | Action::FrameAll
-            | Action::Screenshot
-            | Action::Open
-            | Action::PrevFile
-            | Action::NextFile
-            | Action::Reload => String::new(),
-        }
-    };
-    egui::Grid::new("keys").striped(true).show(ui, |ui| {
-        for b in BINDINGS {
-            ui.monospace(keys::describe(b));
-            ui.label(b.what);
-            ui.label(egui::RichText::new(state(b.action)).color(Color32::from_rgb(120, 200, 255)));
-            ui.end_row();
-        }
-        for (m, what) in MOUSE {
-            ui.monospace(*m);
-            ui.label(*what);
-            ui.label("");
-            ui.end_row();
-        }
-    });
-}
-
-/// The overdraw colour ramp, bottom right of the viewport.
-pub fn overdraw_legend(painter: &egui::Painter, rect: Rect) {
-    let (w, h) = (220.0, 14.0);
-    let origin = rect.right_bottom() + Vec2::new(-w - 12.0, -h - 26.0);
-    let steps = 64;
-    for i in 0..steps {
-        let c = 16.0 * i as f32 / (steps - 1) as f32;
-        let col = crate::render::overdraw_color(c);
-        let enc = crate::color::srgb8;
-        let x = origin.x + w * i as f32 / steps as f32;
-        painter.rect_filled(
-            Rect::from_min_size(Pos2::new(x, origin.y), Vec2::new(w / steps as f32 + 0.5, h)),
-            0.0,
-            Color32::from_rgb(enc(col.x), enc(col.y), enc(col.z)),
-        );
-    }
-    for (v, label) in [
-        (0.0, "0"),
-        (1.0, "1"),
-        (4.0, "4"),
-        (10.0, "10"),
-        (16.0, "16+"),
-    ] {
-        painter.text(
-            Pos2::new(origin.x + w * v / 16.0, origin.y + h + 2.0),
-            Align2::CENTER_TOP,
-            label,
-            FontId::monospace(11.0),
-            Color32::WHITE,
-        );
-    }
-    painter.text(
-        origin + Vec2::new(0.0, -3.0),
-        Align2::LEFT_BOTTOM,
-        "fragments per pixel",
-        FontId::monospace(11.0),
-        Color32::WHITE,
-    );
 }

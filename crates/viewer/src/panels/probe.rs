@@ -6,8 +6,7 @@
 use eframe::egui::{self, Color32, RichText};
 use glam::Vec3;
 
-use super::{row, Side};
-use crate::app::ViewerApp;
+use super::{row, Cx, Dock, Panel, Side};
 use crate::color::{self, rgb_to_hsv, srgb_decode, srgb_encode, xyz_to_xyy};
 
 fn v3(v: Vec3) -> String {
@@ -67,9 +66,27 @@ fn colour_rows(ui: &mut egui::Ui, linear: Vec3) {
     }
 }
 
-/// The probe section.
-pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let Some(pv) = app.panels.probe.clone() else {
+/// The pixel probe section (the probed pixel is in [`super::Shared`]: the viewport's click
+/// sets it).
+pub struct ProbePanel;
+
+impl Panel for ProbePanel {
+    fn dock(&self) -> Dock {
+        Dock::Right
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        let open = std::mem::take(&mut cx.shared.open_probe).then_some(true);
+        egui::CollapsingHeader::new("Pixel probe")
+            .default_open(true)
+            .open(open)
+            .show(ui, |ui| show(ui, cx));
+    }
+}
+
+/// The probe section's body.
+fn show(ui: &mut egui::Ui, cx: &Cx<'_>) {
+    let Some(pv) = cx.shared.probe.clone() else {
         ui.label("Click a pixel to probe it: position, depth, normal, UV, what was drawn there, its colour and each light's share, recomputed for that pixel.");
         return;
     };
@@ -97,7 +114,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
         ui.label("background: the ray through this pixel meets nothing");
         return;
     };
-    let scene = app.scene.scene();
+    let scene = cx.session.scene.scene();
     let inst = scene.instances.get(p.instance);
     let mesh = scene.meshes.get(p.mesh);
     let material = p.material.and_then(|m| scene.materials.get(m));

@@ -3,9 +3,8 @@
 
 use eframe::egui::{self, ColorImage, TextureOptions};
 
-use super::row;
+use super::{row, Cx, Dock, Installed, Panel};
 
-use crate::app::ViewerApp;
 use crate::mesh::{NormalSource, TopologyReport};
 use crate::navigate::Navigator;
 use crate::render::Lights;
@@ -16,189 +15,221 @@ const THUMB: u32 = 96;
 /// Rows listed before a long list is cut.
 const MAX_ROWS: usize = 200;
 
-/// The scene section.
-pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let scene = std::sync::Arc::clone(app.scene.scene());
-    let r = &scene.report;
-    ui.label(format!(
-        "{} ({}): {} meshes, {} instances, {} triangles",
-        app.scene_name(),
-        if r.format.is_empty() {
-            "?"
-        } else {
-            r.format.as_str()
-        },
-        scene.meshes.len(),
-        scene.instances.len(),
-        app.scene.triangle_count()
-    ));
-    egui::CollapsingHeader::new(format!(
-        "Load report ({} warnings, {} skipped, {} generated)",
-        r.warnings.len(),
-        r.skipped.len(),
-        r.generated.len()
-    ))
-    .id_salt("load-report")
-    .show(ui, |ui| {
-        for (what, list) in [
-            ("warning", &r.warnings),
-            ("skipped", &r.skipped),
-            ("generated", &r.generated),
-        ] {
-            for line in list.iter().take(MAX_ROWS) {
-                ui.label(format!("{what}: {line}"));
-            }
+/// The scene section, with the thumbnails and topology reports it has made.
+#[derive(Default)]
+pub struct ScenePanel {
+    /// Thumbnails of the scene's textures (built on first view).
+    thumbnails: Vec<Option<egui::TextureHandle>>,
+    /// Topology reports of the meshes opened.
+    topology: std::collections::HashMap<usize, TopologyReport>,
+}
+
+impl Panel for ScenePanel {
+    fn dock(&self) -> Dock {
+        Dock::Right
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        egui::CollapsingHeader::new("Scene")
+            .default_open(true)
+            .show(ui, |ui| self.show(ui, cx));
+    }
+
+    fn installed(&mut self, what: &Installed<'_>) {
+        if what.fresh {
+            self.thumbnails.clear();
+            self.topology.clear();
         }
-        if r.warnings.is_empty() && r.skipped.is_empty() && r.generated.is_empty() {
-            ui.label("nothing to report");
-        }
-    });
-    egui::CollapsingHeader::new(format!("Instances ({})", scene.instances.len()))
-        .id_salt("instances")
+    }
+}
+
+impl ScenePanel {
+    /// The scene section.
+    fn show(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        let scene = std::sync::Arc::clone(cx.session.scene.scene());
+        let r = &scene.report;
+        ui.label(format!(
+            "{} ({}): {} meshes, {} instances, {} triangles",
+            cx.session.name(),
+            if r.format.is_empty() {
+                "?"
+            } else {
+                r.format.as_str()
+            },
+            scene.meshes.len(),
+            scene.instances.len(),
+            cx.session.scene.triangle_count()
+        ));
+        egui::CollapsingHeader::new(format!(
+            "Load report ({} warnings, {} skipped, {} generated)",
+            r.warnings.len(),
+            r.skipped.len(),
+            r.generated.len()
+        ))
+        .id_salt("load-report")
         .show(ui, |ui| {
-            for (i, inst) in scene.instances.iter().enumerate().take(MAX_ROWS) {
-                let tris = app
-                    .scene
-                    .meshes()
-                    .get(inst.mesh)
-                    .map_or(0, |m| m.tri.triangles.len());
-                ui.label(format!(
-                    "{i}: {} (mesh {}, {tris} triangles, {:?})",
-                    inst.name, inst.mesh, inst.style
-                ));
+            for (what, list) in [
+                ("warning", &r.warnings),
+                ("skipped", &r.skipped),
+                ("generated", &r.generated),
+            ] {
+                for line in list.iter().take(MAX_ROWS) {
+                    ui.label(format!("{what}: {line}"));
+                }
             }
-            more(ui, scene.instances.len());
+            if r.warnings.is_empty() && r.skipped.is_empty() && r.generated.is_empty() {
+                ui.label("nothing to report");
+            }
         });
-    nodes(app, ui, &scene);
-    egui::CollapsingHeader::new(format!("Meshes ({})", scene.meshes.len()))
-        .id_salt("meshes")
-        .show(ui, |ui| {
-            for (i, m) in scene.meshes.iter().enumerate().take(MAX_ROWS) {
-                egui::CollapsingHeader::new(format!(
-                    "{i}: {} ({} vertices, {} facets)",
-                    m.name,
-                    m.positions.len(),
-                    m.facet_count()
-                ))
-                .id_salt(("mesh", i))
-                .show(ui, |ui| {
-                    let normals = match m.normal_source {
-                        NormalSource::File => "from the file".to_owned(),
-                        NormalSource::Averaged(o) => format!(
-                            "averaged ({:?} weights, crease {})",
-                            o.weighting,
-                            o.crease_degrees.map_or("off".into(), |d| format!("{d}°"))
-                        )
-                        .to_lowercase(),
-                        NormalSource::Flat => "flat (one per facet)".into(),
-                        NormalSource::Analytic => "exact (primitive)".into(),
-                    };
-                    let yes = |b: bool| if b { "yes" } else { "no" };
+        egui::CollapsingHeader::new(format!("Instances ({})", scene.instances.len()))
+            .id_salt("instances")
+            .show(ui, |ui| {
+                for (i, inst) in scene.instances.iter().enumerate().take(MAX_ROWS) {
+                    let tris = cx
+                        .session
+                        .scene
+                        .meshes()
+                        .get(inst.mesh)
+                        .map_or(0, |m| m.tri.triangles.len());
                     ui.label(format!(
-                        "normals {normals}; UV sets {}; colours {}; tangents {}",
-                        m.uvs.len(),
-                        yes(m.colors.is_some()),
-                        yes(m.tangents.is_some())
+                        "{i}: {} (mesh {}, {tris} triangles, {:?})",
+                        inst.name, inst.mesh, inst.style
                     ));
-                    // The topology report walks the whole mesh: computed when opened, then kept.
-                    let report = app.panels.topology.entry(i).or_insert_with(|| m.topology());
-                    topology(ui, i, report);
-                });
-            }
-            more(ui, scene.meshes.len());
-        });
-    egui::CollapsingHeader::new(format!("Materials ({})", scene.materials.len()))
-        .id_salt("materials")
-        .show(ui, |ui| {
-            for (i, m) in scene.materials.iter().enumerate().take(MAX_ROWS) {
-                let c = m.base_color;
-                ui.label(format!(
-                    "{i}: {}: Kd ({:.2} {:.2} {:.2}) a {:.2}, Ks {:.2}, n {:.0}, {:?}{}{}",
-                    m.name,
-                    c.x,
-                    c.y,
-                    c.z,
-                    c.w,
-                    m.specular.max_element(),
-                    m.shininess,
-                    m.alpha_mode,
-                    if m.double_sided { ", double-sided" } else { "" },
-                    if m.base_color_texture.is_some() {
-                        ", textured"
-                    } else {
-                        ""
-                    },
-                ));
-                for slot in Slot::ALL {
-                    if let Some(t) = m.slot(slot) {
-                        ui.label(format!("    {} map: {}", slot.name(), t.describe()));
+                }
+                more(ui, scene.instances.len());
+            });
+        nodes(cx, ui, &scene);
+        egui::CollapsingHeader::new(format!("Meshes ({})", scene.meshes.len()))
+            .id_salt("meshes")
+            .show(ui, |ui| {
+                for (i, m) in scene.meshes.iter().enumerate().take(MAX_ROWS) {
+                    egui::CollapsingHeader::new(format!(
+                        "{i}: {} ({} vertices, {} facets)",
+                        m.name,
+                        m.positions.len(),
+                        m.facet_count()
+                    ))
+                    .id_salt(("mesh", i))
+                    .show(ui, |ui| {
+                        let normals = match m.normal_source {
+                            NormalSource::File => "from the file".to_owned(),
+                            NormalSource::Averaged(o) => format!(
+                                "averaged ({:?} weights, crease {})",
+                                o.weighting,
+                                o.crease_degrees.map_or("off".into(), |d| format!("{d}°"))
+                            )
+                            .to_lowercase(),
+                            NormalSource::Flat => "flat (one per facet)".into(),
+                            NormalSource::Analytic => "exact (primitive)".into(),
+                        };
+                        let yes = |b: bool| if b { "yes" } else { "no" };
+                        ui.label(format!(
+                            "normals {normals}; UV sets {}; colours {}; tangents {}",
+                            m.uvs.len(),
+                            yes(m.colors.is_some()),
+                            yes(m.tangents.is_some())
+                        ));
+                        // The topology report walks the whole mesh: computed when opened, then kept.
+                        let report = self.topology.entry(i).or_insert_with(|| m.topology());
+                        topology(ui, i, report);
+                    });
+                }
+                more(ui, scene.meshes.len());
+            });
+        egui::CollapsingHeader::new(format!("Materials ({})", scene.materials.len()))
+            .id_salt("materials")
+            .show(ui, |ui| {
+                for (i, m) in scene.materials.iter().enumerate().take(MAX_ROWS) {
+                    let c = m.base_color;
+                    ui.label(format!(
+                        "{i}: {}: Kd ({:.2} {:.2} {:.2}) a {:.2}, Ks {:.2}, n {:.0}, {:?}{}{}",
+                        m.name,
+                        c.x,
+                        c.y,
+                        c.z,
+                        c.w,
+                        m.specular.max_element(),
+                        m.shininess,
+                        m.alpha_mode,
+                        if m.double_sided { ", double-sided" } else { "" },
+                        if m.base_color_texture.is_some() {
+                            ", textured"
+                        } else {
+                            ""
+                        },
+                    ));
+                    for slot in Slot::ALL {
+                        if let Some(t) = m.slot(slot) {
+                            ui.label(format!("    {} map: {}", slot.name(), t.describe()));
+                        }
                     }
                 }
-            }
-            more(ui, scene.materials.len());
-        });
-    egui::CollapsingHeader::new(format!("Textures ({})", scene.textures.len()))
-        .id_salt("textures")
-        .show(ui, |ui| {
-            if app.panels.thumbnails.len() != scene.textures.len() {
-                app.panels.thumbnails = vec![None; scene.textures.len()];
-            }
-            for (i, t) in scene.textures.iter().enumerate().take(MAX_ROWS) {
-                ui.horizontal(|ui| {
-                    let thumb = app.panels.thumbnails[i].get_or_insert_with(|| {
-                        ui.ctx().load_texture(
-                            format!("thumb-{i}"),
-                            thumbnail(t),
-                            TextureOptions::LINEAR,
-                        )
-                    });
-                    ui.image((thumb.id(), thumb.size_vec2()));
-                    ui.label(format!(
-                        "{i}: {}\n{}x{}, {}",
-                        t.name,
-                        t.width,
-                        t.height,
-                        t.texels.format_name()
-                    ));
-                });
-            }
-        });
-    egui::CollapsingHeader::new(format!("Lights ({})", scene.lights.len()))
-        .id_salt("scene-lights")
-        .show(ui, |ui| {
-            if scene.lights.is_empty() {
-                ui.label("none: the default rig (ambient, key and fill) follows the camera");
-            }
-            for (i, l) in scene.lights.iter().enumerate() {
-                ui.label(format!("{i}: {}", describe_light(l)));
-            }
-            if app.settings.lights != Lights::Auto && ui.button("use the scene's lights").clicked()
-            {
-                app.settings.lights = Lights::Auto;
-            }
-        });
-    egui::CollapsingHeader::new(format!("Cameras ({})", scene.cameras.len()))
-        .id_salt("cameras")
-        .show(ui, |ui| {
-            if scene.cameras.is_empty() {
-                ui.label("none in the file");
-            }
-            // As posed now: a camera under an animated node is where the animation put it.
-            let cameras = app.scene.cameras().to_vec();
-            for (i, c) in cameras.iter().enumerate() {
-                let kind = match c.ortho {
-                    Some(h) => format!("orthographic, half height {h:.3}"),
-                    None => format!("{:.1}° field of view", c.yfov.to_degrees()),
-                };
-                if ui
-                    .button(format!("{i}: view through '{}' ({kind})", c.name))
-                    .clicked()
-                {
-                    let (center, radius) = app.scene.bounding_sphere();
-                    app.nav = Navigator::from_camera(c, center, radius, app.nav.up_axis());
+                more(ui, scene.materials.len());
+            });
+        egui::CollapsingHeader::new(format!("Textures ({})", scene.textures.len()))
+            .id_salt("textures")
+            .show(ui, |ui| {
+                if self.thumbnails.len() != scene.textures.len() {
+                    self.thumbnails = vec![None; scene.textures.len()];
                 }
-            }
-        });
+                for (i, t) in scene.textures.iter().enumerate().take(MAX_ROWS) {
+                    ui.horizontal(|ui| {
+                        let thumb = self.thumbnails[i].get_or_insert_with(|| {
+                            ui.ctx().load_texture(
+                                format!("thumb-{i}"),
+                                thumbnail(t),
+                                TextureOptions::LINEAR,
+                            )
+                        });
+                        ui.image((thumb.id(), thumb.size_vec2()));
+                        ui.label(format!(
+                            "{i}: {}\n{}x{}, {}",
+                            t.name,
+                            t.width,
+                            t.height,
+                            t.texels.format_name()
+                        ));
+                    });
+                }
+            });
+        egui::CollapsingHeader::new(format!("Lights ({})", scene.lights.len()))
+            .id_salt("scene-lights")
+            .show(ui, |ui| {
+                if scene.lights.is_empty() {
+                    ui.label("none: the default rig (ambient, key and fill) follows the camera");
+                }
+                for (i, l) in scene.lights.iter().enumerate() {
+                    ui.label(format!("{i}: {}", describe_light(l)));
+                }
+                if cx.settings.lights != Lights::Auto
+                    && ui.button("use the scene's lights").clicked()
+                {
+                    cx.settings.lights = Lights::Auto;
+                }
+            });
+        egui::CollapsingHeader::new(format!("Cameras ({})", scene.cameras.len()))
+            .id_salt("cameras")
+            .show(ui, |ui| {
+                if scene.cameras.is_empty() {
+                    ui.label("none in the file");
+                }
+                // As posed now: a camera under an animated node is where the animation put it.
+                let cameras = cx.session.scene.cameras().to_vec();
+                for (i, c) in cameras.iter().enumerate() {
+                    let kind = match c.ortho {
+                        Some(h) => format!("orthographic, half height {h:.3}"),
+                        None => format!("{:.1}° field of view", c.yfov.to_degrees()),
+                    };
+                    if ui
+                        .button(format!("{i}: view through '{}' ({kind})", c.name))
+                        .clicked()
+                    {
+                        let (center, radius) = cx.session.scene.bounding_sphere();
+                        *cx.nav = Navigator::from_camera(c, center, radius, cx.nav.up_axis());
+                    }
+                }
+            });
+    }
 }
 
 /// Nodes deeper than this are not listed (a tree that deep is a broken file).
@@ -207,7 +238,7 @@ const MAX_DEPTH: usize = 64;
 /// The node tree as a collapsible tree: each scene of the file with its roots (the drawn one
 /// marked), then the parentless nodes outside every scene (a skin's joints may live there).
 /// A node that draws something can be framed.
-fn nodes(app: &mut ViewerApp, ui: &mut egui::Ui, scene: &crate::scene::Scene) {
+fn nodes(cx: &mut Cx<'_>, ui: &mut egui::Ui, scene: &crate::scene::Scene) {
     let g = &scene.graph;
     egui::CollapsingHeader::new(format!("Nodes ({})", g.nodes.len()))
         .id_salt("nodes")
@@ -263,7 +294,7 @@ fn nodes(app: &mut ViewerApp, ui: &mut egui::Ui, scene: &crate::scene::Scene) {
                     });
             }
             if let Some(n) = frame {
-                frame_node(app, g, n);
+                frame_node(cx, g, n);
             }
         });
 }
@@ -330,7 +361,7 @@ fn node(
 }
 
 /// Frames the camera on what node `n` and its descendants draw, as posed now.
-fn frame_node(app: &mut ViewerApp, g: &crate::scene::Graph, n: usize) {
+fn frame_node(cx: &mut Cx<'_>, g: &crate::scene::Graph, n: usize) {
     let mut drawn = std::collections::HashSet::new();
     let mut stack = vec![(n, 0)];
     let mut seen = vec![false; g.nodes.len()];
@@ -342,14 +373,14 @@ fn frame_node(app: &mut ViewerApp, g: &crate::scene::Graph, n: usize) {
         drawn.extend(nd.instances.iter().copied());
         stack.extend(nd.children.iter().map(|&c| (c, depth + 1)));
     }
-    match app.scene.instance_bounds(|i| drawn.contains(&i)) {
+    match cx.session.scene.instance_bounds(|i| drawn.contains(&i)) {
         Some((lo, hi)) => {
-            let aspect = app.viewport.aspect();
+            let aspect = cx.viewport.aspect();
             let radius = ((hi - lo).length() * 0.5).max(1e-6);
-            app.nav.frame((lo + hi) * 0.5, radius, aspect);
-            app.notice = Some(format!("framed node {n}: {}", g.nodes[n].name));
+            cx.nav.frame((lo + hi) * 0.5, radius, aspect);
+            cx.notice(format!("framed node {n}: {}", g.nodes[n].name));
         }
-        None => app.notice = Some(format!("node {n} draws nothing")),
+        None => cx.notice(format!("node {n} draws nothing")),
     }
 }
 

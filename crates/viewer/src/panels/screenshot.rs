@@ -7,7 +7,8 @@ use std::sync::{Arc, Mutex};
 
 use eframe::egui;
 
-use crate::app::ViewerApp;
+use super::{Cx, Dock, Panel};
+use crate::keys::Action;
 use crate::render::{PreparedScene, Renderer, Settings, View};
 
 /// Largest side of an offscreen screenshot: 8192 x 8192 needs about 1.3 GB of tiles, and
@@ -17,8 +18,8 @@ const MAX_SIDE: u32 = 8192;
 /// Where an offscreen render leaves its file (or error); `None` while it runs.
 type Outcome = Arc<Mutex<Option<Result<PathBuf, String>>>>;
 
-/// The screenshot window's state.
-pub struct Screenshot {
+/// The screenshot window, and F12.
+pub struct ScreenshotPanel {
     pub open: bool,
     pub width: u32,
     pub height: u32,
@@ -28,7 +29,30 @@ pub struct Screenshot {
     result: Option<Outcome>,
 }
 
-impl Default for Screenshot {
+impl Panel for ScreenshotPanel {
+    fn dock(&self) -> Dock {
+        Dock::Window
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        self.window(ui.ctx(), cx);
+    }
+
+    fn file_menu(&mut self, ui: &mut egui::Ui, _cx: &mut Cx<'_>) {
+        if ui.button("Screenshot...  (F12 saves at once)").clicked() {
+            self.open = true;
+            ui.close();
+        }
+    }
+
+    fn act(&mut self, action: Action, cx: &mut Cx<'_>) {
+        if action == Action::Screenshot {
+            self.quick(cx);
+        }
+    }
+}
+
+impl Default for ScreenshotPanel {
     fn default() -> Self {
         Self {
             open: false,
@@ -77,30 +101,6 @@ fn save_png(path: &std::path::Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(),
         .write(path)
 }
 
-/// F12: the frame on screen, as it is, at the window's size.
-pub fn quick(app: &mut ViewerApp) {
-    let Some(s) = &app.shown else {
-        app.notice = Some("no frame to save yet".into());
-        return;
-    };
-    let [w, h] = s.a.size;
-    let path = file_name(
-        &app.panels.screenshot.folder,
-        &app.scene_name(),
-        w as u32,
-        h as u32,
-    );
-    let rgba =
-        s.a.pixels
-            .iter()
-            .flat_map(|c| [c.r(), c.g(), c.b(), 255])
-            .collect();
-    app.notice = Some(match save_png(&path, w as u32, h as u32, rgba) {
-        Ok(()) => format!("saved {} ({})", path.display(), s.level.label()),
-        Err(e) => e,
-    });
-}
-
 /// Renders `view` offscreen and saves it.
 fn offscreen(
     scene: &PreparedScene,
@@ -115,105 +115,126 @@ fn offscreen(
     save_png(path, view.width, view.height, px.into_flattened())
 }
 
-/// The screenshot window.
-pub fn window(app: &mut ViewerApp, ctx: &egui::Context) {
-    if !app.panels.screenshot.open {
-        return;
+impl ScreenshotPanel {
+    /// F12: the frame on screen, as it is, at the window's size.
+    fn quick(&self, cx: &mut Cx<'_>) {
+        let Some(s) = cx.session.shown else {
+            cx.notice("no frame to save yet");
+            return;
+        };
+        let [w, h] = s.a.size;
+        let path = file_name(&self.folder, &cx.session.name(), w as u32, h as u32);
+        let rgba =
+            s.a.pixels
+                .iter()
+                .flat_map(|c| [c.r(), c.g(), c.b(), 255])
+                .collect();
+        cx.notice(match save_png(&path, w as u32, h as u32, rgba) {
+            Ok(()) => format!("saved {} ({})", path.display(), s.level.label()),
+            Err(e) => e,
+        });
     }
-    let mut open = true;
-    let mut start = false;
-    egui::Window::new("Screenshot")
-        .open(&mut open)
-        .show(ctx, |ui| {
-            let st = &mut app.panels.screenshot;
-            ui.horizontal(|ui| {
-                ui.add(
-                    egui::DragValue::new(&mut st.width)
-                        .range(16..=MAX_SIDE)
-                        .suffix(" px"),
-                );
-                ui.label("x");
-                ui.add(
-                    egui::DragValue::new(&mut st.height)
-                        .range(16..=MAX_SIDE)
-                        .suffix(" px"),
-                );
-            });
-            ui.horizontal(|ui| {
-                for (w, h) in [(1920, 1080), (2560, 1440), (3840, 2160)] {
-                    if ui.button(format!("{w}x{h}")).clicked() {
-                        (st.width, st.height) = (w, h);
-                    }
-                }
-                if ui.button("window").clicked() {
-                    [st.width, st.height] = app.viewport.size_px;
-                }
-            });
-            ui.horizontal(|ui| {
-                ui.label("anti-aliasing");
-                for n in [1, 2, 4] {
-                    ui.selectable_value(
-                        &mut st.samples,
-                        n,
-                        if n == 1 {
-                            "off".into()
-                        } else {
-                            format!("{n}x{n}")
-                        },
+
+    /// The screenshot window.
+    fn window(&mut self, ctx: &egui::Context, cx: &Cx<'_>) {
+        if !self.open {
+            return;
+        }
+        let mut open = true;
+        let mut start = false;
+        egui::Window::new("Screenshot")
+            .open(&mut open)
+            .show(ctx, |ui| {
+                let st = &mut *self;
+                ui.horizontal(|ui| {
+                    ui.add(
+                        egui::DragValue::new(&mut st.width)
+                            .range(16..=MAX_SIDE)
+                            .suffix(" px"),
                     );
+                    ui.label("x");
+                    ui.add(
+                        egui::DragValue::new(&mut st.height)
+                            .range(16..=MAX_SIDE)
+                            .suffix(" px"),
+                    );
+                });
+                ui.horizontal(|ui| {
+                    for (w, h) in [(1920, 1080), (2560, 1440), (3840, 2160)] {
+                        if ui.button(format!("{w}x{h}")).clicked() {
+                            (st.width, st.height) = (w, h);
+                        }
+                    }
+                    if ui.button("window").clicked() {
+                        [st.width, st.height] = cx.viewport.size_px;
+                    }
+                });
+                ui.horizontal(|ui| {
+                    ui.label("anti-aliasing");
+                    for n in [1, 2, 4] {
+                        ui.selectable_value(
+                            &mut st.samples,
+                            n,
+                            if n == 1 {
+                                "off".into()
+                            } else {
+                                format!("{n}x{n}")
+                            },
+                        );
+                    }
+                });
+                ui.horizontal(|ui| {
+                    ui.label("folder");
+                    ui.text_edit_singleline(&mut st.folder);
+                });
+                let running = st
+                    .result
+                    .as_ref()
+                    .is_some_and(|r| r.lock().is_ok_and(|g| g.is_none()));
+                if running {
+                    ui.label("rendering...");
+                } else if ui.button("render and save").clicked() {
+                    start = true;
+                }
+                if let Some(Some(r)) = st
+                    .result
+                    .as_ref()
+                    .and_then(|r| r.lock().ok().map(|g| g.clone()))
+                {
+                    match r {
+                        Ok(p) => ui.label(format!("saved {}", p.display())),
+                        Err(e) => ui.colored_label(egui::Color32::from_rgb(255, 110, 90), e),
+                    };
                 }
             });
-            ui.horizontal(|ui| {
-                ui.label("folder");
-                ui.text_edit_singleline(&mut st.folder);
+        self.open &= open;
+        if start {
+            let st = &*self;
+            let (w, h) = (st.width.clamp(16, MAX_SIDE), st.height.clamp(16, MAX_SIDE));
+            let view = View {
+                camera: cx.nav.camera(w as f32 / h as f32),
+                width: w,
+                height: h,
+            };
+            let settings = Settings {
+                samples: st.samples,
+                ..cx.settings.clone()
+            };
+            let path = file_name(&st.folder, &cx.session.name(), w, h);
+            let (scene, slot, ctx) = (
+                Arc::clone(cx.session.scene),
+                Arc::new(Mutex::new(None)),
+                ctx.clone(),
+            );
+            let out = Arc::clone(&slot);
+            std::thread::spawn(move || {
+                let r = offscreen(&scene, &settings, &view, &path).map(|()| path);
+                if let Ok(mut g) = out.lock() {
+                    *g = Some(r);
+                }
+                ctx.request_repaint();
             });
-            let running = st
-                .result
-                .as_ref()
-                .is_some_and(|r| r.lock().is_ok_and(|g| g.is_none()));
-            if running {
-                ui.label("rendering...");
-            } else if ui.button("render and save").clicked() {
-                start = true;
-            }
-            if let Some(Some(r)) = st
-                .result
-                .as_ref()
-                .and_then(|r| r.lock().ok().map(|g| g.clone()))
-            {
-                match r {
-                    Ok(p) => ui.label(format!("saved {}", p.display())),
-                    Err(e) => ui.colored_label(egui::Color32::from_rgb(255, 110, 90), e),
-                };
-            }
-        });
-    app.panels.screenshot.open &= open;
-    if start {
-        let st = &app.panels.screenshot;
-        let (w, h) = (st.width.clamp(16, MAX_SIDE), st.height.clamp(16, MAX_SIDE));
-        let view = View {
-            camera: app.nav.camera(w as f32 / h as f32),
-            width: w,
-            height: h,
-        };
-        let settings = Settings {
-            samples: st.samples,
-            ..app.settings.clone()
-        };
-        let path = file_name(&st.folder, &app.scene_name(), w, h);
-        let (scene, slot, ctx) = (
-            Arc::clone(&app.scene),
-            Arc::new(Mutex::new(None)),
-            ctx.clone(),
-        );
-        let out = Arc::clone(&slot);
-        std::thread::spawn(move || {
-            let r = offscreen(&scene, &settings, &view, &path).map(|()| path);
-            if let Ok(mut g) = out.lock() {
-                *g = Some(r);
-            }
-            ctx.request_repaint();
-        });
-        app.panels.screenshot.result = Some(slot);
+            self.result = Some(slot);
+        }
     }
 }

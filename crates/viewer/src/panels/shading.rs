@@ -4,9 +4,8 @@
 
 use eframe::egui;
 
-use super::textures::{LabUi, UvView};
-use super::{CostView, Side};
-use crate::app::ViewerApp;
+use super::textures::LabUi;
+use super::{CostView, Cx, Dock, Installed, Panel, Side, UvView};
 use crate::render::{Output, Settings};
 use crate::shade::Shading;
 use crate::texture::Filter;
@@ -77,69 +76,102 @@ fn settings_controls(s: &mut Settings, lab: &mut LabUi, uv: UvView, ui: &mut egu
     });
 }
 
-/// The shading section.
-pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let uv = UvView::of(app);
-    settings_controls(&mut app.settings, &mut app.panels.lab, uv, ui, Side::A);
-    ui.horizontal(|ui| {
-        ui.label("background");
-        let mut c = app.settings.background.truncate().to_array();
-        // The picker edits linear RGB, as the renderer clears with it.
-        if ui.color_edit_button_rgb(&mut c).changed() {
-            app.settings.background = glam::Vec3::from_array(c).extend(1.0);
-            app.split.b.background = app.settings.background;
-        }
-    });
-    ui.horizontal(|ui| {
-        ui.label("anti-aliasing when still (A)");
-        for n in [1, 2, 4] {
-            ui.selectable_value(
-                &mut app.max_samples,
-                n,
-                if n == 1 {
-                    "off".into()
-                } else {
-                    format!("{n}x{n}")
-                },
-            );
-        }
-    });
-    ui.separator();
-    ui.label("Rasterizer views");
-    ui.checkbox(&mut app.panels.tile_grid, "64x64 tile grid (G)");
-    ui.horizontal(|ui| {
-        ui.label("tile cost (K)");
-        ui.selectable_value(&mut app.panels.tile_cost, CostView::Off, "off");
-        ui.selectable_value(&mut app.panels.tile_cost, CostView::Time, "time");
-        ui.selectable_value(&mut app.panels.tile_cost, CostView::Fragments, "fragments");
-    });
+/// The shading section and the split view's, and the texture lab's state (in both).
+#[derive(Default)]
+pub struct ShadingPanel {
+    /// The texture lab's image paths, errors, reads and picker.
+    pub lab: LabUi,
 }
 
-/// The split view section.
-pub fn split(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    ui.checkbox(
-        &mut app.split.enabled,
-        "split the view (S): A left, B right",
-    );
-    ui.add_enabled_ui(app.split.enabled, |ui| {
-        ui.label("A is the shading section above; B:");
-        let uv = UvView::of(app);
-        settings_controls(&mut app.split.b, &mut app.panels.lab, uv, ui, Side::B);
-        super::environment::tone_map(ui, &mut app.split.b.tone, "b");
+impl Panel for ShadingPanel {
+    fn dock(&self) -> Dock {
+        Dock::Left
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        egui::CollapsingHeader::new("Shading")
+            .default_open(true)
+            .show(ui, |ui| self.show(ui, cx));
+        egui::CollapsingHeader::new("Split view A | B").show(ui, |ui| self.split(ui, cx));
+    }
+
+    fn poll(&mut self, cx: &mut Cx<'_>) {
+        self.lab.poll_images(cx);
+    }
+
+    fn dialogs(&mut self, ctx: &egui::Context, cx: &mut Cx<'_>) {
+        self.lab.after_ui(ctx, cx);
+    }
+
+    fn installed(&mut self, what: &Installed<'_>) {
+        if what.fresh {
+            self.lab.on_new_scene();
+        }
+    }
+}
+
+impl ShadingPanel {
+    /// The shading section.
+    fn show(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        let uv = cx.session.uv;
+        settings_controls(cx.settings, &mut self.lab, uv, ui, Side::A);
         ui.horizontal(|ui| {
-            ui.label("divider");
-            ui.add(egui::Slider::new(&mut app.split.divider, 0.0..=1.0));
+            ui.label("background");
+            let mut c = cx.settings.background.truncate().to_array();
+            // The picker edits linear RGB, as the renderer clears with it.
+            if ui.color_edit_button_rgb(&mut c).changed() {
+                cx.settings.background = glam::Vec3::from_array(c).extend(1.0);
+                cx.split.b.background = cx.settings.background;
+            }
         });
-        ui.checkbox(
-            &mut app.split.heat,
-            "right half shows the ΔE00 difference A vs B",
-        );
-        if let Some((mean, p95)) = app.shown.as_ref().and_then(|s| s.heat) {
-            ui.label(format!("ΔE00: mean {mean:.4}, 95th percentile {p95:.4}"));
-            ui.label("black 0, red, yellow, white at 5 and above");
-        }
-        if ui.button("swap A and B").clicked() {
-            std::mem::swap(&mut app.settings, &mut app.split.b);
-        }
-    });
+        ui.horizontal(|ui| {
+            ui.label("anti-aliasing when still (A)");
+            for n in [1, 2, 4] {
+                ui.selectable_value(
+                    &mut *cx.max_samples,
+                    n,
+                    if n == 1 {
+                        "off".into()
+                    } else {
+                        format!("{n}x{n}")
+                    },
+                );
+            }
+        });
+        ui.separator();
+        ui.label("Rasterizer views");
+        ui.checkbox(&mut cx.shared.tile_grid, "64x64 tile grid (G)");
+        ui.horizontal(|ui| {
+            ui.label("tile cost (K)");
+            ui.selectable_value(&mut cx.shared.tile_cost, CostView::Off, "off");
+            ui.selectable_value(&mut cx.shared.tile_cost, CostView::Time, "time");
+            ui.selectable_value(&mut cx.shared.tile_cost, CostView::Fragments, "fragments");
+        });
+    }
+
+    /// The split view section.
+    fn split(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        ui.checkbox(&mut cx.split.enabled, "split the view (S): A left, B right");
+        ui.add_enabled_ui(cx.split.enabled, |ui| {
+            ui.label("A is the shading section above; B:");
+            let uv = cx.session.uv;
+            settings_controls(&mut cx.split.b, &mut self.lab, uv, ui, Side::B);
+            super::environment::tone_map(ui, &mut cx.split.b.tone, "b");
+            ui.horizontal(|ui| {
+                ui.label("divider");
+                ui.add(egui::Slider::new(&mut cx.split.divider, 0.0..=1.0));
+            });
+            ui.checkbox(
+                &mut cx.split.heat,
+                "right half shows the ΔE00 difference A vs B",
+            );
+            if let Some((mean, p95)) = cx.session.shown.and_then(|s| s.heat) {
+                ui.label(format!("ΔE00: mean {mean:.4}, 95th percentile {p95:.4}"));
+                ui.label("black 0, red, yellow, white at 5 and above");
+            }
+            if ui.button("swap A and B").clicked() {
+                std::mem::swap(cx.settings, &mut cx.split.b);
+            }
+        });
+    }
 }

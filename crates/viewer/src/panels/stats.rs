@@ -3,9 +3,8 @@
 
 use eframe::egui;
 
-use super::row;
+use super::{row, Cx, Dock, Panel};
 
-use crate::app::ViewerApp;
 use crate::render::FrameReport;
 
 fn report_grid(ui: &mut egui::Ui, id: &str, r: &FrameReport) {
@@ -48,8 +47,21 @@ fn report_grid(ui: &mut egui::Ui, id: &str, r: &FrameReport) {
 }
 
 /// The stats section.
-pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
-    let Some(s) = &app.shown else {
+pub struct StatsPanel;
+
+impl Panel for StatsPanel {
+    fn dock(&self) -> Dock {
+        Dock::Left
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
+        egui::CollapsingHeader::new("Stats").show(ui, |ui| show(ui, cx));
+    }
+}
+
+/// The stats section's body.
+fn show(ui: &mut egui::Ui, cx: &Cx<'_>) {
+    let Some(s) = cx.session.shown else {
         ui.label("no frame yet");
         return;
     };
@@ -60,7 +72,7 @@ pub fn show(app: &mut ViewerApp, ui: &mut egui::Ui) {
             1e3 / ms.max(1e-3)
         ));
     }
-    if let Some(l) = app.load_millis {
+    if let Some(l) = cx.session.load_millis {
         ui.label(format!("model loaded and prepared in {l:.0} ms"));
     }
     ui.label("counters are summed over the supersampling passes");

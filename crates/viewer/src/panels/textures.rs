@@ -17,7 +17,7 @@ use std::sync::Arc;
 use eframe::egui;
 
 use super::Side;
-use crate::app::ViewerApp;
+use super::{file_dialog, Command, Cx, UvView};
 use crate::lab::{self, ImageLoad};
 use crate::render::Settings;
 use crate::scene::{Slot, SlotOverride, TextureSource, UvTransform, DEFAULT_BUMP_SCALE};
@@ -68,25 +68,6 @@ enum Request {
     Browse(Side, Slot),
     /// Draw the model with other texture coordinates.
     Uv(Option<UvGenerator>),
-}
-
-/// The model's texture coordinates as the controls show them.
-#[derive(Clone, Copy, Debug)]
-pub struct UvView {
-    /// The generator chosen (`None`: the file's UVs).
-    pub chosen: Option<UvGenerator>,
-    /// Still being generated.
-    pub pending: bool,
-}
-
-impl UvView {
-    #[must_use]
-    pub fn of(app: &ViewerApp) -> Self {
-        Self {
-            chosen: app.uv,
-            pending: app.uv_task.is_some(),
-        }
-    }
 }
 
 /// The side's letter, for widget ids and accessible names.
@@ -556,122 +537,107 @@ pub(super) fn controls(
         });
 }
 
-/// Does what the controls asked for in this UI pass, and shows the image picker.
-pub(super) fn after_ui(app: &mut ViewerApp, ctx: &egui::Context) {
-    for r in std::mem::take(&mut app.panels.lab.requests) {
-        match r {
-            Request::Load(side, slot, path) => read_image(app, side, slot, path),
-            Request::Browse(side, slot) => open_picker(app, side, slot),
-            Request::Uv(uv) => app.set_uv_generator(uv),
-        }
-    }
-    if let Some((side, slot, dialog)) = &mut app.panels.lab.picker {
-        let (side, slot) = (*side, *slot);
-        if dialog.show(ctx).selected() {
-            if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
-                app.panels.lab.picker = None;
-                app.panels
-                    .lab
-                    .paths
-                    .insert((side, slot), p.display().to_string());
-                read_image(app, side, slot, p);
+impl LabUi {
+    /// Does what the controls asked for in this UI pass, and shows the image picker.
+    pub(super) fn after_ui(&mut self, ctx: &egui::Context, cx: &mut Cx<'_>) {
+        for r in std::mem::take(&mut self.requests) {
+            match r {
+                Request::Load(side, slot, path) => self.read_image(cx, side, slot, path),
+                Request::Browse(side, slot) => self.open_picker(cx, side, slot),
+                Request::Uv(uv) => cx.ask(Command::SetUv(uv)),
             }
-        } else if !dialog.visible() {
-            app.panels.lab.picker = None;
+        }
+        if let Some((side, slot, dialog)) = &mut self.picker {
+            let (side, slot) = (*side, *slot);
+            if dialog.show(ctx).selected() {
+                if let Some(p) = dialog.path().map(std::path::Path::to_path_buf) {
+                    self.picker = None;
+                    self.paths.insert((side, slot), p.display().to_string());
+                    self.read_image(cx, side, slot, p);
+                }
+            } else if !dialog.visible() {
+                self.picker = None;
+            }
         }
     }
-}
 
-/// Opens the image picker for `slot` of `side`, in the model's folder.
-fn open_picker(app: &mut ViewerApp, side: Side, slot: Slot) {
-    let filter = Box::new(|p: &std::path::Path| {
-        p.extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| IMAGE_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
-    });
-    let mut dialog = egui_file::FileDialog::open_file()
-        .show_files_filter(filter)
-        .title(&format!(
+    /// Opens the image picker for `slot` of `side`, in the model's folder.
+    fn open_picker(&mut self, cx: &Cx<'_>, side: Side, slot: Slot) {
+        let filter = Box::new(|p: &std::path::Path| {
+            p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| IMAGE_EXTENSIONS.contains(&e.to_ascii_lowercase().as_str()))
+        });
+        let title = format!(
             "Image for the {} slot, side {} (.png, .jpg, .hdr, .exr)",
             slot.name(),
             letter(side)
+        );
+        self.picker = Some((side, slot, file_dialog(cx, &title, filter)));
+    }
+
+    /// Reads `path` as the image of `slot` on `side`: now in synchronous mode (tests), else on
+    /// a thread of its own ([`LabUi::poll_images`] installs it).
+    pub fn read_image(&mut self, cx: &mut Cx<'_>, side: Side, slot: Slot, path: PathBuf) {
+        // A newer request for the slot replaces one still being read.
+        self.loads.retain(|l| (l.side, l.slot) != (side, slot));
+        if cx.session.synchronous {
+            let out = lab::read_image(&path, slot);
+            self.install_image(cx, side, slot, &path, out);
+        } else {
+            let load = ImageLoad::start(side, slot, path, Arc::clone(cx.session.repaint));
+            self.loads.push(load);
+        }
+    }
+
+    /// Installs the images that finished reading.
+    pub fn poll_images(&mut self, cx: &mut Cx<'_>) {
+        let mut done = Vec::new();
+        self.loads.retain(|l| match l.poll() {
+            Some(out) => {
+                done.push((l.side, l.slot, l.path.clone(), out));
+                false
+            }
+            None => true,
+        });
+        for (side, slot, path, out) in done {
+            self.install_image(cx, side, slot, &path, out);
+        }
+    }
+
+    /// Gives `slot` of `side` the image decoded from `path`, or shows why there is none (the
+    /// slot keeps what it had).
+    fn install_image(
+        &mut self,
+        cx: &mut Cx<'_>,
+        side: Side,
+        slot: Slot,
+        path: &std::path::Path,
+        out: lab::ImageOutcome,
+    ) {
+        let texture = match out {
+            Ok(t) => t,
+            Err(message) => {
+                // Also in the status bar: the section may be scrolled away or shut.
+                cx.notice(message.clone());
+                let path = path.display().to_string();
+                self.errors
+                    .insert((side, slot), ImageError { path, message });
+                return;
+            }
+        };
+        self.errors.remove(&(side, slot));
+        self.paths.insert((side, slot), texture.name.clone());
+        cx.notice(format!(
+            "{}: {}x{}, every material's {} texture (side {})",
+            texture.name,
+            texture.width,
+            texture.height,
+            slot.name(),
+            letter(side)
         ));
-    if let Some(dir) = app.model.as_deref().and_then(std::path::Path::parent) {
-        dialog = dialog.initial_path(dir);
+        let s = cx.side(side);
+        let o = image(texture, slot, s.slots.get(slot));
+        s.slots.set(slot, Some(o));
     }
-    dialog.open();
-    app.panels.lab.picker = Some((side, slot, dialog));
-}
-
-/// Reads `path` as the image of `slot` on `side`: now in synchronous mode (tests), else on
-/// a thread of its own ([`poll_images`] installs it).
-pub fn read_image(app: &mut ViewerApp, side: Side, slot: Slot, path: PathBuf) {
-    let lab = &mut app.panels.lab;
-    // A newer request for the slot replaces one still being read.
-    lab.loads.retain(|l| (l.side, l.slot) != (side, slot));
-    if app.is_synchronous() {
-        let out = lab::read_image(&path, slot);
-        install_image(app, side, slot, &path, out);
-    } else {
-        let load = ImageLoad::start(side, slot, path, app.repaint_handle());
-        app.panels.lab.loads.push(load);
-    }
-}
-
-/// Installs the images that finished reading.
-pub fn poll_images(app: &mut ViewerApp) {
-    let mut done = Vec::new();
-    app.panels.lab.loads.retain(|l| match l.poll() {
-        Some(out) => {
-            done.push((l.side, l.slot, l.path.clone(), out));
-            false
-        }
-        None => true,
-    });
-    for (side, slot, path, out) in done {
-        install_image(app, side, slot, &path, out);
-    }
-}
-
-/// Gives `slot` of `side` the image decoded from `path`, or shows why there is none (the
-/// slot keeps what it had).
-pub fn install_image(
-    app: &mut ViewerApp,
-    side: Side,
-    slot: Slot,
-    path: &std::path::Path,
-    out: lab::ImageOutcome,
-) {
-    let texture = match out {
-        Ok(t) => t,
-        Err(message) => {
-            // Also in the status bar: the section may be scrolled away or shut.
-            app.notice = Some(message.clone());
-            let path = path.display().to_string();
-            app.panels
-                .lab
-                .errors
-                .insert((side, slot), ImageError { path, message });
-            return;
-        }
-    };
-    app.panels.lab.errors.remove(&(side, slot));
-    app.panels
-        .lab
-        .paths
-        .insert((side, slot), texture.name.clone());
-    app.notice = Some(format!(
-        "{}: {}x{}, every material's {} texture (side {})",
-        texture.name,
-        texture.width,
-        texture.height,
-        slot.name(),
-        letter(side)
-    ));
-    let s = match side {
-        Side::A => &mut app.settings,
-        Side::B => &mut app.split.b,
-    };
-    let o = image(texture, slot, s.slots.get(slot));
-    s.slots.set(slot, Some(o));
 }
