@@ -1,0 +1,154 @@
+//! Frames: a job submitted when the view, the scene or the settings change, and the finished frame uploaded to the screen.
+
+use super::*;
+
+impl ViewerApp {
+    /// Uploads the newest finished frame.
+    pub(super) fn take_frames(&mut self, ctx: &egui::Context) {
+        let Some(frame) = self.host.take_frame() else {
+            return;
+        };
+        let Frame {
+            job,
+            level,
+            view,
+            a,
+            b,
+            heat,
+            depth,
+            last,
+        } = frame;
+        let size = [view.width as usize, view.height as usize];
+        let opts = if matches!(level, Level::Reduced(_)) {
+            TextureOptions::LINEAR
+        } else {
+            TextureOptions::NEAREST
+        };
+        let img_a = Arc::new(ColorImage::new(size, a.pixels));
+        let upload = |old: Option<TextureHandle>, name: &str, img: Arc<ColorImage>| {
+            match old {
+                // In place when the size is unchanged (glTexSubImage2D), else reallocated.
+                Some(mut t) if t.size() == size => {
+                    t.set_partial([0, 0], img, opts);
+                    t
+                }
+                Some(mut t) => {
+                    t.set(img, opts);
+                    t
+                }
+                None => ctx.load_texture(name, img, opts),
+            }
+        };
+        let old = self.shown.take();
+        let (old_a, old_b, old_h, prev) = match old {
+            Some(s) => (Some(s.tex_a), s.tex_b, s.tex_heat, Some(s.arrived)),
+            None => (None, None, None, None),
+        };
+        let tex_a = upload(old_a, "frame-a", Arc::clone(&img_a));
+        let (tex_b, report_b) = match b {
+            Some(b) => (
+                Some(upload(
+                    old_b,
+                    "frame-b",
+                    Arc::new(ColorImage::new(size, b.pixels)),
+                )),
+                Some(b.report),
+            ),
+            None => (None, None),
+        };
+        let (tex_heat, heat) = match heat {
+            Some(h) if h.pixels.len() == size[0] * size[1] => (
+                Some(upload(
+                    old_h,
+                    "frame-heat",
+                    Arc::new(ColorImage::new(size, h.pixels)),
+                )),
+                Some((h.mean, h.p95)),
+            ),
+            _ => (None, None),
+        };
+        let now = Instant::now();
+        let line = format!(
+            r#"{{"event":"frame","t_ms":{:.3},"job":{job},"level":"{}","width":{},"height":{},"render_ms":{:.3},"first":{}}}"#,
+            crate::since_launch_ms(),
+            level.label(),
+            view.width,
+            view.height,
+            a.report.times.total,
+            prev.is_none()
+        );
+        self.trace_line(&line);
+        self.shown = Some(Shown {
+            job,
+            level,
+            view,
+            last,
+            a: img_a,
+            tex_a,
+            tex_b,
+            tex_heat,
+            report_a: a.report,
+            report_b,
+            tile_costs: a.tile_costs,
+            tiles_x: a.tiles_x,
+            depth,
+            heat,
+            arrived: now,
+            interval: prev.map(|p| now.duration_since(p).as_secs_f64() * 1e3),
+        });
+    }
+
+    /// The view of the viewport as it is now.
+    #[must_use]
+    pub fn current_view(&self) -> View {
+        crate::viewport::view_of(&self.nav, &self.viewport)
+    }
+
+    /// Submits a job if the view, the scene or the settings changed since the last one.
+    pub(super) fn submit_if_changed(&mut self) {
+        if self.viewport.size_px[0] == 0 {
+            return;
+        }
+        let view = self.current_view();
+        let b = self.split.enabled.then_some(&self.split.b);
+        let heat = self.split.enabled && self.split.heat;
+        let same = self.last_job.as_ref().is_some_and(|j| {
+            Arc::ptr_eq(&j.scene, &self.scene)
+                && j.view == view
+                && crate::same::same(&j.a, &self.settings)
+                && match (j.b.as_deref(), b) {
+                    (Some(x), Some(y)) => crate::same::same(x, y),
+                    (x, y) => x.is_none() && y.is_none(),
+                }
+                && j.heat == heat
+                && j.max_samples == self.max_samples
+        });
+        if same {
+            return;
+        }
+        let job = Job {
+            scene: Arc::clone(&self.scene),
+            a: Arc::new(self.settings.clone()),
+            b: b.map(|s| Arc::new(s.clone())),
+            heat,
+            view,
+            interactive: self.interacting,
+            max_samples: self.max_samples,
+        };
+        self.last_job = Some(job.clone());
+        self.host.submit(job);
+        if self.synchronous {
+            // The frame is ready now; show it in this pass's successor.
+            (self.repaint)();
+        }
+    }
+
+    /// The frame on screen is the final one for the current view and settings.
+    #[must_use]
+    pub fn settled(&self) -> bool {
+        self.shown
+            .as_ref()
+            .is_some_and(|s| s.last && s.job == self.host.submitted())
+            && !self.host.busy()
+    }
+}
