@@ -11,8 +11,6 @@
 //! `--turntable N` as well, the camera turns once around over the frames. The default camera
 //! then frames the union of every frame's posed bounds, so the framing stays fixed.
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -20,6 +18,7 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use glam::{Mat3, Vec3};
 
+use realist::color::png::Apng;
 use realist::raster::Stats;
 use realist::render::{PreparedScene, View};
 use realist::scene::{Camera, Play, Scene};
@@ -481,71 +480,6 @@ pub(crate) fn check_animated(path: &Path, count: usize, (w, h): (u32, u32)) -> R
     Ok(())
 }
 
-/// An APNG frame delay of 1/`fps` seconds as a fraction (numerator, denominator).
-pub(crate) fn frame_delay(fps: f32) -> (u16, u16) {
-    let den = (f64::from(fps) * 100.0).round().clamp(1.0, 65535.0) as u32;
-    let (mut a, mut b) = (100u32, den);
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    ((100 / a) as u16, (den / a) as u16)
-}
-
-/// An animated PNG being written frame by frame (8-bit sRGB RGB, looping forever).
-struct ApngWriter {
-    writer: png::Writer<BufWriter<File>>,
-    path: PathBuf,
-    size: (u32, u32),
-}
-
-impl ApngWriter {
-    fn create(a: &Animated, count: usize, (w, h): (u32, u32)) -> Result<Self> {
-        let path = &a.path;
-        check_animated(path, count, (w, h))?;
-        let file =
-            File::create(path).with_context(|| format!("could not write {}", path.display()))?;
-        let mut enc = png::Encoder::new(BufWriter::with_capacity(1 << 20, file), w, h);
-        enc.set_color(png::ColorType::Rgb);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        enc.set_compression(png::Compression::Balanced);
-        let frames = u32::try_from(count).context("too many frames")?;
-        let (num, den) = frame_delay(a.fps);
-        let setup = (|| {
-            enc.set_animated(frames, 0)?;
-            enc.set_frame_delay(num, den)?;
-            enc.write_header()
-        })();
-        let writer = setup.with_context(|| format!("could not write {}", path.display()))?;
-        Ok(Self {
-            writer,
-            path: path.clone(),
-            size: (w, h),
-        })
-    }
-
-    fn add(&mut self, w: u32, h: u32, rgb: &[u8]) -> Result<()> {
-        if (w, h) != self.size {
-            bail!(
-                "{}: a frame of {w}x{h} in an animation of {}x{}",
-                self.path.display(),
-                self.size.0,
-                self.size.1
-            );
-        }
-        self.writer
-            .write_image_data(rgb)
-            .with_context(|| format!("could not write {}", self.path.display()))
-    }
-
-    fn finish(self) -> Result<()> {
-        let path = self.path;
-        self.writer
-            .finish()
-            .with_context(|| format!("could not write {}", path.display()))
-    }
-}
-
 /// One rendered frame: 8-bit sRGB RGB rows.
 pub(crate) struct Drawn {
     pub width: u32,
@@ -587,7 +521,7 @@ pub(crate) fn run(
 ) -> Result<Done> {
     let mut done = Done::default();
     let mut scene = Some(prepared);
-    let mut apng: Option<ApngWriter> = None;
+    let mut apng: Option<Apng> = None;
     let last = frames.len().saturating_sub(1);
     for (i, frame) in frames.iter().enumerate() {
         let prepared = scene.as_mut().context("the scene was already freed")?;
@@ -608,15 +542,16 @@ pub(crate) fn run(
         let t = Instant::now();
         if let Some(a) = &outputs.animated {
             if apng.is_none() {
-                apng = Some(ApngWriter::create(
-                    a,
-                    frames.len(),
-                    (img.width, img.height),
-                )?);
+                check_animated(&a.path, frames.len(), (img.width, img.height))?;
+                apng = Some(
+                    Apng::create(&a.path, (img.width, img.height), frames.len(), a.fps, &[])
+                        .map_err(anyhow::Error::msg)?,
+                );
                 done.animated = Some((a.path.clone(), img.width, img.height));
             }
             if let Some(w) = apng.as_mut() {
-                w.add(img.width, img.height, &img.rgb)?;
+                w.add((img.width, img.height), &img.rgb)
+                    .map_err(anyhow::Error::msg)?;
             }
         }
         if let Some(names) = &outputs.images {
@@ -646,7 +581,7 @@ pub(crate) fn run(
     }
     let t = Instant::now();
     if let Some(w) = apng {
-        w.finish()?;
+        w.finish().map_err(anyhow::Error::msg)?;
     }
     done.encode += t.elapsed();
     Ok(done)
@@ -773,15 +708,6 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("GiB") && e.contains("1920x1080"), "{e}");
-    }
-
-    #[test]
-    fn frame_delays() {
-        assert_eq!(frame_delay(24.0), (1, 24));
-        assert_eq!(frame_delay(12.0), (1, 12));
-        assert_eq!(frame_delay(29.97), (100, 2997));
-        assert_eq!(frame_delay(0.5), (2, 1));
-        assert_eq!(frame_delay(0.01), (100, 1));
     }
 
     #[test]

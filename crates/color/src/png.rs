@@ -1,10 +1,14 @@
 //! The one PNG writer: every image realist writes (a render, the viewer's screenshot, the
 //! accuracy sweep's images, the examples, the tests' failure images) goes through
-//! [`Png::write`], so each carries the same metadata: the encoding (an `sRGB` chunk for
-//! sRGB-encoded colour, none for linear data), `Software` naming realist and its version,
-//! and whatever the caller knows about the frame (`Source`, `Description`, ...).
+//! [`Png::write`], and every animation (`realist render --animate`) through [`Apng`], so
+//! each carries the same metadata: the encoding (an `sRGB` chunk for sRGB-encoded colour,
+//! none for linear data), `Software` naming realist and its version, and whatever the
+//! caller knows about the frame (`Source`, `Description`, ...). Both write to a temporary
+//! name in the target's folder and rename it when done, so a reader never sees half a file
+//! and a failed write leaves none behind.
 
-use std::io::Write;
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
 /// The pixel layout of the bytes.
@@ -90,35 +94,16 @@ impl<'a> Png<'a> {
                 self.layout
             ));
         }
-        let mut enc = png::Encoder::new(w, self.width, self.height);
-        enc.set_color(match self.layout {
-            Layout::Rgb8 => png::ColorType::Rgb,
-            Layout::Rgba8 => png::ColorType::Rgba,
-        });
-        enc.set_depth(png::BitDepth::Eight);
+        let mut enc = encoder(
+            w,
+            self.width,
+            self.height,
+            self.layout,
+            self.srgb,
+            &self.text,
+        )?;
         enc.set_compression(png::Compression::Fast);
         enc.set_filter(png::Filter::Up);
-        if self.srgb {
-            enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        }
-        let latin1 = |s: &str| -> String {
-            s.chars()
-                .map(|c| {
-                    if c == '\n' || (' '..='\u{ff}').contains(&c) {
-                        c
-                    } else {
-                        '?'
-                    }
-                })
-                .collect()
-        };
-        let software = format!("realist {}", env!("CARGO_PKG_VERSION"));
-        let chunks = std::iter::once(("Software", software))
-            .chain(self.text.iter().map(|(k, v)| (*k, latin1(v))));
-        for (k, v) in chunks {
-            enc.add_text_chunk(k.to_owned(), v)
-                .map_err(|e| e.to_string())?;
-        }
         let mut writer = enc.write_header().map_err(|e| e.to_string())?;
         writer
             .write_image_data(self.bytes)
@@ -132,15 +117,10 @@ impl<'a> Png<'a> {
     /// # Errors
     /// A message naming `path` and the problem.
     pub fn write(&self, path: &Path) -> Result<(), String> {
-        let fail = |e: &dyn std::fmt::Display| format!("could not write {}: {e}", path.display());
-        let name = path.file_name().ok_or_else(|| fail(&"not a file name"))?;
-        let mut tmp_name = std::ffi::OsString::from(".");
-        tmp_name.push(name);
-        tmp_name.push(format!(".{}.tmp", std::process::id()));
-        let tmp = path.with_file_name(tmp_name);
+        let fail = |e: &dyn std::fmt::Display| failed(path, e);
+        let tmp = temporary(path)?;
         let result = (|| {
-            let file = std::fs::File::create(&tmp).map_err(|e| fail(&e))?;
-            let mut buf = std::io::BufWriter::with_capacity(1 << 20, file);
+            let mut buf = buffered(&tmp).map_err(|e| fail(&e))?;
             self.encode_to(&mut buf).map_err(|e| fail(&e))?;
             // No fsync: the rename is what keeps readers from half a file, and a
             // sequence writes hundreds of frames.
@@ -151,6 +131,193 @@ impl<'a> Png<'a> {
             let _ = std::fs::remove_file(&tmp);
         }
         result
+    }
+}
+
+/// "could not write PATH: WHY".
+fn failed(path: &Path, e: &dyn std::fmt::Display) -> String {
+    format!("could not write {}: {e}", path.display())
+}
+
+/// The temporary name `path` is written under: hidden, in the same folder, per process.
+fn temporary(path: &Path) -> Result<std::path::PathBuf, String> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| failed(path, &"not a file name"))?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    Ok(path.with_file_name(tmp_name))
+}
+
+fn buffered(path: &Path) -> std::io::Result<BufWriter<File>> {
+    Ok(BufWriter::with_capacity(1 << 20, File::create(path)?))
+}
+
+/// An encoder with realist's metadata: the layout, the `sRGB` chunk when `srgb`, `Software`
+/// and the caller's `tEXt` chunks (Latin-1; other characters become `?`).
+fn encoder<W: Write>(
+    w: W,
+    width: u32,
+    height: u32,
+    layout: Layout,
+    srgb: bool,
+    text: &[(&'static str, String)],
+) -> Result<png::Encoder<'static, W>, String> {
+    let mut enc = png::Encoder::new(w, width, height);
+    enc.set_color(match layout {
+        Layout::Rgb8 => png::ColorType::Rgb,
+        Layout::Rgba8 => png::ColorType::Rgba,
+    });
+    enc.set_depth(png::BitDepth::Eight);
+    if srgb {
+        enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    }
+    let latin1 = |s: &str| -> String {
+        s.chars()
+            .map(|c| {
+                if c == '\n' || (' '..='\u{ff}').contains(&c) {
+                    c
+                } else {
+                    '?'
+                }
+            })
+            .collect()
+    };
+    let software = format!("realist {}", env!("CARGO_PKG_VERSION"));
+    let chunks =
+        std::iter::once(("Software", software)).chain(text.iter().map(|(k, v)| (*k, latin1(v))));
+    for (k, v) in chunks {
+        enc.add_text_chunk(k.to_owned(), v)
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(enc)
+}
+
+/// An APNG frame delay of 1/`fps` seconds as a fraction (numerator, denominator).
+#[must_use]
+pub fn frame_delay(fps: f32) -> (u16, u16) {
+    let den = (f64::from(fps) * 100.0).round().clamp(1.0, 65535.0) as u32;
+    let (mut a, mut b) = (100u32, den);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    ((100 / a) as u16, (den / a) as u16)
+}
+
+/// An animated PNG written frame by frame: sRGB-encoded RGB, looping forever, with the
+/// metadata of [`Png`]. It is written under a temporary name and renamed by
+/// [`Apng::finish`]; dropped unfinished, it leaves no file.
+pub struct Apng {
+    writer: Option<png::Writer<BufWriter<File>>>,
+    path: std::path::PathBuf,
+    tmp: std::path::PathBuf,
+    size: (u32, u32),
+    /// Frames announced, and added so far.
+    frames: u32,
+    added: u32,
+}
+
+impl Apng {
+    /// Starts `path`: `frames` frames of `width` x `height` at `fps` frames a second, with
+    /// `text` chunks after `Software`.
+    ///
+    /// # Errors
+    /// A message naming `path` and the problem.
+    pub fn create(
+        path: &Path,
+        (width, height): (u32, u32),
+        frames: usize,
+        fps: f32,
+        text: &[(&'static str, String)],
+    ) -> Result<Self, String> {
+        let fail = |e: &dyn std::fmt::Display| failed(path, e);
+        let tmp = temporary(path)?;
+        let frames = u32::try_from(frames).map_err(|_| fail(&"too many frames"))?;
+        let setup = (|| {
+            let buf = buffered(&tmp).map_err(|e| fail(&e))?;
+            let mut enc = encoder(buf, width, height, Layout::Rgb8, true, text)?;
+            enc.set_compression(png::Compression::Balanced);
+            let (num, den) = frame_delay(fps);
+            enc.set_animated(frames, 0).map_err(|e| fail(&e))?;
+            enc.set_frame_delay(num, den).map_err(|e| fail(&e))?;
+            enc.write_header().map_err(|e| fail(&e))
+        })();
+        match setup {
+            Ok(writer) => Ok(Self {
+                writer: Some(writer),
+                path: path.to_owned(),
+                tmp,
+                size: (width, height),
+                frames,
+                added: 0,
+            }),
+            Err(e) => {
+                let _ = std::fs::remove_file(&tmp);
+                Err(e)
+            }
+        }
+    }
+
+    /// Adds a frame of `width` x `height` sRGB RGB bytes.
+    ///
+    /// # Errors
+    /// Another size than the animation's, or the write failed.
+    pub fn add(&mut self, (width, height): (u32, u32), rgb: &[u8]) -> Result<(), String> {
+        if (width, height) != self.size {
+            return Err(format!(
+                "{}: a frame of {width}x{height} in an animation of {}x{}",
+                self.path.display(),
+                self.size.0,
+                self.size.1
+            ));
+        }
+        let w = self
+            .writer
+            .as_mut()
+            .ok_or_else(|| failed(&self.path, &"already finished"))?;
+        w.write_image_data(rgb)
+            .map_err(|e| failed(&self.path, &e))?;
+        self.added += 1;
+        Ok(())
+    }
+
+    /// Ends the file and gives it its name.
+    ///
+    /// # Errors
+    /// Fewer frames than announced, or the write failed.
+    pub fn finish(mut self) -> Result<(), String> {
+        let fail = |e: &dyn std::fmt::Display| failed(&self.path, e);
+        let w = self
+            .writer
+            .take()
+            .ok_or_else(|| fail(&"already finished"))?;
+        if self.added != self.frames {
+            drop(w);
+            let _ = std::fs::remove_file(&self.tmp);
+            return Err(fail(&format!(
+                "{} frames of the {} announced",
+                self.added, self.frames
+            )));
+        }
+        // Writes the end and flushes the buffer into the file.
+        let done = w
+            .finish()
+            .map_err(|e| fail(&e))
+            .and_then(|()| std::fs::rename(&self.tmp, &self.path).map_err(|e| fail(&e)));
+        if done.is_err() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+        done
+    }
+}
+
+impl Drop for Apng {
+    fn drop(&mut self) {
+        if self.writer.take().is_some() {
+            // Unfinished: no half file under either name.
+            let _ = std::fs::remove_file(&self.tmp);
+        }
     }
 }
 
@@ -190,6 +357,55 @@ mod tests {
         let mut buf = vec![0; reader.output_buffer_size().unwrap()];
         reader.next_frame(&mut buf).unwrap();
         assert_eq!(buf, bytes);
+    }
+
+    #[test]
+    fn an_animation_has_its_frames_and_metadata_and_an_unfinished_one_leaves_no_file() {
+        let dir = std::env::temp_dir().join(format!("realist-apng-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("turn.png");
+        let text = [("Source", "torus.obj".to_owned())];
+        let frames: Vec<Vec<u8>> = (0..3u8).map(|k| vec![k * 50; 2 * 2 * 3]).collect();
+        let mut a = Apng::create(&path, (2, 2), 3, 24.0, &text).unwrap();
+        for f in &frames {
+            a.add((2, 2), f).unwrap();
+        }
+        assert!(a.add((3, 2), &frames[0]).unwrap_err().contains("3x2"));
+        assert!(!path.exists(), "named only when finished");
+        a.finish().unwrap();
+        let mut reader = png::Decoder::new(std::io::BufReader::new(File::open(&path).unwrap()))
+            .read_info()
+            .unwrap();
+        let info = reader.info();
+        assert_eq!(info.animation_control.map(|c| c.num_frames), Some(3));
+        assert!(info.srgb.is_some());
+        assert_eq!(info.uncompressed_latin1_text[1].text, "torus.obj");
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        for f in &frames {
+            reader.next_frame(&mut buf).unwrap();
+            assert_eq!(&buf[..f.len()], f.as_slice());
+        }
+        // Two frames of three announced: an error, and no file under either name.
+        let short = dir.join("short.png");
+        let mut a = Apng::create(&short, (2, 2), 3, 24.0, &[]).unwrap();
+        a.add((2, 2), &frames[0]).unwrap();
+        assert!(a.finish().is_err());
+        drop(Apng::create(&short, (2, 2), 3, 24.0, &[]).unwrap());
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, vec![std::ffi::OsString::from("turn.png")]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn frame_delays() {
+        assert_eq!(frame_delay(24.0), (1, 24));
+        assert_eq!(frame_delay(12.0), (1, 12));
+        assert_eq!(frame_delay(29.97), (100, 2997));
+        assert_eq!(frame_delay(0.5), (2, 1));
+        assert_eq!(frame_delay(0.01), (100, 1));
     }
 
     #[test]
