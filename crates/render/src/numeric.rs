@@ -64,6 +64,19 @@ impl Numeric {
         }
     }
 
+    /// The smallest and the largest value accepted (what a widget's range is).
+    #[must_use]
+    pub fn bounds(&self) -> (f64, f64) {
+        match self.range {
+            Range::Between(lo, hi) => (lo, hi),
+            Range::Whole(lo, hi) => (f64::from(lo), f64::from(hi)),
+            Range::OneOf(set) => (
+                set.iter().copied().min().map_or(0.0, f64::from),
+                set.iter().copied().max().map_or(0.0, f64::from),
+            ),
+        }
+    }
+
     /// Parses `text` (a command-line value) and checks it: the message for a value that is
     /// not a number is the one for a number out of range.
     ///

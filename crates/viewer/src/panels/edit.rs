@@ -13,6 +13,21 @@ use std::ops::RangeInclusive;
 use eframe::egui;
 use glam::Vec3;
 
+/// The range of the numeric setting `key` for a widget: the one range the command line and
+/// the scene files check ([`crate::render::NUMERIC`]).
+#[must_use]
+pub fn range_of(key: &str) -> RangeInclusive<f32> {
+    let (lo, hi) = crate::render::numeric(key).bounds();
+    lo as f32..=hi as f32
+}
+
+/// [`range_of`] for a setting that is a whole number.
+#[must_use]
+pub fn whole_range_of(key: &str) -> RangeInclusive<u32> {
+    let (lo, hi) = crate::render::numeric(key).bounds();
+    lo as u32..=hi as u32
+}
+
 /// `v` as a widget shows it: clamped into `range`, a non-finite value as 0 clamped.
 #[must_use]
 pub fn shown(v: f32, range: &RangeInclusive<f32>) -> f32 {

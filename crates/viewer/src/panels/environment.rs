@@ -18,8 +18,6 @@ use crate::texture::env::{default_cache_dir, BUILTIN_NAMES, DEFAULT_ROTATION_DEG
 
 /// Shadow-map sizes offered.
 pub const SHADOW_SIZES: [u32; 6] = [256, 512, 1024, 2048, 4096, 8192];
-/// Largest PCF radius offered ((2r + 1)² taps).
-pub const MAX_PCF: u32 = 4;
 
 /// The environment section, with what it remembers while fog or the ground is off.
 #[derive(Default)]
@@ -157,7 +155,7 @@ impl EnvironmentPanel {
                 changed |= edit::drag_with(
                     ui,
                     &mut view.rotation_deg,
-                    -360.0..=360.0,
+                    edit::range_of("env_rotate"),
                     1.0,
                     "environment rotation",
                     "°",
@@ -167,7 +165,7 @@ impl EnvironmentPanel {
                 changed |= edit::slider(
                     ui,
                     &mut view.intensity,
-                    0.0..=16.0,
+                    edit::range_of("env_intensity"),
                     true,
                     "environment intensity",
                 );
@@ -187,7 +185,13 @@ impl EnvironmentPanel {
             if let Some(blur) = &mut s.env_background {
                 ui.horizontal(|ui| {
                     ui.label("blur (roughness)");
-                    edit::slider(ui, blur, 0.0..=1.0, false, "environment background blur");
+                    edit::slider(
+                        ui,
+                        blur,
+                        edit::range_of("env_background"),
+                        false,
+                        "environment background blur",
+                    );
                 });
             }
         }
@@ -202,7 +206,7 @@ impl EnvironmentPanel {
             edit::drag_with(
                 ui,
                 &mut cx.settings.exposure,
-                -24.0..=24.0,
+                edit::range_of("exposure"),
                 0.05,
                 "exposure in stops",
                 " EV",
@@ -276,8 +280,8 @@ impl EnvironmentPanel {
             let (cn, cf) = ui
                 .horizontal(|ui| {
                     (
-                        edit::drag(ui, &mut near, 0.0..=f32::MAX, speed, "fog near"),
-                        edit::drag(ui, &mut far, 1e-3..=f32::MAX, speed, "fog far"),
+                        edit::drag(ui, &mut near, edit::range_of("fog.near"), speed, "fog near"),
+                        edit::drag(ui, &mut far, edit::range_of("fog.far"), speed, "fog far"),
                     )
                 })
                 .inner;
@@ -318,7 +322,13 @@ impl EnvironmentPanel {
                 }
                 ui.end_row();
                 ui.label("half-size").on_hover_text("in scene radii");
-                edit::drag(ui, &mut g.extent, 0.1..=100.0, 0.05, "ground extent");
+                edit::drag(
+                    ui,
+                    &mut g.extent,
+                    edit::range_of("ground.extent"),
+                    0.05,
+                    "ground extent",
+                );
                 ui.end_row();
             });
         self.ground = Some(*g);
@@ -431,9 +441,10 @@ fn shadows(cx: &mut Cx<'_>, ui: &mut egui::Ui) {
                 .accessible_name("shadow map size");
             ui.end_row();
             ui.label("PCF radius");
-            let mut pcf = s.pcf.min(MAX_PCF);
+            let pcf_range = edit::whole_range_of("shadow.pcf");
+            let mut pcf = s.pcf.min(*pcf_range.end());
             if ui
-                .add(egui::Slider::new(&mut pcf, 0..=MAX_PCF))
+                .add(egui::Slider::new(&mut pcf, pcf_range))
                 .on_hover_text("(2r + 1)² filtered taps; 0 = one bilinear tap, the hardest edge")
                 .accessible_name("shadow PCF radius")
                 .changed()
@@ -444,8 +455,10 @@ fn shadows(cx: &mut Cx<'_>, ui: &mut egui::Ui) {
             ui.label("bias / slope")
                 .on_hover_text("constant and slope-scaled depth bias, in texels");
             ui.horizontal(|ui| {
-                edit::drag(ui, &mut s.bias, 0.0..=50.0, 0.05, "shadow bias");
-                edit::drag(ui, &mut s.slope, 0.0..=50.0, 0.05, "shadow slope bias");
+                let bias = edit::range_of("shadow.bias");
+                edit::drag(ui, &mut s.bias, bias, 0.05, "shadow bias");
+                let slope = edit::range_of("shadow.slope");
+                edit::drag(ui, &mut s.slope, slope, 0.05, "shadow slope bias");
             });
             ui.end_row();
         });

@@ -59,7 +59,9 @@ fn settings_controls(s: &mut Settings, lab: &mut LabUi, uv: UvView, ui: &mut egu
     ui.checkbox(&mut s.double_sided, "every material double-sided");
     ui.horizontal(|ui| {
         let label = ui.label("sub-pixel bits");
-        ui.add(egui::Slider::new(&mut s.subpixel_bits, 0..=8))
+        let bits = super::edit::whole_range_of("subpixel_bits");
+        let bits = *bits.start() as u8..=*bits.end() as u8;
+        ui.add(egui::Slider::new(&mut s.subpixel_bits, bits))
             .labelled_by(label.id);
     });
     ui.horizontal(|ui| {

@@ -283,7 +283,7 @@ fn slot_row(s: &mut Settings, lab: &mut LabUi, ui: &mut egui::Ui, side: Side, sl
                     .add(
                         egui::DragValue::new(&mut scale)
                             .speed(0.001)
-                            .range(-100.0..=100.0),
+                            .range(super::edit::range_of("bump_scale")),
                     )
                     .labelled_by(label.id)
                     .on_hover_text(
