@@ -1,0 +1,262 @@
+//! What one light does at a surface point: attenuation with distance, the spot's cone and the rectangular spot's pyramid, the light arriving, its diffuse and specular reflection (the textbook's §9.2), the ambient term and the sum over every light.
+
+use super::*;
+
+/// The attenuation factor of `a` at distance `d`.
+#[inline(always)]
+#[must_use]
+pub fn attenuate<T: Num>(a: Attenuation, d: T) -> T {
+    match a {
+        Attenuation::None => T::ONE,
+        Attenuation::Linear { near, far } => {
+            let ramp = (T::of(far) - d) / T::of((far - near).max(f32::MIN_POSITIVE));
+            T::select(d.gt(T::of(near)), ramp.clamp01(), T::ONE)
+        }
+        Attenuation::InverseSquare => (d * d).max(T::of64(crate::scene::MIN_D2)).recip(),
+        Attenuation::Range(r) => {
+            let q = d / T::of(r);
+            let q2 = q * q;
+            (T::ONE - q2 * q2).clamp01() / (d * d).max(T::of64(crate::scene::MIN_D2))
+        }
+    }
+}
+
+/// The spot factor for `cos_axis`, the cosine of the angle between the spot's axis and the
+/// ray to the point: 1 inside the hotspot, 0 outside the falloff, smoothstep between.
+#[inline(always)]
+#[must_use]
+pub fn cone<T: Num>(s: &Source, cos_axis: T) -> T {
+    let (ci, co) = (T::of(s.cos_inner), T::of(s.cos_outer));
+    let w = (ci - co).max(T::of(1e-4));
+    let t = ((cos_axis - co) / w).clamp01();
+    t * t * (T::of(3.0) - t - t)
+}
+
+/// Where the ray from a rectangular spot to a point falls on its image, as (u, v) with the
+/// pyramid at |u|, |v| <= 1, and where that is inside the pyramid (in front of the light
+/// and within it). `ray` need not be unit.
+#[inline(always)]
+#[must_use]
+pub fn pyramid<T: Num>(s: &Source, ray: T::V) -> (T, T, T::M) {
+    let z = T::dot(ray, T::vec(s.axis));
+    let x = T::dot(ray, T::vec(s.right)) / (z * T::of(s.tan.x));
+    let y = T::dot(ray, T::vec(s.up)) / (z * T::of(s.tan.y));
+    let one = T::ONE;
+    let inside = z.gt(T::ZERO) & x.ge(-one) & one.ge(x) & y.ge(-one) & one.ge(y);
+    (x, y, inside)
+}
+
+/// What arrives at `p` from `s` before shadowing: the unit direction towards the light,
+/// the radiance after attenuation, cone or pyramid and projected image, and where any
+/// arrives; `None` when nothing does anywhere.
+#[inline(always)]
+#[must_use]
+pub fn arriving<T: Shade>(s: &Source, p: T::V) -> Option<(T::V, T::V, T::M)> {
+    let mut rad = T::vec(s.radiance);
+    if s.kind == LightKind::Directional {
+        return Some((-T::vec(s.axis), rad, T::ONE.gt(T::ZERO)));
+    }
+    let to = T::vec(s.position) - p;
+    let d = T::length(to);
+    let ok = d.gt(T::ZERO) & d.finite();
+    let l = to * T::select(ok, d.recip(), T::ZERO);
+    let mut f = attenuate(s.attenuation, d);
+    match s.kind {
+        LightKind::Spot => f = f * cone(s, -T::dot(l, T::vec(s.axis))),
+        LightKind::Rect => {
+            let (x, y, inside) = pyramid::<T>(s, -l);
+            f = T::select(inside, f, T::ZERO);
+            if let Some(img) = &s.image {
+                let half = T::of(0.5);
+                let c = T::image(img, (x + T::ONE) * half, (T::ONE - y) * half, inside & ok);
+                rad = rad * c;
+            }
+        }
+        _ => {}
+    }
+    let live = f.gt(T::ZERO) & ok;
+    if T::any(live) {
+        Some((l, rad * f, live))
+    } else {
+        None
+    }
+}
+
+/// Diffuse and specular reflection of unit light direction `l` at unit normal `n`, unit
+/// view vector `v` (zero without a specular term), per unit irradiance, where `lit`
+/// (`ndl = N·L > 0` there): `K_d (N·L)` and `K_s S` with `S` as in the module
+/// documentation, or the glTF BRDF times `N·L` ([`brdf::pbr`]) when the surface has PBR
+/// parameters; zero elsewhere.
+#[inline(always)]
+#[must_use]
+pub fn reflect<T: Num>(
+    s: &SurfaceAt<T>,
+    n: T::V,
+    l: T::V,
+    v: T::V,
+    lit: T::M,
+    ndl: T,
+    blinn: bool,
+) -> Terms<T> {
+    let zero = T::splat(T::ZERO);
+    let ndl = T::select(lit, ndl, T::ZERO);
+    if let Some(p) = &s.pbr {
+        let t = brdf::pbr(s, p, brdf::alpha(p.roughness), n, l, v, ndl);
+        return Terms {
+            diffuse: T::vselect(lit, t.diffuse, zero),
+            specular: T::vselect(lit, t.specular, zero),
+            ..t
+        };
+    }
+    let diffuse = s.kd * ndl;
+    let mut specular = zero;
+    if s.has_specular {
+        let base = if blinn {
+            T::dot(n, T::normalize_or_zero(l + v))
+        } else {
+            T::dot(n * (ndl + ndl) - l, v)
+        };
+        let on = lit & base.gt(T::ZERO);
+        if T::any(on) {
+            let lobe = match s.whole_shininess {
+                Some(n) => base.powi(n),
+                None => base.powf(s.shininess),
+            };
+            let lobe = T::select(on, lobe, T::ZERO);
+            specular = s.ks * lobe;
+        }
+    }
+    Terms {
+        diffuse,
+        specular,
+        d: T::ZERO,
+        vis: T::ZERO,
+        fresnel: zero,
+    }
+}
+
+/// Light `s`'s share of the colour at `p` (normal `n`, view vector `v`), shadow included.
+#[inline(always)]
+#[must_use]
+pub fn contribution<T: Shade>(
+    set: &LightSet,
+    s: &Source,
+    surf: &SurfaceAt<T>,
+    p: T::V,
+    n: T::V,
+    v: T::V,
+    blinn: bool,
+) -> T::V {
+    let zero = T::splat(T::ZERO);
+    let Some((l, rad, live)) = arriving::<T>(s, p) else {
+        return zero;
+    };
+    let ndl = T::dot(n, l);
+    let lit = ndl.gt(T::ZERO) & live;
+    if !T::any(lit) {
+        return zero;
+    }
+    let r = reflect(surf, n, l, v, lit, ndl, blinn);
+    let t = (r.diffuse + r.specular) * rad;
+    match set.shadow_of(s) {
+        Some(map) => t * T::shadow(map, p, n, l, lit),
+        None => t,
+    }
+}
+
+/// The view vector for the specular term: unit towards the eye, or zero when the surface
+/// has no specular term (none is needed).
+#[inline(always)]
+#[must_use]
+pub fn view_vector<T: Num>(surf: &SurfaceAt<T>, p: T::V, eye: T::V) -> T::V {
+    if surf.has_specular {
+        T::normalize_or_zero(eye - p)
+    } else {
+        T::splat(T::ZERO)
+    }
+}
+
+/// The ambient term: `g_amb K_a K_d` times the occlusion (Phong), or for `pbr` the
+/// ambient light as a uniform environment of that radiance, reflected by the split-sum
+/// image-based term ([`brdf::ibl_fresnel`]) and times the occlusion.
+#[inline(always)]
+#[must_use]
+pub fn ambient<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> T::V {
+    let (diffuse, specular) = ambient_split(set, s, n, v);
+    let c = diffuse + specular;
+    match s.occlusion {
+        Some(ao) => c * ao,
+        None => c,
+    }
+}
+
+/// [`ambient`] before the occlusion, as its diffuse and specular parts (the pixel probe
+/// lists both; Phong's is all diffuse).
+#[inline(always)]
+#[must_use]
+pub fn ambient_split<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V) {
+    let g = T::vec(set.ambient);
+    let Some(p) = &s.pbr else {
+        return (g * s.ka * s.kd, T::splat(T::ZERO));
+    };
+    let nv = T::dot(n, v).max(T::of(1e-4));
+    let (a, b) = T::brdf_lut(nv, p.roughness);
+    // Prefiltered radiance along the reflection and irradiance over π: the ambient light
+    // is a uniform environment, where both equal its radiance.
+    let (prefiltered, irradiance) = match &set.env {
+        Some(env) => {
+            // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3): a rough
+            // lobe's peak leans from the mirror direction toward the normal; at grazing
+            // views on rough metal, reading the chain along the mirror direction measured
+            // 18 % too bright against the integral.
+            let alpha = brdf::alpha(p.roughness);
+            let smooth = T::ONE - alpha;
+            let lean = smooth * (smooth.sqrt() + alpha);
+            let r = n + (n * (nv + nv) - v - n) * lean;
+            let (s, e) = T::env(env, n, r, p.roughness);
+            (s + g, e + g)
+        }
+        None => (g, g),
+    };
+    let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(p.f0, p.f90, a, b);
+    let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(s.kd, T::ONE, a, b);
+    // Dielectric: the diffuse term gets the energy the specular lobe leaves.
+    let left = T::splat(T::ONE) - d_ss - d_ms;
+    let dielectric = T::ONE - p.metallic;
+    let diffuse = s.kd * left * irradiance * dielectric;
+    let specular = (d_ss * prefiltered + d_ms * irradiance) * dielectric
+        + (m_ss * prefiltered + m_ms * irradiance) * p.metallic;
+    (diffuse, specular)
+}
+
+/// The lighting equation at `p` with unit normal `n` and the eye at `eye`, summed over the
+/// sources `active` (indices into `set.sources`; all of them if `None`), plus the
+/// surface's emission. Fog is applied separately ([`Fog::apply`]).
+#[must_use]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn illuminate<T: Shade>(
+    set: &LightSet,
+    active: Option<&[u32]>,
+    surf: &SurfaceAt<T>,
+    p: T::V,
+    n: T::V,
+    eye: T::V,
+    blinn: bool,
+) -> T::V {
+    let v = view_vector(surf, p, eye);
+    let mut c = ambient(set, surf, n, v);
+    if let Some(e) = surf.emitted {
+        c = c + e;
+    }
+    // One loop body for both cases: it is inlined into every shader of every kernel, so a
+    // second copy would double the largest functions the compiler sees.
+    let count = active.map_or(set.sources.len(), <[u32]>::len);
+    for k in 0..count {
+        let i = active.map_or(k, |a| a[k] as usize);
+        if let Some(s) = set.sources.get(i) {
+            c = c + contribution(set, s, surf, p, n, v, blinn);
+        }
+    }
+    c
+}
