@@ -23,7 +23,8 @@ use realist::shade::Shading;
 use realist::viewer::keys::{self, BINDINGS, MOUSE};
 use realist::viewer::navigate::{UpAxis, ORBIT_RADIANS_PER_HEIGHT};
 use realist::viewer::panels::{
-    Cx, Dock, EnvironmentPanel, Installed, LightsPanel, Panel, SavePanel, ShadingPanel,
+    Cx, Dock, EnvironmentPanel, Installed, LightsPanel, Panel, SavePanel, ScreenshotPanel,
+    ShadingPanel,
 };
 use realist::viewer::timeline::Clock;
 use realist::viewer::{ViewerApp, ViewerOptions};
@@ -2567,4 +2568,76 @@ fn a_panel_added_to_the_list_is_laid_out_and_told_of_keys_scenes_and_its_menu() 
     h.get_by_label("Tally from the menu").click();
     h.run();
     h.get_by_label("tally's menu entry");
+}
+
+/// The PNG files in `dir`, sorted.
+fn pngs(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn f12_saves_the_frame_on_screen_and_the_screenshot_window_renders_its_own_size() {
+    let dir = temp_dir("screenshot");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    let shots = dir.join("shots");
+    std::fs::create_dir_all(&shots).unwrap();
+    h.state_mut()
+        .panels
+        .get_mut::<ScreenshotPanel>()
+        .unwrap()
+        .folder = shots.display().to_string();
+
+    // F12: the frame on screen, as it is, at its size.
+    h.key_press(Key::F12);
+    h.run();
+    let notice = h.state().notice.clone().unwrap_or_default();
+    assert!(notice.starts_with("saved "), "{notice}");
+    let files = pngs(&shots);
+    assert_eq!(files.len(), 1, "{files:?}");
+    let saved = image::open(&files[0]).unwrap().to_rgba8();
+    let shown = shown_image(&h);
+    assert_eq!(
+        [saved.width() as usize, saved.height() as usize],
+        shown.size
+    );
+    let same = saved
+        .pixels()
+        .zip(shown.pixels.iter())
+        .all(|(a, b)| a.0 == [b.r(), b.g(), b.b(), 255]);
+    assert!(same, "the file holds the frame on screen");
+
+    // File > Screenshot...: the window renders the view at the size asked for.
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label("Screenshot...  (F12 saves at once)").click();
+    h.run();
+    {
+        let p = h.state_mut().panels.get_mut::<ScreenshotPanel>().unwrap();
+        assert!(p.open, "the menu entry opens the window");
+        (p.width, p.height, p.samples) = (64, 48, 1);
+    }
+    h.run();
+    h.get_by_label("render and save").click();
+    // Rendered on a thread of its own: look until its file is there.
+    for _ in 0..2000 {
+        h.run();
+        if pngs(&shots).len() == 2 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let files = pngs(&shots);
+    assert_eq!(files.len(), 2, "{files:?}");
+    let big = files
+        .iter()
+        .map(|f| image::open(f).unwrap())
+        .find(|i| i.width() == 64)
+        .expect("a 64x48 render");
+    assert_eq!(big.height(), 48);
 }

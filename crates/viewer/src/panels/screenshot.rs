@@ -185,7 +185,8 @@ impl ScreenshotPanel {
                 });
                 ui.horizontal(|ui| {
                     ui.label("folder");
-                    ui.text_edit_singleline(&mut st.folder);
+                    ui.text_edit_singleline(&mut st.folder)
+                        .accessible_name("screenshot folder");
                 });
                 let running = st
                     .result
