@@ -4,6 +4,8 @@
 mod common;
 
 use common::{assert_finite, covered, render, render_with, scene_of, triangles};
+use std::path::Path;
+
 use glam::{Vec3, Vec4};
 use realist::mesh::Mesh;
 use realist::render::{Settings, Shot};
@@ -301,4 +303,36 @@ fn sheared_instance_at_the_view_edge_is_not_culled() {
     }
     assert!(visible_cases > 10, "the sweep never reached the view edge");
     assert!(drawn_all, "a visible sheared instance was culled");
+}
+
+#[test]
+fn a_file_with_nothing_to_draw_is_an_error_naming_it_not_an_empty_image() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("nothing-to-draw");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let notes = dir.join("notes.obj");
+    std::fs::write(&notes, "Shopping list\nmilk\nbread\n").unwrap();
+    let png = dir.join("notes.png");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+        .arg("render")
+        .arg(&notes)
+        .arg("-o")
+        .arg(&png)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(&format!("{}: nothing to draw", notes.display())),
+        "{stderr}"
+    );
+    assert!(!png.exists(), "no image written");
+    // `info` still describes it (that is what it is for).
+    let info = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+        .arg("info")
+        .arg(&notes)
+        .output()
+        .unwrap();
+    assert!(info.status.success());
+    assert!(String::from_utf8_lossy(&info.stdout).contains("0 meshes"));
 }

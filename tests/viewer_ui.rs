@@ -2641,3 +2641,31 @@ fn f12_saves_the_frame_on_screen_and_the_screenshot_window_renders_its_own_size(
         .expect("a 64x48 render");
     assert_eq!(big.height(), 48);
 }
+
+#[test]
+fn a_text_file_named_obj_is_an_error_and_the_scene_and_recent_list_stay() {
+    let dir = temp_dir("text-as-obj");
+    let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    assert_torus_open(&h, &dir);
+    let (scene, frame, recent) = {
+        let app = h.state();
+        let s = app.shown.as_ref().unwrap();
+        (Arc::clone(&app.scene), Arc::clone(&s.a), recent_list(&dir))
+    };
+    let notes = dir.join("notes.obj");
+    std::fs::write(&notes, "Shopping list\nmilk\nbread\n").unwrap();
+    drop_file(&mut h, &notes);
+    let app = h.state();
+    let e = app.error.clone().expect("an error");
+    assert!(
+        e.starts_with(&notes.display().to_string())
+            && e.contains("nothing to draw")
+            && !e.contains('\n'),
+        "{e}"
+    );
+    h.get_by_label(&e);
+    assert!(Arc::ptr_eq(&app.scene, &scene), "the scene stays");
+    assert_eq!(app.model.as_deref(), Some(model("torus.obj").as_path()));
+    assert_eq!(recent_list(&dir), recent, "not in Recent");
+    assert_eq!(differing(&shown_image(&h), &frame), 0, "the frame stays");
+}

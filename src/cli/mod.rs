@@ -57,8 +57,8 @@ enum Command {
     Render(RenderArgs),
     /// Print the load report and the topology of every mesh.
     Info(InfoArgs),
-    /// Time warm frames of a model (median of rounds), with the camera and light of the
-    /// llvmpipe peer harness (../shared/peer) so the two can be compared as ratios.
+    /// Time warm frames of a model (median of rounds), with the camera and light that
+    /// `benches/peer.sh` gives Mesa's llvmpipe, so the two can be compared as ratios.
     Bench(BenchArgs),
     /// Convert one colour (#rrggbb or r,g,b in [0,1], encoded sRGB) to other colour models.
     Color(ColorArgs),
@@ -95,9 +95,9 @@ pub(crate) enum BenchCommand {
     /// Time versus error: vary one knob at a time against an analytic reference, write
     /// results.csv and pareto.png, print the Pareto-optimal settings.
     Accuracy(accuracy::AccuracyArgs),
-    /// Frame time of the llvmpipe peer harness's exact scene (../shared/peer): one reused
-    /// renderer, warm-up then timed frames, one JSON line; --png writes the last frame as the
-    /// peer stores it (linear values, no sRGB).
+    /// Frame time of the scene `benches/peer.sh` times Mesa's llvmpipe on: one reused
+    /// renderer, warm-up then timed frames, one JSON line; --png writes the last frame as
+    /// the llvmpipe harness stores it (linear values, no sRGB).
     Frame(bench::FrameArgs),
     /// Nanoseconds per shaded pixel on large triangles in each shading mode, and per triangle
     /// of set-up, on one thread by default (per core), beside the README's machine model.

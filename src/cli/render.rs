@@ -422,6 +422,11 @@ fn output(args: &RenderArgs, input: &Input) -> Result<PathBuf> {
 fn render_in(args: &RenderArgs) -> Result<()> {
     let t0 = Instant::now();
     let input = read_input(args)?;
+    // Nothing to draw (a text file named `.obj`) is an error, not an empty image.
+    input
+        .scene
+        .check_drawable(std::path::Path::new(&input.source))
+        .map_err(anyhow::Error::msg)?;
     for w in &input.scene.report.warnings {
         eprintln!("warning: {w}");
     }

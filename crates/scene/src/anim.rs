@@ -249,7 +249,9 @@ impl Animation {
     pub fn local_time(&self, t: f32, looping: bool) -> f32 {
         let t = if t.is_finite() { t } else { 0.0 };
         let d = self.duration();
-        if looping && d > 0.0 {
+        // The end itself stays the end: a looping animation scrubbed to its last instant
+        // shows its last pose, not its first.
+        if looping && d > 0.0 && !(0.0..=d).contains(&t) {
             t.rem_euclid(d)
         } else {
             t
@@ -423,5 +425,8 @@ mod tests {
         assert_eq!(a.local_time(-0.5, true), 1.5);
         assert_eq!(a.local_time(5.0, false), 5.0);
         assert_eq!(a.local_time(f32::NAN, true), 0.0);
+        // Scrubbed to the end of a looping animation: the end, not the start.
+        assert_eq!(a.local_time(2.0, true), 2.0);
+        assert_eq!(a.local_time(4.0, true), 0.0);
     }
 }

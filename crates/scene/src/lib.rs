@@ -302,6 +302,37 @@ impl Scene {
         }))
     }
 
+    /// Whether some instance draws something: a mesh with a face, a point or a line.
+    #[must_use]
+    pub fn draws_anything(&self) -> bool {
+        self.instances.iter().any(|i| {
+            self.meshes.get(i.mesh).is_some_and(|m| {
+                !m.corners.is_empty() || !m.points.is_empty() || !m.lines.is_empty()
+            })
+        })
+    }
+
+    /// `Err` with the one-line message naming `path` when the scene draws nothing (a text
+    /// file named `.obj`, a PLY point cloud, a glTF with only cameras): opening it would
+    /// only replace what is on screen with an empty view.
+    ///
+    /// # Errors
+    /// The scene draws nothing.
+    pub fn check_drawable(&self, path: &std::path::Path) -> Result<(), String> {
+        if self.draws_anything() {
+            return Ok(());
+        }
+        let why = self
+            .report
+            .warnings
+            .first()
+            .map_or(String::new(), |w| format!(" ({w})"));
+        Err(format!(
+            "{}: nothing to draw: no faces, points or lines{why}",
+            path.display()
+        ))
+    }
+
     /// Checks every mesh against its material's texture slots, once after loading: a slot
     /// that reads a UV set the mesh does not have is named in the load report (it is drawn
     /// without that texture), and a mesh with a normal map but no tangents gets MikkTSpace

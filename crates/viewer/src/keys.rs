@@ -273,7 +273,7 @@ pub fn act(a: Action, cx: &mut Cx<'_>) {
         Action::ToggleMultisampling => {
             cx.settings.msaa = if cx.settings.msaa > 1 { 1 } else { 4 };
         }
-        Action::ToggleSplit => cx.split.enabled = !cx.split.enabled,
+        Action::ToggleSplit => cx.split.set_enabled(!cx.split.enabled, cx.settings),
         Action::ToggleLightGizmos => cx.shared.light_gizmos = !cx.shared.light_gizmos,
         Action::CheatSheet => cx.shared.cheat_sheet = !cx.shared.cheat_sheet,
         Action::PrevFile => cx.ask(Command::StepFile(-1)),

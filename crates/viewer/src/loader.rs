@@ -115,6 +115,9 @@ pub fn load_now(
             None,
         )
     };
+    // A file that draws nothing (a text file named `.obj`) is an error: the scene on
+    // screen stays.
+    scene.check_drawable(path)?;
     let base = Arc::new(scene);
     let scene = Arc::new(super::lab::prepare(&base, uv));
     Ok(Loaded {

@@ -190,6 +190,18 @@ pub(crate) fn frames(
     aspect: f32,
     framed: bool,
 ) -> Result<Vec<SeqFrame>> {
+    if scene.animations.is_empty() && args.turntable.is_none() {
+        let flag = match (&args.time, &args.frames) {
+            (Some(t), _) => Some(format!("--time {t}")),
+            (None, Some(f)) => Some(format!("--frames {f}")),
+            (None, None) => None,
+        };
+        if let Some(flag) = flag {
+            bail!(
+                "{flag}: the model has no animations, so every frame would be the same                  (--turntable N turns the camera around it)"
+            );
+        }
+    }
     let play = play(args, scene)?;
     let mut times = times(args, scene, play)?;
     let cameras = match args.turntable {

@@ -171,5 +171,34 @@ fn a_framed_turntable_fits_every_frame() {
         assert!((dist(&f.camera) - dist(&side)).abs() < 1e-3 * dist(&side));
         assert!(f.time.is_none());
     }
-    assert!(frames(&args(Some(0), None, None), base, &scene, aspect, true).is_err());
+    assert!(frames(
+        &args(Some(0), None, None),
+        base.clone(),
+        &scene,
+        aspect,
+        true
+    )
+    .is_err());
+
+    // A still model: --frames or --time alone would write the same frame over and over.
+    for (frames_flag, time) in [(Some("3".to_owned()), None), (None, Some(1.0))] {
+        let a = SequenceArgs {
+            frames: frames_flag,
+            time,
+            ..SequenceArgs::default()
+        };
+        let e = frames(&a, base.clone(), &scene, aspect, true)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no animations") && e.contains("--turntable"),
+            "{e}"
+        );
+    }
+    // With a turntable the camera moves: fine.
+    let a = SequenceArgs {
+        frames: Some("4".into()),
+        ..args(Some(4), None, None)
+    };
+    assert_eq!(frames(&a, base, &scene, aspect, true).unwrap().len(), 4);
 }

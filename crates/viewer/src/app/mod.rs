@@ -58,6 +58,20 @@ pub struct Split {
     pub b: Settings,
     /// Show the ΔE00 difference of A and B in the right half instead of B.
     pub heat: bool,
+    /// B has been given A's settings (the first time the split was turned on).
+    pub started: bool,
+}
+
+impl Split {
+    /// Turns the split on or off; the first time it is turned on, B starts as a copy of
+    /// `a` (so changing one thing on B compares just that), and keeps its own after.
+    pub fn set_enabled(&mut self, on: bool, a: &Settings) {
+        if on && !self.started {
+            self.b = a.clone();
+            self.started = true;
+        }
+        self.enabled = on;
+    }
 }
 
 /// A frame on screen: its textures and what the panels read about it.
@@ -188,11 +202,9 @@ impl ViewerApp {
             split: Split {
                 enabled: false,
                 divider: 0.5,
-                b: Settings {
-                    shading: Some(crate::shade::Shading::Gouraud),
-                    ..Settings::default()
-                },
+                b: Settings::default(),
                 heat: false,
+                started: false,
             },
             nav,
             max_samples: 4,
@@ -390,7 +402,11 @@ impl ViewerApp {
 
     /// Names the open file in the window's title when it changes.
     fn update_title(&mut self, ctx: &egui::Context) {
-        let title = format!("realist: {}", self.scene_name());
+        let title = if self.model.is_none() && self.scene.scene().instances.is_empty() {
+            "realist".to_owned()
+        } else {
+            format!("realist: {}", self.scene_name())
+        };
         if title != self.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.title = title;

@@ -85,6 +85,8 @@ impl ViewerApp {
                 self.installed(fresh, taken.as_ref());
             }
             Err(e) => {
+                // Also on stderr, for whoever started the viewer from a terminal.
+                eprintln!("realist: {e}");
                 if self.model.is_none() && self.scene.scene().instances.is_empty() {
                     // The first model failed: show the demo rather than nothing.
                     self.open_demo();

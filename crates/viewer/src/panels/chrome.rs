@@ -131,9 +131,12 @@ impl Panels {
         egui::Panel::bottom("status").show(ui, |ui| {
             ui.horizontal(|ui| {
                 let s = &cx.session;
-                let name_width = (ui.available_width() / 3.0).max(80.0);
-                text::elided_middle(ui, &s.name(), name_width, true);
-                ui.label(format!("{} triangles", s.scene.triangle_count()));
+                // Started on a file still loading: nothing is open yet (not the demo).
+                if !s.nothing_open() {
+                    let name_width = (ui.available_width() / 3.0).max(80.0);
+                    text::elided_middle(ui, &s.name(), name_width, true);
+                    ui.label(format!("{} triangles", s.scene.triangle_count()));
+                }
                 if let Some(t) = s.loading {
                     let (stage, fraction, secs) = t.status();
                     let name = t

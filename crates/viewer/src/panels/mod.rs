@@ -210,6 +210,13 @@ impl Session<'_> {
         scene_name(self.model, self.scene_file)
     }
 
+    /// Nothing is open yet: the viewer started on a file that is still loading (or failed
+    /// before the demo took its place).
+    #[must_use]
+    pub fn nothing_open(&self) -> bool {
+        self.model.is_none() && self.scene.scene().instances.is_empty()
+    }
+
     /// The folder of the open file (where file pickers start).
     #[must_use]
     pub fn folder(&self) -> Option<&Path> {

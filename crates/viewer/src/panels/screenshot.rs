@@ -87,12 +87,35 @@ fn file_name(folder: &str, scene: &str, w: u32, h: u32) -> PathBuf {
         } else {
             format!("-{k}")
         };
-        let p = PathBuf::from(folder).join(format!("realist-{stem}-{w}x{h}-{secs}{suffix}.png"));
+        let at = stamp(secs);
+        let p = PathBuf::from(folder).join(format!("realist-{stem}-{w}x{h}-{at}{suffix}.png"));
         if !p.exists() {
             return p;
         }
         k += 1;
     }
+}
+
+/// `secs` after the Unix epoch as a UTC date and time for a file name:
+/// `2026-11-28_15-34-55` (the proleptic Gregorian calendar, as `date -u` shows it).
+fn stamp(secs: u64) -> String {
+    let (days, rest) = (secs / 86_400, secs % 86_400);
+    // Days to a civil date (H. Hinnant's algorithm), from 0000-03-01.
+    let z = days as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}_{:02}-{:02}-{:02}",
+        rest / 3600,
+        rest / 60 % 60,
+        rest % 60
+    )
 }
 
 fn save_png(path: &std::path::Path, w: u32, h: u32, rgba: Vec<u8>) -> Result<(), String> {
@@ -237,5 +260,15 @@ impl ScreenshotPanel {
             });
             self.result = Some(slot);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn stamps_are_utc_dates_and_times() {
+        assert_eq!(super::stamp(0), "1970-01-01_00-00-00");
+        assert_eq!(super::stamp(951_782_400), "2000-02-29_00-00-00");
+        assert_eq!(super::stamp(1_795_880_095), "2026-11-28_15-34-55");
     }
 }

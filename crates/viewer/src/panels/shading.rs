@@ -153,7 +153,13 @@ impl ShadingPanel {
 
     /// The split view section.
     fn split(&mut self, ui: &mut egui::Ui, cx: &mut Cx<'_>) {
-        ui.checkbox(&mut cx.split.enabled, "split the view (S): A left, B right");
+        let mut on = cx.split.enabled;
+        if ui
+            .checkbox(&mut on, "split the view (S): A left, B right")
+            .changed()
+        {
+            cx.split.set_enabled(on, cx.settings);
+        }
         ui.add_enabled_ui(cx.split.enabled, |ui| {
             ui.label("A is the shading section above; B:");
             let uv = cx.session.uv;
