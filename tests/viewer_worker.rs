@@ -405,3 +405,52 @@ fn a_drag_faster_than_frames_still_shows_frames() {
     );
     wait_idle(&host);
 }
+
+#[test]
+fn the_split_views_difference_statistics_are_over_the_drawn_pixels() {
+    let scene = demo();
+    let v = view(&scene, 160, 100, 0.0);
+    let heat_of = |b: Settings| {
+        let mut host = RenderHost::synchronous();
+        host.submit(Job {
+            b: Some(Arc::new(b)),
+            heat: true,
+            ..job(&scene, v.clone(), false, 1)
+        });
+        let frame = host.take_frame().expect("a frame");
+        let drawn = frame.depth.iter().filter(|d| **d > 0.0).count();
+        (frame.heat.expect("the difference map"), drawn)
+    };
+    // B differs from A only behind the model: the map shows the background differing,
+    // the statistics (over the model's pixels) say the model is the same.
+    let (heat, drawn) = heat_of(Settings {
+        background: glam::Vec4::new(0.8, 0.1, 0.1, 1.0),
+        ..Settings::default()
+    });
+    assert!(
+        drawn > 1000 && drawn < 160 * 100 / 2,
+        "{drawn} drawn pixels"
+    );
+    assert_eq!(heat.pixels.len(), 160 * 100);
+    let lit = heat
+        .pixels
+        .iter()
+        .filter(|c| [c.r(), c.g(), c.b()] != [0, 0, 0])
+        .count();
+    assert!(
+        lit >= 160 * 100 - drawn,
+        "the background differs: {lit} pixels"
+    );
+    assert_eq!((heat.mean, heat.p95), (0.0, 0.0));
+    // Flat against Phong differs on the model.
+    let (heat, _) = heat_of(Settings {
+        shading: Some(realist::shade::Shading::Flat),
+        ..Settings::default()
+    });
+    assert!(
+        heat.p95 > 0.0 && heat.mean > 0.01,
+        "mean {} p95 {}",
+        heat.mean,
+        heat.p95
+    );
+}

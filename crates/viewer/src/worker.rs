@@ -480,12 +480,21 @@ fn heat(a: &Renderer, b: &Renderer) -> Heat {
             p95: 0.0,
         };
     };
+    let (fa, fb) = (ta.resolve(), tb.resolve());
     let (ia, ib) = (
-        LinearImage::from_framebuffer(&ta.resolve()),
-        LinearImage::from_framebuffer(&tb.resolve()),
+        LinearImage::from_framebuffer(&fa),
+        LinearImage::from_framebuffer(&fb),
     );
     let de = delta_e_map(&ia, &ib);
-    let (mean, p95) = mean_p95(&de);
+    // The statistics are over the pixels either side drew something in: the background
+    // (ΔE 0 wherever both clear to it) would dilute the mean and zero the percentile.
+    let drawn: Vec<f64> = de
+        .iter()
+        .zip(fa.depth.iter().zip(&fb.depth))
+        .filter(|(_, (a, b))| **a > 0.0 || **b > 0.0)
+        .map(|(d, _)| *d)
+        .collect();
+    let (mean, p95) = mean_p95(&drawn);
     let pixels = de
         .iter()
         .map(|&d| {

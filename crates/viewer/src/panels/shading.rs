@@ -174,7 +174,9 @@ impl ShadingPanel {
                 "right half shows the ΔE00 difference A vs B",
             );
             if let Some((mean, p95)) = cx.session.shown.and_then(|s| s.heat) {
-                ui.label(format!("ΔE00: mean {mean:.4}, 95th percentile {p95:.4}"));
+                ui.label(format!(
+                    "ΔE00 over the model's pixels: mean {mean:.4}, 95th percentile {p95:.4}"
+                ));
                 ui.label("black 0, red, yellow, white at 5 and above");
             }
             if ui.button("swap A and B").clicked() {
