@@ -658,6 +658,26 @@ fn probe_a_pixel_against_the_renderer_buffers() {
         h.get_by_label_contains(&format!("pixel ({x}, {y}) of {w}x{hgt}"));
     }
 
+    // Another shading mode: the probe is read again at the same pixel from the new frame.
+    let before = h.state().shared.probe.clone().expect("a probe");
+    let [x, y] = before.pixel;
+    assert_ne!(before.probe.as_ref().unwrap().mode, Shading::Flat);
+    h.state_mut().settings.shading = Some(Shading::Flat);
+    h.run();
+    let app = h.state();
+    let pv = app.shared.probe.as_ref().expect("still a probe");
+    assert_eq!(pv.pixel, [x, y]);
+    assert_eq!(pv.probe.as_ref().unwrap().mode, Shading::Flat, "read again");
+    let s = app.shown.as_ref().unwrap();
+    let c = s.a.pixels[(y * s.view.width + x) as usize];
+    assert_eq!(
+        pv.shown_rgb,
+        Some([c.r(), c.g(), c.b()]),
+        "from the new frame"
+    );
+    h.state_mut().settings.shading = None;
+    h.run();
+
     // The background: a probe that meets nothing.
     let corner = rect.min + Vec2::new(1.5, 1.5) / ppp;
     assert_eq!(at(1, 1), 0.0, "nothing drawn in the corner");

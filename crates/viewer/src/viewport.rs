@@ -11,11 +11,12 @@ use eframe::egui::{
     StrokeKind, Vec2,
 };
 
+use super::app::Shown;
 use super::navigate::pixel_to_ndc;
 use super::navigate::Navigator;
 use super::panels::Cx;
 use super::panels::{CostView, ProbeView, Side};
-use crate::render::{self, Output, View};
+use crate::render::{self, Output, PreparedScene, Settings, View};
 
 /// Wheel travel (points) per dolly step.
 const POINTS_PER_STEP: f32 = 50.0;
@@ -220,6 +221,21 @@ pub fn probe_at(cx: &mut Cx<'_>, p: Pos2) {
         Side::A => &*cx.settings,
         Side::B => &cx.split.b,
     };
+    cx.shared.probe = Some(read_probe(s, cx.session.scene, settings, [x, y], side, p));
+    cx.shared.open_probe = true;
+}
+
+/// The probe of frame pixel `pixel` of `s` (on `side`, drawn with `settings`), clicked at
+/// `at`.
+#[must_use]
+pub fn read_probe(
+    s: &Shown,
+    scene: &PreparedScene,
+    settings: &Settings,
+    [x, y]: [u32; 2],
+    side: Side,
+    at: Pos2,
+) -> ProbeView {
     let shown_rgb = match side {
         Side::A => {
             s.a.pixels
@@ -228,18 +244,18 @@ pub fn probe_at(cx: &mut Cx<'_>, p: Pos2) {
         }
         Side::B => None,
     };
-    let probe = render::probe(cx.session.scene, settings, &s.view, x, y);
+    let probe = render::probe(scene, settings, &s.view, x, y);
     let depth = s.depth.get((y * s.view.width + x) as usize).copied();
-    cx.shared.probe = Some(ProbeView {
+    ProbeView {
         pixel: [x, y],
         frame_size: [s.view.width, s.view.height],
-        at: p,
+        at,
         side,
         probe,
         shown_rgb,
         buffer_depth: depth.filter(|d| *d > 0.0),
-    });
-    cx.shared.open_probe = true;
+        settings: Box::new(settings.clone()),
+    }
 }
 
 /// Paints the frame, the split halves and the overlays.

@@ -1,6 +1,7 @@
 //! Frames: a job submitted when the view, the scene or the settings change, and the finished frame uploaded to the screen.
 
 use super::*;
+use crate::panels::Side;
 
 impl ViewerApp {
     /// Uploads the newest finished frame.
@@ -96,6 +97,7 @@ impl ViewerApp {
             arrived: now,
             interval: prev.map(|p| now.duration_since(p).as_secs_f64() * 1e3),
         });
+        self.reprobe();
     }
 
     /// The view of the viewport as it is now.
@@ -150,5 +152,28 @@ impl ViewerApp {
             .as_ref()
             .is_some_and(|s| s.last && s.job == self.host.submitted())
             && !self.host.busy()
+    }
+
+    /// Reads the probed pixel again from a final frame drawn with other settings than the
+    /// probe's (a changed mode or material must not leave the old reading on screen).
+    fn reprobe(&mut self) {
+        let (Some(pv), Some(shown)) = (&self.shared.probe, &self.shown) else {
+            return;
+        };
+        let settings = match pv.side {
+            Side::A => &self.settings,
+            Side::B => &self.split.b,
+        };
+        let size = [shown.view.width, shown.view.height];
+        if !shown.last
+            || shown.job != self.host.submitted()
+            || size != pv.frame_size
+            || crate::same::same(&pv.settings, settings)
+        {
+            return;
+        }
+        let pv =
+            crate::viewport::read_probe(shown, &self.scene, settings, pv.pixel, pv.side, pv.at);
+        self.shared.probe = Some(pv);
     }
 }

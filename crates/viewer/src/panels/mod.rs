@@ -121,6 +121,8 @@ pub struct ProbeView {
     pub shown_rgb: Option<[u8; 3]>,
     /// The depth buffer's value there.
     pub buffer_depth: Option<f32>,
+    /// The settings of its side when it was read (it is read again when they change).
+    pub settings: Box<Settings>,
 }
 
 /// What the panels, the viewport and the keys share: the toggles a key and a panel both
