@@ -359,8 +359,13 @@ fn orbit_with_a_drag() {
     let points: Vec<Pos2> = (0..=8)
         .map(|i| centre + Vec2::new(20.0 * i as f32, 0.0))
         .collect();
+    assert!(
+        !h.state().shared.moved,
+        "the hint on moving the camera shows"
+    );
     drag_through(&mut h, &points);
     let app = h.state();
+    assert!(app.shared.moved, "the hint goes once the camera moves");
     let after = app.current_view().camera;
     assert_eq!(after.target, before.target, "the target stays");
     let (d0, d1) = (
@@ -894,6 +899,7 @@ fn lights_are_added_duplicated_removed_and_follow_the_camera_or_not() {
 fn odd_light_values_show_without_panicking_and_unchanged() {
     let dir = temp_dir("odd-lights");
     let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    h.state_mut().shared.light_gizmos = true;
     let nan = f32::NAN;
     let odd = vec![
         Light::spot(Vec3::splat(nan), Vec3::ZERO, Vec3::ONE, 1.0, 0.2),
@@ -965,6 +971,11 @@ fn odd_light_values_show_without_panicking_and_unchanged() {
 fn gizmos_show_each_light_where_the_camera_sees_it_and_toggle() {
     let dir = temp_dir("gizmos");
     let mut h = viewer(Some(model("torus.obj")), &dir, 1);
+    // Off until asked for: a model opens on a clean view.
+    assert!(!h.state().shared.light_gizmos);
+    assert!(h.state().viewport.gizmos.is_empty());
+    h.key_press(Key::L);
+    h.run();
     // The rig's key, fill and rim lights are arrows; ambient light is not drawn.
     let g = h.state().viewport.gizmos.clone();
     assert_eq!(

@@ -175,6 +175,7 @@ fn navigate(cx: &mut Cx<'_>, ui: &mut egui::Ui, resp: &egui::Response) {
         }
     }
     *cx.interacting |= moved;
+    cx.shared.moved |= moved;
 }
 
 fn size(vp: &ViewportState) -> [f32; 2] {
@@ -335,6 +336,9 @@ fn paint(cx: &Cx<'_>, ui: &egui::Ui, rect: Rect) {
         }
     }
     loading(cx, &painter, rect);
+    if !cx.shared.moved && cx.session.error.is_none() {
+        hint(&painter, rect);
+    }
     if let Some(e) = cx.session.error {
         // Also in the status bar; here so it cannot be missed.
         let bar = Rect::from_min_size(
@@ -361,6 +365,18 @@ fn paint(cx: &Cx<'_>, ui: &egui::Ui, rect: Rect) {
             Color32::WHITE,
         );
     }
+}
+
+/// How to move the camera, one line at the bottom of the viewport until it first moves.
+pub const HINT: &str =
+    "drag: orbit    shift+drag: pan    wheel: zoom    click: probe a pixel    H: every key";
+
+fn hint(painter: &egui::Painter, rect: Rect) {
+    let galley = painter.layout_no_wrap(HINT.into(), FontId::proportional(13.0), Color32::WHITE);
+    let at = rect.left_bottom() + Vec2::new(10.0, -10.0 - galley.size().y);
+    let back = Rect::from_min_size(at - Vec2::splat(4.0), galley.size() + Vec2::splat(8.0));
+    painter.rect_filled(back, 4.0, Color32::from_black_alpha(150));
+    painter.galley(at, galley, Color32::WHITE);
 }
 
 /// "Loading NAME: stage, percent" in the middle of the viewport while a load runs.

@@ -137,7 +137,8 @@ pub struct Shared {
     pub tile_grid: bool,
     /// The tile cost over the view (K).
     pub tile_cost: CostView,
-    /// Each light's position and cone over the view (L).
+    /// Each light's position and cone over the view (L; off until asked for, so a model
+    /// opens on a clean view).
     pub light_gizmos: bool,
     /// The light whose row the pointer is over (its gizmo is highlighted).
     pub hovered_light: Option<usize>,
@@ -145,6 +146,8 @@ pub struct Shared {
     pub probe: Option<ProbeView>,
     /// Scroll the side panel to the probe section once.
     pub open_probe: bool,
+    /// The camera has been moved (the viewport's one-line hint on moving it goes).
+    pub moved: bool,
 }
 
 impl Default for Shared {
@@ -154,10 +157,11 @@ impl Default for Shared {
             cheat_sheet: false,
             tile_grid: false,
             tile_cost: CostView::Off,
-            light_gizmos: true,
+            light_gizmos: false,
             hovered_light: None,
             probe: None,
             open_probe: false,
+            moved: false,
         }
     }
 }
@@ -420,9 +424,13 @@ impl Panels {
         let ctx = ui.ctx().clone();
         if cx.shared.cheat_sheet {
             let mut open = true;
+            // Scrolls in a short window (every binding is a row).
+            let height = (ctx.content_rect().height() - 80.0).max(200.0);
             egui::Window::new("Keys and mouse")
                 .open(&mut open)
                 .collapsible(false)
+                .vscroll(true)
+                .max_height(height)
                 .show(&ctx, |ui| super::keys::cheat_sheet(ui, cx));
             cx.shared.cheat_sheet &= open;
         }
