@@ -448,7 +448,9 @@ pub fn describe_light(l: &Light) -> String {
         crate::scene::LightKind::Rect => {
             out += &format!(" pyramid {:.0}x{:.0} deg", deg(l.rect.x), deg(l.rect.y));
         }
-        _ => {}
+        crate::scene::LightKind::Ambient
+        | crate::scene::LightKind::Directional
+        | crate::scene::LightKind::Point => {}
     }
     out += &format!(" colour {} x {:.2}", c(l.color), l.intensity);
     if l.attenuation != crate::scene::Attenuation::None {
