@@ -139,12 +139,29 @@ fn offscreen(
 }
 
 impl ScreenshotPanel {
-    /// F12: the frame on screen, as it is, at the window's size.
+    /// F12: the frame on screen, as it is, at the window's size (drawn again at that size
+    /// when the frame on screen is a reduced one, drawn while moving).
     fn quick(&self, cx: &mut Cx<'_>) {
         let Some(s) = cx.session.shown else {
             cx.notice("no frame to save yet");
             return;
         };
+        if let crate::worker::Level::Reduced(_) = s.level {
+            // A frame drawn small while moving: the view drawn again at the window's size.
+            let [w, h] = cx.viewport.size_px;
+            let view = View {
+                width: w.max(1),
+                height: h.max(1),
+                ..s.view.clone()
+            };
+            let path = file_name(&self.folder, &cx.session.name(), view.width, view.height);
+            let saved = offscreen(cx.session.scene, cx.settings, &view, &path);
+            cx.notice(match saved {
+                Ok(()) => format!("saved {} (full resolution)", path.display()),
+                Err(e) => e,
+            });
+            return;
+        }
         let [w, h] = s.a.size;
         let path = file_name(&self.folder, &cx.session.name(), w as u32, h as u32);
         let rgba =
