@@ -319,3 +319,112 @@ fn every_numeric_setting_out_of_range_gives_one_message_from_the_command_line_an
     assert!(flags >= 12, "only {flags} settings have a flag");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn up_z_stands_a_z_up_model_up_from_the_command_line_and_a_scene_file() {
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("up-z");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let house = root.join("models/house-z-up.obj");
+    let render = |args: &[&str], png: &Path| {
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .arg("render")
+            .args(args)
+            .args(["--size", "96x96", "-o"])
+            .arg(png)
+            .output()
+            .unwrap();
+        assert!(
+            r.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+    };
+    // The same house with +Y up (each vertex turned -90 degrees about X: (x, y, z) ->
+    // (x, z, -y)), drawn Y-up, is what --up z draws of the Z-up one; without --up the
+    // Z-up house lies on its back and the images differ.
+    let text = std::fs::read_to_string(&house).unwrap();
+    let turned: String = text
+        .lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(v) => {
+                let p: Vec<f32> = v.split(' ').map(|t| t.parse().unwrap()).collect();
+                format!("v {} {} {}\n", p[0], p[2], -p[1])
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    let house_y = out.join("house-y-up.obj");
+    std::fs::write(&house_y, turned).unwrap();
+    let rgb = |p: &Path| image::open(p).unwrap().to_rgb8();
+    let differing = |a: &image::RgbImage, b: &image::RgbImage| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 2))
+            .count()
+    };
+    for camera in [None, Some("30,15"), Some("0,0")] {
+        let cam: Vec<&str> = camera.map_or(vec![], |c| vec!["--camera", c]);
+        let (y_up, z_up, lying) = (out.join("y.png"), out.join("z.png"), out.join("lying.png"));
+        render(&[&[house_y.to_str().unwrap()], &cam[..]].concat(), &y_up);
+        render(
+            &[&[house.to_str().unwrap(), "--up", "z"], &cam[..]].concat(),
+            &z_up,
+        );
+        render(&[&[house.to_str().unwrap()], &cam[..]].concat(), &lying);
+        let (y, z, l) = (rgb(&y_up), rgb(&z_up), rgb(&lying));
+        let n = y.pixels().len();
+        let same = differing(&y, &z);
+        assert!(
+            same * 200 < n,
+            "{camera:?}: {same} pixels differ with --up z"
+        );
+        let lies = differing(&y, &l);
+        assert!(
+            lies * 10 > n,
+            "{camera:?}: only {lies} pixels differ without --up"
+        );
+    }
+    // The scene file's `up = "z"` gives the same image as the flag with its camera.
+    let from_file = out.join("file.png");
+    let scene = root.join("examples/scenes/z_up_house.toml");
+    render(&[scene.to_str().unwrap()], &from_file);
+    let flag = out.join("flag.png");
+    render(
+        &[
+            house.to_str().unwrap(),
+            "--up",
+            "z",
+            "--camera",
+            "30,15",
+            "--msaa",
+            "4",
+        ],
+        &flag,
+    );
+    let (a, b) = (
+        image::open(&from_file).unwrap().to_rgb8(),
+        image::open(&flag).unwrap().to_rgb8(),
+    );
+    assert!(a == b, "the scene file and the flags draw the same image");
+    // A turntable turns about +Z: the house stays standing in every frame.
+    let frames = out.join("turn_{}.png");
+    render(
+        &[house.to_str().unwrap(), "--up", "z", "--turntable", "4"],
+        &frames,
+    );
+    let frames_y = out.join("turn_y_{}.png");
+    render(&[house_y.to_str().unwrap(), "--turntable", "4"], &frames_y);
+    for i in 0..4 {
+        let (z, y) = (
+            rgb(&out.join(format!("turn_{i}.png"))),
+            rgb(&out.join(format!("turn_y_{i}.png"))),
+        );
+        let d = differing(&z, &y);
+        assert!(
+            d * 200 < z.pixels().len(),
+            "turntable frame {i}: {d} pixels differ"
+        );
+    }
+}

@@ -134,6 +134,10 @@ struct ViewArgs {
     /// Open animated files paused (Space plays); by default they play at once, looping.
     #[arg(long)]
     paused: bool,
+    /// The world's up axis, y (default) or z (scans and CAD models that lie on their back;
+    /// Ctrl+Y and Ctrl+Z change it in the window).
+    #[arg(long, value_name = "y|z")]
+    up: Option<realist::scene::Up>,
 }
 
 #[derive(Args)]
@@ -213,13 +217,25 @@ pub fn run() -> Result<()> {
         },
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
-        Some(Command::View(args)) => view(args.model, args.window, args.no_panels, args.paused),
-        None => view(cli.model, (1440, 900), false, false),
+        Some(Command::View(args)) => view(
+            args.model,
+            args.window,
+            args.no_panels,
+            args.paused,
+            args.up,
+        ),
+        None => view(cli.model, (1440, 900), false, false, None),
     }
 }
 
 /// The viewer, or without a display a headless render to a PNG named on the way out.
-fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool, paused: bool) -> Result<()> {
+fn view(
+    model: Option<PathBuf>,
+    window: (u32, u32),
+    no_panels: bool,
+    paused: bool,
+    up: Option<realist::scene::Up>,
+) -> Result<()> {
     #[cfg(feature = "viewer")]
     {
         if realist::viewer::display_available() {
@@ -227,6 +243,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool, paused: boo
                 model: model.clone(),
                 hide_panels: no_panels,
                 paused,
+                up,
                 ..Default::default()
             };
             match realist::viewer::run(opts, window) {
@@ -262,6 +279,7 @@ fn view(model: Option<PathBuf>, window: (u32, u32), no_panels: bool, paused: boo
         shading: None,
         threads: None,
         camera: None,
+        up,
         fov: None,
         zoom: None,
         texture: None,

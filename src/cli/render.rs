@@ -10,8 +10,8 @@ use clap::Args;
 
 use realist::load::{self, LoadOptions};
 use realist::render::numeric;
-use realist::render::{default_camera, PreparedScene, Renderer, Settings, View};
-use realist::scene::{self, Camera, Scene, Slot, SlotOverride, TextureSource};
+use realist::render::{default_camera, default_camera_up, PreparedScene, Renderer, Settings, View};
+use realist::scene::{self, Camera, Scene, Slot, SlotOverride, TextureSource, Up};
 use realist::scenefile::schema::{Kw, UvChoice};
 use realist::scenefile::{self, Format, SceneFile};
 use realist::shade::Shading;
@@ -50,6 +50,11 @@ pub(crate) struct RenderArgs {
     /// or gltf:N, the file's camera N (0-based).
     #[arg(long, value_parser = parse_camera, allow_hyphen_values = true)]
     pub camera: Option<CameraArg>,
+    /// The world's up axis, y (default) or z: the default view, --camera's azimuth and
+    /// --turntable turn about it (z for scans and CAD models, often STL and PLY files, that
+    /// lie on their back; a scene file says `up = "z"`).
+    #[arg(long, value_name = "y|z")]
+    pub up: Option<Up>,
     /// Vertical field of view in degrees (default 45).
     #[arg(long, conflicts_with = "zoom")]
     pub fov: Option<f32>,
@@ -231,6 +236,9 @@ fn read_input(args: &RenderArgs) -> Result<Input> {
             if let Some(uv) = args.uv {
                 file.doc.uv = Some(Kw(uv)); // `--uv mesh` too overrides the file
             }
+            if let Some(up) = args.up {
+                file.doc.up = Some(Kw(up)); // and `--up` its up axis (its camera too)
+            }
             let scene = file.load_model(&opts)?;
             let source = match file.model()? {
                 scenefile::ModelSource::Demo => "the demo scene".into(),
@@ -332,6 +340,13 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
     Ok(s)
 }
 
+/// The up axis: `--up`, else the scene file's, else +Y.
+fn up_of(args: &RenderArgs, input: &Input) -> Up {
+    args.up
+        .or_else(|| input.file.as_ref().map(SceneFile::up))
+        .unwrap_or_default()
+}
+
 /// The camera: `--camera`, else the scene file's, else the demo's or the default view;
 /// `--fov`/`--zoom` change any of them.
 fn camera(args: &RenderArgs, input: &Input, aspect: f32) -> Result<Camera> {
@@ -343,9 +358,12 @@ fn camera(args: &RenderArgs, input: &Input, aspect: f32) -> Result<Camera> {
         (None, None) => None,
     };
     let scene = &input.scene;
+    let up = up_of(args, input);
     let mut cam = match (args.camera, &input.file) {
         (Some(CameraArg::Orbit(az, el, dist)), _) => {
-            return Ok(scenefile::orbit_camera(scene, aspect, az, el, dist, yfov))
+            return Ok(scenefile::orbit_camera_up(
+                scene, aspect, az, el, dist, yfov, up,
+            ))
         }
         (Some(CameraArg::Gltf(n)), _) => file_camera(scene, n, &input.source)?,
         (None, Some(f)) => match f.camera(scene, aspect)? {
@@ -355,7 +373,7 @@ fn camera(args: &RenderArgs, input: &Input, aspect: f32) -> Result<Camera> {
                 .first()
                 .filter(|_| args.demo || is_demo(f))
                 .cloned()
-                .unwrap_or_else(|| default_camera(scene, aspect)),
+                .unwrap_or_else(|| default_camera_up(scene, aspect, up)),
         },
         (None, None) if args.demo => scene
             .cameras
@@ -363,11 +381,11 @@ fn camera(args: &RenderArgs, input: &Input, aspect: f32) -> Result<Camera> {
             .cloned()
             .unwrap_or_else(|| default_camera(scene, aspect)),
         (None, None) if yfov.is_some() => {
-            return Ok(scenefile::orbit_camera(
-                scene, aspect, 35.0, 25.0, None, yfov,
+            return Ok(scenefile::orbit_camera_up(
+                scene, aspect, 35.0, 25.0, None, yfov, up,
             ))
         }
-        (None, None) => default_camera(scene, aspect),
+        (None, None) => default_camera_up(scene, aspect, up),
     };
     if let Some(f) = yfov {
         cam.yfov = f;
@@ -444,7 +462,8 @@ fn render_in(args: &RenderArgs) -> Result<()> {
     let aspect = w as f32 / h as f32;
     let camera = camera(args, &input, aspect)?;
     let framed = framed_distance(args, &input);
-    let mut frames = sequence::frames(&args.sequence, camera, &input.scene, aspect, framed)?;
+    let up = up_of(args, &input);
+    let mut frames = sequence::frames(&args.sequence, camera, &input.scene, aspect, framed, up)?;
     if let (Some(CameraArg::Gltf(n)), None) = (args.camera, args.sequence.turntable) {
         // A file's camera under an animated node moves with it.
         for f in &mut frames {

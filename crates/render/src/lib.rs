@@ -131,9 +131,19 @@ pub fn render(scene: &PreparedScene, shot: &Shot) -> Frame {
 /// The default camera: the scene's bounding box framed from a three-quarter view.
 #[must_use]
 pub fn default_camera(scene: &Scene, aspect: f32) -> Camera {
-    match scene.bounds() {
-        Some((lo, hi)) => Camera::frame_box(lo, hi, aspect, 35.0, 25.0),
-        None => Camera::default(),
+    default_camera_up(scene, aspect, crate::scene::Up::Y)
+}
+
+/// [`default_camera`] for a scene whose up axis is `up` (`--up z` for a scan lying on its
+/// back).
+#[must_use]
+pub fn default_camera_up(scene: &Scene, aspect: f32, up: crate::scene::Up) -> Camera {
+    match (scene.bounds(), up) {
+        (Some((lo, hi)), crate::scene::Up::Y) => Camera::frame_box(lo, hi, aspect, 35.0, 25.0),
+        (Some((lo, hi)), up) => {
+            Camera::frame_box_up(lo, hi, aspect, 35.0, 25.0, crate::scene::DEFAULT_YFOV, up)
+        }
+        (None, _) => Camera::default(),
     }
 }
 

@@ -2,7 +2,7 @@
 //! vertical field of view (or the textbook's zoom = 1/tan(fov/2)), aspect ratio from the output
 //! window, near and far planes.
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec3, Vec4};
 
 /// The default vertical field of view: 45 degrees.
 pub const DEFAULT_YFOV: f32 = std::f32::consts::FRAC_PI_4;
@@ -132,6 +132,36 @@ impl Camera {
         let mut cam = Self::orbit(center, azimuth, elevation, distance, yfov);
         cam.fit(center, radius);
         cam
+    }
+
+    /// [`Camera::frame_box_fov`] for a world whose up axis is `up`: the azimuth turns about
+    /// it and the elevation rises towards it (for [`Up::Z`], azimuth 0 looks along -Y,
+    /// with +Z up on screen). The box is framed in the Y-up frame and the camera turned back.
+    #[must_use]
+    pub fn frame_box_up(
+        lo: Vec3,
+        hi: Vec3,
+        aspect: f32,
+        azimuth: f32,
+        elevation: f32,
+        yfov: f32,
+        up: Up,
+    ) -> Self {
+        let to_y = up.to_y_up();
+        let (a, b) = (to_y * lo, to_y * hi);
+        let cam = Self::frame_box_fov(a.min(b), a.max(b), aspect, azimuth, elevation, yfov);
+        cam.turned(to_y.inverse())
+    }
+
+    /// The camera turned by `q` about the origin (eye, target and up).
+    #[must_use]
+    pub fn turned(self, q: Quat) -> Self {
+        Self {
+            eye: q * self.eye,
+            target: q * self.target,
+            up: q * self.up,
+            ..self
+        }
     }
 
     /// The default view of an axis-aligned box: from `azimuth`/`elevation` degrees, at the
@@ -317,5 +347,55 @@ mod tests {
         let mut cam = Camera::default();
         cam.set_zoom(2.0);
         assert!((cam.zoom() - 2.0).abs() < 1e-5);
+    }
+}
+
+/// The world's up axis: +Y (glTF, OBJ by convention) or +Z (most scans, STL and PLY files,
+/// CAD). Models whose up is +Z lie on their back when viewed Y-up.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Up {
+    #[default]
+    Y,
+    Z,
+}
+
+impl Up {
+    /// The up vector.
+    #[must_use]
+    pub fn vector(self) -> Vec3 {
+        match self {
+            Up::Y => Vec3::Y,
+            Up::Z => Vec3::Z,
+        }
+    }
+
+    /// The rotation taking this up axis to +Y (X stays; for Z: Z -> Y, Y -> -Z).
+    #[must_use]
+    pub fn to_y_up(self) -> Quat {
+        match self {
+            Up::Y => Quat::IDENTITY,
+            Up::Z => Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2),
+        }
+    }
+
+    /// `y` or `z`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Up::Y => "y",
+            Up::Z => "z",
+        }
+    }
+}
+
+impl std::str::FromStr for Up {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "y" | "+y" => Ok(Up::Y),
+            "z" | "+z" => Ok(Up::Z),
+            other => Err(format!("up axis '{other}': expected y or z")),
+        }
     }
 }

@@ -52,7 +52,7 @@ mod tests;
 
 pub use compare::RgbImage;
 pub use compare::{compose, Comparison, Variant};
-pub use convert::{orbit_camera, parse_light, LIGHT_SYNTAX};
+pub use convert::{orbit_camera, orbit_camera_up, parse_light, LIGHT_SYNTAX};
 pub use schema::SceneDoc;
 pub use settings::{add_lights, shadow_every_light};
 
@@ -234,7 +234,9 @@ impl SceneFile {
         let (width, height) = self.size().unwrap_or(DEFAULT_SIZE);
         let camera = match self.camera(&scene, width as f32 / height as f32)? {
             Some(c) => c,
-            None => crate::render::default_camera(&scene, width as f32 / height as f32),
+            None => {
+                crate::render::default_camera_up(&scene, width as f32 / height as f32, self.up())
+            }
         };
         let comparison = self.comparison(&scene, &settings)?;
         let output = self.output();
@@ -399,6 +401,12 @@ impl SceneFile {
         }
     }
 
+    /// The file's up axis (`up = "z"`; +Y when it does not say).
+    #[must_use]
+    pub fn up(&self) -> crate::scene::Up {
+        self.doc.up.map_or(crate::scene::Up::Y, |k| k.0)
+    }
+
     /// The file's camera, resolved against `scene` for an image of aspect `aspect`;
     /// `None` when the file has no `[camera]` (the caller's default view).
     ///
@@ -407,7 +415,7 @@ impl SceneFile {
     pub fn camera(&self, scene: &Scene, aspect: f32) -> Result<Option<Camera>, SceneFileError> {
         match &self.doc.camera {
             None => Ok(None),
-            Some(spec) => convert::camera(spec, scene, aspect)
+            Some(spec) => convert::camera(spec, scene, aspect, self.up())
                 .map(Some)
                 .map_err(|(key, reason)| self.invalid(format!("camera.{key}"), reason)),
         }

@@ -7,7 +7,7 @@ use serde::de::Error as _;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::render::ToneMap;
-use crate::scene::LightKind;
+use crate::scene::{LightKind, Up};
 use crate::shade::{FogDistance, Shading};
 use crate::texture::{Axis, Filter, UvGenerator};
 
@@ -48,7 +48,7 @@ macro_rules! keyword_by_fromstr {
         }
     )*};
 }
-keyword_by_fromstr!(Shading, ToneMap, FogDistance, LightKind);
+keyword_by_fromstr!(Shading, ToneMap, FogDistance, LightKind, Up);
 
 impl Keyword for Filter {
     fn keyword(self) -> &'static str {
@@ -299,6 +299,10 @@ pub struct SceneDoc {
     pub normal_map: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uv: Option<Kw<UvChoice>>,
+    /// The world's up axis, `y` or `z`: the default view, orbit cameras and turntables turn
+    /// about it (`z` for scans and CAD models that lie on their back).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up: Option<Kw<Up>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tone: Option<Kw<ToneMap>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -21,7 +21,7 @@ use glam::{Mat3, Vec3};
 use realist::color::png::Apng;
 use realist::raster::Stats;
 use realist::render::{PreparedScene, View};
-use realist::scene::{Camera, Play, Scene};
+use realist::scene::{Camera, Play, Scene, Up};
 
 /// Most frames `--turntable` makes.
 pub(crate) const MAX_FRAMES: u32 = 100_000;
@@ -189,6 +189,7 @@ pub(crate) fn frames(
     scene: &Scene,
     aspect: f32,
     framed: bool,
+    up: Up,
 ) -> Result<Vec<SeqFrame>> {
     if scene.animations.is_empty() && args.turntable.is_none() {
         let flag = match (&args.time, &args.frames) {
@@ -231,10 +232,10 @@ pub(crate) fn frames(
             let bounds = scene.bounds();
             let pivot = bounds.map_or(base.target, |(lo, hi)| (lo + hi) * 0.5);
             let base = match bounds {
-                Some((lo, hi)) if framed => frame_every_azimuth(&base, lo, hi, aspect, n),
+                Some((lo, hi)) if framed => frame_every_azimuth(&base, lo, hi, aspect, n, up),
                 _ => base,
             };
-            turntable(&base, pivot, n)
+            turntable(&base, pivot, n, up)
         }
     };
     Ok(cameras
@@ -298,10 +299,14 @@ pub(crate) fn frame_animation(
 
 /// `n` cameras: `base` turned by 360°·i/n around the vertical axis through `pivot` (eye,
 /// target and up turn together; the first is `base`).
-pub(crate) fn turntable(base: &Camera, pivot: Vec3, n: u32) -> Vec<Camera> {
+pub(crate) fn turntable(base: &Camera, pivot: Vec3, n: u32, up: Up) -> Vec<Camera> {
     (0..n)
         .map(|i| {
-            let turn = Mat3::from_rotation_y(std::f32::consts::TAU * i as f32 / n as f32);
+            let angle = std::f32::consts::TAU * i as f32 / n as f32;
+            let turn = match up {
+                Up::Y => Mat3::from_rotation_y(angle),
+                Up::Z => Mat3::from_rotation_z(angle),
+            };
             Camera {
                 eye: pivot + turn * (base.eye - pivot),
                 target: pivot + turn * (base.target - pivot),
@@ -328,7 +333,21 @@ pub(crate) fn orbit_of(eye: Vec3, pivot: Vec3) -> (f32, f32, f32) {
 
 /// `base` (framing the box `lo..hi` from its direction) moved back along its line of sight
 /// to the largest of the distances that frame the box from the `n` turntable directions.
-fn frame_every_azimuth(base: &Camera, lo: Vec3, hi: Vec3, aspect: f32, n: u32) -> Camera {
+fn frame_every_azimuth(base: &Camera, lo: Vec3, hi: Vec3, aspect: f32, n: u32, up: Up) -> Camera {
+    if up != Up::Y {
+        // In the Y-up frame, and turned back.
+        let q = up.to_y_up();
+        let (a, b) = (q * lo, q * hi);
+        let c = frame_every_azimuth(
+            &base.clone().turned(q),
+            a.min(b),
+            a.max(b),
+            aspect,
+            n,
+            Up::Y,
+        );
+        return c.turned(q.inverse());
+    }
     let center = (lo + hi) * 0.5;
     let (az, el, dist) = orbit_of(base.eye, center);
     let far = (0..n)

@@ -123,7 +123,7 @@ fn animated_images_are_bounded() {
 fn turntable_cameras_turn_evenly_at_one_distance() {
     let pivot = Vec3::new(0.5, -1.0, 2.0);
     let base = Camera::orbit(pivot, 35.0, 25.0, 4.0, 0.8);
-    let cams = turntable(&base, pivot, 36);
+    let cams = turntable(&base, pivot, 36, Up::Y);
     assert_eq!(cams.len(), 36);
     assert_eq!(cams[0].eye, base.eye);
     let (az0, el0, d0) = orbit_of(base.eye, pivot);
@@ -159,8 +159,8 @@ fn a_framed_turntable_fits_every_frame() {
     let aspect = 4.0 / 3.0;
     let base = Camera::frame_box(lo, hi, aspect, 90.0, 0.0);
     let a = args(Some(4), None, None);
-    let framed = frames(&a, base.clone(), &scene, aspect, true).unwrap();
-    let fixed = frames(&a, base.clone(), &scene, aspect, false).unwrap();
+    let framed = frames(&a, base.clone(), &scene, aspect, true, Up::Y).unwrap();
+    let fixed = frames(&a, base.clone(), &scene, aspect, false, Up::Y).unwrap();
     assert_eq!(framed.len(), 4);
     let center = (lo + hi) * 0.5;
     let dist = |c: &Camera| (c.eye - center).length();
@@ -176,7 +176,8 @@ fn a_framed_turntable_fits_every_frame() {
         base.clone(),
         &scene,
         aspect,
-        true
+        true,
+        Up::Y
     )
     .is_err());
 
@@ -187,7 +188,7 @@ fn a_framed_turntable_fits_every_frame() {
             time,
             ..SequenceArgs::default()
         };
-        let e = frames(&a, base.clone(), &scene, aspect, true)
+        let e = frames(&a, base.clone(), &scene, aspect, true, Up::Y)
             .unwrap_err()
             .to_string();
         assert!(
@@ -200,5 +201,8 @@ fn a_framed_turntable_fits_every_frame() {
         frames: Some("4".into()),
         ..args(Some(4), None, None)
     };
-    assert_eq!(frames(&a, base, &scene, aspect, true).unwrap().len(), 4);
+    assert_eq!(
+        frames(&a, base, &scene, aspect, true, Up::Y).unwrap().len(),
+        4
+    );
 }

@@ -12,7 +12,7 @@ use super::schema::{
 };
 use crate::mesh::Mesh;
 use crate::scene::{
-    clamp_fov, AlphaMode, Attenuation, Camera, Light, LightKind, Material, Scene, DEFAULT_YFOV,
+    clamp_fov, AlphaMode, Attenuation, Camera, Light, LightKind, Material, Scene, Up, DEFAULT_YFOV,
 };
 use crate::shade::MAX_HALF_ANGLE;
 
@@ -435,17 +435,39 @@ pub fn orbit_camera(
     distance: Option<f32>,
     yfov: Option<f32>,
 ) -> Camera {
+    orbit_camera_up(scene, aspect, azimuth, elevation, distance, yfov, Up::Y)
+}
+
+/// [`orbit_camera`] for a world whose up axis is `up` (the azimuth turns about it).
+#[must_use]
+pub fn orbit_camera_up(
+    scene: &Scene,
+    aspect: f32,
+    azimuth: f32,
+    elevation: f32,
+    distance: Option<f32>,
+    yfov: Option<f32>,
+    up: Up,
+) -> Camera {
     let (lo, hi) = scene.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
-    let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6));
     let yfov = clamp_fov(yfov.unwrap_or(DEFAULT_YFOV));
+    // Framed in the Y-up frame, turned back (the identity for Y).
+    let to_y = up.to_y_up();
+    let (a, b) = (to_y * lo, to_y * hi);
+    let (lo, hi) = (a.min(b), a.max(b));
+    let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6));
     let framed = Camera::frame_box_fov(lo, hi, aspect, azimuth, elevation, yfov);
-    match distance {
+    let cam = match distance {
         None => framed,
         Some(d) => {
             let mut cam = Camera::orbit(center, azimuth, elevation, d, framed.yfov);
             cam.fit(center, radius);
             cam
         }
+    };
+    match up {
+        Up::Y => cam,
+        Up::Z => cam.turned(to_y.inverse()),
     }
 }
 
@@ -512,7 +534,7 @@ pub(super) fn check_camera(s: &CameraSpec) -> Result<(), Bad> {
 }
 
 /// Resolves a checked `[camera]` against `scene` (keys without the `camera.` prefix).
-pub(super) fn camera(s: &CameraSpec, scene: &Scene, aspect: f32) -> Result<Camera, Bad> {
+pub(super) fn camera(s: &CameraSpec, scene: &Scene, aspect: f32, up: Up) -> Result<Camera, Bad> {
     check_camera(s)?;
     let yfov = s.yfov.map(|f| (f as f32).to_radians());
     let (lo, hi) = scene.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
@@ -541,20 +563,21 @@ pub(super) fn camera(s: &CameraSpec, scene: &Scene, aspect: f32) -> Result<Camer
             name: "scene file".into(),
             eye: v(eye),
             target: s.target.map_or(center, v),
-            up: s.up.map_or(Vec3::Y, v),
+            up: s.up.map_or(up.vector(), v),
             yfov: yfov.unwrap_or(DEFAULT_YFOV),
             ..Camera::default()
         };
         c.fit(center, radius);
         c
     } else {
-        let mut c = orbit_camera(
+        let mut c = orbit_camera_up(
             scene,
             aspect,
             s.azimuth.map_or(35.0, |a| a as f32),
             s.elevation.map_or(25.0, |e| e as f32),
             s.distance.map(|d| d as f32),
             yfov,
+            up,
         );
         c.name = "scene file".into();
         c

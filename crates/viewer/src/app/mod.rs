@@ -46,6 +46,9 @@ pub struct ViewerOptions {
     pub hide_panels: bool,
     /// Open animated files paused (else they play at once, looping).
     pub paused: bool,
+    /// The world's up axis (`--up z` for scans that lie on their back; Ctrl+Y / Ctrl+Z
+    /// change it, and it stays for the next file).
+    pub up: Option<scene::Up>,
 }
 
 /// The A | B split view.
@@ -180,10 +183,13 @@ impl ViewerApp {
             scene::demo()
         }));
         let (center, radius) = scene.bounding_sphere();
-        let nav = match scene.scene().cameras.first() {
+        let mut nav = match scene.scene().cameras.first() {
             Some(cam) => Navigator::from_camera(cam, center, radius, Default::default()),
             None => Navigator::new(center, radius, 16.0 / 10.0),
         };
+        if let Some(up) = opts.up {
+            nav.set_up_axis(up.into(), 16.0 / 10.0);
+        }
         // A corrupt list is not worth stopping for: start empty and say why.
         let (recent, recent_problem) = match &opts.recent_file {
             Some(p) => RecentFiles::load_from(p),

@@ -45,10 +45,17 @@ impl ViewerApp {
                 let aspect = self.viewport.aspect();
                 let same = self.model.as_deref() == Some(path.as_path());
                 let file = from_file.is_some();
+                // The up axis stays as it was (`--up`, Ctrl+Y / Ctrl+Z) unless a scene file
+                // names one.
+                let up = match &from_file {
+                    Some(f) if f.open.file.doc.up.is_some() => f.open.file.up().into(),
+                    _ => self.nav.up_axis(),
+                };
                 let fresh = if let Some(f) = from_file {
                     // A scene file (opened or reloaded) sets everything it names: its
                     // settings now, its camera once the viewport's aspect is known.
                     self.nav = Navigator::new(center, radius, aspect);
+                    self.nav.set_up_axis(up, aspect);
                     self.frame_pending = true;
                     self.install_file_settings(f, &path);
                     true
@@ -58,6 +65,7 @@ impl ViewerApp {
                     false
                 } else {
                     self.nav = Navigator::new(center, radius, aspect);
+                    self.nav.set_up_axis(up, aspect);
                     self.frame_pending = true;
                     self.settings.materials = None;
                     true

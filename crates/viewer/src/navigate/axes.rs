@@ -27,6 +27,15 @@ pub enum UpAxis {
     Z,
 }
 
+impl From<crate::scene::Up> for UpAxis {
+    fn from(up: crate::scene::Up) -> Self {
+        match up {
+            crate::scene::Up::Y => Self::Y,
+            crate::scene::Up::Z => Self::Z,
+        }
+    }
+}
+
 impl UpAxis {
     /// The world up vector.
     #[must_use]
