@@ -361,7 +361,7 @@ fn camera(args: &RenderArgs, input: &Input, aspect: f32) -> Result<Camera> {
     let up = up_of(args, input);
     let mut cam = match (args.camera, &input.file) {
         (Some(CameraArg::Orbit(az, el, dist)), _) => {
-            return Ok(scenefile::orbit_camera_up(
+            return Ok(scenefile::orbit_camera(
                 scene, aspect, az, el, dist, yfov, up,
             ))
         }
@@ -381,7 +381,7 @@ fn camera(args: &RenderArgs, input: &Input, aspect: f32) -> Result<Camera> {
             .cloned()
             .unwrap_or_else(|| default_camera(scene, aspect)),
         (None, None) if yfov.is_some() => {
-            return Ok(scenefile::orbit_camera_up(
+            return Ok(scenefile::orbit_camera(
                 scene, aspect, 35.0, 25.0, None, yfov, up,
             ))
         }

@@ -52,7 +52,7 @@ mod tests;
 
 pub use compare::RgbImage;
 pub use compare::{compose, Comparison, Variant};
-pub use convert::{orbit_camera, orbit_camera_up, parse_light, LIGHT_SYNTAX};
+pub use convert::{orbit_camera, parse_light, LIGHT_SYNTAX};
 pub use schema::SceneDoc;
 pub use settings::{add_lights, shadow_every_light};
 

@@ -423,24 +423,11 @@ pub(super) fn check_primitive(s: &PrimitiveSpec) -> Result<(), String> {
     Ok(())
 }
 
-/// An orbit camera around `scene`'s bounds: from `azimuth` degrees around +Y and
-/// `elevation` degrees above the horizon; at `distance` (scene units) if given, else at
+/// An orbit camera around `scene`'s bounds: from `azimuth` degrees around the up axis `up`
+/// and `elevation` degrees above the horizon; at `distance` (scene units) if given, else at
 /// the distance that frames the bounding box. `yfov` in radians (default 45 degrees).
 #[must_use]
 pub fn orbit_camera(
-    scene: &Scene,
-    aspect: f32,
-    azimuth: f32,
-    elevation: f32,
-    distance: Option<f32>,
-    yfov: Option<f32>,
-) -> Camera {
-    orbit_camera_up(scene, aspect, azimuth, elevation, distance, yfov, Up::Y)
-}
-
-/// [`orbit_camera`] for a world whose up axis is `up` (the azimuth turns about it).
-#[must_use]
-pub fn orbit_camera_up(
     scene: &Scene,
     aspect: f32,
     azimuth: f32,
@@ -570,7 +557,7 @@ pub(super) fn camera(s: &CameraSpec, scene: &Scene, aspect: f32, up: Up) -> Resu
         c.fit(center, radius);
         c
     } else {
-        let mut c = orbit_camera_up(
+        let mut c = orbit_camera(
             scene,
             aspect,
             s.azimuth.map_or(35.0, |a| a as f32),
