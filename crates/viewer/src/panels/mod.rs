@@ -403,7 +403,7 @@ impl Panels {
             });
         egui::Panel::right("inspect")
             .resizable(true)
-            .default_size(400.0)
+            .default_size(300.0)
             .size_range(220.0..=520.0)
             .show(ui, |ui| {
                 // Wide rows (the probe's light shares) scroll sideways: growing the panel

@@ -31,17 +31,6 @@ fn settings_controls(s: &mut Settings, lab: &mut LabUi, uv: UvView, ui: &mut egu
         .response
         .accessible_name(format!("shading mode {}", id.to_uppercase()));
     ui.checkbox(&mut s.wireframe_overlay, "wireframe over shaded (E)");
-    let mut overdraw = s.output == Output::Overdraw;
-    if ui
-        .checkbox(&mut overdraw, "overdraw: fragments per pixel (O)")
-        .changed()
-    {
-        s.output = if overdraw {
-            Output::Overdraw
-        } else {
-            Output::Shaded
-        };
-    }
     ui.horizontal(|ui| {
         let label = ui.label("texture filter");
         egui::ComboBox::from_id_salt((id, "filter"))
@@ -57,8 +46,29 @@ fn settings_controls(s: &mut Settings, lab: &mut LabUi, uv: UvView, ui: &mut egu
     });
     super::textures::controls(s, lab, uv, ui, side);
     ui.checkbox(&mut s.double_sided, "every material double-sided");
+    // What the rasterizer does, for whoever studies it: one level down.
+    egui::CollapsingHeader::new("rasterizer")
+        .id_salt((id, "rasterizer"))
+        .show(ui, |ui| rasterizer_controls(s, ui));
+}
+
+/// The rasterizer's own controls of a side: overdraw view, vertex snap, multisampling.
+fn rasterizer_controls(s: &mut Settings, ui: &mut egui::Ui) {
+    let mut overdraw = s.output == Output::Overdraw;
+    if ui
+        .checkbox(&mut overdraw, "overdraw: fragments per pixel (O)")
+        .changed()
+    {
+        s.output = if overdraw {
+            Output::Overdraw
+        } else {
+            Output::Shaded
+        };
+    }
     ui.horizontal(|ui| {
-        let label = ui.label("sub-pixel bits");
+        let label = ui.label("sub-pixel bits").on_hover_text(
+            "fixed-point precision of the vertex snap: 8 (the default) is 1/256 pixel",
+        );
         let bits = super::edit::whole_range_of("subpixel_bits");
         let bits = *bits.start() as u8..=*bits.end() as u8;
         ui.add(egui::Slider::new(&mut s.subpixel_bits, bits))
@@ -140,15 +150,17 @@ impl ShadingPanel {
                 );
             }
         });
-        ui.separator();
-        ui.label("Rasterizer views");
-        ui.checkbox(&mut cx.shared.tile_grid, "64x64 tile grid (G)");
-        ui.horizontal(|ui| {
-            ui.label("tile cost (K)");
-            ui.selectable_value(&mut cx.shared.tile_cost, CostView::Off, "off");
-            ui.selectable_value(&mut cx.shared.tile_cost, CostView::Time, "time");
-            ui.selectable_value(&mut cx.shared.tile_cost, CostView::Fragments, "fragments");
-        });
+        egui::CollapsingHeader::new("rasterizer views")
+            .id_salt("rasterizer-views")
+            .show(ui, |ui| {
+                ui.checkbox(&mut cx.shared.tile_grid, "64x64 tile grid (G)");
+                ui.horizontal(|ui| {
+                    ui.label("tile cost (K)");
+                    ui.selectable_value(&mut cx.shared.tile_cost, CostView::Off, "off");
+                    ui.selectable_value(&mut cx.shared.tile_cost, CostView::Time, "time");
+                    ui.selectable_value(&mut cx.shared.tile_cost, CostView::Fragments, "fragments");
+                });
+            });
     }
 
     /// The split view section.
