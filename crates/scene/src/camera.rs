@@ -147,10 +147,9 @@ impl Camera {
         yfov: f32,
         up: Up,
     ) -> Self {
-        let to_y = up.to_y_up();
-        let (a, b) = (to_y * lo, to_y * hi);
-        let cam = Self::frame_box_fov(a.min(b), a.max(b), aspect, azimuth, elevation, yfov);
-        cam.turned(to_y.inverse())
+        let (lo, hi) = up.box_to_y_up(lo, hi);
+        let cam = Self::frame_box_fov(lo, hi, aspect, azimuth, elevation, yfov);
+        cam.turned(up.to_y_up().inverse())
     }
 
     /// The camera turned by `q` about the origin (eye, target and up).
@@ -376,6 +375,15 @@ impl Up {
             Up::Y => Quat::IDENTITY,
             Up::Z => Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2),
         }
+    }
+
+    /// The axis-aligned box `lo..hi` in the Y-up frame (exact: a quarter turn maps a box
+    /// onto a box).
+    #[must_use]
+    pub fn box_to_y_up(self, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+        let q = self.to_y_up();
+        let (a, b) = (q * lo, q * hi);
+        (a.min(b), a.max(b))
     }
 
     /// `y` or `z`.

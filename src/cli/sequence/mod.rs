@@ -337,15 +337,8 @@ fn frame_every_azimuth(base: &Camera, lo: Vec3, hi: Vec3, aspect: f32, n: u32, u
     if up != Up::Y {
         // In the Y-up frame, and turned back.
         let q = up.to_y_up();
-        let (a, b) = (q * lo, q * hi);
-        let c = frame_every_azimuth(
-            &base.clone().turned(q),
-            a.min(b),
-            a.max(b),
-            aspect,
-            n,
-            Up::Y,
-        );
+        let (lo, hi) = up.box_to_y_up(lo, hi);
+        let c = frame_every_azimuth(&base.clone().turned(q), lo, hi, aspect, n, Up::Y);
         return c.turned(q.inverse());
     }
     let center = (lo + hi) * 0.5;

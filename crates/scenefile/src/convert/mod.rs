@@ -439,9 +439,7 @@ pub fn orbit_camera(
     let (lo, hi) = scene.bounds().unwrap_or((Vec3::splat(-1.0), Vec3::ONE));
     let yfov = clamp_fov(yfov.unwrap_or(DEFAULT_YFOV));
     // Framed in the Y-up frame, turned back (the identity for Y).
-    let to_y = up.to_y_up();
-    let (a, b) = (to_y * lo, to_y * hi);
-    let (lo, hi) = (a.min(b), a.max(b));
+    let (lo, hi) = up.box_to_y_up(lo, hi);
     let (center, radius) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-6));
     let framed = Camera::frame_box_fov(lo, hi, aspect, azimuth, elevation, yfov);
     let cam = match distance {
@@ -452,10 +450,7 @@ pub fn orbit_camera(
             cam
         }
     };
-    match up {
-        Up::Y => cam,
-        Up::Z => cam.turned(to_y.inverse()),
-    }
+    cam.turned(up.to_y_up().inverse())
 }
 
 /// Checks a `[camera]` table without a model.

@@ -408,7 +408,7 @@ impl ViewerApp {
 
     /// Names the open file in the window's title when it changes.
     fn update_title(&mut self, ctx: &egui::Context) {
-        let title = if self.model.is_none() && self.scene.scene().instances.is_empty() {
+        let title = if super::panels::nothing_open(self.model.as_deref(), &self.scene) {
             "realist".to_owned()
         } else {
             format!("realist: {}", self.scene_name())

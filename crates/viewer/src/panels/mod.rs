@@ -220,7 +220,7 @@ impl Session<'_> {
     /// before the demo took its place).
     #[must_use]
     pub fn nothing_open(&self) -> bool {
-        self.model.is_none() && self.scene.scene().instances.is_empty()
+        nothing_open(self.model, self.scene)
     }
 
     /// The folder of the open file (where file pickers start).
@@ -228,6 +228,13 @@ impl Session<'_> {
     pub fn folder(&self) -> Option<&Path> {
         self.model.and_then(Path::parent)
     }
+}
+
+/// Nothing is open: no file, and the scene on screen is the empty one the viewer starts
+/// with while its first file loads.
+#[must_use]
+pub fn nothing_open(model: Option<&Path>, scene: &PreparedScene) -> bool {
+    model.is_none() && scene.scene().instances.is_empty()
 }
 
 /// What a panel asks of the session; the app does it after the UI pass, in order.
