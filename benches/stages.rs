@@ -119,6 +119,7 @@ impl FragmentShader for Lambert {
 fn draw_of<'a>(f: &'a Fixture, clip: &'a [Vec4]) -> Draw<'a> {
     Draw {
         id: 0,
+        sections: &[],
         clip,
         varyings: &f.varyings,
         stride: LitLayout::default().stride(),

@@ -117,6 +117,7 @@ fn coverage_is_the_samples_inside_by_the_top_left_rule() {
             .collect();
         let d = Draw {
             id: 0,
+            sections: &[],
             clip: &clip,
             varyings: &[],
             stride: 0,
@@ -161,6 +162,7 @@ fn depth_is_tested_per_sample() {
     let tris = [[0u32, 1, 2], [0, 2, 3]];
     let draws = [&flat, &slope].map(|clip| Draw {
         id: 0,
+        sections: &[],
         clip,
         varyings: &[],
         stride: 0,
@@ -202,6 +204,7 @@ fn disc_error(samples: u32) -> f64 {
     let tris: Vec<[u32; 3]> = (0..n).map(|k| [0, 1 + k, 1 + (k + 1) % n]).collect();
     let d = Draw {
         id: 0,
+        sections: &[],
         clip: &clip,
         varyings: &[],
         stride: 0,
@@ -286,6 +289,7 @@ fn every_readout_averages_the_samples() {
         .collect();
     let d = Draw {
         id: 1,
+        sections: &[],
         clip: &clip,
         varyings: &[],
         stride: 0,

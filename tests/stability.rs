@@ -101,6 +101,7 @@ fn draw_with(tri: &Tri, w: u32, h: u32, kernel: KernelKind) -> Vec<(f32, f32)> {
     let mut target = Target::new(w, h, Vec4::ZERO);
     let d = Draw {
         id: 0,
+        sections: &[],
         clip: &clip,
         varyings: &tri.attr,
         stride: 1,
@@ -391,6 +392,7 @@ fn coplanar_triangles_resolve_depth_deterministically() {
         let tris = [[0, 1, 2], [0, 1, 2]];
         let d = Draw {
             id: 0,
+            sections: &[],
             clip: &clip,
             varyings: &t.attr,
             stride: 1,

@@ -2700,3 +2700,176 @@ fn a_text_file_named_obj_is_an_error_and_the_scene_and_recent_list_stay() {
     assert_eq!(recent_list(&dir), recent, "not in Recent");
     assert_eq!(differing(&shown_image(&h), &frame), 0, "the frame stays");
 }
+
+// Measurement and section planes (issue 36).
+
+/// A cube of side 2 centred at the origin, as an OBJ.
+const CUBE: &str =
+    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+
+/// The cube's corners.
+fn cube_corners() -> Vec<Vec3> {
+    (0..8)
+        .map(|i| {
+            Vec3::new(
+                if i & 1 == 0 { -1.0 } else { 1.0 },
+                if i & 2 == 0 { -1.0 } else { 1.0 },
+                if i & 4 == 0 { -1.0 } else { 1.0 },
+            )
+        })
+        .collect()
+}
+
+/// Where world point `p` shows on the screen, moved `inward` points towards where the
+/// origin shows (so a click on a silhouette corner lands on the model).
+fn on_screen(h: &App, p: Vec3, inward: f32) -> Pos2 {
+    let app = h.state();
+    let s = app.shown.as_ref().expect("a frame");
+    let proj = Projector::new(&s.view, app.viewport.rect);
+    let (at, centre) = (proj.point(p).unwrap(), proj.point(Vec3::ZERO).unwrap());
+    at + (centre - at).normalized() * inward
+}
+
+#[test]
+fn measure_distances_and_an_angle_on_a_cube_with_snapping() {
+    use realist::render::measure::Snap;
+    let dir = temp_dir("measure");
+    std::fs::write(dir.join("cube.obj"), CUBE).unwrap();
+    let mut h = viewer(Some(dir.join("cube.obj")), &dir, 1);
+    activate(&mut h, "Measure");
+    activate(&mut h, "pick points with a click");
+    assert!(h.state().shared.measure.on);
+    // The corner nearest the eye and two of its neighbours (all three in view).
+    let eye = h.state().shown.as_ref().unwrap().view.camera.eye;
+    let corners = cube_corners();
+    let near = *corners
+        .iter()
+        .min_by(|a, b| a.distance(eye).total_cmp(&b.distance(eye)))
+        .unwrap();
+    let n1 = near - Vec3::new(2.0 * near.x.signum(), 0.0, 0.0);
+    let n2 = near - Vec3::new(0.0, 0.0, 2.0 * near.z.signum());
+    for p in [n1, near, n2] {
+        // Four points off the corner: the click snaps to it.
+        let at = on_screen(&h, p, 4.0);
+        click_at(&mut h, at);
+    }
+    let app = h.state();
+    let m = &app.shared.measure;
+    assert!(app.shared.probe.is_none(), "measuring does not probe");
+    assert_eq!(m.points.len(), 3);
+    for (p, want) in m.points.iter().zip([n1, near, n2]) {
+        assert_eq!(p.snap, Snap::Vertex, "{p:?}");
+        assert_eq!(p.position, want);
+    }
+    assert_eq!(m.distances(), vec![2.0, 2.0]);
+    assert!((m.angle().unwrap() - 90.0).abs() < 1e-9, "{:?}", m.angle());
+    let text = m.text(h.state().scene.bounds());
+    assert!(
+        text.contains("AB = 2\n")
+            && text.contains("BC = 2\n")
+            && text.contains("angle ABC = 90°")
+            && text.contains("bounding box 2 x 2 x 2, diagonal 3.4641"),
+        "{text}"
+    );
+    // A fourth click starts again: near the middle of an edge it snaps onto the edge.
+    let mid = (near + n1) * 0.5;
+    let at = on_screen(&h, mid, 3.0);
+    click_at(&mut h, at);
+    let m = &h.state().shared.measure;
+    assert_eq!(m.points.len(), 1);
+    let p = m.points[0];
+    assert_eq!(p.snap, Snap::Edge, "{p:?}");
+    // On the edge from near to n1: its other two coordinates are the corner's.
+    assert!(
+        (p.position.y - near.y).abs() < 1e-4 && (p.position.z - near.z).abs() < 1e-4,
+        "{p:?}"
+    );
+    assert!((p.position.x - mid.x).abs() < 0.1, "{p:?}");
+    // Far from any edge (the middle of a face, as drawn): the surface point.
+    let face = Vec3::new(0.4 * near.x, near.y, 0.0);
+    let at = on_screen(&h, face, 0.0);
+    click_at(&mut h, at);
+    let p = h.state().shared.measure.points[1];
+    assert_eq!(p.snap, Snap::Surface, "{p:?}");
+    assert!(
+        (p.position.y - near.y).abs() < 1e-4,
+        "on the top or bottom face: {p:?}"
+    );
+    // Measuring off: a click probes again.
+    activate(&mut h, "pick points with a click");
+    let at = on_screen(&h, face, 0.0);
+    click_at(&mut h, at);
+    assert!(h.state().shared.probe.is_some());
+    assert_eq!(h.state().shared.measure.points.len(), 2, "kept");
+}
+
+#[test]
+fn a_section_plane_from_the_panel_cuts_the_view_and_follows_the_split() {
+    let dir = temp_dir("section");
+    std::fs::write(dir.join("cube.obj"), CUBE).unwrap();
+    let mut h = viewer(Some(dir.join("cube.obj")), &dir, 1);
+    let before = shown_image(&h);
+    activate(&mut h, "Section planes");
+    activate(&mut h, "add a plane");
+    {
+        let app = h.state();
+        assert_eq!(
+            app.settings.sections.planes,
+            vec![glam::Vec4::new(1.0, 0.0, 0.0, 0.0)]
+        );
+        assert_eq!(
+            app.split.b.sections, app.settings.sections,
+            "side B follows"
+        );
+        assert_current_frame(app);
+    }
+    assert_frame_changed(h.state(), &before, "a plane through the middle");
+    // The cap colour shows where the cube's inside is seen.
+    let cap = realist::render::Sections::CAP;
+    let enc = realist::color::srgb8;
+    let want = [enc(cap.x), enc(cap.y), enc(cap.z)];
+    let img = shown_image(&h);
+    let caps = img
+        .pixels
+        .iter()
+        .filter(|c| [c.r(), c.g(), c.b()] == want)
+        .count();
+    assert!(caps > 500, "{caps} cap pixels");
+    // Removing it restores the first frame.
+    activate(&mut h, "remove plane");
+    assert!(h.state().settings.sections.is_empty());
+    assert_eq!(differing(&shown_image(&h), &before), 0);
+}
+
+#[test]
+fn keys_toggle_measuring_the_axes_and_full_screen() {
+    let dir = temp_dir("keys-measure");
+    let mut h = viewer(None, &dir, 1);
+    assert!(h.state().shared.axes, "the axes are shown by default");
+    let before = shown_image(&h);
+    for (key, what) in [
+        (Key::D, "measure"),
+        (Key::X, "axes"),
+        (Key::F11, "full screen"),
+    ] {
+        h.key_press(key);
+        h.run();
+        let s = &h.state().shared;
+        let on = match what {
+            "measure" => s.measure.on,
+            "axes" => !s.axes,
+            _ => s.fullscreen,
+        };
+        assert!(on, "{what} toggled");
+    }
+    assert!(
+        h.state().fullscreen_sent,
+        "the window was asked to fill the screen"
+    );
+    // The axes are drawn over the frame, not into it.
+    assert_eq!(differing(&shown_image(&h), &before), 0);
+    h.key_press(Key::F11);
+    h.run();
+    assert!(!h.state().shared.fullscreen && !h.state().fullscreen_sent);
+}

@@ -214,6 +214,12 @@ fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
             path.display()
         );
     }
+    if !settings.sections.is_empty() {
+        eprintln!(
+            "note: {}: section planes are not in the f64 reference; measured without them",
+            path.display()
+        );
+    }
     if file.doc.compare.is_some() {
         eprintln!(
             "note: {}: [compare] is ignored; the sweep compares its own settings",

@@ -1,5 +1,6 @@
-//! `realist info`: the load report, the topology of every mesh (with its points and
-//! lines), the scenes of the file (`--scene N` reports another), the cameras and lights.
+//! `realist info`: the load report, the bounds of what is drawn, the topology of every mesh
+//! (with its points and lines), the scenes of the file (`--scene N` reports another), the
+//! cameras and lights.
 
 use anyhow::Result;
 
@@ -129,9 +130,16 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
     let total = |f: fn(&realist::mesh::TopologyReport) -> usize| -> usize {
         topologies.iter().map(f).sum()
     };
+    // The world-space box of what is drawn (the default pose), in the file's units (glTF:
+    // metres).
+    let bounds = scene.bounds();
     if args.json {
         let json = serde_json::json!({
             "report": scene.report,
+            "bounds": bounds.map(|(lo, hi)| serde_json::json!({
+                "min": lo.to_array(), "max": hi.to_array(), "size": (hi - lo).to_array(),
+                "center": ((lo + hi) * 0.5).to_array(), "diagonal": (hi - lo).length(),
+            })),
             "instances": scene.instances.len(),
             "materials": scene.materials.len(),
             "textures": scene.textures.len(),
@@ -159,6 +167,22 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
         scene.textures.len(),
         scene.cameras.len()
     );
+    match bounds {
+        Some((lo, hi)) => {
+            let size = hi - lo;
+            say!(
+                "  bounds: min ({}, {}, {}), max ({}, {}, {}); size {} x {} x {}, diagonal {} (in the \
+                 file's units{})",
+                lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, size.x, size.y, size.z, size.length(),
+                if matches!(scene.report.format.as_str(), "glTF" | "GLB") {
+                    ": metres"
+                } else {
+                    ""
+                }
+            );
+        }
+        None => say!("  bounds: none (nothing to draw)"),
+    }
     say!(
         "  {} vertices, {} edges, {} facets in total",
         total(|t| t.vertices),

@@ -1,12 +1,13 @@
 //! The lighting flags shared by `render` and `bench frame`: fog, tone mapping, shadows,
-//! the ground plane and extra lights. Each flag given overrides the scene file.
+//! the ground plane, extra lights and section planes. Each flag given overrides the scene
+//! file.
 
 use anyhow::Result;
 use clap::Args;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 use realist::render::numeric;
-use realist::render::{Environment, Ground, Settings, ToneMap};
+use realist::render::{Environment, Ground, Sections, Settings, ToneMap};
 use realist::scene::Light;
 use realist::scenefile;
 use realist::shade::{Fog, FogDistance};
@@ -65,6 +66,48 @@ pub(crate) struct LightingArgs {
     #[arg(long = "light", value_name = "KIND[:KEY=VALUE]...", value_parser = scenefile::parse_light,
           long_help = light_help(), allow_hyphen_values = true)]
     pub lights: Vec<Light>,
+    /// Cut the model open with the plane NX*x + NY*y + NZ*z + D = 0, removing the side the
+    /// normal points away from (repeatable, up to 3 planes; replaces the scene file's). Where
+    /// a solid's inside shows, the cut is filled with the cap colour. E.g. `--section
+    /// 1,0,0,0` removes everything at x < 0.
+    #[arg(long = "section", value_name = "NX,NY,NZ,D", allow_hyphen_values = true,
+          value_parser = Sections::parse_plane)]
+    pub sections: Vec<Vec4>,
+    /// The section caps' colour: R,G,B (linear, 0 to 1) or #rrggbb (sRGB), or `none` to leave
+    /// the cut open (default #db6050).
+    #[arg(long, value_name = "COLOUR|none", value_parser = parse_cap)]
+    pub section_cap: Option<Cap>,
+}
+
+/// `--section-cap`: a colour, or none.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Cap(Option<Vec3>);
+
+fn parse_cap(s: &str) -> Result<Cap, String> {
+    if s.eq_ignore_ascii_case("none") || s.eq_ignore_ascii_case("off") {
+        return Ok(Cap(None));
+    }
+    parse_colour(s)
+        .filter(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0)
+        .map(|c| Cap(Some(c)))
+        .ok_or_else(|| format!("--section-cap {s}: expected R,G,B in 0..1, #rrggbb or none"))
+}
+
+/// `R,G,B` (linear) or `#rrggbb` (sRGB) as linear RGB.
+fn parse_colour(s: &str) -> Option<Vec3> {
+    if s.starts_with('#') {
+        let c = realist::overlay::Color::hex(s)?;
+        let lin = realist::color::srgb8_decode;
+        return Some(Vec3::new(lin(c.r), lin(c.g), lin(c.b)));
+    }
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse().ok())
+        .collect::<Option<_>>()?;
+    match v[..] {
+        [r, g, b] => Some(Vec3::new(r, g, b)),
+        _ => None,
+    }
 }
 
 /// `--light`'s long help: what it does, then the syntax.
@@ -124,6 +167,17 @@ impl LightingArgs {
         if self.shadows {
             s.lights = scenefile::shadow_every_light(&s.lights, scene_lights);
         }
+        if !self.sections.is_empty() {
+            s.sections.planes.clear();
+            for &p in &self.sections {
+                s.sections
+                    .push(p)
+                    .map_err(|err| anyhow::anyhow!("--section: {err}"))?;
+            }
+        }
+        if let Some(Cap(c)) = self.section_cap {
+            s.sections.cap = c;
+        }
         Ok(())
     }
 }
@@ -154,10 +208,7 @@ pub(crate) fn parse_fog(s: &str) -> Result<Fog, String> {
     match rest {
         [] => {}
         [hex] if hex.starts_with('#') => {
-            let c = realist::overlay::Color::hex(hex)
-                .ok_or_else(|| format!("--fog: bad colour '{hex}'"))?;
-            let lin = realist::color::srgb8_decode;
-            fog.color = Vec3::new(lin(c.r), lin(c.g), lin(c.b));
+            fog.color = parse_colour(hex).ok_or_else(|| format!("--fog: bad colour '{hex}'"))?;
         }
         [r, g, b] => fog.color = Vec3::new(num(r)?, num(g)?, num(b)?),
         _ => {

@@ -575,13 +575,17 @@ fn render_in(args: &RenderArgs) -> Result<()> {
 /// What a written image says about its settings (the PNG's `Description`).
 fn describe(s: &Settings) -> String {
     let shading = s.shading.map_or("per instance", |m| m.name());
-    format!(
+    let mut d = format!(
         "shading {shading}, exposure {} EV, tone {}, {} sample(s) per side, msaa {}",
         s.exposure,
         s.tone.name(),
         s.samples,
         s.msaa
-    )
+    );
+    for p in &s.sections.planes {
+        d += &format!(", section {},{},{},{}", p.x, p.y, p.z, p.w);
+    }
+    d
 }
 
 /// Writes 8-bit sRGB RGB: a PNG through realist's one writer (naming the model it shows and

@@ -66,8 +66,64 @@ impl ClipVertex {
     }
 }
 
-/// Most vertices a clipped triangle can have: each of the six planes adds at most one.
-pub(crate) const MAX_POLY: usize = 3 + 6;
+/// Most section planes a draw can carry ([`crate::Draw::sections`]).
+pub const MAX_SECTIONS: usize = 3;
+
+/// Most vertices a clipped triangle can have: each of the six frustum planes and each
+/// section plane adds at most one.
+pub(crate) const MAX_POLY: usize = 3 + 6 + MAX_SECTIONS;
+
+/// Bit `k` set when `p` is on the removed side of section plane `k` (`dot(plane, p) < 0`;
+/// a non-finite distance removes nothing here, the triangle is culled later).
+#[inline(always)]
+pub(crate) fn section_code(p: Vec4, planes: &[Vec4]) -> u8 {
+    let mut code = 0;
+    for (k, plane) in planes.iter().enumerate() {
+        if plane.dot(p) < 0.0 {
+            code |= 1 << k;
+        }
+    }
+    code
+}
+
+/// Clips a convex polygon against the section planes whose bits are set in `need`, keeping
+/// the side where `dot(plane, p) >= 0`. Like the frustum planes, an intersection is computed
+/// in f64 from the inside vertex towards the outside one, so two triangles sharing a cut
+/// edge get the identical new vertex.
+pub(crate) fn clip_sections(poly: Poly, planes: &[Vec4], need: u8) -> Poly {
+    let mut poly = poly;
+    let mut out = poly;
+    for (k, plane) in planes.iter().enumerate() {
+        if need & (1 << k) == 0 {
+            continue;
+        }
+        out.n = 0;
+        let stride = poly.stride;
+        let l = plane.as_dvec4();
+        crate::geom::clip_polygon(
+            poly.as_slice(),
+            |v| plane.dot(v.pos) >= 0.0,
+            |i, o| {
+                let (pi, po) = (i.pos.as_dvec4(), o.pos.as_dvec4());
+                lerp(
+                    i,
+                    o,
+                    pi,
+                    po,
+                    crate::geom::crossing(l.dot(pi), l.dot(po)),
+                    stride,
+                )
+            },
+            &mut out,
+        );
+        std::mem::swap(&mut poly, &mut out);
+        if poly.n < 3 {
+            poly.n = 0;
+            return poly;
+        }
+    }
+    poly
+}
 
 /// A convex polygon of at most [`MAX_POLY`] vertices, on the stack: clipping allocates
 /// nothing, so a frame that clips triangles allocates nothing either.
@@ -154,7 +210,19 @@ pub(crate) fn clip_polygon(poly: Poly, planes: u8, g: Vec2) -> Poly {
 fn intersect(i: &ClipVertex, o: &ClipVertex, plane: u8, g: Vec2, stride: usize) -> ClipVertex {
     let (pi, po) = (i.pos.as_dvec4(), o.pos.as_dvec4());
     let (di, d_o) = (distance64(pi, plane, g), distance64(po, plane, g));
-    let t = crate::geom::crossing(di, d_o);
+    lerp(i, o, pi, po, crate::geom::crossing(di, d_o), stride)
+}
+
+/// The vertex at `t` from `i` (at `pi`) towards `o` (at `po`).
+#[inline]
+fn lerp(
+    i: &ClipVertex,
+    o: &ClipVertex,
+    pi: glam::DVec4,
+    po: glam::DVec4,
+    t: f64,
+    stride: usize,
+) -> ClipVertex {
     let tf = t as f32;
     let mut var = i.var;
     for (v, w) in var[..stride].iter_mut().zip(&o.var[..stride]) {

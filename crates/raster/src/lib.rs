@@ -49,6 +49,7 @@ use crate::simd::{Lane, Level, F8, LANES};
 
 use framebuffer::Tile;
 
+pub use clip::MAX_SECTIONS;
 pub use framebuffer::{sample_offsets, DepthCopy, Framebuffer, Target, SAMPLE_COUNTS, TILE};
 pub use line::{draw_lines, draw_points, draw_wide_lines, LineStyle, StrokeStyle, MAX_STROKE_PX};
 pub use pipeline::{

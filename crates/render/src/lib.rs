@@ -33,6 +33,7 @@ use crate::raster::{Framebuffer, Stats, Target};
 use crate::scene::{Camera, Scene};
 
 mod frame;
+pub mod measure;
 mod numeric;
 mod passes;
 mod pool;
@@ -49,7 +50,9 @@ pub use numeric::{numeric, Numeric, Range, NUMERIC};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
-pub use settings::{Environment, Ground, Lights, Output, Settings, ToneMap, VertexLighting, View};
+pub use settings::{
+    Environment, Ground, Lights, Output, Sections, Settings, ToneMap, VertexLighting, View,
+};
 
 /// A one-shot frame: the [`Settings`], the size and the camera (`None`:
 /// [`default_camera`] for the scene). The settings are the viewer's and the scene files',

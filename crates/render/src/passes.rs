@@ -22,7 +22,7 @@ use crate::raster::{
 use crate::scene::Camera;
 use crate::shade::mode::Pass;
 use crate::shade::{
-    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader,
+    ColorShader, Constant, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader,
 };
 
 /// Everything a pass reads and writes.
@@ -47,6 +47,9 @@ pub(super) struct Cx<'a> {
     /// Draw each instance's triangles back to front (blended instances, whose triangles
     /// may overlap each other).
     pub sort: bool,
+    /// The section planes in this pass's clip space (empty: nothing is cut; always empty
+    /// for shadow maps).
+    pub sections: &'a [Vec4],
 }
 
 /// Which positions a group's draws use.
@@ -68,6 +71,7 @@ struct GroupDraws<'a> {
     var: &'a [f32],
     geometry: Geometry,
     state: fn(DrawState) -> DrawState,
+    sections: &'a [Vec4],
 }
 
 impl DrawList for GroupDraws<'_> {
@@ -96,6 +100,12 @@ impl DrawList for GroupDraws<'_> {
                 &self.sorted[first..first + mesh.tri.triangles.len()]
             },
             state: (self.state)(fi.state),
+            // The ground plane is never cut.
+            sections: if self.scene.instances[fi.inst as usize].ground {
+                &[]
+            } else {
+                self.sections
+            },
         }
     }
 }
@@ -193,6 +203,7 @@ fn group_with<S: raster::FragmentShader>(
         var,
         geometry,
         state,
+        sections: if cx.light.is_none() { cx.sections } else { &[] },
     };
     let done = raster::draw_list(
         cx.target, &list, shader, cx.stats, cx.bins, scratch, cx.stop,
@@ -246,6 +257,9 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     }) {
         return false;
     }
+    if !caps(cx, fdr) {
+        return false;
+    }
     let wire = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass == Pass::Edges;
     let mut depth = std::mem::take(&mut fd.depth);
     let mut done = wireframe(cx, fd, &wire, false, &mut depth);
@@ -269,11 +283,84 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     done
 }
 
-/// The frame's points and lines and their vertex colours, kept in the pool between frames.
+/// The frame's points and lines and their vertex colours, kept in the pool between frames,
+/// and what is left of them after the section planes.
 #[derive(Default)]
 struct StrokeScratch {
     clip: Vec<Vec4>,
     colors: Vec<Vec4>,
+    cut: Cut,
+}
+
+/// Points and lines cut by section planes: the kept ones, with the new ends of the lines
+/// crossing a plane appended to the positions (and colours).
+#[derive(Default)]
+struct Cut {
+    lines: Vec<[u32; 2]>,
+    points: Vec<u32>,
+}
+
+impl Cut {
+    /// Cuts `lines` and `points` of `clip` by `planes` (clip space, kept where
+    /// `dot(plane, p) >= 0`), appending each new end to `clip` and, when given, its
+    /// interpolated colour to `colors`.
+    fn cut(
+        &mut self,
+        planes: &[Vec4],
+        clip: &mut Vec<Vec4>,
+        mut colors: Option<&mut Vec<Vec4>>,
+        lines: &[[u32; 2]],
+        points: &[u32],
+    ) {
+        self.lines.clear();
+        self.points.clear();
+        let kept = |p: Vec4| planes.iter().all(|l| l.dot(p) >= 0.0);
+        self.points.extend(
+            points
+                .iter()
+                .filter(|&&i| clip.get(i as usize).is_some_and(|&p| kept(p))),
+        );
+        for &[i, j] in lines {
+            let (Some(&a), Some(&b)) = (clip.get(i as usize), clip.get(j as usize)) else {
+                continue;
+            };
+            // The part of a..b on the kept side of every plane: t in [t0, t1].
+            let (mut t0, mut t1) = (0.0f32, 1.0f32);
+            for l in planes {
+                let (da, db) = (l.dot(a), l.dot(b));
+                if da < 0.0 && db < 0.0 {
+                    t1 = -1.0;
+                    break;
+                }
+                if da < 0.0 {
+                    t0 = t0.max(da / (da - db));
+                } else if db < 0.0 {
+                    t1 = t1.min(da / (da - db));
+                }
+            }
+            if t0.is_nan() || t1.is_nan() || t0 > t1 {
+                continue;
+            }
+            // The end at t: an existing vertex, or a new one.
+            let mut end = |t: f32| -> u32 {
+                if t == 0.0 {
+                    return i;
+                }
+                if t == 1.0 {
+                    return j;
+                }
+                clip.push(a + (b - a) * t);
+                if let Some(c) = colors.as_deref_mut() {
+                    let (ca, cb) = (c[i as usize], c[j as usize]);
+                    c.push(ca + (cb - ca) * t);
+                }
+                (clip.len() - 1) as u32
+            };
+            let e0 = end(t0);
+            let e1 = end(t1);
+            self.lines.push([e0, e1]);
+        }
+    }
 }
 
 /// The points and lines of every visible instance that has some, after the opaque
@@ -316,9 +403,15 @@ fn strokes(cx: &mut Cx, fd: &FrameData) -> bool {
             size: fd.line_width,
             blend: fi.blend,
         };
-        let StrokeScratch { clip, colors } = &*s;
-        raster::draw_points(cx.target, clip, colors, &tri.points, &point, cx.stats);
-        raster::draw_wide_lines(cx.target, clip, colors, &tri.lines, &line, cx.stats);
+        let StrokeScratch { clip, colors, cut } = &mut *s;
+        let (points, lines) = if cx.sections.is_empty() {
+            (&tri.points[..], &tri.lines[..])
+        } else {
+            cut.cut(cx.sections, clip, Some(colors), &tri.lines, &tri.points);
+            (&cut.points[..], &cut.lines[..])
+        };
+        raster::draw_points(cx.target, clip, colors, points, &point, cx.stats);
+        raster::draw_wide_lines(cx.target, clip, colors, lines, &line, cx.stats);
     }
     cx.pool.put(s);
     done
@@ -466,6 +559,43 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
     true
 }
 
+/// The caps of the section planes: the back faces of the cut opaque instances, drawn in
+/// the cap colour where they are at least as near as what is drawn (so they replace the
+/// lit back faces of double-sided materials too). Seen only through a cut, or on an open
+/// surface seen from behind. Returns false if stopped.
+fn caps(cx: &mut Cx, fd: &FrameData) -> bool {
+    let Some(color) = fd.cap.filter(|_| !cx.sections.is_empty()) else {
+        return true;
+    };
+    let scene = cx.scene;
+    let cut = |_: usize, fi: &FrameInst| {
+        !fi.blend
+            && fi.tris
+            && fi.mode.mode().pass != Pass::Edges
+            && !scene.instances[fi.inst as usize].ground
+    };
+    let (done, g) = group_with(
+        cx,
+        &fd.insts,
+        &cut,
+        Geometry::Indexed,
+        &mut |fi, out| vertex::unit(scene, fi, out),
+        &Constant(color),
+        |s| DrawState {
+            cull: Cull::Front,
+            depth_test: raster::DepthTest::GreaterEqual,
+            depth_write: true,
+            blend: raster::Blend::Replace,
+            color_write: true,
+            depth_offset: 0.0,
+            facing_varyings: false,
+            ..s
+        },
+    );
+    cx.pool.put(g);
+    done
+}
+
 /// Flat shading's per-facet colours, kept in the pool between frames.
 #[derive(Default)]
 struct FacetScratch(Vec<Vec4>);
@@ -544,6 +674,7 @@ fn wireframe(
     );
     *cx.stats = saved;
     cx.target.restore_depth(depth);
+    let mut cut_scratch = cx.pool.take::<StrokeScratch>();
     if done {
         for it in &g.items {
             let fi = &fd.insts[it.inst as usize];
@@ -565,9 +696,18 @@ fn wireframe(
             }
             let clip = &g.clip[it.start as usize..(it.start + it.len) as usize];
             let edges = scene.wire(fi.mesh as usize);
-            raster::draw_lines(cx.target, Some(depth), clip, edges, &style, cx.stats);
+            if cx.sections.is_empty() || scene.instances[fi.inst as usize].ground {
+                raster::draw_lines(cx.target, Some(depth), clip, edges, &style, cx.stats);
+            } else {
+                let StrokeScratch { clip: c, cut, .. } = &mut *cut_scratch;
+                c.clear();
+                c.extend_from_slice(clip);
+                cut.cut(cx.sections, c, None, edges, &[]);
+                raster::draw_lines(cx.target, Some(depth), c, &cut.lines, &style, cx.stats);
+            }
         }
     }
     cx.pool.put(g);
+    cx.pool.put(cut_scratch);
     done
 }

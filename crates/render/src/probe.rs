@@ -7,7 +7,8 @@
 //! [`crate::shade::illuminate`] sums) once per light, so each light's diffuse and specular
 //! share after attenuation, cone and shadow is exact and the shares add up to the shaded
 //! colour. Shadows are found by a shadow ray towards the light (exact; the rendered
-//! shadow map approximates it).
+//! shadow map approximates it). Hits cut away by section planes are passed over, and a
+//! cut's cap is the back face seen through it.
 
 use glam::{DVec3, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -359,13 +360,13 @@ pub fn probe(
 
 /// The nearest hit of a ray.
 #[derive(Clone, Copy, Debug)]
-struct Hit {
+pub(crate) struct Hit {
     /// Ray parameter: 0 at the near plane, 1 at the far plane.
-    t: f64,
-    instance: usize,
-    triangle: usize,
-    bary: Vec3,
-    front: bool,
+    pub t: f64,
+    pub instance: usize,
+    pub triangle: usize,
+    pub bary: Vec3,
+    pub front: bool,
 }
 
 /// The world bounding sphere of the whole scene (centre, radius).
@@ -376,9 +377,10 @@ fn scene_sphere(scene: &PreparedScene) -> (Vec3, f32) {
     }
 }
 
-/// Casts the segment `near -> far` (world space) against every instance; with `cull`,
-/// back faces are skipped where the rasterizer culls them (a shadow ray sees both sides).
-fn cast(
+/// Casts the segment `near -> far` (world space) against every instance; with `cull` (a
+/// camera ray), back faces are skipped where the rasterizer culls them and hits cut away by
+/// section planes are passed over (a shadow ray sees both sides of the whole model).
+pub(crate) fn cast(
     scene: &PreparedScene,
     settings: &Settings,
     near: DVec3,
@@ -404,7 +406,19 @@ fn cast(
         if (o + d * t_closest - cen).length() > f64::from(tri.radius) * (1.0 + 1e-6) + 1e-9 {
             continue;
         }
-        let cull_back = cull && resolve(scene, settings, inst).state.cull == Cull::Back;
+        // Section planes cut what the camera sees (not shadow rays: the whole model casts
+        // shadows), everything but the ground; their caps are back faces.
+        let sections: &[Vec4] = if inst.ground || !cull {
+            &[]
+        } else {
+            &settings.sections.planes
+        };
+        let capped = !sections.is_empty() && settings.sections.cap.is_some();
+        let kept = |t: f64| {
+            let p = (near + (far - near) * t).as_vec3().extend(1.0);
+            sections.iter().all(|l| l.dot(p) >= 0.0)
+        };
+        let cull_back = cull && !capped && resolve(scene, settings, inst).state.cull == Cull::Back;
         let limit = best.map_or(1.0, |b| b.t);
         let found = tri
             .triangles
@@ -415,7 +429,7 @@ fn cast(
                 let [a, b, c] = t.map(|v| tri.positions[v as usize].as_dvec3());
                 intersect(o, d, a, b, c, cull_back).map(|(t, bary, front)| (t, k, bary, front))
             })
-            .filter(|h| h.0 <= limit)
+            .filter(|h| h.0 <= limit && kept(h.0))
             .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
         if let Some((t, k, bary, front)) = found {
             if best.is_none_or(|b| t < b.t) {

@@ -200,6 +200,8 @@ impl Renderer {
                         .extend(1.0)
                 });
             }
+            let mut planes = [Vec4::ZERO; crate::Sections::MAX];
+            let sections = settings.sections.to_clip(jitter * vp, &mut planes);
             let mut cx = Cx {
                 scene,
                 camera,
@@ -214,6 +216,7 @@ impl Renderer {
                 vertex_nanos: 0,
                 light: None,
                 sort: false,
+                sections: &planes[..sections],
             };
             let done = if k < passes {
                 let overdraw = settings.output == Output::Overdraw;

@@ -68,6 +68,7 @@ impl ShadowTargets {
                 vertex_nanos: 0,
                 light: Some(vp),
                 sort: false,
+                sections: &[],
             };
             let casters = std::mem::take(&mut fd.casters);
             let done = passes::shadow_depth(&mut cx, fd, &casters);

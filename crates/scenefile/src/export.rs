@@ -6,7 +6,7 @@ use glam::{Vec3, Vec4};
 
 use super::schema::{
     AlphaKind, AttenuationMode, AttenuationSpec, CameraSpec, FogSpec, GroundSpec, Kw, LightSpec,
-    LightsMode, MaterialSpec, Rgba, SceneDoc, ShadowSpec,
+    LightsMode, MaterialSpec, Rgba, SceneDoc, SectionSpec, ShadowSpec,
 };
 use super::ModelSource;
 use crate::render::{Environment, Lights, Output, Settings, View};
@@ -191,6 +191,16 @@ pub(super) fn doc(
         on: Some(true),
         color: Some(rgb(g.color)),
         extent: Some(tidy(g.extent)),
+    });
+    d.section = (!s.sections.is_empty()).then(|| SectionSpec {
+        planes: s
+            .sections
+            .planes
+            .iter()
+            .map(|p| p.to_array().map(tidy))
+            .collect(),
+        caps: Some(s.sections.cap.is_some()),
+        cap_color: s.sections.cap.map(rgb),
     });
     (d, notes)
 }

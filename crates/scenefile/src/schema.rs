@@ -331,6 +331,8 @@ pub struct SceneDoc {
     pub shadow: Option<ShadowSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ground: Option<GroundSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<SectionSpec>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub light: Vec<LightSpec>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -480,6 +482,20 @@ pub struct FogSpec {
     pub far: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub distance: Option<Kw<FogDistance>>,
+}
+
+/// `[section]`: planes that cut the model open, `[nx, ny, nz, d]` each (what lies where
+/// `n·p + d < 0` is removed), at most three; `caps` (default true) fills the cut where a
+/// solid's inside shows, in `cap_color`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionSpec {
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub planes: Vec<[f64; 4]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub caps: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cap_color: Option<Rgba>,
 }
 
 /// `[shadow]`.

@@ -6,7 +6,7 @@ use super::schema::LightsMode;
 use super::{
     ModelSource, SceneFile, SceneFileError, MAX_LIGHTS, MAX_PIXELS, MAX_SIDE, MAX_VARIANTS,
 };
-use crate::render::{Environment, Ground, Lights, Output, Settings, VertexLighting};
+use crate::render::{Environment, Ground, Lights, Output, Sections, Settings, VertexLighting};
 use crate::scene::{Light, Scene, Slot, SlotOverride, SlotOverrides, TextureSource};
 use crate::shade::{Fog, ShadowSettings};
 
@@ -320,7 +320,33 @@ impl SceneFile {
             };
             s.ground = g.on.unwrap_or(true).then_some(ground);
         }
+        if let Some(sec) = &d.section {
+            s.sections = self.sections(sec)?;
+        }
         Ok(s)
+    }
+
+    /// `[section]` as settings.
+    fn sections(&self, sec: &super::schema::SectionSpec) -> Result<Sections, SceneFileError> {
+        let mut out = Sections::default();
+        for (i, p) in sec.planes.iter().enumerate() {
+            let key = format!("section.planes[{i}]");
+            let [x, y, z, d] = p.map(|v| v as f32);
+            Sections::plane(glam::Vec3::new(x, y, z), d)
+                .and_then(|pl| out.push(pl))
+                .map_err(|e| self.invalid(key, e))?;
+        }
+        if let Some(c) = &sec.cap_color {
+            out.cap = Some(
+                color("section.cap_color", c, 1.0, false)
+                    .map_err(|(key, reason)| self.invalid(key, reason))?
+                    .truncate(),
+            );
+        }
+        if sec.caps == Some(false) {
+            out.cap = None;
+        }
+        Ok(out)
     }
 
     fn check_compare(&self, c: &super::schema::CompareSpec) -> Result<(), SceneFileError> {

@@ -43,8 +43,8 @@ pub use lighting::{
     IMAGE_SAMPLER, MAX_HALF_ANGLE,
 };
 pub use shaders::{
-    ColorShader, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout, LitShader,
-    SlotParams, TexView, UvChannel, MAX_UV_CHANNELS,
+    ColorShader, Constant, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout,
+    LitShader, SlotParams, TexView, UvChannel, MAX_UV_CHANNELS,
 };
 pub use shadow::{ShadowMap, ShadowSettings, MAX_SHADOW_SIZE, SHADOW_SIZE};
 

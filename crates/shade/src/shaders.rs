@@ -487,6 +487,22 @@ impl FragmentShader for CountShader {
     }
 }
 
+/// One linear-light RGBA colour for every fragment (the caps of section planes).
+pub struct Constant(pub Vec4);
+
+impl FragmentShader for Constant {
+    fn discards(&self, _: u32) -> bool {
+        false
+    }
+
+    fn shade(&self, b: &mut Batch) {
+        let c = Colors::splat(self.0);
+        for g in 0..b.len.min(GROUPS) {
+            b.out[g] = c;
+        }
+    }
+}
+
 /// Writes depth only (hidden-line pass of wireframe, centre-depth pass): the fill never
 /// calls it for a draw that writes no colour.
 pub struct DepthOnly;

@@ -94,6 +94,10 @@ pub fn canonical(s: &Settings) -> Settings {
     if let Some(g) = &mut s.ground {
         v3(&mut g.color);
     }
+    s.sections.planes.iter_mut().for_each(v4);
+    if let Some(c) = &mut s.sections.cap {
+        v3(c);
+    }
     // Every numeric setting, from its one description (exposure, the environment's turn
     // and strength, the fog's distances, ...).
     for n in NUMERIC {

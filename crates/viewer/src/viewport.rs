@@ -14,6 +14,7 @@ use eframe::egui::{
 use super::app::Shown;
 use super::navigate::pixel_to_ndc;
 use super::navigate::Navigator;
+use super::panels::measure::{self, SNAP_PIXELS};
 use super::panels::Cx;
 use super::panels::{CostView, ProbeView, Side};
 use crate::render::{self, Output, PreparedScene, Settings, View};
@@ -171,7 +172,11 @@ fn navigate(cx: &mut Cx<'_>, ui: &mut egui::Ui, resp: &egui::Response) {
         }
     } else if resp.clicked() {
         if let Some(p) = pos {
-            probe_at(cx, p);
+            if cx.shared.measure.on {
+                measure_at(cx, p);
+            } else {
+                probe_at(cx, p);
+            }
         }
     }
     *cx.interacting |= moved;
@@ -202,6 +207,27 @@ pub fn pick(cx: &Cx<'_>, p: Pos2) -> Option<glam::Vec3> {
     let (x, y) = frame_pixel(cx, p)?;
     let depth = *s.depth.get((y * s.view.width + x) as usize)?;
     render::unproject(&s.view, x as f32 + 0.5, y as f32 + 0.5, depth)
+}
+
+/// Picks the point under a screen point for measuring (side A's settings: its section
+/// planes), snapped to a vertex or an edge within [`SNAP_PIXELS`] frame pixels.
+pub fn measure_at(cx: &mut Cx<'_>, p: Pos2) {
+    let Some(s) = cx.session.shown else {
+        return;
+    };
+    let r = cx.viewport.rect;
+    let u = (p - r.min) / r.size();
+    if !(0.0..1.0).contains(&u.x) || !(0.0..1.0).contains(&u.y) {
+        return;
+    }
+    let (x, y) = (u.x * s.view.width as f32, u.y * s.view.height as f32);
+    // The snap radius in frame pixels, however large the frame is shown.
+    let scale = s.view.width as f32 / r.width().max(1.0);
+    let radius = SNAP_PIXELS * scale.max(1.0);
+    if let Some(pick) = render::measure::pick(cx.session.scene, cx.settings, &s.view, x, y, radius)
+    {
+        cx.shared.measure.add(pick);
+    }
 }
 
 /// Probes the pixel under a screen point with the settings of the half it is in.
@@ -322,6 +348,10 @@ fn paint(cx: &Cx<'_>, ui: &egui::Ui, rect: Rect) {
     if cx.settings.output == Output::Overdraw {
         overdraw_legend(&painter, rect);
     }
+    measurements(cx, &painter, &s.view, rect);
+    if cx.shared.axes {
+        axes(&painter, &s.view, rect);
+    }
     if let Some(pv) = &cx.shared.probe {
         if s.view.width == pv.frame_size[0] && s.view.height == pv.frame_size[1] {
             let c = rect.min
@@ -363,6 +393,84 @@ fn paint(cx: &Cx<'_>, ui: &egui::Ui, rect: Rect) {
             "drop a .obj, .gltf, .glb, .stl or .ply file to open it",
             FontId::proportional(22.0),
             Color32::WHITE,
+        );
+    }
+}
+
+/// The measured points, the segments between them with their lengths, and the angle.
+fn measurements(cx: &Cx<'_>, painter: &egui::Painter, view: &View, rect: Rect) {
+    let m = &cx.shared.measure;
+    if m.points.is_empty() {
+        return;
+    }
+    let proj = super::gizmos::Projector::new(view, rect);
+    let colour = Color32::from_rgb(255, 230, 60);
+    let stroke = Stroke::new(2.0, colour);
+    let label = |at: Pos2, text: String| {
+        let galley = painter.layout_no_wrap(text, FontId::monospace(13.0), Color32::BLACK);
+        let back = Rect::from_center_size(at, galley.size() + Vec2::splat(6.0));
+        painter.rect_filled(back, 3.0, colour);
+        painter.galley(back.min + Vec2::splat(3.0), galley, Color32::BLACK);
+    };
+    let distances = m.distances();
+    for (i, w) in m.points.windows(2).enumerate() {
+        if let Some([a, b]) = proj.segment(w[0].position, w[1].position) {
+            painter.line_segment([a, b], stroke);
+            label(
+                a + (b - a) * 0.5 + Vec2::new(0.0, -14.0),
+                measure::number(distances[i]),
+            );
+        }
+    }
+    for (i, p) in m.points.iter().enumerate() {
+        if let Some(at) = proj.point(p.position) {
+            painter.circle_filled(at, 4.0, colour);
+            painter.circle_stroke(at, 6.0, Stroke::new(1.0, Color32::BLACK));
+            let text = match (i, m.angle()) {
+                (1, Some(a)) => format!("B {}°", measure::number(a)),
+                _ => measure::name(i).to_string(),
+            };
+            label(at + Vec2::new(14.0, 12.0), text);
+        }
+    }
+}
+
+/// The world axes as the camera sees them, in the bottom-right corner: x red, y green,
+/// z blue, the nearer drawn last.
+fn axes(painter: &egui::Painter, view: &View, rect: Rect) {
+    const LENGTH: f32 = 28.0;
+    let origin = rect.right_bottom() + Vec2::new(-LENGTH - 16.0, -LENGTH - 16.0);
+    let v = view.camera.view();
+    let mut arms: Vec<(f32, Vec2, Color32, &str)> = [
+        (glam::Vec3::X, Color32::from_rgb(235, 70, 60), "x"),
+        (glam::Vec3::Y, Color32::from_rgb(90, 210, 80), "y"),
+        (glam::Vec3::Z, Color32::from_rgb(70, 130, 255), "z"),
+    ]
+    .into_iter()
+    .filter_map(|(axis, colour, name)| {
+        let d = v.transform_vector3(axis);
+        d.is_finite()
+            .then(|| (d.z, Vec2::new(d.x, -d.y) * LENGTH, colour, name))
+    })
+    .collect();
+    // Farthest first (view space looks down -z).
+    arms.sort_by(|a, b| a.0.total_cmp(&b.0));
+    painter.circle_filled(origin, LENGTH + 10.0, Color32::from_black_alpha(90));
+    for (_, d, colour, name) in arms {
+        painter.line_segment([origin, origin + d], Stroke::new(2.5, colour));
+        // An arm pointing at the camera has no direction on screen: its label beside it.
+        let off = if d.length() > 0.5 {
+            d.normalized() * 8.0
+        } else {
+            Vec2::new(7.0, -7.0)
+        };
+        let at = origin + d + off;
+        painter.text(
+            at,
+            Align2::CENTER_CENTER,
+            name,
+            FontId::proportional(13.0),
+            colour,
         );
     }
 }

@@ -48,6 +48,7 @@ fn render<S: FragmentShader>(clip: &[Vec4], var: &[Vec2], shader: &S) -> (Vec<Ve
     let mut stats = Stats::default();
     let d = Draw {
         id: 0,
+        sections: &[],
         clip,
         varyings: &flat,
         stride: 2,
@@ -255,6 +256,7 @@ fn deferred_shading_gives_the_forward_image() {
         let mut stats = Stats::default();
         let draws = [a, b, a].map(|t| Draw {
             id: if std::ptr::eq(t, b) { 1 } else { 0 },
+            sections: &[],
             clip: &clip,
             varyings: &var,
             stride: 2,
@@ -317,6 +319,7 @@ fn facing_varyings_keep_the_side_shown() {
         let mut target = Target::new(W, H, Vec4::ZERO);
         let d = Draw {
             id: 0,
+            sections: &[],
             clip: &ccw,
             varyings: &var,
             stride: 8,

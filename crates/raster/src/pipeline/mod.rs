@@ -7,7 +7,9 @@ use std::time::Instant;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use super::clip::{clip_polygon, outcode, ClipVertex, Poly};
+use super::clip::{
+    clip_polygon, clip_sections, outcode, section_code, ClipVertex, Poly, MAX_SECTIONS,
+};
 use super::fill::{FillFns, FillScratch};
 use super::framebuffer::{Target, TILE};
 use super::setup::{
@@ -114,6 +116,10 @@ pub struct Draw<'a> {
     /// Vertex indices; triangles with an index out of range are dropped as degenerate.
     pub triangles: &'a [[u32; 3]],
     pub state: DrawState,
+    /// Section planes in clip space (at most [`MAX_SECTIONS`](crate::MAX_SECTIONS); more
+    /// are ignored): what lies where `dot(plane, clip position) < 0` is cut away, the
+    /// triangles crossing a plane clipped like those crossing the near plane. Usually empty.
+    pub sections: &'a [Vec4],
 }
 
 /// Counters of what the pipeline did and skipped (`--stats`).
@@ -124,6 +130,8 @@ pub struct Stats {
     pub objects_culled: u64,
     /// Triangles inside culled objects or entirely outside one frustum plane.
     pub culled_frustum: u64,
+    /// Triangles entirely on the removed side of a section plane.
+    pub culled_section: u64,
     pub culled_backface: u64,
     /// Zero area after snapping, non-finite coordinates, bad indices, or no pixel centre.
     pub culled_degenerate: u64,
@@ -157,6 +165,7 @@ impl Stats {
         self.triangles_in += o.triangles_in;
         self.objects_culled += o.objects_culled;
         self.culled_frustum += o.culled_frustum;
+        self.culled_section += o.culled_section;
         self.culled_backface += o.culled_backface;
         self.culled_degenerate += o.culled_degenerate;
         self.clipped += o.clipped;

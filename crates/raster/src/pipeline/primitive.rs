@@ -49,8 +49,21 @@ pub(crate) fn assemble(
         st.culled_frustum += 1;
         return;
     }
+    // Section planes: culled when all three corners are on a removed side of one plane,
+    // clipped when they straddle one.
+    let planes = &d.sections[..d.sections.len().min(MAX_SECTIONS)];
+    let cut = if planes.is_empty() {
+        0
+    } else {
+        let c = [a.0, b.0, c.0].map(|p| section_code(p, planes));
+        if c[0] & c[1] & c[2] != 0 {
+            st.culled_section += 1;
+            return;
+        }
+        c[0] | c[1] | c[2]
+    };
     let need = pv[0].guard | pv[1].guard | pv[2].guard;
-    if need == 0 {
+    if need == 0 && cut == 0 {
         let s = pv
             .iter()
             .all(|v| v.projected)
@@ -83,7 +96,10 @@ pub(crate) fn assemble(
     let ccw = Some(det > 0.0);
     // Clip against every violated plane (near first: it guarantees w > 0 afterwards).
     let tri = [a, b, c].map(|(p, v)| ClipVertex::new(p, v));
-    let poly = clip_polygon(Poly::triangle(tri, stride), need, g);
+    let mut poly = clip_polygon(Poly::triangle(tri, stride), need, g);
+    if cut != 0 {
+        poly = clip_sections(poly, planes, cut);
+    }
     let poly = poly.as_slice();
     if poly.len() < 3 {
         st.culled_frustum += 1;

@@ -69,6 +69,8 @@ pub(super) struct FrameData {
     /// [`Settings::point_size`] and [`Settings::line_width`] of the frame.
     pub point_size: f32,
     pub line_width: f32,
+    /// The section caps' colour (linear RGBA), when planes cut and caps are on.
+    pub cap: Option<Vec4>,
 }
 
 /// Calls `f` with every light of the frame and the matrix that moves it into the world
@@ -300,6 +302,11 @@ pub(super) fn set_up(
         &mut fd.lights,
     );
     fd.fog = settings.fog.filter(Fog::is_valid);
+    fd.cap = settings
+        .sections
+        .cap
+        .filter(|c| !settings.sections.is_empty() && c.is_finite())
+        .map(|c| c.clamp(Vec3::ZERO, Vec3::ONE).extend(1.0));
     fd.point_size = settings.point_size;
     fd.line_width = settings.line_width;
     let shadows = settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);

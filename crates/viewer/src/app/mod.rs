@@ -143,6 +143,10 @@ pub struct ViewerApp {
     pub panels: Panels,
     /// What the panels, the viewport and the keys share (toggles, the probed pixel).
     pub shared: Shared,
+    /// The full-screen state last asked of the window (F11 sends a change once), and the
+    /// one the window last reported.
+    pub fullscreen_sent: bool,
+    fullscreen_seen: Option<bool>,
     /// The last "Save scene": the message, or why not.
     saved: Option<Result<String, String>>,
     pub viewport: ViewportState,
@@ -229,6 +233,8 @@ impl ViewerApp {
             repaint,
             panels: Panels::default(),
             shared: Shared::default(),
+            fullscreen_sent: false,
+            fullscreen_seen: None,
             saved: None,
             viewport: ViewportState::default(),
             notice: recent_problem,
@@ -295,6 +301,20 @@ impl ViewerApp {
             self.frame_pending = false;
         }
         self.update_title(ui.ctx());
+        // Full screen entered or left by the window manager: F11 toggles from there.
+        let reported = ui.ctx().input(|i| i.viewport().fullscreen);
+        if reported.is_some() && reported != self.fullscreen_seen {
+            self.fullscreen_seen = reported;
+            if let Some(f) = reported {
+                self.shared.fullscreen = f;
+                self.fullscreen_sent = f;
+            }
+        }
+        if self.shared.fullscreen != self.fullscreen_sent {
+            self.fullscreen_sent = self.shared.fullscreen;
+            ui.ctx()
+                .send_viewport_cmd(egui::ViewportCommand::Fullscreen(self.shared.fullscreen));
+        }
         let behind = self
             .shown
             .as_ref()

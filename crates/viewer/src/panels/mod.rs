@@ -28,10 +28,12 @@ pub mod edit;
 pub mod environment;
 pub mod lights;
 mod materials;
+pub mod measure;
 mod probe;
 pub mod save;
 mod scene;
 mod screenshot;
+mod section;
 pub mod shading;
 mod stats;
 pub mod text;
@@ -41,10 +43,12 @@ pub use colour::ColourPanel;
 pub use environment::EnvironmentPanel;
 pub use lights::{light_names, LightsPanel};
 pub use materials::MaterialsPanel;
+pub use measure::{Measure, MeasurePanel};
 pub use probe::ProbePanel;
 pub use save::SavePanel;
 pub use scene::ScenePanel;
 pub use screenshot::ScreenshotPanel;
+pub use section::SectionPanel;
 pub use shading::ShadingPanel;
 pub use stats::StatsPanel;
 
@@ -148,6 +152,12 @@ pub struct Shared {
     pub open_probe: bool,
     /// The camera has been moved (the viewport's one-line hint on moving it goes).
     pub moved: bool,
+    /// The points picked for measuring, and whether a click picks one (D).
+    pub measure: Measure,
+    /// The axes in the corner of the view (X).
+    pub axes: bool,
+    /// The window fills the screen (F11).
+    pub fullscreen: bool,
 }
 
 impl Default for Shared {
@@ -162,6 +172,9 @@ impl Default for Shared {
             probe: None,
             open_probe: false,
             moved: false,
+            measure: Measure::default(),
+            axes: true,
+            fullscreen: false,
         }
     }
 }
@@ -330,9 +343,11 @@ impl Default for Panels {
             Box::new(ShadingPanel::default()),
             Box::new(LightsPanel::default()),
             Box::new(EnvironmentPanel::default()),
+            Box::new(SectionPanel::default()),
             Box::new(MaterialsPanel::default()),
             Box::new(StatsPanel),
             Box::new(ProbePanel),
+            Box::new(MeasurePanel),
             Box::new(SavePanel::default()),
             Box::new(ScenePanel::default()),
             Box::new(ColourPanel::default()),
@@ -495,6 +510,9 @@ pub fn describe(s: &Settings) -> String {
     }
     if s.tone != crate::render::ToneMap::Clamp {
         d += &format!(", {}", s.tone.name());
+    }
+    if !s.sections.is_empty() {
+        d += &format!(", {} section plane(s)", s.sections.planes.len());
     }
     if s.output == Output::Overdraw {
         d = "overdraw".into();
