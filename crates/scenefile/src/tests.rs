@@ -358,6 +358,13 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             distance: FogDistance::Depth,
         }),
         environment: crate::render::Environment::Auto,
+        sections: crate::render::Sections {
+            planes: vec![
+                Vec4::new(0.0, 0.0, 1.0, -0.25),
+                Vec4::new(-1.0, 0.0, 0.0, 0.5),
+            ],
+            cap: Some(Vec3::new(0.25, 0.5, 0.75)),
+        },
         env_background: None,
         exposure: -1.5,
         tone: ToneMap::ScaleMax,

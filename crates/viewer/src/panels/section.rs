@@ -77,7 +77,9 @@ impl SectionPanel {
                                 // Stays where it is; now edited as a normal and an offset.
                                 *free = true;
                             }
-                        });
+                        })
+                        .response
+                        .accessible_name(format!("plane {} axis", i + 1));
                     if ui
                         .button("flip")
                         .on_hover_text("keep the other side")
