@@ -45,6 +45,10 @@ fn options(w: u32, h: u32, camera: Camera, lights: Vec<Light>) -> Shot {
                 follow_camera: false,
             },
             environment: Environment::Off,
+            // The formulas of the specification, as they are: no tone map, and the lights'
+            // single-scattering BRDF (the compensation is measured in tests/threejs.rs).
+            tone: realist::render::ToneMap::Clamp,
+            single_scatter: true,
             ..Settings::default()
         },
     }

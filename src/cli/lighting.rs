@@ -19,9 +19,10 @@ pub(crate) struct LightingArgs {
     /// #rrggbb (sRGB), e.g. 2,12,depth,0.6,0.6,0.7 (distance default euclidean, colour 0.6 grey).
     #[arg(long, value_parser = parse_fog, allow_hyphen_values = true)]
     pub fog: Option<Fog>,
-    /// Out-of-range colour: clamp (default), scale-max (divide by the largest channel),
-    /// reinhard, pbr-neutral (Khronos PBR Neutral), aces-narkowicz or aces-hill (ACES filmic
-    /// fits).
+    /// Out-of-range colour: auto (the default: pbr-neutral when every model is drawn in the
+    /// pbr mode, as the Khronos glTF Sample Viewer does, else clamp), clamp, scale-max (divide
+    /// by the largest channel), reinhard, pbr-neutral (Khronos PBR Neutral), aces-narkowicz or
+    /// aces-hill (ACES filmic fits). The background colour is never tone mapped.
     #[arg(long)]
     pub tone: Option<ToneMap>,
     /// Exposure in EV (stops): colours are multiplied by 2^EV before the tone map
@@ -66,6 +67,12 @@ pub(crate) struct LightingArgs {
     #[arg(long = "light", value_name = "KIND[:KEY=VALUE]...", value_parser = scenefile::parse_light,
           long_help = light_help(), allow_hyphen_values = true)]
     pub lights: Vec<Light>,
+    /// The punctual lights reflect off pbr surfaces by the glTF specification's
+    /// single-scattering BRDF, without the compensation for the energy rough surfaces lose
+    /// between microfacets (default: compensated, as three.js does; the environment always
+    /// is).
+    #[arg(long)]
+    pub single_scatter: bool,
     /// Cut the model open with the plane NX*x + NY*y + NZ*z + D = 0, removing the side the
     /// normal points away from (repeatable, up to 3 planes; replaces the scene file's). Where
     /// a solid's inside shows, the cut is filled with the cap colour. E.g. `--section
@@ -166,6 +173,9 @@ impl LightingArgs {
         }
         if self.shadows {
             s.lights = scenefile::shadow_every_light(&s.lights, scene_lights);
+        }
+        if self.single_scatter {
+            s.single_scatter = true;
         }
         if !self.sections.is_empty() {
             s.sections.planes.clear();

@@ -4,7 +4,8 @@
 //   node make.mjs DIR
 //
 // writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
-// (and its texture, unlit-4x4.png), ior-specular.glb and unknown-extension.glb. Every piece of
+// (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
+// and lights-punctual.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -12,7 +13,9 @@ import { writeFile } from "node:fs/promises";
 import path from "node:path";
 import { Document, NodeIO, TextureInfo, VERSION } from "@gltf-transform/core";
 import {
+  KHRLightsPunctual,
   KHRMaterialsClearcoat,
+  Light,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
   KHRMaterialsSheen,
@@ -27,6 +30,7 @@ if (!dir || process.argv.length !== 3) {
 }
 
 const io = new NodeIO().registerExtensions([
+  KHRLightsPunctual,
   KHRMaterialsClearcoat,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
@@ -352,9 +356,63 @@ async function unknownExtension() {
   await write(doc, "unknown-extension.glb");
 }
 
+// ---------------------------------------------------------------------------------------
+// no-material.glb: a unit sphere whose primitive has no material (the specification's
+// default material applies: white, metallic 1, roughness 1).
+
+async function noMaterial() {
+  const doc = newDocument();
+  const prim = spherePrimitive(doc, 1.0, 64, 32);
+  place(doc, "no-material", doc.createMesh("no-material").addPrimitive(prim), [0, 0, 0]);
+  await write(doc, "no-material.glb");
+}
+
+// ---------------------------------------------------------------------------------------
+// lights-punctual.glb: a stage with its own KHR_lights_punctual lights, in the spirit of the
+// glTF sample "LightsPunctualLamp" and three.js's gt_lights_punctual_camera: three coloured
+// dielectric spheres and a grey floor under a point light (candela), a spot light and a
+// directional light (lux), intensities of the order such files use.
+
+/** Rotation about +X by `deg` degrees, as a glTF quaternion. */
+const aboutX = (deg) => [Math.sin((deg * Math.PI) / 360), 0, 0, Math.cos((deg * Math.PI) / 360)];
+
+async function lightsPunctual() {
+  const doc = newDocument();
+  const ext = doc.createExtension(KHRLightsPunctual);
+  const floor = doc.createMaterial("floor").setBaseColorFactor([0.5, 0.5, 0.5, 1]).setMetallicFactor(0).setRoughnessFactor(0.8);
+  const ground = place(doc, "floor", doc.createMesh("floor").addPrimitive(quadPrimitive(doc).setMaterial(floor)), [0, -0.4, 0]);
+  ground.setRotation(aboutX(-90)).setScale([6, 6, 1]);
+  const sphere = spherePrimitive(doc);
+  for (const [name, color, x] of [
+    ["red", [0.8, 0.1, 0.1, 1], -1],
+    ["green", [0.1, 0.8, 0.1, 1], 0],
+    ["blue", [0.1, 0.1, 0.8, 1], 1],
+  ]) {
+    const material = doc.createMaterial(name).setBaseColorFactor(color).setMetallicFactor(0).setRoughnessFactor(0.4);
+    place(doc, `sphere-${name}`, meshWith(doc, `sphere-${name}`, sphere, material), [x, 0, 0]);
+  }
+  sphere.dispose();
+  const lamp = (name, light, translation, rotation) => {
+    const node = doc.createNode(name).setTranslation(translation).setExtension("KHR_lights_punctual", light);
+    if (rotation) node.setRotation(rotation);
+    doc.getRoot().getDefaultScene().addChild(node);
+  };
+  lamp("point", ext.createLight("point").setType(Light.Type.POINT).setIntensity(15).setColor([1, 0.9, 0.8]), [0, 1.6, 1.2]);
+  lamp(
+    "spot",
+    ext.createLight("spot").setType(Light.Type.SPOT).setIntensity(40).setColor([0.8, 0.9, 1]).setInnerConeAngle(0.3).setOuterConeAngle(0.6),
+    [-1, 2.5, 0],
+    aboutX(-90),
+  );
+  lamp("sun", ext.createLight("sun").setType(Light.Type.DIRECTIONAL).setIntensity(3), [0, 3, 3], aboutX(-45));
+  await write(doc, "lights-punctual.glb");
+}
+
 await sphereGrid("sphere-grid.glb", [0.9, 0.55, 0.2, 1]);
 await sphereGrid("sphere-grid-white.glb", [1, 1, 1, 1]);
 await emissiveStrength();
 await unlit();
 await iorSpecular();
 await unknownExtension();
+await noMaterial();
+await lightsPunctual();

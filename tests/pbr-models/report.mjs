@@ -1,7 +1,9 @@
 // Prints, for each GLB of models/pbr/, its size, generator, extensionsUsed /
 // extensionsRequired and every material's factors and extensions, and checks that
 //
-// - every file is one this script knows, under 300 KB, with the fixed generator string;
+// - every file is one this script knows, under 300 KB, with the fixed generator string
+//   (no-material.glb has no material at all, lights-punctual.glb also uses
+//   KHR_lights_punctual);
 // - each material is there, in order, with exactly the material extensions it is made to
 //   have, and the file's extensionsUsed is exactly their union (extensionsRequired empty);
 // - the two sphere grids have 25 nodes `sphere-m{m}-r{r}` at (i - 2, 2 - j, 0) with
@@ -34,7 +36,12 @@ const EXPECTED = new Map([
     [["ior-default", []], ["ior-1.0", ["KHR_materials_ior"]], ["ior-2.5", ["KHR_materials_ior"]], ["specular-0.5", ["KHR_materials_specular"]]],
   ],
   ["unknown-extension.glb", [["clearcoat-sheen", ["KHR_materials_clearcoat", "KHR_materials_sheen"]]]],
+  ["no-material.glb", []],
+  ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
 ]);
+
+/** Extensions a file uses besides its materials'. */
+const OTHER_EXTENSIONS = new Map([["lights-punctual.glb", ["KHR_lights_punctual"]]]);
 
 function json(bytes, file) {
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
@@ -99,7 +106,7 @@ for (const file of process.argv.slice(2)) {
   }
   if (bytes.length >= MAX_BYTES) fail(`${bytes.length} bytes, not under ${MAX_BYTES}`);
   if (gltf.asset.generator !== GENERATOR) fail(`generator should be "${GENERATOR}"`);
-  const used = [...new Set(expected.flatMap(([, exts]) => exts))].sort();
+  const used = [...new Set([...expected.flatMap(([, exts]) => exts), ...(OTHER_EXTENSIONS.get(name) ?? [])])].sort();
   if (!same([...(gltf.extensionsUsed ?? [])].sort(), used)) fail(`extensionsUsed should be ${JSON.stringify(used)}`);
   if (!same(gltf.extensionsRequired, [])) fail("extensionsRequired should be empty");
   const materials = gltf.materials ?? [];

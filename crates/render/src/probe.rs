@@ -19,7 +19,8 @@ use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::{Light, LightKind, TextureSource};
 use crate::shade::{
-    ambient_split, arriving, maps, reflect, texlab, view_vector, LightSet, Shading, SlotParams,
+    ambient_split, arriving, maps, reflect, single_scatter_albedo, texlab, view_vector, LightSet,
+    Shading, SlotParams,
 };
 
 /// One light's contribution at the probed point (linear RGB).
@@ -250,58 +251,70 @@ pub fn probe(
         None => d.emissive,
     };
     let v = view_vector(&surf, position, eye);
+    // The punctual lights' multiple-scattering compensation, as the shaders have it.
+    let ess = single_scatter_albedo(&surf, normal, v);
+    if let (Some(p), false) = (&mut surf.pbr, settings.single_scatter) {
+        p.ess = ess;
+    }
     let mut set = LightSet::default();
     let cam_to_world = view_m.inverse();
     let mut ambient_light = Vec3::ZERO;
     let mut lights = Vec::new();
     let mut index = 0;
     let (center, radius) = scene_sphere(scene);
-    for_each_light(scene.lights(), &settings.lights, cam_to_world, |l, m| {
-        set.clear();
-        set.push(l, m, index);
-        index += 1;
-        if l.kind == LightKind::Ambient {
-            ambient_light += set.ambient;
-            return;
-        }
-        let light = m.map_or_else(|| l.clone(), |m| l.transformed(m));
-        let Some(src) = set.sources.first() else {
-            return;
-        };
-        let (dir, rad, _) =
-            arriving::<f32>(src, position).unwrap_or((Vec3::ZERO, Vec3::ZERO, false));
-        let arriving = rad;
-        let lit = normal.dot(dir) > 0.0 && rad != Vec3::ZERO;
-        let shadow = if lit && light.shadow && light.kind.can_shadow() {
-            let to = match light.kind {
-                LightKind::Directional => {
-                    position + dir * (4.0 * radius + (position - center).length())
-                }
-                _ => src.position,
+    let rig = settings.default_rig(scene.scene());
+    for_each_light(
+        scene.lights(),
+        &settings.lights,
+        rig,
+        cam_to_world,
+        |l, m| {
+            set.clear();
+            set.push(l, m, index);
+            index += 1;
+            if l.kind == LightKind::Ambient {
+                ambient_light += set.ambient;
+                return;
+            }
+            let light = m.map_or_else(|| l.clone(), |m| l.transformed(m));
+            let Some(src) = set.sources.first() else {
+                return;
             };
-            let from = position + normal * (1e-4 * radius.max(1e-3));
-            if cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some() {
-                0.0
+            let (dir, rad, _) =
+                arriving::<f32>(src, position).unwrap_or((Vec3::ZERO, Vec3::ZERO, false));
+            let arriving = rad;
+            let lit = normal.dot(dir) > 0.0 && rad != Vec3::ZERO;
+            let shadow = if lit && light.shadow && light.kind.can_shadow() {
+                let to = match light.kind {
+                    LightKind::Directional => {
+                        position + dir * (4.0 * radius + (position - center).length())
+                    }
+                    _ => src.position,
+                };
+                let from = position + normal * (1e-4 * radius.max(1e-3));
+                if cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some() {
+                    0.0
+                } else {
+                    1.0
+                }
             } else {
                 1.0
-            }
-        } else {
-            1.0
-        };
-        let ndl = normal.dot(dir);
-        let terms = reflect(&surf, normal, dir, v, lit, ndl, blinn);
-        lights.push(LightShare {
-            index: src.index,
-            light,
-            arriving,
-            shadow,
-            diffuse: terms.diffuse * rad * shadow,
-            specular: terms.specular * rad * shadow,
-            d: terms.d,
-            vis: terms.vis,
-            fresnel: terms.fresnel,
-        });
-    });
+            };
+            let ndl = normal.dot(dir);
+            let terms = reflect(&surf, normal, dir, v, lit, ndl, blinn);
+            lights.push(LightShare {
+                index: src.index,
+                light,
+                arriving,
+                shadow,
+                diffuse: terms.diffuse * rad * shadow,
+                specular: terms.specular * rad * shadow,
+                d: terms.d,
+                vis: terms.vis,
+                fresnel: terms.fresnel,
+            });
+        },
+    );
     // The ambient light, and for pbr the environment, as the renderer reflects them.
     set.clear();
     set.ambient = ambient_light;

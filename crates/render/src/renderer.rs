@@ -161,6 +161,10 @@ impl Renderer {
         }
         let mut vertex_nanos = 0;
         let mut resolve = std::time::Duration::ZERO;
+        let scale = settings.exposure_scale();
+        let tone = settings.tone_for(scene.scene());
+        let map =
+            (tone != super::ToneMap::Clamp || scale != 1.0) && settings.output == Output::Shaded;
         // After the passes of a supersampled frame, one more: depth at the pixel centres.
         let centre_depth = passes > 1 && settings.output == Output::Shaded;
         for k in 0..passes + u32::from(centre_depth) {
@@ -233,21 +237,26 @@ impl Renderer {
             if !done {
                 return Err(Interrupted);
             }
+            if map && k < passes {
+                // Each pass tone mapped before the passes are averaged (as the samples of a
+                // multisampled pixel are); the background colour is shown as it is, neither
+                // exposed nor tone mapped.
+                let t = Instant::now();
+                target.map_colors(|c| {
+                    if c == bg {
+                        c
+                    } else {
+                        tone.apply((c.truncate() * scale).extend(c.w))
+                    }
+                });
+                resolve += t.elapsed();
+            }
             if passes > 1 && k < passes {
                 let t = Instant::now();
                 let last = k + 1 == passes;
                 accumulate(target, &mut self.accum, last.then_some(1.0 / passes as f32));
                 resolve += t.elapsed();
             }
-        }
-        let scale = settings.exposure_scale();
-        if (settings.tone != super::ToneMap::Clamp || scale != 1.0)
-            && settings.output == Output::Shaded
-        {
-            let t = Instant::now();
-            let tone = settings.tone;
-            target.map_colors(|c| tone.apply((c.truncate() * scale).extend(c.w)));
-            resolve += t.elapsed();
         }
         let ms = |nanos: u64| nanos as f64 * 1e-6;
         self.report = FrameReport {

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec4};
 
-use crate::scene::{Camera, Light, Material, SlotOverrides};
+use crate::scene::{Camera, Light, Material, Scene, SlotOverrides, Style};
 use crate::shade::{Fog, Shading, ShadowSettings};
 use crate::simd::KernelKind;
 use crate::texture::env::{default_cache_dir, EnvCache, EnvImage, EnvView, Prefiltered};
@@ -15,7 +15,10 @@ use crate::texture::Filter;
 /// The lights a frame uses.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum Lights {
-    /// The scene's lights, or [`Light::default_rig`] attached to the camera if it has none.
+    /// The scene's lights; if it has none, [`Light::default_rig`] attached to the camera,
+    /// except for a scene drawn entirely in the `pbr` mode under an environment, which the
+    /// environment alone lights, as the Khronos glTF Sample Viewer does
+    /// ([`Settings::default_rig`]).
     #[default]
     Auto,
     /// These lights instead of the scene's. With `follow_camera`, positions and directions
@@ -39,11 +42,17 @@ pub enum Output {
 }
 
 /// What happens to colours outside [0, 1] (the textbook's pipeline chapter, §4.2) before they are
-/// encoded.
+/// encoded. The background colour is never tone mapped (nor exposed); an environment shown
+/// as the background is.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum ToneMap {
-    /// Each channel clamped to [0, 1]: (1, 2, 1) becomes white.
+    /// [`ToneMap::PbrNeutral`] for a scene drawn entirely in the `pbr` mode (a glTF file's
+    /// own look, as the Khronos glTF Sample Viewer shows it), else [`ToneMap::Clamp`] (the
+    /// textbook's modes, whose colours are meant to be shown as they are):
+    /// [`Settings::tone_for`].
     #[default]
+    Auto,
+    /// Each channel clamped to [0, 1]: (1, 2, 1) becomes white.
     Clamp,
     /// A colour whose largest channel exceeds 1 is divided by it, keeping its hue:
     /// (1, 2, 1) becomes (0.5, 1, 0.5), light green.
@@ -64,7 +73,8 @@ pub enum ToneMap {
 }
 
 impl ToneMap {
-    pub const ALL: [ToneMap; 6] = [
+    pub const ALL: [ToneMap; 7] = [
+        ToneMap::Auto,
         ToneMap::Clamp,
         ToneMap::ScaleMax,
         ToneMap::Reinhard,
@@ -77,6 +87,7 @@ impl ToneMap {
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
+            ToneMap::Auto => "auto",
             ToneMap::Clamp => "clamp",
             ToneMap::ScaleMax => "scale-max",
             ToneMap::Reinhard => "reinhard",
@@ -86,7 +97,7 @@ impl ToneMap {
         }
     }
 
-    /// Maps one linear colour (alpha kept).
+    /// Maps one linear colour (alpha kept); [`ToneMap::Auto`], not resolved, clamps.
     #[must_use]
     #[inline]
     pub fn apply(self, c: Vec4) -> Vec4 {
@@ -100,7 +111,7 @@ impl ToneMap {
             }
         };
         let out = match self {
-            ToneMap::Clamp => return c,
+            ToneMap::Auto | ToneMap::Clamp => return c,
             ToneMap::ScaleMax => scale_max(rgb),
             ToneMap::Reinhard => {
                 let l = rgb.dot(glam::Vec3::new(0.2126, 0.7152, 0.0722));
@@ -171,8 +182,8 @@ impl std::str::FromStr for ToneMap {
             .find(|m| m.name().eq_ignore_ascii_case(s))
             .ok_or_else(|| {
                 format!(
-                    "unknown tone map '{s}' (expected clamp, scale-max, reinhard, pbr-neutral, \
-                     aces-narkowicz or aces-hill)"
+                    "unknown tone map '{s}' (expected auto, clamp, scale-max, reinhard, \
+                     pbr-neutral, aces-narkowicz or aces-hill)"
                 )
             })
     }
@@ -370,6 +381,11 @@ pub struct Settings {
     pub vertex_lighting: VertexLighting,
     /// Section planes that cut the model open, with caps where a solid's inside shows.
     pub sections: Sections,
+    /// The punctual lights reflect off `pbr` surfaces by the specification's
+    /// single-scattering BRDF, without the compensation for the energy rough surfaces lose
+    /// between microfacets (on by default, as in three.js; the environment is always
+    /// compensated).
+    pub single_scatter: bool,
 }
 
 /// Section planes: what lies on a plane's negative side is cut away, and where the inside
@@ -491,6 +507,57 @@ impl VertexLighting {
 }
 
 impl Settings {
+    /// Every instance of `scene` that draws triangles is drawn in the `pbr` mode (glTF
+    /// materials as authored, or `pbr` forced), and there is one: the glTF look, whose
+    /// defaults are the Khronos glTF Sample Viewer's ([`ToneMap::Auto`], [`Lights::Auto`]).
+    #[must_use]
+    pub fn pbr_look(&self, scene: &Scene) -> bool {
+        if let Some(mode) = self.shading {
+            return mode == Shading::Pbr && !scene.instances.is_empty();
+        }
+        let mut any = false;
+        for inst in &scene.instances {
+            let Some(mesh) = scene.meshes.get(inst.mesh) else {
+                continue;
+            };
+            if mesh.corners.is_empty() {
+                // Points and lines only: not shaded by a mode.
+                continue;
+            }
+            let material = mesh.material.and_then(|k| {
+                self.materials
+                    .as_ref()
+                    .and_then(|ms| ms.get(k))
+                    .or_else(|| scene.materials.get(k))
+            });
+            let pbr = material.is_some_and(|m| m.pbr.is_some());
+            if !pbr || inst.style != Style::Inherit {
+                return false;
+            }
+            any = true;
+        }
+        any
+    }
+
+    /// [`Lights::Auto`] with no lights in `scene` lights the frame with the default rig;
+    /// not when the pbr look ([`Settings::pbr_look`]) is lit by an environment.
+    #[must_use]
+    pub fn default_rig(&self, scene: &Scene) -> bool {
+        matches!(self.lights, Lights::Auto)
+            && scene.lights.is_empty()
+            && (self.environment == Environment::Off || !self.pbr_look(scene))
+    }
+
+    /// The tone map of a frame of `scene`: [`ToneMap::Auto`] resolved.
+    #[must_use]
+    pub fn tone_for(&self, scene: &Scene) -> ToneMap {
+        match self.tone {
+            ToneMap::Auto if self.pbr_look(scene) => ToneMap::PbrNeutral,
+            ToneMap::Auto => ToneMap::Clamp,
+            t => t,
+        }
+    }
+
     /// `2^exposure`, or 1 when the exposure is not finite or beyond +-64 EV.
     #[must_use]
     pub fn exposure_scale(&self) -> f32 {
@@ -520,7 +587,7 @@ impl Default for Settings {
             kernel: None,
             fog: None,
             exposure: 0.0,
-            tone: ToneMap::Clamp,
+            tone: ToneMap::Auto,
             environment: Environment::Auto,
             env_background: None,
             shadow: ShadowSettings::default(),
@@ -529,6 +596,7 @@ impl Default for Settings {
             line_width: 1.0,
             vertex_lighting: VertexLighting::default(),
             sections: Sections::default(),
+            single_scatter: false,
         }
     }
 }
@@ -615,7 +683,10 @@ mod tests {
             assert_eq!(t.name().parse::<ToneMap>(), Ok(t));
             let c = t.apply(Vec4::new(2.0, 1.0, 0.5, 0.25));
             assert_eq!(c.w, 0.25, "{t:?}");
-            assert!(c.truncate().max_element() <= 1.0 + 1e-6 || t == ToneMap::Clamp);
+            assert!(
+                c.truncate().max_element() <= 1.0 + 1e-6
+                    || matches!(t, ToneMap::Clamp | ToneMap::Auto)
+            );
             let nan = Vec4::new(f32::NAN, 0.5, 0.5, 1.0);
             assert!(t.apply(nan).x.is_nan(), "{t:?}");
         }

@@ -69,6 +69,7 @@ pub(super) fn doc(
         wireframe_overlay: Some(s.wireframe_overlay),
         vertex_blinn: s.vertex_lighting.blinn.then_some(true),
         flat_last_vertex: s.vertex_lighting.provoking_vertex.then_some(true),
+        single_scatter: Some(s.single_scatter),
         overdraw: Some(s.output == Output::Overdraw),
         subpixel_bits: Some(u32::from(s.subpixel_bits).into()),
         point_size: (s.point_size != 1.0).then(|| tidy(s.point_size)),

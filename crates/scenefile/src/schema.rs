@@ -279,6 +279,10 @@ pub struct SceneDoc {
     pub vertex_blinn: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flat_last_vertex: Option<bool>,
+    /// The punctual lights reflect off `pbr` surfaces without the multiple-scattering
+    /// compensation (the specification's single-scattering BRDF).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub single_scatter: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub overdraw: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -175,6 +175,7 @@ impl SceneFile {
             },
             filter: d.filter.map(|f| f.0),
             tone: d.tone.map_or_else(Default::default, |t| t.0),
+            single_scatter: d.single_scatter.unwrap_or(false),
             ..Settings::default()
         };
         if let Some(ev) = d.exposure {

@@ -358,6 +358,7 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             distance: FogDistance::Depth,
         }),
         environment: crate::render::Environment::Auto,
+        single_scatter: true,
         sections: crate::render::Sections {
             planes: vec![
                 Vec4::new(0.0, 0.0, 1.0, -0.25),

@@ -16,7 +16,11 @@
 //! α is clamped to at least [`MIN_ALPHA`] (α = 0 is a mirror, whose `D` is a delta: the
 //! specification's note asks for a clamp or a separate path). The single-scattering lobe
 //! loses energy at high roughness (the white furnace in the README has the figures); the
-//! image-based term compensates it ([`ibl_fresnel`]), the punctual lights do not.
+//! image-based term compensates it ([`ibl_fresnel`]), and so do the punctual lights: each
+//! specular lobe is scaled by `1 + F0 (1/E_ss - 1)` (Fdez-Agüera 2019, after Kulla and
+//! Conty; three.js does the same since r181), `E_ss` the lobe's directional albedo at `N·V`
+//! ([`Pbr::ess`], from the split-sum table; 1 gives the specification's single-scattering
+//! formula).
 
 use super::lighting::SurfaceAt;
 pub use crate::microfacet::{alpha, ggx, schlick, schlick_weight, smith_vis, MIN_ALPHA};
@@ -35,6 +39,10 @@ pub struct Pbr<T: Num> {
     pub f0: T::V,
     /// The dielectric lobe's Fresnel at grazing incidence (`specular`, 1 by default).
     pub f90: T,
+    /// The single-scattering lobe's directional albedo `E_ss = A + B` of the split-sum
+    /// table at `N·V` and this roughness, which sets the multiple-scattering compensation of
+    /// the punctual lights; 1 (the default) turns it off.
+    pub ess: T,
 }
 
 /// The terms of one light's reflection at a point: what the pixel probe lists.
@@ -76,7 +84,12 @@ pub fn pbr<T: Num>(
     let fresnel = fd * dielectric + fm * p.metallic;
     let inv_pi = T::of64(std::f64::consts::FRAC_1_PI);
     let diffuse = s.kd * (dielectric * (T::ONE - T::vmax(fd)) * inv_pi * ndl);
-    let specular = fresnel * (vis * d * ndl);
+    // The energy lost between microfacets, given back: each lobe times 1 + F0 (1/E_ss - 1)
+    // (exactly 1 when E_ss = 1).
+    let k = T::ONE / p.ess.max(T::of(1e-3)) - T::ONE;
+    let one = T::splat(T::ONE);
+    let lobes = fd * (one + p.f0 * k) * dielectric + fm * (one + s.kd * k) * p.metallic;
+    let specular = lobes * (vis * d * ndl);
     Terms {
         diffuse,
         specular,

@@ -38,9 +38,9 @@ pub mod texlab;
 
 pub use crate::simd::{Num, Real};
 pub use lighting::{
-    ambient, ambient_split, arriving, attenuate, cone, contribution, illuminate, pyramid, reflect,
-    view_vector, Fog, FogDistance, LightSet, PbrParams, Shade, Source, Surface, SurfaceAt,
-    IMAGE_SAMPLER, MAX_HALF_ANGLE,
+    ambient, ambient_ess, ambient_split, arriving, attenuate, cone, contribution, illuminate,
+    pyramid, reflect, single_scatter_albedo, view_vector, Fog, FogDistance, LightSet, PbrParams,
+    Shade, Source, Surface, SurfaceAt, IMAGE_SAMPLER, MAX_HALF_ANGLE,
 };
 pub use shaders::{
     ColorShader, Constant, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout,

@@ -25,7 +25,7 @@
 
 use glam::Vec3;
 
-use super::lighting::{ambient, contribution, view_vector, SurfaceAt};
+use super::lighting::{ambient_ess, contribution, view_vector, SurfaceAt};
 use super::maps::perturb_lanes;
 use super::shaders::{DrawParams, LitShader, SlotParams, TexView};
 use super::texlab;
@@ -59,6 +59,8 @@ pub struct Regs {
     pub texel: [[Lane; 4]; SLOTS],
     /// Unit view vector (zero without a specular term).
     pub v: [Lane; 3],
+    /// `E_ss` of a `pbr` surface for the punctual lights ([`crate::brdf::Pbr::ess`]).
+    pub ess: Lane,
     /// The colour so far (linear RGB).
     pub c: [Lane; 3],
 }
@@ -360,7 +362,8 @@ crate::simd::per_kernel! {
             let s = surface::<L>(cx.d, r);
             let v = view_vector(&s, position(b, g), eye);
             v.set(&mut r.v);
-            let mut c = ambient(cx.s.lights, &s, n, v);
+            let (mut c, ess) = ambient_ess(cx.s.lights, &s, n, v);
+            r.ess.set(ess);
             if let Some(e) = s.emitted {
                 c = c + e;
             }
@@ -378,7 +381,10 @@ crate::simd::per_kernel! {
         };
         let blinn = cx.d.blinn;
         for (g, r) in regs.iter_mut().enumerate() {
-            let s = surface::<L>(cx.d, r);
+            let mut s = surface::<L>(cx.d, r);
+            if let Some(p) = &mut s.pbr {
+                p.ess = r.ess.get();
+            }
             let (n, v) = (V3::get(&r.n), V3::get(&r.v));
             let c = V3::<L>::get(&r.c) + contribution(set, src, &s, position(b, g), n, v, blinn);
             c.set(&mut r.c);

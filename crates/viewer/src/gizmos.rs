@@ -281,7 +281,14 @@ pub fn build(cx: &Cx<'_>, rect: Rect) -> Vec<Gizmo> {
     let cam_to_world = cam.view().inverse();
     let mut set = LightSet::default();
     let scene = cx.session.scene.scene();
-    frame_lights(&scene.lights, &cx.settings.lights, cam_to_world, &mut set);
+    let rig = cx.settings.default_rig(scene);
+    frame_lights(
+        &scene.lights,
+        &cx.settings.lights,
+        rig,
+        cam_to_world,
+        &mut set,
+    );
     let names = super::panels::light_names(cx.settings, cx.session.scene);
     let p = Projector::new(&view, rect);
     let (center, radius) = cx.session.scene.bounding_sphere();

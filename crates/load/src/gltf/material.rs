@@ -208,6 +208,30 @@ pub fn phong_from_pbr(base: Vec3, metallic: f32, roughness: f32) -> (Vec3, Vec3,
 impl Builder<'_> {
     /// The scene material for glTF material `i` (used by `from`), converted on first use;
     /// `None` (default material, with a warning) if it does not exist.
+    /// The specification's default material for a primitive without one (Materials: "the
+    /// default material ... is white, fully metallic and fully rough" in the metallic-roughness
+    /// model): added to the scene once.
+    pub fn default_material(&mut self) -> usize {
+        if let Some(k) = self.default_material {
+            return k;
+        }
+        let base = Vec4::ONE;
+        let (_, specular, shininess) = phong_from_pbr(base.truncate(), 1.0, 1.0);
+        self.scene.materials.push(Material {
+            name: "default (glTF)".into(),
+            base_color: base,
+            specular,
+            shininess,
+            metallic: 1.0,
+            roughness: 1.0,
+            pbr: Some(PbrMaterial::default()),
+            ..Material::default()
+        });
+        let k = self.scene.materials.len() - 1;
+        self.default_material = Some(k);
+        k
+    }
+
     pub fn material(&mut self, i: usize, from: &str) -> Result<Option<usize>, LoadError> {
         if let Some(&cached) = self.materials.get(&i) {
             return Ok(cached);
@@ -218,8 +242,9 @@ impl Builder<'_> {
             self.scene.report.warnings.push(format!(
                 "{from}: material {i} does not exist (there are {count}); default used"
             ));
-            self.materials.insert(i, None);
-            return Ok(None);
+            let k = self.default_material();
+            self.materials.insert(i, Some(k));
+            return Ok(Some(k));
         };
         let name = m.name.clone().unwrap_or_else(|| format!("material {i}"));
         let pbr = &m.pbr_metallic_roughness;

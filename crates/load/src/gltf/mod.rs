@@ -341,6 +341,8 @@ pub(super) struct Builder<'a> {
     pub meshes: HashMap<(usize, usize), Option<usize>>,
     /// glTF material -> scene material (`None`: unusable, default used).
     pub materials: HashMap<usize, Option<usize>>,
+    /// The specification's default material, added once for the primitives without one.
+    pub default_material: Option<usize>,
     /// (image, decoded as sRGB) -> scene texture (`None`: unusable, already reported).
     pub textures: HashMap<(usize, bool), Option<usize>>,
     /// Images that could not be read or decoded (already reported).
@@ -433,6 +435,7 @@ pub(crate) fn load_gltf(
         },
         meshes: HashMap::new(),
         materials: HashMap::new(),
+        default_material: None,
         textures: HashMap::new(),
         failed_images: std::collections::HashSet::new(),
         lights: punctual,

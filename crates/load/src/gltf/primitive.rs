@@ -254,7 +254,7 @@ impl Builder<'_> {
             })?;
         let material = match prim.material {
             Some(i) => self.material(i.value(), &label)?,
-            None => None,
+            None => Some(self.default_material()),
         };
         let has_normals = attrs.normals.is_some();
         // Without NORMAL the normals are flat and tangents given for them MUST be ignored
@@ -352,7 +352,7 @@ impl Builder<'_> {
         })?;
         let material = match material {
             Some(i) => self.material(i, label)?,
-            None => None,
+            None => Some(self.default_material()),
         };
         let has_normals = attrs.normals.is_some();
         let data = MeshData {

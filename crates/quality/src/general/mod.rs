@@ -369,10 +369,12 @@ impl View {
         frame_lights(
             &scene.lights,
             &opts.settings.lights,
+            opts.settings.default_rig(scene),
             cam_to_world,
             &mut lights,
         );
         lights.env = opts.settings.environment.view();
+        lights.single_scatter = opts.settings.single_scatter;
         let punctual = LightSet {
             ambient: glam::Vec3::ZERO,
             env: None,
@@ -389,7 +391,7 @@ impl View {
             punctual,
             env_samples,
             fog: opts.settings.fog.filter(Fog::is_valid),
-            tone: opts.settings.tone,
+            tone: opts.settings.tone_for(scene),
             exposure: f64::from(opts.settings.exposure_scale()),
             background: opts.settings.background.truncate().as_dvec3(),
             blinn,
@@ -554,8 +556,13 @@ fn band(view: &View, insts: &[Inst], bin: &[(u32, u32)], r: Rect) -> Vec<[f64; 3
     let mut next = frags.iter().peekable();
     for (o, &k) in id.iter().enumerate() {
         let (sx, sy) = (o % sw, o / sw);
+        // The background colour is shown as it is (neither exposed nor tone mapped).
+        let mut surface = true;
         let mut c = match tris.get(k as usize) {
-            None => view.background,
+            None => {
+                surface = false;
+                view.background
+            }
             Some(tri) => {
                 let (px, py) = (
                     sample_pos(sx as i64 + sx0, sf),
@@ -568,10 +575,13 @@ fn band(view: &View, insts: &[Inst], bin: &[(u32, u32)], r: Rect) -> Vec<[f64; 3
         while let Some(&&(_, _, _, f)) = next.peek().filter(|f| f.0 as usize == o) {
             let a = f.w.clamp(0.0, 1.0);
             c = f.truncate() * a + c * (1.0 - a);
+            surface = true;
             next.next();
         }
-        c *= view.exposure;
-        if view.tone != crate::render::ToneMap::Clamp {
+        if surface {
+            c *= view.exposure;
+        }
+        if surface && view.tone != crate::render::ToneMap::Clamp {
             c = view
                 .tone
                 .apply(c.as_vec3().extend(1.0))

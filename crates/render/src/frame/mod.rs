@@ -74,15 +74,18 @@ pub(super) struct FrameData {
 }
 
 /// Calls `f` with every light of the frame and the matrix that moves it into the world
-/// (`None`: it is in world space already): `scene_lights`, or the default rig attached to
-/// the camera if there are none, or the custom lights of `lights`.
+/// (`None`: it is in world space already): `scene_lights`, or if there are none the default
+/// rig attached to the camera when `rig` ([`Settings::default_rig`]), or the custom lights
+/// of `lights`.
 pub(crate) fn for_each_light(
     scene_lights: &[Light],
     lights: &Lights,
+    rig: bool,
     camera_to_world: Mat4,
     mut f: impl FnMut(&Light, Option<Mat4>),
 ) {
     match lights {
+        Lights::Auto if scene_lights.is_empty() && !rig => {}
         Lights::Auto if scene_lights.is_empty() => {
             let rig = Light::default_rig_array(glam::Mat3::from_mat4(camera_to_world));
             rig.iter().for_each(|l| f(l, None));
@@ -99,16 +102,18 @@ pub(crate) fn for_each_light(
 }
 
 /// Fills `set` (cleared first) with the lights of a frame whose camera-to-world matrix is
-/// `camera_to_world` (see [`Lights`]); shadow maps are left to the renderer.
+/// `camera_to_world` (see [`Lights`]; `rig`: [`Settings::default_rig`]); shadow maps are
+/// left to the renderer.
 pub fn frame_lights(
     scene_lights: &[Light],
     lights: &Lights,
+    rig: bool,
     camera_to_world: Mat4,
     set: &mut LightSet,
 ) {
     set.clear();
     let mut index = 0;
-    for_each_light(scene_lights, lights, camera_to_world, |l, m| {
+    for_each_light(scene_lights, lights, rig, camera_to_world, |l, m| {
         set.push(l, m, index);
         index += 1;
     });
@@ -298,9 +303,11 @@ pub(super) fn set_up(
     frame_lights(
         scene.lights(),
         &settings.lights,
+        settings.default_rig(scene.scene()),
         view.inverse(),
         &mut fd.lights,
     );
+    fd.lights.single_scatter = settings.single_scatter;
     fd.fog = settings.fog.filter(Fog::is_valid);
     fd.cap = settings
         .sections

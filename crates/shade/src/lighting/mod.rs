@@ -194,6 +194,10 @@ pub struct LightSet {
     pub dropped: u32,
     /// The environment that lights `pbr` surfaces (besides the ambient light).
     pub env: Option<EnvView>,
+    /// The punctual lights reflect off `pbr` surfaces by the specification's
+    /// single-scattering BRDF alone, without the compensation for the energy lost between
+    /// microfacets ([`crate::brdf::Pbr::ess`]).
+    pub single_scatter: bool,
 }
 
 impl LightSet {
@@ -299,6 +303,7 @@ impl Surface {
                 roughness: T::of(p.roughness),
                 f0: T::vec(p.f0),
                 f90: T::of(p.f90),
+                ess: T::ONE,
             }),
         }
     }

@@ -182,12 +182,22 @@ pub fn view_vector<T: Num>(surf: &SurfaceAt<T>, p: T::V, eye: T::V) -> T::V {
 #[inline(always)]
 #[must_use]
 pub fn ambient<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> T::V {
-    let (diffuse, specular) = ambient_split(set, s, n, v);
+    ambient_ess(set, s, n, v).0
+}
+
+/// [`ambient`], and the surface's `E_ss` for the punctual lights' compensation
+/// ([`crate::brdf::Pbr::ess`]: 1 for Phong, or when `set.single_scatter`), from the same
+/// split-sum table lookup.
+#[inline(always)]
+#[must_use]
+pub fn ambient_ess<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T) {
+    let (diffuse, specular, ess) = ambient_terms(set, s, n, v);
     let c = diffuse + specular;
-    match s.occlusion {
+    let c = match s.occlusion {
         Some(ao) => c * ao,
         None => c,
-    }
+    };
+    (c, if set.single_scatter { T::ONE } else { ess })
 }
 
 /// [`ambient`] before the occlusion, as its diffuse and specular parts (the pixel probe
@@ -195,9 +205,31 @@ pub fn ambient<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> 
 #[inline(always)]
 #[must_use]
 pub fn ambient_split<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V) {
+    let (diffuse, specular, _) = ambient_terms(set, s, n, v);
+    (diffuse, specular)
+}
+
+/// The single-scattering lobe's directional albedo `E_ss = A + B` of the split-sum table
+/// at `N·V` for a `pbr` surface (1 for Phong): [`crate::brdf::Pbr::ess`].
+#[inline(always)]
+#[must_use]
+pub fn single_scatter_albedo<T: Shade>(s: &SurfaceAt<T>, n: T::V, v: T::V) -> T {
+    match &s.pbr {
+        Some(p) => {
+            let nv = T::dot(n, v).max(T::of(1e-4));
+            let (a, b) = T::brdf_lut(nv, p.roughness);
+            a + b
+        }
+        None => T::ONE,
+    }
+}
+
+/// [`ambient_split`] and `E_ss = A + B` (1 for Phong).
+#[inline(always)]
+fn ambient_terms<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V, T) {
     let g = T::vec(set.ambient);
     let Some(p) = &s.pbr else {
-        return (g * s.ka * s.kd, T::splat(T::ZERO));
+        return (g * s.ka * s.kd, T::splat(T::ZERO), T::ONE);
     };
     let nv = T::dot(n, v).max(T::of(1e-4));
     let (a, b) = T::brdf_lut(nv, p.roughness);
@@ -226,7 +258,7 @@ pub fn ambient_split<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::
     let diffuse = s.kd * left * irradiance * dielectric;
     let specular = (d_ss * prefiltered + d_ms * irradiance) * dielectric
         + (m_ss * prefiltered + m_ms * irradiance) * p.metallic;
-    (diffuse, specular)
+    (diffuse, specular, a + b)
 }
 
 /// The lighting equation at `p` with unit normal `n` and the eye at `eye`, summed over the
@@ -245,7 +277,12 @@ pub fn illuminate<T: Shade>(
     blinn: bool,
 ) -> T::V {
     let v = view_vector(surf, p, eye);
-    let mut c = ambient(set, surf, n, v);
+    let (mut c, ess) = ambient_ess(set, surf, n, v);
+    let mut lit = *surf;
+    if let Some(pb) = &mut lit.pbr {
+        pb.ess = ess;
+    }
+    let surf = &lit;
     if let Some(e) = surf.emitted {
         c = c + e;
     }

@@ -5,8 +5,9 @@
 //!
 //! Sizes: level 0 (r = 0) is the source area-resampled to the base size (at most
 //! [`BASE_WIDTH`]×[`BASE_HEIGHT`], the source's own if smaller, aspect kept); level k is the
-//! base halved [`LEVEL_SHIFT`]`[k]` times: 256, 256, 128, 64, 64, 64, 64 texels wide for a
-//! large source, since a rougher lobe needs fewer texels (32 wide at r >= 5/6 cost 5 % of
+//! base halved [`LEVEL_SHIFT`]`[k]` times, but never below [`MIN_LEVEL`] (64 x 32, or the
+//! base's size if smaller): 256, 256, 128, 64, 64, 64, 64 texels wide for a large source,
+//! since a rougher lobe needs fewer texels (32 wide at r >= 5/6 cost 5 % of
 //! the exact value, bilinear across the kink where a sun crosses the lobe's horizon).
 //!
 //! Filters ([`LEVEL_FILTER`]):
@@ -47,6 +48,13 @@ pub(super) const BASE_WIDTH: usize = 256;
 pub(super) const BASE_HEIGHT: usize = 128;
 /// Halvings of the base size per level.
 pub(super) const LEVEL_SHIFT: [u32; SPECULAR_LEVELS] = [0, 0, 1, 2, 2, 2, 2];
+/// The smallest summed level of a small source (base under [`BASE_WIDTH`] wide): halving
+/// its base left the rough levels 16 x 8 texels for a 64 x 32 image, and the bilinear read
+/// of a level that coarse spread a sun of a few texels over 22 degrees, up to 42 levels
+/// off (mean 4.9) on rough surfaces; split to at least 128 x 64, within 2 (mean 0.2):
+/// `small_sun_in_a_small_image_within_two_levels`. A large source keeps 64 x 32 levels:
+/// 128 x 64 ones over its 256 x 128 base cost 2.5 times the prefilter time (200 to 520 ms).
+pub(super) const MIN_LEVEL: (usize, usize) = (128, 64);
 
 /// How a level of the chain is computed (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,7 +102,24 @@ pub(super) fn level_dims(width: usize, height: usize) -> [(usize, usize); SPECUL
         .min(BASE_HEIGHT as f64 / height as f64);
     let side = |s: usize| ((s as f64 * scale).round() as usize).clamp(1, s);
     let (bw, bh) = (side(width), side(height));
-    LEVEL_SHIFT.map(|s| ((bw >> s).max(1), (bh >> s).max(1)))
+    let mut k = 0;
+    LEVEL_SHIFT.map(|s| {
+        let summed = matches!(LEVEL_FILTER[k], LevelFilter::Summed { .. });
+        k += 1;
+        if summed && bw < BASE_WIDTH {
+            // A small source: its summed levels keep at least its own size, its texels
+            // each split into f x f (`summed_level`) up to MIN_LEVEL, the same
+            // piecewise-constant radiance summed more finely.
+            let f = MIN_LEVEL
+                .0
+                .div_ceil(bw)
+                .max(MIN_LEVEL.1.div_ceil(bh))
+                .max(1);
+            (bw * f, bh * f)
+        } else {
+            ((bw >> s).max(1), (bh >> s).max(1))
+        }
+    })
 }
 
 /// The chain of `src`.
@@ -189,6 +214,23 @@ fn sampled_level(pyramid: &Pyramid, omega_p0: f64, r: f64, n: u32, dims: (usize,
     }
 }
 
+/// `p` with each texel split into `fx` x `fy` texels of the same radiance.
+fn split(p: &Plane, fx: usize, fy: usize) -> Plane {
+    let (fx, fy) = (fx.max(1), fy.max(1));
+    let (w, h) = (p.width * fx, p.height * fy);
+    let mut rgb = Vec::with_capacity(3 * w * h);
+    for y in 0..h {
+        for x in 0..w {
+            rgb.extend(p.texel(x / fx, y / fy).to_array());
+        }
+    }
+    Plane {
+        width: w,
+        height: h,
+        rgb,
+    }
+}
+
 /// One level by direct summation over `base` resampled to `scale`× the level's size (or
 /// the largest multiple `base` allows): output texel x of a row is `Σ w·L` over the coarse
 /// texels with the row's weights (NL > 0 only) shifted by `m·x` columns.
@@ -198,7 +240,13 @@ fn summed_level(base: &Plane, r: f64, scale: usize, dims: (usize, usize)) -> Pla
         .rev()
         .find(|m| m * w <= base.width && m * h <= base.height)
         .unwrap_or(1);
-    let coarse = resample(base, m * w, m * h);
+    let coarse = if w > base.width || h > base.height {
+        // Larger than a small base (`level_dims`): each base texel split into the level's
+        // texels it covers (whole multiples), the same radiance.
+        split(base, w / base.width.max(1), h / base.height.max(1))
+    } else {
+        resample(base, m * w, m * h)
+    };
     let (cw, ch) = (coarse.width, coarse.height);
     let alpha = ggx::alpha(r);
     let dirs: Vec<DVec3> = (0..ch)

@@ -84,15 +84,35 @@ impl EnvironmentPanel {
         self.fog(cx, ui);
         ui.separator();
         tone(cx, ui);
+        let mut compensate = !cx.settings.single_scatter;
+        if ui
+            .checkbox(
+                &mut compensate,
+                "lights: give rough surfaces back lost energy",
+            )
+            .on_hover_text(
+                "pbr: the punctual lights' specular lobe times 1 + F0 (1/Ess - 1), the energy \
+                 single scattering loses between microfacets (as three.js). Off: the glTF \
+                 specification's single-scattering BRDF. The environment is always compensated.",
+            )
+            .changed()
+        {
+            cx.settings.single_scatter = !compensate;
+        }
         ui.separator();
         shadows(cx, ui);
         ui.separator();
         self.ground(cx, ui);
         let (a, b) = (&*cx.settings, &mut cx.split.b);
-        if b.fog != a.fog || b.shadow != a.shadow || b.ground != a.ground {
+        if b.fog != a.fog
+            || b.shadow != a.shadow
+            || b.ground != a.ground
+            || b.single_scatter != a.single_scatter
+        {
             b.fog = a.fog;
             b.shadow = a.shadow;
             b.ground = a.ground;
+            b.single_scatter = a.single_scatter;
         }
     }
 
@@ -384,6 +404,10 @@ pub fn tone_map(ui: &mut egui::Ui, tone: &mut ToneMap, id: &str) {
             .show_ui(ui, |ui| {
                 for t in ToneMap::ALL {
                     let what = match t {
+                        ToneMap::Auto => {
+                            "PBR Neutral for a glTF model's own look (as the Khronos sample \
+                             viewer), clamp for the textbook's shading modes"
+                        }
                         ToneMap::Clamp => "clamp each channel: (1, 2, 1) turns white",
                         ToneMap::ScaleMax => "divide by the largest: (1, 2, 1) stays light green",
                         ToneMap::Reinhard => {

@@ -508,7 +508,7 @@ pub fn describe(s: &Settings) -> String {
     if s.wireframe_overlay {
         d += " + wire";
     }
-    if s.tone != crate::render::ToneMap::Clamp {
+    if s.tone != crate::render::ToneMap::Auto {
         d += &format!(", {}", s.tone.name());
     }
     if !s.sections.is_empty() {

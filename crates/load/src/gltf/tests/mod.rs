@@ -276,7 +276,14 @@ fn materials_textures_and_samplers() {
     assert!(scene.materials[2].base_color_texture.is_none());
     let uvs = scene.meshes[0].uvs.first().unwrap();
     assert_eq!(uvs.values[1], glam::Vec2::new(1.0, 0.0));
-    assert_eq!(scene.meshes[3].material, None);
+    // A primitive without a material gets the specification's default (white, metallic 1,
+    // roughness 1), added once after the file's own.
+    let k = scene.meshes[3].material.expect("the default material");
+    let d = &scene.materials[k];
+    assert_eq!(
+        (d.base_color, d.metallic, d.roughness, d.pbr.is_some()),
+        (Vec4::ONE, 1.0, 1.0, true)
+    );
     let w = scene.report.warnings.join("\n");
     assert!(
         w.contains("image 1: has neither a uri nor a bufferView"),

@@ -89,7 +89,9 @@ pub fn effective(settings: &Settings, scene: &PreparedScene) -> (Vec<Light>, boo
             lights,
             follow_camera,
         } => (lights.clone(), *follow_camera),
-        Lights::Auto if scene.lights().is_empty() => (Light::default_rig(Mat3::IDENTITY), true),
+        Lights::Auto if settings.default_rig(scene.scene()) => {
+            (Light::default_rig(Mat3::IDENTITY), true)
+        }
         Lights::Auto => (scene.lights().to_vec(), false),
     }
 }

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Renders the three.js references in tests/threejs/refs/ from a clean clone:
+#
+#   apt-get install chromium        # Debian's Chromium (software WebGL through SwiftShader)
+#   bash tests/threejs/make-refs.sh
+#
+# three.js r187 and playwright-core are pinned in package-lock.json; render.mjs loads the
+# model with three's GLTFLoader, lights it with the given directional lights (lux, three's
+# physical units), renders one frame without tone mapping to sRGB and writes the canvas.
+# tests/threejs.rs renders the same views with realist and compares. Rendering is
+# deterministic (the same PNG bytes twice).
+set -euo pipefail
+cd "$(dirname "$0")"
+npm ci --no-audit --no-fund --silent
+mkdir -p refs
+# The specification's default material (white, metallic 1, roughness 1) on a unit sphere
+# without a material, under a 1-lux directional light from the camera.
+node render.mjs --quiet --model ../../models/pbr/no-material.glb --out refs/no-material-headon.png \
+  --size 256x256 --eye 0,0,3 --target 0,0,0 --yfov 45 --light directional:0,0,-1:1 \
+  --tone none --background 0,0,0
+echo "wrote tests/threejs/refs/no-material-headon.png"
