@@ -42,6 +42,7 @@ fn job(scene: &Arc<PreparedScene>, view: View, interactive: bool, max_samples: u
         view,
         interactive,
         max_samples,
+        proxy: None,
     }
 }
 
@@ -402,6 +403,80 @@ fn a_drag_faster_than_frames_still_shows_frames() {
         times.len() >= 5,
         "{} frames for {k} jobs in {drag:?}",
         times.len()
+    );
+    wait_idle(&host);
+}
+
+/// A 2,000,000-triangle sphere dragged at 100 mouse events a second on two threads: the
+/// moving frames are drawn from its simplified copy (about 250,000 triangles, made once),
+/// so they keep coming. Prints the intervals between frames (the README quotes a run);
+/// asserts, loosely enough for a shared machine, one frame per 200 ms on average and that
+/// every moving frame was the simplified copy's.
+#[test]
+fn a_two_million_triangle_drag_is_drawn_from_a_simplified_copy() {
+    use realist::viewer::worker::{PROXY_ABOVE, PROXY_TRIANGLES};
+    let setup = realist::quality::sphere::SphereSetup::standard(1280, 720);
+    let scene = Arc::new(PreparedScene::new(setup.scene(1000, 1000).expect("sphere")));
+    assert!(
+        scene.triangle_count() >= 2 * PROXY_ABOVE - 10_000,
+        "{}",
+        scene.triangle_count()
+    );
+    let t = Instant::now();
+    let proxy = Arc::new(scene.simplified(PROXY_TRIANGLES).expect("simplified"));
+    let made = t.elapsed();
+    let kept = proxy.triangle_count();
+    eprintln!(
+        "simplified {} triangles to {kept} in {:.0} ms",
+        scene.triangle_count(),
+        made.as_secs_f64() * 1e3
+    );
+    assert!(
+        kept <= PROXY_TRIANGLES && kept * 2 >= PROXY_TRIANGLES,
+        "{kept}"
+    );
+    let mut host = RenderHost::threaded(2, Arc::new(|| {})).expect("worker");
+    let drag = Duration::from_millis(3000);
+    let start = Instant::now();
+    let (mut arrivals, mut levels, mut k) = (Vec::new(), Vec::new(), 0);
+    while start.elapsed() < drag {
+        host.submit(Job {
+            proxy: Some(Arc::clone(&proxy)),
+            ..job(&scene, view(&scene, 1280, 720, k as f32 * 0.01), true, 1)
+        });
+        k += 1;
+        if let Some(f) = host.take_frame() {
+            arrivals.push(start.elapsed().as_secs_f64() * 1e3);
+            levels.push(f.level);
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let mut gaps: Vec<f64> = arrivals.windows(2).map(|w| w[1] - w[0]).collect();
+    gaps.sort_by(f64::total_cmp);
+    let at = |q: f64| {
+        gaps.get(((gaps.len() as f64 - 1.0) * q) as usize)
+            .copied()
+            .unwrap_or(f64::NAN)
+    };
+    eprintln!(
+        "{k} jobs in {drag:?}: {} frames, gaps median {:.1} ms, 95th percentile {:.1} ms, max {:.1} ms; levels {:?}",
+        arrivals.len(),
+        at(0.5),
+        at(0.95),
+        at(1.0),
+        levels
+            .iter()
+            .map(|l| l.label())
+            .collect::<std::collections::BTreeSet<_>>()
+    );
+    assert!(
+        arrivals.len() as f64 >= drag.as_secs_f64() * 1e3 / 200.0,
+        "{} frames in {drag:?}",
+        arrivals.len()
+    );
+    assert!(
+        levels.iter().all(|l| matches!(l, Level::Simplified(_))),
+        "{levels:?}"
     );
     wait_idle(&host);
 }

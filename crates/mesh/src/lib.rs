@@ -57,6 +57,7 @@ use adjacency::{Ring, VertexCorners};
 
 mod adjacency;
 mod build;
+mod cluster;
 mod deform;
 mod normals;
 mod par;
@@ -72,6 +73,7 @@ mod weld;
 mod tests;
 
 pub use build::DEGENERATE_ASPECT;
+pub use cluster::cluster_triangles;
 pub use deform::{cofactor, deform, Deform, MorphTarget, Posing};
 pub use normals::{NormalOptions, Weighting, FALLBACK_NORMAL, MAX_CREASE_VALENCE};
 pub use polygon::MAX_EAR_CLIP;

@@ -411,6 +411,40 @@ impl PreparedScene {
             * Mat4::from_scale(Vec3::new(half, 1.0, half))
     }
 
+    /// A copy with about `target` triangles in all, its large meshes clustered
+    /// ([`crate::mesh::cluster_triangles`]; every vertex and attribute kept), to draw while
+    /// the camera moves over a scene too large to redraw in time. `None` when the scene has
+    /// no more than `target` triangles, or changes with a pose (skins, morph targets or
+    /// animations).
+    #[must_use]
+    pub fn simplified(&self, target: u64) -> Option<PreparedScene> {
+        let total = self.triangle_count();
+        if total <= target || !self.deformers.is_empty() || !self.scene.animations.is_empty() {
+            return None;
+        }
+        let share = target as f64 / total as f64;
+        let mut out = self.clone();
+        let mut changed = false;
+        for m in &mut out.meshes {
+            let n = m.tri.triangles.len();
+            let want = ((n as f64 * share) as usize).max(64);
+            if let Some((tris, from)) =
+                crate::mesh::cluster_triangles(&m.tri.positions, &m.tri.triangles, want)
+            {
+                if !m.tri.triangle_facets.is_empty() {
+                    m.tri.triangle_facets = from
+                        .iter()
+                        .map(|&t| m.tri.triangle_facets[t as usize])
+                        .collect();
+                }
+                m.tri.triangles = tris;
+                m.flat = OnceLock::new();
+                changed = true;
+            }
+        }
+        changed.then_some(out)
+    }
+
     /// Total triangles over the instances (the ground plane not included).
     #[must_use]
     pub fn triangle_count(&self) -> u64 {

@@ -4,7 +4,9 @@
 //! each job is refined progressively:
 //!
 //! 1. while the camera moves, at a reduced resolution if full resolution would take longer
-//!    than [`FRAME_BUDGET_MS`] (the divisor chosen from the last full frame's time);
+//!    than [`FRAME_BUDGET_MS`] (the divisor chosen from the last full frame's time); a scene
+//!    of more than [`PROXY_ABOVE`] triangles is drawn from its simplified copy
+//!    ([`Job::proxy`], about [`PROXY_TRIANGLES`] triangles) until the camera stops;
 //! 2. full resolution, one sample per pixel;
 //! 3. 2 x 2, then 4 x 4 supersampling (as far as the job's `max_samples` allows), each a
 //!    finished image shown as soon as it is done.
@@ -37,12 +39,19 @@ pub const FRAME_BUDGET_MS: f64 = 33.0;
 pub const SETTLE_MS: u64 = 150;
 /// A job's first frame is abandoned for a newer job only after this long (4 budgets).
 pub const ABANDON_FIRST_MS: f64 = 4.0 * FRAME_BUDGET_MS;
+/// Scenes with more triangles than this get a simplified copy to draw while moving.
+pub const PROXY_ABOVE: u64 = 1_000_000;
+/// About how many triangles the simplified copy keeps.
+pub const PROXY_TRIANGLES: u64 = 250_000;
 
 /// A quality level of a shown frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Level {
     /// Resolution divided by this (2..=4) per axis, while the camera moves.
     Reduced(u32),
+    /// The scene's simplified copy ([`Job::proxy`]) at the resolution divided by this
+    /// (1..=4), while the camera moves.
+    Simplified(u32),
     /// Full resolution, one sample per pixel.
     Full,
     /// Full resolution, n x n samples per pixel.
@@ -55,6 +64,8 @@ impl Level {
     pub fn label(self) -> String {
         match self {
             Level::Reduced(d) => format!("1/{d} resolution (moving)"),
+            Level::Simplified(1) => "simplified (moving)".into(),
+            Level::Simplified(d) => format!("1/{d} resolution, simplified (moving)"),
             Level::Full => "full resolution".into(),
             Level::Supersampled(n) => format!("{n}x{n} supersampled"),
         }
@@ -64,7 +75,8 @@ impl Level {
     fn divisor(self) -> u32 {
         match self {
             Level::Reduced(d) => d.clamp(2, 4),
-            _ => 1,
+            Level::Simplified(d) => d.clamp(1, 4),
+            Level::Full | Level::Supersampled(_) => 1,
         }
     }
 
@@ -92,6 +104,9 @@ pub struct Job {
     pub interactive: bool,
     /// Refine up to this many samples per axis (1, 2 or 4).
     pub max_samples: u32,
+    /// A simplified copy of `scene` for frames while the camera moves (a scene of more
+    /// than [`PROXY_ABOVE`] triangles: [`PreparedScene::simplified`]).
+    pub proxy: Option<Arc<PreparedScene>>,
 }
 
 /// One rendered image with what the panels show about it.
@@ -266,6 +281,8 @@ struct Worker {
     /// Moving averages of one-sample frame times (A and B) at full resolution (index 1)
     /// and at 1/2, 1/3, 1/4 (indices 2..=4), for choosing the first level of a job.
     times: [Option<f64>; 5],
+    /// The same for the simplified copy of the scene.
+    proxy_times: [Option<f64>; 5],
 }
 
 impl Worker {
@@ -316,7 +333,7 @@ impl Worker {
                         if i == 0 {
                             // Too slow to finish: the next job plans a smaller first frame.
                             let spent = started.elapsed().as_secs_f64() * 1e3;
-                            let slot = &mut self.times[level.divisor() as usize];
+                            let slot = &mut self.times_of(level)[level.divisor() as usize];
                             *slot = Some(slot.map_or(spent, |e| e.max(spent)));
                         }
                         break;
@@ -352,13 +369,25 @@ impl Worker {
         }
     }
 
+    /// The frame times of a level's scene: the simplified copy's, or the scene's.
+    fn times_of(&mut self, level: Level) -> &mut [Option<f64>; 5] {
+        match level {
+            Level::Simplified(_) => &mut self.proxy_times,
+            Level::Reduced(_) | Level::Full | Level::Supersampled(_) => &mut self.times,
+        }
+    }
+
     /// The levels to render for a job, coarsest first.
     fn plan(&self, job: &Job) -> Vec<Level> {
         let mut levels = Vec::new();
         if job.interactive {
-            let d = self.divisor();
-            if d > 1 {
-                levels.push(Level::Reduced(d));
+            if job.proxy.is_some() {
+                levels.push(Level::Simplified(divisor(&self.proxy_times)));
+            } else {
+                let d = divisor(&self.times);
+                if d > 1 {
+                    levels.push(Level::Reduced(d));
+                }
             }
         }
         levels.push(Level::Full);
@@ -369,16 +398,19 @@ impl Worker {
         }
         levels
     }
+}
 
-    /// The resolution divisor (1..=4) for a frame that should fit [`FRAME_BUDGET_MS`]: the
-    /// smallest whose time (measured, or extrapolated from the nearest measured divisor as
-    /// if cost followed the pixel count) fits; if none does, the fastest, preferring the
-    /// larger image within 10% (a frame bound by geometry gains nothing from fewer pixels).
-    fn divisor(&self) -> u32 {
+/// The resolution divisor (1..=4) for a frame that should fit [`FRAME_BUDGET_MS`], from the
+/// frame times `times`: the smallest whose time (measured, or extrapolated from the nearest
+/// measured divisor as if cost followed the pixel count) fits; if none does, the fastest,
+/// preferring the larger image within 10% (a frame bound by geometry gains nothing from
+/// fewer pixels).
+fn divisor(times: &[Option<f64>; 5]) -> u32 {
+    {
         let estimate = |d: usize| -> Option<f64> {
-            self.times[d].or_else(|| {
+            times[d].or_else(|| {
                 (1..=4)
-                    .filter_map(|k| self.times[k].map(|t| (k, t)))
+                    .filter_map(|k| times[k].map(|t| (k, t)))
                     .min_by_key(|(k, _)| k.abs_diff(d))
                     .map(|(k, t)| t * (k * k) as f64 / (d * d) as f64)
             })
@@ -400,7 +432,9 @@ impl Worker {
             .find(|(_, t)| *t <= fastest * 1.1)
             .map_or(4, |&(d, _)| d)
     }
+}
 
+impl Worker {
     /// Renders one level of a job (A, B and the heat map).
     fn render_level(
         &mut self,
@@ -411,19 +445,22 @@ impl Worker {
     ) -> Result<Frame, crate::render::Interrupted> {
         let start = Instant::now();
         let mut view = job.view.clone();
-        if let Level::Reduced(d) = level {
-            view.width = (view.width / d).max(1);
-            view.height = (view.height / d).max(1);
-        }
+        let d = level.divisor();
+        view.width = (view.width / d).max(1);
+        view.height = (view.height / d).max(1);
         let samples = level.samples();
-        let a = render_image(&mut self.a, job, &job.a, &view, samples, stale)?;
+        let scene = match (level, &job.proxy) {
+            (Level::Simplified(_), Some(p)) => p,
+            _ => &job.scene,
+        };
+        let a = render_image(&mut self.a, scene, &job.a, &view, samples, stale)?;
         let b = match &job.b {
-            Some(s) => Some(render_image(&mut self.b, job, s, &view, samples, stale)?),
+            Some(s) => Some(render_image(&mut self.b, scene, s, &view, samples, stale)?),
             None => None,
         };
         if !matches!(level, Level::Supersampled(_)) {
             let ms = start.elapsed().as_secs_f64() * 1e3;
-            let slot = &mut self.times[level.divisor() as usize];
+            let slot = &mut self.times_of(level)[level.divisor() as usize];
             *slot = Some(slot.map_or(ms, |old| 0.5 * (old + ms)));
         }
         let heat = match (&b, job.heat, level) {
@@ -449,7 +486,7 @@ impl Worker {
 
 fn render_image(
     r: &mut Renderer,
-    job: &Job,
+    scene: &PreparedScene,
     settings: &Settings,
     view: &View,
     samples: u32,
@@ -457,7 +494,7 @@ fn render_image(
 ) -> Result<Image, crate::render::Interrupted> {
     let mut s = settings.clone();
     s.samples = samples;
-    let report = r.render_until(&job.scene, &s, view, stale)?.clone();
+    let report = r.render_until(scene, &s, view, stale)?.clone();
     let mut pixels = vec![Color32::BLACK; (view.width * view.height) as usize];
     r.write_pixels(&mut pixels, |[cr, cg, cb, ca]| {
         Color32::from_rgba_premultiplied(cr, cg, cb, ca)

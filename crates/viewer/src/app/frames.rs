@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::panels::Side;
+use crate::worker::{PROXY_ABOVE, PROXY_TRIANGLES};
 
 impl ViewerApp {
     /// Uploads the newest finished frame.
@@ -128,6 +129,7 @@ impl ViewerApp {
         if same {
             return;
         }
+        let proxy = self.proxy.for_scene(&self.scene, &self.repaint);
         let job = Job {
             scene: Arc::clone(&self.scene),
             a: Arc::new(self.settings.clone()),
@@ -136,6 +138,7 @@ impl ViewerApp {
             view,
             interactive: self.interacting,
             max_samples: self.max_samples,
+            proxy,
         };
         self.last_job = Some(job.clone());
         self.host.submit(job);
@@ -175,5 +178,53 @@ impl ViewerApp {
         let pv =
             crate::viewport::read_probe(shown, &self.scene, settings, pv.pixel, pv.side, pv.at);
         self.shared.probe = Some(pv);
+    }
+}
+
+/// The simplified copy of a scene too large to redraw while the camera moves
+/// ([`PreparedScene::simplified`]), made once per scene on a thread of its own.
+#[derive(Default)]
+pub struct Proxy {
+    /// The scene it is (being) made for.
+    base: Option<Arc<PreparedScene>>,
+    ready: Option<Arc<PreparedScene>>,
+    making: Option<std::sync::mpsc::Receiver<Option<PreparedScene>>>,
+}
+
+impl Proxy {
+    /// The simplified copy of `scene` once it is made; starts making it the first time a
+    /// still scene of more than [`PROXY_ABOVE`] triangles is asked for (`repaint` wakes the
+    /// UI when it is done).
+    pub fn for_scene(
+        &mut self,
+        scene: &Arc<PreparedScene>,
+        repaint: &Arc<dyn Fn() + Send + Sync>,
+    ) -> Option<Arc<PreparedScene>> {
+        if !self.base.as_ref().is_some_and(|b| Arc::ptr_eq(b, scene)) {
+            self.base = Some(Arc::clone(scene));
+            self.ready = None;
+            self.making = None;
+            if scene.triangle_count() > PROXY_ABOVE && scene.scene().animations.is_empty() {
+                let (tx, rx) = std::sync::mpsc::channel();
+                let (s, repaint) = (Arc::clone(scene), Arc::clone(repaint));
+                let spawned = std::thread::Builder::new()
+                    .name("realist-proxy".into())
+                    .spawn(move || {
+                        let _ = tx.send(s.simplified(PROXY_TRIANGLES));
+                        repaint();
+                    });
+                // Without a thread, moving frames keep to the reduced resolutions.
+                self.making = spawned.ok().map(|_| rx);
+            }
+        }
+        if let Some(Ok(p)) = self
+            .making
+            .as_ref()
+            .map(std::sync::mpsc::Receiver::try_recv)
+        {
+            self.ready = p.map(Arc::new);
+            self.making = None;
+        }
+        self.ready.clone()
     }
 }

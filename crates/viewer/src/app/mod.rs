@@ -128,6 +128,8 @@ pub struct ViewerApp {
     pub shown: Option<Shown>,
     /// The last job submitted.
     last_job: Option<Job>,
+    /// The simplified copy of a very large scene, for frames while the camera moves.
+    proxy: frames::Proxy,
     /// The camera moved by input during this UI pass.
     pub interacting: bool,
     pub loading: Option<LoadTask>,
@@ -222,6 +224,7 @@ impl ViewerApp {
             host,
             shown: None,
             last_job: None,
+            proxy: frames::Proxy::default(),
             interacting: false,
             loading: None,
             synchronous: opts.synchronous,
