@@ -21,7 +21,7 @@ impl ViewerApp {
             last,
         } = frame;
         let size = [view.width as usize, view.height as usize];
-        let opts = if matches!(level, Level::Reduced(_)) {
+        let opts = if matches!(level, Level::Reduced(_) | Level::Simplified(2..)) {
             TextureOptions::LINEAR
         } else {
             TextureOptions::NEAREST

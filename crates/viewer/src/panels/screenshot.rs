@@ -146,8 +146,9 @@ impl ScreenshotPanel {
             cx.notice("no frame to save yet");
             return;
         };
-        if let crate::worker::Level::Reduced(_) = s.level {
-            // A frame drawn small while moving: the view drawn again at the window's size.
+        if let crate::worker::Level::Reduced(_) | crate::worker::Level::Simplified(_) = s.level {
+            // A frame drawn small or simplified while moving: the view drawn again at the
+            // window's size, in full.
             let [w, h] = cx.viewport.size_px;
             let view = View {
                 width: w.max(1),
