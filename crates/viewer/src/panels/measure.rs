@@ -137,18 +137,19 @@ fn show(ui: &mut egui::Ui, cx: &mut Cx<'_>) {
         .num_columns(2)
         .striped(true)
         .show(ui, |ui| {
+            // Four significant digits here (the panel is narrow); "copy" gives six.
+            let short = |v: f32| {
+                format!("{:.4}", f64::from(v))
+                    .trim_end_matches('0')
+                    .trim_end_matches('.')
+                    .to_owned()
+            };
             for (i, p) in m.points.iter().enumerate() {
                 let q = p.position;
                 row(
                     ui,
-                    &name(i).to_string(),
-                    format!(
-                        "({}, {}, {}) {}",
-                        number(f64::from(q.x)),
-                        number(f64::from(q.y)),
-                        number(f64::from(q.z)),
-                        p.snap.name()
-                    ),
+                    &format!("{} ({})", name(i), p.snap.name()),
+                    format!("{}, {}, {}", short(q.x), short(q.y), short(q.z)),
                 );
             }
             for (i, d) in m.distances().iter().enumerate() {

@@ -60,6 +60,7 @@ impl SectionPanel {
                     let axis = axis_of(*plane).filter(|_| !*free);
                     let label = axis.map_or("free", |(a, _)| AXES[a]);
                     egui::ComboBox::from_id_salt("axis")
+                        .width(56.0)
                         .selected_text(label)
                         .show_ui(ui, |ui| {
                             for (a, name) in AXES.iter().enumerate() {
