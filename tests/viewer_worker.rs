@@ -481,6 +481,43 @@ fn a_two_million_triangle_drag_is_drawn_from_a_simplified_copy() {
     wait_idle(&host);
 }
 
+/// Playing an animation sends a job per frame as a moving camera does (interactive): when
+/// a full frame is cheap (here `models/anim/skin8.glb`, a skinned mesh, at 640 x 400), every
+/// frame of the playback is drawn at full resolution, never reduced.
+#[test]
+fn an_animation_with_cheap_frames_plays_at_full_resolution() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/anim/skin8.glb");
+    let loaded = realist::load::load(&path, &realist::load::LoadOptions::default()).expect("skin8");
+    assert!(!loaded.animations.is_empty(), "an animated file");
+    let base = PreparedScene::new(loaded);
+    let v = view(&base, 640, 400, 0.0);
+    let mut host = RenderHost::threaded(2, Arc::new(|| {})).expect("worker");
+    let (mut frames, mut times) = (Vec::new(), Vec::new());
+    for k in 0..60 {
+        let mut posed = base.clone();
+        posed.pose_at(realist::scene::Play::All, k as f32 / 30.0, true);
+        host.submit(job(&Arc::new(posed), v.clone(), true, 1));
+        std::thread::sleep(Duration::from_millis(16));
+        if let Some(f) = host.take_frame() {
+            times.push(f.a.report.times.total);
+            frames.push(f.level);
+        }
+    }
+    wait_idle(&host);
+    times.sort_by(f64::total_cmp);
+    let median = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
+    eprintln!(
+        "{} frames of 60, median {median:.2} ms: {frames:?}",
+        frames.len()
+    );
+    assert!(
+        median < 10.0,
+        "the premise: a full frame costs under 10 ms ({median} ms)"
+    );
+    assert!(frames.len() >= 10, "{} frames", frames.len());
+    assert!(frames.iter().all(|l| *l == Level::Full), "{frames:?}");
+}
+
 #[test]
 fn the_split_views_difference_statistics_are_over_the_drawn_pixels() {
     let scene = demo();
