@@ -2888,3 +2888,20 @@ fn keys_toggle_measuring_the_axes_and_full_screen() {
     h.run();
     assert!(!h.state().shared.fullscreen && !h.state().fullscreen_sent);
 }
+
+#[test]
+fn the_file_pickers_icons_are_in_the_fonts() {
+    // egui_file (the File > Open picker) marks each folder and file with 🗀 and 🗋 and its
+    // titles with 📁, 📂 and 💾: all must have glyphs in the viewer's fonts (they showed as
+    // empty boxes before egui's monochrome emoji fonts were turned on).
+    let dir = temp_dir("picker-icons");
+    let h = viewer(None, &dir, 1);
+    let font = egui::FontId::proportional(14.0);
+    for c in ['🗀', '🗋', '📁', '📂', '💾'] {
+        assert!(
+            h.ctx.fonts_mut(|f| f.has_glyph(&font, c)),
+            "{c} (U+{:04X}) has no glyph",
+            u32::from(c)
+        );
+    }
+}
