@@ -97,32 +97,43 @@ pub(crate) fn clip_sections(poly: Poly, planes: &[Vec4], need: u8) -> Poly {
         if need & (1 << k) == 0 {
             continue;
         }
-        out.n = 0;
         let stride = poly.stride;
         let l = plane.as_dvec4();
-        crate::geom::clip_polygon(
-            poly.as_slice(),
+        let kept = clip_by(
+            &mut poly,
+            &mut out,
             |v| plane.dot(v.pos) >= 0.0,
             |i, o| {
                 let (pi, po) = (i.pos.as_dvec4(), o.pos.as_dvec4());
-                lerp(
-                    i,
-                    o,
-                    pi,
-                    po,
-                    crate::geom::crossing(l.dot(pi), l.dot(po)),
-                    stride,
-                )
+                let t = crate::geom::crossing(l.dot(pi), l.dot(po));
+                lerp(i, o, pi, po, t, stride)
             },
-            &mut out,
         );
-        std::mem::swap(&mut poly, &mut out);
-        if poly.n < 3 {
-            poly.n = 0;
-            return poly;
+        if !kept {
+            break;
         }
     }
     poly
+}
+
+/// Clips `poly` against one plane: `inside` tells the vertices kept, `cut` makes the vertex
+/// where an edge from an inside vertex to an outside one crosses the plane; `out` is
+/// scratch. Returns false, with `poly` emptied, when fewer than three vertices remain.
+#[inline(always)]
+fn clip_by(
+    poly: &mut Poly,
+    out: &mut Poly,
+    inside: impl Fn(&ClipVertex) -> bool,
+    cut: impl Fn(&ClipVertex, &ClipVertex) -> ClipVertex,
+) -> bool {
+    out.n = 0;
+    crate::geom::clip_polygon(poly.as_slice(), inside, cut, out);
+    std::mem::swap(poly, out);
+    if poly.n < 3 {
+        poly.n = 0;
+        return false;
+    }
+    true
 }
 
 /// A convex polygon of at most [`MAX_POLY`] vertices, on the stack: clipping allocates
@@ -181,18 +192,15 @@ pub(crate) fn clip_polygon(poly: Poly, planes: u8, g: Vec2) -> Poly {
         if planes & plane == 0 {
             continue;
         }
-        out.n = 0;
         let stride = poly.stride;
-        crate::geom::clip_polygon(
-            poly.as_slice(),
+        let kept = clip_by(
+            &mut poly,
+            &mut out,
             |v| distance(v.pos, plane, g) >= 0.0,
             |i, o| intersect(i, o, plane, g, stride),
-            &mut out,
         );
-        std::mem::swap(&mut poly, &mut out);
-        if poly.n < 3 {
-            poly.n = 0;
-            return poly;
+        if !kept {
+            break;
         }
     }
     poly
