@@ -19,8 +19,8 @@
 //! image-based term compensates it ([`ibl_fresnel`]), and so do the punctual lights: each
 //! specular lobe is scaled by `1 + F0 (1/E_ss - 1)` (Fdez-Agüera 2019, after Kulla and
 //! Conty; three.js does the same since r181), `E_ss` the lobe's directional albedo at `N·V`
-//! ([`Pbr::ess`], from the split-sum table; 1 gives the specification's single-scattering
-//! formula).
+//! ([`Pbr::ess`], from the split-sum table read at three.js's table coordinates, so both
+//! renderers compensate alike; 1 gives the specification's single-scattering formula).
 
 use super::lighting::SurfaceAt;
 pub use crate::microfacet::{alpha, ggx, schlick, schlick_weight, smith_vis, MIN_ALPHA};
@@ -39,8 +39,8 @@ pub struct Pbr<T: Num> {
     pub f0: T::V,
     /// The dielectric lobe's Fresnel at grazing incidence (`specular`, 1 by default).
     pub f90: T,
-    /// The single-scattering lobe's directional albedo `E_ss = A + B` of the split-sum
-    /// table at `N·V` and this roughness, which sets the multiple-scattering compensation of
+    /// The single-scattering lobe's directional albedo `E_ss` at `N·V` and this roughness
+    /// (the split-sum table's `A + B` at three.js's table coordinates), which sets the multiple-scattering compensation of
     /// the punctual lights; 1 (the default) turns it off.
     pub ess: T,
 }

@@ -348,8 +348,10 @@ pub trait Shade: Num {
     /// The fraction of light `l` that reaches `p` (normal `n`) past the shadow map, where
     /// `live` (1 elsewhere).
     fn shadow(map: &ShadowMap, p: Self::V, n: Self::V, l: Self::V, live: Self::M) -> Self;
-    /// The split-sum BRDF table's scale and bias `(A, B)` at `NV` and perceptual roughness.
-    fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self);
+    /// The split-sum BRDF table's scale and bias `(A, B)` at `NV` and perceptual roughness,
+    /// and the single-scattering albedo `E_c` the punctual lights' compensation uses
+    /// (`realist_texture::env::BrdfLut::lookup_ess`).
+    fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self, Self);
     /// The environment's prefiltered radiance along `r` for `roughness`, and its
     /// irradiance at normal `n` over π.
     fn env(env: &EnvView, n: Self::V, r: Self::V, roughness: Self) -> (Self::V, Self::V);
@@ -368,9 +370,9 @@ macro_rules! shade_scalar {
                 map.visibility::<$t>(p, n, l)
             }
             #[inline(always)]
-            fn brdf_lut(nv: $t, roughness: $t) -> ($t, $t) {
-                let (a, b) = brdf_lut().lookup(nv as f32, roughness as f32);
-                (a as $t, b as $t)
+            fn brdf_lut(nv: $t, roughness: $t) -> ($t, $t, $t) {
+                let (a, b, e) = brdf_lut().lookup_ess(nv as f32, roughness as f32);
+                (a as $t, b as $t, e as $t)
             }
             #[inline(always)]
             fn env(env: &EnvView, n: Self::V, r: Self::V, roughness: $t) -> (Self::V, Self::V) {
@@ -396,14 +398,14 @@ impl<L: Level> Shade for F8<L> {
         map.visibility_lanes(p, n, l, live.bits())
     }
     #[inline(always)]
-    fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self) {
+    fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self, Self) {
         let lut = brdf_lut();
         let (nv, r) = (nv.to_array(), roughness.to_array());
-        let (mut a, mut b) = ([0.0; 8], [0.0; 8]);
+        let (mut a, mut b, mut e) = ([0.0; 8], [0.0; 8], [0.0; 8]);
         for i in 0..crate::simd::LANES {
-            (a[i], b[i]) = lut.lookup(nv[i], r[i]);
+            (a[i], b[i], e[i]) = lut.lookup_ess(nv[i], r[i]);
         }
-        (F8::from_array(a), F8::from_array(b))
+        (F8::from_array(a), F8::from_array(b), F8::from_array(e))
     }
     #[inline(always)]
     fn env(env: &EnvView, n: V3<L>, r: V3<L>, roughness: Self) -> (V3<L>, V3<L>) {

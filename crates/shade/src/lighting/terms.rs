@@ -209,22 +209,22 @@ pub fn ambient_split<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::
     (diffuse, specular)
 }
 
-/// The single-scattering lobe's directional albedo `E_ss = A + B` of the split-sum table
-/// at `N·V` for a `pbr` surface (1 for Phong): [`crate::brdf::Pbr::ess`].
+/// The single-scattering lobe's directional albedo `E_ss` at `N·V` for a `pbr` surface, as
+/// the punctual lights' compensation reads it (three.js's table coordinates; 1 for Phong):
+/// [`crate::brdf::Pbr::ess`].
 #[inline(always)]
 #[must_use]
 pub fn single_scatter_albedo<T: Shade>(s: &SurfaceAt<T>, n: T::V, v: T::V) -> T {
     match &s.pbr {
         Some(p) => {
             let nv = T::dot(n, v).max(T::of(1e-4));
-            let (a, b) = T::brdf_lut(nv, p.roughness);
-            a + b
+            T::brdf_lut(nv, p.roughness).2
         }
         None => T::ONE,
     }
 }
 
-/// [`ambient_split`] and `E_ss = A + B` (1 for Phong).
+/// [`ambient_split`] and [`single_scatter_albedo`]'s `E_ss` (1 for Phong).
 #[inline(always)]
 fn ambient_terms<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V, T) {
     let g = T::vec(set.ambient);
@@ -232,7 +232,7 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -
         return (g * s.ka * s.kd, T::splat(T::ZERO), T::ONE);
     };
     let nv = T::dot(n, v).max(T::of(1e-4));
-    let (a, b) = T::brdf_lut(nv, p.roughness);
+    let (a, b, ess) = T::brdf_lut(nv, p.roughness);
     // Prefiltered radiance along the reflection and irradiance over π: the ambient light
     // is a uniform environment, where both equal its radiance.
     let (prefiltered, irradiance) = match &set.env {
@@ -258,7 +258,7 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -
     let diffuse = s.kd * left * irradiance * dielectric;
     let specular = (d_ss * prefiltered + d_ms * irradiance) * dielectric
         + (m_ss * prefiltered + m_ms * irradiance) * p.metallic;
-    (diffuse, specular, a + b)
+    (diffuse, specular, ess)
 }
 
 /// The lighting equation at `p` with unit normal `n` and the eye at `eye`, summed over the

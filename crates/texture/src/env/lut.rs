@@ -8,6 +8,13 @@
 //! (NV clamped to [`NV_MIN`] when computing), so both ends of both axes are table points and
 //! [`BrdfLut::lookup`] is bilinear, clamped. `A + B = Ess`, the single-scattering directional
 //! albedo of white metal: 1 - ln 2 head-on at r = 1, → 1 as r → 0.
+//! Beside `(A, B)` each entry holds [`BrdfLut::lookup_ess`]'s `E_c`: `A + B` read the way
+//! three.js reads its 16 x 16 DFG table, at texel centres (N·V and r clamped to
+//! [[`THREE_MIN`], 1 - [`THREE_MIN`]]). The punctual lights' multiple-scattering
+//! compensation uses it, so a rough metal under a lamp agrees with three.js (roughness 1
+//! compensates as roughness 0.969 does: head-on 1/0.345 instead of 1/0.307; with the exact
+//! value the sphere of `tests/threejs.rs` was 7 levels brighter than three's at its centre).
+//! The environment's split sum keeps the exact `(A, B)`, so the white furnace stays white.
 //! Stored with the source (`lut.bin`, checked against a fresh computation by a test). 8192 samples an entry:
 //! with 1024, the sampling error in A reached 9e-3 at grazing NV (measured against a
 //! quadrature in `tests.rs`); with 8192 the table is within 2.4e-3 of it.
@@ -25,6 +32,8 @@ pub const LUT_SIZE: usize = 64;
 pub const LUT_SAMPLES: u32 = 8192;
 /// Smallest NV computed (grazing V has NV = 0).
 pub const NV_MIN: f64 = 1e-3;
+/// The lowest table coordinate three.js's 16-texel DFG table reaches (half a texel).
+pub const THREE_MIN: f32 = 1.0 / 32.0;
 
 /// The split-sum table (module docs).
 #[derive(Clone, Debug, PartialEq)]
@@ -32,6 +41,8 @@ pub struct BrdfLut {
     size: usize,
     /// `(A, B)`, row-major, rows by roughness.
     ab: Vec<[f32; 2]>,
+    /// `E_c` of each entry ([`BrdfLut::lookup_ess`]), from `ab`.
+    ec: Vec<f32>,
 }
 
 /// The GGX half vectors of roughness `r` for `n` Hammersley points (N = +Z).
@@ -80,7 +91,27 @@ impl BrdfLut {
                 *e = [a as f32, b as f32];
             }
         });
-        Self { size, ab }
+        Self::with_ec(size, ab)
+    }
+
+    /// The table of `ab` with its `E_c` column filled in (module docs).
+    fn with_ec(size: usize, ab: Vec<[f32; 2]>) -> Self {
+        let mut lut = Self {
+            size,
+            ab,
+            ec: vec![0.0; size * size],
+        };
+        let last = (size - 1) as f32;
+        let clamp = |t: f32| t.clamp(THREE_MIN, 1.0 - THREE_MIN);
+        let ec: Vec<f32> = (0..size * size)
+            .map(|k| {
+                let (i, j) = (k % size, k / size);
+                let (a, b) = lut.lookup(clamp(i as f32 / last), clamp(j as f32 / last));
+                a + b
+            })
+            .collect();
+        lut.ec = ec;
+        lut
     }
 
     /// Entries a side.
@@ -94,6 +125,15 @@ impl BrdfLut {
     #[must_use]
     #[inline(always)]
     pub fn lookup(&self, nv: f32, r: f32) -> (f32, f32) {
+        let (a, b, _) = self.lookup_ess(nv, r);
+        (a, b)
+    }
+
+    /// [`BrdfLut::lookup`] and `E_c`, the single-scattering albedo the punctual lights'
+    /// compensation uses (module docs), bilinear between table points like `(A, B)`.
+    #[must_use]
+    #[inline(always)]
+    pub fn lookup_ess(&self, nv: f32, r: f32) -> (f32, f32, f32) {
         let last = (self.size - 1) as f32;
         let fx = nv.clamp(0.0, 1.0) * last;
         let fy = r.clamp(0.0, 1.0) * last;
@@ -104,13 +144,14 @@ impl BrdfLut {
         );
         let (tx, ty) = (fx - x0 as f32, fy - y0 as f32);
         let at = |x: usize, y: usize| {
-            let [a, b] = self.ab[y * self.size + x];
-            glam::Vec2::new(a, b)
+            let k = y * self.size + x;
+            let [a, b] = self.ab[k];
+            glam::Vec3::new(a, b, self.ec[k])
         };
         let top = at(x0, y0).lerp(at(x0 + 1, y0), tx);
         let bottom = at(x0, y0 + 1).lerp(at(x0 + 1, y0 + 1), tx);
         let v = top.lerp(bottom, ty);
-        (v.x, v.y)
+        (v.x, v.y, v.z)
     }
 }
 
@@ -137,7 +178,7 @@ impl BrdfLut {
             .collect();
         ab.iter()
             .all(|e| e[0].is_finite() && e[1].is_finite())
-            .then_some(Self { size, ab })
+            .then(|| Self::with_ec(size, ab))
     }
 
     /// The table as stored bytes ([`STORED`]'s format).
