@@ -351,3 +351,71 @@ fn custom_lights_follow_the_camera_or_stay_in_the_world() {
         "{p:?}"
     );
 }
+
+/// A hidden instance (the viewer's hide and isolate) is drawn as if it were not in the
+/// scene: no pixels, no shadow, not probed. `lit-stage.glb` is a ball over a floor lit by
+/// a spotlight; the ball's shadow falls on the floor.
+#[test]
+fn a_hidden_instance_renders_as_if_removed_shadow_and_probe_included() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/lit-stage.glb");
+    let scene =
+        realist::load::load(&path, &realist::load::LoadOptions::default()).expect("lit-stage");
+    let ball = scene
+        .instances
+        .iter()
+        .position(|i| i.name == "ball")
+        .expect("a ball");
+    let mut without = scene.clone();
+    without.instances.remove(ball);
+    for l in &mut without.lights {
+        l.shadow = true;
+    }
+    let mut with = scene;
+    for l in &mut with.lights {
+        l.shadow = true;
+    }
+    let camera = with.cameras[0].clone();
+    let v = view(&camera, W, H);
+    let (with, without) = (PreparedScene::new(with), PreparedScene::new(without));
+    let mut shown = Settings {
+        lights: render::Lights::Auto,
+        ..Settings::default()
+    };
+    let draw = |scene: &PreparedScene, settings: &Settings| {
+        let mut r = Renderer::new();
+        r.render(scene, settings, &v);
+        pixels(&r)
+    };
+    let all = draw(&with, &shown);
+    let mut hidden = shown.clone();
+    hidden.hidden.set(ball, true);
+    assert_eq!(hidden.hidden.count(), 1);
+    let removed = draw(&without, &shown);
+    let cut = draw(&with, &hidden);
+    assert!(
+        all.iter().zip(&removed).filter(|(a, b)| a != b).count() > 200,
+        "the ball and its shadow show"
+    );
+    assert!(cut == removed, "hiding the ball draws the scene without it");
+    // Isolating the floor is the same set; showing the ball again restores the frame.
+    assert_eq!(
+        render::Hidden::all_but(with.scene().instances.len(), [1 - ball]),
+        hidden.hidden
+    );
+    hidden.hidden.set(ball, false);
+    assert!(hidden.hidden.is_empty() && hidden.hidden == shown.hidden);
+    // The probe at the ball's centre reads the ball, then (hidden) what lies behind it.
+    let centre = (0..W * H)
+        .filter(|&k| all[k as usize] != removed[k as usize])
+        .find_map(|k| {
+            let p = render::probe(&with, &shown, &v, k % W, k / W)?;
+            (p.instance == ball).then_some(k)
+        })
+        .expect("a pixel of the ball");
+    shown.hidden.set(ball, true);
+    let behind = render::probe(&with, &shown, &v, centre % W, centre / W);
+    assert!(
+        behind.as_ref().is_none_or(|p| p.instance != ball),
+        "{behind:?}"
+    );
+}

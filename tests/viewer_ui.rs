@@ -2519,6 +2519,65 @@ fn the_node_tree_lists_scenes_and_nodes_and_frames_a_node() {
     assert_current_frame(h.state());
 }
 
+/// The node tree and the instances list hide, isolate and show parts: `lit-stage.glb` is a
+/// ball (node 1) over a floor (node 0).
+#[test]
+fn parts_are_hidden_isolated_and_shown_again_from_the_node_tree_and_the_instances() {
+    use realist::render::Hidden;
+    let dir = temp_dir("hide");
+    let mut h = viewer(Some(model("lit-stage.glb")), &dir, 1);
+    let before = shown_image(&h);
+    activate(&mut h, "Nodes (6)");
+    h.get_by_label("0: floor (1 primitives)");
+    h.get_by_label("1: ball (1 primitives)");
+    // Lights and the camera draw nothing: only the two mesh nodes have buttons.
+    assert_eq!(h.get_all_by_label("hide").count(), 2);
+    h.get_all_by_label("hide")
+        .nth(1)
+        .expect("the ball's")
+        .click_accesskit();
+    h.run();
+    {
+        let app = h.state();
+        let mut want = Hidden::default();
+        want.set(1, true);
+        assert_eq!(app.settings.hidden, want);
+        assert_eq!(app.split.b.hidden, want, "side B follows");
+        assert_current_frame(app);
+    }
+    h.get_by_label("1: ball (1 primitives, hidden)");
+    h.get_by_label("1 of 2 parts hidden");
+    assert_frame_changed(h.state(), &before, "hiding the ball");
+    let no_ball = shown_image(&h);
+    // The hidden ball's button shows it again: the first frame, exactly.
+    activate(&mut h, "show");
+    assert!(h.state().settings.hidden.is_empty());
+    assert_eq!(differing(&shown_image(&h), &before), 0);
+    // Isolating the floor hides the ball: the same frame as hiding it.
+    h.get_all_by_label("isolate")
+        .next()
+        .expect("the floor's")
+        .click_accesskit();
+    h.run();
+    assert_eq!(h.state().settings.hidden, Hidden::all_but(2, [0]));
+    assert_eq!(differing(&shown_image(&h), &no_ball), 0);
+    assert_eq!(
+        h.state().notice.as_deref(),
+        Some("showing only node 0: floor")
+    );
+    activate(&mut h, "show all");
+    assert!(h.state().settings.hidden.is_empty());
+    assert!(h.query_by_label("show all").is_none());
+    // The instances list: untick the ball.
+    activate(&mut h, "Instances (2)");
+    activate(&mut h, "1: ball (mesh 1, 960 triangles, Inherit)");
+    assert!(h.state().settings.hidden.contains(1));
+    assert_eq!(differing(&shown_image(&h), &no_ball), 0);
+    // Another file starts with every part shown.
+    drop_file(&mut h, &model("torus.obj"));
+    assert!(h.state().settings.hidden.is_empty());
+}
+
 /// A panel from outside the viewer crate, added with `Panels::add` and nothing else: it
 /// counts what the dispatch tells it, edits a setting through its context and asks the
 /// session for a notice.

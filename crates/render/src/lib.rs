@@ -51,7 +51,7 @@ pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
 pub use settings::{
-    Environment, Ground, Lights, Output, Sections, Settings, ToneMap, VertexLighting, View,
+    Environment, Ground, Hidden, Lights, Output, Sections, Settings, ToneMap, VertexLighting, View,
 };
 
 /// A one-shot frame: the [`Settings`], the size and the camera (`None`:

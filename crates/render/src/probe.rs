@@ -402,7 +402,7 @@ pub(crate) fn cast(
 ) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     for (i, inst) in scene.instances.iter().enumerate() {
-        if !inst.drawable {
+        if !inst.drawable || settings.hidden.contains(i) {
             continue;
         }
         let world = inst.world.as_dmat4();

@@ -386,6 +386,86 @@ pub struct Settings {
     /// between microfacets (on by default, as in three.js; the environment is always
     /// compensated).
     pub single_scatter: bool,
+    /// Scene instances left out (the viewer's hide and isolate in its node tree).
+    pub hidden: Hidden,
+}
+
+/// A set of [`crate::scene::Scene::instances`] indices that the frame leaves out: they are
+/// not drawn, cast no shadow and are not picked by the probe or the measurement. One bit
+/// per instance up to the highest hidden one, so equal sets compare equal however they
+/// were made.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Hidden {
+    bits: Vec<u64>,
+}
+
+impl Hidden {
+    /// The highest instance number a set takes (a scene file's `hidden` is checked
+    /// against it, so a stray number cannot make the set huge).
+    pub const MAX_INSTANCE: usize = (1 << 24) - 1;
+
+    /// The hidden instance numbers, ascending.
+    pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
+        self.bits.iter().enumerate().flat_map(|(w, &bits)| {
+            (0..64)
+                .filter(move |b| bits & (1u64 << b) != 0)
+                .map(move |b| w * 64 + b)
+        })
+    }
+
+    /// Whether instance `k` is hidden.
+    #[must_use]
+    #[inline]
+    pub fn contains(&self, k: usize) -> bool {
+        self.bits
+            .get(k / 64)
+            .is_some_and(|w| w & (1u64 << (k % 64)) != 0)
+    }
+
+    /// Hides (`hidden`) or shows instance `k` (numbers above [`Hidden::MAX_INSTANCE`] are
+    /// ignored).
+    pub fn set(&mut self, k: usize, hidden: bool) {
+        if k > Self::MAX_INSTANCE {
+            return;
+        }
+        let (word, bit) = (k / 64, 1u64 << (k % 64));
+        if hidden {
+            if self.bits.len() <= word {
+                self.bits.resize(word + 1, 0);
+            }
+            self.bits[word] |= bit;
+        } else if let Some(w) = self.bits.get_mut(word) {
+            *w &= !bit;
+            while self.bits.last() == Some(&0) {
+                self.bits.pop();
+            }
+        }
+    }
+
+    /// Every one of the `count` instances hidden except those of `keep` (isolate).
+    #[must_use]
+    pub fn all_but(count: usize, keep: impl IntoIterator<Item = usize>) -> Self {
+        let mut h = Self::default();
+        for k in 0..count {
+            h.set(k, true);
+        }
+        for k in keep {
+            h.set(k, false);
+        }
+        h
+    }
+
+    /// How many instances are hidden.
+    #[must_use]
+    pub fn count(&self) -> usize {
+        self.bits.iter().map(|w| w.count_ones() as usize).sum()
+    }
+
+    /// Nothing hidden.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.bits.is_empty()
+    }
 }
 
 /// Section planes: what lies on a plane's negative side is cut away, and where the inside
@@ -596,6 +676,7 @@ impl Default for Settings {
             line_width: 1.0,
             vertex_lighting: VertexLighting::default(),
             sections: Sections::default(),
+            hidden: Hidden::default(),
             single_scatter: false,
         }
     }

@@ -203,6 +203,11 @@ pub(super) fn doc(
         caps: Some(s.sections.cap.is_some()),
         cap_color: s.sections.cap.map(rgb),
     });
+    d.hidden = s
+        .hidden
+        .iter()
+        .map(|k| super::schema::Count(k as f64))
+        .collect();
     (d, notes)
 }
 

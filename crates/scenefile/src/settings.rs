@@ -119,6 +119,17 @@ impl SceneFile {
         if self.doc.shadow.as_ref().and_then(|s| s.all_lights) == Some(true) {
             s.lights = shadow_every_light(&s.lights, &scene.lights);
         }
+        let parts = scene.instances.len();
+        if let Some((i, k)) = s.hidden.iter().enumerate().find(|&(_, k)| k >= parts) {
+            return Err(self.invalid(
+                format!("hidden[{i}]"),
+                format!(
+                    "the model has {parts} part(s) (0 to {}), not {k} (model {})",
+                    parts.saturating_sub(1),
+                    scene.report.file
+                ),
+            ));
+        }
         Ok(s)
     }
 
@@ -323,6 +334,19 @@ impl SceneFile {
         }
         if let Some(sec) = &d.section {
             s.sections = self.sections(sec)?;
+        }
+        for (i, k) in d.hidden.iter().enumerate() {
+            let max = crate::render::Hidden::MAX_INSTANCE;
+            if !(k.0.fract() == 0.0 && (0.0..=max as f64).contains(&k.0)) {
+                return Err(self.invalid(
+                    format!("hidden[{i}]"),
+                    format!(
+                        "{} is not an instance number (a whole number from 0 to {max})",
+                        k.0
+                    ),
+                ));
+            }
+            s.hidden.set(k.0 as usize, true);
         }
         Ok(s)
     }

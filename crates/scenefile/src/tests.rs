@@ -111,6 +111,9 @@ fn bad_values_are_errors_naming_the_key() {
         ("model = \"demo\"\n[compare]\ncolumns = 3\n[[compare.variant]]\nlabel = \"a\"\n", "compare.columns: 3 is not between 1 and the number of variants (1)"),
         ("model = \"demo\"\nsize = [4000, 4000]\n[compare]\ncolumns = 2\n[[compare.variant]]\nlabel = \"a\"\n[[compare.variant]]\nlabel = \"b\"\n[[compare.variant]]\nlabel = \"c\"\n", "compare.variant: the grid would be 8000x"),
         ("model = \"demo\"\n[compare]\n[[compare.variant]]\nlabel = \" \"\n", "compare.variant[0].label: is empty"),
+        ("model = \"demo\"\nhidden = [1.5]\n", "hidden[0]: 1.5 is not an instance number"),
+        ("model = \"demo\"\nhidden = [0, -1]\n", "hidden[1]: -1 is not an instance number"),
+        ("model = \"demo\"\nhidden = [1e18]\n", "hidden[0]: 1000000000000000000 is not an instance number (a whole number from 0 to 16777215)"),
     ];
     for (text, want) in cases {
         let e = err(text);
@@ -123,6 +126,18 @@ fn bad_values_are_errors_naming_the_key() {
 
 #[test]
 fn model_references_are_checked_against_the_model() {
+    let file = toml("model = \"demo\"\nhidden = [1, 40]\n").unwrap();
+    let scene = file.load_model(&LoadOptions::default()).unwrap();
+    let e = file.settings(&scene).unwrap_err().to_string();
+    let parts = scene.instances.len();
+    assert!(
+        e.contains("hidden[1]:")
+            && e.contains(&format!("has {parts} part(s) (0 to {}), not 40", parts - 1)),
+        "{e}"
+    );
+    let file = toml("model = \"demo\"\nhidden = [1]\n").unwrap();
+    let s = file.settings(&scene).unwrap();
+    assert_eq!(s.hidden.iter().collect::<Vec<_>>(), vec![1]);
     let file = toml("model = \"demo\"\n[camera]\ngltf = 1\n").unwrap();
     let scene = file.load_model(&LoadOptions::default()).unwrap();
     let e = file.camera(&scene, 1.0).unwrap_err().to_string();
@@ -380,6 +395,12 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             extent: 6.5,
         }),
         vertex_lighting: crate::render::VertexLighting::GL,
+        hidden: {
+            let mut h = crate::render::Hidden::default();
+            h.set(2, true);
+            h.set(3, true);
+            h
+        },
         // Not in scene files (yet): the defaults survive the round trip.
         point_size: 1.0,
         line_width: 1.0,

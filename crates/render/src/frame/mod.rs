@@ -327,7 +327,7 @@ pub(super) fn set_up(
         let world = match (inst.ground, &settings.ground) {
             (true, Some(g)) => scene.ground_world(g),
             (true, None) => continue,
-            (false, _) if !inst.drawable => continue,
+            (false, _) if !inst.drawable || settings.hidden.contains(k) => continue,
             (false, _) => inst.world,
         };
         if tri.radius < 0.0 || !sphere_visible(&planes, world, tri.center, tri.radius) {

@@ -242,11 +242,17 @@ impl ViewerApp {
     }
 
     /// Tells the panels that a scene was installed (`fresh`: another scene; `settings`: a
-    /// scene file's), and forgets the probed pixel and the hovered light.
+    /// scene file's), and forgets the probed pixel, the hovered light and the hidden parts.
     pub(super) fn installed(&mut self, fresh: bool, settings: Option<&Settings>) {
         if fresh {
             self.shared.probe = None;
             self.shared.hovered_light = None;
+            // Hidden parts are the old scene's instance numbers (a reload keeps them; a
+            // scene file brings its own).
+            if settings.is_none() {
+                self.settings.hidden = Default::default();
+            }
+            self.split.b.hidden = self.settings.hidden.clone();
         }
         self.panels.installed(&Installed {
             fresh,
