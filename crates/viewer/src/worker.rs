@@ -400,6 +400,27 @@ impl Worker {
     }
 }
 
+/// Records a frame time `ms` at divisor `d` (a moving average) and corrects the other
+/// divisors' times that it contradicts: a frame at 1/k resolution has (d/k)² times the
+/// pixels of one at 1/d, so it cannot honestly cost more than that ratio (at least 1) times
+/// as much; a time more than twice over is stale (one frame slowed by a busy machine or a
+/// first-use cost) and is set to the ratio. Without this, one slow full-resolution frame
+/// kept every later interactive frame reduced, since reduced frames never measure the full
+/// one again (an animation of 0.4 ms frames played at 1/2 resolution for good).
+fn record(times: &mut [Option<f64>; 5], d: usize, ms: f64) {
+    let Some(slot) = times.get_mut(d) else { return };
+    let t = slot.map_or(ms, |old| 0.5 * (old + ms));
+    *slot = Some(t);
+    for k in 1..times.len() {
+        let ceiling = t * ((d * d) as f64 / (k * k) as f64).max(1.0);
+        if let Some(tk) = &mut times[k] {
+            if k != d && *tk > 2.0 * ceiling {
+                *tk = ceiling;
+            }
+        }
+    }
+}
+
 /// The resolution divisor (1..=4) for a frame that should fit [`FRAME_BUDGET_MS`], from the
 /// frame times `times`: the smallest whose time (measured, or extrapolated from the nearest
 /// measured divisor as if cost followed the pixel count) fits; if none does, the fastest,
@@ -460,8 +481,7 @@ impl Worker {
         };
         if !matches!(level, Level::Supersampled(_)) {
             let ms = start.elapsed().as_secs_f64() * 1e3;
-            let slot = &mut self.times_of(level)[level.divisor() as usize];
-            *slot = Some(slot.map_or(ms, |old| 0.5 * (old + ms)));
+            record(self.times_of(level), level.divisor() as usize, ms);
         }
         let heat = match (&b, job.heat, level) {
             (Some(_), true, Level::Full | Level::Supersampled(_)) => Some(heat(&self.a, &self.b)),
@@ -540,4 +560,33 @@ fn heat(a: &Renderer, b: &Renderer) -> Heat {
         })
         .collect();
     Heat { pixels, mean, p95 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{divisor, record, FRAME_BUDGET_MS};
+
+    #[test]
+    fn one_slow_full_frame_does_not_keep_later_frames_reduced() {
+        let mut times = [None; 5];
+        // A first full frame slowed far past the budget: the next is reduced.
+        record(&mut times, 1, FRAME_BUDGET_MS * 5.0);
+        assert!(divisor(&times) > 1);
+        // The reduced frame is fast: full resolution cannot cost more than 4x that.
+        let d = divisor(&times) as usize;
+        record(&mut times, d, 0.1);
+        assert_eq!(divisor(&times), 1, "{times:?}");
+        assert!(times[1].unwrap() <= 0.1 * (d * d) as f64);
+        // Times consistent with the pixel counts (fill bound: 4x; geometry bound: 1x) stay.
+        let mut fill = [None, Some(40.0), None, None, None];
+        record(&mut fill, 2, 10.0);
+        assert_eq!(fill[1], Some(40.0));
+        let mut geometry = [None, Some(40.0), None, None, None];
+        record(&mut geometry, 2, 39.0);
+        assert_eq!(geometry[1], Some(40.0));
+        // A smaller image slower than twice a larger one is stale too.
+        let mut small = [None, None, Some(500.0), None, None];
+        record(&mut small, 1, 10.0);
+        assert_eq!(small[2], Some(10.0));
+    }
 }
