@@ -67,6 +67,18 @@ fn viewer_with(
     samples: u32,
     setup: impl FnOnce(&mut ViewerApp),
 ) -> App {
+    let options = ViewerOptions {
+        model,
+        synchronous: true,
+        recent_file: Some(dir.join("recent.json")),
+        ..ViewerOptions::default()
+    };
+    viewer_from(options, samples, setup)
+}
+
+/// A viewer made from `options` (e.g. with the render thread a user has), `setup` applied
+/// before its first UI pass.
+fn viewer_from(options: ViewerOptions, samples: u32, setup: impl FnOnce(&mut ViewerApp)) -> App {
     // The app asks for a repaint when a frame is ready: it must reach the harness's context.
     let context: Arc<OnceLock<egui::Context>> = Arc::default();
     let repaint = {
@@ -77,16 +89,7 @@ fn viewer_with(
             }
         })
     };
-    let mut app = ViewerApp::new(
-        ViewerOptions {
-            model,
-            synchronous: true,
-            recent_file: Some(dir.join("recent.json")),
-            ..ViewerOptions::default()
-        },
-        repaint,
-    )
-    .expect("synchronous viewer");
+    let mut app = ViewerApp::new(options, repaint).expect("viewer");
     app.max_samples = samples;
     setup(&mut app);
     let mut h = Harness::builder()
@@ -2369,6 +2372,74 @@ fn assert_pose(app: &ViewerApp, path: &Path, play: Play, t: f32, what: &str) {
 fn set_clock(h: &mut App, seconds: f64) {
     h.state_mut().timeline.clock = Clock::Manual(seconds);
     h.run();
+}
+
+/// Playing an animation whose full frame is cheap (`skin8.glb`, a skinned bar, well under
+/// 10 ms a frame) with the render thread a user has and the wall clock: every frame shown
+/// during playback is at full resolution (playback is motion, and motion picks its
+/// resolution from the frame time).
+#[test]
+fn an_animation_with_cheap_frames_plays_at_full_resolution_in_the_viewer() {
+    let dir = temp_dir("playback");
+    let options = ViewerOptions {
+        model: Some(model("anim/skin8.glb")),
+        synchronous: false,
+        recent_file: Some(dir.join("recent.json")),
+        threads: 2,
+        ..ViewerOptions::default()
+    };
+    let mut h = viewer_from(options, 1, |_| {});
+    // The file loads on a thread: wait for it (at most 20 s).
+    let start = std::time::Instant::now();
+    while h.state().scene.scene().animations.is_empty() && start.elapsed().as_secs() < 20 {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        h.step();
+    }
+    assert!(h.state().timeline.playing, "an animated file plays at once");
+    let (mut levels, mut times, mut last_job) = (Vec::new(), Vec::new(), 0);
+    let mut poses = std::collections::BTreeSet::new();
+    let start = std::time::Instant::now();
+    while start.elapsed().as_secs_f64() < 2.0 {
+        std::thread::sleep(std::time::Duration::from_millis(8));
+        h.step();
+        let app = h.state();
+        if let Some(s) = app.shown.as_ref().filter(|s| s.job != last_job) {
+            last_job = s.job;
+            levels.push(s.level);
+            times.push(s.report_a.times.total);
+            poses.insert(s.a.pixels.iter().map(|c| u64::from(c.r())).sum::<u64>());
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
+    eprintln!(
+        "{} frames in 2 s, median {median:.2} ms, {} distinct images; levels {levels:?}",
+        levels.len(),
+        poses.len()
+    );
+    assert!(
+        median < 10.0,
+        "the premise: a full frame costs under 10 ms ({median} ms)"
+    );
+    assert!(levels.len() >= 20, "{} frames in 2 s", levels.len());
+    assert!(
+        poses.len() >= 10,
+        "the animation moves: {} distinct images",
+        poses.len()
+    );
+    // Full resolution throughout, but for a frame right after one that a busy machine
+    // slowed past the budget (the next is planned smaller, and the one after is full
+    // again): at most one in ten, never two in a row.
+    let full = realist::viewer::worker::Level::Full;
+    let reduced = levels.iter().filter(|l| **l != full).count();
+    assert!(
+        reduced * 10 <= levels.len(),
+        "{reduced} reduced: {levels:?}"
+    );
+    assert!(
+        levels.windows(2).all(|w| w[0] == full || w[1] == full),
+        "two reduced frames in a row: {levels:?}"
+    );
 }
 
 #[test]

@@ -515,7 +515,20 @@ fn an_animation_with_cheap_frames_plays_at_full_resolution() {
         "the premise: a full frame costs under 10 ms ({median} ms)"
     );
     assert!(frames.len() >= 10, "{} frames", frames.len());
-    assert!(frames.iter().all(|l| *l == Level::Full), "{frames:?}");
+    // Full resolution throughout, but for a frame right after one that a busy machine
+    // slowed past the budget (the next is planned smaller, and the one after is full
+    // again): at most one in ten, never two in a row.
+    let reduced = frames.iter().filter(|l| **l != Level::Full).count();
+    assert!(
+        reduced * 10 <= frames.len(),
+        "{reduced} reduced: {frames:?}"
+    );
+    assert!(
+        frames
+            .windows(2)
+            .all(|w| w[0] == Level::Full || w[1] == Level::Full),
+        "two reduced frames in a row: {frames:?}"
+    );
 }
 
 #[test]
