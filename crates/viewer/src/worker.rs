@@ -411,9 +411,9 @@ fn record(times: &mut [Option<f64>; 5], d: usize, ms: f64) {
     let Some(slot) = times.get_mut(d) else { return };
     let t = slot.map_or(ms, |old| 0.5 * (old + ms));
     *slot = Some(t);
-    for k in 1..times.len() {
+    for (k, slot) in times.iter_mut().enumerate().skip(1) {
         let ceiling = t * ((d * d) as f64 / (k * k) as f64).max(1.0);
-        if let Some(tk) = &mut times[k] {
+        if let Some(tk) = slot {
             if k != d && *tk > 2.0 * ceiling {
                 *tk = ceiling;
             }
