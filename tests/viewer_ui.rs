@@ -2981,6 +2981,46 @@ fn a_section_plane_from_the_panel_cuts_the_view_and_follows_the_split() {
         .filter(|c| [c.r(), c.g(), c.b()] == want)
         .count();
     assert!(caps > 500, "{caps} cap pixels");
+    // The plane's handle in the view: dragging it 40 points along the arrow moves the
+    // plane along its normal by 40 points' worth, and does not orbit the camera.
+    let (handle, nav, d0, cut) = {
+        let app = h.state();
+        let s = app.shown.as_ref().expect("a frame");
+        let hs = realist::viewer::viewport::handles(
+            &app.settings,
+            &app.scene,
+            &s.view,
+            app.viewport.rect,
+        );
+        assert_eq!(hs.len(), 1, "one handle");
+        (
+            hs[0],
+            app.nav.clone(),
+            app.settings.sections.planes[0].w,
+            Arc::clone(&s.a),
+        )
+    };
+    let dir = handle.along.normalized();
+    let points: Vec<Pos2> = (0..=8)
+        .map(|k| handle.at + dir * (5.0 * k as f32))
+        .collect();
+    drag_through(&mut h, &points);
+    {
+        let app = h.state();
+        let moved = app.settings.sections.planes[0].w - d0;
+        let want = -40.0 / handle.along.length();
+        assert!(
+            (moved - want).abs() < 0.1 * want.abs(),
+            "the plane moved {moved}, not {want}"
+        );
+        assert_eq!(app.nav, nav, "dragging the handle does not move the camera");
+        assert_eq!(
+            app.split.b.sections, app.settings.sections,
+            "side B follows"
+        );
+        assert_current_frame(app);
+    }
+    assert_frame_changed(h.state(), &cut, "the plane moved");
     // Removing it restores the first frame.
     activate(&mut h, "remove plane");
     assert!(h.state().settings.sections.is_empty());
