@@ -93,6 +93,14 @@ impl ScenePanel {
                         .get(inst.mesh)
                         .map_or(0, |m| m.tri.triangles.len());
                     ui.horizontal(|ui| {
+                        // The button first: a long name is cut at the panel's edge.
+                        if ui
+                            .small_button("isolate")
+                            .on_hover_text("show only this part")
+                            .clicked()
+                        {
+                            isolate = Some(i);
+                        }
                         let mut shown = !cx.settings.hidden.contains(i);
                         if ui
                             .checkbox(
@@ -106,13 +114,6 @@ impl ScenePanel {
                             .changed()
                         {
                             cx.settings.hidden.set(i, !shown);
-                        }
-                        if ui
-                            .small_button("isolate")
-                            .on_hover_text("show only this part")
-                            .clicked()
-                        {
-                            isolate = Some(i);
                         }
                     });
                 }
@@ -456,9 +457,10 @@ fn node(
         }
     };
     if nd.children.is_empty() || depth >= MAX_DEPTH {
+        // The buttons first: a long name is cut at the panel's edge, they are not.
         ui.horizontal(|ui| {
-            ui.label(label);
             buttons(ui, act);
+            ui.label(label);
         });
         return;
     }
@@ -467,9 +469,9 @@ fn node(
     let mut header =
         egui::collapsing_header::CollapsingState::load_with_default_open(ui.ctx(), id, false)
             .show_header(ui, |ui| {
+                buttons(ui, act);
                 // The name opens and closes the node, as a collapsing header's does.
                 let name = ui.add(egui::Label::new(label).sense(egui::Sense::click()));
-                buttons(ui, act);
                 clicked = name.clicked();
             });
     if clicked {
