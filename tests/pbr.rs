@@ -478,3 +478,99 @@ fn white_furnace() {
     eprintln!("furnace: white metal and dielectric, worst |albedo - 1| = {worst:.4}");
     assert!(worst < 0.02, "{worst}");
 }
+
+/// `KHR_materials_variants` (`variants.glb`: spheres "left" and "right", green by default;
+/// "red" maps both to red, "blue" only the left one to blue, "none" maps nothing): each
+/// variant draws the materials the file maps for it, the others keep their defaults, and
+/// the command line's `--variant` draws the same image (and refuses a name the file lacks).
+#[test]
+fn material_variants_draw_the_materials_the_file_maps() {
+    let scene = model("variants.glb");
+    assert_eq!(scene.variants, ["red", "blue", "none"]);
+    assert!(
+        !scene
+            .report
+            .skipped
+            .iter()
+            .any(|s| s.contains("KHR_materials_variants")),
+        "{:?}",
+        scene.report.skipped
+    );
+    let prepared = PreparedScene::new(scene);
+    let camera = Camera {
+        eye: Vec3::new(0.0, 0.0, 4.0),
+        target: Vec3::ZERO,
+        near: 1.0,
+        far: 10.0,
+        ..Camera::default()
+    };
+    let n = 96;
+    // The spheres' centres at x = -0.5 and 0.5 on the image's middle row.
+    let half = 4.0 * 22.5f32.to_radians().tan();
+    let column = |x: f32| ((0.5 + x / (2.0 * half)) * n as f32) as u32;
+    let lights = vec![
+        Light::directional(Vec3::NEG_Z, Vec3::ONE),
+        Light::ambient(Vec3::splat(0.2)),
+    ];
+    // The dominant channel (0 red, 1 green, 2 blue) at each sphere's centre.
+    let hues = |variant: Option<&str>| {
+        let mut opts = options(n, n, camera.clone(), lights.clone());
+        opts.settings.variant = variant.map(str::to_owned);
+        let img = render(&prepared, &opts).image();
+        [-0.5f32, 0.5].map(|x| {
+            let c = img.color[(n / 2 * n + column(x)) as usize];
+            let c = [c.x, c.y, c.z];
+            (0..3).max_by(|&a, &b| c[a].total_cmp(&c[b])).unwrap()
+        })
+    };
+    assert_eq!(hues(None), [1, 1], "green by default");
+    assert_eq!(hues(Some("red")), [0, 0], "red maps both");
+    assert_eq!(hues(Some("blue")), [2, 1], "blue maps only the left one");
+    assert_eq!(hues(Some("none")), [1, 1], "none maps nothing");
+    assert_eq!(
+        hues(Some("not a variant")),
+        [1, 1],
+        "an unknown name draws the defaults"
+    );
+
+    // The command line: --variant blue against the default, and a name the file lacks.
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/pbr/variants.glb");
+    let dir = std::env::temp_dir().join(format!("realist-variants-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |extra: &[&str], out: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .arg("render")
+            .arg(&file)
+            .args(["--size", "64x64", "-o"])
+            .arg(dir.join(out))
+            .args(extra)
+            .output()
+            .expect("realist runs")
+    };
+    let plain = run(&[], "plain.png");
+    let blue = run(&["--variant", "blue"], "blue.png");
+    assert!(plain.status.success() && blue.status.success(), "{blue:?}");
+    let read = |name: &str| image::open(dir.join(name)).expect("png").into_rgb8();
+    let (p, b) = (read("plain.png"), read("blue.png"));
+    let left = |img: &image::RgbImage| img.get_pixel(64 * 3 / 8, 32).0;
+    assert!(
+        left(&b)[2] > left(&b)[1],
+        "left sphere blue: {:?}",
+        left(&b)
+    );
+    assert!(
+        left(&p)[1] > left(&p)[2],
+        "left sphere green: {:?}",
+        left(&p)
+    );
+    let bad = run(&["--variant", "purple"], "bad.png");
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success());
+    assert!(
+        err.contains("--variant purple")
+            && err.contains("variants.glb")
+            && err.contains("it has: red, blue, none"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

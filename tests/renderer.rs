@@ -419,3 +419,31 @@ fn a_hidden_instance_renders_as_if_removed_shadow_and_probe_included() {
         "{behind:?}"
     );
 }
+
+/// The probe on a skinned mesh (drawn from a posed copy of its rest mesh) names the scene's
+/// mesh and material.
+#[test]
+fn the_probe_reads_a_skinned_mesh_and_names_its_scene_mesh() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/anim/skin8.glb");
+    let scene = realist::load::load(&path, &realist::load::LoadOptions::default()).expect("skin8");
+    let mut prepared = PreparedScene::new(scene);
+    prepared.pose_at(realist::scene::Play::All, 1.0, true);
+    let (c, r) = prepared.bounding_sphere();
+    let camera = Camera {
+        eye: c + Vec3::new(0.0, 0.0, 3.0 * r),
+        target: c,
+        ..Camera::default()
+    };
+    let v = view(&camera, W, H);
+    let settings = Settings::default();
+    let mut r = Renderer::new();
+    r.render(&prepared, &settings, &v);
+    let px = pixels(&r);
+    let bg = px[0];
+    let k = (0..W * H)
+        .find(|&k| px[k as usize] != bg)
+        .expect("the bar is drawn");
+    let p = render::probe(&prepared, &settings, &v, k % W, k / W).expect("the probe hits the bar");
+    assert_eq!(p.mesh, 0, "the scene's mesh, not the posed copy");
+    assert_eq!(p.material, prepared.scene().meshes[0].material);
+}

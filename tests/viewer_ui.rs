@@ -2649,6 +2649,39 @@ fn parts_are_hidden_isolated_and_shown_again_from_the_node_tree_and_the_instance
     assert!(h.state().settings.hidden.is_empty());
 }
 
+/// A file with material variants (`models/pbr/variants.glb`) offers them in the scene panel:
+/// choosing one changes the frame as the variant says, the file's default restores it, and
+/// another file starts from its own default.
+#[test]
+fn a_material_variant_is_chosen_in_the_scene_panel() {
+    let dir = temp_dir("variants");
+    let mut h = viewer(Some(model("pbr/variants.glb")), &dir, 1);
+    let before = shown_image(&h);
+    choose(&mut h, "material variant", "blue");
+    assert_eq!(h.state().settings.variant.as_deref(), Some("blue"));
+    assert_current_frame(h.state());
+    assert_frame_changed(h.state(), &before, "the blue variant");
+    // The left sphere turned blue: more blue than green in the frame than before.
+    let blueness = |img: &ColorImage| {
+        img.pixels
+            .iter()
+            .map(|c| i64::from(c.b()) - i64::from(c.g()))
+            .sum::<i64>()
+    };
+    assert!(blueness(&shown_image(&h)) > blueness(&before) + 1000);
+    choose(&mut h, "material variant", "file's default");
+    assert_eq!(h.state().settings.variant, None);
+    assert_eq!(differing(&shown_image(&h), &before), 0);
+    choose(&mut h, "material variant", "red");
+    drop_file(&mut h, &model("torus.obj"));
+    assert_eq!(
+        h.state().settings.variant,
+        None,
+        "another file, its own look"
+    );
+    assert!(h.query_by_label("material variant").is_none());
+}
+
 /// A panel from outside the viewer crate, added with `Panels::add` and nothing else: it
 /// counts what the dispatch tells it, edits a setting through its context and asks the
 /// session for a notice.

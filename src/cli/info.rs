@@ -239,6 +239,12 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
             scene.animations.len()
         );
     }
+    if !scene.variants.is_empty() {
+        say!(
+            "  material variants (--variant NAME): {}",
+            scene.variants.join(", ")
+        );
+    }
     if scene.graph.scenes.len() > 1 {
         for (i, s) in scene.graph.scenes.iter().enumerate() {
             let drawn = if scene.graph.drawn == Some(i) {

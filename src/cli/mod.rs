@@ -298,6 +298,7 @@ fn view(
         scene: None,
         point_size: None,
         line_width: None,
+        variant: None,
         lighting: lighting::LightingArgs::default(),
         normals: NormalArgs {
             crease: "60".into(),

@@ -127,6 +127,10 @@ pub(crate) struct RenderArgs {
     /// (default 1, whole pixels up to 64).
     #[arg(long, value_name = "PX", value_parser = numeric("line_width").parser_f32())]
     pub line_width: Option<f32>,
+    /// The material variant to draw (a glTF file with `KHR_materials_variants`; `realist
+    /// info` lists them), by name. Default: the file's default materials.
+    #[arg(long, value_name = "NAME")]
+    pub variant: Option<String>,
     #[command(flatten)]
     pub lighting: LightingArgs,
     #[command(flatten)]
@@ -337,6 +341,17 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
         );
     }
     args.lighting.apply(&mut s, &input.scene.lights)?;
+    if let Some(v) = &args.variant {
+        let scene = &input.scene;
+        if !scene.variants.contains(v) {
+            anyhow::bail!(
+                "--variant {v}: not a material variant of {} ({})",
+                scene.report.file,
+                scenefile::variant_list(&scene.variants)
+            );
+        }
+        s.variant = Some(v.clone());
+    }
     Ok(s)
 }
 

@@ -5,7 +5,7 @@
 //
 // writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
-// and lights-punctual.glb. Every piece of
+// lights-punctual.glb and variants.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -21,6 +21,7 @@ import {
   KHRMaterialsSheen,
   KHRMaterialsSpecular,
   KHRMaterialsUnlit,
+  KHRMaterialsVariants,
 } from "@gltf-transform/extensions";
 
 const [dir] = process.argv.slice(2);
@@ -37,6 +38,7 @@ const io = new NodeIO().registerExtensions([
   KHRMaterialsSheen,
   KHRMaterialsSpecular,
   KHRMaterialsUnlit,
+  KHRMaterialsVariants,
 ]);
 
 /** A new document with one buffer and one scene, its asset naming this script. */
@@ -368,6 +370,39 @@ async function noMaterial() {
 }
 
 // ---------------------------------------------------------------------------------------
+// variants.glb: KHR_materials_variants. Two spheres, "left" at x = -0.5 and "right" at
+// x = 0.5, both green by default (base colour (0.1, 0.7, 0.1)). Variant "red" maps both to a
+// red material (0.8, 0.1, 0.1); variant "blue" maps only the left one to a blue material
+// (0.1, 0.1, 0.8), so the right one keeps its default; variant "none" maps nothing. All
+// dielectric, roughness 0.5.
+
+async function variants() {
+  const doc = newDocument();
+  const ext = doc.createExtension(KHRMaterialsVariants);
+  const mat = (name, color) => doc.createMaterial(name).setBaseColorFactor(color).setMetallicFactor(0).setRoughnessFactor(0.5);
+  const green = mat("green", [0.1, 0.7, 0.1, 1]);
+  const red = mat("red", [0.8, 0.1, 0.1, 1]);
+  const blue = mat("blue", [0.1, 0.1, 0.8, 1]);
+  const [vRed, vBlue] = [ext.createVariant("red"), ext.createVariant("blue")];
+  ext.createVariant("none");
+  const sphere = spherePrimitive(doc);
+  for (const [name, x, mappings] of [
+    ["left", -0.5, [[red, vRed], [blue, vBlue]]],
+    ["right", 0.5, [[red, vRed]]],
+  ]) {
+    const prim = sphere.clone().setMaterial(green);
+    const list = ext.createMappingList();
+    for (const [material, variant] of mappings) {
+      list.addMapping(ext.createMapping().setMaterial(material).addVariant(variant));
+    }
+    prim.setExtension("KHR_materials_variants", list);
+    place(doc, name, doc.createMesh(name).addPrimitive(prim), [x, 0, 0]);
+  }
+  sphere.dispose();
+  await write(doc, "variants.glb");
+}
+
+// ---------------------------------------------------------------------------------------
 // lights-punctual.glb: a stage with its own KHR_lights_punctual lights, in the spirit of the
 // glTF sample "LightsPunctualLamp" and three.js's gt_lights_punctual_camera: three coloured
 // dielectric spheres and a grey floor under a point light (candela), a spot light and a
@@ -416,3 +451,4 @@ await iorSpecular();
 await unknownExtension();
 await noMaterial();
 await lightsPunctual();
+await variants();

@@ -3,7 +3,7 @@
 //
 // - every file is one this script knows, under 300 KB, with the fixed generator string
 //   (no-material.glb has no material at all, lights-punctual.glb also uses
-//   KHR_lights_punctual);
+//   KHR_lights_punctual, variants.glb KHR_materials_variants);
 // - each material is there, in order, with exactly the material extensions it is made to
 //   have, and the file's extensionsUsed is exactly their union (extensionsRequired empty);
 // - the two sphere grids have 25 nodes `sphere-m{m}-r{r}` at (i - 2, 2 - j, 0) with
@@ -38,10 +38,14 @@ const EXPECTED = new Map([
   ["unknown-extension.glb", [["clearcoat-sheen", ["KHR_materials_clearcoat", "KHR_materials_sheen"]]]],
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
+  ["variants.glb", [["green", []], ["red", []], ["blue", []]]],
 ]);
 
 /** Extensions a file uses besides its materials'. */
-const OTHER_EXTENSIONS = new Map([["lights-punctual.glb", ["KHR_lights_punctual"]]]);
+const OTHER_EXTENSIONS = new Map([
+  ["lights-punctual.glb", ["KHR_lights_punctual"]],
+  ["variants.glb", ["KHR_materials_variants"]],
+]);
 
 function json(bytes, file) {
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);

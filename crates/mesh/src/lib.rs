@@ -270,6 +270,10 @@ pub struct Mesh {
     /// the file or generated with MikkTSpace ([`Mesh::generate_tangents`]).
     pub tangents: Option<Channel<Vec4>>,
     pub material: Option<usize>,
+    /// `KHR_materials_variants`: under variant `v` the mesh takes material `k` of a pair
+    /// `(v, k)` here (indices into `Scene::variants` and `Scene::materials`); a variant not
+    /// listed keeps [`Mesh::material`] ([`Mesh::material_in`]).
+    pub variants: Vec<(u32, usize)>,
     /// Skinning and morph target data (glTF), indexed by vertex; `None` for a rigid mesh.
     pub deform: Option<Box<Deform>>,
     /// Points (glTF POINTS, OBJ `p`) as vertex indices, beside the facets; drawn as squares
@@ -378,10 +382,21 @@ impl Mesh {
             colors,
             tangents,
             material,
+            variants: Vec::new(),
             deform: None,
             points: Vec::new(),
             lines: Vec::new(),
         }
+    }
+
+    /// The mesh's material under material variant `variant` (`None`: the file's default
+    /// look): the variant's mapping if the mesh has one, else [`Mesh::material`].
+    #[must_use]
+    pub fn material_in(&self, variant: Option<usize>) -> Option<usize> {
+        variant
+            .and_then(|v| self.variants.iter().find(|(w, _)| *w as usize == v))
+            .map(|&(_, k)| k)
+            .or(self.material)
     }
 
     /// Sets the mesh's points and line segments (vertex indices), after checking every

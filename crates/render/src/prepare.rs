@@ -367,6 +367,29 @@ impl PreparedScene {
         }))
     }
 
+    /// The scene mesh `inst` draws (for a skinned or morphed instance, the rest mesh its
+    /// posed copy was made from; `None` for the ground).
+    pub(crate) fn scene_mesh(
+        &self,
+        inst: &PreparedInstance,
+    ) -> Option<(usize, &crate::mesh::Mesh)> {
+        let source = self.meshes.get(inst.mesh)?.source?;
+        Some((source, self.scene.meshes.get(source)?))
+    }
+
+    /// The index into `materials` of `inst`'s material under material variant `variant`
+    /// ([`crate::mesh::Mesh::material_in`]; the instance's own for `None`, a mesh without
+    /// a mapping for it, or a mapping to a material that does not exist).
+    pub(crate) fn material_of(&self, inst: &PreparedInstance, variant: Option<usize>) -> usize {
+        variant
+            .and_then(|v| {
+                let (_, mesh) = self.scene_mesh(inst)?;
+                let (_, k) = mesh.variants.iter().find(|(w, _)| *w as usize == v)?;
+                (*k < self.scene.materials.len()).then_some(*k)
+            })
+            .unwrap_or(inst.material)
+    }
+
     /// The scene this was prepared from.
     #[must_use]
     pub fn scene(&self) -> &Arc<Scene> {

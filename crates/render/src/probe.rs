@@ -341,7 +341,8 @@ pub fn probe(
     };
     let fog = fog.map(|f| f.factor::<f32>(f.distance::<f32>(position, eye, cam.forward())));
     let clip = vp * position.extend(1.0);
-    let mesh = &scene.scene().meshes[inst.mesh];
+    // The scene's mesh (a skinned instance draws a posed copy made from it).
+    let (mesh_index, mesh) = scene.scene_mesh(inst)?;
     Some(Probe {
         position,
         view_depth: -view_m.transform_point3(position).z,
@@ -352,8 +353,10 @@ pub fn probe(
         uv,
         barycentric: bary,
         instance: hit.instance,
-        mesh: inst.mesh,
-        material: mesh.material.filter(|&m| m < scene.scene().materials.len()),
+        mesh: mesh_index,
+        material: mesh
+            .material_in(settings.variant_index(scene.scene()))
+            .filter(|&m| m < scene.scene().materials.len()),
         triangle: hit.triangle,
         facet: if hit.triangle < tri.triangles.len() {
             tri.facet_of(hit.triangle)

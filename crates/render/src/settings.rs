@@ -388,6 +388,11 @@ pub struct Settings {
     pub single_scatter: bool,
     /// Scene instances left out (the viewer's hide and isolate in its node tree).
     pub hidden: Hidden,
+    /// The material variant drawn, by name (`KHR_materials_variants`; one of
+    /// [`crate::scene::Scene::variants`]), or `None` for the file's default materials. A
+    /// name the scene does not have draws the defaults (the command line and scene files
+    /// check it against the model first).
+    pub variant: Option<String>,
 }
 
 /// A set of [`crate::scene::Scene::instances`] indices that the frame leaves out: they are
@@ -604,7 +609,7 @@ impl Settings {
                 // Points and lines only: not shaded by a mode.
                 continue;
             }
-            let material = mesh.material.and_then(|k| {
+            let material = mesh.material_in(self.variant_index(scene)).and_then(|k| {
                 self.materials
                     .as_ref()
                     .and_then(|ms| ms.get(k))
@@ -617,6 +622,13 @@ impl Settings {
             any = true;
         }
         any
+    }
+
+    /// The index in `scene`'s [`crate::scene::Scene::variants`] of [`Settings::variant`].
+    #[must_use]
+    pub fn variant_index(&self, scene: &Scene) -> Option<usize> {
+        let name = self.variant.as_deref()?;
+        scene.variants.iter().position(|v| v == name)
     }
 
     /// [`Lights::Auto`] with no lights in `scene` lights the frame with the default rig;
@@ -677,6 +689,7 @@ impl Default for Settings {
             vertex_lighting: VertexLighting::default(),
             sections: Sections::default(),
             hidden: Hidden::default(),
+            variant: None,
             single_scatter: false,
         }
     }

@@ -265,6 +265,9 @@ pub struct Scene {
     pub graph: Graph,
     pub skins: Vec<Skin>,
     pub animations: Vec<Animation>,
+    /// The names of the file's material variants (`KHR_materials_variants`), in file order;
+    /// each mesh maps them to materials ([`crate::mesh::Mesh::material_in`]).
+    pub variants: Vec<String>,
     pub report: LoadReport,
 }
 

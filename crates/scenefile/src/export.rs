@@ -203,6 +203,7 @@ pub(super) fn doc(
         caps: Some(s.sections.cap.is_some()),
         cap_color: s.sections.cap.map(rgb),
     });
+    d.material_variant.clone_from(&s.variant);
     d.hidden = s
         .hidden
         .iter()

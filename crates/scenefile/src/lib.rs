@@ -54,7 +54,7 @@ pub use compare::RgbImage;
 pub use compare::{compose, Comparison, Variant};
 pub use convert::{orbit_camera, parse_light, LIGHT_SYNTAX};
 pub use schema::SceneDoc;
-pub use settings::{add_lights, shadow_every_light};
+pub use settings::{add_lights, shadow_every_light, variant_list};
 
 /// Largest scene file read.
 pub const MAX_FILE_BYTES: u64 = 4 << 20;

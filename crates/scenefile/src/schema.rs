@@ -337,6 +337,9 @@ pub struct SceneDoc {
     pub ground: Option<GroundSpec>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub section: Option<SectionSpec>,
+    /// The material variant drawn (`KHR_materials_variants`), by name.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material_variant: Option<String>,
     /// Parts not drawn: instance numbers as the viewer's Instances list shows them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub hidden: Vec<Count>,

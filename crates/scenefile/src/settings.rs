@@ -119,6 +119,18 @@ impl SceneFile {
         if self.doc.shadow.as_ref().and_then(|s| s.all_lights) == Some(true) {
             s.lights = shadow_every_light(&s.lights, &scene.lights);
         }
+        if let Some(v) = &s.variant {
+            if !scene.variants.contains(v) {
+                return Err(self.invalid(
+                    "material_variant",
+                    format!(
+                        "'{v}' is not a material variant of {} ({})",
+                        scene.report.file,
+                        variant_list(&scene.variants)
+                    ),
+                ));
+            }
+        }
         let parts = scene.instances.len();
         if let Some((i, k)) = s.hidden.iter().enumerate().find(|&(_, k)| k >= parts) {
             return Err(self.invalid(
@@ -335,6 +347,7 @@ impl SceneFile {
         if let Some(sec) = &d.section {
             s.sections = self.sections(sec)?;
         }
+        s.variant.clone_from(&d.material_variant);
         for (i, k) in d.hidden.iter().enumerate() {
             let max = crate::render::Hidden::MAX_INSTANCE;
             if !(k.0.fract() == 0.0 && (0.0..=max as f64).contains(&k.0)) {
@@ -440,5 +453,15 @@ fn explicit(lights: &Lights, scene_lights: &[Light]) -> (Vec<Light>, bool) {
         } => (lights.clone(), *follow_camera),
         Lights::Auto if scene_lights.is_empty() => (Light::default_rig(glam::Mat3::IDENTITY), true),
         Lights::Auto => (scene_lights.to_vec(), false),
+    }
+}
+
+/// A model's material variants for a message: "it has: a, b" or "it has none".
+#[must_use]
+pub fn variant_list(variants: &[String]) -> String {
+    if variants.is_empty() {
+        "it has none".into()
+    } else {
+        format!("it has: {}", variants.join(", "))
     }
 }

@@ -401,6 +401,9 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             h.set(3, true);
             h
         },
+        // `material_variant`: checked against a model that has variants in
+        // `a_material_variant_is_read_checked_and_written_by_name`.
+        variant: None,
         // Not in scene files (yet): the defaults survive the round trip.
         point_size: 1.0,
         line_width: 1.0,
@@ -451,6 +454,36 @@ fn saved_settings_read_back_the_same_in_toml_and_json() {
             "{inner}: {text}"
         );
     }
+}
+
+#[test]
+fn a_material_variant_is_read_checked_and_written_by_name() {
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/pbr/variants.glb");
+    let dir = TempDir::new("scenefile-variant");
+    let text = |v: &str| {
+        format!(
+            "model = {:?}\nmaterial_variant = \"{v}\"\n",
+            model.display().to_string()
+        )
+    };
+    let path = dir.write("v.toml", &text("blue"));
+    let loaded = SceneFile::load(&path).unwrap();
+    assert_eq!(loaded.settings.variant.as_deref(), Some("blue"));
+    let (mut file, _) =
+        SceneFile::from_settings(&loaded.model, 1.0, &loaded.settings, &loaded.view);
+    let again = dir.0.join("again.toml");
+    file.save(&again).unwrap();
+    assert!(std::fs::read_to_string(&again)
+        .unwrap()
+        .contains("material_variant = \"blue\""));
+    let bad = dir.write("bad.toml", &text("purple"));
+    let e = SceneFile::load(&bad).unwrap_err().to_string();
+    assert!(
+        e.contains("material_variant")
+            && e.contains("'purple' is not a material variant")
+            && e.contains("it has: red, blue, none"),
+        "{e}"
+    );
 }
 
 #[test]

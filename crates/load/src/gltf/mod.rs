@@ -45,7 +45,7 @@
 //! orthographic) go to [`Scene::cameras`] and `KHR_lights_punctual` lights to
 //! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
 //! `KHR_mesh_quantization`, `KHR_lights_punctual`, `KHR_texture_transform`,
-//! `KHR_materials_emissive_strength`, `_unlit`, `_ior` and `_specular`,
+//! `KHR_materials_emissive_strength`, `_unlit`, `_ior`, `_specular` and `_variants`,
 //! `EXT_meshopt_compression`, `KHR_meshopt_compression`, `KHR_draco_mesh_compression`,
 //! `KHR_texture_basisu` and `EXT_texture_webp` ([`SUPPORTED`]); a file that *requires* any
 //! other is refused, naming it.
@@ -75,6 +75,7 @@ mod primitive;
 mod schema;
 mod skin;
 mod uri;
+mod variants;
 
 use schema::Json;
 
@@ -427,10 +428,12 @@ pub(crate) fn load_gltf(
         decoded_views,
         draco_accessors: Default::default(),
     };
+    let variants = variants::names(doc.json.extensions.as_ref(), &mut report.warnings);
     let mut b = Builder {
         doc,
         scene: Scene {
             report,
+            variants,
             ..Scene::default()
         },
         meshes: HashMap::new(),
@@ -485,9 +488,9 @@ fn geometry_units(json: &Json) -> u64 {
 const QUANTIZATION: &str = "KHR_mesh_quantization";
 
 /// The extensions supported: [`QUANTIZATION`], punctual lights, texture transforms, the
-/// material extensions of [`material`], and the compressed forms of geometry ([`meshopt`],
+/// material extensions of [`material`], material variants ([`variants`]), and the compressed forms of geometry ([`meshopt`],
 /// [`draco`]) and images (`KHR_texture_basisu`, `EXT_texture_webp`).
-const SUPPORTED: [&str; 12] = [
+const SUPPORTED: [&str; 13] = [
     QUANTIZATION,
     meshopt::EXT,
     meshopt::KHR,
@@ -500,6 +503,7 @@ const SUPPORTED: [&str; 12] = [
     material::UNLIT,
     material::IOR,
     material::SPECULAR,
+    variants::EXTENSION,
 ];
 
 /// Refuses files that are not glTF 2.x or that require an extension not in [`SUPPORTED`].

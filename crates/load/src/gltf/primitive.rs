@@ -252,6 +252,13 @@ impl Builder<'_> {
             .charge(mesh_bytes(n as u64, corners.len() as u64, facets), || {
                 format!("{label} ({n} vertices, {facets} triangles)")
             })?;
+        let variant_pairs = super::variants::mappings(
+            prim.extensions.as_ref().map(|e| &e.others),
+            self.scene.variants.len(),
+            doc.json.materials.len(),
+            &label,
+            &mut self.scene.report.warnings,
+        );
         let material = match prim.material {
             Some(i) => self.material(i.value(), &label)?,
             None => Some(self.default_material()),
@@ -302,6 +309,11 @@ impl Builder<'_> {
             }
         })?;
         mesh.deform = deform.map(Box::new);
+        for (v, i) in variant_pairs {
+            if let Some(k) = self.material(i, &label)? {
+                mesh.variants.push((v, k));
+            }
+        }
         self.scene.meshes.push(mesh);
         Ok(Some(self.scene.meshes.len() - 1))
     }

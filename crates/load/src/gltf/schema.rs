@@ -45,6 +45,9 @@ pub(crate) struct Json {
     pub extensions_used: Vec<String>,
     #[serde(default)]
     pub extensions_required: Vec<String>,
+    /// The root's extensions (`KHR_materials_variants` reads its variant names here).
+    #[serde(default)]
+    pub extensions: Option<serde_json::Map<String, Value>>,
     /// Read one at a time by `animation`, so a malformed one is skipped, not fatal.
     #[serde(default)]
     pub animations: Vec<Value>,

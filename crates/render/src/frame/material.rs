@@ -99,11 +99,12 @@ pub(crate) fn resolve(
     inst: &PreparedInstance,
 ) -> Resolved {
     let tri = &scene.meshes[inst.mesh].tri;
+    let k = scene.material_of(inst, settings.variant_index(scene.scene()));
     let m = settings
         .materials
         .as_ref()
-        .and_then(|ms| ms.get(inst.material))
-        .unwrap_or(&scene.materials[inst.material]);
+        .and_then(|ms| ms.get(k))
+        .unwrap_or(&scene.materials[k]);
     let slot = |s: Slot| found(scene.scene(), settings, tri, m, s);
     let base_map = slot(Slot::BaseColor);
     let normal_map = slot(Slot::Normal);

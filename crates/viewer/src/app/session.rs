@@ -247,12 +247,14 @@ impl ViewerApp {
         if fresh {
             self.shared.probe = None;
             self.shared.hovered_light = None;
-            // Hidden parts are the old scene's instance numbers (a reload keeps them; a
-            // scene file brings its own).
+            // Hidden parts are the old scene's instance numbers and variants its names (a
+            // reload keeps them; a scene file brings its own).
             if settings.is_none() {
                 self.settings.hidden = Default::default();
+                self.settings.variant = None;
             }
             self.split.b.hidden = self.settings.hidden.clone();
+            self.split.b.variant.clone_from(&self.settings.variant);
         }
         self.panels.installed(&Installed {
             fresh,

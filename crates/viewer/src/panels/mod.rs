@@ -514,6 +514,9 @@ pub fn describe(s: &Settings) -> String {
     if !s.sections.is_empty() {
         d += &format!(", {} section plane(s)", s.sections.planes.len());
     }
+    if let Some(v) = &s.variant {
+        d += &format!(", variant {v}");
+    }
     if s.output == Output::Overdraw {
         d = "overdraw".into();
     }

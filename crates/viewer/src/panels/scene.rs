@@ -60,6 +60,7 @@ impl ScenePanel {
             scene.instances.len(),
             cx.session.scene.triangle_count()
         ));
+        variant_choice(cx, ui, &scene.variants);
         egui::CollapsingHeader::new(format!(
             "Load report ({} warnings, {} skipped, {} generated)",
             r.warnings.len(),
@@ -271,6 +272,31 @@ impl ScenePanel {
                 }
             });
     }
+}
+
+/// The material variant drawn (`KHR_materials_variants`; only for a file that has some).
+fn variant_choice(cx: &mut Cx<'_>, ui: &mut egui::Ui, variants: &[String]) {
+    if variants.is_empty() {
+        return;
+    }
+    const DEFAULT: &str = "file's default";
+    ui.horizontal(|ui| {
+        let shown = cx.settings.variant.clone();
+        let r = egui::ComboBox::from_label("material variant")
+            .selected_text(shown.as_deref().unwrap_or(DEFAULT))
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut cx.settings.variant, None, DEFAULT);
+                for v in variants {
+                    ui.selectable_value(&mut cx.settings.variant, Some(v.clone()), v);
+                }
+            });
+        r.response
+            .on_hover_text(
+                "The file's material variants (KHR_materials_variants): each part takes the \
+                 material the variant gives it, the others keep theirs (as --variant NAME).",
+            )
+            .accessible_name("material variant");
+    });
 }
 
 /// Nodes deeper than this are not listed (a tree that deep is a broken file).

@@ -58,6 +58,7 @@ pub(super) fn mesh(data: MeshData, policy: NormalPolicy) -> Mesh {
         colors,
         tangents,
         material,
+        variants: Vec::new(),
         deform: None,
         points: Vec::new(),
         lines: Vec::new(),
