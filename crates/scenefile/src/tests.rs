@@ -466,7 +466,7 @@ fn a_material_variant_is_read_checked_and_written_by_name() {
             model.display().to_string()
         )
     };
-    let path = dir.write("v.toml", &text("blue"));
+    let path = dir.write("v.toml", text("blue"));
     let loaded = SceneFile::load(&path).unwrap();
     assert_eq!(loaded.settings.variant.as_deref(), Some("blue"));
     let (mut file, _) =
@@ -476,7 +476,7 @@ fn a_material_variant_is_read_checked_and_written_by_name() {
     assert!(std::fs::read_to_string(&again)
         .unwrap()
         .contains("material_variant = \"blue\""));
-    let bad = dir.write("bad.toml", &text("purple"));
+    let bad = dir.write("bad.toml", text("purple"));
     let e = SceneFile::load(&bad).unwrap_err().to_string();
     assert!(
         e.contains("material_variant")
