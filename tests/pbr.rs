@@ -574,3 +574,106 @@ fn material_variants_draw_the_materials_the_file_maps() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `KHR_animation_pointer` (`pointer.glb`, see `models/README.md`): the material's base
+/// colour (LINEAR red, blue, red at t = 0, 1, 2), emissive (STEP black, then (0.2, 0.2, 0)
+/// from t = 1) and roughness (LINEAR 0.2 to 0.8 over 2 s), and the node's translation
+/// through a pointer (LINEAR x 0 to 0.5), each at the times the file gives, evaluated here
+/// from the keys; the frame follows, and `realist render --time` draws the posed colour.
+#[test]
+fn animation_pointers_set_material_factors_at_the_files_times() {
+    use realist::scene::anim::Property;
+    let scene = model("pointer.glb");
+    assert!(
+        scene.report.warnings.is_empty(),
+        "{:?}",
+        scene.report.warnings
+    );
+    assert!(
+        !scene
+            .report
+            .skipped
+            .iter()
+            .any(|s| s.contains("KHR_animation_pointer")),
+        "{:?}",
+        scene.report.skipped
+    );
+    let a = &scene.animations[0];
+    let props: Vec<Property> = a.channels.iter().map(|c| c.property).collect();
+    assert_eq!(
+        props,
+        [
+            Property::BaseColor,
+            Property::Emissive,
+            Property::Roughness,
+            Property::Translation
+        ]
+    );
+    let mut prepared = PreparedScene::new(scene);
+    let (red, blue) = (
+        glam::Vec4::new(0.8, 0.1, 0.1, 1.0),
+        glam::Vec4::new(0.1, 0.1, 0.8, 1.0),
+    );
+    for t in [0.0f32, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0] {
+        prepared.pose_at(realist::scene::Play::All, t, false);
+        let m = prepared.material(0).expect("the material");
+        let u = t.clamp(0.0, 2.0);
+        let want = if u <= 1.0 {
+            red.lerp(blue, u)
+        } else {
+            blue.lerp(red, u - 1.0)
+        };
+        assert!(
+            (m.base_color - want).abs().max_element() < 1e-6,
+            "t {t}: {} vs {want}",
+            m.base_color
+        );
+        let emissive = if t < 1.0 {
+            Vec3::ZERO
+        } else {
+            Vec3::new(0.2, 0.2, 0.0)
+        };
+        assert!(
+            (m.emissive - emissive).abs().max_element() < 1e-6,
+            "t {t}: {}",
+            m.emissive
+        );
+        assert!(
+            (m.roughness - (0.2 + 0.3 * u)).abs() < 1e-6,
+            "t {t}: {}",
+            m.roughness
+        );
+        let (lo, hi) = prepared.bounds().expect("bounds");
+        assert!(
+            ((lo.x + hi.x) * 0.5 - 0.25 * u).abs() < 1e-3,
+            "t {t}: {lo} {hi}"
+        );
+    }
+    // Back at rest, the file's own factors.
+    prepared.pose_at(realist::scene::Play::Rest, 0.0, false);
+    assert_eq!(prepared.material(0).unwrap().base_color, red);
+    // The command line at t = 1: the ball is blue (t = 0: red).
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/pbr/pointer.glb");
+    let dir = std::env::temp_dir().join(format!("realist-pointer-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let centre = |t: &str| {
+        let out = dir.join(format!("t{t}.png"));
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .arg("render")
+            .arg(&file)
+            .args(["--size", "64x64", "--time", t, "-o"])
+            .arg(&out)
+            .output()
+            .expect("realist runs");
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        image::open(&out)
+            .expect("png")
+            .into_rgb8()
+            .get_pixel(32, 32)
+            .0
+    };
+    let (c0, c1) = (centre("0"), centre("1"));
+    assert!(c0[0] > c0[2] + 40, "t = 0 red: {c0:?}");
+    assert!(c1[2] > c1[0] + 40, "t = 1 blue: {c1:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

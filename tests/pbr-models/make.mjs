@@ -5,7 +5,7 @@
 //
 // writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
-// lights-punctual.glb and variants.glb. Every piece of
+// lights-punctual.glb, variants.glb and pointer.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -403,6 +403,70 @@ async function variants() {
 }
 
 // ---------------------------------------------------------------------------------------
+// pointer.glb: KHR_animation_pointer. One sphere ("ball", material "pulse", dielectric) and
+// one animation "pulse" whose four channels are pointers:
+//   /materials/0/pbrMetallicRoughness/baseColorFactor  LINEAR  t 0, 1, 2: red (0.8, 0.1, 0.1, 1),
+//                                                               blue (0.1, 0.1, 0.8, 1), red
+//   /materials/0/emissiveFactor                         STEP    t 0, 1: (0, 0, 0), (0.2, 0.2, 0)
+//   /materials/0/pbrMetallicRoughness/roughnessFactor   LINEAR  t 0, 2: 0.2, 0.8
+//   /nodes/0/translation                                LINEAR  t 0, 2: (0, 0, 0), (0.5, 0, 0)
+// glTF-Transform 4.5 has no KHR_animation_pointer: it writes the document with ordinary
+// channels on the node, and this script turns their targets into pointers in the JSON and
+// packs the GLB (12-byte header, JSON and BIN chunks, as the GLB container specifies).
+
+const POINTERS = [
+  ["/materials/0/pbrMetallicRoughness/baseColorFactor", "VEC4", [0, 1, 2], [0.8, 0.1, 0.1, 1, 0.1, 0.1, 0.8, 1, 0.8, 0.1, 0.1, 1], "LINEAR"],
+  ["/materials/0/emissiveFactor", "VEC3", [0, 1], [0, 0, 0, 0.2, 0.2, 0], "STEP"],
+  ["/materials/0/pbrMetallicRoughness/roughnessFactor", "SCALAR", [0, 2], [0.2, 0.8], "LINEAR"],
+  ["/nodes/0/translation", "VEC3", [0, 2], [0, 0, 0, 0.5, 0, 0], "LINEAR"],
+];
+
+async function pointer() {
+  const doc = newDocument();
+  const pulse = doc.createMaterial("pulse").setBaseColorFactor([0.8, 0.1, 0.1, 1]).setMetallicFactor(0).setRoughnessFactor(0.2);
+  const ball = place(doc, "ball", meshWith(doc, "ball", spherePrimitive(doc), pulse), [0, 0, 0]);
+  const anim = doc.createAnimation("pulse");
+  for (const [, type, times, values, interpolation] of POINTERS) {
+    const sampler = doc
+      .createAnimationSampler()
+      .setInput(accessor(doc, "SCALAR", times))
+      .setOutput(accessor(doc, type, values))
+      .setInterpolation(interpolation);
+    anim.addSampler(sampler).addChannel(doc.createAnimationChannel().setTargetNode(ball).setTargetPath("translation").setSampler(sampler));
+  }
+  const { json, resources } = await io.writeJSON(doc, { format: "glb" });
+  json.animations[0].channels.forEach((channel, i) => {
+    channel.target = { path: "pointer", extensions: { KHR_animation_pointer: { pointer: POINTERS[i][0] } } };
+  });
+  json.extensionsUsed = [...(json.extensionsUsed ?? []), "KHR_animation_pointer"];
+  // The GLB's binary chunk is the buffer: it has no URI.
+  delete json.buffers[0].uri;
+  const bin = Object.values(resources)[0];
+  const pad = (bytes, fill) => {
+    const out = new Uint8Array(Math.ceil(bytes.length / 4) * 4).fill(fill);
+    out.set(bytes);
+    return out;
+  };
+  const jsonChunk = pad(new TextEncoder().encode(JSON.stringify(json)), 0x20);
+  const binChunk = pad(bin, 0);
+  const total = 12 + 8 + jsonChunk.length + 8 + binChunk.length;
+  const glb = new Uint8Array(total);
+  const view = new DataView(glb.buffer);
+  view.setUint32(0, 0x46546c67, true);
+  view.setUint32(4, 2, true);
+  view.setUint32(8, total, true);
+  view.setUint32(12, jsonChunk.length, true);
+  view.setUint32(16, 0x4e4f534a, true);
+  glb.set(jsonChunk, 20);
+  view.setUint32(20 + jsonChunk.length, binChunk.length, true);
+  view.setUint32(24 + jsonChunk.length, 0x004e4942, true);
+  glb.set(binChunk, 28 + jsonChunk.length);
+  const file = path.join(dir, "pointer.glb");
+  await writeFile(file, glb);
+  console.log(`wrote ${file} (${glb.length} bytes)`);
+}
+
+// ---------------------------------------------------------------------------------------
 // lights-punctual.glb: a stage with its own KHR_lights_punctual lights, in the spirit of the
 // glTF sample "LightsPunctualLamp" and three.js's gt_lights_punctual_camera: three coloured
 // dielectric spheres and a grey floor under a point light (candela), a spot light and a
@@ -452,3 +516,4 @@ await unknownExtension();
 await noMaterial();
 await lightsPunctual();
 await variants();
+await pointer();

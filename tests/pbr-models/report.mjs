@@ -3,7 +3,8 @@
 //
 // - every file is one this script knows, under 300 KB, with the fixed generator string
 //   (no-material.glb has no material at all, lights-punctual.glb also uses
-//   KHR_lights_punctual, variants.glb KHR_materials_variants);
+//   KHR_lights_punctual, variants.glb KHR_materials_variants, pointer.glb
+//   KHR_animation_pointer);
 // - each material is there, in order, with exactly the material extensions it is made to
 //   have, and the file's extensionsUsed is exactly their union (extensionsRequired empty);
 // - the two sphere grids have 25 nodes `sphere-m{m}-r{r}` at (i - 2, 2 - j, 0) with
@@ -39,12 +40,14 @@ const EXPECTED = new Map([
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],
+  ["pointer.glb", [["pulse", []]]],
 ]);
 
 /** Extensions a file uses besides its materials'. */
 const OTHER_EXTENSIONS = new Map([
   ["lights-punctual.glb", ["KHR_lights_punctual"]],
   ["variants.glb", ["KHR_materials_variants"]],
+  ["pointer.glb", ["KHR_animation_pointer"]],
 ]);
 
 function json(bytes, file) {

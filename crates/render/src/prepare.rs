@@ -31,6 +31,9 @@ pub struct PreparedScene {
     deformers: Vec<Deformer>,
     /// The pose last applied (reused, so posing allocates nothing).
     pose: Pose,
+    /// Materials the last pose changed (`KHR_animation_pointer`), restored to their rest
+    /// values before the next pose is applied.
+    animated_materials: Vec<usize>,
     /// The scene's lights and cameras as posed now (those under animated nodes move).
     lights: Vec<Light>,
     cameras: Vec<Camera>,
@@ -196,6 +199,7 @@ impl PreparedScene {
             rest_bounds,
             deformers,
             pose: Pose::default(),
+            animated_materials: Vec::new(),
             lights,
             cameras,
         };
@@ -268,6 +272,52 @@ impl PreparedScene {
         }
         self.bounds = self.posed_bounds();
         self.pose_lights_and_cameras(pose);
+        self.pose_materials(pose);
+    }
+
+    /// Sets the material factors `pose` animates (clamped to their ranges; non-finite
+    /// values leave the rest value), after returning those the last pose changed to rest.
+    fn pose_materials(&mut self, pose: &Pose) {
+        use crate::scene::anim::Property;
+        let rest = &self.scene.materials;
+        // The animated fields only (a whole copy would allocate its name).
+        for k in self.animated_materials.drain(..) {
+            if let (Some(m), Some(r)) = (self.materials.get_mut(k), rest.get(k)) {
+                m.base_color = r.base_color;
+                m.emissive = r.emissive;
+                m.metallic = r.metallic;
+                m.roughness = r.roughness;
+            }
+        }
+        for &(k, property, v) in &pose.materials {
+            // Only the scene's own materials (not the default or the ground after them).
+            let Some(m) = self.materials.get_mut(k).filter(|_| k < rest.len()) else {
+                continue;
+            };
+            let unit = |x: f32| x.is_finite().then(|| x.clamp(0.0, 1.0));
+            match property {
+                Property::BaseColor => {
+                    if v.iter().all(|x| x.is_finite()) {
+                        m.base_color = Vec4::from_array(v).clamp(Vec4::ZERO, Vec4::ONE);
+                    }
+                }
+                Property::Emissive => {
+                    let e = Vec3::new(v[0], v[1], v[2]);
+                    if e.is_finite() {
+                        m.emissive = e.max(Vec3::ZERO);
+                    }
+                }
+                Property::Metallic => m.metallic = unit(v[0]).unwrap_or(m.metallic),
+                Property::Roughness => m.roughness = unit(v[0]).unwrap_or(m.roughness),
+                Property::Translation
+                | Property::Rotation
+                | Property::Scale
+                | Property::Weights => {
+                    continue;
+                }
+            }
+            self.animated_materials.push(k);
+        }
     }
 
     /// Moves the lights and cameras of nodes to where `pose` puts those nodes (position at
@@ -365,6 +415,15 @@ impl PreparedScene {
             };
             Some((inst.world, b?))
         }))
+    }
+
+    /// Material `k` of the scene as posed now (`KHR_animation_pointer` changes factors; the
+    /// rest values are in [`Scene::materials`]).
+    #[must_use]
+    pub fn material(&self, k: usize) -> Option<&Material> {
+        self.materials
+            .get(k)
+            .filter(|_| k < self.scene.materials.len())
     }
 
     /// The scene mesh `inst` draws (for a skinned or morphed instance, the rest mesh its

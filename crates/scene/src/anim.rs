@@ -31,7 +31,8 @@ impl Interpolation {
     }
 }
 
-/// What a channel drives.
+/// What a channel drives: a node's transform or morph weights, or (through
+/// `KHR_animation_pointer`) a material's factor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Property {
     Translation,
@@ -39,9 +40,18 @@ pub enum Property {
     Scale,
     /// Morph target weights (as many as the node's mesh has targets).
     Weights,
+    /// A material's base colour factor (RGBA).
+    BaseColor,
+    /// A material's emissive factor (RGB).
+    Emissive,
+    /// A material's metallic factor.
+    Metallic,
+    /// A material's roughness factor.
+    Roughness,
 }
 
 impl Property {
+    /// The glTF name (the channel path, or the last part of the pointer).
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
@@ -49,6 +59,30 @@ impl Property {
             Property::Rotation => "rotation",
             Property::Scale => "scale",
             Property::Weights => "weights",
+            Property::BaseColor => "baseColorFactor",
+            Property::Emissive => "emissiveFactor",
+            Property::Metallic => "metallicFactor",
+            Property::Roughness => "roughnessFactor",
+        }
+    }
+
+    /// Whether the channel's target is a material (else a node).
+    #[must_use]
+    pub fn of_material(self) -> bool {
+        matches!(
+            self,
+            Property::BaseColor | Property::Emissive | Property::Metallic | Property::Roughness
+        )
+    }
+
+    /// Numbers per keyframe (`None` for weights: as many as the node's morph targets).
+    #[must_use]
+    pub fn width(self) -> Option<usize> {
+        match self {
+            Property::Translation | Property::Scale | Property::Emissive => Some(3),
+            Property::Rotation | Property::BaseColor => Some(4),
+            Property::Metallic | Property::Roughness => Some(1),
+            Property::Weights => None,
         }
     }
 }
@@ -218,6 +252,8 @@ fn quat(v: &[f32]) -> Quat {
 /// One channel: a node's property driven by a sampler of the same animation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
+    /// The node, or for a material property ([`Property::of_material`]) the material (an
+    /// index into `Scene::materials`).
     pub node: usize,
     pub property: Property,
     /// Index into [`Animation::samplers`].
@@ -267,6 +303,17 @@ impl Animation {
             let Some(sampler) = self.samplers.get(c.sampler) else {
                 continue;
             };
+            if c.property.of_material() {
+                let mut v = [0.0f32; 4];
+                let width = c.property.width().unwrap_or(1);
+                sampler.sample(t, &mut v[..width], false);
+                let key = |e: &&mut (usize, Property, [f32; 4])| e.0 == c.node && e.1 == c.property;
+                match pose.materials.iter_mut().find(key) {
+                    Some(e) => e.2 = v,
+                    None => pose.materials.push((c.node, c.property, v)),
+                }
+                continue;
+            }
             if c.property == Property::Weights {
                 if let Some(w) = pose.weights.get_mut(c.node) {
                     sampler.sample(t, w, false);
@@ -297,7 +344,11 @@ impl Animation {
                         trs.rotation = q.normalize();
                     }
                 }
-                Property::Weights => {}
+                Property::Weights
+                | Property::BaseColor
+                | Property::Emissive
+                | Property::Metallic
+                | Property::Roughness => {}
             }
         }
     }

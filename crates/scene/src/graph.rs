@@ -111,6 +111,10 @@ pub struct Pose {
     pub weights: Vec<Vec<f32>>,
     /// World matrices, by node (the identity for nodes outside [`Graph::order`]).
     pub worlds: Vec<Mat4>,
+    /// Material factors the animations set (`KHR_animation_pointer`): the material (an
+    /// index into `Scene::materials`), the property and its value (the first 1, 3 or 4
+    /// numbers). Materials not listed keep their rest values.
+    pub materials: Vec<(usize, crate::anim::Property, [f32; 4])>,
 }
 
 impl Graph {
@@ -121,6 +125,7 @@ impl Graph {
             locals: self.nodes.iter().map(|n| n.local).collect(),
             weights: self.nodes.iter().map(|n| n.weights.clone()).collect(),
             worlds: vec![Mat4::IDENTITY; self.nodes.len()],
+            materials: Vec::new(),
         };
         self.update_worlds(&mut pose);
         pose
@@ -137,6 +142,7 @@ impl Graph {
             w.extend_from_slice(&n.weights);
         }
         pose.worlds.resize(self.nodes.len(), Mat4::IDENTITY);
+        pose.materials.clear();
     }
 
     /// Computes `pose.worlds` from `pose.locals`, parents first.

@@ -1,5 +1,7 @@
 //! glTF animations into [`crate::scene::Animation`]s: every channel whose target is a node's
-//! translation, rotation, scale or morph weights, its sampler's keyframe times (`input`)
+//! translation, rotation, scale or morph weights, or (`KHR_animation_pointer`) one of these
+//! or a material's base colour, emissive, metallic or roughness factor ([`pointed`]), its
+//! sampler's keyframe times (`input`)
 //! and values (`output`, FLOAT or normalized integers) checked by
 //! [`Sampler::new`](crate::scene::anim::Sampler::new).
 //!
@@ -37,6 +39,56 @@ struct TargetJson {
     /// glTF 1.0 named the target `id`; some files still do (read as `node`, noted).
     id: Option<serde_json::Value>,
     path: String,
+    /// `KHR_animation_pointer` (with `path: "pointer"`).
+    #[serde(default)]
+    extensions: Option<serde_json::Map<String, serde_json::Value>>,
+}
+
+/// `KHR_animation_pointer`: a channel whose `path` is `"pointer"` names what it animates by
+/// a JSON pointer into the file.
+pub(super) const POINTER: &str = "KHR_animation_pointer";
+
+/// What a pointer names that realist animates.
+#[derive(Debug, PartialEq)]
+enum Pointed {
+    /// A node's transform or weights (the same as the plain paths).
+    Node(usize, Property),
+    /// A material's factor (the file's material index).
+    Material(usize, Property),
+}
+
+/// Reads a `KHR_animation_pointer` pointer: `/nodes/N/translation|rotation|scale|weights`,
+/// `/materials/N/pbrMetallicRoughness/baseColorFactor|metallicFactor|roughnessFactor` and
+/// `/materials/N/emissiveFactor`; anything else is `Err` with the reason.
+fn pointed(pointer: &str) -> Result<Pointed, String> {
+    let parts: Vec<&str> = pointer.split('/').collect();
+    let index = |s: &str| {
+        s.parse::<usize>()
+            .map_err(|_| format!("pointer '{pointer}': '{s}' is not an index"))
+    };
+    match parts.as_slice() {
+        ["", "nodes", n, path] => {
+            let property = match *path {
+                "translation" => Property::Translation,
+                "rotation" => Property::Rotation,
+                "scale" => Property::Scale,
+                "weights" => Property::Weights,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Node(index(n)?, property))
+        }
+        ["", "materials", m, "pbrMetallicRoughness", field] => {
+            let property = match *field {
+                "baseColorFactor" => Property::BaseColor,
+                "metallicFactor" => Property::Metallic,
+                "roughnessFactor" => Property::Roughness,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Material(index(m)?, property))
+        }
+        ["", "materials", m, "emissiveFactor"] => Ok(Pointed::Material(index(m)?, Property::Emissive)),
+        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights and the materials' base colour, emissive, metallic and roughness factors)")),
+    }
 }
 
 #[derive(serde::Deserialize)]
@@ -106,6 +158,45 @@ impl Builder<'_> {
         out: &mut Animation,
         read: &mut Vec<((usize, usize), usize)>,
     ) -> Result<(), Skip> {
+        if ch.target.path == "pointer" {
+            let pointer = ch
+                .target
+                .extensions
+                .as_ref()
+                .and_then(|e| e.get(POINTER))
+                .and_then(|p| p.get("pointer"))
+                .and_then(serde_json::Value::as_str)
+                .ok_or_else(|| Skip::Why(format!("path 'pointer' without a {POINTER} pointer")))?;
+            return match pointed(pointer).map_err(Skip::Why)? {
+                Pointed::Node(node, property) => {
+                    self.node_channel(label, node, property, ch, a, out, read)
+                }
+                Pointed::Material(m, property) => {
+                    let count = self.doc.json.materials.len();
+                    if m >= count {
+                        return Err(Skip::Why(format!(
+                            "pointer '{pointer}': material {m}, but there are only {count}"
+                        )));
+                    }
+                    let k = self
+                        .material(m, label)
+                        .map_err(Skip::Load)?
+                        .ok_or_else(|| {
+                            Skip::Why(format!(
+                                "pointer '{pointer}': material {m} could not be read"
+                            ))
+                        })?;
+                    let width = property.width().unwrap_or(1);
+                    let sampler = self.sampler_of(label, ch, a, out, read, width, property)?;
+                    out.channels.push(Channel {
+                        node: k,
+                        property,
+                        sampler,
+                    });
+                    Ok(())
+                }
+            };
+        }
         let legacy = ch.target.id.as_ref().and_then(serde_json::Value::as_u64);
         let node = match (ch.target.node, legacy) {
             (Some(n), _) => n,
@@ -117,13 +208,6 @@ impl Builder<'_> {
             }
             (None, None) => return Err(Skip::Why("no target node".into())),
         };
-        let graph = &self.scene.graph;
-        let Some(target) = graph.nodes.get(node) else {
-            let count = graph.nodes.len();
-            return Err(Skip::Why(format!(
-                "target node {node}, but there are only {count} nodes"
-            )));
-        };
         let property = match ch.target.path.as_str() {
             "translation" => Property::Translation,
             "rotation" => Property::Rotation,
@@ -131,43 +215,78 @@ impl Builder<'_> {
             "weights" => Property::Weights,
             other => return Err(Skip::Why(format!("path '{other}' is not supported"))),
         };
-        let width = match property {
-            Property::Translation | Property::Scale => 3,
-            Property::Rotation => 4,
-            Property::Weights if target.weights.is_empty() => {
+        self.node_channel(label, node, property, ch, a, out, read)
+    }
+
+    /// A channel on `node`'s `property` (a plain path, or a pointer to a node).
+    #[allow(clippy::too_many_arguments)]
+    fn node_channel(
+        &mut self,
+        label: &str,
+        node: usize,
+        property: Property,
+        ch: &ChannelJson,
+        a: &AnimationJson,
+        out: &mut Animation,
+        read: &mut Vec<((usize, usize), usize)>,
+    ) -> Result<(), Skip> {
+        let graph = &self.scene.graph;
+        let Some(target) = graph.nodes.get(node) else {
+            let count = graph.nodes.len();
+            return Err(Skip::Why(format!(
+                "target node {node}, but there are only {count} nodes"
+            )));
+        };
+        let width = match property.width() {
+            Some(w) => w,
+            None if target.weights.is_empty() => {
                 return Err(Skip::Why(format!(
                     "node {node} has no morph targets to weight"
                 )))
             }
-            Property::Weights => target.weights.len(),
+            None => target.weights.len(),
         };
         if property != Property::Weights && matches!(target.local, Local::Matrix(_)) {
             return Err(Skip::Why(format!(
                 "node {node} has a matrix, which cannot be animated"
             )));
         }
-        let sampler =
-            if let Some(&(_, k)) = read.iter().find(|(key, _)| *key == (ch.sampler, width)) {
-                k
-            } else {
-                let s = a.samplers.get(ch.sampler).ok_or_else(|| {
-                    Skip::Why(format!(
-                        "sampler {}, but there are only {}",
-                        ch.sampler,
-                        a.samplers.len()
-                    ))
-                })?;
-                let sampler = self.keyframes(label, ch.sampler, s, width, property)?;
-                out.samplers.push(sampler);
-                read.push(((ch.sampler, width), out.samplers.len() - 1));
-                out.samplers.len() - 1
-            };
+        let sampler = self.sampler_of(label, ch, a, out, read, width, property)?;
         out.channels.push(Channel {
             node,
             property,
             sampler,
         });
         Ok(())
+    }
+
+    /// The index in `out.samplers` of the channel's sampler read with `width` numbers a
+    /// keyframe (read once per sampler and width).
+    #[allow(clippy::too_many_arguments)]
+    fn sampler_of(
+        &self,
+        label: &str,
+        ch: &ChannelJson,
+        a: &AnimationJson,
+        out: &mut Animation,
+        read: &mut Vec<((usize, usize), usize)>,
+        width: usize,
+        property: Property,
+    ) -> Result<usize, Skip> {
+        if let Some(&(_, k)) = read.iter().find(|(key, _)| *key == (ch.sampler, width)) {
+            return Ok(k);
+        }
+        let s = a.samplers.get(ch.sampler).ok_or_else(|| {
+            Skip::Why(format!(
+                "sampler {}, but there are only {}",
+                ch.sampler,
+                a.samplers.len()
+            ))
+        })?;
+        let sampler = self.keyframes(label, ch.sampler, s, width, property)?;
+        out.samplers.push(sampler);
+        read.push(((ch.sampler, width), out.samplers.len() - 1));
+        Ok(out.samplers.len() - 1)
     }
 
     fn keyframes(
@@ -206,8 +325,8 @@ impl Builder<'_> {
             _ => &[width],
         };
         let format = match property {
-            Property::Translation | Property::Scale => Format::Float,
-            _ => Format::Quantized,
+            Property::Rotation | Property::Weights => Format::Quantized,
+            _ => Format::Float,
         };
         let (_, values) = doc
             .read_floats(
@@ -227,4 +346,31 @@ impl Builder<'_> {
 enum Skip {
     Why(String),
     Load(LoadError),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pointers_name_what_they_animate_or_why_not() {
+        assert_eq!(
+            pointed("/materials/3/pbrMetallicRoughness/baseColorFactor"),
+            Ok(Pointed::Material(3, Property::BaseColor))
+        );
+        assert_eq!(
+            pointed("/materials/0/emissiveFactor"),
+            Ok(Pointed::Material(0, Property::Emissive))
+        );
+        assert_eq!(
+            pointed("/nodes/7/rotation"),
+            Ok(Pointed::Node(7, Property::Rotation))
+        );
+        let e = pointed("/materials/x/emissiveFactor").unwrap_err();
+        assert!(e.contains("'x' is not an index"), "{e}");
+        let e = pointed("/cameras/0/perspective/yfov").unwrap_err();
+        assert!(e.contains("is not supported") && e.contains("base colour"), "{e}");
+        let e = pointed("/materials/0/pbrMetallicRoughness/baseColorTexture").unwrap_err();
+        assert!(e.contains("is not supported"), "{e}");
+    }
 }

@@ -46,6 +46,7 @@
 //! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
 //! `KHR_mesh_quantization`, `KHR_lights_punctual`, `KHR_texture_transform`,
 //! `KHR_materials_emissive_strength`, `_unlit`, `_ior`, `_specular` and `_variants`,
+//! `KHR_animation_pointer` (node transforms and material factors),
 //! `EXT_meshopt_compression`, `KHR_meshopt_compression`, `KHR_draco_mesh_compression`,
 //! `KHR_texture_basisu` and `EXT_texture_webp` ([`SUPPORTED`]); a file that *requires* any
 //! other is refused, naming it.
@@ -488,9 +489,10 @@ fn geometry_units(json: &Json) -> u64 {
 const QUANTIZATION: &str = "KHR_mesh_quantization";
 
 /// The extensions supported: [`QUANTIZATION`], punctual lights, texture transforms, the
-/// material extensions of [`material`], material variants ([`variants`]), and the compressed forms of geometry ([`meshopt`],
+/// material extensions of [`material`], material variants ([`variants`]), animation
+/// pointers ([`animation`]), and the compressed forms of geometry ([`meshopt`],
 /// [`draco`]) and images (`KHR_texture_basisu`, `EXT_texture_webp`).
-const SUPPORTED: [&str; 13] = [
+const SUPPORTED: [&str; 14] = [
     QUANTIZATION,
     meshopt::EXT,
     meshopt::KHR,
@@ -504,6 +506,7 @@ const SUPPORTED: [&str; 13] = [
     material::IOR,
     material::SPECULAR,
     variants::EXTENSION,
+    animation::POINTER,
 ];
 
 /// Refuses files that are not glTF 2.x or that require an extension not in [`SUPPORTED`].
