@@ -369,7 +369,10 @@ mod tests {
         let e = pointed("/materials/x/emissiveFactor").unwrap_err();
         assert!(e.contains("'x' is not an index"), "{e}");
         let e = pointed("/cameras/0/perspective/yfov").unwrap_err();
-        assert!(e.contains("is not supported") && e.contains("base colour"), "{e}");
+        assert!(
+            e.contains("is not supported") && e.contains("base colour"),
+            "{e}"
+        );
         let e = pointed("/materials/0/pbrMetallicRoughness/baseColorTexture").unwrap_err();
         assert!(e.contains("is not supported"), "{e}");
     }
