@@ -577,9 +577,11 @@ fn material_variants_draw_the_materials_the_file_maps() {
 
 /// `KHR_animation_pointer` (`pointer.glb`, see `models/README.md`): the material's base
 /// colour (LINEAR red, blue, red at t = 0, 1, 2), emissive (STEP black, then (0.2, 0.2, 0)
-/// from t = 1) and roughness (LINEAR 0.2 to 0.8 over 2 s), and the node's translation
-/// through a pointer (LINEAR x 0 to 0.5), each at the times the file gives, evaluated here
-/// from the keys; the frame follows, and `realist render --time` draws the posed colour.
+/// from t = 1), roughness (LINEAR 0.2 to 0.8 over 2 s) and emissive strength (1 to 3), the
+/// node's translation through a pointer (LINEAR x 0 to 0.5), the spot light's intensity (10
+/// to 30), colour (STEP) and outer cone (0.5 to 0.7), and the camera's yfov (0.6 to 0.9),
+/// each at the times the file gives, evaluated here from the keys; `realist render --time`
+/// draws the posed colour.
 #[test]
 fn animation_pointers_set_material_factors_at_the_files_times() {
     use realist::scene::anim::Property;
@@ -606,7 +608,12 @@ fn animation_pointers_set_material_factors_at_the_files_times() {
             Property::BaseColor,
             Property::Emissive,
             Property::Roughness,
-            Property::Translation
+            Property::Translation,
+            Property::EmissiveStrength,
+            Property::LightIntensity,
+            Property::LightColor,
+            Property::SpotOuter,
+            Property::CameraYfov,
         ]
     );
     let mut prepared = PreparedScene::new(scene);
@@ -648,15 +655,44 @@ fn animation_pointers_set_material_factors_at_the_files_times() {
             ((lo.x + hi.x) * 0.5 - 0.25 * u).abs() < 1e-3,
             "t {t}: {lo} {hi}"
         );
+        let strength = m.pbr.as_ref().expect("pbr").emissive_strength;
+        assert!((strength - (1.0 + u)).abs() < 1e-6, "t {t}: {strength}");
+        // The spot light "lamp" and the camera "view".
+        let lamp = &prepared.lights()[0];
+        assert!(
+            (lamp.intensity - (10.0 + 10.0 * u)).abs() < 1e-5,
+            "t {t}: {}",
+            lamp.intensity
+        );
+        let colour = if t < 1.0 {
+            Vec3::ONE
+        } else {
+            Vec3::new(1.0, 0.5, 0.25)
+        };
+        assert_eq!(lamp.color, colour, "t {t}");
+        assert!(
+            (lamp.outer - (0.5 + 0.1 * u)).abs() < 1e-6,
+            "t {t}: {}",
+            lamp.outer
+        );
+        assert!(
+            (lamp.inner - 0.2).abs() < 1e-6,
+            "the inner cone is not animated"
+        );
+        let yfov = prepared.cameras()[0].yfov;
+        assert!((yfov - (0.6 + 0.15 * u)).abs() < 1e-6, "t {t}: {yfov}");
     }
     // Back at rest, the file's own factors.
     prepared.pose_at(realist::scene::Play::Rest, 0.0, false);
     assert_eq!(prepared.material(0).unwrap().base_color, red);
-    // The command line at t = 1: the ball is blue (t = 0: red).
+    assert_eq!(prepared.lights()[0].intensity, 10.0);
+    assert_eq!(prepared.cameras()[0].yfov, 0.6);
+    // The command line at t = 1: the ball is blue (t = 0: red), over the whole image
+    // (the lamp's highlight and the emission whiten the middle).
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/pbr/pointer.glb");
     let dir = std::env::temp_dir().join(format!("realist-pointer-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let centre = |t: &str| {
+    let blue_minus_red = |t: &str| {
         let out = dir.join(format!("t{t}.png"));
         let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
             .arg("render")
@@ -666,14 +702,12 @@ fn animation_pointers_set_material_factors_at_the_files_times() {
             .output()
             .expect("realist runs");
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-        image::open(&out)
-            .expect("png")
-            .into_rgb8()
-            .get_pixel(32, 32)
-            .0
+        let img = image::open(&out).expect("png").into_rgb8();
+        img.pixels()
+            .map(|p| i64::from(p[2]) - i64::from(p[0]))
+            .sum::<i64>()
     };
-    let (c0, c1) = (centre("0"), centre("1"));
-    assert!(c0[0] > c0[2] + 40, "t = 0 red: {c0:?}");
-    assert!(c1[2] > c1[0] + 40, "t = 1 blue: {c1:?}");
+    let (d0, d1) = (blue_minus_red("0"), blue_minus_red("1"));
+    assert!(d1 > d0 + 20_000, "t = 0: {d0}, t = 1: {d1}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -410,6 +410,13 @@ async function variants() {
 //   /materials/0/emissiveFactor                         STEP    t 0, 1: (0, 0, 0), (0.2, 0.2, 0)
 //   /materials/0/pbrMetallicRoughness/roughnessFactor   LINEAR  t 0, 2: 0.2, 0.8
 //   /nodes/0/translation                                LINEAR  t 0, 2: (0, 0, 0), (0.5, 0, 0)
+//   /materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength  LINEAR t 0, 2: 1, 3
+//   /extensions/KHR_lights_punctual/lights/0/intensity  LINEAR  t 0, 2: 10, 30 (candela)
+//   /extensions/KHR_lights_punctual/lights/0/color      STEP    t 0, 1: white, (1, 0.5, 0.25)
+//   /extensions/KHR_lights_punctual/lights/0/spot/outerConeAngle  LINEAR t 0, 2: 0.5, 0.7
+//   /cameras/0/perspective/yfov                         LINEAR  t 0, 2: 0.6, 0.9
+// The spot light "lamp" (intensity 10, inner cone 0.2, outer 0.5) hangs at (0, 2, 1) pointing
+// down; the camera "view" (yfov 0.6, near 0.1, far 100) stands at (0, 0, 3) looking at -Z.
 // glTF-Transform 4.5 has no KHR_animation_pointer: it writes the document with ordinary
 // channels on the node, and this script turns their targets into pointers in the JSON and
 // packs the GLB (12-byte header, JSON and BIN chunks, as the GLB container specifies).
@@ -419,12 +426,34 @@ const POINTERS = [
   ["/materials/0/emissiveFactor", "VEC3", [0, 1], [0, 0, 0, 0.2, 0.2, 0], "STEP"],
   ["/materials/0/pbrMetallicRoughness/roughnessFactor", "SCALAR", [0, 2], [0.2, 0.8], "LINEAR"],
   ["/nodes/0/translation", "VEC3", [0, 2], [0, 0, 0, 0.5, 0, 0], "LINEAR"],
+  ["/materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength", "SCALAR", [0, 2], [1, 3], "LINEAR"],
+  ["/extensions/KHR_lights_punctual/lights/0/intensity", "SCALAR", [0, 2], [10, 30], "LINEAR"],
+  ["/extensions/KHR_lights_punctual/lights/0/color", "VEC3", [0, 1], [1, 1, 1, 1, 0.5, 0.25], "STEP"],
+  ["/extensions/KHR_lights_punctual/lights/0/spot/outerConeAngle", "SCALAR", [0, 2], [0.5, 0.7], "LINEAR"],
+  ["/cameras/0/perspective/yfov", "SCALAR", [0, 2], [0.6, 0.9], "LINEAR"],
 ];
 
 async function pointer() {
   const doc = newDocument();
-  const pulse = doc.createMaterial("pulse").setBaseColorFactor([0.8, 0.1, 0.1, 1]).setMetallicFactor(0).setRoughnessFactor(0.2);
+  const strength = doc.createExtension(KHRMaterialsEmissiveStrength).createEmissiveStrength().setEmissiveStrength(1);
+  const pulse = doc
+    .createMaterial("pulse")
+    .setBaseColorFactor([0.8, 0.1, 0.1, 1])
+    .setMetallicFactor(0)
+    .setRoughnessFactor(0.2)
+    .setExtension("KHR_materials_emissive_strength", strength);
   const ball = place(doc, "ball", meshWith(doc, "ball", spherePrimitive(doc), pulse), [0, 0, 0]);
+  const lamp = doc
+    .createExtension(KHRLightsPunctual)
+    .createLight("lamp")
+    .setType(Light.Type.SPOT)
+    .setIntensity(10)
+    .setInnerConeAngle(0.2)
+    .setOuterConeAngle(0.5);
+  const down = [-Math.SQRT1_2, 0, 0, Math.SQRT1_2];
+  doc.getRoot().getDefaultScene().addChild(doc.createNode("lamp").setTranslation([0, 2, 1]).setRotation(down).setExtension("KHR_lights_punctual", lamp));
+  const camera = doc.createCamera("view").setType("perspective").setYFov(0.6).setZNear(0.1).setZFar(100);
+  doc.getRoot().getDefaultScene().addChild(doc.createNode("view").setTranslation([0, 0, 3]).setCamera(camera));
   const anim = doc.createAnimation("pulse");
   for (const [, type, times, values, interpolation] of POINTERS) {
     const sampler = doc

@@ -40,14 +40,14 @@ const EXPECTED = new Map([
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],
-  ["pointer.glb", [["pulse", []]]],
+  ["pointer.glb", [["pulse", ["KHR_materials_emissive_strength"]]]],
 ]);
 
 /** Extensions a file uses besides its materials'. */
 const OTHER_EXTENSIONS = new Map([
   ["lights-punctual.glb", ["KHR_lights_punctual"]],
   ["variants.glb", ["KHR_materials_variants"]],
-  ["pointer.glb", ["KHR_animation_pointer"]],
+  ["pointer.glb", ["KHR_animation_pointer", "KHR_lights_punctual"]],
 ]);
 
 function json(bytes, file) {

@@ -31,9 +31,9 @@ pub struct PreparedScene {
     deformers: Vec<Deformer>,
     /// The pose last applied (reused, so posing allocates nothing).
     pose: Pose,
-    /// Materials the last pose changed (`KHR_animation_pointer`), restored to their rest
-    /// values before the next pose is applied.
-    animated_materials: Vec<usize>,
+    /// Materials, lights and cameras the last pose changed (`KHR_animation_pointer`),
+    /// restored to their rest values before the next pose is applied.
+    animated: Vec<(crate::scene::anim::Target, usize)>,
     /// The scene's lights and cameras as posed now (those under animated nodes move).
     lights: Vec<Light>,
     cameras: Vec<Camera>,
@@ -199,7 +199,7 @@ impl PreparedScene {
             rest_bounds,
             deformers,
             pose: Pose::default(),
-            animated_materials: Vec::new(),
+            animated: Vec::new(),
             lights,
             cameras,
         };
@@ -272,51 +272,121 @@ impl PreparedScene {
         }
         self.bounds = self.posed_bounds();
         self.pose_lights_and_cameras(pose);
-        self.pose_materials(pose);
+        self.pose_values(pose);
     }
 
-    /// Sets the material factors `pose` animates (clamped to their ranges; non-finite
-    /// values leave the rest value), after returning those the last pose changed to rest.
-    fn pose_materials(&mut self, pose: &Pose) {
-        use crate::scene::anim::Property;
-        let rest = &self.scene.materials;
-        // The animated fields only (a whole copy would allocate its name).
-        for k in self.animated_materials.drain(..) {
-            if let (Some(m), Some(r)) = (self.materials.get_mut(k), rest.get(k)) {
-                m.base_color = r.base_color;
-                m.emissive = r.emissive;
-                m.metallic = r.metallic;
-                m.roughness = r.roughness;
+    /// Sets the material, light and camera properties `pose` animates (clamped to their
+    /// ranges; a non-finite value leaves the rest value), after returning those the last
+    /// pose changed to rest. Field by field, so posing allocates nothing.
+    fn pose_values(&mut self, pose: &Pose) {
+        use crate::scene::anim::{Property as P, Target};
+        let rest = Arc::clone(&self.scene);
+        for (kind, k) in self.animated.drain(..) {
+            match kind {
+                Target::Material => {
+                    if let (Some(m), Some(r)) = (self.materials.get_mut(k), rest.materials.get(k)) {
+                        m.base_color = r.base_color;
+                        m.emissive = r.emissive;
+                        m.metallic = r.metallic;
+                        m.roughness = r.roughness;
+                        if let (Some(p), Some(q)) = (&mut m.pbr, &r.pbr) {
+                            p.emissive_strength = q.emissive_strength;
+                        }
+                    }
+                }
+                Target::Light => {
+                    if let (Some(l), Some(r)) = (self.lights.get_mut(k), rest.lights.get(k)) {
+                        l.color = r.color;
+                        l.intensity = r.intensity;
+                        l.inner = r.inner;
+                        l.outer = r.outer;
+                    }
+                }
+                Target::Camera => {
+                    if let (Some(c), Some(r)) = (self.cameras.get_mut(k), rest.cameras.get(k)) {
+                        c.yfov = r.yfov;
+                    }
+                }
+                Target::Node => {}
             }
         }
-        for &(k, property, v) in &pose.materials {
-            // Only the scene's own materials (not the default or the ground after them).
-            let Some(m) = self.materials.get_mut(k).filter(|_| k < rest.len()) else {
-                continue;
-            };
-            let unit = |x: f32| x.is_finite().then(|| x.clamp(0.0, 1.0));
-            match property {
-                Property::BaseColor => {
-                    if v.iter().all(|x| x.is_finite()) {
-                        m.base_color = Vec4::from_array(v).clamp(Vec4::ZERO, Vec4::ONE);
+        let finite = |x: f32| x.is_finite().then_some(x);
+        let rgb = |v: [f32; 4]| Some(Vec3::new(v[0], v[1], v[2])).filter(|c| c.is_finite());
+        let half_pi = std::f32::consts::FRAC_PI_2;
+        for &(k, property, v) in &pose.values {
+            let kind = property.target();
+            match kind {
+                // Only the scene's own materials (not the default or the ground after them).
+                Target::Material if k < rest.materials.len() => {
+                    let Some(m) = self.materials.get_mut(k) else {
+                        continue;
+                    };
+                    match property {
+                        P::BaseColor => {
+                            if v.iter().all(|x| x.is_finite()) {
+                                m.base_color = Vec4::from_array(v).clamp(Vec4::ZERO, Vec4::ONE);
+                            }
+                        }
+                        P::Emissive => {
+                            if let Some(e) = rgb(v) {
+                                m.emissive = e.max(Vec3::ZERO);
+                            }
+                        }
+                        P::Metallic => {
+                            m.metallic = finite(v[0]).map_or(m.metallic, |x| x.clamp(0.0, 1.0));
+                        }
+                        P::Roughness => {
+                            m.roughness = finite(v[0]).map_or(m.roughness, |x| x.clamp(0.0, 1.0));
+                        }
+                        P::EmissiveStrength => {
+                            if let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) {
+                                p.emissive_strength = x.max(0.0);
+                            }
+                        }
+                        _ => continue,
                     }
                 }
-                Property::Emissive => {
-                    let e = Vec3::new(v[0], v[1], v[2]);
-                    if e.is_finite() {
-                        m.emissive = e.max(Vec3::ZERO);
+                Target::Light => {
+                    let Some(l) = self.lights.get_mut(k) else {
+                        continue;
+                    };
+                    match property {
+                        P::LightColor => {
+                            if let Some(c) = rgb(v) {
+                                l.color = c.max(Vec3::ZERO);
+                            }
+                        }
+                        P::LightIntensity => {
+                            l.intensity = finite(v[0]).map_or(l.intensity, |x| x.max(0.0));
+                        }
+                        // The cone: outer in (0, π/2], inner in [0, outer].
+                        P::SpotOuter => {
+                            if let Some(x) = finite(v[0]).filter(|x| *x > 0.0) {
+                                l.outer = x.min(half_pi);
+                                l.inner = l.inner.min(l.outer);
+                            }
+                        }
+                        P::SpotInner => {
+                            if let Some(x) = finite(v[0]) {
+                                l.inner = x.clamp(0.0, l.outer);
+                            }
+                        }
+                        _ => continue,
                     }
                 }
-                Property::Metallic => m.metallic = unit(v[0]).unwrap_or(m.metallic),
-                Property::Roughness => m.roughness = unit(v[0]).unwrap_or(m.roughness),
-                Property::Translation
-                | Property::Rotation
-                | Property::Scale
-                | Property::Weights => {
-                    continue;
+                Target::Camera => {
+                    let Some(c) = self.cameras.get_mut(k) else {
+                        continue;
+                    };
+                    if let (P::CameraYfov, Some(x)) = (property, finite(v[0])) {
+                        c.yfov = x.clamp(1e-3, std::f32::consts::PI - 1e-3);
+                    } else {
+                        continue;
+                    }
                 }
+                Target::Material | Target::Node => continue,
             }
-            self.animated_materials.push(k);
+            self.animated.push((kind, k));
         }
     }
 

@@ -48,6 +48,30 @@ pub enum Property {
     Metallic,
     /// A material's roughness factor.
     Roughness,
+    /// A material's `KHR_materials_emissive_strength`.
+    EmissiveStrength,
+    /// A light's colour (RGB).
+    LightColor,
+    /// A light's intensity (in the scene's units: the loader converts).
+    LightIntensity,
+    /// A spot light's inner cone angle (radians).
+    SpotInner,
+    /// A spot light's outer cone angle (radians).
+    SpotOuter,
+    /// A perspective camera's vertical field of view (radians).
+    CameraYfov,
+}
+
+/// What kind of object a channel's target is ([`Property::target`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    Node,
+    /// An index into `Scene::materials`.
+    Material,
+    /// An index into `Scene::lights`.
+    Light,
+    /// An index into `Scene::cameras`.
+    Camera,
 }
 
 impl Property {
@@ -63,26 +87,45 @@ impl Property {
             Property::Emissive => "emissiveFactor",
             Property::Metallic => "metallicFactor",
             Property::Roughness => "roughnessFactor",
+            Property::EmissiveStrength => "emissiveStrength",
+            Property::LightColor => "color",
+            Property::LightIntensity => "intensity",
+            Property::SpotInner => "innerConeAngle",
+            Property::SpotOuter => "outerConeAngle",
+            Property::CameraYfov => "yfov",
         }
     }
 
-    /// Whether the channel's target is a material (else a node).
+    /// The kind of object the property belongs to.
     #[must_use]
-    pub fn of_material(self) -> bool {
-        matches!(
-            self,
-            Property::BaseColor | Property::Emissive | Property::Metallic | Property::Roughness
-        )
+    pub fn target(self) -> Target {
+        match self {
+            Property::Translation | Property::Rotation | Property::Scale | Property::Weights => {
+                Target::Node
+            }
+            Property::BaseColor
+            | Property::Emissive
+            | Property::Metallic
+            | Property::Roughness
+            | Property::EmissiveStrength => Target::Material,
+            Property::LightColor
+            | Property::LightIntensity
+            | Property::SpotInner
+            | Property::SpotOuter => Target::Light,
+            Property::CameraYfov => Target::Camera,
+        }
     }
 
     /// Numbers per keyframe (`None` for weights: as many as the node's morph targets).
     #[must_use]
     pub fn width(self) -> Option<usize> {
         match self {
-            Property::Translation | Property::Scale | Property::Emissive => Some(3),
+            Property::Translation | Property::Scale | Property::Emissive | Property::LightColor => {
+                Some(3)
+            }
             Property::Rotation | Property::BaseColor => Some(4),
-            Property::Metallic | Property::Roughness => Some(1),
             Property::Weights => None,
+            _ => Some(1),
         }
     }
 }
@@ -252,8 +295,8 @@ fn quat(v: &[f32]) -> Quat {
 /// One channel: a node's property driven by a sampler of the same animation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
-    /// The node, or for a material property ([`Property::of_material`]) the material (an
-    /// index into `Scene::materials`).
+    /// The node, or for a property of a material, light or camera ([`Property::target`])
+    /// that object (an index into `Scene::materials`, `lights` or `cameras`).
     pub node: usize,
     pub property: Property,
     /// Index into [`Animation::samplers`].
@@ -303,14 +346,14 @@ impl Animation {
             let Some(sampler) = self.samplers.get(c.sampler) else {
                 continue;
             };
-            if c.property.of_material() {
+            if c.property.target() != Target::Node {
                 let mut v = [0.0f32; 4];
                 let width = c.property.width().unwrap_or(1);
                 sampler.sample(t, &mut v[..width], false);
                 let key = |e: &&mut (usize, Property, [f32; 4])| e.0 == c.node && e.1 == c.property;
-                match pose.materials.iter_mut().find(key) {
+                match pose.values.iter_mut().find(key) {
                     Some(e) => e.2 = v,
-                    None => pose.materials.push((c.node, c.property, v)),
+                    None => pose.values.push((c.node, c.property, v)),
                 }
                 continue;
             }
@@ -344,11 +387,7 @@ impl Animation {
                         trs.rotation = q.normalize();
                     }
                 }
-                Property::Weights
-                | Property::BaseColor
-                | Property::Emissive
-                | Property::Metallic
-                | Property::Roughness => {}
+                _ => {}
             }
         }
     }

@@ -111,10 +111,11 @@ pub struct Pose {
     pub weights: Vec<Vec<f32>>,
     /// World matrices, by node (the identity for nodes outside [`Graph::order`]).
     pub worlds: Vec<Mat4>,
-    /// Material factors the animations set (`KHR_animation_pointer`): the material (an
-    /// index into `Scene::materials`), the property and its value (the first 1, 3 or 4
-    /// numbers). Materials not listed keep their rest values.
-    pub materials: Vec<(usize, crate::anim::Property, [f32; 4])>,
+    /// Material, light and camera properties the animations set (`KHR_animation_pointer`):
+    /// the object (an index into `Scene::materials`, `lights` or `cameras`, as
+    /// [`crate::anim::Property::target`] says), the property and its value (the first 1, 3
+    /// or 4 numbers). What is not listed keeps its rest value.
+    pub values: Vec<(usize, crate::anim::Property, [f32; 4])>,
 }
 
 impl Graph {
@@ -125,7 +126,7 @@ impl Graph {
             locals: self.nodes.iter().map(|n| n.local).collect(),
             weights: self.nodes.iter().map(|n| n.weights.clone()).collect(),
             worlds: vec![Mat4::IDENTITY; self.nodes.len()],
-            materials: Vec::new(),
+            values: Vec::new(),
         };
         self.update_worlds(&mut pose);
         pose
@@ -142,7 +143,7 @@ impl Graph {
             w.extend_from_slice(&n.weights);
         }
         pose.worlds.resize(self.nodes.len(), Mat4::IDENTITY);
-        pose.materials.clear();
+        pose.values.clear();
     }
 
     /// Computes `pose.worlds` from `pose.locals`, parents first.

@@ -1,6 +1,8 @@
 //! glTF animations into [`crate::scene::Animation`]s: every channel whose target is a node's
-//! translation, rotation, scale or morph weights, or (`KHR_animation_pointer`) one of these
-//! or a material's base colour, emissive, metallic or roughness factor ([`pointed`]), its
+//! translation, rotation, scale or morph weights, or (`KHR_animation_pointer`) one of these,
+//! a material's base colour, emissive, metallic, roughness or emissive strength, a light's
+//! colour, intensity or cone angles, or a camera's yfov ([`pointed`]; a light or camera is
+//! animated wherever a node placed it), its
 //! sampler's keyframe times (`input`)
 //! and values (`output`, FLOAT or normalized integers) checked by
 //! [`Sampler::new`](crate::scene::anim::Sampler::new).
@@ -55,6 +57,10 @@ enum Pointed {
     Node(usize, Property),
     /// A material's factor (the file's material index).
     Material(usize, Property),
+    /// A `KHR_lights_punctual` light's property (the file's light index).
+    Light(usize, Property),
+    /// A camera's property (the file's camera index).
+    Camera(usize, Property),
 }
 
 /// Reads a `KHR_animation_pointer` pointer: `/nodes/N/translation|rotation|scale|weights`,
@@ -87,7 +93,21 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
             Ok(Pointed::Material(index(m)?, property))
         }
         ["", "materials", m, "emissiveFactor"] => Ok(Pointed::Material(index(m)?, Property::Emissive)),
-        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights and the materials' base colour, emissive, metallic and roughness factors)")),
+        ["", "materials", m, "extensions", "KHR_materials_emissive_strength", "emissiveStrength"] => {
+            Ok(Pointed::Material(index(m)?, Property::EmissiveStrength))
+        }
+        ["", "extensions", "KHR_lights_punctual", "lights", l, rest @ ..] => {
+            let property = match rest {
+                ["color"] => Property::LightColor,
+                ["intensity"] => Property::LightIntensity,
+                ["spot", "innerConeAngle"] => Property::SpotInner,
+                ["spot", "outerConeAngle"] => Property::SpotOuter,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Light(index(l)?, property))
+        }
+        ["", "cameras", c, "perspective", "yfov"] => Ok(Pointed::Camera(index(c)?, Property::CameraYfov)),
+        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights, the materials' base colour, emissive, metallic, roughness and emissive strength, the lights' colour, intensity and cone angles and the cameras' yfov)")),
     }
 }
 
@@ -170,6 +190,37 @@ impl Builder<'_> {
             return match pointed(pointer).map_err(Skip::Why)? {
                 Pointed::Node(node, property) => {
                     self.node_channel(label, node, property, ch, a, out, read)
+                }
+                Pointed::Light(i, property) | Pointed::Camera(i, property) => {
+                    let (placed, what) = if property.target() == crate::scene::anim::Target::Light {
+                        (&self.placed_lights, "light")
+                    } else {
+                        (&self.placed_cameras, "camera")
+                    };
+                    let targets: Vec<usize> = placed
+                        .iter()
+                        .filter(|(g, _)| *g == i)
+                        .map(|&(_, k)| k)
+                        .collect();
+                    if targets.is_empty() {
+                        return Err(Skip::Why(format!(
+                            "pointer '{pointer}': {what} {i} is placed by no drawn node"
+                        )));
+                    }
+                    let width = property.width().unwrap_or(1);
+                    let sampler = self.sampler_of(label, ch, a, out, read, width, property)?;
+                    // Animated intensities are used as the file gives them, which is right
+                    // while the scene's unit is the file's (a sampler may be shared, so it
+                    // is not rescaled here).
+                    const _: () = assert!(super::lights::LUX_TO_RADIANCE == 1.0);
+                    for k in targets {
+                        out.channels.push(Channel {
+                            node: k,
+                            property,
+                            sampler,
+                        });
+                    }
+                    Ok(())
                 }
                 Pointed::Material(m, property) => {
                     let count = self.doc.json.materials.len();
@@ -366,9 +417,23 @@ mod tests {
             pointed("/nodes/7/rotation"),
             Ok(Pointed::Node(7, Property::Rotation))
         );
+        assert_eq!(
+            pointed("/extensions/KHR_lights_punctual/lights/2/spot/outerConeAngle"),
+            Ok(Pointed::Light(2, Property::SpotOuter))
+        );
+        assert_eq!(
+            pointed("/cameras/1/perspective/yfov"),
+            Ok(Pointed::Camera(1, Property::CameraYfov))
+        );
+        assert_eq!(
+            pointed("/materials/0/extensions/KHR_materials_emissive_strength/emissiveStrength"),
+            Ok(Pointed::Material(0, Property::EmissiveStrength))
+        );
+        let e = pointed("/extensions/KHR_lights_punctual/lights/0/range").unwrap_err();
+        assert!(e.contains("is not supported"), "{e}");
         let e = pointed("/materials/x/emissiveFactor").unwrap_err();
         assert!(e.contains("'x' is not an index"), "{e}");
-        let e = pointed("/cameras/0/perspective/yfov").unwrap_err();
+        let e = pointed("/cameras/0/perspective/znear").unwrap_err();
         assert!(
             e.contains("is not supported") && e.contains("base colour"),
             "{e}"

@@ -288,5 +288,8 @@ impl Builder<'_> {
         light.direction = direction;
         light.up = if up == Vec3::ZERO { Vec3::Y } else { up };
         self.scene.lights.push(light);
+        if let Ok(i) = usize::try_from(index) {
+            self.placed_lights.push((i, self.scene.lights.len() - 1));
+        }
     }
 }

@@ -353,6 +353,11 @@ pub(super) struct Builder<'a> {
     lights: lights::PunctualLights,
     /// The scene asked for ([`LoadOptions::scene`]); `None`: the file's default.
     pub chosen_scene: Option<usize>,
+    /// (glTF light, scene light) for every light a node placed (animation pointers name
+    /// the file's lights).
+    pub placed_lights: Vec<(usize, usize)>,
+    /// (glTF camera, scene camera) for every camera a node placed.
+    pub placed_cameras: Vec<(usize, usize)>,
 }
 
 /// Where reading and parsing end on the progress bar; the rest is geometry (in units of
@@ -444,6 +449,8 @@ pub(crate) fn load_gltf(
         failed_images: std::collections::HashSet::new(),
         lights: punctual,
         chosen_scene: opts.scene,
+        placed_lights: Vec::new(),
+        placed_cameras: Vec::new(),
     };
     b.walk()?;
     if b.scene.instances.is_empty() {

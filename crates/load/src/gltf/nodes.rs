@@ -336,6 +336,7 @@ impl Builder<'_> {
             aspect,
             ortho,
         });
+        self.placed_cameras.push((c, self.scene.cameras.len() - 1));
     }
 
     /// Gives cameras without a finite far plane one just behind the scene's bounds (or
