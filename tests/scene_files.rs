@@ -230,6 +230,39 @@ fn bench_accuracy_measures_a_scene_file() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `bench accuracy` on a scene file with a material variant and a hidden part: the f64
+/// reference draws them as the renders do (the left sphere blue, the right one gone).
+#[test]
+fn bench_accuracy_draws_the_files_variant_and_hidden_parts() {
+    let out = std::env::temp_dir().join(format!(
+        "realist-scene-accuracy-variant-{}",
+        std::process::id()
+    ));
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/scenes/material_variant.toml");
+    let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+        .args(["bench", "accuracy"])
+        .arg(&scene)
+        .args(["--size", "48x48", "--runs", "1", "--samples", "2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let reference = image::open(out.join("reference.png")).unwrap().into_rgb8();
+    let dominant = |c: usize| {
+        reference
+            .pixels()
+            .filter(|p| (0..3).all(|k| k == c || p[c] > p[k].saturating_add(30)))
+            .count()
+    };
+    assert!(
+        dominant(2) > 50,
+        "the blue variant: {} blue pixels",
+        dominant(2)
+    );
+    assert_eq!(dominant(1), 0, "the green sphere is hidden");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// A value outside `n`'s range, as the command line and the file both write it.
 fn out_of_range(n: &realist::render::Numeric) -> f64 {
     use realist::render::Range;

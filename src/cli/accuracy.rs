@@ -194,7 +194,9 @@ fn filter_summary(rows: &[sweep::Row]) -> Result<()> {
 /// its camera and size (`--size` wins), and its lights, fog, tone mapping, sidedness and
 /// texture in every render and reference. The sweep varies shading, supersampling,
 /// multisampling, sub-pixel bits and filters itself, so the file's values of those are not
-/// used; nor are shadows and the ground plane, which the f64 reference does not draw.
+/// used; nor are shadows and the ground plane, which the f64 reference does not draw. The
+/// file's material variant and hidden parts are applied to the scene itself, so the
+/// renders and the reference both draw them.
 fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
     let file = SceneFile::read(path)?;
     let opts = LoadOptions {
@@ -229,6 +231,7 @@ fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
     if let Some(m) = settings.materials.clone() {
         scene.materials = m;
     }
+    apply_variant_and_hidden(&mut scene, &settings);
     let mut lights = settings.lights.clone();
     if let realist::render::Lights::Custom { lights, .. } = &mut lights {
         lights.iter_mut().for_each(|l| l.shadow = false);
@@ -249,6 +252,39 @@ fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
         ..Shot::default()
     });
     Ok(setup)
+}
+
+/// Gives each mesh its material under `settings`' variant and removes the hidden
+/// instances (the node tree's instance lists renumbered to match).
+fn apply_variant_and_hidden(scene: &mut realist::scene::Scene, settings: &Settings) {
+    let variant = settings.variant_index(scene);
+    for m in &mut scene.meshes {
+        m.material = m.material_in(variant);
+    }
+    if settings.hidden.is_empty() {
+        return;
+    }
+    let mut kept = 0;
+    let renumber: Vec<Option<usize>> = (0..scene.instances.len())
+        .map(|k| {
+            (!settings.hidden.contains(k)).then(|| {
+                kept += 1;
+                kept - 1
+            })
+        })
+        .collect();
+    let mut k = 0;
+    scene.instances.retain(|_| {
+        k += 1;
+        renumber[k - 1].is_some()
+    });
+    for node in &mut scene.graph.nodes {
+        node.instances = node
+            .instances
+            .iter()
+            .filter_map(|&i| renumber.get(i).copied().flatten())
+            .collect();
+    }
 }
 
 fn lights_shadow(lights: &realist::render::Lights) -> bool {
