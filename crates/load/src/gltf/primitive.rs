@@ -226,6 +226,13 @@ impl Builder<'_> {
         let n = attrs.positions.len();
         let indices = doc.indices(prim, n, &at)?;
         step(10)?;
+        let variant_pairs = super::variants::mappings(
+            prim.extensions.as_ref().map(|e| &e.others),
+            self.scene.variants.len(),
+            doc.json.materials.len(),
+            &label,
+            &mut report.warnings,
+        );
         if !matches!(
             mode,
             Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
@@ -240,6 +247,7 @@ impl Builder<'_> {
                 indices,
                 deform,
                 material,
+                variants: variant_pairs,
             };
             return self.build_strokes(m, p, source, &label);
         }
@@ -252,13 +260,6 @@ impl Builder<'_> {
             .charge(mesh_bytes(n as u64, corners.len() as u64, facets), || {
                 format!("{label} ({n} vertices, {facets} triangles)")
             })?;
-        let variant_pairs = super::variants::mappings(
-            prim.extensions.as_ref().map(|e| &e.others),
-            self.scene.variants.len(),
-            doc.json.materials.len(),
-            &label,
-            &mut self.scene.report.warnings,
-        );
         let material = match prim.material {
             Some(i) => self.material(i.value(), &label)?,
             None => Some(self.default_material()),
@@ -328,6 +329,8 @@ struct Strokes {
     deform: Option<crate::mesh::Deform>,
     /// The glTF material index.
     material: Option<usize>,
+    /// `KHR_materials_variants` (variant, glTF material index) pairs.
+    variants: Vec<(u32, usize)>,
 }
 
 impl Builder<'_> {
@@ -347,6 +350,7 @@ impl Builder<'_> {
             indices,
             deform,
             material,
+            variants,
         } = source;
         let doc = &self.doc;
         let report = &mut self.scene.report;
@@ -391,6 +395,11 @@ impl Builder<'_> {
         let (point_count, line_count) = (points.len(), lines.len());
         mesh.set_strokes(points, lines).map_err(mesh_error)?;
         mesh.deform = deform.map(Box::new);
+        for (v, i) in variants {
+            if let Some(k) = self.material(i, label)? {
+                mesh.variants.push((v, k));
+            }
+        }
         let (mode_label, _) = mode_name(mode);
         let lighting = if has_normals {
             "lit (NORMAL)"

@@ -408,3 +408,57 @@ fn cameras_come_from_their_nodes() {
 mod hostile;
 mod lights;
 mod rules;
+
+/// `KHR_materials_variants` on a triangle primitive and on a LINES primitive: both meshes
+/// keep their mappings (with the scene's material indices), and a mapping to a material
+/// that does not exist is a warning, not a mapping.
+#[test]
+fn material_variants_map_triangles_and_lines() {
+    let dir = TempDir::new("gltf-variants");
+    let mut doc = Doc::default();
+    let tri = doc.floats(&TRI, "VEC3");
+    let line = doc.floats(&[0.0, 0.0, 0.0, 1.0, 1.0, 0.0], "VEC3");
+    let rest = json!({
+        "extensionsUsed": ["KHR_materials_variants"],
+        "extensions": {"KHR_materials_variants": {"variants": [{"name": "a"}, {"name": "b"}]}},
+        "materials": [{"name": "m0"}, {"name": "m1"}],
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": tri}, "material": 0, "extensions": {"KHR_materials_variants": {"mappings": [
+                {"material": 1, "variants": [0]}, {"material": 5, "variants": [1]}]}}},
+            {"attributes": {"POSITION": line}, "mode": 1, "material": 0, "extensions": {"KHR_materials_variants": {"mappings": [
+                {"material": 1, "variants": [1]}]}}}
+        ]}],
+        "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0
+    });
+    let scene = load_text(&dir, &doc.finish(rest)).unwrap();
+    assert_eq!(scene.variants, ["a", "b"]);
+    let name = |k: Option<usize>| k.map(|k| scene.materials[k].name.clone());
+    let (t, l) = (&scene.meshes[0], &scene.meshes[1]);
+    assert!(
+        !t.corners.is_empty() && l.corners.is_empty(),
+        "a triangle and a line"
+    );
+    assert_eq!(name(t.material_in(None)).as_deref(), Some("m0"));
+    assert_eq!(name(t.material_in(Some(0))).as_deref(), Some("m1"));
+    assert_eq!(
+        name(t.material_in(Some(1))).as_deref(),
+        Some("m0"),
+        "material 5 does not exist"
+    );
+    assert_eq!(name(l.material_in(Some(1))).as_deref(), Some("m1"));
+    assert_eq!(name(l.material_in(Some(0))).as_deref(), Some("m0"));
+    assert!(
+        scene
+            .report
+            .warnings
+            .iter()
+            .any(|w| w.contains("mapping 1: `material` is not one of the file's 2 materials")),
+        "{:?}",
+        scene.report.warnings
+    );
+    assert!(!scene
+        .report
+        .skipped
+        .iter()
+        .any(|s| s.contains("KHR_materials_variants")));
+}
