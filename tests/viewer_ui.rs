@@ -2644,6 +2644,18 @@ fn parts_are_hidden_isolated_and_shown_again_from_the_node_tree_and_the_instance
     activate(&mut h, "1: ball (mesh 1, 960 triangles, Inherit)");
     assert!(h.state().settings.hidden.contains(1));
     assert_eq!(differing(&shown_image(&h), &no_ball), 0);
+    // A saved scene keeps the hidden part, and opening it hides it again.
+    let saved = dir.join("hidden.toml");
+    save_scene_to(&mut h, &saved);
+    let text = std::fs::read_to_string(&saved).expect("saved");
+    assert!(text.contains("hidden = [1]"), "{text}");
+    activate(&mut h, "show all");
+    drop_file(&mut h, &saved);
+    assert!(
+        h.state().settings.hidden.contains(1),
+        "the file's hidden part"
+    );
+    assert_eq!(h.state().split.b.hidden, h.state().settings.hidden);
     // Another file starts with every part shown.
     drop_file(&mut h, &model("torus.obj"));
     assert!(h.state().settings.hidden.is_empty());
@@ -2673,6 +2685,14 @@ fn a_material_variant_is_chosen_in_the_scene_panel() {
     assert_eq!(h.state().settings.variant, None);
     assert_eq!(differing(&shown_image(&h), &before), 0);
     choose(&mut h, "material variant", "red");
+    // A saved scene keeps the variant by name; opening it draws that variant again.
+    let saved = dir.join("variant.toml");
+    save_scene_to(&mut h, &saved);
+    let text = std::fs::read_to_string(&saved).expect("saved");
+    assert!(text.contains("material_variant = \"red\""), "{text}");
+    choose(&mut h, "material variant", "file's default");
+    drop_file(&mut h, &saved);
+    assert_eq!(h.state().settings.variant.as_deref(), Some("red"));
     drop_file(&mut h, &model("torus.obj"));
     assert_eq!(
         h.state().settings.variant,
