@@ -709,5 +709,28 @@ fn animation_pointers_set_material_factors_at_the_files_times() {
     };
     let (d0, d1) = (blue_minus_red("0"), blue_minus_red("1"));
     assert!(d1 > d0 + 20_000, "t = 0: {d0}, t = 1: {d1}");
+    // Through the file's camera, whose yfov widens from 0.6 to 0.9: the ball's area shrinks
+    // by (tan 0.3 / tan 0.45)² = 0.41.
+    let covered = |t: &str| {
+        let out = dir.join(format!("cam{t}.png"));
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .arg("render")
+            .arg(&file)
+            .args(["--size", "64x64", "--camera", "gltf:0", "--time", t, "-o"])
+            .arg(&out)
+            .output()
+            .expect("realist runs");
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let img = image::open(&out).expect("png").into_rgb8();
+        let bg = *img.get_pixel(0, 0);
+        img.pixels().filter(|p| **p != bg).count() as f64
+    };
+    let (a0, a2) = (covered("0"), covered("2"));
+    let ratio = a2 / a0;
+    let want = ((0.3f64).tan() / (0.45f64).tan()).powi(2);
+    assert!(
+        (ratio - want).abs() < 0.1,
+        "area {a0} -> {a2}: {ratio}, want {want}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

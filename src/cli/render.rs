@@ -480,9 +480,12 @@ fn render_in(args: &RenderArgs) -> Result<()> {
     let up = up_of(args, &input);
     let mut frames = sequence::frames(&args.sequence, camera, &input.scene, aspect, framed, up)?;
     if let (Some(CameraArg::Gltf(n)), None) = (args.camera, args.sequence.turntable) {
-        // A file's camera under an animated node moves with it.
+        // A file's camera under an animated node moves with it, and its animated field of
+        // view (KHR_animation_pointer) applies unless --fov or --zoom sets one.
+        let fov = args.fov.is_none() && args.zoom.is_none();
         for f in &mut frames {
             f.follow = Some(n);
+            f.follow_fov = fov;
         }
     }
     let outputs = Outputs::plan(out, &args.sequence, frames.len(), (w, h))?;

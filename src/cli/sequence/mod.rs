@@ -175,8 +175,11 @@ pub(crate) struct SeqFrame {
     /// What plays at `time`.
     pub play: Play,
     /// The file's camera of this index, which follows its node as the scene is posed
-    /// (`--camera gltf:N`); `camera` then gives the projection.
+    /// (`--camera gltf:N`); `camera` then gives the projection, unless `follow_fov`.
     pub follow: Option<usize>,
+    /// The followed camera's posed field of view is used too (an animated yfov,
+    /// `KHR_animation_pointer`), as when neither `--fov` nor `--zoom` sets one.
+    pub follow_fov: bool,
 }
 
 /// The frames the flags ask for: one with `base`, or a turntable around `scene`'s centre.
@@ -246,6 +249,7 @@ pub(crate) fn frames(
             time,
             play,
             follow: None,
+            follow_fov: false,
         })
         .collect())
 }
@@ -554,6 +558,9 @@ pub(crate) fn run(
         let mut camera = frame.camera.clone();
         if let Some(posed) = frame.follow.and_then(|n| prepared.cameras().get(n)) {
             (camera.eye, camera.target, camera.up) = (posed.eye, posed.target, posed.up);
+            if frame.follow_fov && posed.ortho.is_none() {
+                camera.yfov = posed.yfov;
+            }
         }
         let view = View {
             camera,
