@@ -394,9 +394,17 @@ impl Mesh {
     #[must_use]
     pub fn material_in(&self, variant: Option<usize>) -> Option<usize> {
         variant
-            .and_then(|v| self.variants.iter().find(|(w, _)| *w as usize == v))
-            .map(|&(_, k)| k)
+            .and_then(|v| self.variant_material(v))
             .or(self.material)
+    }
+
+    /// The material variant `v` maps this mesh to, if it maps it.
+    #[must_use]
+    pub fn variant_material(&self, v: usize) -> Option<usize> {
+        self.variants
+            .iter()
+            .find(|(w, _)| *w as usize == v)
+            .map(|&(_, k)| k)
     }
 
     /// Sets the mesh's points and line segments (vertex indices), after checking every

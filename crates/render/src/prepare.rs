@@ -512,9 +512,8 @@ impl PreparedScene {
     pub(crate) fn material_of(&self, inst: &PreparedInstance, variant: Option<usize>) -> usize {
         variant
             .and_then(|v| {
-                let (_, mesh) = self.scene_mesh(inst)?;
-                let (_, k) = mesh.variants.iter().find(|(w, _)| *w as usize == v)?;
-                (*k < self.scene.materials.len()).then_some(*k)
+                let k = self.scene_mesh(inst)?.1.variant_material(v)?;
+                (k < self.scene.materials.len()).then_some(k)
             })
             .unwrap_or(inst.material)
     }
