@@ -42,6 +42,7 @@ fn place(scene: &mut Scene, mut mesh: Mesh, material: Material, world: Mat4) {
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene.meshes.push(mesh);
 }

@@ -188,6 +188,7 @@ fn squares() -> PreparedScene {
             style: Style::Inherit,
             node: None,
             skin: None,
+            copies: None,
         });
     }
     PreparedScene::new(s)

@@ -26,6 +26,7 @@ fn one_and_two_threads_are_bit_identical() {
         style: realist::scene::Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     for mode in [
         None,

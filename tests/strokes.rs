@@ -177,6 +177,7 @@ fn scene(meshes: Vec<Mesh>, colors: &[Vec4]) -> Scene {
             style: Style::Inherit,
             node: None,
             skin: None,
+            copies: None,
         });
     }
     s

@@ -330,6 +330,7 @@ fn unlit_scene(mesh: Mesh, world: Mat4) -> Scene {
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene
 }

@@ -37,10 +37,12 @@ fn peer_camera(scene: &Scene) -> Camera {
     let mut r: f32 = 0.0;
     for inst in &scene.instances {
         if let Some(m) = scene.meshes.get(inst.mesh) {
-            for p in &m.positions {
-                let d = inst.world.transform_point3(*p).distance(center);
-                if d.is_finite() {
-                    r = r.max(d);
+            for world in inst.placements() {
+                for p in &m.positions {
+                    let d = world.transform_point3(*p).distance(center);
+                    if d.is_finite() {
+                        r = r.max(d);
+                    }
                 }
             }
         }

@@ -141,6 +141,7 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
                 "center": ((lo + hi) * 0.5).to_array(), "diagonal": (hi - lo).length(),
             })),
             "instances": scene.instances.len(),
+            "copies": scene.instances.iter().map(|i| i.copy_count()).sum::<usize>(),
             "materials": scene.materials.len(),
             "textures": scene.textures.len(),
             "texture_slots": slots,
@@ -159,8 +160,14 @@ pub(super) fn info(args: &InfoArgs) -> Result<()> {
         return Ok(());
     }
     say!("{} ({})", args.model.display(), scene.report.format);
+    let copies: usize = scene.instances.iter().map(|i| i.copy_count()).sum();
+    let drawn = if copies == scene.instances.len() {
+        String::new()
+    } else {
+        format!(" ({copies} copies drawn, EXT_mesh_gpu_instancing)")
+    };
     say!(
-        "  {} meshes, {} instances, {} materials, {} textures, {} cameras",
+        "  {} meshes, {} instances{drawn}, {} materials, {} textures, {} cameras",
         scene.meshes.len(),
         scene.instances.len(),
         scene.materials.len(),

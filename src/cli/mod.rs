@@ -321,3 +321,18 @@ pub(crate) fn load_model(path: &Path, normals: &NormalArgs) -> Result<Scene> {
     };
     Ok(load::load(path, &opts)?)
 }
+
+/// The peak resident memory of this process so far (`VmHWM` of `/proc/self/status`), where
+/// the system reports it (Linux); `None` elsewhere.
+pub(crate) fn peak_resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line
+        .trim_start_matches("VmHWM:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb * 1024)
+}

@@ -470,6 +470,7 @@ fn render_in(args: &RenderArgs) -> Result<()> {
         _ => Some(output(args, &input)?),
     };
     let t_load = t0.elapsed();
+    let peak_load = super::peak_resident_bytes();
     let (w, h) = args
         .size
         .or_else(|| input.file.as_ref().and_then(SceneFile::size))
@@ -573,6 +574,12 @@ fn render_in(args: &RenderArgs) -> Result<()> {
                 "raster_shade": ms(done.raster),
                 "encode": ms(done.encode),
             },
+            // Peak resident memory of the process (Linux; null elsewhere): after loading,
+            // and at the end.
+            "peak_mb": {
+                "load": peak_load.map(mb),
+                "total": super::peak_resident_bytes().map(mb),
+            },
         });
         if frames.len() > 1 {
             // Counters and times are summed over the frames.
@@ -588,6 +595,11 @@ fn render_in(args: &RenderArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Bytes as MB (10^6), one decimal.
+fn mb(bytes: u64) -> f64 {
+    (bytes as f64 / 1e5).round() / 10.0
 }
 
 /// What a written image says about its settings (the PNG's `Description`).

@@ -50,6 +50,7 @@ pub fn scene_of(mut mesh: Mesh, material: Material) -> Scene {
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene
 }

@@ -5,7 +5,7 @@
 //
 // writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
-// lights-punctual.glb, variants.glb and pointer.glb. Every piece of
+// lights-punctual.glb, variants.glb, pointer.glb and instanced.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -13,6 +13,7 @@ import { writeFile } from "node:fs/promises";
 import path from "node:path";
 import { Document, NodeIO, TextureInfo, VERSION } from "@gltf-transform/core";
 import {
+  EXTMeshGPUInstancing,
   KHRLightsPunctual,
   KHRMaterialsClearcoat,
   Light,
@@ -31,6 +32,7 @@ if (!dir || process.argv.length !== 3) {
 }
 
 const io = new NodeIO().registerExtensions([
+  EXTMeshGPUInstancing,
   KHRLightsPunctual,
   KHRMaterialsClearcoat,
   KHRMaterialsEmissiveStrength,
@@ -403,6 +405,72 @@ async function variants() {
 }
 
 // ---------------------------------------------------------------------------------------
+// instanced.glb: EXT_mesh_gpu_instancing, required. One node "forest" at (0, -0.5, 0) whose
+// mesh "box" (a cube of side 0.4 around the origin: 24 vertices with face normals, 12
+// triangles, material "bark", base colour (0.8, 0.5, 0.2), roughness 0.6) is drawn 12
+// times, copy i = 4 r + c (r = 0..2, c = 0..3) with
+//   TRANSLATION (c - 1.5, 0, -r)  ROTATION about +Y by 0.3 i radians
+//   SCALE (s, s, s), s = 0.5 + 0.1 i, except copy 5 whose scale is (-0.9, 0.9, 0.9) (a
+//   mirrored copy: its front faces are clockwise).
+// The node has no other transform than its translation.
+
+export const INSTANCED = Array.from({ length: 12 }, (_, i) => {
+  const [r, c] = [Math.floor(i / 4), i % 4];
+  const s = 0.5 + 0.1 * i;
+  return {
+    translation: [c - 1.5, 0, -r],
+    rotation: [0, Math.sin(0.15 * i), 0, Math.cos(0.15 * i)],
+    scale: i === 5 ? [-0.9, 0.9, 0.9] : [s, s, s],
+  };
+});
+
+/** A cube of side `side` around the origin: four vertices per face with its normal. */
+function cubePrimitive(doc, side) {
+  const h = side / 2;
+  const pos = [];
+  const nrm = [];
+  const idx = [];
+  // Per face: normal n and two in-face axes u, v with u x v = n (counter-clockwise seen
+  // from outside).
+  const faces = [
+    [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+    [[-1, 0, 0], [0, 0, 1], [0, 1, 0]],
+    [[0, 1, 0], [0, 0, 1], [1, 0, 0]],
+    [[0, -1, 0], [1, 0, 0], [0, 0, 1]],
+    [[0, 0, 1], [1, 0, 0], [0, 1, 0]],
+    [[0, 0, -1], [0, 1, 0], [1, 0, 0]],
+  ];
+  for (const [n, u, v] of faces) {
+    const base = pos.length / 3;
+    for (const [a, b] of [[-1, -1], [1, -1], [1, 1], [-1, 1]]) {
+      for (let k = 0; k < 3; k++) pos.push(h * (n[k] + a * u[k] + b * v[k]));
+      nrm.push(...n);
+    }
+    idx.push(base, base + 1, base + 2, base, base + 2, base + 3);
+  }
+  return doc
+    .createPrimitive()
+    .setAttribute("POSITION", accessor(doc, "VEC3", pos))
+    .setAttribute("NORMAL", accessor(doc, "VEC3", nrm))
+    .setIndices(indices(doc, idx));
+}
+
+async function instanced() {
+  const doc = newDocument();
+  const ext = doc.createExtension(EXTMeshGPUInstancing).setRequired(true);
+  const bark = doc.createMaterial("bark").setBaseColorFactor([0.8, 0.5, 0.2, 1]).setMetallicFactor(0).setRoughnessFactor(0.6);
+  const box = doc.createMesh("box").addPrimitive(cubePrimitive(doc, 0.4).setMaterial(bark));
+  const node = place(doc, "forest", box, [0, -0.5, 0]);
+  const batch = ext
+    .createInstancedMesh()
+    .setAttribute("TRANSLATION", accessor(doc, "VEC3", INSTANCED.flatMap((c) => c.translation)))
+    .setAttribute("ROTATION", accessor(doc, "VEC4", INSTANCED.flatMap((c) => c.rotation)))
+    .setAttribute("SCALE", accessor(doc, "VEC3", INSTANCED.flatMap((c) => c.scale)));
+  node.setExtension("EXT_mesh_gpu_instancing", batch);
+  await write(doc, "instanced.glb");
+}
+
+// ---------------------------------------------------------------------------------------
 // pointer.glb: KHR_animation_pointer. One sphere ("ball", material "pulse", dielectric) and
 // one animation "pulse" whose four channels are pointers:
 //   /materials/0/pbrMetallicRoughness/baseColorFactor  LINEAR  t 0, 1, 2: red (0.8, 0.1, 0.1, 1),
@@ -546,3 +614,4 @@ await noMaterial();
 await lightsPunctual();
 await variants();
 await pointer();
+await instanced();

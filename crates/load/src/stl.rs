@@ -139,6 +139,7 @@ pub(crate) fn load_stl(
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene.meshes.push(mesh);
     Ok(scene)

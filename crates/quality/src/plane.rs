@@ -130,6 +130,7 @@ impl PlaneSetup {
                 style: Style::Inherit,
                 node: None,
                 skin: None,
+                copies: None,
             }],
             lights: self.lights.clone(),
             ..Scene::default()

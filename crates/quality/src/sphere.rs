@@ -94,6 +94,7 @@ impl SphereSetup {
                 style: Style::Inherit,
                 node: None,
                 skin: None,
+                copies: None,
             }],
             lights: self.lights.clone(),
             ..Scene::default()

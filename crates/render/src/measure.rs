@@ -68,7 +68,7 @@ pub fn pick(
     let hit = super::probe::cast(scene, settings, near, far, true)?;
     let inst = &scene.instances[hit.instance];
     let tri = &scene.meshes[inst.mesh].tri;
-    let world = inst.world.as_dmat4();
+    let world = inst.placement(hit.copy).as_dmat4();
     let corners = tri.triangles[hit.triangle]
         .map(|k| world.transform_point3(tri.positions[k as usize].as_dvec3()));
     // Where a world point shows on screen, in pixels.

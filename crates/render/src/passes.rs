@@ -129,8 +129,13 @@ fn group<S: raster::FragmentShader>(
     done
 }
 
+/// Vertices a group transforms before it rasterizes what it has and starts again: a
+/// million instanced copies are drawn in pieces of this size, not with all their vertices
+/// at once (the pieces are drawn in order, so the image is the same).
+const GROUP_VERTICES: usize = 1 << 21;
+
 /// [`group`] with a state override, also returning the group's buffers (to be put back in
-/// the pool) for a caller that needs the clip positions afterwards (wireframe).
+/// the pool).
 fn group_with<S: raster::FragmentShader>(
     cx: &mut Cx,
     insts: &[FrameInst],
@@ -142,7 +147,7 @@ fn group_with<S: raster::FragmentShader>(
 ) -> (bool, Box<GroupScratch>) {
     let mut g = cx.pool.take::<GroupScratch>();
     g.clear();
-    let start = Instant::now();
+    let mut start = Instant::now();
     for (k, fi) in insts.iter().enumerate() {
         if !pick(k, fi) {
             continue;
@@ -181,10 +186,31 @@ fn group_with<S: raster::FragmentShader>(
                 &mut g.sorted,
             );
         }
+        if g.clip.len() >= GROUP_VERTICES {
+            cx.vertex_nanos += start.elapsed().as_nanos() as u64;
+            if !rasterize(cx, insts, &mut g, geometry, shader, state) {
+                return (false, g);
+            }
+            g.clear();
+            start = Instant::now();
+        }
     }
     cx.vertex_nanos += start.elapsed().as_nanos() as u64;
+    let done = rasterize(cx, insts, &mut g, geometry, shader, state);
+    (done, g)
+}
+
+/// Rasterizes the draws gathered in `g`; returns false if stopped.
+fn rasterize<S: raster::FragmentShader>(
+    cx: &mut Cx,
+    insts: &[FrameInst],
+    g: &mut GroupScratch,
+    geometry: Geometry,
+    shader: &S,
+    state: fn(DrawState) -> DrawState,
+) -> bool {
     if g.items.is_empty() {
-        return (true, g);
+        return true;
     }
     let GroupScratch {
         clip,
@@ -193,7 +219,7 @@ fn group_with<S: raster::FragmentShader>(
         raster: scratch,
         sorted,
         ..
-    } = &mut *g;
+    } = g;
     let list = GroupDraws {
         scene: cx.scene,
         insts,
@@ -205,10 +231,9 @@ fn group_with<S: raster::FragmentShader>(
         state,
         sections: if cx.light.is_none() { cx.sections } else { &[] },
     };
-    let done = raster::draw_list(
+    raster::draw_list(
         cx.target, &list, shader, cx.stats, cx.bins, scratch, cx.stop,
-    );
-    (done, g)
+    )
 }
 
 /// Appends an instance's triangles to `out` in back-to-front order of their centroids'
@@ -672,12 +697,13 @@ fn wireframe(
         &DepthOnly,
         wire_depth_state,
     );
+    cx.pool.put(g);
     *cx.stats = saved;
     cx.target.restore_depth(depth);
     let mut cut_scratch = cx.pool.take::<StrokeScratch>();
     if done {
-        for it in &g.items {
-            let fi = &fd.insts[it.inst as usize];
+        let picked = fd.insts.iter().enumerate().filter(|(k, fi)| pick(*k, fi));
+        for (_, fi) in picked {
             let tri = &scene.meshes[fi.mesh as usize].tri;
             let color = if overlay {
                 OVERLAY_LINE
@@ -694,20 +720,19 @@ fn wireframe(
             if !overlay {
                 cx.stats.triangles_in += tri.triangles.len() as u64;
             }
-            let clip = &g.clip[it.start as usize..(it.start + it.len) as usize];
+            // The same clip positions as the depth pass's (same matrix, same positions).
+            let StrokeScratch { clip, cut, .. } = &mut *cut_scratch;
+            clip.clear();
+            raster::transform_positions_into(cx.jitter * fi.mvp, &tri.positions, clip);
             let edges = scene.wire(fi.mesh as usize);
             if cx.sections.is_empty() || scene.instances[fi.inst as usize].ground {
                 raster::draw_lines(cx.target, Some(depth), clip, edges, &style, cx.stats);
             } else {
-                let StrokeScratch { clip: c, cut, .. } = &mut *cut_scratch;
-                c.clear();
-                c.extend_from_slice(clip);
-                cut.cut(cx.sections, c, None, edges, &[]);
-                raster::draw_lines(cx.target, Some(depth), c, &cut.lines, &style, cx.stats);
+                cut.cut(cx.sections, clip, None, edges, &[]);
+                raster::draw_lines(cx.target, Some(depth), clip, &cut.lines, &style, cx.stats);
             }
         }
     }
-    cx.pool.put(g);
     cx.pool.put(cut_scratch);
     done
 }

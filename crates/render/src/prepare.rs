@@ -107,6 +107,68 @@ pub(crate) struct PreparedInstance {
     /// The ground plane ([`super::Ground`]), last of the instances; its world matrix is
     /// made per frame by [`PreparedScene::ground_world`].
     pub ground: bool,
+    /// `EXT_mesh_gpu_instancing` ([`crate::scene::Instance::copies`]): copy `i` is placed
+    /// by `world * copies.matrices[i]`.
+    pub copies: Option<Copies>,
+}
+
+/// The copies of an instanced mesh and their bounding spheres, in the instance's frame
+/// (before its world matrix).
+#[derive(Clone, Debug)]
+pub(crate) struct Copies {
+    pub matrices: Arc<[Mat4]>,
+    /// Per copy, the mesh's bounding sphere placed by its matrix (centre, radius scaled by
+    /// the matrix's largest axis scale).
+    pub spheres: Arc<[Vec4]>,
+    /// A sphere around all of them (centre, radius; radius < 0 when there are none).
+    pub all: (Vec3, f32),
+}
+
+impl Copies {
+    fn new(matrices: &Arc<[Mat4]>, center: Vec3, radius: f32) -> Self {
+        let spheres: Vec<Vec4> = matrices
+            .par_iter()
+            .with_min_len(4096)
+            .map(|&m| {
+                let (c, r) = crate::frame::world_sphere(m, center, radius);
+                c.extend(r)
+            })
+            .collect();
+        let (lo, hi) = spheres.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), s| (lo.min(s.truncate()), hi.max(s.truncate())),
+        );
+        let mid = (lo + hi) * 0.5;
+        let all = if spheres.is_empty() || radius < 0.0 {
+            (Vec3::ZERO, -1.0)
+        } else {
+            let r = spheres
+                .iter()
+                .map(|s| (s.truncate() - mid).length() + s.w)
+                .fold(0.0f32, f32::max);
+            (mid, r)
+        };
+        Self {
+            matrices: Arc::clone(matrices),
+            spheres: spheres.into(),
+            all,
+        }
+    }
+}
+
+impl PreparedInstance {
+    /// How many times the instance is drawn.
+    pub fn copy_count(&self) -> usize {
+        self.copies.as_ref().map_or(1, |c| c.matrices.len())
+    }
+
+    /// The model -> world matrix of copy `i` (the instance's own without copies).
+    pub fn placement(&self, i: usize) -> Mat4 {
+        match &self.copies {
+            Some(c) => self.world * c.matrices[i],
+            None => self.world,
+        }
+    }
 }
 
 impl PreparedScene {
@@ -147,8 +209,14 @@ impl PreparedScene {
                     style: inst.style,
                     node: inst.node,
                     skin: inst.skin,
-                    drawable: !tri.is_empty() && inst.world.is_finite(),
+                    drawable: !tri.is_empty()
+                        && inst.world.is_finite()
+                        && inst.copies.as_ref().is_none_or(|c| !c.is_empty()),
                     ground: false,
+                    copies: inst
+                        .copies
+                        .as_ref()
+                        .map(|c| Copies::new(c, tri.center, tri.radius)),
                 })
             })
             .collect::<Vec<_>>();
@@ -188,6 +256,7 @@ impl PreparedScene {
             skin: None,
             drawable: false,
             ground: true,
+            copies: None,
         });
         let (lights, cameras) = (scene.lights.clone(), scene.cameras.clone());
         let mut prepared = Self {
@@ -238,7 +307,9 @@ impl PreparedScene {
             inst.world = world;
             inst.normal = normal_matrix(world);
             inst.mirrored = world.determinant() < 0.0;
-            inst.drawable = !self.meshes[inst.mesh].tri.is_empty() && world.is_finite();
+            inst.drawable = !self.meshes[inst.mesh].tri.is_empty()
+                && world.is_finite()
+                && inst.copy_count() > 0;
         }
         for d in &mut self.deformers {
             let Some(deform) = scene.meshes.get(d.rest).and_then(|m| m.deform.as_deref()) else {
@@ -442,7 +513,7 @@ impl PreparedScene {
 
     /// The world-space positions of every instance's mesh vertices (in the order of
     /// [`crate::mesh::Mesh::positions`]) as posed now, the ground plane left out: one list
-    /// per instance, in scene order.
+    /// per instance, in scene order (an instanced mesh's copies one after another).
     #[must_use]
     pub fn world_positions(&self) -> Vec<Vec<Vec3>> {
         self.instances
@@ -450,14 +521,24 @@ impl PreparedScene {
             .filter(|i| !i.ground)
             .map(|i| {
                 let tri = &self.meshes[i.mesh].tri;
-                let world = |p: Vec3| i.world.transform_point3(p);
-                if tri.vertex_of.is_empty() {
-                    return tri.positions.iter().map(|&p| world(p)).collect();
-                }
-                let count = tri.vertex_of.iter().max().map_or(0, |&v| v as usize + 1);
-                let mut out = vec![Vec3::ZERO; count];
-                for (&v, &p) in tri.vertex_of.iter().zip(&tri.positions) {
-                    out[v as usize] = world(p);
+                let count = if tri.vertex_of.is_empty() {
+                    tri.positions.len()
+                } else {
+                    tri.vertex_of.iter().max().map_or(0, |&v| v as usize + 1)
+                };
+                let mut out = vec![Vec3::ZERO; count * i.copy_count()];
+                for (c, part) in out.chunks_exact_mut(count.max(1)).enumerate() {
+                    let placed = i.placement(c);
+                    let world = |p: Vec3| placed.transform_point3(p);
+                    if tri.vertex_of.is_empty() {
+                        for (o, &p) in part.iter_mut().zip(&tri.positions) {
+                            *o = world(p);
+                        }
+                    } else {
+                        for (&v, &p) in tri.vertex_of.iter().zip(&tri.positions) {
+                            part[v as usize] = world(p);
+                        }
+                    }
                 }
                 out
             })
@@ -478,13 +559,18 @@ impl PreparedScene {
             .iter()
             .enumerate()
             .filter(|(k, i)| !i.ground && which(*k));
-        crate::scene::world_bounds(placed.filter_map(|(k, inst)| {
-            let b = match self.deformers.iter().find(|d| d.instance == k) {
-                Some(d) => d.bounds,
-                None => self.rest_bounds.get(inst.mesh).copied().flatten(),
-            };
-            Some((inst.world, b?))
-        }))
+        crate::scene::world_bounds(
+            placed
+                .filter_map(|(k, inst)| {
+                    let b = match self.deformers.iter().find(|d| d.instance == k) {
+                        Some(d) => d.bounds,
+                        None => self.rest_bounds.get(inst.mesh).copied().flatten(),
+                    };
+                    let b = b?;
+                    Some((0..inst.copy_count()).map(move |c| (inst.placement(c), b)))
+                })
+                .flatten(),
+        )
     }
 
     /// Material `k` of the scene as posed now (`KHR_animation_pointer` changes factors; the
@@ -602,7 +688,7 @@ impl PreparedScene {
         self.instances
             .iter()
             .filter(|i| !i.ground)
-            .map(|i| self.meshes[i.mesh].tri.triangles.len() as u64)
+            .map(|i| self.meshes[i.mesh].tri.triangles.len() as u64 * i.copy_count() as u64)
             .sum()
     }
 }

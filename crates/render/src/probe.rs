@@ -115,14 +115,24 @@ pub fn probe(
     let inst = &scene.instances[hit.instance];
     let tri = &scene.meshes[inst.mesh].tri;
     let r = resolve(scene, settings, inst);
+    // The copy hit (an instanced mesh's) places it.
+    let world = inst.placement(hit.copy);
+    let (normal_m, mirrored) = if inst.copies.is_some() {
+        (
+            crate::prepare::normal_matrix(world),
+            world.determinant() < 0.0,
+        )
+    } else {
+        (inst.normal, inst.mirrored)
+    };
     let [a, b, c] = tri.triangles[hit.triangle].map(|k| k as usize);
     let bary = hit.bary;
     let mix3 = |v: &[Vec3]| v[a] * bary.x + v[b] * bary.y + v[c] * bary.z;
     let position = near + (far - near) * hit.t;
     let position = position.as_vec3();
-    let mut normal = (inst.normal * mix3(&tri.normals)).normalize_or_zero();
+    let mut normal = (normal_m * mix3(&tri.normals)).normalize_or_zero();
     let face = (tri.positions[b] - tri.positions[a]).cross(tri.positions[c] - tri.positions[a]);
-    let face_normal = (inst.normal * face).normalize_or_zero();
+    let face_normal = (normal_m * face).normalize_or_zero();
     let uv = tri
         .uv_set(0)
         .map(|u| u[a] * bary.x + u[b] * bary.y + u[c] * bary.z);
@@ -157,14 +167,14 @@ pub fn probe(
         let frame = match &tri.tangents {
             Some(ts) => {
                 let t4 = ts[a] * bary.x + ts[b] * bary.y + ts[c] * bary.z;
-                let m3 = glam::Mat3::from_mat4(inst.world);
-                let handed = if inst.mirrored { -1.0 } else { 1.0 };
+                let m3 = glam::Mat3::from_mat4(world);
+                let handed = if mirrored { -1.0 } else { 1.0 };
                 Some(((m3 * t4.truncate()).normalize_or_zero(), t4.w * handed))
             }
             // No tangents: the frame from the triangle's world edges and UVs (the shader
             // takes it from the screen-space derivatives).
             None => {
-                let w = [a, b, c].map(|k| inst.world.transform_point3(tri.positions[k]));
+                let w = [a, b, c].map(|k| world.transform_point3(tri.positions[k]));
                 let uv = [a, b, c].map(|k| uv_of(map, Some(k)));
                 let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
                 maps::uv_tangent::<f32>(
@@ -184,7 +194,7 @@ pub fn probe(
     if let Some(bm) = &d.bump {
         // The shader's surface gradient with the triangle's world edges in place of the
         // screen-space derivatives (as the f64 reference does).
-        let w = [a, b, c].map(|k| inst.world.transform_point3(tri.positions[k]));
+        let w = [a, b, c].map(|k| world.transform_point3(tri.positions[k]));
         let (s1, s2) = (w[1] - w[0], w[2] - w[0]);
         let uv_slope = |slope: Vec2| {
             let uv = [a, b, c].map(|k| uv_of(bm, Some(k)));
@@ -380,6 +390,8 @@ pub(crate) struct Hit {
     /// Ray parameter: 0 at the near plane, 1 at the far plane.
     pub t: f64,
     pub instance: usize,
+    /// The copy of an instanced mesh hit (0 otherwise).
+    pub copy: usize,
     pub triangle: usize,
     pub bary: Vec3,
     pub front: bool,
@@ -408,20 +420,7 @@ pub(crate) fn cast(
         if !inst.drawable || settings.hidden.contains(i) {
             continue;
         }
-        let world = inst.world.as_dmat4();
-        if world.determinant().abs() < 1e-300 {
-            continue;
-        }
-        let inv = world.inverse();
-        let (o, e) = (inv.transform_point3(near), inv.transform_point3(far));
-        let d = e - o;
         let tri = &scene.meshes[inst.mesh].tri;
-        // The segment must pass within the bounding sphere.
-        let cen = tri.center.as_dvec3();
-        let t_closest = ((cen - o).dot(d) / d.length_squared()).clamp(0.0, 1.0);
-        if (o + d * t_closest - cen).length() > f64::from(tri.radius) * (1.0 + 1e-6) + 1e-9 {
-            continue;
-        }
         // Section planes cut what the camera sees (not shadow rays: the whole model casts
         // shadows), everything but the ground; their caps are back faces.
         let sections: &[Vec4] = if inst.ground || !cull {
@@ -434,28 +433,61 @@ pub(crate) fn cast(
             let p = (near + (far - near) * t).as_vec3().extend(1.0);
             sections.iter().all(|l| l.dot(p) >= 0.0)
         };
-        let cull_back = cull && !capped && resolve(scene, settings, inst).state.cull == Cull::Back;
-        let limit = best.map_or(1.0, |b| b.t);
-        let found = tri
-            .triangles
-            .par_iter()
-            .enumerate()
-            .with_min_len(4096)
-            .filter_map(|(k, t)| {
-                let [a, b, c] = t.map(|v| tri.positions[v as usize].as_dvec3());
-                intersect(o, d, a, b, c, cull_back).map(|(t, bary, front)| (t, k, bary, front))
-            })
-            .filter(|h| h.0 <= limit && kept(h.0))
-            .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        if let Some((t, k, bary, front)) = found {
-            if best.is_none_or(|b| t < b.t) {
-                best = Some(Hit {
-                    t,
-                    instance: i,
-                    triangle: k,
-                    bary,
-                    front,
-                });
+        // Resolved only for an instance the segment comes near.
+        let mut cull_back = None;
+        for copy in 0..inst.copy_count() {
+            let placed = inst.placement(copy);
+            if inst.copies.is_some() {
+                // A cheap world-space reject first: a forest has a million copies.
+                let (c, r) = crate::frame::world_sphere(placed, tri.center, tri.radius);
+                let (c, d) = (c.as_dvec3(), far - near);
+                let t = ((c - near).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+                let reach = f64::from(r) * (1.0 + 1e-6) + 1e-9;
+                let gap = (near + d * t - c).length();
+                // NaN (a degenerate copy) is a miss too.
+                if gap.is_nan() || gap > reach {
+                    continue;
+                }
+            }
+            let world = placed.as_dmat4();
+            if world.determinant().abs() < 1e-300 {
+                continue;
+            }
+            let inv = world.inverse();
+            let (o, e) = (inv.transform_point3(near), inv.transform_point3(far));
+            let d = e - o;
+            // The segment must pass within the bounding sphere.
+            let cen = tri.center.as_dvec3();
+            let t_closest = ((cen - o).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+            if (o + d * t_closest - cen).length() > f64::from(tri.radius) * (1.0 + 1e-6) + 1e-9 {
+                continue;
+            }
+            let cull_back = *cull_back.get_or_insert_with(|| {
+                cull && !capped && resolve(scene, settings, inst).state.cull == Cull::Back
+            });
+            let limit = best.map_or(1.0, |b| b.t);
+            let found = tri
+                .triangles
+                .par_iter()
+                .enumerate()
+                .with_min_len(4096)
+                .filter_map(|(k, t)| {
+                    let [a, b, c] = t.map(|v| tri.positions[v as usize].as_dvec3());
+                    intersect(o, d, a, b, c, cull_back).map(|(t, bary, front)| (t, k, bary, front))
+                })
+                .filter(|h| h.0 <= limit && kept(h.0))
+                .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+            if let Some((t, k, bary, front)) = found {
+                if best.is_none_or(|b| t < b.t) {
+                    best = Some(Hit {
+                        t,
+                        instance: i,
+                        copy,
+                        triangle: k,
+                        bary,
+                        front,
+                    });
+                }
             }
         }
     }

@@ -91,7 +91,7 @@ crate::simd::per_kernel! {
         let (mut p, mut n, mut c) = ([[0.0; LANES]; 3], [[0.0; LANES]; 3], [[1.0; LANES]; 4]);
         for i in 0..LANES {
             let k = k0 + i.min(count - 1);
-            let (pw, nw) = world(lit.scene, fi, mesh, k);
+            let (pw, nw) = world(fi, mesh, k);
             let col = tri.colors.as_ref().map_or(Vec4::ONE, |cs| cs[k]);
             for j in 0..3 {
                 p[j][i] = pw[j];
@@ -133,8 +133,8 @@ fn per_item<T: Send>(out: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync +
 
 /// World position and unit world normal of render vertex `k`.
 #[inline]
-fn world(scene: &PreparedScene, fi: &FrameInst, mesh: &PreparedMesh, k: usize) -> (Vec3, Vec3) {
-    let normal = scene.instances[fi.inst as usize].normal;
+fn world(fi: &FrameInst, mesh: &PreparedMesh, k: usize) -> (Vec3, Vec3) {
+    let normal = fi.normal;
     let p = fi.world.transform_point3(mesh.tri.positions[k]);
     let n = (normal * mesh.tri.normals[k]).normalize_or_zero();
     (p, n)
@@ -154,18 +154,14 @@ pub(super) fn lit(
     let mesh = &scene.meshes[fi.mesh as usize];
     let tri = &mesh.tri;
     let m3 = glam::Mat3::from_mat4(fi.world);
-    let handed = if scene.instances[fi.inst as usize].mirrored {
-        -1.0
-    } else {
-        1.0
-    };
+    let handed = if fi.mirrored { -1.0 } else { 1.0 };
     let inv_radius = if tri.radius > 0.0 && tri.radius.is_finite() {
         1.0 / tri.radius
     } else {
         1.0
     };
     per_vertex(out, tri.positions.len(), layout.stride(), |k, o| {
-        let (p, n) = world(scene, fi, mesh, k);
+        let (p, n) = world(fi, mesh, k);
         let uv = |set: u32| tri.uv_set(set).map_or(Vec2::ZERO, |u| u[k]);
         let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
         let t = tri.tangents.as_ref().map_or(Vec4::X, |t| t[k]);
@@ -246,7 +242,7 @@ impl Lit<'_> {
         let d = &self.params[fi.param as usize];
         let mesh = &self.scene.meshes[fi.mesh as usize];
         let (tri, flat) = (&mesh.tri, mesh.flat());
-        let normal = self.scene.instances[fi.inst as usize].normal;
+        let normal = fi.normal;
         let facing = |p: Vec3, n: Vec3| {
             let n = (normal * n).normalize_or_zero();
             if d.double_sided && n.dot(self.eye - p) < 0.0 {
@@ -300,7 +296,7 @@ impl Lit<'_> {
         per_item(out, tri.positions.len(), |k| {
             let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
             if lit {
-                let (p, n) = world(self.scene, fi, mesh, k);
+                let (p, n) = world(fi, mesh, k);
                 return self.colour(d, p, n, c);
             }
             let base = d.base * c;
@@ -325,7 +321,7 @@ pub(super) fn debug(
     let tri = &mesh.tri;
     per_vertex(out, tri.positions.len(), 3, |k, o| {
         let v = match mode {
-            Debug::Normals => world(scene, fi, mesh, k).1,
+            Debug::Normals => world(fi, mesh, k).1,
             Debug::Depth => Vec3::splat(-fi.model_view.transform_point3(tri.positions[k]).z),
             Debug::Uv => tri.uv_set(0).map_or(Vec2::ZERO, |u| u[k]).extend(0.0),
         };

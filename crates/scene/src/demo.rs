@@ -59,6 +59,7 @@ pub fn demo() -> Scene {
             style,
             node: None,
             skin: None,
+            copies: None,
         });
         scene.meshes.push(mesh);
     }
@@ -81,6 +82,7 @@ pub fn demo() -> Scene {
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene.meshes.push(floor);
     let spot_at = Vec3::new(3.5, 7.5, 4.0);

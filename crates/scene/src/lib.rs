@@ -216,6 +216,32 @@ pub struct Instance {
     /// The skin that deforms it ([`Scene::skins`]); its mesh then has joints and weights,
     /// and `world` is ignored when posed (the joints place the vertices).
     pub skin: Option<usize>,
+    /// `EXT_mesh_gpu_instancing`: the mesh is drawn once per matrix, copy `i` placed by
+    /// `world * copies[i]`, the copies sharing the mesh and its material (a forest of a
+    /// million trees is one mesh and a million matrices). `None`: drawn once, at `world`.
+    pub copies: Option<Arc<[Mat4]>>,
+}
+
+impl Instance {
+    /// How many times the instance is drawn (1 without [`Self::copies`]).
+    #[must_use]
+    pub fn copy_count(&self) -> usize {
+        self.copies.as_ref().map_or(1, |c| c.len())
+    }
+
+    /// The model -> world matrix of copy `i` (`world` itself without copies).
+    #[must_use]
+    pub fn placement(&self, i: usize) -> Mat4 {
+        match &self.copies {
+            Some(c) => self.world * c[i],
+            None => self.world,
+        }
+    }
+
+    /// Every copy's model -> world matrix, in order.
+    pub fn placements(&self) -> impl Iterator<Item = Mat4> + '_ {
+        (0..self.copy_count()).map(|i| self.placement(i))
+    }
 }
 
 /// A glTF skin: the joints (nodes) whose world matrices, times their inverse bind
@@ -299,9 +325,9 @@ impl Scene {
     /// (or one whose every position is non-finite).
     #[must_use]
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        world_bounds(self.instances.iter().filter_map(|inst| {
-            let b = self.meshes.get(inst.mesh)?.bounds()?;
-            Some((inst.world, b))
+        world_bounds(self.instances.iter().flat_map(|inst| {
+            let b = self.meshes.get(inst.mesh).and_then(Mesh::bounds);
+            inst.placements().filter_map(move |w| Some((w, b?)))
         }))
     }
 

@@ -185,6 +185,7 @@ pub fn skinned_tube(
             style: Style::Inherit,
             node: Some(mesh_node),
             skin: Some(0),
+            copies: None,
         }],
         skins: vec![Skin {
             name: "chain".into(),

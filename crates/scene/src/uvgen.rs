@@ -135,6 +135,7 @@ mod tests {
             style: Style::Inherit,
             node: None,
             skin: None,
+            copies: None,
         });
         scene.report.file = "dir/model.gltf".into();
         scene

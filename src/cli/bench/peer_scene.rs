@@ -373,6 +373,7 @@ pub(super) fn scene(name: &str, mesh: PeerMesh, textured: bool) -> Result<Scene>
             style: Style::Inherit,
             node: None,
             skin: None,
+            copies: None,
         }],
         lights: vec![
             Light::ambient(Vec3::splat(0.1)),

@@ -154,6 +154,7 @@ fn a_framed_turntable_fits_every_frame() {
         style: realist::scene::Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     let (lo, hi) = scene.bounds().unwrap();
     let aspect = 4.0 / 3.0;

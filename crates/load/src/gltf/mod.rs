@@ -46,7 +46,7 @@
 //! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
 //! `KHR_mesh_quantization`, `KHR_lights_punctual`, `KHR_texture_transform`,
 //! `KHR_materials_emissive_strength`, `_unlit`, `_ior`, `_specular` and `_variants`,
-//! `KHR_animation_pointer` (node transforms and material factors),
+//! `KHR_animation_pointer` (node transforms and material factors), `EXT_mesh_gpu_instancing`,
 //! `EXT_meshopt_compression`, `KHR_meshopt_compression`, `KHR_draco_mesh_compression`,
 //! `KHR_texture_basisu` and `EXT_texture_webp` ([`SUPPORTED`]); a file that *requires* any
 //! other is refused, naming it.
@@ -68,6 +68,7 @@ mod accessor;
 mod animation;
 pub(crate) mod draco;
 pub(super) mod glb;
+mod instancing;
 mod lights;
 mod material;
 pub(crate) mod meshopt;
@@ -499,7 +500,7 @@ const QUANTIZATION: &str = "KHR_mesh_quantization";
 /// material extensions of [`material`], material variants ([`variants`]), animation
 /// pointers ([`animation`]), and the compressed forms of geometry ([`meshopt`],
 /// [`draco`]) and images (`KHR_texture_basisu`, `EXT_texture_webp`).
-const SUPPORTED: [&str; 14] = [
+const SUPPORTED: [&str; 15] = [
     QUANTIZATION,
     meshopt::EXT,
     meshopt::KHR,
@@ -514,6 +515,7 @@ const SUPPORTED: [&str; 14] = [
     material::SPECULAR,
     variants::EXTENSION,
     animation::POINTER,
+    instancing::EXTENSION,
 ];
 
 /// Refuses files that are not glTF 2.x or that require an extension not in [`SUPPORTED`].

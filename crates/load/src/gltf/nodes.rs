@@ -15,7 +15,7 @@
 use glam::{Mat4, Quat, Vec3};
 use gltf::json;
 
-use super::{Builder, GltfError};
+use super::{instancing, Builder, GltfError};
 use crate::scene::graph::SceneRoots;
 use crate::scene::{Camera, Graph, Instance, Local, Node, Style, Trs, DEFAULT_YFOV};
 use crate::LoadError;
@@ -238,6 +238,18 @@ impl Builder<'_> {
                 .ok_or_else(|| self.doc.missing(format!("node {n}"), "mesh", m, meshes))?
                 .primitives
                 .len();
+            let copies = match self.node_copies(n, &name)? {
+                instancing::Copies::Once => None,
+                instancing::Copies::Many(c) if skin.is_some() => {
+                    self.scene.report.warnings.push(format!(
+                        "node '{name}': {} with a skin is not supported; drawn once ({} copies ignored)",
+                        instancing::EXTENSION,
+                        c.len()
+                    ));
+                    None
+                }
+                instancing::Copies::Many(c) => Some(c),
+            };
             for p in 0..primitives {
                 let mesh = match self.primitive_mesh(m, p) {
                     Err(LoadError::Gltf(GltfError::NoData { buffer, .. })) => {
@@ -261,6 +273,7 @@ impl Builder<'_> {
                                 .as_ref()
                                 .is_some_and(|d| d.influences > 0)
                         }),
+                        copies: copies.clone(),
                     });
                 }
             }

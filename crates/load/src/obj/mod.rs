@@ -356,6 +356,7 @@ fn add_meshes(
             style: Style::Inherit,
             node: None,
             skin: None,
+            copies: None,
         });
         scene.meshes.push(mesh);
     }
@@ -367,6 +368,7 @@ fn add_meshes(
             style: Style::Inherit,
             node: None,
             skin: None,
+            copies: None,
         });
         scene.meshes.push(mesh);
         scene.report.loaded.push(note);

@@ -353,6 +353,7 @@ pub(crate) fn load_ply(
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene.meshes.push(mesh);
     Ok(scene)

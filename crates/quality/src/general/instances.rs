@@ -12,6 +12,7 @@ pub(super) enum Alpha {
 }
 
 /// One drawable instance: matrices in f64 and its material resolved.
+#[derive(Clone)]
 pub(super) struct Inst<'a> {
     pub(super) tri: &'a TriMesh,
     pub(super) world: DMat4,
@@ -235,7 +236,7 @@ pub(super) fn instances<'a>(
         let (Some(tri), Some(mesh)) = (meshes.get(inst.mesh), scene.meshes.get(inst.mesh)) else {
             continue;
         };
-        if tri.triangles.is_empty() || !inst.world.is_finite() {
+        if tri.triangles.is_empty() || !inst.world.is_finite() || inst.copy_count() == 0 {
             continue;
         }
         let m = scene.material_of(mesh);
@@ -259,9 +260,9 @@ pub(super) fn instances<'a>(
         let policy = Policy::new(opts.settings.shading, inst.style, &m, mapped);
         let textured = policy.textured;
         let textured_only = |s: Option<RefSlot>| s.filter(|_| textured);
-        let world = inst.world.as_dmat4();
+        let world = inst.placement(0).as_dmat4();
         let det = world.determinant();
-        out.push(Inst {
+        let first = Inst {
             tri,
             world,
             normal: crate::geom::normal_matrix_f64(DMat3::from_mat4(world)),
@@ -285,7 +286,27 @@ pub(super) fn instances<'a>(
             emissive_map: textured_only(emissive_map),
             bump: textured_only(bump),
             handed: if det < 0.0 { -1.0 } else { 1.0 },
-        });
+        };
+        // An instanced mesh's copies (`EXT_mesh_gpu_instancing`): the same but for where
+        // each is placed.
+        let copies: Vec<Inst> = inst
+            .placements()
+            .skip(1)
+            .map(|placed| {
+                let world = placed.as_dmat4();
+                let det = world.determinant();
+                Inst {
+                    world,
+                    normal: crate::geom::normal_matrix_f64(DMat3::from_mat4(world)),
+                    mvp: view.vp * world,
+                    flip: det < 0.0,
+                    handed: if det < 0.0 { -1.0 } else { 1.0 },
+                    ..first.clone()
+                }
+            })
+            .collect();
+        out.push(first);
+        out.extend(copies);
     }
     out
 }

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::prepare::{PreparedInstance, PreparedScene};
 use super::settings::{Lights, Output, Settings};
@@ -35,6 +35,10 @@ pub(super) struct FrameInst {
     pub world: Mat4,
     /// Model -> camera.
     pub model_view: Mat4,
+    /// Cofactor normal matrix of `world` ([`crate::prepare::normal_matrix`]).
+    pub normal: Mat3,
+    /// `world` mirrors (det < 0): front faces are clockwise (`state.flip_winding`).
+    pub mirrored: bool,
     pub state: DrawState,
     /// Index into [`FrameData::params`] (the draw id the shaders see).
     pub param: u32,
@@ -266,16 +270,38 @@ impl Policy {
 }
 
 impl FrameInst {
-    /// Instance `k` of mesh `mesh` placed by `world`, resolved as `r`; no parameters,
-    /// vertex colours or distance yet.
-    fn new(k: usize, mesh: usize, world: Mat4, view: Mat4, vp: Mat4, r: &Resolved) -> Self {
+    /// Instance `k` placed by `world`, resolved as `r`; no parameters, vertex colours or
+    /// distance yet. A copy of an instanced mesh (`copy`) has its own normal matrix and
+    /// winding; otherwise the instance's are used.
+    fn new(
+        k: usize,
+        inst: &PreparedInstance,
+        world: Mat4,
+        view: Mat4,
+        vp: Mat4,
+        r: &Resolved,
+        copy: bool,
+    ) -> Self {
+        let (normal, mirrored) = if copy {
+            (
+                crate::prepare::normal_matrix(world),
+                world.determinant() < 0.0,
+            )
+        } else {
+            (inst.normal, inst.mirrored)
+        };
         Self {
             inst: k as u32,
-            mesh: mesh as u32,
+            mesh: inst.mesh as u32,
             mvp: vp * world,
             world,
             model_view: view * world,
-            state: r.state,
+            normal,
+            mirrored,
+            state: DrawState {
+                flip_winding: mirrored,
+                ..r.state
+            },
             param: 0,
             mode: r.mode,
             blend: r.blend,
@@ -330,16 +356,25 @@ pub(super) fn set_up(
             (false, _) if !inst.drawable || settings.hidden.contains(k) => continue,
             (false, _) => inst.world,
         };
-        if tri.radius < 0.0 || !sphere_visible(&planes, world, tri.center, tri.radius) {
-            if shadows && tri.radius >= 0.0 {
+        let (center, radius) = match &inst.copies {
+            Some(c) => c.all,
+            None => (tri.center, tri.radius),
+        };
+        if radius < 0.0 || !sphere_visible(&planes, world, center, radius) {
+            if shadows && radius >= 0.0 {
                 let r = resolve(scene, settings, inst);
                 // Drawn only into shadow maps: no parameters, no varyings.
-                fd.casters
-                    .push(FrameInst::new(k, inst.mesh, world, view, vp, &r));
+                for c in 0..inst.copy_count() {
+                    let placed = inst.placement(c);
+                    let copy = inst.copies.is_some();
+                    fd.casters
+                        .push(FrameInst::new(k, inst, placed, view, vp, &r, copy));
+                }
             }
-            stats.objects_culled += 1;
-            stats.culled_frustum += tri.triangles.len() as u64;
-            stats.triangles_in += tri.triangles.len() as u64;
+            let copies = inst.copy_count() as u64;
+            stats.objects_culled += copies;
+            stats.culled_frustum += tri.triangles.len() as u64 * copies;
+            stats.triangles_in += tri.triangles.len() as u64 * copies;
             continue;
         }
         let mut r = resolve(scene, settings, inst);
@@ -351,7 +386,7 @@ pub(super) fn set_up(
             };
             r.params.base = c.extend(1.0);
         }
-        let (c, radius) = world_sphere(world, tri.center, tri.radius);
+        let (c, radius) = world_sphere(world, center, radius);
         r.params.lights = active_lights(&fd.lights, c, radius, &mut fd.active, stats);
         for t in r.params.maps() {
             let mipmapped = t.sampler.filter.mipmapped();
@@ -360,14 +395,44 @@ pub(super) fn set_up(
                 texture.prepare_mips();
             }
         }
-        let center = world.transform_point3(tri.center);
-        fd.insts.push(FrameInst {
-            param: fd.params.len() as u32,
-            distance: (center - eye).length(),
+        let param = fd.params.len() as u32;
+        let one = |placed: Mat4, copy: bool| FrameInst {
+            param,
+            distance: (placed.transform_point3(tri.center) - eye).length(),
             tris: !tri.triangles.is_empty(),
             strokes: !tri.points.is_empty() || !tri.lines.is_empty(),
-            ..FrameInst::new(k, inst.mesh, world, view, vp, &r)
-        });
+            ..FrameInst::new(k, inst, placed, view, vp, &r, copy)
+        };
+        match &inst.copies {
+            None => fd.insts.push(one(world, false)),
+            Some(copies) => {
+                // Each copy against the frustum in the instance's frame (where its sphere
+                // is), one shared parameter block.
+                let mt = world.transpose();
+                let local = planes.map(|p| {
+                    let q = mt * p;
+                    (q, q.truncate().length())
+                });
+                let triangles = tri.triangles.len() as u64;
+                for (m, s) in copies.matrices.iter().zip(copies.spheres.iter()) {
+                    let visible = local
+                        .iter()
+                        .all(|(q, len)| q.truncate().dot(s.truncate()) + q.w >= -s.w * len);
+                    let placed = world * *m;
+                    if visible {
+                        fd.insts.push(one(placed, true));
+                    } else {
+                        if shadows {
+                            fd.casters
+                                .push(FrameInst::new(k, inst, placed, view, vp, &r, true));
+                        }
+                        stats.objects_culled += 1;
+                        stats.culled_frustum += triangles;
+                        stats.triangles_in += triangles;
+                    }
+                }
+            }
+        }
         fd.params.push(r.params);
     }
     fd.order.clear();

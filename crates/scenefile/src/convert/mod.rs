@@ -372,6 +372,7 @@ pub(super) fn primitive(s: &PrimitiveSpec) -> Result<Scene, String> {
         style: crate::scene::Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene.report.file = format!("[primitive] {name}");
     scene.report.format = "generated".into();

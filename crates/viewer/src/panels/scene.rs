@@ -106,10 +106,16 @@ impl ScenePanel {
                         if ui
                             .checkbox(
                                 &mut shown,
-                                format!(
-                                    "{i}: {} (mesh {}, {tris} triangles, {:?})",
-                                    inst.name, inst.mesh, inst.style
-                                ),
+                                match inst.copies.as_ref().map(|c| c.len()) {
+                                    None => format!(
+                                        "{i}: {} (mesh {}, {tris} triangles, {:?})",
+                                        inst.name, inst.mesh, inst.style
+                                    ),
+                                    Some(n) => format!(
+                                        "{i}: {} (mesh {}, {tris} triangles, {n} copies, {:?})",
+                                        inst.name, inst.mesh, inst.style
+                                    ),
+                                },
                             )
                             .on_hover_text("shown; untick to hide this part")
                             .changed()

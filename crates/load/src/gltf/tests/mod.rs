@@ -462,3 +462,65 @@ fn material_variants_map_triangles_and_lines() {
         .iter()
         .any(|s| s.contains("KHR_materials_variants")));
 }
+
+#[test]
+fn gpu_instancing_reads_copies_or_says_why_not() {
+    let dir = TempDir::new("gltf-instancing");
+    let mut doc = Doc::default();
+    let tri = doc.floats(&TRI, "VEC3");
+    let t = doc.floats(&[1.0, 0.0, 0.0, 0.0, 2.0, 0.0, f32::NAN, 0.0, 0.0], "VEC3");
+    let s = doc.floats(&[2.0, 2.0, 2.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0], "VEC3");
+    let short = doc.floats(&[1.0, 1.0, 1.0], "VEC3");
+    // A quarter turn about +Z as normalized signed bytes (KHR_mesh_quantization's form).
+    let view = doc.view(&[0, 0, 90, 90, 0, 0, 0, 127, 0, 0, 0, 127]);
+    let r = doc.accessor(
+        json!({"bufferView": view, "componentType": 5120, "normalized": true, "count": 3, "type": "VEC4"}),
+    );
+    let node = |attributes: Value| {
+        json!({"mesh": 0, "translation": [0.0, 0.0, 5.0],
+               "extensions": {"EXT_mesh_gpu_instancing": {"attributes": attributes}}})
+    };
+    let rest = json!({
+        "extensionsUsed": ["EXT_mesh_gpu_instancing"],
+        "extensionsRequired": ["EXT_mesh_gpu_instancing"],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": tri}}]}],
+        "nodes": [
+            node(json!({"TRANSLATION": t, "ROTATION": r, "SCALE": s})),
+            node(json!({"TRANSLATION": t, "SCALE": short})),
+            node(json!({"TRANSLATION": "zero"})),
+            node(json!({"SCALE": 99})),
+            node(json!({"_ID": t})),
+        ],
+        "scenes": [{"nodes": [0, 1, 2, 3, 4]}], "scene": 0
+    });
+    let scene = load_text(&dir, &doc.finish(rest)).expect("a required extension realist reads");
+    let copies: Vec<usize> = scene.instances.iter().map(|i| i.copy_count()).collect();
+    assert_eq!(copies, [2, 1, 1, 1, 1], "{:?}", scene.report.warnings);
+    let first = &scene.instances[0];
+    // Copy 0: translated by (1, 0, 0), scaled by 2, a quarter turn about +Z, under the
+    // node's (0, 0, 5): the triangle's corner (1, 0, 0) lands at (1, 2, 5).
+    let p = first.placement(0).transform_point3(Vec3::X);
+    assert!((p - Vec3::new(1.0, 2.0, 5.0)).length() < 0.02, "{p}");
+    // Copy 1: not turned (the identity quaternion), translated by (0, 2, 0).
+    let p = first.placement(1).transform_point3(Vec3::X);
+    assert!((p - Vec3::new(1.0, 2.0, 5.0)).length() < 1e-6, "{p}");
+    let warned = |what: &str| scene.report.warnings.iter().any(|w| w.contains(what));
+    let all = &scene.report.warnings;
+    assert!(
+        warned("1 of 3 copies have a non-finite transform"),
+        "{all:?}"
+    );
+    assert!(warned("accessor 3 has 1, not 3"), "{all:?}");
+    assert!(warned("TRANSLATION is not an accessor index"), "{all:?}");
+    assert!(warned("is unusable"), "{all:?}");
+    assert!(
+        warned("has none of TRANSLATION, ROTATION and SCALE"),
+        "{all:?}"
+    );
+    assert!(all
+        .iter()
+        .all(|w| !w.contains("non-finite") || w.contains("left out")));
+    for inst in &scene.instances[1..] {
+        assert_eq!(inst.placement(0), inst.world, "drawn once, at the node");
+    }
+}

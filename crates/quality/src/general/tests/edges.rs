@@ -60,6 +60,7 @@ fn non_finite_input_empty_scenes_and_bad_requests() {
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     let img = reference(&scene, &opts, 4, false).unwrap();
     // Camera at z = 3, 45 degrees: the plane z = 0 spans +-1.243 vertically, so the

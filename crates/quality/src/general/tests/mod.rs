@@ -89,6 +89,7 @@ fn place(scene: &mut Scene, mesh: Mesh, world: Mat4) {
         style: Style::Inherit,
         node: None,
         skin: None,
+        copies: None,
     });
     scene.meshes.push(mesh);
 }
