@@ -5,7 +5,8 @@
 //
 // writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
-// lights-punctual.glb, variants.glb, pointer.glb and instanced.glb. Every piece of
+// lights-punctual.glb, variants.glb, pointer.glb, instanced.glb, clearcoat.glb,
+// clearcoat-only.glb, sheen.glb and sheen-only.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -13,6 +14,7 @@ import { writeFile } from "node:fs/promises";
 import path from "node:path";
 import { Document, NodeIO, TextureInfo, VERSION } from "@gltf-transform/core";
 import {
+  EXTMeshFeatures,
   EXTMeshGPUInstancing,
   KHRLightsPunctual,
   KHRMaterialsClearcoat,
@@ -32,6 +34,7 @@ if (!dir || process.argv.length !== 3) {
 }
 
 const io = new NodeIO().registerExtensions([
+  EXTMeshFeatures,
   EXTMeshGPUInstancing,
   KHRLightsPunctual,
   KHRMaterialsClearcoat,
@@ -342,21 +345,16 @@ async function iorSpecular() {
 }
 
 // ---------------------------------------------------------------------------------------
-// unknown-extension.glb: extensions realist does not implement (its loader should report them).
+// unknown-extension.glb: an extension realist does not read (its loader should report it):
+// EXT_mesh_features (feature IDs, structural metadata for GIS and CAD tools; nothing to draw).
 
 async function unknownExtension() {
   const doc = newDocument();
-  const clearcoat = doc.createExtension(KHRMaterialsClearcoat);
-  const sheen = doc.createExtension(KHRMaterialsSheen);
-  const material = doc
-    .createMaterial("clearcoat-sheen")
-    .setBaseColorFactor([0.8, 0.1, 0.1, 1])
-    .setMetallicFactor(0)
-    .setRoughnessFactor(0.5)
-    .setExtension("KHR_materials_clearcoat", clearcoat.createClearcoat().setClearcoatFactor(1).setClearcoatRoughnessFactor(0.1))
-    .setExtension("KHR_materials_sheen", sheen.createSheen().setSheenColorFactor([0.5, 0.5, 0.5]).setSheenRoughnessFactor(0.5));
+  const features = doc.createExtension(EXTMeshFeatures);
+  const material = doc.createMaterial("plain-red").setBaseColorFactor([0.8, 0.1, 0.1, 1]).setMetallicFactor(0).setRoughnessFactor(0.5);
   const prim = spherePrimitive(doc).setMaterial(material);
-  place(doc, "clearcoat-sheen", doc.createMesh("clearcoat-sheen").addPrimitive(prim), [0, 0, 0]);
+  prim.setExtension("EXT_mesh_features", features.createFeatures().addFeatureID(features.createFeatureID().setFeatureCount(1)));
+  place(doc, "plain-red", doc.createMesh("plain-red").addPrimitive(prim), [0, 0, 0]);
   await write(doc, "unknown-extension.glb");
 }
 
@@ -402,6 +400,41 @@ async function variants() {
   }
   sphere.dispose();
   await write(doc, "variants.glb");
+}
+
+// ---------------------------------------------------------------------------------------
+// The layers over a material, each file one sphere (radius 0.4 at the origin) with one
+// material named as the file:
+//   clearcoat.glb       base (0.8, 0.3, 0.1), metallic 0, roughness 0.6; clearcoat 1,
+//                       clearcoatRoughness 0.3
+//   clearcoat-only.glb  base black, KHR_materials_specular specularFactor 0 (the base reflects
+//                       nothing); clearcoat 1, clearcoatRoughness 0.5
+//   sheen.glb           base (0.1, 0.2, 0.6), metallic 0, roughness 0.8; sheenColor (1, 0.5,
+//                       0.25), sheenRoughness 0.5
+//   sheen-only.glb      base black, specularFactor 0; sheenColor (1, 0.5, 0.25),
+//                       sheenRoughness 0.5
+
+async function layers() {
+  const files = [
+    ["clearcoat", [0.8, 0.3, 0.1, 1], 0.6, false, (doc, m) =>
+      m.setExtension("KHR_materials_clearcoat", doc.createExtension(KHRMaterialsClearcoat).createClearcoat().setClearcoatFactor(1).setClearcoatRoughnessFactor(0.3))],
+    ["clearcoat-only", [0, 0, 0, 1], 0.5, true, (doc, m) =>
+      m.setExtension("KHR_materials_clearcoat", doc.createExtension(KHRMaterialsClearcoat).createClearcoat().setClearcoatFactor(1).setClearcoatRoughnessFactor(0.5))],
+    ["sheen", [0.1, 0.2, 0.6, 1], 0.8, false, (doc, m) =>
+      m.setExtension("KHR_materials_sheen", doc.createExtension(KHRMaterialsSheen).createSheen().setSheenColorFactor([1, 0.5, 0.25]).setSheenRoughnessFactor(0.5))],
+    ["sheen-only", [0, 0, 0, 1], 0.5, true, (doc, m) =>
+      m.setExtension("KHR_materials_sheen", doc.createExtension(KHRMaterialsSheen).createSheen().setSheenColorFactor([1, 0.5, 0.25]).setSheenRoughnessFactor(0.5))],
+  ];
+  for (const [name, base, roughness, dark, extend] of files) {
+    const doc = newDocument();
+    const m = doc.createMaterial(name).setBaseColorFactor(base).setMetallicFactor(0).setRoughnessFactor(roughness);
+    extend(doc, m);
+    if (dark) {
+      m.setExtension("KHR_materials_specular", doc.createExtension(KHRMaterialsSpecular).createSpecular().setSpecularFactor(0));
+    }
+    place(doc, name, doc.createMesh(name).addPrimitive(spherePrimitive(doc).setMaterial(m)), [0, 0, 0]);
+    await write(doc, `${name}.glb`);
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -615,3 +648,4 @@ await lightsPunctual();
 await variants();
 await pointer();
 await instanced();
+await layers();

@@ -4,9 +4,11 @@
 // - every file is one this script knows, under 300 KB, with the fixed generator string
 //   (no-material.glb has no material at all, lights-punctual.glb also uses
 //   KHR_lights_punctual, variants.glb KHR_materials_variants, pointer.glb
-//   KHR_animation_pointer);
+//   KHR_animation_pointer, instanced.glb EXT_mesh_gpu_instancing, unknown-extension.glb
+//   EXT_mesh_features);
 // - each material is there, in order, with exactly the material extensions it is made to
-//   have, and the file's extensionsUsed is exactly their union (extensionsRequired empty);
+//   have, and the file's extensionsUsed is exactly their union (extensionsRequired empty but
+//   for instanced.glb, which requires EXT_mesh_gpu_instancing);
 // - the two sphere grids have 25 nodes `sphere-m{m}-r{r}` at (i - 2, 2 - j, 0) with
 //   material `m{m}-r{r}`, metallicFactor i/4 and roughnessFactor j/4 (node k = 5 j + i).
 //
@@ -36,18 +38,28 @@ const EXPECTED = new Map([
     "ior-specular.glb",
     [["ior-default", []], ["ior-1.0", ["KHR_materials_ior"]], ["ior-2.5", ["KHR_materials_ior"]], ["specular-0.5", ["KHR_materials_specular"]]],
   ],
-  ["unknown-extension.glb", [["clearcoat-sheen", ["KHR_materials_clearcoat", "KHR_materials_sheen"]]]],
+  ["unknown-extension.glb", [["plain-red", []]]],
+  ["instanced.glb", [["bark", []]]],
+  ["clearcoat.glb", [["clearcoat", ["KHR_materials_clearcoat"]]]],
+  ["clearcoat-only.glb", [["clearcoat-only", ["KHR_materials_clearcoat", "KHR_materials_specular"]]]],
+  ["sheen.glb", [["sheen", ["KHR_materials_sheen"]]]],
+  ["sheen-only.glb", [["sheen-only", ["KHR_materials_sheen", "KHR_materials_specular"]]]],
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],
   ["pointer.glb", [["pulse", ["KHR_materials_emissive_strength"]]]],
 ]);
 
+/** Extensions a file requires (none for the others). */
+const REQUIRED = new Map([["instanced.glb", ["EXT_mesh_gpu_instancing"]]]);
+
 /** Extensions a file uses besides its materials'. */
 const OTHER_EXTENSIONS = new Map([
   ["lights-punctual.glb", ["KHR_lights_punctual"]],
   ["variants.glb", ["KHR_materials_variants"]],
   ["pointer.glb", ["KHR_animation_pointer", "KHR_lights_punctual"]],
+  ["instanced.glb", ["EXT_mesh_gpu_instancing"]],
+  ["unknown-extension.glb", ["EXT_mesh_features"]],
 ]);
 
 function json(bytes, file) {
@@ -115,7 +127,8 @@ for (const file of process.argv.slice(2)) {
   if (gltf.asset.generator !== GENERATOR) fail(`generator should be "${GENERATOR}"`);
   const used = [...new Set([...expected.flatMap(([, exts]) => exts), ...(OTHER_EXTENSIONS.get(name) ?? [])])].sort();
   if (!same([...(gltf.extensionsUsed ?? [])].sort(), used)) fail(`extensionsUsed should be ${JSON.stringify(used)}`);
-  if (!same(gltf.extensionsRequired, [])) fail("extensionsRequired should be empty");
+  const required = REQUIRED.get(name) ?? [];
+  if (!same(gltf.extensionsRequired ?? [], required)) fail(`extensionsRequired should be ${JSON.stringify(required)}`);
   const materials = gltf.materials ?? [];
   if (materials.length !== expected.length) fail(`${materials.length} materials, not ${expected.length}`);
   materials.forEach((material, m) => {

@@ -19,3 +19,11 @@ node render.mjs --quiet --model ../../models/pbr/no-material.glb --out refs/no-m
   --size 256x256 --eye 0,0,3 --target 0,0,0 --yfov 45 --light directional:0,0,-1:1 \
   --tone none --background 0,0,0
 echo "wrote tests/threejs/refs/no-material-headon.png"
+# The layers (KHR_materials_clearcoat, KHR_materials_sheen) on spheres of radius 0.4, head-on
+# under a 1-lux directional light from the camera and a uniform surround of radiance 0.25.
+for m in clearcoat sheen; do
+  node render.mjs --quiet --model ../../models/pbr/$m.glb --out refs/$m-headon.png \
+    --size 256x256 --eye 0,0,1.5 --target 0,0,0 --yfov 45 --light directional:0,0,-1:1 \
+    --env uniform:0.25 --tone none --background 0,0,0
+  echo "wrote tests/threejs/refs/$m-headon.png"
+done

@@ -5,7 +5,7 @@
 // Usage:
 //   node render.mjs --model FILE.glb --out OUT.png --size 256x256 \
 //     --eye x,y,z --target x,y,z --yfov DEG \
-//     [--light directional:DX,DY,DZ:LUX]... [--env none|room] [--exposure 1] \
+//     [--light directional:DX,DY,DZ:LUX]... [--env none|room|uniform:RADIANCE] [--exposure 1] \
 //     [--tone none|neutral|aces|agx|linear|reinhard|cineon] [--background r,g,b] \
 //     [--up x,y,z] [--near N] [--far F] [--chromium /usr/bin/chromium] [--quiet]
 //
@@ -75,7 +75,9 @@ if (!sm) die(`--size must be WxH, got "${a.size}"`);
 
 const TONES = ['none', 'neutral', 'aces', 'agx', 'linear', 'reinhard', 'cineon'];
 if (!TONES.includes(a.tone)) die(`--tone must be one of ${TONES.join('|')}`);
-if (!['none', 'room'].includes(a.env)) die('--env must be none or room');
+const uniformEnv = /^uniform:([0-9.eE+-]+)$/.exec(a.env);
+if (!['none', 'room'].includes(a.env) && !uniformEnv) die('--env must be none, room or uniform:RADIANCE');
+if (uniformEnv) num(uniformEnv[1], 'env uniform radiance');
 
 const lights = a.light.map((spec) => {
   const m = /^directional:([^:]+):([^:]+)$/.exec(spec);
@@ -150,6 +152,14 @@ window.renderScene = async (cfg) => {
   if (cfg.env === 'room') {
     const pmrem = new THREE.PMREMGenerator(renderer);
     scene.environment = pmrem.fromScene(new RoomEnvironment(), 0.04).texture;
+  } else if (cfg.env.startsWith('uniform:')) {
+    // A uniform surround of that linear radiance: the PMREM of an empty scene whose
+    // background is the colour.
+    const k = Number(cfg.env.slice('uniform:'.length));
+    const surround = new THREE.Scene();
+    surround.background = new THREE.Color().setRGB(k, k, k, THREE.LinearSRGBColorSpace);
+    const pmrem = new THREE.PMREMGenerator(renderer);
+    scene.environment = pmrem.fromScene(surround, 0).texture;
   }
 
   // Bounds of the model, used for the near/far planes and for placing lights.

@@ -19,8 +19,8 @@ use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::{Light, LightKind, TextureSource};
 use crate::shade::{
-    ambient_split, arriving, maps, reflect, single_scatter_albedo, texlab, view_vector, LightSet,
-    Shading, SlotParams,
+    ambient_split, arriving, emission_seen, maps, reflect, texlab, view_terms, view_vector,
+    LightSet, Shading, SlotParams,
 };
 
 /// One light's contribution at the probed point (linear RGB).
@@ -43,6 +43,10 @@ pub struct LightShare {
     pub d: f32,
     pub vis: f32,
     pub fresnel: Vec3,
+    /// The sheen and clear-coat layers' own reflection of this light (included in
+    /// `specular`; zero without those layers).
+    pub sheen: Vec3,
+    pub coat: Vec3,
 }
 
 /// What the probe found at a pixel.
@@ -261,11 +265,10 @@ pub fn probe(
         None => d.emissive,
     };
     let v = view_vector(&surf, position, eye);
-    // The punctual lights' multiple-scattering compensation, as the shaders have it.
-    let ess = single_scatter_albedo(&surf, normal, v);
-    if let (Some(p), false) = (&mut surf.pbr, settings.single_scatter) {
-        p.ess = ess;
-    }
+    // The punctual lights' multiple-scattering compensation and the layers' values at the
+    // view, as the shaders have them.
+    view_terms(&mut surf, normal, v, settings.single_scatter);
+    let emitted = emission_seen(&surf, emitted);
     let mut set = LightSet::default();
     let cam_to_world = view_m.inverse();
     let mut ambient_light = Vec3::ZERO;
@@ -322,6 +325,8 @@ pub fn probe(
                 d: terms.d,
                 vis: terms.vis,
                 fresnel: terms.fresnel,
+                sheen: terms.sheen * rad * shadow,
+                coat: terms.coat * rad * shadow,
             });
         },
     );

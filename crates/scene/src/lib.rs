@@ -100,6 +100,14 @@ pub struct PbrMaterial {
     pub emissive_strength: f32,
     /// `KHR_materials_unlit`: the base colour is shown as it is, without lighting.
     pub unlit: bool,
+    /// `KHR_materials_clearcoat`: `clearcoatFactor` (0: no coat) and
+    /// `clearcoatRoughnessFactor` of the clear layer over the material.
+    pub clearcoat: f32,
+    pub clearcoat_roughness: f32,
+    /// `KHR_materials_sheen`: `sheenColorFactor` (linear RGB; black: no sheen) and
+    /// `sheenRoughnessFactor` of the cloth-like layer over the base.
+    pub sheen_color: Vec3,
+    pub sheen_roughness: f32,
 }
 
 impl Default for PbrMaterial {
@@ -110,6 +118,10 @@ impl Default for PbrMaterial {
             specular_color: Vec3::ONE,
             emissive_strength: 1.0,
             unlit: false,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
         }
     }
 }

@@ -22,7 +22,7 @@
 //! ([`Pbr::ess`], from the split-sum table read at three.js's table coordinates, so both
 //! renderers compensate alike; 1 gives the specification's single-scattering formula).
 
-use super::lighting::SurfaceAt;
+use super::lighting::{Shade, SurfaceAt};
 pub use crate::microfacet::{alpha, ggx, schlick, schlick_weight, smith_vis, MIN_ALPHA};
 use crate::simd::Num;
 
@@ -43,6 +43,46 @@ pub struct Pbr<T: Num> {
     /// (the split-sum table's `A + B` at three.js's table coordinates), which sets the multiple-scattering compensation of
     /// the punctual lights; 1 (the default) turns it off.
     pub ess: T,
+    /// The clear coat and the sheen over the base, if the material has either.
+    pub layers: Option<Layers<T>>,
+}
+
+/// The layers over a `pbr` base (`KHR_materials_clearcoat`, `KHR_materials_sheen`), as the
+/// specifications stack them: `coated = mix(sheened, coat, clearcoat Fr(N·V))`, `sheened =
+/// sheen + base (1 - max(sheenColor) E)`, with `Fr` the coat's Schlick Fresnel (F0 0.04:
+/// its IOR is 1.5) at the view and `E` the sheen's directional albedo
+/// ([`crate::sheen::albedo`]) at the view and, for a light, the larger of it at the view and
+/// at the light.
+#[derive(Clone, Copy, Debug)]
+pub struct Layers<T: Num> {
+    /// `clearcoatFactor` (0: none), the coat's perceptual roughness and α.
+    pub coat: T,
+    pub coat_roughness: T,
+    pub coat_alpha: T,
+    /// `sheenColorFactor` (black: none), its largest component, its roughness and α
+    /// ([`crate::sheen::alpha`]).
+    pub sheen: T::V,
+    pub sheen_max: T,
+    pub sheen_roughness: T,
+    pub sheen_alpha: T,
+    /// At the point, set with the view ([`Layers::view`]): what the coat lets through,
+    /// `1 - clearcoat Fr(N·V)`, and the sheen's albedo at the view.
+    pub coat_keep: T,
+    pub sheen_ev: T,
+}
+
+/// The clear coat's Fresnel at normal incidence (IOR 1.5).
+pub const COAT_F0: f32 = 0.04;
+
+impl<T: Num> Layers<T> {
+    /// Sets the per-point values for `N·V` (`sheen_ev` from `albedo`, the sheen's table at
+    /// `N·V` and the sheen roughness).
+    #[inline(always)]
+    pub fn view(&mut self, nv: T, sheen_ev: T) {
+        let fr = T::of(COAT_F0) + T::of(1.0 - COAT_F0) * schlick_weight(nv);
+        self.coat_keep = T::ONE - self.coat * fr;
+        self.sheen_ev = sheen_ev;
+    }
 }
 
 /// The terms of one light's reflection at a point: what the pixel probe lists.
@@ -56,13 +96,17 @@ pub struct Terms<T: Num> {
     pub d: T,
     pub vis: T,
     pub fresnel: T::V,
+    /// The sheen and clear-coat layers' own reflection times `NL` (included in
+    /// `specular`; zero without layers).
+    pub sheen: T::V,
+    pub coat: T::V,
 }
 
 /// The metallic-roughness BRDF times `NL` for unit normal `n`, light direction `l` and
 /// view vector `v`, on the lanes where `lit` (`NL = ndl > 0` there).
 #[inline(always)]
 #[must_use]
-pub fn pbr<T: Num>(
+pub fn pbr<T: Shade>(
     s: &SurfaceAt<T>,
     p: &Pbr<T>,
     alpha: T,
@@ -90,13 +134,60 @@ pub fn pbr<T: Num>(
     let one = T::splat(T::ONE);
     let lobes = fd * (one + p.f0 * k) * dielectric + fm * (one + s.kd * k) * p.metallic;
     let specular = lobes * (vis * d * ndl);
+    let zero = T::splat(T::ZERO);
+    let Some(y) = &p.layers else {
+        return Terms {
+            diffuse,
+            specular,
+            d,
+            vis,
+            fresnel,
+            sheen: zero,
+            coat: zero,
+        };
+    };
+    let [diffuse, specular, sheen, coat] = layer(y, diffuse, specular, nh, ndl, nv);
     Terms {
         diffuse,
-        specular,
+        specular: specular + sheen + coat,
         d,
         vis,
         fresnel,
+        sheen,
+        coat,
     }
+}
+
+/// The base's diffuse and specular reflection under the layers `y` for one light, and the
+/// layers' own reflection (sheen, coat), all times `NL` (see [`Layers`]).
+#[inline(always)]
+fn layer<T: Shade>(
+    y: &Layers<T>,
+    diffuse: T::V,
+    specular: T::V,
+    nh: T,
+    ndl: T,
+    nv: T,
+) -> [T::V; 4] {
+    let zero = T::splat(T::ZERO);
+    let (mut diffuse, mut specular, mut sheen, mut coat) = (diffuse, specular, zero, zero);
+    if T::any(y.sheen_max.gt(T::ZERO)) {
+        let el = T::sheen_albedo(ndl, y.sheen_roughness);
+        let scale = (T::ONE - y.sheen_max * y.sheen_ev.max(el)).max(T::ZERO);
+        diffuse = diffuse * scale;
+        specular = specular * scale;
+        sheen = y.sheen * crate::sheen::lobe(nh, ndl, nv, y.sheen_alpha);
+    }
+    if T::any(y.coat.gt(T::ZERO)) {
+        // mix(beneath, coat, clearcoat Fr(N·V)): the coat lobe is D Vis without a Fresnel
+        // of its own (the mix weight is its Fresnel).
+        let lobe = ggx(nh, y.coat_alpha) * smith_vis(ndl, nv, y.coat_alpha) * ndl;
+        coat = T::splat((T::ONE - y.coat_keep) * lobe);
+        diffuse = diffuse * y.coat_keep;
+        specular = specular * y.coat_keep;
+        sheen = sheen * y.coat_keep;
+    }
+    [diffuse, specular, sheen, coat]
 }
 
 /// The split-sum factors of the specular image-based term with multiple scattering

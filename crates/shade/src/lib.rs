@@ -33,13 +33,14 @@ pub mod maps;
 pub mod mode;
 mod shaders;
 mod shadow;
+pub mod sheen;
 pub mod stages;
 pub mod texlab;
 
 pub use crate::simd::{Num, Real};
 pub use lighting::{
-    ambient, ambient_ess, ambient_split, arriving, attenuate, cone, contribution, illuminate,
-    pyramid, reflect, single_scatter_albedo, view_vector, Fog, FogDistance, LightSet, PbrParams,
+    ambient, ambient_at, ambient_split, arriving, attenuate, cone, contribution, emission_seen,
+    illuminate, pyramid, reflect, view_terms, view_vector, Fog, FogDistance, LightSet, PbrParams,
     Shade, Source, Surface, SurfaceAt, IMAGE_SAMPLER, MAX_HALF_ANGLE,
 };
 pub use shaders::{

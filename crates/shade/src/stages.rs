@@ -25,7 +25,7 @@
 
 use glam::Vec3;
 
-use super::lighting::{ambient_ess, contribution, view_vector, SurfaceAt};
+use super::lighting::{ambient_at, contribution, emission_seen, view_vector, SurfaceAt};
 use super::maps::perturb_lanes;
 use super::shaders::{DrawParams, LitShader, SlotParams, TexView};
 use super::texlab;
@@ -61,6 +61,10 @@ pub struct Regs {
     pub v: [Lane; 3],
     /// `E_ss` of a `pbr` surface for the punctual lights ([`crate::brdf::Pbr::ess`]).
     pub ess: Lane,
+    /// The layers' values at the view ([`crate::brdf::Layers::view`]), where the draw has
+    /// a clear coat or a sheen.
+    pub coat_keep: Lane,
+    pub sheen_ev: Lane,
     /// The colour so far (linear RGB).
     pub c: [Lane; 3],
 }
@@ -359,13 +363,19 @@ crate::simd::per_kernel! {
                 n = -n;
                 n.set(&mut r.n);
             }
-            let s = surface::<L>(cx.d, r);
+            let mut s = surface::<L>(cx.d, r);
             let v = view_vector(&s, position(b, g), eye);
             v.set(&mut r.v);
-            let (mut c, ess) = ambient_ess(cx.s.lights, &s, n, v);
-            r.ess.set(ess);
+            let mut c = ambient_at(cx.s.lights, &mut s, n, v);
+            if let Some(p) = &s.pbr {
+                r.ess.set(p.ess);
+                if let Some(y) = &p.layers {
+                    r.coat_keep.set(y.coat_keep);
+                    r.sheen_ev.set(y.sheen_ev);
+                }
+            }
             if let Some(e) = s.emitted {
-                c = c + e;
+                c = c + emission_seen(&s, e);
             }
             c.set(&mut r.c);
         }
@@ -384,6 +394,10 @@ crate::simd::per_kernel! {
             let mut s = surface::<L>(cx.d, r);
             if let Some(p) = &mut s.pbr {
                 p.ess = r.ess.get();
+                if let Some(y) = &mut p.layers {
+                    y.coat_keep = r.coat_keep.get();
+                    y.sheen_ev = r.sheen_ev.get();
+                }
             }
             let (n, v) = (V3::get(&r.n), V3::get(&r.v));
             let c = V3::<L>::get(&r.c) + contribution(set, src, &s, position(b, g), n, v, blinn);

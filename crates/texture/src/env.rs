@@ -134,6 +134,14 @@ impl EnvView {
         self.env.irradiance(self.to_image(n)) * self.intensity
     }
 
+    /// The radiance averaged over the sheen lobe of roughness `r` around the normal `n`;
+    /// see [`Prefiltered::sheen_uv`].
+    #[must_use]
+    pub fn sheen(&self, n: Vec3, r: f32) -> Vec3 {
+        let (u, v) = equirect::dir_to_uv(self.to_image(n).normalize_or_zero());
+        self.env.sheen_uv(u, v, r) * self.intensity
+    }
+
     /// What a camera ray in direction `dir` sees; see [`Prefiltered::background`].
     #[must_use]
     pub fn background(&self, dir: Vec3, blur: f32) -> Vec3 {

@@ -4,7 +4,9 @@
 //! - `D = α² / (π (NH² (α² - 1) + 1)²)`, GGX / Trowbridge-Reitz, `α = roughness²`;
 //! - `Vis = 1 / (2 (NL sqrt(NV² (1 - α²) + α²) + NV sqrt(NL² (1 - α²) + α²)))`, Smith's
 //!   height-correlated masking-shadowing divided by `4 NL NV`;
-//! - `F = F0 + (F90 - F0) (1 - VH)⁵`, Schlick.
+//! - `F = F0 + (F90 - F0) (1 - VH)⁵`, Schlick;
+//! - `KHR_materials_sheen`'s "Charlie" distribution and visibility ([`charlie_d`],
+//!   [`charlie_v`]; Estevez and Kulla 2017).
 //!
 //! It sits at the bottom of the crate, beside `simd`, because two layers need the same
 //! formulas: `shade::brdf` lights surfaces with them, and `texture::env` prefilters
@@ -91,4 +93,71 @@ pub fn f0_of_ior(ior: f32) -> f32 {
     }
     let r = (ior - 1.0) / (ior + 1.0);
     r * r
+}
+
+/// The smallest sheen roughness used (α = 0.0049): at 0 the Charlie distribution is a delta
+/// at grazing half vectors.
+pub const MIN_SHEEN_ROUGHNESS: f32 = 0.07;
+
+/// α of sheen roughness `r` (clamped to [`MIN_SHEEN_ROUGHNESS`]..1 first).
+#[inline(always)]
+#[must_use]
+pub fn sheen_alpha<T: Num>(r: T) -> T {
+    let r = r.max(T::of(MIN_SHEEN_ROUGHNESS)).min(T::ONE);
+    r * r
+}
+
+/// `(1 - α)²`-interpolated coefficients of the visibility's `l(x)` (Estevez and Kulla's
+/// fits at α = 0 and 1).
+#[inline(always)]
+fn sheen_coefficients<T: Num>(alpha: T) -> [T; 5] {
+    let t = (T::ONE - alpha) * (T::ONE - alpha);
+    let lerp = |a: f64, b: f64| T::of64(a) + (T::of64(b) - T::of64(a)) * t;
+    [
+        lerp(21.5473, 25.3245),
+        lerp(3.82987, 3.32435),
+        lerp(0.19823, 0.16801),
+        lerp(-1.97760, -1.27393),
+        lerp(-4.32054, -4.85967),
+    ]
+}
+
+#[inline(always)]
+fn sheen_l<T: Num>(x: T, k: &[T; 5]) -> T {
+    k[0] / (T::ONE + k[1] * x.powf(k[2])) + k[3] * x + k[4]
+}
+
+/// `e^y` (through [`Num::powf`], which every number type has).
+#[inline(always)]
+fn exp<T: Num>(y: T) -> T {
+    T::of64(std::f64::consts::E).powf(y)
+}
+
+/// The visibility's `Λ(c)`: `exp(l(c))` below c = 0.5, `exp(2 l(0.5) - l(1 - c))` above.
+#[inline(always)]
+fn sheen_lambda<T: Num>(c: T, k: &[T; 5]) -> T {
+    let low = exp(sheen_l(c, k));
+    let half = sheen_l(T::of(0.5), k);
+    let high = exp(half + half - sheen_l(T::ONE - c, k));
+    T::select(c.lt(T::of(0.5)), low, high)
+}
+
+/// The sheen distribution `D = (2 + 1/α) sin(θ_h)^(1/α) / (2π)` at `N·H` for α.
+#[inline(always)]
+#[must_use]
+pub fn charlie_d<T: Num>(nh: T, alpha: T) -> T {
+    let inv = alpha.recip();
+    let sin2 = (T::ONE - nh * nh).max(T::ZERO);
+    (T::of(2.0) + inv) * sin2.powf(inv * T::of(0.5)) * T::of64(0.5 * std::f64::consts::FRAC_1_PI)
+}
+
+/// The sheen visibility `V = 1 / ((1 + Λ(N·V) + Λ(N·L)) 4 (N·V)(N·L))` at `N·L` and `N·V`
+/// (both positive) for α, at most 1 (as the Khronos sample viewer clamps it: unclamped, a
+/// smooth sheen seen at grazing angles reflects up to three times the light it receives).
+#[inline(always)]
+#[must_use]
+pub fn charlie_v<T: Num>(nl: T, nv: T, alpha: T) -> T {
+    let k = sheen_coefficients(alpha);
+    let denom = (T::ONE + sheen_lambda(nv, &k) + sheen_lambda(nl, &k)) * T::of(4.0) * nv * nl;
+    denom.max(T::ONE).recip()
 }

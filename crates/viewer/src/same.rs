@@ -74,6 +74,10 @@ fn material(m: &mut Material) {
         f(&mut p.specular);
         v3(&mut p.specular_color);
         f(&mut p.emissive_strength);
+        f(&mut p.clearcoat);
+        f(&mut p.clearcoat_roughness);
+        v3(&mut p.sheen_color);
+        f(&mut p.sheen_roughness);
     }
 }
 
@@ -166,13 +170,17 @@ mod tests {
             ..Material::default()
         };
         let mut s = Settings::default();
-        for k in 0..4 {
+        for k in 0..8 {
             let mut m = m.clone();
             let p = m.pbr.as_mut().unwrap();
             match k {
                 0 => p.ior = f32::NAN,
                 1 => p.specular = f32::NAN,
                 2 => p.specular_color.y = f32::NAN,
+                3 => p.clearcoat = f32::NAN,
+                4 => p.clearcoat_roughness = f32::NAN,
+                5 => p.sheen_color.z = f32::NAN,
+                6 => p.sheen_roughness = f32::NAN,
                 _ => p.emissive_strength = f32::NAN,
             }
             s.materials = Some(vec![m]);

@@ -36,6 +36,27 @@ pub const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
 pub const UNLIT: &str = "KHR_materials_unlit";
 pub const IOR: &str = "KHR_materials_ior";
 pub const SPECULAR: &str = "KHR_materials_specular";
+pub const CLEARCOAT: &str = "KHR_materials_clearcoat";
+pub const SHEEN: &str = "KHR_materials_sheen";
+
+/// A colour field (three non-negative finite numbers) of an extension object: `default`
+/// when absent or unusable (with the problem in `notes`).
+fn ext_color(obj: &Value, key: &str, default: Vec3, notes: &mut Vec<String>) -> Vec3 {
+    let Some(v) = obj.get(key) else {
+        return default;
+    };
+    serde_json::from_value::<[f32; 3]>(v.clone())
+        .ok()
+        .map(Vec3::from_array)
+        .filter(|c| c.is_finite() && c.min_element() >= 0.0)
+        .unwrap_or_else(|| {
+            notes.push(format!(
+                "{key} {v} is not three non-negative numbers; {:?} used",
+                default.to_array()
+            ));
+            default
+        })
+}
 
 /// A number field of an extension object: `default` when absent; `None` (with the problem
 /// in `notes`) when present but not a finite number in `lo..=hi`.
@@ -62,7 +83,7 @@ fn ext_number(
 }
 
 /// The [`PbrMaterial`] of a material with base colour `base` and extension objects `ext`
-/// (by name): the four `KHR_materials_*` extensions realist reads; each other one is named
+/// (by name): the six `KHR_materials_*` extensions realist reads; each other one is named
 /// in `notes` as ignored, and so is a bad field (replaced by its default).
 fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> PbrMaterial {
     let mut p = PbrMaterial::default();
@@ -105,6 +126,29 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
                 for t in ["specularTexture", "specularColorTexture"] {
                     if obj.get(t).is_some() {
                         notes.push(format!("{SPECULAR}.{t} ignored (its factor is used)"));
+                    }
+                }
+            }
+            CLEARCOAT => {
+                p.clearcoat = ext_number(obj, "clearcoatFactor", 0.0, 0.0, 1.0, notes);
+                p.clearcoat_roughness =
+                    ext_number(obj, "clearcoatRoughnessFactor", 0.0, 0.0, 1.0, notes);
+                for t in [
+                    "clearcoatTexture",
+                    "clearcoatRoughnessTexture",
+                    "clearcoatNormalTexture",
+                ] {
+                    if obj.get(t).is_some() {
+                        notes.push(format!("{CLEARCOAT}.{t} ignored (its factor is used)"));
+                    }
+                }
+            }
+            SHEEN => {
+                p.sheen_color = ext_color(obj, "sheenColorFactor", Vec3::ZERO, notes);
+                p.sheen_roughness = ext_number(obj, "sheenRoughnessFactor", 0.0, 0.0, 1.0, notes);
+                for t in ["sheenColorTexture", "sheenRoughnessTexture"] {
+                    if obj.get(t).is_some() {
+                        notes.push(format!("{SHEEN}.{t} ignored (its factor is used)"));
                     }
                 }
             }

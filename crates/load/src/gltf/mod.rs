@@ -45,7 +45,8 @@
 //! orthographic) go to [`Scene::cameras`] and `KHR_lights_punctual` lights to
 //! [`Scene::lights`] (see [`lights`] for the units). The extensions supported are
 //! `KHR_mesh_quantization`, `KHR_lights_punctual`, `KHR_texture_transform`,
-//! `KHR_materials_emissive_strength`, `_unlit`, `_ior`, `_specular` and `_variants`,
+//! `KHR_materials_emissive_strength`, `_unlit`, `_ior`, `_specular`, `_clearcoat`, `_sheen`
+//! and `_variants`,
 //! `KHR_animation_pointer` (node transforms and material factors), `EXT_mesh_gpu_instancing`,
 //! `EXT_meshopt_compression`, `KHR_meshopt_compression`, `KHR_draco_mesh_compression`,
 //! `KHR_texture_basisu` and `EXT_texture_webp` ([`SUPPORTED`]); a file that *requires* any
@@ -500,7 +501,7 @@ const QUANTIZATION: &str = "KHR_mesh_quantization";
 /// material extensions of [`material`], material variants ([`variants`]), animation
 /// pointers ([`animation`]), and the compressed forms of geometry ([`meshopt`],
 /// [`draco`]) and images (`KHR_texture_basisu`, `EXT_texture_webp`).
-const SUPPORTED: [&str; 15] = [
+const SUPPORTED: [&str; 17] = [
     QUANTIZATION,
     meshopt::EXT,
     meshopt::KHR,
@@ -513,6 +514,8 @@ const SUPPORTED: [&str; 15] = [
     material::UNLIT,
     material::IOR,
     material::SPECULAR,
+    material::CLEARCOAT,
+    material::SHEEN,
     variants::EXTENSION,
     animation::POINTER,
     instancing::EXTENSION,

@@ -290,10 +290,13 @@ impl Tri {
             }
             _ => illuminate::<f64>(&view.lights, None, &surf, p, n, view.eye, view.blinn),
         };
-        c += match &inst.emissive_map {
+        let emitted = match &inst.emissive_map {
             Some(m) => inst.emissive * m.at(inst.tri, v, b).truncate(),
             None => inst.emissive,
         };
+        // Seen through the clear coat, if any.
+        crate::shade::view_terms(&mut surf, n, (view.eye - p).normalize_or_zero(), true);
+        c += crate::shade::emission_seen(&surf, emitted);
         if let Some(fog) = &view.fog {
             c = fog.apply::<f64>(c, p, view.eye, view.forward);
         }

@@ -472,7 +472,56 @@ fn environment(
     let (_, m_ms) = brdf::ibl_fresnel::<f64>(s.kd, 1.0, a, bias);
     let diel = s.kd * (DVec3::ONE - d_ss - d_ms) * irradiance + spec_d + d_ms * irradiance;
     let metal = spec_m + m_ms * irradiance;
-    diel * (1.0 - pb.metallic) + metal * pb.metallic
+    let base = diel * (1.0 - pb.metallic) + metal * pb.metallic;
+    let Some(y) = &pb.layers else {
+        return base;
+    };
+    // The layers (`brdf::Layers`), their lobes integrated here rather than tabulated.
+    let mut out = base;
+    if y.sheen_max > 0.0 {
+        // The sheen: cosine-distributed directions (pdf NL/π), so `∫ f NL L dω` is the mean
+        // of π f L, and its albedo E the mean of π f.
+        let (mut e, mut light) = (0.0, DVec3::ZERO);
+        for i in 0..count {
+            let (u1, u2) = point(i);
+            let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
+            let l = world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).sqrt()));
+            let nl = n.dot(l);
+            if nl <= 0.0 {
+                continue;
+            }
+            let nh = n.dot((l + v).normalize_or_zero()).max(0.0);
+            let f = crate::shade::sheen::charlie_d(nh, y.sheen_alpha)
+                * crate::shade::sheen::charlie_v(nl, nv, y.sheen_alpha)
+                * PI;
+            e += f;
+            light += radiance(l) * f;
+        }
+        let (e, light) = (e * k, light * k);
+        out = out * (1.0 - y.sheen_max * e).max(0.0) + y.sheen * light;
+    }
+    if y.coat > 0.0 {
+        // The coat: its GGX lobe D Vis NL against the surround, weighted by clearcoat
+        // Fr(N·V) over what lies beneath.
+        let alpha = y.coat_alpha;
+        let mut light = DVec3::ZERO;
+        for i in 0..count {
+            let hv = world(microfacet::sample_h(point(i), alpha));
+            let vh = v.dot(hv);
+            let l = hv * (2.0 * vh) - v;
+            let (nl, nh) = (n.dot(l), n.dot(hv));
+            if vh <= 0.0 || nl <= 0.0 || nh <= 0.0 {
+                continue;
+            }
+            light +=
+                radiance(l) * (4.0 * microfacet::smith_vis::<f64>(nl, nv, alpha) * nl * vh / nh);
+        }
+        let fr = f64::from(brdf::COAT_F0)
+            + (1.0 - f64::from(brdf::COAT_F0)) * microfacet::schlick_weight::<f64>(nv);
+        let weight = y.coat * fr;
+        out = out * (1.0 - weight) + light * (k * weight);
+    }
+    out
 }
 
 mod coverage;

@@ -158,11 +158,28 @@ pub fn pbr_surface(m: &Material) -> Surface {
     let params = match &m.pbr {
         Some(p) => {
             let (f0, f90) = p.dielectric_fresnel();
+            // The layers' factors: 0 (no layer) if not finite.
+            let layer = |v: f32| {
+                if v.is_finite() {
+                    v.clamp(0.0, 1.0)
+                } else {
+                    0.0
+                }
+            };
+            let sheen = if p.sheen_color.is_finite() {
+                p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE)
+            } else {
+                Vec3::ZERO
+            };
             PbrParams {
                 metallic: unit(m.metallic),
                 roughness: unit(m.roughness),
                 f0,
                 f90,
+                clearcoat: layer(p.clearcoat),
+                clearcoat_roughness: layer(p.clearcoat_roughness),
+                sheen_color: sheen,
+                sheen_roughness: layer(p.sheen_roughness),
             }
         }
         None => {

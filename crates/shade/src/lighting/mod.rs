@@ -26,7 +26,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 
-use super::brdf::{self, Pbr, Terms};
+use super::brdf::{self, Layers, Pbr, Terms};
 use super::shadow::ShadowMap;
 use crate::scene::{Attenuation, Light, LightKind};
 use crate::simd::{mad, Level, Num, Real, F8, M8, V3};
@@ -270,6 +270,12 @@ pub struct PbrParams {
     pub f0: Vec3,
     /// The dielectric lobe's `F90` (see [`Pbr::f90`]).
     pub f90: f32,
+    /// `KHR_materials_clearcoat`'s factor (0: no coat) and roughness.
+    pub clearcoat: f32,
+    pub clearcoat_roughness: f32,
+    /// `KHR_materials_sheen`'s colour (black: no sheen) and roughness.
+    pub sheen_color: Vec3,
+    pub sheen_roughness: f32,
 }
 
 impl Default for PbrParams {
@@ -279,7 +285,19 @@ impl Default for PbrParams {
             roughness: 1.0,
             f0: Vec3::splat(0.04),
             f90: 1.0,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
+            sheen_color: Vec3::ZERO,
+            sheen_roughness: 0.0,
         }
+    }
+}
+
+impl PbrParams {
+    /// Whether the surface has a clear coat or a sheen over its base.
+    #[must_use]
+    pub fn layered(&self) -> bool {
+        self.clearcoat > 0.0 || self.sheen_color.max_element() > 0.0
     }
 }
 
@@ -304,6 +322,17 @@ impl Surface {
                 f0: T::vec(p.f0),
                 f90: T::of(p.f90),
                 ess: T::ONE,
+                layers: p.layered().then(|| Layers {
+                    coat: T::of(p.clearcoat),
+                    coat_alpha: brdf::alpha(T::of(p.clearcoat_roughness)),
+                    coat_roughness: T::of(p.clearcoat_roughness),
+                    sheen: T::vec(p.sheen_color),
+                    sheen_max: T::of(p.sheen_color.max_element()),
+                    sheen_roughness: T::of(p.sheen_roughness),
+                    sheen_alpha: crate::sheen::alpha(T::of(p.sheen_roughness)),
+                    coat_keep: T::ONE,
+                    sheen_ev: T::ZERO,
+                }),
             }),
         }
     }
@@ -355,6 +384,12 @@ pub trait Shade: Num {
     /// The environment's prefiltered radiance along `r` for `roughness`, and its
     /// irradiance at normal `n` over π.
     fn env(env: &EnvView, n: Self::V, r: Self::V, roughness: Self) -> (Self::V, Self::V);
+    /// The sheen layer's directional albedo at `cos` (N·V or N·L) and sheen roughness
+    /// ([`crate::sheen::albedo`]).
+    fn sheen_albedo(cos: Self, roughness: Self) -> Self;
+    /// The environment's radiance averaged over the sheen lobe of `roughness` around the
+    /// normal `n` (`EnvView::sheen`).
+    fn env_sheen(env: &EnvView, n: Self::V, roughness: Self) -> Self::V;
 }
 
 macro_rules! shade_scalar {
@@ -373,6 +408,14 @@ macro_rules! shade_scalar {
             fn brdf_lut(nv: $t, roughness: $t) -> ($t, $t, $t) {
                 let (a, b, e) = brdf_lut().lookup_ess(nv as f32, roughness as f32);
                 (a as $t, b as $t, e as $t)
+            }
+            #[inline(always)]
+            fn env_sheen(env: &EnvView, n: Self::V, roughness: $t) -> Self::V {
+                <$t>::vec(env.sheen(<$t>::to_vec3(n), roughness as f32))
+            }
+            #[inline(always)]
+            fn sheen_albedo(cos: $t, roughness: $t) -> $t {
+                crate::sheen::albedo(cos as f32, roughness as f32) as $t
             }
             #[inline(always)]
             fn env(env: &EnvView, n: Self::V, r: Self::V, roughness: $t) -> (Self::V, Self::V) {
@@ -406,6 +449,33 @@ impl<L: Level> Shade for F8<L> {
             (a[i], b[i], e[i]) = lut.lookup_ess(nv[i], r[i]);
         }
         (F8::from_array(a), F8::from_array(b), F8::from_array(e))
+    }
+    #[inline(always)]
+    fn env_sheen(env: &EnvView, n: V3<L>, roughness: Self) -> V3<L> {
+        let (sin, cos) = env.rotation_sin_cos();
+        let (u, v) = env_uv(n, F8::splat(sin), F8::splat(cos));
+        let (u, v, r) = (u.to_array(), v.to_array(), roughness.to_array());
+        let mut s = [[0.0; 8]; 3];
+        for i in 0..crate::simd::LANES {
+            let c = env.env.sheen_uv(u[i], v[i], r[i]) * env.intensity;
+            for k in 0..3 {
+                s[k][i] = c[k];
+            }
+        }
+        V3::new(
+            F8::from_array(s[0]),
+            F8::from_array(s[1]),
+            F8::from_array(s[2]),
+        )
+    }
+    #[inline(always)]
+    fn sheen_albedo(cos: Self, roughness: Self) -> Self {
+        let (c, r) = (cos.to_array(), roughness.to_array());
+        let mut e = [0.0; 8];
+        for i in 0..crate::simd::LANES {
+            e[i] = crate::sheen::albedo(c[i], r[i]);
+        }
+        F8::from_array(e)
     }
     #[inline(always)]
     fn env(env: &EnvView, n: V3<L>, r: V3<L>, roughness: Self) -> (V3<L>, V3<L>) {

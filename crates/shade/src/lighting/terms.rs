@@ -89,7 +89,7 @@ pub fn arriving<T: Shade>(s: &Source, p: T::V) -> Option<(T::V, T::V, T::M)> {
 /// parameters; zero elsewhere.
 #[inline(always)]
 #[must_use]
-pub fn reflect<T: Num>(
+pub fn reflect<T: Shade>(
     s: &SurfaceAt<T>,
     n: T::V,
     l: T::V,
@@ -132,6 +132,8 @@ pub fn reflect<T: Num>(
         d: T::ZERO,
         vis: T::ZERO,
         fresnel: zero,
+        sheen: zero,
+        coat: zero,
     }
 }
 
@@ -182,83 +184,128 @@ pub fn view_vector<T: Num>(surf: &SurfaceAt<T>, p: T::V, eye: T::V) -> T::V {
 #[inline(always)]
 #[must_use]
 pub fn ambient<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> T::V {
-    ambient_ess(set, s, n, v).0
+    let mut s = *s;
+    ambient_at(set, &mut s, n, v)
 }
 
-/// [`ambient`], and the surface's `E_ss` for the punctual lights' compensation
-/// ([`crate::brdf::Pbr::ess`]: 1 for Phong, or when `set.single_scatter`), from the same
-/// split-sum table lookup.
+/// [`ambient`], setting on `s` what the punctual lights then read at this point and view:
+/// `E_ss` for the compensation ([`crate::brdf::Pbr::ess`]: 1 for Phong, or when
+/// `set.single_scatter`) and the layers' values ([`crate::brdf::Layers::view`]), from the
+/// same table lookups.
 #[inline(always)]
 #[must_use]
-pub fn ambient_ess<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T) {
-    let (diffuse, specular, ess) = ambient_terms(set, s, n, v);
+pub fn ambient_at<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::V) -> T::V {
+    let (diffuse, specular) = ambient_terms(set, s, n, v);
     let c = diffuse + specular;
-    let c = match s.occlusion {
+    match s.occlusion {
         Some(ao) => c * ao,
         None => c,
-    };
-    (c, if set.single_scatter { T::ONE } else { ess })
-}
-
-/// [`ambient`] before the occlusion, as its diffuse and specular parts (the pixel probe
-/// lists both; Phong's is all diffuse).
-#[inline(always)]
-#[must_use]
-pub fn ambient_split<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V) {
-    let (diffuse, specular, _) = ambient_terms(set, s, n, v);
-    (diffuse, specular)
-}
-
-/// The single-scattering lobe's directional albedo `E_ss` at `N·V` for a `pbr` surface, as
-/// the punctual lights' compensation reads it (three.js's table coordinates; 1 for Phong):
-/// [`crate::brdf::Pbr::ess`].
-#[inline(always)]
-#[must_use]
-pub fn single_scatter_albedo<T: Shade>(s: &SurfaceAt<T>, n: T::V, v: T::V) -> T {
-    match &s.pbr {
-        Some(p) => {
-            let nv = T::dot(n, v).max(T::of(1e-4));
-            T::brdf_lut(nv, p.roughness).2
-        }
-        None => T::ONE,
     }
 }
 
-/// [`ambient_split`] and [`single_scatter_albedo`]'s `E_ss` (1 for Phong).
+/// [`ambient`] before the occlusion, as its diffuse and specular parts (the pixel probe
+/// lists both; Phong's is all diffuse; the layers' reflection is in the specular part).
 #[inline(always)]
-fn ambient_terms<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V, T) {
+#[must_use]
+pub fn ambient_split<T: Shade>(set: &LightSet, s: &SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V) {
+    let mut s = *s;
+    ambient_terms(set, &mut s, n, v)
+}
+
+/// Sets on `s` the values that depend on the view at this point, as [`ambient_at`] does
+/// (for a caller that lights the point without an ambient term, the pixel probe).
+#[inline(always)]
+pub fn view_terms<T: Shade>(s: &mut SurfaceAt<T>, n: T::V, v: T::V, single_scatter: bool) {
+    let Some(p) = &mut s.pbr else {
+        return;
+    };
+    let nv = T::dot(n, v).max(T::of(1e-4));
+    let ess = T::brdf_lut(nv, p.roughness).2;
+    p.ess = if single_scatter { T::ONE } else { ess };
+    if let Some(y) = &mut p.layers {
+        let e = sheen_view::<T>(y, nv);
+        y.view(nv, e);
+    }
+}
+
+/// The sheen's albedo at the view, when there is a sheen (zero otherwise: no lookup).
+#[inline(always)]
+fn sheen_view<T: Shade>(y: &crate::brdf::Layers<T>, nv: T) -> T {
+    if T::any(y.sheen_max.gt(T::ZERO)) {
+        T::sheen_albedo(nv, y.sheen_roughness)
+    } else {
+        T::ZERO
+    }
+}
+
+/// [`ambient_split`], setting the per-point values as [`ambient_at`] does.
+#[inline(always)]
+fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::V) -> (T::V, T::V) {
     let g = T::vec(set.ambient);
-    let Some(p) = &s.pbr else {
-        return (g * s.ka * s.kd, T::splat(T::ZERO), T::ONE);
+    let kd = s.kd;
+    let Some(p) = &mut s.pbr else {
+        return (g * s.ka * kd, T::splat(T::ZERO));
     };
     let nv = T::dot(n, v).max(T::of(1e-4));
     let (a, b, ess) = T::brdf_lut(nv, p.roughness);
+    p.ess = if set.single_scatter { T::ONE } else { ess };
     // Prefiltered radiance along the reflection and irradiance over π: the ambient light
     // is a uniform environment, where both equal its radiance.
+    let reflected = |roughness: T| {
+        // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3): a rough
+        // lobe's peak leans from the mirror direction toward the normal; at grazing
+        // views on rough metal, reading the chain along the mirror direction measured
+        // 18 % too bright against the integral.
+        let alpha = brdf::alpha(roughness);
+        let smooth = T::ONE - alpha;
+        let lean = smooth * (smooth.sqrt() + alpha);
+        n + (n * (nv + nv) - v - n) * lean
+    };
     let (prefiltered, irradiance) = match &set.env {
         Some(env) => {
-            // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3): a rough
-            // lobe's peak leans from the mirror direction toward the normal; at grazing
-            // views on rough metal, reading the chain along the mirror direction measured
-            // 18 % too bright against the integral.
-            let alpha = brdf::alpha(p.roughness);
-            let smooth = T::ONE - alpha;
-            let lean = smooth * (smooth.sqrt() + alpha);
-            let r = n + (n * (nv + nv) - v - n) * lean;
-            let (s, e) = T::env(env, n, r, p.roughness);
+            let (s, e) = T::env(env, n, reflected(p.roughness), p.roughness);
             (s + g, e + g)
         }
         None => (g, g),
     };
     let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(p.f0, p.f90, a, b);
-    let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(s.kd, T::ONE, a, b);
+    let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(kd, T::ONE, a, b);
     // Dielectric: the diffuse term gets the energy the specular lobe leaves.
     let left = T::splat(T::ONE) - d_ss - d_ms;
     let dielectric = T::ONE - p.metallic;
-    let diffuse = s.kd * left * irradiance * dielectric;
+    let diffuse = kd * left * irradiance * dielectric;
     let specular = (d_ss * prefiltered + d_ms * irradiance) * dielectric
         + (m_ss * prefiltered + m_ms * irradiance) * p.metallic;
-    (diffuse, specular, ess)
+    let Some(y) = &mut p.layers else {
+        return (diffuse, specular);
+    };
+    let ev = sheen_view::<T>(y, nv);
+    y.view(nv, ev);
+    let (mut diffuse, mut specular) = (diffuse, specular);
+    if T::any(y.sheen_max.gt(T::ZERO)) {
+        // The sheen: its albedo at the view times the radiance averaged over its lobe (the
+        // environment's sheen chain, prefiltered with N = V as the specular chain is).
+        let sheen_light = match &set.env {
+            Some(env) => T::env_sheen(env, n, y.sheen_roughness) + g,
+            None => g,
+        };
+        let scale = (T::ONE - y.sheen_max * ev).max(T::ZERO);
+        diffuse = diffuse * scale;
+        specular = specular * scale + y.sheen * sheen_light * ev;
+    }
+    if T::any(y.coat.gt(T::ZERO)) {
+        // mix(beneath, coat, clearcoat Fr(N·V)) with the coat's lobe (D Vis, no Fresnel of
+        // its own) integrated against the surround: its split sum `A + B` at its roughness
+        // times the prefiltered radiance.
+        let (ca, cb, _) = T::brdf_lut(nv, y.coat_roughness);
+        let coat_light = match &set.env {
+            Some(env) => T::env(env, n, reflected(y.coat_roughness), y.coat_roughness).0 + g,
+            None => g,
+        };
+        diffuse = diffuse * y.coat_keep;
+        specular = specular * y.coat_keep + coat_light * ((T::ONE - y.coat_keep) * (ca + cb));
+    }
+    (diffuse, specular)
 }
 
 /// The lighting equation at `p` with unit normal `n` and the eye at `eye`, summed over the
@@ -277,14 +324,11 @@ pub fn illuminate<T: Shade>(
     blinn: bool,
 ) -> T::V {
     let v = view_vector(surf, p, eye);
-    let (mut c, ess) = ambient_ess(set, surf, n, v);
     let mut lit = *surf;
-    if let Some(pb) = &mut lit.pbr {
-        pb.ess = ess;
-    }
+    let mut c = ambient_at(set, &mut lit, n, v);
     let surf = &lit;
     if let Some(e) = surf.emitted {
-        c = c + e;
+        c = c + emission_seen(surf, e);
     }
     // One loop body for both cases: it is inlined into every shader of every kernel, so a
     // second copy would double the largest functions the compiler sees.
@@ -296,4 +340,15 @@ pub fn illuminate<T: Shade>(
         }
     }
     c
+}
+
+/// The emission `e` as seen through the clear coat, if any (`1 - clearcoat Fr(N·V)` of it;
+/// after [`ambient_at`] or [`view_terms`] set the point's values).
+#[inline(always)]
+#[must_use]
+pub fn emission_seen<T: Num>(s: &SurfaceAt<T>, e: T::V) -> T::V {
+    match s.pbr.as_ref().and_then(|p| p.layers.as_ref()) {
+        Some(y) => e * y.coat_keep,
+        None => e,
+    }
 }

@@ -22,7 +22,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use glam::Vec3;
 
 use super::chain::{
-    level_dims, BASE_HEIGHT, BASE_WIDTH, LEVEL_FILTER, LEVEL_SHIFT, SPECULAR_LEVELS,
+    all_dims, BASE_HEIGHT, BASE_WIDTH, LEVEL_FILTER, LEVEL_SHIFT, SHEEN_LEVELS, SPECULAR_LEVELS,
 };
 use super::equirect::{EnvImage, Plane};
 use super::prefilter::{Prefiltered, PREFILTER_VERSION};
@@ -85,6 +85,7 @@ pub fn content_key(image: &EnvImage) -> u64 {
     let mut h = WordHash::new();
     h.word(u64::from(PREFILTER_VERSION));
     h.word(SPECULAR_LEVELS as u64);
+    h.word(SHEEN_LEVELS as u64);
     h.word(BASE_WIDTH as u64);
     h.word(BASE_HEIGHT as u64);
     for (s, f) in LEVEL_SHIFT.iter().zip(LEVEL_FILTER) {
@@ -262,10 +263,11 @@ fn header(key: u64, width: usize, height: usize) -> Vec<u8> {
     b.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
     b.extend_from_slice(&PREFILTER_VERSION.to_le_bytes());
     b.extend_from_slice(&key.to_le_bytes());
-    for v in [width, height, SPECULAR_LEVELS] {
+    let dims = all_dims(width, height);
+    for v in [width, height, dims.len()] {
         b.extend_from_slice(&(v as u32).to_le_bytes());
     }
-    for (w, h) in level_dims(width, height) {
+    for (w, h) in dims {
         b.extend_from_slice(&(w as u32).to_le_bytes());
         b.extend_from_slice(&(h as u32).to_le_bytes());
     }
@@ -274,7 +276,7 @@ fn header(key: u64, width: usize, height: usize) -> Vec<u8> {
 
 /// Bytes of a valid file for this header: header, SH, data, hash.
 fn expected_len(header: &[u8], width: usize, height: usize) -> u64 {
-    let data: usize = level_dims(width, height)
+    let data: usize = all_dims(width, height)
         .iter()
         .map(|(w, h)| 12 * w * h)
         .sum();
@@ -352,7 +354,7 @@ fn read_file(path: &Path, key: u64, image: &EnvImage) -> Result<Option<Parts>, S
         let v = [0; 3].map(|_| floats.next().unwrap_or(f32::NAN));
         *c = Vec3::from_array(v);
     }
-    let levels: Vec<Plane> = level_dims(w, h)
+    let levels: Vec<Plane> = all_dims(w, h)
         .iter()
         .map(|&(lw, lh)| Plane {
             width: lw,

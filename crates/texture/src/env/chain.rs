@@ -122,7 +122,38 @@ pub(super) fn level_dims(width: usize, height: usize) -> [(usize, usize); SPECUL
     })
 }
 
-/// The chain of `src`.
+/// Levels of the sheen chain: level k holds, for every direction N (= V), the radiance
+/// averaged over the `KHR_materials_sheen` lobe `D·V·NL` of sheen roughness
+/// `k/(SHEEN_LEVELS-1)` (clamped as the shading clamps it), which the `pbr` mode multiplies
+/// by the sheen colour and its directional albedo (the sample viewer prefilters a
+/// "Charlie" environment for the same purpose).
+pub const SHEEN_LEVELS: usize = 4;
+/// The size of every sheen level (the lobe is broad: its half-width is tens of degrees).
+pub(super) const SHEEN_DIMS: (usize, usize) = (32, 16);
+
+/// The (width, height) of every stored level: the specular chain's ([`level_dims`]), then
+/// the sheen chain's.
+pub(super) fn all_dims(width: usize, height: usize) -> Vec<(usize, usize)> {
+    let mut d = level_dims(width, height).to_vec();
+    d.extend([SHEEN_DIMS; SHEEN_LEVELS]);
+    d
+}
+
+/// The sheen chain over the chain's `base` level.
+fn sheen_levels(base: &Plane) -> Vec<Plane> {
+    (0..SHEEN_LEVELS)
+        .map(|k| {
+            let alpha = crate::microfacet::sheen_alpha(k as f64 / (SHEEN_LEVELS - 1) as f64);
+            let lobe = move |nl: f64, nh: f64| {
+                crate::microfacet::charlie_d(nh, alpha)
+                    * crate::microfacet::charlie_v(nl, 1.0, alpha)
+            };
+            summed_with(base, 2, SHEEN_DIMS, &lobe)
+        })
+        .collect()
+}
+
+/// The chain of `src`: the specular levels, then the sheen levels ([`all_dims`]).
 pub(super) fn build(src: &Plane) -> Vec<Plane> {
     let dims = level_dims(src.width, src.height);
     let base = resample(src, dims[0].0, dims[0].1);
@@ -145,6 +176,7 @@ pub(super) fn build(src: &Plane) -> Vec<Plane> {
             LevelFilter::Summed { scale } => summed_level(&base, r, scale, d),
         });
     }
+    levels.extend(sheen_levels(&base));
     levels
 }
 
@@ -235,6 +267,17 @@ fn split(p: &Plane, fx: usize, fy: usize) -> Plane {
 /// the largest multiple `base` allows): output texel x of a row is `Σ w·L` over the coarse
 /// texels with the row's weights (NL > 0 only) shifted by `m·x` columns.
 fn summed_level(base: &Plane, r: f64, scale: usize, dims: (usize, usize)) -> Plane {
+    let alpha = ggx::alpha(r);
+    summed_with(base, scale, dims, &|_, nh| ggx::d(nh, alpha))
+}
+
+/// [`summed_level`] with the lobe `lobe(NL, NH)` (each texel weighted by `NL·lobe·Ω`).
+fn summed_with(
+    base: &Plane,
+    scale: usize,
+    dims: (usize, usize),
+    lobe: &(dyn Fn(f64, f64) -> f64 + Sync),
+) -> Plane {
     let (w, h) = dims;
     let m = (1..=scale.max(1))
         .rev()
@@ -248,7 +291,6 @@ fn summed_level(base: &Plane, r: f64, scale: usize, dims: (usize, usize)) -> Pla
         resample(base, m * w, m * h)
     };
     let (cw, ch) = (coarse.width, coarse.height);
-    let alpha = ggx::alpha(r);
     let dirs: Vec<DVec3> = (0..ch)
         .flat_map(|j| (0..cw).map(move |i| texel_dir_f64(i, j, cw, ch)))
         .collect();
@@ -266,7 +308,7 @@ fn summed_level(base: &Plane, r: f64, scale: usize, dims: (usize, usize)) -> Pla
             let nl = n.dot(*c);
             if nl > 0.0 {
                 let nh = (n + *c).normalize().dot(n);
-                weights.push((idx % cw, idx / cw, nl * ggx::d(nh, alpha) * omega[idx / cw]));
+                weights.push((idx % cw, idx / cw, nl * lobe(nl, nh) * omega[idx / cw]));
             }
         }
         let total: f64 = weights.iter().map(|w| w.2).sum();

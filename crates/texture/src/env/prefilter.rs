@@ -18,7 +18,7 @@ use super::{chain, sh};
 
 /// Bumped whenever the prefiltered data would change for the same source (it is part of the
 /// cache key and of the disk format).
-pub const PREFILTER_VERSION: u32 = 2;
+pub const PREFILTER_VERSION: u32 = 3;
 
 /// An environment ready for lighting (module docs). `Send + Sync`; share it in an `Arc`.
 #[derive(Clone, PartialEq)]
@@ -27,6 +27,8 @@ pub struct Prefiltered {
     key: u64,
     source: Plane,
     levels: Vec<Plane>,
+    /// The sheen chain (`chain::SHEEN_LEVELS`).
+    sheen: Vec<Plane>,
     sh: [Vec3; 9],
 }
 
@@ -56,14 +58,21 @@ impl Prefiltered {
         Self::from_parts(image, key, levels, coeffs.map(|c| c.as_vec3()))
     }
 
-    /// Assembles a prefiltered environment (levels checked by the caller against
-    /// `chain::level_dims`).
-    pub(super) fn from_parts(image: EnvImage, key: u64, levels: Vec<Plane>, sh: [Vec3; 9]) -> Self {
+    /// Assembles a prefiltered environment from every level (the specular chain's, then the
+    /// sheen chain's, checked by the caller against `chain::all_dims`).
+    pub(super) fn from_parts(
+        image: EnvImage,
+        key: u64,
+        mut levels: Vec<Plane>,
+        sh: [Vec3; 9],
+    ) -> Self {
+        let sheen = levels.split_off(chain::SPECULAR_LEVELS.min(levels.len()));
         Self {
             name: image.name().to_owned(),
             key,
             source: image.plane,
             levels,
+            sheen,
             sh,
         }
     }
@@ -114,14 +123,15 @@ impl Prefiltered {
         &self.sh
     }
 
-    pub(super) fn level_planes(&self) -> &[Plane] {
-        &self.levels
+    /// Every stored level: the specular chain's, then the sheen chain's.
+    pub(super) fn level_planes(&self) -> impl Iterator<Item = &Plane> {
+        self.levels.iter().chain(&self.sheen)
     }
 
     /// Bytes held (source plus chain).
     #[must_use]
     pub fn bytes(&self) -> usize {
-        self.source.bytes() + self.levels.iter().map(Plane::bytes).sum::<usize>()
+        self.source.bytes() + self.level_planes().map(Plane::bytes).sum::<usize>()
     }
 
     /// Prefiltered radiance around `dir` (any length) for perceptual roughness `r` (clamped
@@ -167,6 +177,29 @@ impl Prefiltered {
             Some(level) => level.bilinear(u, v) * std::f32::consts::PI,
             None => sh::irradiance(&self.sh, n),
         }
+    }
+
+    /// The radiance averaged over the sheen lobe of roughness `r` around the normal whose
+    /// image coordinates are `(u, v)` (the sheen chain, bilinear in the two levels around
+    /// `r·(SHEEN_LEVELS-1)`, linear between; NaN reads level 0).
+    #[must_use]
+    #[inline(always)]
+    pub fn sheen_uv(&self, u: f32, v: f32, r: f32) -> Vec3 {
+        let Some(last) = self.sheen.len().checked_sub(1) else {
+            return self.irradiance_uv(u, v);
+        };
+        let f = if r.is_nan() {
+            0.0
+        } else {
+            r.clamp(0.0, 1.0) * last as f32
+        };
+        let k = (f as usize).min(last.saturating_sub(1));
+        let t = f - k as f32;
+        let a = self.sheen[k].bilinear(u, v);
+        if t <= 0.0 || k + 1 > last {
+            return a;
+        }
+        a.lerp(self.sheen[k + 1].bilinear(u, v), t)
     }
 
     /// `E/π` at image coordinates `(u, v)`: [`Self::irradiance`] over π.

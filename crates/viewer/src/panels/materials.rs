@@ -116,6 +116,34 @@ fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
         "material emissive strength",
     );
     ui.end_row();
+    ui.label("clear coat").on_hover_text(
+        "KHR_materials_clearcoat: a clear layer (IOR 1.5) over the material; 0 for none",
+    );
+    changed |= edit::slider(ui, &mut p.clearcoat, 0.0..=1.0, false, "material clearcoat");
+    ui.end_row();
+    ui.label("clear coat roughness");
+    changed |= edit::slider(
+        ui,
+        &mut p.clearcoat_roughness,
+        0.0..=1.0,
+        false,
+        "material clearcoat roughness",
+    );
+    ui.end_row();
+    ui.label("sheen colour").on_hover_text(
+        "KHR_materials_sheen: the colour of a cloth-like layer (Charlie distribution) over the base; black for none",
+    );
+    changed |= edit::colour(ui, &mut p.sheen_color, "material sheen colour");
+    ui.end_row();
+    ui.label("sheen roughness");
+    changed |= edit::slider(
+        ui,
+        &mut p.sheen_roughness,
+        0.0..=1.0,
+        false,
+        "material sheen roughness",
+    );
+    ui.end_row();
     ui.label("unlit");
     changed |= ui
         .checkbox(

@@ -277,11 +277,16 @@ fn light_shares(ui: &mut egui::Ui, p: &crate::render::Probe) {
 /// The glTF BRDF's terms for each light at a `pbr` pixel (Appendix B of the specification).
 fn brdf_terms(ui: &mut egui::Ui, p: &crate::render::Probe) {
     ui.label(RichText::new("BRDF terms per light (pbr)").strong());
+    // The layers' columns only where a layer reflects something.
+    let layers = p
+        .lights
+        .iter()
+        .any(|s| s.sheen != Vec3::ZERO || s.coat != Vec3::ZERO);
     egui::Grid::new("probe-brdf")
-        .num_columns(4)
+        .num_columns(if layers { 6 } else { 4 })
         .striped(true)
         .show(ui, |ui| {
-            for (h, what) in [
+            let mut heads = vec![
                 ("light", ""),
                 ("D", "GGX normal distribution at N·H"),
                 ("G/(4 NL NV)", "Smith height-correlated visibility"),
@@ -289,7 +294,18 @@ fn brdf_terms(ui: &mut egui::Ui, p: &crate::render::Probe) {
                     "F",
                     "Fresnel (Schlick), dielectric and metal mixed by metallic",
                 ),
-            ] {
+            ];
+            if layers {
+                heads.push((
+                    "sheen",
+                    "KHR_materials_sheen: the sheen layer's reflection of the light (Charlie)",
+                ));
+                heads.push((
+                    "coat",
+                    "KHR_materials_clearcoat: the clear coat's reflection of the light",
+                ));
+            }
+            for (h, what) in heads {
                 ui.label(RichText::new(h).italics()).on_hover_text(what);
             }
             ui.end_row();
@@ -298,6 +314,10 @@ fn brdf_terms(ui: &mut egui::Ui, p: &crate::render::Probe) {
                 ui.monospace(format!("{:.4}", s.d));
                 ui.monospace(format!("{:.4}", s.vis));
                 ui.monospace(v3(s.fresnel));
+                if layers {
+                    ui.monospace(v3(s.sheen));
+                    ui.monospace(v3(s.coat));
+                }
                 ui.end_row();
             }
         });

@@ -138,7 +138,7 @@ fn memory_cache_hits_by_content() {
 pub(super) fn same_bits(a: &Prefiltered, b: &Prefiltered) -> bool {
     let bits = |p: &Prefiltered| -> Vec<u32> {
         let sh = p.sh().iter().flat_map(|c| c.to_array());
-        let levels = p.level_planes().iter().flat_map(|l| l.rgb.iter().copied());
+        let levels = p.level_planes().flat_map(|l| l.rgb.iter().copied());
         sh.chain(levels).map(f32::to_bits).collect()
     };
     bits(a) == bits(b)
