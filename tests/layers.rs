@@ -276,3 +276,71 @@ fn layered_spheres_match_the_f64_reference() {
         );
     }
 }
+
+#[test]
+fn the_coat_does_not_follow_the_base_normal_map() {
+    // KHR_materials_clearcoat: without a clearcoatNormalTexture no normal mapping applies to
+    // the coat. Over a black base that reflects nothing, a strong normal map (stripes
+    // tilting the normal by ±35°) must leave the coat's image as it was, under a light and
+    // under the studio environment, while it visibly changes a plain dielectric.
+    use realist::scene::TextureSlot;
+    use realist::texture::Texture;
+    let (w, h) = (64u32, 64u32);
+    let tilt = 35f32.to_radians();
+    let texels: Vec<[u8; 4]> = (0..w * h)
+        .map(|i| {
+            let s = if (i % w) / 4 % 2 == 0 {
+                tilt.sin()
+            } else {
+                -tilt.sin()
+            };
+            let enc = |x: f32| ((x * 0.5 + 0.5) * 255.0).round() as u8;
+            [enc(s), 128, enc(tilt.cos()), 255]
+        })
+        .collect();
+    let stripes = Texture::new("stripes", w, h, texels, false).expect("texture");
+    let mapped = |mut scene: Scene| {
+        scene.textures.push(std::sync::Arc::new(stripes.clone()));
+        let k = scene.textures.len() - 1;
+        scene.materials[0].normal_texture = Some(TextureSlot::new(k));
+        scene.check_texture_slots();
+        scene
+    };
+    let only = model("clearcoat-only.glb");
+    let lit = settings(vec![Light::directional(
+        Vec3::new(-0.3, -0.2, -1.0),
+        Vec3::splat(2.0),
+    )]);
+    let studio = Settings {
+        environment: Environment::Auto,
+        ..settings(vec![])
+    };
+    for s in [&lit, &studio] {
+        let (plain, bumpy) = (render(&only, s), render(&mapped(only.clone()), s));
+        let differ = plain
+            .color
+            .iter()
+            .zip(&bumpy.color)
+            .filter(|(a, b)| (**a - **b).abs().max_element() > 1e-5)
+            .count();
+        assert_eq!(
+            differ, 0,
+            "{differ} pixels of the coat follow the base's normal map"
+        );
+    }
+    // The same map on the same sphere without its coat (and a base that reflects) changes
+    // the image: the map is read.
+    let mut bare = model("clearcoat.glb");
+    bare.materials[0].pbr.as_mut().unwrap().clearcoat = 0.0;
+    let (plain, bumpy) = (render(&bare, &lit), render(&mapped(bare.clone()), &lit));
+    let differ = plain
+        .color
+        .iter()
+        .zip(&bumpy.color)
+        .filter(|(a, b)| (**a - **b).abs().max_element() > 1e-3)
+        .count();
+    assert!(
+        differ > 1000,
+        "the normal map changes {differ} pixels of the bare sphere"
+    );
+}

@@ -215,8 +215,6 @@ fn a_clear_coat_against_three_js() {
         "realist vs three.js r187, clear coat: mean {mean:.2}, max {max} levels over {n} pixels"
     );
     assert!(n > 20_000, "the sphere covers both images: {n} pixels");
-    // Outside the coat's highlight (more than 12 pixels from the centre) the two agree
-    // within the 4 levels.
     // Outside the coat's highlight (more than 12 pixels from the centre), by how grazing
     // the view is.
     let prepared = PreparedScene::new(scene.clone());
@@ -225,8 +223,14 @@ fn a_clear_coat_against_three_js() {
     // The coat's reflection of the surround: the specification weights the coat's lobe by
     // clearcoat Fr(N·V), realist's `Fr(N·V) (A + B)` times the prefiltered radiance; three
     // weights it by the coat's own split sum `0.04 A + B` (a Fresnel per microfacet), which
-    // is less at grazing views (in a white furnace three's coated white loses 7 % at N·V
-    // 0.2). Away from the highlight, three's image is realist's with three's weight.
+    // is less at grazing views (a coat over a base that reflects everything, in a uniform
+    // surround: three's returns 90 % at N·V 0.2 and 74 % at 0.1, the specification's 97 %
+    // and 93 %). And three draws every lobe rougher than the file says: it adds the
+    // screen-space change of the normal per pixel ("geometryRoughness", its specular
+    // anti-aliasing, lights_physical_fragment). At the centre of a sphere of radius 0.4 seen
+    // from 1.1 away a pixel spans 2 · 1.1 · tan(22.5°) / 256 and turns the normal by that
+    // over 0.4 (`g`); towards the silhouette it grows as 1 / N·V. Away from the highlight,
+    // three's image is realist's with three's weight and roughness.
     let lut = realist::texture::env::brdf_lut();
     let g = 2.0 * 1.1 * (22.5f64).to_radians().tan() / f64::from(SIZE) / 0.4;
     let (mut facing, mut grazing, mut predicted) = (0u8, (0u8, 1.0f64), 0u8);
@@ -246,8 +250,6 @@ fn a_clear_coat_against_three_js() {
             .dot((eye - hit.position.as_dvec3()).normalize());
         let (a, b) = lut.lookup(nv as f32, 0.3);
         let (a, b) = (f64::from(a), f64::from(b));
-        // three's coat is rougher by the normal's turn per pixel, which grows as 1/N·V
-        // towards the silhouette (the highlight's g at the centre).
         let (ta, tb) = lut.lookup(nv as f32, (0.3 + g / nv.max(0.05)) as f32);
         let (ta, tb) = (f64::from(ta), f64::from(tb));
         let fr = 0.04 + 0.96 * (1.0 - nv).powi(5);
@@ -267,12 +269,7 @@ fn a_clear_coat_against_three_js() {
     );
     assert!(facing <= 4, "{facing}");
     assert!(predicted <= 4, "{predicted}");
-    // In the highlight three.js draws the coat rougher than the file says: it adds the
-    // screen-space change of the normal per pixel ("geometryRoughness", its specular
-    // anti-aliasing, lights_physical_fragment) to every roughness. At the centre of a
-    // sphere of radius 0.4 seen from 1.1 away, a pixel spans 2 · 1.1 · tan(22.5°) / 256 and
-    // turns the normal by that over 0.4. With the coat that rough realist's centre is
-    // three's.
+    // In the highlight: with the coat `g` rougher, realist's centre is three's.
     let mut rough = scene;
     rough.materials[0].pbr.as_mut().unwrap().clearcoat_roughness += g as f32;
     let like_three = rgb8(&frame(rough, false, LAYER_DISTANCE, 1.0, SURROUND));

@@ -135,6 +135,8 @@ pub fn probe(
     let position = near + (far - near) * hit.t;
     let position = position.as_vec3();
     let mut normal = (normal_m * mix3(&tri.normals)).normalize_or_zero();
+    // Before the maps: the clear coat's normal when the base is normal- or bump-mapped.
+    let mut geometric = normal;
     let face = (tri.positions[b] - tri.positions[a]).cross(tri.positions[c] - tri.positions[a]);
     let face_normal = (normal_m * face).normalize_or_zero();
     let uv = tri
@@ -237,6 +239,7 @@ pub fn probe(
     }
     if !hit.front {
         normal = -normal;
+        geometric = -geometric;
     }
     let mut base = d.base;
     if let Some(col) = &tri.colors {
@@ -265,6 +268,12 @@ pub fn probe(
         None => d.emissive,
     };
     let v = view_vector(&surf, position, eye);
+    if let (Some(y), true) = (
+        surf.pbr.as_mut().and_then(|p| p.layers.as_mut()),
+        d.normal_map.is_some() || d.bump.is_some(),
+    ) {
+        y.coat_normal = Some(geometric);
+    }
     // The punctual lights' multiple-scattering compensation and the layers' values at the
     // view, as the shaders have them.
     view_terms(&mut surf, normal, v, settings.single_scatter);
@@ -296,7 +305,14 @@ pub fn probe(
             let (dir, rad, _) =
                 arriving::<f32>(src, position).unwrap_or((Vec3::ZERO, Vec3::ZERO, false));
             let arriving = rad;
-            let lit = normal.dot(dir) > 0.0 && rad != Vec3::ZERO;
+            // A clear coat with its own normal can see the light where the mapped base
+            // cannot (as `contribution` has it).
+            let coat = surf
+                .pbr
+                .as_ref()
+                .and_then(|p| p.layers.as_ref()?.coat_normal);
+            let facing = normal.dot(dir) > 0.0 || coat.is_some_and(|nc| nc.dot(dir) > 0.0);
+            let lit = facing && rad != Vec3::ZERO;
             let shadow = if lit && light.shadow && light.kind.can_shadow() {
                 let to = match light.kind {
                     LightKind::Directional => {
@@ -313,7 +329,11 @@ pub fn probe(
             } else {
                 1.0
             };
-            let ndl = normal.dot(dir);
+            let ndl = if coat.is_some() {
+                normal.dot(dir).max(0.0)
+            } else {
+                normal.dot(dir)
+            };
             let terms = reflect(&surf, normal, dir, v, lit, ndl, blinn);
             lights.push(LightShare {
                 index: src.index,

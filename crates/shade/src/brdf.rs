@@ -69,14 +69,19 @@ pub struct Layers<T: Num> {
     /// `1 - clearcoat Fr(N·V)`, and the sheen's albedo at the view.
     pub coat_keep: T,
     pub sheen_ev: T,
+    /// The coat's own unit normal at the point, where it differs from the shading normal:
+    /// the interpolated (geometric) normal when the base has a normal or bump map, which the
+    /// coat does not follow (`KHR_materials_clearcoat`: without a `clearcoatNormalTexture`
+    /// no normal mapping applies to the coat).
+    pub coat_normal: Option<T::V>,
 }
 
 /// The clear coat's Fresnel at normal incidence (IOR 1.5).
 pub const COAT_F0: f32 = 0.04;
 
 impl<T: Num> Layers<T> {
-    /// Sets the per-point values for `N·V` (`sheen_ev` from `albedo`, the sheen's table at
-    /// `N·V` and the sheen roughness).
+    /// Sets the per-point values for `N·V` (`nv` with the coat's normal: `sheen_ev` from
+    /// the sheen's table at the shading normal's `N·V` and the sheen roughness).
     #[inline(always)]
     pub fn view(&mut self, nv: T, sheen_ev: T) {
         let fr = T::of(COAT_F0) + T::of(1.0 - COAT_F0) * schlick_weight(nv);
@@ -146,7 +151,17 @@ pub fn pbr<T: Shade>(
             coat: zero,
         };
     };
-    let [diffuse, specular, sheen, coat] = layer(y, diffuse, specular, nh, ndl, nv);
+    // The coat's angles: with its own normal where it has one.
+    let (cnh, cnl, cnv) = match y.coat_normal {
+        Some(nc) => (
+            T::dot(nc, h).max(T::ZERO),
+            T::dot(nc, l).max(T::ZERO),
+            T::dot(nc, v).max(T::of(1e-4)),
+        ),
+        None => (nh, ndl, nv),
+    };
+    let [diffuse, specular, sheen, coat] =
+        layer(y, diffuse, specular, [nh, ndl, nv], [cnh, cnl, cnv]);
     Terms {
         diffuse,
         specular: specular + sheen + coat,
@@ -165,9 +180,8 @@ fn layer<T: Shade>(
     y: &Layers<T>,
     diffuse: T::V,
     specular: T::V,
-    nh: T,
-    ndl: T,
-    nv: T,
+    [nh, ndl, nv]: [T; 3],
+    [cnh, cnl, cnv]: [T; 3],
 ) -> [T::V; 4] {
     let zero = T::splat(T::ZERO);
     let (mut diffuse, mut specular, mut sheen, mut coat) = (diffuse, specular, zero, zero);
@@ -181,7 +195,7 @@ fn layer<T: Shade>(
     if T::any(y.coat.gt(T::ZERO)) {
         // mix(beneath, coat, clearcoat Fr(N·V)): the coat lobe is D Vis without a Fresnel
         // of its own (the mix weight is its Fresnel).
-        let lobe = ggx(nh, y.coat_alpha) * smith_vis(ndl, nv, y.coat_alpha) * ndl;
+        let lobe = ggx(cnh, y.coat_alpha) * smith_vis(cnl, cnv, y.coat_alpha) * cnl;
         coat = T::splat((T::ONE - y.coat_keep) * lobe);
         diffuse = diffuse * y.coat_keep;
         specular = specular * y.coat_keep;

@@ -65,6 +65,9 @@ pub struct Regs {
     /// a clear coat or a sheen.
     pub coat_keep: Lane,
     pub sheen_ev: Lane,
+    /// The coat's normal (the interpolated one, before the maps), where the draw has a
+    /// clear coat over a normal- or bump-mapped base ([`coat_normal`]).
+    pub nc: [Lane; 3],
     /// The colour so far (linear RGB).
     pub c: [Lane; 3],
 }
@@ -277,6 +280,9 @@ crate::simd::per_kernel! {
             }
             let f = b.group(g);
             let mut n = V3::<L>::get(&r.n);
+            if coat_normal(d) {
+                n.set(&mut r.nc);
+            }
             if let Some(map) = &d.normal_map {
                 let normal_t = get4::<L>(normal_t);
                 n = match d.layout.tangent_at() {
@@ -329,6 +335,13 @@ crate::simd::per_kernel! {
     }
 }
 
+/// Whether draw `d`'s clear coat has a normal of its own: the base's is normal- or
+/// bump-mapped, which the coat does not follow.
+#[inline(always)]
+fn coat_normal(d: &DrawParams) -> bool {
+    d.surface.pbr.is_some_and(|p| p.clearcoat > 0.0) && (d.normal_map.is_some() || d.bump.is_some())
+}
+
 /// The surface of draw `d` at the lanes of `r` (after the maps).
 #[inline(always)]
 fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
@@ -342,6 +355,12 @@ fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
         p.metallic *= r.metal.get();
     }
     s.emitted = (d.emissive != Vec3::ZERO).then(|| V3::get(&r.emitted));
+    if let (Some(y), true) = (
+        s.pbr.as_mut().and_then(|p| p.layers.as_mut()),
+        coat_normal(d),
+    ) {
+        y.coat_normal = Some(V3::get(&r.nc));
+    }
     s
 }
 
@@ -362,6 +381,9 @@ crate::simd::per_kernel! {
             if !b.front {
                 n = -n;
                 n.set(&mut r.n);
+                if coat_normal(cx.d) {
+                    (-V3::<L>::get(&r.nc)).set(&mut r.nc);
+                }
             }
             let mut s = surface::<L>(cx.d, r);
             let v = view_vector(&s, position(b, g), eye);

@@ -112,14 +112,19 @@ pub fn sheen_alpha<T: Num>(r: T) -> T {
 #[inline(always)]
 fn sheen_coefficients<T: Num>(alpha: T) -> [T; 5] {
     let t = (T::ONE - alpha) * (T::ONE - alpha);
-    let lerp = |a: f64, b: f64| T::of64(a) + (T::of64(b) - T::of64(a)) * t;
     [
-        lerp(21.5473, 25.3245),
-        lerp(3.82987, 3.32435),
-        lerp(0.19823, 0.16801),
-        lerp(-1.97760, -1.27393),
-        lerp(-4.32054, -4.85967),
+        sheen_lerp(21.5473, 25.3245, t),
+        sheen_lerp(3.82987, 3.32435, t),
+        sheen_lerp(0.19823, 0.16801, t),
+        sheen_lerp(-1.97760, -1.27393, t),
+        sheen_lerp(-4.32054, -4.85967, t),
     ]
+}
+
+/// `a + (b - a) t` (a function, not a closure, so lane code stays inside each kernel).
+#[inline(always)]
+fn sheen_lerp<T: Num>(a: f64, b: f64, t: T) -> T {
+    T::of64(a) + T::of64(b - a) * t
 }
 
 #[inline(always)]

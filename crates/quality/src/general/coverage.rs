@@ -241,6 +241,8 @@ impl Tri {
         };
         let p = self.p[0] * b.x + self.p[1] * b.y + self.p[2] * b.z;
         let mut n = (self.n[0] * b.x + self.n[1] * b.y + self.n[2] * b.z).normalize_or_zero();
+        // Before the maps: the clear coat's normal when the base is normal- or bump-mapped.
+        let mut geometric = n;
         let v = self.g.v.map(|k| k as usize);
         if let Some(map) = &inst.normal_map {
             let frame = match &inst.tri.tangents {
@@ -264,11 +266,18 @@ impl Tri {
         }
         if !self.g.front {
             n = -n;
+            geometric = -geometric;
         }
         if inst.unlit {
             return Some(base.truncate().extend(alpha));
         }
         let mut surf = inst.surface.at::<f64>(base.truncate());
+        if let (Some(y), true) = (
+            surf.pbr.as_mut().and_then(|p| p.layers.as_mut()),
+            inst.normal_map.is_some() || inst.bump.is_some(),
+        ) {
+            y.coat_normal = Some(geometric);
+        }
         if let Some(g) = &inst.gloss {
             surf.ks *= g.at(inst.tri, v, b).truncate();
         }

@@ -501,23 +501,27 @@ fn environment(
         out = out * (1.0 - y.sheen_max * e).max(0.0) + y.sheen * light;
     }
     if y.coat > 0.0 {
-        // The coat: its GGX lobe D Vis NL against the surround, weighted by clearcoat
-        // Fr(N·V) over what lies beneath.
+        // The coat: its GGX lobe D Vis NL against the surround (about its own normal),
+        // weighted by clearcoat Fr(N·V) over what lies beneath.
         let alpha = y.coat_alpha;
+        let nc = y.coat_normal.unwrap_or(n);
+        let cnv = nc.dot(v).max(1e-4);
+        let (ct, cb) = nc.any_orthonormal_pair();
         let mut light = DVec3::ZERO;
         for i in 0..count {
-            let hv = world(microfacet::sample_h(point(i), alpha));
+            let h = microfacet::sample_h(point(i), alpha);
+            let hv = ct * h.x + cb * h.y + nc * h.z;
             let vh = v.dot(hv);
             let l = hv * (2.0 * vh) - v;
-            let (nl, nh) = (n.dot(l), n.dot(hv));
+            let (nl, nh) = (nc.dot(l), nc.dot(hv));
             if vh <= 0.0 || nl <= 0.0 || nh <= 0.0 {
                 continue;
             }
             light +=
-                radiance(l) * (4.0 * microfacet::smith_vis::<f64>(nl, nv, alpha) * nl * vh / nh);
+                radiance(l) * (4.0 * microfacet::smith_vis::<f64>(nl, cnv, alpha) * nl * vh / nh);
         }
         let fr = f64::from(brdf::COAT_F0)
-            + (1.0 - f64::from(brdf::COAT_F0)) * microfacet::schlick_weight::<f64>(nv);
+            + (1.0 - f64::from(brdf::COAT_F0)) * microfacet::schlick_weight::<f64>(cnv);
         let weight = y.coat * fr;
         out = out * (1.0 - weight) + light * (k * weight);
     }

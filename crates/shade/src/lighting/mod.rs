@@ -316,24 +316,34 @@ impl Surface {
             has_specular: self.specular != Vec3::ZERO || self.pbr.is_some(),
             occlusion: None,
             emitted: None,
-            pbr: self.pbr.map(|p| Pbr {
-                metallic: T::of(p.metallic),
-                roughness: T::of(p.roughness),
-                f0: T::vec(p.f0),
-                f90: T::of(p.f90),
-                ess: T::ONE,
-                layers: p.layered().then(|| Layers {
-                    coat: T::of(p.clearcoat),
-                    coat_alpha: brdf::alpha(T::of(p.clearcoat_roughness)),
-                    coat_roughness: T::of(p.clearcoat_roughness),
-                    sheen: T::vec(p.sheen_color),
-                    sheen_max: T::of(p.sheen_color.max_element()),
-                    sheen_roughness: T::of(p.sheen_roughness),
-                    sheen_alpha: crate::sheen::alpha(T::of(p.sheen_roughness)),
-                    coat_keep: T::ONE,
-                    sheen_ev: T::ZERO,
+            // `match` and `if`, not closures: a closure is compiled once, outside the
+            // kernels' copies, and calls its lane instructions out of line.
+            pbr: match &self.pbr {
+                Some(p) => Some(Pbr {
+                    metallic: T::of(p.metallic),
+                    roughness: T::of(p.roughness),
+                    f0: T::vec(p.f0),
+                    f90: T::of(p.f90),
+                    ess: T::ONE,
+                    layers: if p.layered() {
+                        Some(Layers {
+                            coat: T::of(p.clearcoat),
+                            coat_alpha: brdf::alpha(T::of(p.clearcoat_roughness)),
+                            coat_roughness: T::of(p.clearcoat_roughness),
+                            sheen: T::vec(p.sheen_color),
+                            sheen_max: T::of(p.sheen_color.max_element()),
+                            sheen_roughness: T::of(p.sheen_roughness),
+                            sheen_alpha: crate::sheen::alpha(T::of(p.sheen_roughness)),
+                            coat_keep: T::ONE,
+                            sheen_ev: T::ZERO,
+                            coat_normal: None,
+                        })
+                    } else {
+                        None
+                    },
                 }),
-            }),
+                None => None,
+            },
         }
     }
 }

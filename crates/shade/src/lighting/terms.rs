@@ -154,7 +154,20 @@ pub fn contribution<T: Shade>(
         return zero;
     };
     let ndl = T::dot(n, l);
-    let lit = ndl.gt(T::ZERO) & live;
+    let mut lit = ndl.gt(T::ZERO) & live;
+    let coat = surf
+        .pbr
+        .as_ref()
+        .and_then(|p| p.layers.as_ref()?.coat_normal);
+    let ndl = match coat {
+        // A clear coat with its own normal can see the light where the mapped base cannot
+        // (the base's terms then have N·L 0).
+        Some(nc) => {
+            lit = lit | (T::dot(nc, l).gt(T::ZERO) & live);
+            ndl.max(T::ZERO)
+        }
+        None => ndl,
+    };
     if !T::any(lit) {
         return zero;
     }
@@ -224,7 +237,16 @@ pub fn view_terms<T: Shade>(s: &mut SurfaceAt<T>, n: T::V, v: T::V, single_scatt
     p.ess = if single_scatter { T::ONE } else { ess };
     if let Some(y) = &mut p.layers {
         let e = sheen_view::<T>(y, nv);
-        y.view(nv, e);
+        y.view(coat_nv(y, v, nv), e);
+    }
+}
+
+/// `N·V` with the coat's normal (`nv`, the shading normal's, when it has none of its own).
+#[inline(always)]
+fn coat_nv<T: Num>(y: &crate::brdf::Layers<T>, v: T::V, nv: T) -> T {
+    match y.coat_normal {
+        Some(nc) => T::dot(nc, v).max(T::of(1e-4)),
+        None => nv,
     }
 }
 
@@ -236,6 +258,18 @@ fn sheen_view<T: Shade>(y: &crate::brdf::Layers<T>, nv: T) -> T {
     } else {
         T::ZERO
     }
+}
+
+/// The direction to read a lobe of `roughness` from the specular chain: Frostbite's
+/// dominant direction (Lagarde & de Rousiers 2014, §4.9.3): a rough lobe's peak leans from
+/// the mirror direction toward the normal; at grazing views on rough metal, reading the
+/// chain along the mirror direction measured 18 % too bright against the integral.
+#[inline(always)]
+fn dominant<T: Num>(n: T::V, v: T::V, nv: T, roughness: T) -> T::V {
+    let alpha = brdf::alpha(roughness);
+    let smooth = T::ONE - alpha;
+    let lean = smooth * (smooth.sqrt() + alpha);
+    n + (n * (nv + nv) - v - n) * lean
 }
 
 /// [`ambient_split`], setting the per-point values as [`ambient_at`] does.
@@ -251,19 +285,10 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::
     p.ess = if set.single_scatter { T::ONE } else { ess };
     // Prefiltered radiance along the reflection and irradiance over π: the ambient light
     // is a uniform environment, where both equal its radiance.
-    let reflected = |roughness: T| {
-        // Frostbite's dominant direction (Lagarde & de Rousiers 2014, §4.9.3): a rough
-        // lobe's peak leans from the mirror direction toward the normal; at grazing
-        // views on rough metal, reading the chain along the mirror direction measured
-        // 18 % too bright against the integral.
-        let alpha = brdf::alpha(roughness);
-        let smooth = T::ONE - alpha;
-        let lean = smooth * (smooth.sqrt() + alpha);
-        n + (n * (nv + nv) - v - n) * lean
-    };
     let (prefiltered, irradiance) = match &set.env {
         Some(env) => {
-            let (s, e) = T::env(env, n, reflected(p.roughness), p.roughness);
+            let r = dominant::<T>(n, v, nv, p.roughness);
+            let (s, e) = T::env(env, n, r, p.roughness);
             (s + g, e + g)
         }
         None => (g, g),
@@ -280,7 +305,8 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::
         return (diffuse, specular);
     };
     let ev = sheen_view::<T>(y, nv);
-    y.view(nv, ev);
+    let cnv = coat_nv(y, v, nv);
+    y.view(cnv, ev);
     let (mut diffuse, mut specular) = (diffuse, specular);
     if T::any(y.sheen_max.gt(T::ZERO)) {
         // The sheen: its albedo at the view times the radiance averaged over its lobe (the
@@ -297,9 +323,13 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::
         // mix(beneath, coat, clearcoat Fr(N·V)) with the coat's lobe (D Vis, no Fresnel of
         // its own) integrated against the surround: its split sum `A + B` at its roughness
         // times the prefiltered radiance.
-        let (ca, cb, _) = T::brdf_lut(nv, y.coat_roughness);
+        let nc = y.coat_normal.unwrap_or(n);
+        let (ca, cb, _) = T::brdf_lut(cnv, y.coat_roughness);
         let coat_light = match &set.env {
-            Some(env) => T::env(env, n, reflected(y.coat_roughness), y.coat_roughness).0 + g,
+            Some(env) => {
+                let r = dominant::<T>(nc, v, cnv, y.coat_roughness);
+                T::env(env, nc, r, y.coat_roughness).0 + g
+            }
             None => g,
         };
         diffuse = diffuse * y.coat_keep;

@@ -139,8 +139,16 @@ pub(super) fn all_dims(width: usize, height: usize) -> Vec<(usize, usize)> {
     d
 }
 
-/// The sheen chain over the chain's `base` level.
+/// The sheen chain over the chain's `base` level (area-resampled to twice the levels' size,
+/// a small base's texels first split to reach it).
 fn sheen_levels(base: &Plane) -> Vec<Plane> {
+    let (w, h) = (2 * SHEEN_DIMS.0, 2 * SHEEN_DIMS.1);
+    let big = split(
+        base,
+        w.div_ceil(base.width.max(1)),
+        h.div_ceil(base.height.max(1)),
+    );
+    let fine = resample(&big, w, h);
     (0..SHEEN_LEVELS)
         .map(|k| {
             let alpha = crate::microfacet::sheen_alpha(k as f64 / (SHEEN_LEVELS - 1) as f64);
@@ -148,7 +156,7 @@ fn sheen_levels(base: &Plane) -> Vec<Plane> {
                 crate::microfacet::charlie_d(nh, alpha)
                     * crate::microfacet::charlie_v(nl, 1.0, alpha)
             };
-            summed_with(base, 2, SHEEN_DIMS, &lobe)
+            summed_with(&fine, 2, SHEEN_DIMS, &lobe)
         })
         .collect()
 }
