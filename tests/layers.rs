@@ -344,3 +344,135 @@ fn the_coat_does_not_follow_the_base_normal_map() {
         "the normal map changes {differ} pixels of the bare sphere"
     );
 }
+
+#[test]
+fn animation_pointers_drive_the_layers_and_texture_transforms() {
+    use realist::scene::anim::{Channel, Interpolation, Property, Sampler};
+    use realist::scene::{Animation, Play, Slot};
+    // One LINEAR channel from `from` at t 0 to `to` at t 1 on material 0.
+    let channel = |property: Property, from: &[f32], to: &[f32]| {
+        (
+            Sampler {
+                interpolation: Interpolation::Linear,
+                times: vec![0.0, 1.0],
+                values: from.iter().chain(to).copied().collect(),
+                width: from.len(),
+            },
+            property,
+        )
+    };
+    let animate = |scene: &mut Scene, channels: Vec<(Sampler, Property)>| {
+        let (samplers, channels) = channels
+            .into_iter()
+            .enumerate()
+            .map(|(k, (s, property))| {
+                let c = Channel {
+                    node: 0,
+                    property,
+                    sampler: k,
+                };
+                (s, c)
+            })
+            .unzip();
+        scene.animations.push(Animation {
+            name: "pointers".into(),
+            samplers,
+            channels,
+        });
+    };
+    let frame_of = |p: &PreparedScene, s: &Settings| {
+        let mut r = Renderer::new();
+        r.render(p, s, &view());
+        r.take_target().expect("a frame").resolve()
+    };
+    let same = |a: &Framebuffer, b: &Framebuffer| a.color == b.color;
+    let s = settings(vec![
+        Light::directional(Vec3::new(-0.3, -0.2, -1.0), Vec3::splat(2.0)),
+        Light::ambient(Vec3::splat(0.2)),
+    ]);
+
+    // The sheen from none to the file's, the coat from none to full.
+    let sheen = model("sheen.glb");
+    let mut animated = sheen.clone();
+    {
+        let p = animated.materials[0].pbr.as_mut().unwrap();
+        p.sheen_color = Vec3::ZERO;
+        p.sheen_roughness = 0.1;
+    }
+    animate(
+        &mut animated,
+        vec![
+            channel(Property::SheenColor, &[0.0; 3], &[1.0, 0.5, 0.25]),
+            channel(Property::SheenRoughness, &[0.1], &[0.5]),
+            channel(Property::ClearcoatFactor, &[0.0], &[0.6]),
+            channel(Property::ClearcoatRoughness, &[0.0], &[0.4]),
+        ],
+    );
+    let mut coated = sheen.clone();
+    {
+        let p = coated.materials[0].pbr.as_mut().unwrap();
+        p.clearcoat = 0.6;
+        p.clearcoat_roughness = 0.4;
+    }
+    let mut prepared = PreparedScene::new(animated);
+    prepared.pose_at(Play::One(0), 0.5, false);
+    let p = prepared.material(0).unwrap().pbr.unwrap();
+    assert!(
+        (p.sheen_color - Vec3::new(0.5, 0.25, 0.125))
+            .abs()
+            .max_element()
+            < 1e-6
+    );
+    assert!((p.sheen_roughness - 0.3).abs() < 1e-6 && (p.clearcoat - 0.3).abs() < 1e-6);
+    prepared.pose_at(Play::One(0), 1.0, false);
+    let want = frame_of(&PreparedScene::new(coated), &s);
+    assert!(
+        same(&frame_of(&prepared, &s), &want),
+        "t 1: the static coated sheen"
+    );
+    // Back to rest: the values the file gave.
+    prepared.pose_at(Play::Rest, 0.0, false);
+    let p = prepared.material(0).unwrap().pbr.unwrap();
+    assert!(p.sheen_color == Vec3::ZERO && p.clearcoat == 0.0);
+
+    // A base-colour texture's offset, rotation and scale (KHR_texture_transform).
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/texture/grid-torus.glb");
+    let torus = realist::load::load(&path, &realist::load::LoadOptions::default()).unwrap();
+    assert!(torus.materials[0].base_color_texture.is_some());
+    let mut animated = torus.clone();
+    animate(
+        &mut animated,
+        vec![
+            channel(
+                Property::TexOffset(Slot::BaseColor),
+                &[0.0, 0.0],
+                &[0.25, 0.5],
+            ),
+            channel(Property::TexRotation(Slot::BaseColor), &[0.0], &[0.3]),
+            channel(
+                Property::TexScale(Slot::BaseColor),
+                &[1.0, 1.0],
+                &[2.0, 3.0],
+            ),
+        ],
+    );
+    let mut moved = torus.clone();
+    if let Some(t) = &mut moved.materials[0].base_color_texture {
+        t.transform.offset = glam::Vec2::new(0.25, 0.5);
+        t.transform.rotation = 0.3;
+        t.transform.scale = glam::Vec2::new(2.0, 3.0);
+    }
+    let torus_view = Settings {
+        lights: Lights::Auto,
+        ..s.clone()
+    };
+    let mut prepared = PreparedScene::new(animated);
+    let rest = frame_of(&prepared, &torus_view);
+    prepared.pose_at(Play::One(0), 1.0, false);
+    let posed = frame_of(&prepared, &torus_view);
+    let want = frame_of(&PreparedScene::new(moved), &torus_view);
+    assert!(same(&posed, &want), "t 1: the moved texture");
+    assert!(!same(&posed, &rest), "the texture moved");
+    prepared.pose_at(Play::Rest, 0.0, false);
+    assert!(same(&frame_of(&prepared, &torus_view), &rest), "rest again");
+}

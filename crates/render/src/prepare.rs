@@ -362,6 +362,15 @@ impl PreparedScene {
                         m.roughness = r.roughness;
                         if let (Some(p), Some(q)) = (&mut m.pbr, &r.pbr) {
                             p.emissive_strength = q.emissive_strength;
+                            p.clearcoat = q.clearcoat;
+                            p.clearcoat_roughness = q.clearcoat_roughness;
+                            p.sheen_color = q.sheen_color;
+                            p.sheen_roughness = q.sheen_roughness;
+                        }
+                        for slot in crate::scene::Slot::ALL {
+                            if let (Some(t), Some(q)) = (m.slot_mut(slot).as_mut(), r.slot(slot)) {
+                                t.transform = q.transform;
+                            }
                         }
                     }
                 }
@@ -412,6 +421,44 @@ impl PreparedScene {
                         P::EmissiveStrength => {
                             if let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) {
                                 p.emissive_strength = x.max(0.0);
+                            }
+                        }
+                        P::ClearcoatFactor
+                        | P::ClearcoatRoughness
+                        | P::SheenColor
+                        | P::SheenRoughness => {
+                            let Some(p) = &mut m.pbr else { continue };
+                            let unit = |x: f32| finite(x).map(|x| x.clamp(0.0, 1.0));
+                            match property {
+                                P::ClearcoatFactor => {
+                                    p.clearcoat = unit(v[0]).unwrap_or(p.clearcoat);
+                                }
+                                P::ClearcoatRoughness => {
+                                    p.clearcoat_roughness =
+                                        unit(v[0]).unwrap_or(p.clearcoat_roughness);
+                                }
+                                P::SheenRoughness => {
+                                    p.sheen_roughness = unit(v[0]).unwrap_or(p.sheen_roughness);
+                                }
+                                _ => {
+                                    if let Some(c) = rgb(v) {
+                                        p.sheen_color = c.clamp(Vec3::ZERO, Vec3::ONE);
+                                    }
+                                }
+                            }
+                        }
+                        P::TexOffset(slot) | P::TexRotation(slot) | P::TexScale(slot) => {
+                            let Some(t) = m.slot_mut(slot).as_mut() else {
+                                continue;
+                            };
+                            let pair = glam::Vec2::new(v[0], v[1]);
+                            match property {
+                                P::TexOffset(_) if pair.is_finite() => t.transform.offset = pair,
+                                P::TexScale(_) if pair.is_finite() => t.transform.scale = pair,
+                                P::TexRotation(_) if v[0].is_finite() => {
+                                    t.transform.rotation = v[0];
+                                }
+                                _ => {}
                             }
                         }
                         _ => continue,

@@ -60,6 +60,17 @@ pub enum Property {
     SpotOuter,
     /// A perspective camera's vertical field of view (radians).
     CameraYfov,
+    /// A material's `KHR_materials_clearcoat` factor and roughness.
+    ClearcoatFactor,
+    ClearcoatRoughness,
+    /// A material's `KHR_materials_sheen` colour (RGB) and roughness.
+    SheenColor,
+    SheenRoughness,
+    /// A material slot's `KHR_texture_transform` offset (2 numbers), rotation (radians)
+    /// and scale (2 numbers).
+    TexOffset(crate::Slot),
+    TexRotation(crate::Slot),
+    TexScale(crate::Slot),
 }
 
 /// What kind of object a channel's target is ([`Property::target`]).
@@ -93,6 +104,13 @@ impl Property {
             Property::SpotInner => "innerConeAngle",
             Property::SpotOuter => "outerConeAngle",
             Property::CameraYfov => "yfov",
+            Property::ClearcoatFactor => "clearcoatFactor",
+            Property::ClearcoatRoughness => "clearcoatRoughnessFactor",
+            Property::SheenColor => "sheenColorFactor",
+            Property::SheenRoughness => "sheenRoughnessFactor",
+            Property::TexOffset(_) => "offset",
+            Property::TexRotation(_) => "rotation",
+            Property::TexScale(_) => "scale",
         }
     }
 
@@ -107,7 +125,14 @@ impl Property {
             | Property::Emissive
             | Property::Metallic
             | Property::Roughness
-            | Property::EmissiveStrength => Target::Material,
+            | Property::EmissiveStrength
+            | Property::ClearcoatFactor
+            | Property::ClearcoatRoughness
+            | Property::SheenColor
+            | Property::SheenRoughness
+            | Property::TexOffset(_)
+            | Property::TexRotation(_)
+            | Property::TexScale(_) => Target::Material,
             Property::LightColor
             | Property::LightIntensity
             | Property::SpotInner
@@ -120,9 +145,12 @@ impl Property {
     #[must_use]
     pub fn width(self) -> Option<usize> {
         match self {
-            Property::Translation | Property::Scale | Property::Emissive | Property::LightColor => {
-                Some(3)
-            }
+            Property::Translation
+            | Property::Scale
+            | Property::Emissive
+            | Property::LightColor
+            | Property::SheenColor => Some(3),
+            Property::TexOffset(_) | Property::TexScale(_) => Some(2),
             Property::Rotation | Property::BaseColor => Some(4),
             Property::Weights => None,
             _ => Some(1),

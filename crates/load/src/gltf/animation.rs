@@ -17,7 +17,7 @@
 use super::accessor::Format;
 use super::Builder;
 use crate::scene::anim::{Channel, Interpolation, Property, Sampler};
-use crate::scene::{Animation, Local};
+use crate::scene::{Animation, Local, Slot};
 use crate::LoadError;
 
 #[derive(serde::Deserialize)]
@@ -93,6 +93,39 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
             Ok(Pointed::Material(index(m)?, property))
         }
         ["", "materials", m, "emissiveFactor"] => Ok(Pointed::Material(index(m)?, Property::Emissive)),
+        ["", "materials", m, "extensions", "KHR_materials_clearcoat", field] => {
+            let property = match *field {
+                "clearcoatFactor" => Property::ClearcoatFactor,
+                "clearcoatRoughnessFactor" => Property::ClearcoatRoughness,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Material(index(m)?, property))
+        }
+        ["", "materials", m, "extensions", "KHR_materials_sheen", field] => {
+            let property = match *field {
+                "sheenColorFactor" => Property::SheenColor,
+                "sheenRoughnessFactor" => Property::SheenRoughness,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Material(index(m)?, property))
+        }
+        ["", "materials", m, path @ .., "extensions", "KHR_texture_transform", field] => {
+            let slot = match path {
+                ["pbrMetallicRoughness", "baseColorTexture"] => Slot::BaseColor,
+                ["pbrMetallicRoughness", "metallicRoughnessTexture"] => Slot::MetallicRoughness,
+                ["normalTexture"] => Slot::Normal,
+                ["occlusionTexture"] => Slot::Occlusion,
+                ["emissiveTexture"] => Slot::Emissive,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            let property = match *field {
+                "offset" => Property::TexOffset(slot),
+                "rotation" => Property::TexRotation(slot),
+                "scale" => Property::TexScale(slot),
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Material(index(m)?, property))
+        }
         ["", "materials", m, "extensions", "KHR_materials_emissive_strength", "emissiveStrength"] => {
             Ok(Pointed::Material(index(m)?, Property::EmissiveStrength))
         }
@@ -107,7 +140,7 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
             Ok(Pointed::Light(index(l)?, property))
         }
         ["", "cameras", c, "perspective", "yfov"] => Ok(Pointed::Camera(index(c)?, Property::CameraYfov)),
-        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights, the materials' base colour, emissive, metallic, roughness and emissive strength, the lights' colour, intensity and cone angles and the cameras' yfov)")),
+        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights, the materials' base colour, emissive, metallic, roughness, emissive strength, clear coat and sheen factors and texture transforms, the lights' colour, intensity and cone angles and the cameras' yfov)")),
     }
 }
 
@@ -439,6 +472,28 @@ mod tests {
             "{e}"
         );
         let e = pointed("/materials/0/pbrMetallicRoughness/baseColorTexture").unwrap_err();
+        assert!(e.contains("is not supported"), "{e}");
+        assert_eq!(
+            pointed("/materials/2/extensions/KHR_materials_sheen/sheenColorFactor"),
+            Ok(Pointed::Material(2, Property::SheenColor))
+        );
+        assert_eq!(
+            pointed("/materials/0/extensions/KHR_materials_clearcoat/clearcoatRoughnessFactor"),
+            Ok(Pointed::Material(0, Property::ClearcoatRoughness))
+        );
+        assert_eq!(
+            pointed("/materials/1/pbrMetallicRoughness/baseColorTexture/extensions/KHR_texture_transform/offset"),
+            Ok(Pointed::Material(1, Property::TexOffset(Slot::BaseColor)))
+        );
+        assert_eq!(
+            pointed("/materials/1/normalTexture/extensions/KHR_texture_transform/rotation"),
+            Ok(Pointed::Material(1, Property::TexRotation(Slot::Normal)))
+        );
+        let e = pointed("/materials/1/normalTexture/extensions/KHR_texture_transform/texCoord")
+            .unwrap_err();
+        assert!(e.contains("is not supported"), "{e}");
+        let e =
+            pointed("/materials/1/fooTexture/extensions/KHR_texture_transform/offset").unwrap_err();
         assert!(e.contains("is not supported"), "{e}");
     }
 }

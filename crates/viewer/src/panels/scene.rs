@@ -49,7 +49,7 @@ impl ScenePanel {
         let scene = std::sync::Arc::clone(cx.session.scene.scene());
         let r = &scene.report;
         ui.label(format!(
-            "{} ({}): {} meshes, {} instances, {} triangles",
+            "{} ({}): {} meshes, {} instances{}, {} triangles",
             cx.session.name(),
             if r.format.is_empty() {
                 "?"
@@ -58,6 +58,15 @@ impl ScenePanel {
             },
             scene.meshes.len(),
             scene.instances.len(),
+            match scene
+                .instances
+                .iter()
+                .map(|i| i.copy_count())
+                .sum::<usize>()
+            {
+                n if n != scene.instances.len() => format!(" ({n} copies drawn)"),
+                _ => String::new(),
+            },
             cx.session.scene.triangle_count()
         ));
         variant_choice(cx, ui, &scene.variants);
