@@ -1205,6 +1205,19 @@ fn material_editor_sets_the_new_parameters() {
     assert_eq!((m.metallic, m.roughness), (1.0, 0.3));
     assert_eq!((p.ior, p.emissive_strength), (2.0, 3.0));
     assert_frame_changed(h.state(), &dielectric, "metal");
+    // The layers (issue 37): a clear coat and a sheen over the metal.
+    let metal = shown_image(&h);
+    set_value(&mut h, "material clearcoat", 1.0);
+    set_value(&mut h, "material clearcoat roughness", 0.2);
+    set_value(&mut h, "material sheen roughness", 0.5);
+    let p = h.state().settings.materials.clone().unwrap()[0]
+        .pbr
+        .expect("a glTF material");
+    assert_eq!(
+        (p.clearcoat, p.clearcoat_roughness, p.sheen_roughness),
+        (1.0, 0.2, 0.5)
+    );
+    assert_frame_changed(h.state(), &metal, "a clear coat");
     activate(&mut h, "restore the file's materials");
     assert_eq!(h.state().settings.materials, None);
     assert_eq!(differing(&shown_image(&h), &before), 0);
@@ -3127,4 +3140,22 @@ fn the_file_pickers_icons_are_in_the_fonts() {
             u32::from(c)
         );
     }
+}
+
+#[test]
+fn an_instanced_model_shows_its_copies_and_draws_them() {
+    // EXT_mesh_gpu_instancing (issue 37): one instance of one mesh, twelve copies drawn.
+    let dir = temp_dir("instanced");
+    let h = viewer(Some(model("pbr/instanced.glb")), &dir, 1);
+    assert_current_frame(h.state());
+    let found = h
+        .query_all_by(|n| {
+            text_of(n).is_some_and(|l| l.contains("1 instances (12 copies drawn), 144 triangles"))
+        })
+        .count();
+    assert!(found > 0, "the scene summary names the copies");
+    let img = shown_image(&h);
+    let bg = img.pixels[0];
+    let drawn = img.pixels.iter().filter(|p| **p != bg).count();
+    assert!(drawn > 2000, "{drawn} pixels of boxes");
 }
