@@ -8,11 +8,11 @@
 //! |---|---|---|
 //! | `begin` | always | base colour (times the vertex colour), `K_s`, the unit normal |
 //! | `sample` | one per slot the draw reads | the slot's texels (image or procedural) |
-//! | `maps` | a draw with slots | base colour, gloss, normal map, bump, occlusion, emission, metal-roughness |
+//! | `maps` | a draw with slots | base colour, gloss, normal map, bump, occlusion, emission, metal-roughness (and, for a clear coat over a mapped base, the coat's unmapped normal) |
 //! | `debug` | a texture debug view | the view's colour (last stage) |
 //! | `unlit` | `KHR_materials_unlit` | the base colour (last stage) |
-//! | `ambient` | lit | facing, view vector, the ambient or image-based term, emission |
-//! | `light` | one per light that reaches the object | its share (shadow included) |
+//! | `ambient` | lit | facing, view vector, the ambient or image-based term, emission; the layers' values at the view (`brdf::Layers`: the coat's Fresnel, the sheen's albedo) |
+//! | `light` | one per light that reaches the object | its share (shadow included), under the clear coat and sheen if any |
 //! | `fog` | fog on | linear fog |
 //! | `finish` | lit | alpha mode: the colour, and the lanes an alpha test keeps |
 //!
