@@ -147,19 +147,7 @@ impl Prefiltered {
     #[must_use]
     #[inline(always)]
     pub fn specular_uv(&self, u: f32, v: f32, r: f32) -> Vec3 {
-        let last = self.levels.len() - 1;
-        let f = if r.is_nan() {
-            0.0
-        } else {
-            r.clamp(0.0, 1.0) * last as f32
-        };
-        let k = (f as usize).min(last.saturating_sub(1));
-        let t = f - k as f32;
-        let a = self.levels[k].bilinear(u, v);
-        if t <= 0.0 || k + 1 > last {
-            return a;
-        }
-        a.lerp(self.levels[k + 1].bilinear(u, v), t)
+        read_chain(&self.levels, u, v, r)
     }
 
     /// Irradiance `E(n) = ∫ L(ω) max(n·ω, 0) dω` (uniform radiance c gives π·c; never
@@ -185,21 +173,10 @@ impl Prefiltered {
     #[must_use]
     #[inline(always)]
     pub fn sheen_uv(&self, u: f32, v: f32, r: f32) -> Vec3 {
-        let Some(last) = self.sheen.len().checked_sub(1) else {
+        if self.sheen.is_empty() {
             return self.irradiance_uv(u, v);
-        };
-        let f = if r.is_nan() {
-            0.0
-        } else {
-            r.clamp(0.0, 1.0) * last as f32
-        };
-        let k = (f as usize).min(last.saturating_sub(1));
-        let t = f - k as f32;
-        let a = self.sheen[k].bilinear(u, v);
-        if t <= 0.0 || k + 1 > last {
-            return a;
         }
-        a.lerp(self.sheen[k + 1].bilinear(u, v), t)
+        read_chain(&self.sheen, u, v, r)
     }
 
     /// `E/π` at image coordinates `(u, v)`: [`Self::irradiance`] over π.
@@ -239,4 +216,24 @@ impl Prefiltered {
         let (u, v) = dir_to_uv_f64(dir.normalize_or_zero());
         self.source.bilinear_f64(u, v)
     }
+}
+
+/// A chain of levels (at least one) read at image coordinates `(u, v)` for roughness `r`
+/// (clamped to [0, 1]; NaN reads level 0): bilinear in levels `⌊r·(M-1)⌋` and the next,
+/// linear between.
+#[inline(always)]
+fn read_chain(levels: &[Plane], u: f32, v: f32, r: f32) -> Vec3 {
+    let last = levels.len() - 1;
+    let f = if r.is_nan() {
+        0.0
+    } else {
+        r.clamp(0.0, 1.0) * last as f32
+    };
+    let k = (f as usize).min(last.saturating_sub(1));
+    let t = f - k as f32;
+    let a = levels[k].bilinear(u, v);
+    if t <= 0.0 || k + 1 > last {
+        return a;
+    }
+    a.lerp(levels[k + 1].bilinear(u, v), t)
 }
