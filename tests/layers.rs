@@ -476,3 +476,189 @@ fn animation_pointers_drive_the_layers_and_texture_transforms() {
     prepared.pose_at(Play::Rest, 0.0, false);
     assert!(same(&frame_of(&prepared, &torus_view), &rest), "rest again");
 }
+
+/// A view of `layer-textures.glb`'s three spheres (x = -1, 0, 1, radius 0.4) from (0, 0, 4).
+fn row_view() -> View {
+    View {
+        camera: Camera {
+            eye: Vec3::new(0.0, 0.0, 4.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            yfov: 0.26,
+            near: 1.0,
+            far: 10.0,
+            ..Camera::default()
+        },
+        width: 240,
+        height: 80,
+    }
+}
+
+#[test]
+fn the_layers_textures_multiply_their_factors() {
+    // layer-textures.glb reads every factor of the clear coat, the sheen and
+    // KHR_materials_specular through a texture whose channels differ; layer-factors.glb has
+    // the same materials with each texel multiplied into its factor (in make.mjs, sRGB
+    // colours decoded by the transfer function's formula). The specifications say a
+    // texture multiplies its factor: the two files must give one image, with every kernel,
+    // under a light, the surround and the studio environment.
+    use realist::simd::KernelKind;
+    let (textured, factors) = (model("layer-textures.glb"), model("layer-factors.glb"));
+    assert!(
+        textured.report.warnings.is_empty(),
+        "{:?}",
+        textured.report.warnings
+    );
+    let base = Settings {
+        environment: Environment::Auto,
+        ..settings(vec![
+            Light::directional(Vec3::new(-0.3, -0.4, -1.0), Vec3::splat(2.0)),
+            Light::ambient(Vec3::splat(0.2)),
+        ])
+    };
+    let draw = |scene: &Scene, s: &Settings| {
+        let prepared = PreparedScene::new(scene.clone());
+        let mut r = Renderer::new();
+        r.render(&prepared, s, &row_view());
+        r.take_target().expect("a frame").resolve()
+    };
+    let largest = |a: &Framebuffer, b: &Framebuffer| {
+        a.color
+            .iter()
+            .zip(&b.color)
+            .map(|(p, q)| (*p - *q).abs().max_element())
+            .fold(0f32, f32::max)
+    };
+    for kernel in KernelKind::available_kinds() {
+        let s = Settings {
+            kernel: Some(kernel),
+            ..base.clone()
+        };
+        let d = largest(&draw(&textured, &s), &draw(&factors, &s));
+        eprintln!("{kernel:?}: textures against factors, largest difference {d:.2e}");
+        assert!(d < 2e-4, "{kernel:?}: {d}");
+    }
+    // Without its textures the file's own factors give another image on each sphere: the
+    // textures are read.
+    let mut bare = textured.clone();
+    for m in &mut bare.materials {
+        m.layer_textures = Default::default();
+    }
+    let (a, b) = (draw(&textured, &base), draw(&bare, &base));
+    for (k, x) in [(0, 60u32), (1, 120), (2, 180)] {
+        let row = 40 * 240;
+        let changed = (x - 20..x + 20)
+            .filter(|&x| (a.color[row + x as usize] - b.color[row + x as usize]).abs().max_element() > 0.01)
+            .count();
+        assert!(changed > 20, "sphere {k}: {changed} pixels change without the textures");
+    }
+    // The pixel probe and the f64 reference read them too.
+    let view = row_view();
+    let (pt, pf) = (PreparedScene::new(textured.clone()), PreparedScene::new(factors.clone()));
+    for x in [50u32, 60, 120, 125, 180, 190] {
+        let (t, f) = (
+            probe(&pt, &base, &view, x, 36).expect("a sphere"),
+            probe(&pf, &base, &view, x, 36).expect("a sphere"),
+        );
+        assert!((t.color - f.color).abs().max_element() < 2e-4, "probe at {x}: {t:?} {f:?}");
+        assert!((t.color - a.color[36 * 240 + x as usize].truncate()).abs().max_element() < 2e-3);
+    }
+    use realist::quality::{compare, general, LinearImage};
+    use realist::render::{render as render_shot, Shot};
+    let shot = Shot {
+        width: 120,
+        height: 40,
+        camera: Some(view.camera),
+        settings: settings(vec![
+            Light::directional(Vec3::new(-0.3, -0.4, -1.0), Vec3::splat(2.0)),
+            Light::ambient(Vec3::splat(0.2)),
+        ]),
+    };
+    let big = Shot {
+        width: shot.width * SS,
+        height: shot.height * SS,
+        ..shot.clone()
+    };
+    let drawn = LinearImage::from_framebuffer(
+        &render_shot(&PreparedScene::new(textured.clone()), &big).image(),
+    )
+    .downsample(SS);
+    let reference = general::reference(&textured, &shot, SS, true).expect("reference");
+    let of_factors = general::reference(&factors, &shot, SS, true).expect("reference");
+    let same = compare(&drawn, &reference, 1.0);
+    let refs = compare(&of_factors, &reference, 1.0);
+    eprintln!(
+        "against the f64 reference: mean ΔE00 {:.3}; the reference of the factors against its textures {:.4}",
+        same.mean_de2000, refs.mean_de2000
+    );
+    assert!(same.mean_de2000 < 0.5, "{}", same.mean_de2000);
+    assert!(refs.mean_de2000 < 0.01, "{}", refs.mean_de2000);
+}
+
+#[test]
+fn the_coat_normal_map_tilts_the_coat() {
+    // coat-normal.glb: a flat quad facing the camera whose coat (over a base that reflects
+    // nothing) has a uniform normal map tilting its normal about 8° towards +X, in the
+    // tangent frame the file gives (TANGENT +X, w = 1: bitangent +Y). That is the quad with
+    // its vertex normals tilted as the texel decodes, n = 2 c / 255 - 1 normalised, and no
+    // map: the two must give one image. And the coat's highlight under a light from the
+    // camera's direction moves to where the tilted normal mirrors the light into the eye:
+    // v = 2 (n·l) n - l, the point x = -1.5 tan 2θ on the quad's middle row.
+    use realist::simd::KernelKind;
+    let scene = model("coat-normal.glb");
+    let texel = [145.0f64, 128.0, 254.0];
+    let n = DVec3::from_array(texel.map(|c| 2.0 * c / 255.0 - 1.0)).normalize();
+    let mut tilted = scene.clone();
+    tilted.materials[0].layer_textures = Default::default();
+    for v in &mut tilted.meshes[0].normals.values {
+        *v = n.as_vec3();
+    }
+    let eye = 1.5;
+    let v = View {
+        camera: Camera {
+            eye: Vec3::new(0.0, 0.0, eye as f32),
+            yfov: 0.9,
+            near: 0.5,
+            ..view().camera
+        },
+        ..view()
+    };
+    let s = settings(vec![Light::directional(Vec3::NEG_Z, Vec3::splat(2.0))]);
+    let draw = |scene: &Scene, s: &Settings| {
+        let prepared = PreparedScene::new(scene.clone());
+        let mut r = Renderer::new();
+        r.render(&prepared, s, &v);
+        r.take_target().expect("a frame").resolve()
+    };
+    for kernel in KernelKind::available_kinds() {
+        let s = Settings {
+            kernel: Some(kernel),
+            ..s.clone()
+        };
+        let (a, b) = (draw(&scene, &s), draw(&tilted, &s));
+        let d = a
+            .color
+            .iter()
+            .zip(&b.color)
+            .map(|(p, q)| (*p - *q).abs().max_element())
+            .fold(0f32, f32::max);
+        eprintln!("{kernel:?}: the coat's normal map against tilted normals, largest difference {d:.2e}");
+        assert!(d < 1e-4, "{kernel:?}: {d}");
+    }
+    let fb = draw(&scene, &s);
+    let row = SIZE / 2;
+    let brightest = (0..SIZE)
+        .max_by(|&a, &b| pixel(&fb, a, row).x.total_cmp(&pixel(&fb, b, row).x))
+        .unwrap_or(0);
+    let theta = n.x.atan2(n.z);
+    let x = -eye * (2.0 * theta).tan();
+    // The column of world x on the plane z = 0.
+    let half = eye * (0.45f64).tan();
+    let column = (x / half + 1.0) * 0.5 * f64::from(SIZE) - 0.5;
+    eprintln!(
+        "the coat's highlight at column {brightest}; the tilted normal ({:.1}°) mirrors the light at {column:.1}",
+        theta.to_degrees()
+    );
+    assert!((f64::from(brightest) - column).abs() <= 2.0, "{brightest} vs {column}");
+    assert!(column < f64::from(SIZE / 2) - 20.0);
+}

@@ -6,7 +6,8 @@
 // writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
 // lights-punctual.glb, variants.glb, pointer.glb, instanced.glb, clearcoat.glb,
-// clearcoat-only.glb, sheen.glb and sheen-only.glb. Every piece of
+// clearcoat-only.glb, sheen.glb, sheen-only.glb, layer-textures.glb, layer-factors.glb and
+// coat-normal.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -438,6 +439,97 @@ async function layers() {
 }
 
 // ---------------------------------------------------------------------------------------
+// layer-textures.glb and layer-factors.glb: the layers' textures, and the same materials
+// with each texture's value multiplied into its factor instead. Three spheres (radius 0.4)
+// at x = -1, 0, 1, each with its own material; every texture is a uniform 4 x 4 PNG whose
+// channels differ, so reading the wrong channel shows:
+//   coat (x = -1)      base (0.8, 0.3, 0.1), roughness 0.6; clearcoat 1, roughness 0.8;
+//                      clearcoatTexture and clearcoatRoughnessTexture = COAT_TEXEL (R 0.6,
+//                      G 0.4): factors 0.6 and 0.32
+//   sheen (x = 0)      base (0.1, 0.2, 0.6), roughness 0.8; sheenColor (1, 0.8, 0.6),
+//                      sheenRoughness 0.9; sheenColorTexture (sRGB) and sheenRoughnessTexture
+//                      = SHEEN_TEXEL: colour times the decoded RGB, roughness times A / 255
+//   specular (x = 1)   base (0.3, 0.3, 0.3), roughness 0.35; specularFactor 0.9,
+//                      specularColorFactor (1, 2, 4); specularTexture and specularColorTexture
+//                      (sRGB) = SPECULAR_TEXEL: factor times A / 255, colour times the decoded RGB
+
+export const COAT_TEXEL = [153, 102, 0, 255];
+export const SHEEN_TEXEL = [200, 120, 60, 128];
+export const SPECULAR_TEXEL = [230, 180, 90, 191];
+
+/** An 8-bit sRGB value decoded to linear (the sRGB transfer function). */
+const srgbDecode = (b) => {
+  const c = b / 255;
+  return c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4;
+};
+
+async function layerTextures(textured) {
+  const doc = newDocument();
+  const clearcoat = doc.createExtension(KHRMaterialsClearcoat);
+  const sheen = doc.createExtension(KHRMaterialsSheen);
+  const specular = doc.createExtension(KHRMaterialsSpecular);
+  const uniform = (name, texel) =>
+    doc.createTexture(name).setImage(png(4, 4, () => texel)).setMimeType("image/png");
+  const [C, S, P] = [COAT_TEXEL, SHEEN_TEXEL, SPECULAR_TEXEL];
+  const coat = clearcoat.createClearcoat();
+  const cloth = sheen.createSheen();
+  const spec = specular.createSpecular();
+  if (textured) {
+    const [ct, st, pt] = [uniform("coat", C), uniform("sheen", S), uniform("specular", P)];
+    coat.setClearcoatFactor(1).setClearcoatRoughnessFactor(0.8).setClearcoatTexture(ct).setClearcoatRoughnessTexture(ct);
+    cloth.setSheenColorFactor([1, 0.8, 0.6]).setSheenRoughnessFactor(0.9).setSheenColorTexture(st).setSheenRoughnessTexture(st);
+    spec.setSpecularFactor(0.9).setSpecularColorFactor([1, 2, 4]).setSpecularTexture(pt).setSpecularColorTexture(pt);
+  } else {
+    coat.setClearcoatFactor(C[0] / 255).setClearcoatRoughnessFactor((0.8 * C[1]) / 255);
+    cloth
+      .setSheenColorFactor([1, 0.8, 0.6].map((f, k) => f * srgbDecode(S[k])))
+      .setSheenRoughnessFactor((0.9 * S[3]) / 255);
+    spec.setSpecularFactor((0.9 * P[3]) / 255).setSpecularColorFactor([1, 2, 4].map((f, k) => f * srgbDecode(P[k])));
+  }
+  const materials = [
+    ["coat", [0.8, 0.3, 0.1, 1], 0.6, "KHR_materials_clearcoat", coat],
+    ["sheen", [0.1, 0.2, 0.6, 1], 0.8, "KHR_materials_sheen", cloth],
+    ["specular", [0.3, 0.3, 0.3, 1], 0.35, "KHR_materials_specular", spec],
+  ];
+  const sphere = spherePrimitive(doc);
+  materials.forEach(([name, base, roughness, ext, property], i) => {
+    const m = doc.createMaterial(name).setBaseColorFactor(base).setMetallicFactor(0).setRoughnessFactor(roughness);
+    m.setExtension(ext, property);
+    place(doc, name, meshWith(doc, name, sphere, m), [i - 1, 0, 0]);
+  });
+  sphere.dispose();
+  await write(doc, textured ? "layer-textures.glb" : "layer-factors.glb");
+}
+
+// ---------------------------------------------------------------------------------------
+// coat-normal.glb: a clear coat with its own normal map over a flat quad. The 1 x 1 quad of
+// quadPrimitive (facing +Z, TEXCOORD_0) with TANGENT (1, 0, 0, 1); material "coat-normal":
+// base black, specularFactor 0 (the base reflects nothing), clearcoat 1, clearcoatRoughness
+// 0.3, clearcoatNormalTexture a uniform 4 x 4 PNG of COAT_NORMAL_TEXEL: the normal tilted
+// about 8 degrees towards +X (tangent space (0.137, 0.004, 0.992) once decoded).
+
+export const COAT_NORMAL_TEXEL = [145, 128, 254, 255];
+
+async function coatNormal() {
+  const doc = newDocument();
+  const prim = quadPrimitive(doc, { uv: true });
+  prim.setAttribute("TANGENT", doc.createAccessor().setType("VEC4").setArray(new Float32Array([1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1])).setBuffer(buffer(doc)));
+  const normal = doc.createTexture("coat-normal").setImage(png(4, 4, () => COAT_NORMAL_TEXEL)).setMimeType("image/png");
+  const m = doc
+    .createMaterial("coat-normal")
+    .setBaseColorFactor([0, 0, 0, 1])
+    .setMetallicFactor(0)
+    .setRoughnessFactor(0.5)
+    .setExtension("KHR_materials_specular", doc.createExtension(KHRMaterialsSpecular).createSpecular().setSpecularFactor(0))
+    .setExtension(
+      "KHR_materials_clearcoat",
+      doc.createExtension(KHRMaterialsClearcoat).createClearcoat().setClearcoatFactor(1).setClearcoatRoughnessFactor(0.3).setClearcoatNormalTexture(normal),
+    );
+  place(doc, "coat-normal", doc.createMesh("coat-normal").addPrimitive(prim.setMaterial(m)), [0, 0, 0]);
+  await write(doc, "coat-normal.glb");
+}
+
+// ---------------------------------------------------------------------------------------
 // instanced.glb: EXT_mesh_gpu_instancing, required. One node "forest" at (0, -0.5, 0) whose
 // mesh "box" (a cube of side 0.4 around the origin: 24 vertices with face normals, 12
 // triangles, material "bark", base colour (0.8, 0.5, 0.2), roughness 0.6) is drawn 12
@@ -649,3 +741,6 @@ await variants();
 await pointer();
 await instanced();
 await layers();
+await layerTextures(true);
+await layerTextures(false);
+await coatNormal();

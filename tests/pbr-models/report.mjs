@@ -44,6 +44,11 @@ const EXPECTED = new Map([
   ["clearcoat-only.glb", [["clearcoat-only", ["KHR_materials_clearcoat", "KHR_materials_specular"]]]],
   ["sheen.glb", [["sheen", ["KHR_materials_sheen"]]]],
   ["sheen-only.glb", [["sheen-only", ["KHR_materials_sheen", "KHR_materials_specular"]]]],
+  ...["layer-textures.glb", "layer-factors.glb"].map((file) => [
+    file,
+    [["coat", ["KHR_materials_clearcoat"]], ["sheen", ["KHR_materials_sheen"]], ["specular", ["KHR_materials_specular"]]],
+  ]),
+  ["coat-normal.glb", [["coat-normal", ["KHR_materials_clearcoat", "KHR_materials_specular"]]]],
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],

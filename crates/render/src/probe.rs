@@ -17,7 +17,8 @@ use super::frame::{for_each_light, resolve};
 use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
-use crate::scene::{Light, LightKind, TextureSource};
+use crate::scene::{Light, LightKind, Slot, TextureSource};
+use crate::shade::layer_maps::LayerTexels;
 use crate::shade::{
     ambient_split, arriving, emission_seen, maps, reflect, texlab, view_terms, view_vector,
     LightSet, Shading, SlotParams,
@@ -169,7 +170,8 @@ pub fn probe(
         TextureSource::Image(tex) => tex.sample_with(uv_of(t, None), t.sampler),
         TextureSource::Procedural(p) => p.color(&point(t, p)),
     };
-    if let Some(map) = &d.normal_map {
+    // A tangent-space normal map applied to `n` (the base's or the clear coat's).
+    let normal_mapped = |map: &SlotParams, n: Vec3| {
         let frame = match &tri.tangents {
             Some(ts) => {
                 let t4 = ts[a] * bary.x + ts[b] * bary.y + ts[c] * bary.z;
@@ -183,19 +185,19 @@ pub fn probe(
                 let w = [a, b, c].map(|k| world.transform_point3(tri.positions[k]));
                 let uv = [a, b, c].map(|k| uv_of(map, Some(k)));
                 let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
-                maps::uv_tangent::<f32>(
-                    normal,
-                    w[1] - w[0],
-                    w[2] - w[0],
-                    (d1.x, d2.x),
-                    (d1.y, d2.y),
-                )
+                maps::uv_tangent::<f32>(n, w[1] - w[0], w[2] - w[0], (d1.x, d2.x), (d1.y, d2.y))
             }
         };
-        if let Some((t, w)) = frame {
-            let texel = sample(map).truncate().to_array();
-            normal = maps::perturb::<f32>(normal, t, w, texel, map.scale);
+        match frame {
+            Some((t, w)) => {
+                let texel = sample(map).truncate().to_array();
+                maps::perturb::<f32>(n, t, w, texel, map.scale)
+            }
+            None => n,
         }
+    };
+    if let Some(map) = &d.normal_map {
+        normal = normal_mapped(map, normal);
     }
     if let Some(bm) = &d.bump {
         // The shader's surface gradient with the triangle's world edges in place of the
@@ -237,6 +239,11 @@ pub fn probe(
             normal = maps::bump::<f32>(normal, g);
         }
     }
+    // The clear coat's own normal map, over the interpolated normal.
+    let coat_map = d.layer_map(Slot::ClearcoatNormal);
+    if let Some(map) = coat_map {
+        geometric = normal_mapped(map, geometric);
+    }
     if !hit.front {
         normal = -normal;
         geometric = -geometric;
@@ -259,6 +266,15 @@ pub fn probe(
         p.roughness *= t.y;
         p.metallic *= t.z;
     }
+    if let (Some(p), Some(params)) = (&mut surf.pbr, &d.surface.pbr) {
+        let mut texels = LayerTexels::<f32>::default();
+        for (slot, t) in Slot::LAYERS.iter().zip(&d.layer_maps) {
+            if let Some(t) = t {
+                texels.read(*slot, sample(t).to_array());
+            }
+        }
+        texels.apply(params, p);
+    }
     let occlusion = d
         .occlusion
         .as_ref()
@@ -270,7 +286,7 @@ pub fn probe(
     let v = view_vector(&surf, position, eye);
     if let (Some(y), true) = (
         surf.pbr.as_mut().and_then(|p| p.layers.as_mut()),
-        d.normal_map.is_some() || d.bump.is_some(),
+        d.normal_map.is_some() || d.bump.is_some() || coat_map.is_some(),
     ) {
         y.coat_normal = Some(geometric);
     }

@@ -77,6 +77,8 @@ pub struct Material {
     pub roughness: f32,
     /// [`Slot::MetallicRoughness`]: G multiplies `roughness`, B `metallic`.
     pub metallic_roughness_texture: Option<TextureSlot>,
+    /// The slots of the `KHR_materials_*` extensions ([`Slot::LAYERS`], in its order).
+    pub layer_textures: [Option<TextureSlot>; Slot::LAYERS.len()],
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// `Some` for a material authored as glTF metallic-roughness (or an MTL with PBR keys):
@@ -132,18 +134,24 @@ impl PbrMaterial {
     /// (`KHR_materials_specular` over `KHR_materials_ior`).
     #[must_use]
     pub fn dielectric_fresnel(&self) -> (Vec3, f32) {
-        let f0 = crate::texture::microfacet::f0_of_ior(self.ior);
         let s = if self.specular.is_finite() {
             self.specular.clamp(0.0, 1.0)
         } else {
             1.0
         };
+        (self.f0_tint().min(Vec3::ONE) * s, s)
+    }
+
+    /// `F0_ior · specularColor` before the clamp (what a `specularColorTexture` multiplies).
+    #[must_use]
+    pub fn f0_tint(&self) -> Vec3 {
+        let f0 = crate::texture::microfacet::f0_of_ior(self.ior);
         let c = if self.specular_color.is_finite() {
             self.specular_color.max(Vec3::ZERO)
         } else {
             Vec3::ONE
         };
-        ((c * f0).min(Vec3::ONE) * s, s)
+        c * f0
     }
 }
 
@@ -159,6 +167,10 @@ impl Material {
             Slot::Emissive => self.emissive_texture.as_ref(),
             Slot::MetallicRoughness => self.metallic_roughness_texture.as_ref(),
             Slot::Bump => self.bump_texture.as_ref(),
+            // The rest are the extensions' slots: `layer_index` is `Some`.
+            layer => layer
+                .layer_index()
+                .and_then(|i| self.layer_textures[i].as_ref()),
         }
     }
 
@@ -172,6 +184,8 @@ impl Material {
             Slot::Emissive => &mut self.emissive_texture,
             Slot::MetallicRoughness => &mut self.metallic_roughness_texture,
             Slot::Bump => &mut self.bump_texture,
+            // The rest are the extensions' slots: `layer_index` is `Some`.
+            layer => &mut self.layer_textures[layer.layer_index().unwrap_or_default()],
         }
     }
 }
@@ -194,6 +208,7 @@ impl Default for Material {
             metallic: 0.0,
             roughness: 0.5,
             metallic_roughness_texture: None,
+            layer_textures: [None; Slot::LAYERS.len()],
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             pbr: None,
@@ -396,12 +411,18 @@ impl Scene {
                     ));
                 }
             }
-            if let (Some(n), None) = (&m.normal_texture, &mesh.tangents) {
+            // The clear coat's normal map reads the same tangents.
+            let normal_map = (m.normal_texture.as_ref().map(|n| (n, Slot::Normal)))
+                .or_else(|| m.slot(Slot::ClearcoatNormal).map(|n| (n, Slot::ClearcoatNormal)));
+            if let (Some((n, slot)), None) = (normal_map, &mesh.tangents) {
                 if mesh.generate_tangents(n.uv_set).is_ok() {
                     self.report.generated.push(format!(
-                        "mesh '{}': MikkTSpace tangents from TEXCOORD_{} (normal map of \
+                        "mesh '{}': MikkTSpace tangents from TEXCOORD_{} ({} map of \
                          material '{}')",
-                        mesh.name, n.uv_set, m.name
+                        mesh.name,
+                        n.uv_set,
+                        slot.name(),
+                        m.name
                     ));
                 }
             }

@@ -36,11 +36,30 @@ pub enum Slot {
     /// a 45° slope), in units of UV for a 2D pattern, and in units of the model's bounding
     /// radius for a solid texture.
     Bump,
+    /// `KHR_materials_specular` `specularTexture`: A multiplies `specularFactor` (the
+    /// dielectric lobe's strength).
+    SpecularStrength,
+    /// `KHR_materials_specular` `specularColorTexture`: RGB multiplies
+    /// `specularColorFactor` (the tint of the dielectric lobe's `F0`).
+    SpecularColor,
+    /// `KHR_materials_clearcoat` `clearcoatTexture`: R multiplies `clearcoatFactor`.
+    Clearcoat,
+    /// `KHR_materials_clearcoat` `clearcoatRoughnessTexture`: G multiplies
+    /// `clearcoatRoughnessFactor`.
+    ClearcoatRoughness,
+    /// `KHR_materials_clearcoat` `clearcoatNormalTexture`: the coat's own tangent-space
+    /// normal map (its `scale` on x and y), over the interpolated normal.
+    ClearcoatNormal,
+    /// `KHR_materials_sheen` `sheenColorTexture`: RGB multiplies `sheenColorFactor`.
+    SheenColor,
+    /// `KHR_materials_sheen` `sheenRoughnessTexture`: A multiplies `sheenRoughnessFactor`.
+    SheenRoughness,
 }
 
 impl Slot {
-    /// Every slot, in the order panels and reports list them.
-    pub const ALL: [Slot; 7] = [
+    /// Every slot, in the order panels and reports list them: the core ones, then
+    /// [`Slot::LAYERS`].
+    pub const ALL: [Slot; 14] = [
         Slot::BaseColor,
         Slot::Specular,
         Slot::Normal,
@@ -48,7 +67,32 @@ impl Slot {
         Slot::Emissive,
         Slot::MetallicRoughness,
         Slot::Bump,
+        Slot::SpecularStrength,
+        Slot::SpecularColor,
+        Slot::Clearcoat,
+        Slot::ClearcoatRoughness,
+        Slot::ClearcoatNormal,
+        Slot::SheenColor,
+        Slot::SheenRoughness,
     ];
+
+    /// The slots of the `KHR_materials_*` extensions, which only the `pbr` mode reads (in
+    /// the order of [`Slot::layer_index`]).
+    pub const LAYERS: [Slot; 7] = [
+        Slot::SpecularStrength,
+        Slot::SpecularColor,
+        Slot::Clearcoat,
+        Slot::ClearcoatRoughness,
+        Slot::ClearcoatNormal,
+        Slot::SheenColor,
+        Slot::SheenRoughness,
+    ];
+
+    /// The slot's position in [`Slot::LAYERS`], if it is one of them.
+    #[must_use]
+    pub const fn layer_index(self) -> Option<usize> {
+        self.index().checked_sub(Slot::Bump.index() + 1)
+    }
 
     /// The slot's name in reports, scene files and the command line.
     #[must_use]
@@ -61,12 +105,19 @@ impl Slot {
             Slot::Emissive => "emissive",
             Slot::MetallicRoughness => "metallic-roughness",
             Slot::Bump => "bump",
+            Slot::SpecularStrength => "specular strength",
+            Slot::SpecularColor => "specular colour",
+            Slot::Clearcoat => "clear coat",
+            Slot::ClearcoatRoughness => "clear-coat roughness",
+            Slot::ClearcoatNormal => "clear-coat normal",
+            Slot::SheenColor => "sheen colour",
+            Slot::SheenRoughness => "sheen roughness",
         }
     }
 
     /// The slot's position in [`Slot::ALL`].
     #[must_use]
-    pub fn index(self) -> usize {
+    pub const fn index(self) -> usize {
         self as usize
     }
 
@@ -81,6 +132,13 @@ impl Slot {
             Slot::Emissive => "emissive",
             Slot::MetallicRoughness => "metallic_roughness",
             Slot::Bump => "bump",
+            Slot::SpecularStrength => "specular_strength",
+            Slot::SpecularColor => "specular_color",
+            Slot::Clearcoat => "clearcoat",
+            Slot::ClearcoatRoughness => "clearcoat_roughness",
+            Slot::ClearcoatNormal => "clearcoat_normal",
+            Slot::SheenColor => "sheen_color",
+            Slot::SheenRoughness => "sheen_roughness",
         }
     }
 
@@ -89,8 +147,20 @@ impl Slot {
     #[must_use]
     pub fn srgb(self) -> bool {
         match self {
-            Slot::BaseColor | Slot::Specular | Slot::Emissive => true,
-            Slot::Normal | Slot::Occlusion | Slot::MetallicRoughness | Slot::Bump => false,
+            Slot::BaseColor
+            | Slot::Specular
+            | Slot::Emissive
+            | Slot::SpecularColor
+            | Slot::SheenColor => true,
+            Slot::Normal
+            | Slot::Occlusion
+            | Slot::MetallicRoughness
+            | Slot::Bump
+            | Slot::SpecularStrength
+            | Slot::Clearcoat
+            | Slot::ClearcoatRoughness
+            | Slot::ClearcoatNormal
+            | Slot::SheenRoughness => false,
         }
     }
 }

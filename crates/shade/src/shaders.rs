@@ -11,6 +11,9 @@ use crate::scene::{AlphaMode, TextureSource, UvTransform};
 use crate::simd::{KernelKind, Lane, Level, F8, V3};
 use crate::texture::{srgb_to_linear, Sampler};
 
+/// How many slots the `KHR_materials_*` extensions have ([`DrawParams::layer_maps`]).
+pub const LAYER_SLOTS: usize = crate::scene::Slot::LAYERS.len();
+
 /// A texture one draw samples: the image or procedural texture, how it is read, and where
 /// its coordinates are among the draw's varyings: a UV (already through the slot's
 /// `KHR_texture_transform`), or for a solid texture the object-space position.
@@ -66,6 +69,9 @@ pub struct DrawParams {
     /// The metallic-roughness texture (`pbr` mode): G multiplies the roughness, B the
     /// metallic factor.
     pub metal_rough: Option<SlotParams>,
+    /// The `KHR_materials_*` extensions' textures ([`Slot::LAYERS`](crate::scene::Slot),
+    /// in its order; `pbr` mode): see [`crate::layer_maps`].
+    pub layer_maps: [Option<SlotParams>; LAYER_SLOTS],
     /// `KHR_materials_unlit` in the `pbr` mode: the base colour is the colour.
     pub unlit: bool,
     /// The lit surface or a debug view.
@@ -113,7 +119,28 @@ impl DrawParams {
             &self.metal_rough,
         ]
         .into_iter()
+        .chain(&self.layer_maps)
         .flatten()
+    }
+
+    /// The draw's texture in `slot`, one of the extensions' ([`Self::layer_maps`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn layer_map(&self, slot: crate::scene::Slot) -> Option<&SlotParams> {
+        self.layer_maps.get(slot.layer_index()?)?.as_ref()
+    }
+
+    /// The extensions' slots the draw reads: bit `i` for `Slot::LAYERS[i]`.
+    #[inline(always)]
+    #[must_use]
+    pub fn layer_mask(&self) -> u8 {
+        let mut mask = 0;
+        for (i, m) in self.layer_maps.iter().enumerate() {
+            if m.is_some() {
+                mask |= 1 << i;
+            }
+        }
+        mask
     }
 }
 

@@ -25,12 +25,13 @@
 
 use glam::Vec3;
 
+use super::layer_maps::{self, LayerTexels, LAYER_VALUES};
 use super::lighting::{ambient_at, contribution, emission_seen, view_vector, SurfaceAt};
 use super::maps::perturb_lanes;
 use super::shaders::{DrawParams, LitShader, SlotParams, TexView};
 use super::texlab;
 use crate::raster::{Batch, Colors, Fragments, GROUPS};
-use crate::scene::{AlphaMode, TextureSource};
+use crate::scene::{AlphaMode, Slot, TextureSource};
 use crate::simd::{KernelKind, Lane, Level, F8, V3};
 
 /// The slots a lit draw can sample, in the order of [`Regs::texel`]: base colour, gloss,
@@ -68,6 +69,9 @@ pub struct Regs {
     /// The coat's normal (the interpolated one, before the maps), where the draw has a
     /// clear coat over a normal- or bump-mapped base ([`coat_normal`]).
     pub nc: [Lane; 3],
+    /// What the `KHR_materials_*` extensions' textures read ([`LayerTexels::values`]),
+    /// where the draw has them.
+    pub layer: [Lane; LAYER_VALUES],
     /// The colour so far (linear RGB).
     pub c: [Lane; 3],
 }
@@ -112,6 +116,11 @@ impl Program {
                 }
             }
             push(maps::pick(kernel), 0);
+            for (k, slot) in d.layer_maps.iter().enumerate() {
+                if slot.is_some() {
+                    push(layer_sample::pick(kernel), k as u32);
+                }
+            }
         }
         if d.view != TexView::Lit {
             push(debug::pick(kernel), 0);
@@ -313,6 +322,44 @@ crate::simd::per_kernel! {
 }
 
 crate::simd::per_kernel! {
+    /// The texels of the extensions' slot `arg` (an index into `Slot::LAYERS`): the values
+    /// it gives ([`layer_maps::channels`]), or the clear coat's normal map applied to the
+    /// coat's normal.
+    fn layer_sample<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, arg: u32) {
+        let d = cx.d;
+        let k = arg as usize;
+        let (Some(Some(t)), Some(&slot)) = (d.layer_maps.get(k), Slot::LAYERS.get(k)) else {
+            return;
+        };
+        let first = first_derivative(d);
+        let lod = cx.s.lod_scale;
+        for (g, r) in regs.iter_mut().enumerate() {
+            let f = b.group(g);
+            let texel = sample_slot::<L>(t, &f, lod, first);
+            match layer_maps::channels(slot) {
+                Some((from, n, to)) => {
+                    for j in 0..n {
+                        r.layer[to + j].set(texel[from + j]);
+                    }
+                }
+                None => {
+                    let nc = V3::<L>::get(&r.nc);
+                    let nc = match d.layout.tangent_at() {
+                        Some(k) => {
+                            let v = f.var;
+                            let tangent = V3::new(v[k].get(), v[k + 1].get(), v[k + 2].get());
+                            perturb_lanes(nc, tangent, v[k + 3].get(), texel, t.scale)
+                        }
+                        None => texlab::derived_normal_lanes(t, &f, first, &texel, nc),
+                    };
+                    nc.set(&mut r.nc);
+                }
+            }
+        }
+    }
+}
+
+crate::simd::per_kernel! {
     /// A texture debug view (the last stage).
     fn debug<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
         for (g, r) in regs.iter_mut().enumerate() {
@@ -336,10 +383,11 @@ crate::simd::per_kernel! {
 }
 
 /// Whether draw `d`'s clear coat has a normal of its own: the base's is normal- or
-/// bump-mapped, which the coat does not follow.
+/// bump-mapped, which the coat does not follow, or the coat has a normal map.
 #[inline(always)]
 fn coat_normal(d: &DrawParams) -> bool {
-    d.surface.pbr.is_some_and(|p| p.clearcoat > 0.0) && (d.normal_map.is_some() || d.bump.is_some())
+    d.surface.pbr.is_some_and(|p| p.clearcoat > 0.0)
+        && (d.normal_map.is_some() || d.bump.is_some() || d.layer_map(Slot::ClearcoatNormal).is_some())
 }
 
 /// The surface of draw `d` at the lanes of `r` (after the maps).
@@ -355,6 +403,15 @@ fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
         p.metallic *= r.metal.get();
     }
     s.emitted = (d.emissive != Vec3::ZERO).then(|| V3::get(&r.emitted));
+    let mask = d.layer_mask();
+    if let (Some(p), Some(params), true) = (&mut s.pbr, &d.surface.pbr, mask != 0) {
+        let mut t = LayerTexels::<F8<L>>::default();
+        t.mask = mask;
+        for (v, lane) in t.values.iter_mut().zip(&r.layer) {
+            *v = lane.get();
+        }
+        t.apply(params, p);
+    }
     if let (Some(y), true) = (
         s.pbr.as_mut().and_then(|p| p.layers.as_mut()),
         coat_normal(d),

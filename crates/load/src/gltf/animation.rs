@@ -116,6 +116,8 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
                 ["normalTexture"] => Slot::Normal,
                 ["occlusionTexture"] => Slot::Occlusion,
                 ["emissiveTexture"] => Slot::Emissive,
+                ["extensions", ext, key] => super::material::layer_slot(ext, key)
+                    .ok_or_else(|| format!("pointer '{pointer}' is not supported"))?,
                 _ => return Err(format!("pointer '{pointer}' is not supported")),
             };
             let property = match *field {
@@ -489,6 +491,17 @@ mod tests {
             pointed("/materials/1/normalTexture/extensions/KHR_texture_transform/rotation"),
             Ok(Pointed::Material(1, Property::TexRotation(Slot::Normal)))
         );
+        assert_eq!(
+            pointed("/materials/4/extensions/KHR_materials_clearcoat/clearcoatNormalTexture/extensions/KHR_texture_transform/scale"),
+            Ok(Pointed::Material(4, Property::TexScale(Slot::ClearcoatNormal)))
+        );
+        assert_eq!(
+            pointed("/materials/0/extensions/KHR_materials_sheen/sheenRoughnessTexture/extensions/KHR_texture_transform/offset"),
+            Ok(Pointed::Material(0, Property::TexOffset(Slot::SheenRoughness)))
+        );
+        let e = pointed("/materials/0/extensions/KHR_materials_sheen/fooTexture/extensions/KHR_texture_transform/offset")
+            .unwrap_err();
+        assert!(e.contains("is not supported"), "{e}");
         let e = pointed("/materials/1/normalTexture/extensions/KHR_texture_transform/texCoord")
             .unwrap_err();
         assert!(e.contains("is not supported"), "{e}");

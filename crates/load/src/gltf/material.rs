@@ -123,39 +123,75 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
                     );
                     Vec3::ONE
                 });
-                for t in ["specularTexture", "specularColorTexture"] {
-                    if obj.get(t).is_some() {
-                        notes.push(format!("{SPECULAR}.{t} ignored (its factor is used)"));
-                    }
-                }
             }
             CLEARCOAT => {
                 p.clearcoat = ext_number(obj, "clearcoatFactor", 0.0, 0.0, 1.0, notes);
                 p.clearcoat_roughness =
                     ext_number(obj, "clearcoatRoughnessFactor", 0.0, 0.0, 1.0, notes);
-                for t in [
-                    "clearcoatTexture",
-                    "clearcoatRoughnessTexture",
-                    "clearcoatNormalTexture",
-                ] {
-                    if obj.get(t).is_some() {
-                        notes.push(format!("{CLEARCOAT}.{t} ignored (its factor is used)"));
-                    }
-                }
             }
             SHEEN => {
                 p.sheen_color = ext_color(obj, "sheenColorFactor", Vec3::ZERO, notes);
                 p.sheen_roughness = ext_number(obj, "sheenRoughnessFactor", 0.0, 0.0, 1.0, notes);
-                for t in ["sheenColorTexture", "sheenRoughnessTexture"] {
-                    if obj.get(t).is_some() {
-                        notes.push(format!("{SHEEN}.{t} ignored (its factor is used)"));
-                    }
-                }
             }
             other => notes.push(format!("material extension {other} ignored")),
         }
     }
     p
+}
+
+/// The extensions' texture slots: (extension, textureInfo key, slot).
+const LAYER_TEXTURES: [(&str, &str, Slot); 7] = [
+    (SPECULAR, "specularTexture", Slot::SpecularStrength),
+    (SPECULAR, "specularColorTexture", Slot::SpecularColor),
+    (CLEARCOAT, "clearcoatTexture", Slot::Clearcoat),
+    (CLEARCOAT, "clearcoatRoughnessTexture", Slot::ClearcoatRoughness),
+    (CLEARCOAT, "clearcoatNormalTexture", Slot::ClearcoatNormal),
+    (SHEEN, "sheenColorTexture", Slot::SheenColor),
+    (SHEEN, "sheenRoughnessTexture", Slot::SheenRoughness),
+];
+
+/// The slot of textureInfo `key` of material extension `ext`, if realist reads it.
+pub(super) fn layer_slot(ext: &str, key: &str) -> Option<Slot> {
+    LAYER_TEXTURES
+        .iter()
+        .find(|(e, k, _)| *e == ext && *k == key)
+        .map(|&(_, _, slot)| slot)
+}
+
+/// The textureInfos of the material extensions `ext` (a `scale` read for the normal
+/// texture's); one that is not a textureInfo is named in `notes` and left out.
+fn layer_infos<'a>(
+    ext: Option<&'a Map<String, Value>>,
+    notes: &mut Vec<String>,
+) -> Vec<(Slot, SlotInfo<'a>)> {
+    let mut out = Vec::new();
+    let Some(ext) = ext else {
+        return out;
+    };
+    for (name, key, slot) in LAYER_TEXTURES {
+        let Some(v) = ext.get(name).and_then(|e| e.get(key)) else {
+            continue;
+        };
+        let index = v.get("index").and_then(Value::as_u64);
+        let tex_coord = v.get("texCoord").map_or(Some(0), Value::as_u64);
+        let scale = v.get("scale").map_or(Some(1.0), Value::as_f64);
+        match (index, tex_coord, scale) {
+            (Some(index), Some(tex_coord), Some(scale)) => out.push((
+                slot,
+                SlotInfo {
+                    texture: usize::try_from(index).unwrap_or(usize::MAX),
+                    tex_coord: u32::try_from(tex_coord).unwrap_or(u32::MAX),
+                    scale: scale as f32,
+                    extensions: v.get("extensions").and_then(Value::as_object),
+                },
+            )),
+            _ => notes.push(format!(
+                "{name}.{key} {v} is not a textureInfo (a texture index, texCoord and scale \
+                 as numbers); drawn without it"
+            )),
+        }
+    }
+    out
 }
 
 /// A textureInfo of any slot, as the file gives it.
@@ -351,11 +387,15 @@ impl Builder<'_> {
             (Slot::Occlusion, occlusion),
             (Slot::Emissive, info(&m.emissive_texture)),
         ];
-        let mut slots = Vec::with_capacity(infos.len());
-        for (slot, found) in infos {
-            if let Some(found) = found {
-                slots.push((slot, self.slot(slot, &found, &name)?));
-            }
+        let ext = m.extensions.as_ref().map(|e| &e.others);
+        let mut notes = Vec::new();
+        let layers = layer_infos(ext, &mut notes);
+        let mut slots = Vec::with_capacity(infos.len() + layers.len());
+        let infos = infos
+            .into_iter()
+            .filter_map(|(slot, found)| Some((slot, found?)));
+        for (slot, found) in infos.chain(layers) {
+            slots.push((slot, self.slot(slot, &found, &name)?));
         }
         let double_sided = m.double_sided;
         let textured = pbr.metallic_roughness_texture.is_some();
@@ -369,8 +409,6 @@ impl Builder<'_> {
             if textured { 0.0 } else { metallic },
             roughness,
         );
-        let mut notes = Vec::new();
-        let ext = m.extensions.as_ref().map(|e| &e.others);
         let pbr_material = pbr_material(ext, &mut notes);
         for n in notes {
             self.scene

@@ -244,7 +244,8 @@ impl Tri {
         // Before the maps: the clear coat's normal when the base is normal- or bump-mapped.
         let mut geometric = n;
         let v = self.g.v.map(|k| k as usize);
-        if let Some(map) = &inst.normal_map {
+        // A tangent-space normal map applied to `n` (the base's or the clear coat's).
+        let normal_mapped = |map: &RefSlot, n: DVec3| {
             let frame = match &inst.tri.tangents {
                 Some(ts) => {
                     let at = |k: usize| ts.get(v[k]).map_or(DVec4::X, |t| t.as_dvec4());
@@ -254,10 +255,20 @@ impl Tri {
                 }
                 None => map.uv_tangent(inst.tri, v, &self.p, n),
             };
-            if let Some((t, w)) = frame {
-                let c = map.at(inst.tri, v, b).truncate().to_array();
-                n = maps::perturb::<f64>(n, t, w, c, map.scale);
+            match frame {
+                Some((t, w)) => {
+                    let c = map.at(inst.tri, v, b).truncate().to_array();
+                    maps::perturb::<f64>(n, t, w, c, map.scale)
+                }
+                None => n,
             }
+        };
+        if let Some(map) = &inst.normal_map {
+            n = normal_mapped(map, n);
+        }
+        let coat_map = inst.layer_maps[Slot::ClearcoatNormal.layer_index().unwrap_or_default()].as_ref();
+        if let Some(map) = coat_map {
+            geometric = normal_mapped(map, geometric);
         }
         if let Some(bm) = &inst.bump {
             if let Some(g) = bm.bump_gradient(inst.tri, v, &self.p, b, n) {
@@ -274,7 +285,7 @@ impl Tri {
         let mut surf = inst.surface.at::<f64>(base.truncate());
         if let (Some(y), true) = (
             surf.pbr.as_mut().and_then(|p| p.layers.as_mut()),
-            inst.normal_map.is_some() || inst.bump.is_some(),
+            inst.normal_map.is_some() || inst.bump.is_some() || coat_map.is_some(),
         ) {
             y.coat_normal = Some(geometric);
         }
@@ -285,6 +296,15 @@ impl Tri {
             let t = mr.at(inst.tri, v, b);
             p.roughness *= t.y;
             p.metallic *= t.z;
+        }
+        if let (Some(p), Some(params)) = (&mut surf.pbr, &inst.surface.pbr) {
+            let mut texels = LayerTexels::<f64>::default();
+            for (slot, t) in Slot::LAYERS.iter().zip(&inst.layer_maps) {
+                if let Some(t) = t {
+                    texels.read(*slot, t.at(inst.tri, v, b).to_array());
+                }
+            }
+            texels.apply(params, p);
         }
         if let Some(o) = &inst.occlusion {
             // On the ambient (or image-based) term only.

@@ -42,6 +42,8 @@ pub(super) struct Inst<'a> {
     pub(super) emissive_map: Option<RefSlot>,
     /// Bump map (textured mode).
     pub(super) bump: Option<RefSlot>,
+    /// The `KHR_materials_*` extensions' textures (`pbr`), in the order of `Slot::LAYERS`.
+    pub(super) layer_maps: [Option<RefSlot>; Slot::LAYERS.len()],
     /// The handedness of the world matrix (-1 mirrors the tangent frame).
     pub(super) handed: f64,
 }
@@ -285,6 +287,7 @@ pub(super) fn instances<'a>(
             occlusion: textured_only(occlusion),
             emissive_map: textured_only(emissive_map),
             bump: textured_only(bump),
+            layer_maps: Slot::LAYERS.map(|s| usable(s).filter(|_| textured && policy.pbr)),
             handed: if det < 0.0 { -1.0 } else { 1.0 },
         };
         // An instanced mesh's copies (`EXT_mesh_gpu_instancing`): the same but for where

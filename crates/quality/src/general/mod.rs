@@ -76,6 +76,7 @@ use crate::microfacet;
 use crate::render::{default_camera, frame_lights, Policy, Shot};
 use crate::scene::{AlphaMode, Material, Scene, Slot, TextureSource, UvTransform};
 use crate::shade::brdf::{self, Pbr};
+use crate::shade::layer_maps::LayerTexels;
 use crate::shade::{illuminate, maps, Fog, LightSet, Surface, SurfaceAt};
 use crate::texture::{Domain, Filter, SamplePoint, Sampler, Texels, Texture, Wrap};
 

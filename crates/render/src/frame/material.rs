@@ -187,6 +187,10 @@ pub(crate) fn resolve(
     let mut occlusion = params_of(occlusion, textured && view == TexView::Lit);
     let mut emissive_map = params_of(emissive_map, textured && view == TexView::Lit);
     let mut bump = params_of(bump, textured);
+    // The extensions' slots: the `pbr` mode's lit surface reads them.
+    let mut layer_maps =
+        Slot::LAYERS.map(|s| params_of(slot(s), pbr && textured && view == TexView::Lit));
+    let coat_normal = layer_maps[Slot::ClearcoatNormal.layer_index().unwrap_or_default()].is_some();
     // The object position goes after every UV channel: its index is known only now.
     if let Some(k) = layout.object_at() {
         for p in [
@@ -199,6 +203,7 @@ pub(crate) fn resolve(
             &mut metal_rough,
         ]
         .into_iter()
+        .chain(&mut layer_maps)
         .flatten()
         {
             if !p.source.needs_uv() {
@@ -211,10 +216,11 @@ pub(crate) fn resolve(
     // So does a normal map on a mesh without tangents (an image put in the normal slot of
     // an OBJ, say), per pixel.
     let uv_frame = view == TexView::TangentNormals && tri.tangents.is_none();
-    let derived_frame = normal_map.is_some() && tri.tangents.is_none();
+    let normal_mapped = normal_map.is_some() || coat_normal;
+    let derived_frame = normal_mapped && tri.tangents.is_none();
     layout.position_derivatives = bump.is_some() || uv_frame || derived_frame;
     layout.tangent = tri.tangents.is_some()
-        && (normal_map.is_some() || matches!(view, TexView::Tangents | TexView::TangentNormals));
+        && (normal_mapped || matches!(view, TexView::Tangents | TexView::TangentNormals));
     // The texture the mip-level, texel-density and anisotropy views measure: the first
     // image the draw reads, else UV set 0 against a nominal 1024 x 1024 image.
     let measure = match view {
@@ -253,8 +259,9 @@ pub(crate) fn resolve(
         &bump,
         &metal_rough,
     ]
-    .iter()
-    .any(|m| m.is_some());
+    .into_iter()
+    .chain(&layer_maps)
+    .any(Option::is_some);
     let params = DrawParams {
         base: policy.base,
         surface: policy.surface,
@@ -266,6 +273,7 @@ pub(crate) fn resolve(
         emissive_map,
         bump,
         metal_rough,
+        layer_maps,
         unlit: policy.unlit,
         view,
         measure,

@@ -176,6 +176,7 @@ pub fn pbr_surface(m: &Material) -> Surface {
                 roughness: unit(m.roughness),
                 f0,
                 f90,
+                f0_tint: p.f0_tint(),
                 clearcoat: layer(p.clearcoat),
                 clearcoat_roughness: layer(p.clearcoat_roughness),
                 sheen_color: sheen,

@@ -268,8 +268,11 @@ pub struct PbrParams {
     pub roughness: f32,
     /// The dielectric lobe's `F0` per channel (see [`Pbr::f0`]).
     pub f0: Vec3,
-    /// The dielectric lobe's `F90` (see [`Pbr::f90`]).
+    /// The dielectric lobe's `F90` (see [`Pbr::f90`]): `specularFactor`.
     pub f90: f32,
+    /// `F0_ior · specularColorFactor` before the clamp to 1, which a specular colour
+    /// texture multiplies ([`crate::layer_maps`]).
+    pub f0_tint: Vec3,
     /// `KHR_materials_clearcoat`'s factor (0: no coat) and roughness.
     pub clearcoat: f32,
     pub clearcoat_roughness: f32,
@@ -285,6 +288,7 @@ impl Default for PbrParams {
             roughness: 1.0,
             f0: Vec3::splat(0.04),
             f90: 1.0,
+            f0_tint: Vec3::splat(0.04),
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
             sheen_color: Vec3::ZERO,
