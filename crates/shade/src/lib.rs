@@ -28,6 +28,7 @@ use realist_texture as texture;
 use realist_texture::microfacet;
 
 pub mod brdf;
+pub mod iridescence;
 mod lighting;
 pub mod maps;
 pub mod mode;
