@@ -548,20 +548,39 @@ fn the_layers_textures_multiply_their_factors() {
     for (k, x) in [(0, 60u32), (1, 120), (2, 180)] {
         let row = 40 * 240;
         let changed = (x - 20..x + 20)
-            .filter(|&x| (a.color[row + x as usize] - b.color[row + x as usize]).abs().max_element() > 0.01)
+            .filter(|&x| {
+                (a.color[row + x as usize] - b.color[row + x as usize])
+                    .abs()
+                    .max_element()
+                    > 0.01
+            })
             .count();
-        assert!(changed > 20, "sphere {k}: {changed} pixels change without the textures");
+        assert!(
+            changed > 20,
+            "sphere {k}: {changed} pixels change without the textures"
+        );
     }
     // The pixel probe and the f64 reference read them too.
     let view = row_view();
-    let (pt, pf) = (PreparedScene::new(textured.clone()), PreparedScene::new(factors.clone()));
+    let (pt, pf) = (
+        PreparedScene::new(textured.clone()),
+        PreparedScene::new(factors.clone()),
+    );
     for x in [50u32, 60, 120, 125, 180, 190] {
         let (t, f) = (
             probe(&pt, &base, &view, x, 36).expect("a sphere"),
             probe(&pf, &base, &view, x, 36).expect("a sphere"),
         );
-        assert!((t.color - f.color).abs().max_element() < 2e-4, "probe at {x}: {t:?} {f:?}");
-        assert!((t.color - a.color[36 * 240 + x as usize].truncate()).abs().max_element() < 2e-3);
+        assert!(
+            (t.color - f.color).abs().max_element() < 2e-4,
+            "probe at {x}: {t:?} {f:?}"
+        );
+        assert!(
+            (t.color - a.color[36 * 240 + x as usize].truncate())
+                .abs()
+                .max_element()
+                < 2e-3
+        );
     }
     use realist::quality::{compare, general, LinearImage};
     use realist::render::{render as render_shot, Shot};
@@ -642,7 +661,9 @@ fn the_coat_normal_map_tilts_the_coat() {
             .zip(&b.color)
             .map(|(p, q)| (*p - *q).abs().max_element())
             .fold(0f32, f32::max);
-        eprintln!("{kernel:?}: the coat's normal map against tilted normals, largest difference {d:.2e}");
+        eprintln!(
+            "{kernel:?}: the coat's normal map against tilted normals, largest difference {d:.2e}"
+        );
         assert!(d < 1e-4, "{kernel:?}: {d}");
     }
     let fb = draw(&scene, &s);
@@ -659,6 +680,9 @@ fn the_coat_normal_map_tilts_the_coat() {
         "the coat's highlight at column {brightest}; the tilted normal ({:.1}°) mirrors the light at {column:.1}",
         theta.to_degrees()
     );
-    assert!((f64::from(brightest) - column).abs() <= 2.0, "{brightest} vs {column}");
+    assert!(
+        (f64::from(brightest) - column).abs() <= 2.0,
+        "{brightest} vs {column}"
+    );
     assert!(column < f64::from(SIZE / 2) - 20.0);
 }

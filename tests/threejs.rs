@@ -392,7 +392,9 @@ fn the_layers_textures_against_three_js() {
     let v = view_of(4.0, 0.26, 240, 80);
     let three = reference("layer-textures-headon.png");
     let (mean, max, n) = compare(&three, &reference("layer-factors-headon.png"));
-    eprintln!("three.js, textures against factors: mean {mean:.3}, max {max} levels over {n} pixels");
+    eprintln!(
+        "three.js, textures against factors: mean {mean:.3}, max {max} levels over {n} pixels"
+    );
     assert!(max <= 1 && n > 5000, "{max} {n}");
     let scene = load_model("models/pbr/layer-textures.glb");
     let ours = headon(scene.clone(), &v);
@@ -439,7 +441,10 @@ fn the_layers_textures_against_three_js() {
     eprintln!(
         "within 35° of the normal (coat, sheen, specular): max {worst:?} levels; in the highlights with three's roughness (+{g:.4}) max {highlights:?}"
     );
-    assert!(worst.iter().chain(&highlights).all(|&w| w <= 4), "{worst:?} {highlights:?}");
+    assert!(
+        worst.iter().chain(&highlights).all(|&w| w <= 4),
+        "{worst:?} {highlights:?}"
+    );
 }
 
 #[test]
@@ -468,7 +473,12 @@ fn a_coat_normal_map_against_three_js() {
     eprintln!("the highlight's column: realist {a}, three {b}");
     assert!(a.abs_diff(b) <= 1, "{a} vs {b}");
     let mut flipped = scene;
-    for t in &mut flipped.meshes[0].tangents.as_mut().expect("tangents").values {
+    for t in &mut flipped.meshes[0]
+        .tangents
+        .as_mut()
+        .expect("tangents")
+        .values
+    {
         t.w = -t.w;
     }
     let (mean_f, max_f, n_f) = compare(&headon(flipped, &v), &three);

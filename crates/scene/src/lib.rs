@@ -412,8 +412,10 @@ impl Scene {
                 }
             }
             // The clear coat's normal map reads the same tangents.
-            let normal_map = (m.normal_texture.as_ref().map(|n| (n, Slot::Normal)))
-                .or_else(|| m.slot(Slot::ClearcoatNormal).map(|n| (n, Slot::ClearcoatNormal)));
+            let normal_map = (m.normal_texture.as_ref().map(|n| (n, Slot::Normal))).or_else(|| {
+                m.slot(Slot::ClearcoatNormal)
+                    .map(|n| (n, Slot::ClearcoatNormal))
+            });
             if let (Some((n, slot)), None) = (normal_map, &mesh.tangents) {
                 if mesh.generate_tangents(n.uv_set).is_ok() {
                     self.report.generated.push(format!(

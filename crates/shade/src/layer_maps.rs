@@ -168,7 +168,11 @@ mod tests {
         t.apply(&params, p);
         for k in 0..3 {
             let want = (f0_ior * color[k] * ct[k]).min(1.0) * specular * st;
-            assert!((p.f0[k] - want).abs() < 1e-6, "F0[{k}] {} != {want}", p.f0[k]);
+            assert!(
+                (p.f0[k] - want).abs() < 1e-6,
+                "F0[{k}] {} != {want}",
+                p.f0[k]
+            );
         }
         assert!((p.f90 - specular * st).abs() < 1e-6);
     }

@@ -28,6 +28,7 @@ use realist_texture as texture;
 use realist_texture::microfacet;
 
 pub mod brdf;
+pub mod iridescence;
 pub mod layer_maps;
 mod lighting;
 pub mod maps;

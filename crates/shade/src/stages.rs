@@ -387,7 +387,9 @@ crate::simd::per_kernel! {
 #[inline(always)]
 fn coat_normal(d: &DrawParams) -> bool {
     d.surface.pbr.is_some_and(|p| p.clearcoat > 0.0)
-        && (d.normal_map.is_some() || d.bump.is_some() || d.layer_map(Slot::ClearcoatNormal).is_some())
+        && (d.normal_map.is_some()
+            || d.bump.is_some()
+            || d.layer_map(Slot::ClearcoatNormal).is_some())
 }
 
 /// The surface of draw `d` at the lanes of `r` (after the maps).

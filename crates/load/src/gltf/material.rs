@@ -144,7 +144,11 @@ const LAYER_TEXTURES: [(&str, &str, Slot); 7] = [
     (SPECULAR, "specularTexture", Slot::SpecularStrength),
     (SPECULAR, "specularColorTexture", Slot::SpecularColor),
     (CLEARCOAT, "clearcoatTexture", Slot::Clearcoat),
-    (CLEARCOAT, "clearcoatRoughnessTexture", Slot::ClearcoatRoughness),
+    (
+        CLEARCOAT,
+        "clearcoatRoughnessTexture",
+        Slot::ClearcoatRoughness,
+    ),
     (CLEARCOAT, "clearcoatNormalTexture", Slot::ClearcoatNormal),
     (SHEEN, "sheenColorTexture", Slot::SheenColor),
     (SHEEN, "sheenRoughnessTexture", Slot::SheenRoughness),

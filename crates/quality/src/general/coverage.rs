@@ -266,7 +266,8 @@ impl Tri {
         if let Some(map) = &inst.normal_map {
             n = normal_mapped(map, n);
         }
-        let coat_map = inst.layer_maps[Slot::ClearcoatNormal.layer_index().unwrap_or_default()].as_ref();
+        let coat_map =
+            inst.layer_maps[Slot::ClearcoatNormal.layer_index().unwrap_or_default()].as_ref();
         if let Some(map) = coat_map {
             geometric = normal_mapped(map, geometric);
         }

@@ -286,6 +286,48 @@ impl<L: Level> F8<L> {
         mad(s * p, Self::splat(std::f32::consts::LOG2_E * 2.0), k)
     }
 
+    /// `e^self`, as `2^(self log2 e)` ([`F8::exp2`], so for lanes in about [-87, 88]; below
+    /// gives ~1e-38, above ~inf): relative error below 3e-7 + 1.2e-7 |self| (the second term
+    /// is the rounding of `log2 e` and of the product, amplified by the exponential).
+    #[inline(always)]
+    #[must_use]
+    pub fn exp(self) -> Self {
+        (self * Self::splat(std::f32::consts::LOG2_E)).exp2()
+    }
+
+    /// `cos` of lanes, for |self| up to 8000 (absolute error below 2e-7 there, 9.3e-8
+    /// measured; larger arguments are untested). Cody and Waite's reduction by the
+    /// nearest multiple `j` of π/2, in three parts (Cephes' `sinf`/`cosf` constants for π/4,
+    /// doubled; `j` times the first two is exact for |j| < 8192), leaves `r` in [-π/4, π/4];
+    /// Cephes' minimax polynomials give `cos r` and `sin r`, and the quadrant `j mod 4`
+    /// picks `cos r`, `-sin r`, `-cos r` or `sin r`. No integer lanes: the quadrant is a
+    /// whole float.
+    #[inline(always)]
+    #[must_use]
+    #[allow(clippy::excessive_precision)] // the coefficients as published
+    pub fn cos(self) -> Self {
+        let j = (self * Self::splat(std::f32::consts::FRAC_2_PI) + Self::splat(0.5)).floor();
+        let mut r = mad(j, Self::splat(-1.570_312_5), self);
+        r = mad(j, Self::splat(-4.837_512_969_970_703_125e-4), r);
+        r = mad(j, Self::splat(-7.549_789_954_891_882_16e-8), r);
+        let quarter = Self::splat(0.25);
+        let q = j - (j * quarter).floor() * Self::splat(4.0);
+        let z = r * r;
+        let mut c = Self::splat(2.443_315_711_809_948e-5);
+        c = mad(c, z, Self::splat(-1.388_731_625_493_765e-3));
+        c = mad(c, z, Self::splat(4.166_664_568_298_827e-2));
+        c = mad(c * z, z, mad(Self::splat(-0.5), z, Self::ONE));
+        let mut s = Self::splat(-1.951_529_589_1e-4);
+        s = mad(s, z, Self::splat(8.332_160_873_6e-3));
+        s = mad(s, z, Self::splat(-1.666_665_461_1e-1));
+        s = mad(s * z, r, r);
+        // Quadrants 1 and 3 take the sine, 1 and 2 the minus sign.
+        let odd = (q - (q * Self::splat(0.5)).floor() * Self::splat(2.0)).gt(quarter);
+        let v = Self::select(odd, s, c);
+        let neg = (q - Self::splat(1.5)).abs().lt(Self::ONE);
+        Self::select(neg, -v, v)
+    }
+
     /// `2^self`, for lanes in about [-126, 127] (clamped there: below gives ~0, above ~inf).
     /// Split into integer and fraction in [-0.5, 0.5], the fraction by a degree-6
     /// polynomial (relative error below 2e-7).

@@ -115,6 +115,32 @@ fn log2_and_exp2_over_wide_ranges() {
 }
 
 #[test]
+fn exp_and_cos_match_f64() {
+    // exp over the range where it is neither ~0 nor ~inf, relative.
+    for i in -870..=880 {
+        let x = i as f32 / 10.0;
+        let got = f64::from(P::splat(x).exp().lane(0));
+        let want = f64::from(x).exp();
+        let bound = 3e-7 + 1.2e-7 * f64::from(x).abs();
+        assert!(((got - want) / want).abs() < bound, "exp {x}: {got} {want}");
+    }
+    // cos, absolute, of f32 inputs (so the reduction, not the input's rounding, is tested),
+    // finely near 0 and every quadrant boundary, coarsely out to 8000.
+    let mut worst: f64 = 0.0;
+    for i in -200_000..=200_000 {
+        let x = i as f32 * 1e-4;
+        let got = f64::from(P::splat(x).cos().lane(0));
+        worst = worst.max((got - f64::from(x).cos()).abs());
+    }
+    for i in -400_000..=400_000 {
+        let x = i as f32 * 0.02 + 0.001;
+        let got = f64::from(P::splat(x).cos().lane(0));
+        worst = worst.max((got - f64::from(x).cos()).abs());
+    }
+    assert!(worst < 2e-7, "cos: worst absolute error {worst}");
+}
+
+#[test]
 fn masks_and_selects() {
     let a = P::RAMP;
     let m = a.gt(P::splat(3.5));
