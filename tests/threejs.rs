@@ -381,15 +381,16 @@ fn headon(scene: Scene, v: &View) -> image::RgbImage {
 
 #[test]
 fn the_layers_textures_against_three_js() {
-    // layer-textures.glb reads the clear coat's, the sheen's and KHR_materials_specular's
-    // factors through textures; layer-factors.glb has the products as factors
-    // (tests/layers.rs: realist draws the two alike). three.js draws the two alike too, and
-    // realist's image of the textured file is three's within 4 levels where the view is
-    // within 35° of the normal (the bound the sheen test above found), outside the GGX
-    // highlights of the coat and the specular sphere; in those, three's lobes are rougher
-    // (its specular anti-aliasing, see the clear coat test): with that roughness added,
-    // realist's highlights are three's within 4 levels.
-    let v = view_of(4.0, 0.26, 240, 80);
+    // layer-textures.glb reads the clear coat's, the sheen's, KHR_materials_specular's and
+    // the iridescence's factors through textures; layer-factors.glb has the products as
+    // factors (tests/layers.rs: realist draws the two alike). three.js draws the two alike
+    // too. Where the view is within 35° of the normal (the bound the sheen test above
+    // found), realist's image of the textured file is three's within 4 levels once three's
+    // extra roughness is added to realist's lobes (its specular anti-aliasing, see the
+    // clear coat test), which widens the bright highlights of the coat, the specular and
+    // the iridescent metal: as the file says, their flanks differ by up to 14 levels
+    // (measured: 14, 1, 8 and 9 on the four spheres; with three's roughness 1 on each).
+    let v = view_of(4.0, 2.0 * 0.125f32.atan(), 320, 80);
     let three = reference("layer-textures-headon.png");
     let (mean, max, n) = compare(&three, &reference("layer-factors-headon.png"));
     eprintln!(
@@ -402,7 +403,7 @@ fn the_layers_textures_against_three_js() {
     eprintln!("realist vs three.js r187, layer textures: mean {mean:.2}, max {max} levels over {n} pixels");
     // three's extra roughness: the view-space normal's change over a pixel at the spheres'
     // fronts (3.6 from the eye; radius 0.4).
-    let g = 2.0 * 3.6 * (0.13f32).tan() / 80.0 / 0.4;
+    let g = 2.0 * 3.6 * 0.125 / 80.0 / 0.4;
     let mut rough = scene.clone();
     for m in &mut rough.materials {
         m.roughness += g;
@@ -413,7 +414,7 @@ fn the_layers_textures_against_three_js() {
     let prepared = PreparedScene::new(scene);
     let settings = settings(false, 1.0, SURROUND);
     let eye = DVec3::new(0.0, 0.0, 4.0);
-    let (mut worst, mut highlights) = ([0u8; 3], [0u8; 3]);
+    let (mut as_is, mut rougher) = ([0u8; 4], [0u8; 4]);
     for (x, y, p) in ours.enumerate_pixels() {
         if !inside(&ours, x, y) || !inside(&three, x, y) {
             continue;
@@ -428,23 +429,14 @@ fn the_layers_textures_against_three_js() {
         if nv <= 35f64.to_radians().cos() {
             continue;
         }
-        let k = hit.instance.min(2);
-        let q = three.get_pixel(x, y).0;
-        // The highlights: within 6 pixels of the sphere's centre (columns 40, 120, 200).
-        let centre = 40.0 + 80.0 * k as f64 - 0.5;
-        if k != 1 && (f64::from(x) - centre).hypot(f64::from(y) - 39.5) < 6.0 {
-            highlights[k] = highlights[k].max(levels(like_three.get_pixel(x, y).0, q));
-        } else {
-            worst[k] = worst[k].max(levels(p.0, q));
-        }
+        let (k, q) = (hit.instance.min(3), three.get_pixel(x, y).0);
+        as_is[k] = as_is[k].max(levels(p.0, q));
+        rougher[k] = rougher[k].max(levels(like_three.get_pixel(x, y).0, q));
     }
     eprintln!(
-        "within 35° of the normal (coat, sheen, specular): max {worst:?} levels; in the highlights with three's roughness (+{g:.4}) max {highlights:?}"
+        "within 35° of the normal (coat, sheen, specular, iridescence): max {as_is:?} levels; with three's roughness (+{g:.4}) max {rougher:?}"
     );
-    assert!(
-        worst.iter().chain(&highlights).all(|&w| w <= 4),
-        "{worst:?} {highlights:?}"
-    );
+    assert!(rougher.iter().all(|&w| w <= 4), "{rougher:?}");
 }
 
 #[test]
@@ -485,4 +477,51 @@ fn a_coat_normal_map_against_three_js() {
     eprintln!("with three's bitangent: mean {mean_f:.2}, max {max_f} levels over {n_f} pixels");
     assert!(n_f > 6000, "{n_f}");
     assert!(max_f <= 4 && mean_f < 1.0, "{mean_f} {max_f}");
+}
+
+#[test]
+fn iridescence_against_three_js() {
+    // iridescence.glb: a film of IOR 1.8, 450 nm thick, on a black dielectric sphere. Both
+    // renderers take the film's Fresnel once per pixel at N·V (the Khronos sample viewer's
+    // and three's shortcut for the extension's V·H) and turn it back into an F0 for the
+    // surround (three's Schlick_to_F0), so away from the highlight, where three's lobe is
+    // rougher (see the clear coat test), they agree within 4 levels.
+    let three = reference("iridescence-headon.png");
+    let scene = load_model("models/pbr/iridescence.glb");
+    let ours = rgb8(&frame(scene, false, LAYER_DISTANCE, 1.0, SURROUND));
+    let (mean, max, n) = compare(&ours, &three);
+    eprintln!(
+        "realist vs three.js r187, iridescence: mean {mean:.2}, max {max} levels over {n} pixels"
+    );
+    let prepared = PreparedScene::new(load_model("models/pbr/iridescence.glb"));
+    let settings = settings(false, 1.0, SURROUND);
+    let eye = DVec3::new(0.0, 0.0, f64::from(LAYER_DISTANCE));
+    let (mut facing, mut grazing) = (0u8, (0u8, 1.0f64));
+    for (x, y, p) in ours.enumerate_pixels() {
+        if !inside(&ours, x, y) || !inside(&three, x, y) {
+            continue;
+        }
+        let Some(hit) = probe(&prepared, &settings, &view(LAYER_DISTANCE), x, y) else {
+            continue;
+        };
+        let (n, v) = (
+            hit.normal.as_dvec3(),
+            (eye - hit.position.as_dvec3()).normalize(),
+        );
+        let d = levels(p.0, three.get_pixel(x, y).0);
+        if n.dot((v + DVec3::Z).normalize()) > 15f64.to_radians().cos() {
+            continue;
+        }
+        if n.dot(v) > GRAZING {
+            facing = facing.max(d);
+        } else if d > grazing.0 {
+            grazing = (d, n.dot(v));
+        }
+    }
+    eprintln!(
+        "outside the highlight: max {facing} levels where N·V > {GRAZING}, {} at N·V {:.3}",
+        grazing.0, grazing.1
+    );
+    assert!(n > 20_000, "{n}");
+    assert!(facing <= 4, "{facing}");
 }

@@ -6,8 +6,8 @@
 // writes into DIR: sphere-grid.glb, sphere-grid-white.glb, emissive-strength.glb, unlit.glb
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
 // lights-punctual.glb, variants.glb, pointer.glb, instanced.glb, clearcoat.glb,
-// clearcoat-only.glb, sheen.glb, sheen-only.glb, layer-textures.glb, layer-factors.glb and
-// coat-normal.glb. Every piece of
+// clearcoat-only.glb, sheen.glb, sheen-only.glb, layer-textures.glb, layer-factors.glb,
+// coat-normal.glb and iridescence.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -22,6 +22,7 @@ import {
   Light,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
+  KHRMaterialsIridescence,
   KHRMaterialsSheen,
   KHRMaterialsSpecular,
   KHRMaterialsUnlit,
@@ -41,6 +42,7 @@ const io = new NodeIO().registerExtensions([
   KHRMaterialsClearcoat,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
+  KHRMaterialsIridescence,
   KHRMaterialsSheen,
   KHRMaterialsSpecular,
   KHRMaterialsUnlit,
@@ -440,22 +442,27 @@ async function layers() {
 
 // ---------------------------------------------------------------------------------------
 // layer-textures.glb and layer-factors.glb: the layers' textures, and the same materials
-// with each texture's value multiplied into its factor instead. Three spheres (radius 0.4)
-// at x = -1, 0, 1, each with its own material; every texture is a uniform 4 x 4 PNG whose
-// channels differ, so reading the wrong channel shows:
-//   coat (x = -1)      base (0.8, 0.3, 0.1), roughness 0.6; clearcoat 1, roughness 0.8;
+// with each texture's value multiplied into its factor instead. Four spheres (radius 0.4)
+// at x = -1.5, -0.5, 0.5, 1.5, each with its own material; every texture is a uniform 4 x 4
+// PNG whose channels differ, so reading the wrong channel shows:
+//   coat (x = -1.5)    base (0.8, 0.3, 0.1), roughness 0.6; clearcoat 1, roughness 0.8;
 //                      clearcoatTexture and clearcoatRoughnessTexture = COAT_TEXEL (R 0.6,
 //                      G 0.4): factors 0.6 and 0.32
-//   sheen (x = 0)      base (0.1, 0.2, 0.6), roughness 0.8; sheenColor (1, 0.8, 0.6),
+//   sheen (x = -0.5)   base (0.1, 0.2, 0.6), roughness 0.8; sheenColor (1, 0.8, 0.6),
 //                      sheenRoughness 0.9; sheenColorTexture (sRGB) and sheenRoughnessTexture
 //                      = SHEEN_TEXEL: colour times the decoded RGB, roughness times A / 255
-//   specular (x = 1)   base (0.3, 0.3, 0.3), roughness 0.35; specularFactor 0.9,
+//   specular (x = 0.5) base (0.3, 0.3, 0.3), roughness 0.35; specularFactor 0.9,
 //                      specularColorFactor (1, 2, 4); specularTexture and specularColorTexture
 //                      (sRGB) = SPECULAR_TEXEL: factor times A / 255, colour times the decoded RGB
+//   iridescence (1.5)  base (0.9, 0.9, 0.9), metallic 1, roughness 0.35; iridescence 1, IOR
+//                      1.3, thickness 100 to 600 nm; iridescenceTexture and
+//                      iridescenceThicknessTexture = IRIDESCENCE_TEXEL (R 0.8, G 128/255): factor
+//                      0.8, thickness 100 + 500 G
 
 export const COAT_TEXEL = [153, 102, 0, 255];
 export const SHEEN_TEXEL = [200, 120, 60, 128];
 export const SPECULAR_TEXEL = [230, 180, 90, 191];
+export const IRIDESCENCE_TEXEL = [204, 128, 0, 255];
 
 /** An 8-bit sRGB value decoded to linear (the sRGB transfer function). */
 const srgbDecode = (b) => {
@@ -468,14 +475,18 @@ async function layerTextures(textured) {
   const clearcoat = doc.createExtension(KHRMaterialsClearcoat);
   const sheen = doc.createExtension(KHRMaterialsSheen);
   const specular = doc.createExtension(KHRMaterialsSpecular);
+  const iridescence = doc.createExtension(KHRMaterialsIridescence);
   const uniform = (name, texel) =>
     doc.createTexture(name).setImage(png(4, 4, () => texel)).setMimeType("image/png");
-  const [C, S, P] = [COAT_TEXEL, SHEEN_TEXEL, SPECULAR_TEXEL];
+  const [C, S, P, I] = [COAT_TEXEL, SHEEN_TEXEL, SPECULAR_TEXEL, IRIDESCENCE_TEXEL];
   const coat = clearcoat.createClearcoat();
   const cloth = sheen.createSheen();
   const spec = specular.createSpecular();
+  const film = iridescence.createIridescence().setIridescenceIOR(1.3).setIridescenceThicknessMinimum(100);
   if (textured) {
     const [ct, st, pt] = [uniform("coat", C), uniform("sheen", S), uniform("specular", P)];
+    const it = uniform("iridescence", I);
+    film.setIridescenceFactor(1).setIridescenceThicknessMaximum(600).setIridescenceTexture(it).setIridescenceThicknessTexture(it);
     coat.setClearcoatFactor(1).setClearcoatRoughnessFactor(0.8).setClearcoatTexture(ct).setClearcoatRoughnessTexture(ct);
     cloth.setSheenColorFactor([1, 0.8, 0.6]).setSheenRoughnessFactor(0.9).setSheenColorTexture(st).setSheenRoughnessTexture(st);
     spec.setSpecularFactor(0.9).setSpecularColorFactor([1, 2, 4]).setSpecularTexture(pt).setSpecularColorTexture(pt);
@@ -485,17 +496,20 @@ async function layerTextures(textured) {
       .setSheenColorFactor([1, 0.8, 0.6].map((f, k) => f * srgbDecode(S[k])))
       .setSheenRoughnessFactor((0.9 * S[3]) / 255);
     spec.setSpecularFactor((0.9 * P[3]) / 255).setSpecularColorFactor([1, 2, 4].map((f, k) => f * srgbDecode(P[k])));
+    film.setIridescenceFactor(I[0] / 255).setIridescenceThicknessMaximum(100 + (500 * I[1]) / 255);
   }
   const materials = [
     ["coat", [0.8, 0.3, 0.1, 1], 0.6, "KHR_materials_clearcoat", coat],
     ["sheen", [0.1, 0.2, 0.6, 1], 0.8, "KHR_materials_sheen", cloth],
     ["specular", [0.3, 0.3, 0.3, 1], 0.35, "KHR_materials_specular", spec],
+    ["iridescence", [0.9, 0.9, 0.9, 1], 0.35, "KHR_materials_iridescence", film],
   ];
   const sphere = spherePrimitive(doc);
   materials.forEach(([name, base, roughness, ext, property], i) => {
-    const m = doc.createMaterial(name).setBaseColorFactor(base).setMetallicFactor(0).setRoughnessFactor(roughness);
+    const metal = name === "iridescence" ? 1 : 0;
+    const m = doc.createMaterial(name).setBaseColorFactor(base).setMetallicFactor(metal).setRoughnessFactor(roughness);
     m.setExtension(ext, property);
-    place(doc, name, meshWith(doc, name, sphere, m), [i - 1, 0, 0]);
+    place(doc, name, meshWith(doc, name, sphere, m), [i - 1.5, 0, 0]);
   });
   sphere.dispose();
   await write(doc, textured ? "layer-textures.glb" : "layer-factors.glb");
@@ -527,6 +541,27 @@ async function coatNormal() {
     );
   place(doc, "coat-normal", doc.createMesh("coat-normal").addPrimitive(prim.setMaterial(m)), [0, 0, 0]);
   await write(doc, "coat-normal.glb");
+}
+
+// ---------------------------------------------------------------------------------------
+// iridescence.glb: KHR_materials_iridescence on a sphere (radius 0.4 at the origin), material
+// "film": base black, metallic 0, roughness 0.3 (so the dielectric's F0 is 0.04 and only the
+// film's reflection shows); iridescence 1, IOR 1.8, thickness 100 to 450 nm (450 without a
+// texture).
+
+async function iridescenceFile() {
+  const doc = newDocument();
+  const film = doc
+    .createExtension(KHRMaterialsIridescence)
+    .createIridescence()
+    .setIridescenceFactor(1)
+    .setIridescenceIOR(1.8)
+    .setIridescenceThicknessMinimum(100)
+    .setIridescenceThicknessMaximum(450);
+  const m = doc.createMaterial("film").setBaseColorFactor([0, 0, 0, 1]).setMetallicFactor(0).setRoughnessFactor(0.3);
+  m.setExtension("KHR_materials_iridescence", film);
+  place(doc, "film", doc.createMesh("film").addPrimitive(spherePrimitive(doc).setMaterial(m)), [0, 0, 0]);
+  await write(doc, "iridescence.glb");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -744,3 +779,4 @@ await layers();
 await layerTextures(true);
 await layerTextures(false);
 await coatNormal();
+await iridescenceFile();

@@ -46,9 +46,15 @@ const EXPECTED = new Map([
   ["sheen-only.glb", [["sheen-only", ["KHR_materials_sheen", "KHR_materials_specular"]]]],
   ...["layer-textures.glb", "layer-factors.glb"].map((file) => [
     file,
-    [["coat", ["KHR_materials_clearcoat"]], ["sheen", ["KHR_materials_sheen"]], ["specular", ["KHR_materials_specular"]]],
+    [
+      ["coat", ["KHR_materials_clearcoat"]],
+      ["sheen", ["KHR_materials_sheen"]],
+      ["specular", ["KHR_materials_specular"]],
+      ["iridescence", ["KHR_materials_iridescence"]],
+    ],
   ]),
   ["coat-normal.glb", [["coat-normal", ["KHR_materials_clearcoat", "KHR_materials_specular"]]]],
+  ["iridescence.glb", [["film", ["KHR_materials_iridescence"]]]],
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],

@@ -28,11 +28,12 @@ for m in clearcoat sheen; do
   echo "wrote tests/threejs/refs/$m-headon.png"
 done
 # The layers' textures (layer-textures.glb) and the same materials with the texels
-# multiplied into the factors (layer-factors.glb): three spheres at x = -1, 0, 1 seen from
-# (0, 0, 4) with a vertical field of view of 0.26 rad, under the same light and surround.
+# multiplied into the factors (layer-factors.glb): four spheres at x = -1.5 to 1.5 seen from
+# (0, 0, 4) with a vertical field of view of 2 atan(1/8) (80 pixels to the unit), under the
+# same light and surround.
 for m in layer-textures layer-factors; do
   node render.mjs --quiet --model ../../models/pbr/$m.glb --out refs/$m-headon.png \
-    --size 240x80 --eye 0,0,4 --target 0,0,0 --yfov 14.896902673401405 \
+    --size 320x80 --eye 0,0,4 --target 0,0,0 --yfov 14.250032697803595 \
     --light directional:0,0,-1:1 --env uniform:0.25 --tone none --background 0,0,0
   echo "wrote tests/threejs/refs/$m-headon.png"
 done
@@ -41,3 +42,8 @@ node render.mjs --quiet --model ../../models/pbr/coat-normal.glb --out refs/coat
   --size 129x129 --eye 0,0,1.5 --target 0,0,0 --yfov 51.56620156177409 \
   --light directional:0,0,-1:1 --env uniform:0.25 --tone none --background 0,0,0
 echo "wrote tests/threejs/refs/coat-normal-headon.png"
+# A thin film (KHR_materials_iridescence) on a black sphere, as the layered spheres above.
+node render.mjs --quiet --model ../../models/pbr/iridescence.glb --out refs/iridescence-headon.png \
+  --size 256x256 --eye 0,0,1.5 --target 0,0,0 --yfov 45 --light directional:0,0,-1:1 \
+  --env uniform:0.25 --tone none --background 0,0,0
+echo "wrote tests/threejs/refs/iridescence-headon.png"

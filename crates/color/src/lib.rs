@@ -21,6 +21,7 @@
 //! | `cmf.rs`, `cmf_data.rs` | the CIE 1931 and 1964 observers at 1 nm, spectral locus, illuminants |
 //! | `png.rs` | the one PNG writer, with the image's metadata |
 //! | `planck.rs` | Planckian locus (integrated and approximated), daylight locus, CCT |
+//! | `thin_film.rs` | the exact colour of a thin dielectric film (Airy, spectral) |
 
 mod cie;
 mod cmf;
@@ -32,6 +33,7 @@ mod planck;
 pub mod png;
 mod rgba;
 mod space;
+pub mod thin_film;
 mod transfer;
 
 pub use cie::*;

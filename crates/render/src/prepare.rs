@@ -447,6 +447,22 @@ impl PreparedScene {
                                 }
                             }
                         }
+                        P::IridescenceFactor
+                        | P::IridescenceIor
+                        | P::IridescenceThicknessMin
+                        | P::IridescenceThicknessMax => {
+                            let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) else {
+                                continue;
+                            };
+                            match property {
+                                P::IridescenceFactor => p.iridescence = x.clamp(0.0, 1.0),
+                                P::IridescenceIor => p.iridescence_ior = x.max(1.0),
+                                P::IridescenceThicknessMin => {
+                                    p.iridescence_thickness[0] = x.max(0.0);
+                                }
+                                _ => p.iridescence_thickness[1] = x.max(0.0),
+                            }
+                        }
                         P::TexOffset(slot) | P::TexRotation(slot) | P::TexScale(slot) => {
                             let Some(t) = m.slot_mut(slot).as_mut() else {
                                 continue;

@@ -66,6 +66,11 @@ pub enum Property {
     /// A material's `KHR_materials_sheen` colour (RGB) and roughness.
     SheenColor,
     SheenRoughness,
+    /// A material's `KHR_materials_iridescence` factor, film IOR and thickness range (nm).
+    IridescenceFactor,
+    IridescenceIor,
+    IridescenceThicknessMin,
+    IridescenceThicknessMax,
     /// A material slot's `KHR_texture_transform` offset (2 numbers), rotation (radians)
     /// and scale (2 numbers).
     TexOffset(crate::Slot),
@@ -108,6 +113,10 @@ impl Property {
             Property::ClearcoatRoughness => "clearcoatRoughnessFactor",
             Property::SheenColor => "sheenColorFactor",
             Property::SheenRoughness => "sheenRoughnessFactor",
+            Property::IridescenceFactor => "iridescenceFactor",
+            Property::IridescenceIor => "iridescenceIor",
+            Property::IridescenceThicknessMin => "iridescenceThicknessMinimum",
+            Property::IridescenceThicknessMax => "iridescenceThicknessMaximum",
             Property::TexOffset(_) => "offset",
             Property::TexRotation(_) => "rotation",
             Property::TexScale(_) => "scale",
@@ -130,6 +139,10 @@ impl Property {
             | Property::ClearcoatRoughness
             | Property::SheenColor
             | Property::SheenRoughness
+            | Property::IridescenceFactor
+            | Property::IridescenceIor
+            | Property::IridescenceThicknessMin
+            | Property::IridescenceThicknessMax
             | Property::TexOffset(_)
             | Property::TexRotation(_)
             | Property::TexScale(_) => Target::Material,

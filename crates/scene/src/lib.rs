@@ -110,6 +110,12 @@ pub struct PbrMaterial {
     /// `sheenRoughnessFactor` of the cloth-like layer over the base.
     pub sheen_color: Vec3,
     pub sheen_roughness: f32,
+    /// `KHR_materials_iridescence`: `iridescenceFactor` (0: no film), the film's
+    /// `iridescenceIor` and its thickness range in nanometres (`iridescenceThicknessMinimum`,
+    /// `Maximum`; without a thickness texture the film is the maximum thick).
+    pub iridescence: f32,
+    pub iridescence_ior: f32,
+    pub iridescence_thickness: [f32; 2],
 }
 
 impl Default for PbrMaterial {
@@ -124,6 +130,9 @@ impl Default for PbrMaterial {
             clearcoat_roughness: 0.0,
             sheen_color: Vec3::ZERO,
             sheen_roughness: 0.0,
+            iridescence: 0.0,
+            iridescence_ior: 1.3,
+            iridescence_thickness: [100.0, 400.0],
         }
     }
 }

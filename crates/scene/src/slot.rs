@@ -54,12 +54,17 @@ pub enum Slot {
     SheenColor,
     /// `KHR_materials_sheen` `sheenRoughnessTexture`: A multiplies `sheenRoughnessFactor`.
     SheenRoughness,
+    /// `KHR_materials_iridescence` `iridescenceTexture`: R multiplies `iridescenceFactor`.
+    Iridescence,
+    /// `KHR_materials_iridescence` `iridescenceThicknessTexture`: G mixes the film's
+    /// thickness from `iridescenceThicknessMinimum` (0) to `Maximum` (1).
+    IridescenceThickness,
 }
 
 impl Slot {
     /// Every slot, in the order panels and reports list them: the core ones, then
     /// [`Slot::LAYERS`].
-    pub const ALL: [Slot; 14] = [
+    pub const ALL: [Slot; 16] = [
         Slot::BaseColor,
         Slot::Specular,
         Slot::Normal,
@@ -74,11 +79,13 @@ impl Slot {
         Slot::ClearcoatNormal,
         Slot::SheenColor,
         Slot::SheenRoughness,
+        Slot::Iridescence,
+        Slot::IridescenceThickness,
     ];
 
     /// The slots of the `KHR_materials_*` extensions, which only the `pbr` mode reads (in
     /// the order of [`Slot::layer_index`]).
-    pub const LAYERS: [Slot; 7] = [
+    pub const LAYERS: [Slot; 9] = [
         Slot::SpecularStrength,
         Slot::SpecularColor,
         Slot::Clearcoat,
@@ -86,6 +93,8 @@ impl Slot {
         Slot::ClearcoatNormal,
         Slot::SheenColor,
         Slot::SheenRoughness,
+        Slot::Iridescence,
+        Slot::IridescenceThickness,
     ];
 
     /// The slot's position in [`Slot::LAYERS`], if it is one of them.
@@ -112,6 +121,8 @@ impl Slot {
             Slot::ClearcoatNormal => "clear-coat normal",
             Slot::SheenColor => "sheen colour",
             Slot::SheenRoughness => "sheen roughness",
+            Slot::Iridescence => "iridescence",
+            Slot::IridescenceThickness => "iridescence thickness",
         }
     }
 
@@ -139,6 +150,8 @@ impl Slot {
             Slot::ClearcoatNormal => "clearcoat_normal",
             Slot::SheenColor => "sheen_color",
             Slot::SheenRoughness => "sheen_roughness",
+            Slot::Iridescence => "iridescence",
+            Slot::IridescenceThickness => "iridescence_thickness",
         }
     }
 
@@ -160,7 +173,9 @@ impl Slot {
             | Slot::Clearcoat
             | Slot::ClearcoatRoughness
             | Slot::ClearcoatNormal
-            | Slot::SheenRoughness => false,
+            | Slot::SheenRoughness
+            | Slot::Iridescence
+            | Slot::IridescenceThickness => false,
         }
     }
 }

@@ -45,6 +45,55 @@ pub struct Pbr<T: Num> {
     pub ess: T,
     /// The clear coat and the sheen over the base, if the material has either.
     pub layers: Option<Layers<T>>,
+    /// The thin film on the base (`KHR_materials_iridescence`), if the material has one.
+    pub iridescence: Option<Iridescence<T>>,
+}
+
+/// A thin film on the base (`KHR_materials_iridescence`): each lobe's Fresnel becomes
+/// `mix(F_schlick, F_film, iridescence)`, `F_film` the film's reflectance
+/// ([`crate::iridescence::fresnel`]) over the lobe's `F0` (the dielectric's, and the base
+/// colour for the metal), evaluated once per point at `N·V` as the Khronos sample viewer and
+/// three.js do (the extension's model takes it at `V·H` per light; `N·V` is its value for
+/// a light reflected towards the eye along the normal). Under the environment the film's
+/// Fresnel is taken back to an `F0` for the split sum (three.js's `Schlick_to_F0`).
+#[derive(Clone, Copy, Debug)]
+pub struct Iridescence<T: Num> {
+    /// `iridescenceFactor` (0: no film).
+    pub factor: T,
+    /// The film's IOR and thickness (nm).
+    pub ior: T,
+    pub thickness: T,
+    /// At the point, set with the view ([`Iridescence::view`]): the film's Fresnel over
+    /// the dielectric lobe and over the metal.
+    pub dielectric: T::V,
+    pub metal: T::V,
+}
+
+impl<T: Num> Iridescence<T> {
+    /// Sets the film's Fresnel at `nv` over the dielectric's `f0` and the metal's base
+    /// colour `kd`.
+    #[inline(always)]
+    pub fn view(&mut self, nv: T, f0: T::V, kd: T::V) {
+        let outside = T::of(crate::iridescence::OUTSIDE_IOR);
+        self.dielectric = crate::iridescence::fresnel(outside, self.ior, nv, self.thickness, f0);
+        self.metal = crate::iridescence::fresnel(outside, self.ior, nv, self.thickness, kd);
+    }
+
+    /// `F` mixed with the film's `film` by the factor.
+    #[inline(always)]
+    #[must_use]
+    pub fn mix(&self, f: T::V, film: T::V) -> T::V {
+        f + (film - f) * self.factor
+    }
+
+    /// The `F0` whose Schlick Fresnel (`F90 = 1`) is `f` at `nv` (three.js's
+    /// `Schlick_to_F0`, the weight clamped below 1), for the split sum.
+    #[inline(always)]
+    #[must_use]
+    pub fn to_f0(f: T::V, nv: T) -> T::V {
+        let x5 = schlick_weight(nv).min(T::of(0.9999));
+        (f - T::splat(x5)) * (T::ONE / (T::ONE - x5))
+    }
 }
 
 /// The layers over a `pbr` base (`KHR_materials_clearcoat`, `KHR_materials_sheen`), as the
@@ -127,8 +176,12 @@ pub fn pbr<T: Shade>(
     let d = ggx(nh, alpha);
     let vis = smith_vis(ndl, nv, alpha);
     let w = schlick_weight(vh);
-    let fd = schlick::<T>(p.f0, p.f90, w);
-    let fm = schlick::<T>(s.kd, T::ONE, w);
+    let mut fd = schlick::<T>(p.f0, p.f90, w);
+    let mut fm = schlick::<T>(s.kd, T::ONE, w);
+    if let Some(i) = &p.iridescence {
+        fd = i.mix(fd, i.dielectric);
+        fm = i.mix(fm, i.metal);
+    }
     let dielectric = T::ONE - p.metallic;
     let fresnel = fd * dielectric + fm * p.metallic;
     let inv_pi = T::of64(std::f64::consts::FRAC_1_PI);

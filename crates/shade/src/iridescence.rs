@@ -240,7 +240,6 @@ fn row<T: Num>(r: [f64; 3], v: [T; 3]) -> T {
 #[cfg(test)]
 mod tests {
     use glam::{DVec3, Vec3};
-    use realist_color::{Observer, RgbSpace};
 
     use super::*;
     use crate::simd::kernel::__private::Portable;
@@ -248,45 +247,10 @@ mod tests {
 
     type P = F8<Portable>;
 
-    /// The exact reflectance of a film (IOR `n2`, `d` nm) between air and a substrate of
-    /// real IOR `n3`, at wavelength `nm` and `cos1`, unpolarised: the Airy sum of the s and p
-    /// amplitudes, `r = (r12 + r23 e^{iδ}) / (1 + r12 r23 e^{iδ})`, `δ = 4π n2 d cos θ2 / λ`.
-    fn airy_exact(n2: f64, n3: f64, d: f64, cos1: f64, nm: f64) -> f64 {
-        let sin_sq = 1.0 - cos1 * cos1;
-        let cos2 = (1.0 - sin_sq / (n2 * n2)).sqrt();
-        let cos3 = (1.0 - sin_sq / (n3 * n3)).sqrt();
-        let delta = 4.0 * std::f64::consts::PI * n2 * d * cos2 / nm;
-        let (sn, cs) = delta.sin_cos();
-        // [s, p] amplitude coefficients of the two interfaces.
-        let s12 = (cos1 - n2 * cos2) / (cos1 + n2 * cos2);
-        let s23 = (n2 * cos2 - n3 * cos3) / (n2 * cos2 + n3 * cos3);
-        let p12 = (n2 * cos1 - cos2) / (n2 * cos1 + cos2);
-        let p23 = (n3 * cos2 - n2 * cos3) / (n3 * cos2 + n2 * cos3);
-        let mut sum = 0.0;
-        for (a, b) in [(s12, s23), (p12, p23)] {
-            let num = (a + b * cs).powi(2) + (b * sn).powi(2);
-            let den = (1.0 + a * b * cs).powi(2) + (a * b * sn).powi(2);
-            sum += num / den;
-        }
-        sum / 2.0
-    }
-
-    /// The spectral reference in linear Rec. 709: [`airy_exact`] at 1 nm from 380 to 780 nm
-    /// against the CIE 1931 2° observer, XYZ divided by the integral of ȳ (a flat
-    /// reflectance of 1 has Y = 1), through the D65 Rec. 709 matrix derived by
-    /// `realist-color` from the primaries (not this module's).
+    /// The spectral reference in linear Rec. 709 (`realist_color::thin_film`: the exact
+    /// Airy reflectance against the CIE 1931 observer).
     fn reference(n2: f64, f0: f64, d: f64, cos1: f64) -> DVec3 {
-        let n3 = (1.0 + f0.sqrt()) / (1.0 - f0.sqrt());
-        let (mut xyz, mut y) = ([0.0; 3], 0.0);
-        for nm in 380..=780 {
-            let cmf = Observer::Cie1931.cmf(f64::from(nm));
-            let r = airy_exact(n2, n3, d, cos1, f64::from(nm));
-            for k in 0..3 {
-                xyz[k] += r * cmf[k];
-            }
-            y += cmf[1];
-        }
-        DVec3::from(RgbSpace::bt709().xyz_to_linear(xyz.map(|v| v / y)))
+        DVec3::from(realist_color::thin_film::rec709(n2, f0, d, cos1))
     }
 
     fn model(n2: f64, f0: f64, d: f64, cos1: f64) -> DVec3 {

@@ -11,6 +11,8 @@
 //! | `clearcoatNormalTexture` | RGB | the coat's own normal map (the caller perturbs the coat normal with [`crate::maps`]) |
 //! | `sheenColorTexture` | RGB | `sheenColorFactor` |
 //! | `sheenRoughnessTexture` | A | `sheenRoughnessFactor` |
+//! | `iridescenceTexture` | R | `iridescenceFactor` |
+//! | `iridescenceThicknessTexture` | G | the film's thickness: `mix(minimum, maximum, G)` (without it, the maximum) |
 //!
 //! The channels are the extensions' own (so one image can pack the clear coat in R and its
 //! roughness in G, or the sheen colour in RGB and its roughness in A).
@@ -21,7 +23,7 @@ use crate::scene::Slot;
 use crate::simd::Num;
 
 /// How many values the extensions' textures give a point (see [`LayerTexels::values`]).
-pub const LAYER_VALUES: usize = 10;
+pub const LAYER_VALUES: usize = 12;
 
 /// Where the texel of a slot of [`Slot::LAYERS`] goes: its first channel, how many
 /// channels, and the index of the first in [`LayerTexels::values`]; `None` for the coat's
@@ -35,6 +37,8 @@ pub const fn channels(slot: Slot) -> Option<(usize, usize, usize)> {
         Slot::ClearcoatRoughness => Some((1, 1, 5)),
         Slot::SheenColor => Some((0, 3, 6)),
         Slot::SheenRoughness => Some((3, 1, 9)),
+        Slot::Iridescence => Some((0, 1, 10)),
+        Slot::IridescenceThickness => Some((1, 1, 11)),
         _ => None,
     }
 }
@@ -45,7 +49,7 @@ pub const fn channels(slot: Slot) -> Option<(usize, usize, usize)> {
 pub struct LayerTexels<T: Num> {
     pub mask: u8,
     /// Specular strength, specular colour (3), clear coat, its roughness, sheen colour (3),
-    /// sheen roughness.
+    /// sheen roughness, iridescence, its thickness.
     pub values: [T; LAYER_VALUES],
 }
 
@@ -95,6 +99,15 @@ impl<T: Num> LayerTexels<T> {
         }
         if self.has(Slot::SpecularStrength) {
             p.f90 = p.f90 * strength;
+        }
+        if let Some(i) = &mut p.iridescence {
+            if self.has(Slot::Iridescence) {
+                i.factor = i.factor * v[10];
+            }
+            if self.has(Slot::IridescenceThickness) {
+                let [lo, hi] = params.iridescence_thickness;
+                i.thickness = crate::iridescence::thickness(T::of(lo), T::of(hi), Some(v[11]));
+            }
         }
         let Some(y) = &mut p.layers else {
             return;

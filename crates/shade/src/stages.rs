@@ -66,6 +66,10 @@ pub struct Regs {
     /// a clear coat or a sheen.
     pub coat_keep: Lane,
     pub sheen_ev: Lane,
+    /// The thin film's Fresnel at the view over the dielectric and the metal
+    /// ([`crate::brdf::Iridescence::view`]), where the draw has iridescence.
+    pub film_dielectric: [Lane; 3],
+    pub film_metal: [Lane; 3],
     /// The coat's normal (the interpolated one, before the maps), where the draw has a
     /// clear coat over a normal- or bump-mapped base ([`coat_normal`]).
     pub nc: [Lane; 3],
@@ -454,6 +458,10 @@ crate::simd::per_kernel! {
                     r.coat_keep.set(y.coat_keep);
                     r.sheen_ev.set(y.sheen_ev);
                 }
+                if let Some(i) = &p.iridescence {
+                    i.dielectric.set(&mut r.film_dielectric);
+                    i.metal.set(&mut r.film_metal);
+                }
             }
             if let Some(e) = s.emitted {
                 c = c + emission_seen(&s, e);
@@ -478,6 +486,10 @@ crate::simd::per_kernel! {
                 if let Some(y) = &mut p.layers {
                     y.coat_keep = r.coat_keep.get();
                     y.sheen_ev = r.sheen_ev.get();
+                }
+                if let Some(i) = &mut p.iridescence {
+                    i.dielectric = V3::get(&r.film_dielectric);
+                    i.metal = V3::get(&r.film_metal);
                 }
             }
             let (n, v) = (V3::get(&r.n), V3::get(&r.v));

@@ -38,6 +38,7 @@ pub const IOR: &str = "KHR_materials_ior";
 pub const SPECULAR: &str = "KHR_materials_specular";
 pub const CLEARCOAT: &str = "KHR_materials_clearcoat";
 pub const SHEEN: &str = "KHR_materials_sheen";
+pub const IRIDESCENCE: &str = "KHR_materials_iridescence";
 
 /// A colour field (three non-negative finite numbers) of an extension object: `default`
 /// when absent or unusable (with the problem in `notes`).
@@ -83,7 +84,7 @@ fn ext_number(
 }
 
 /// The [`PbrMaterial`] of a material with base colour `base` and extension objects `ext`
-/// (by name): the six `KHR_materials_*` extensions realist reads; each other one is named
+/// (by name): the `KHR_materials_*` extensions realist reads; each other one is named
 /// in `notes` as ignored, and so is a bad field (replaced by its default).
 fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> PbrMaterial {
     let mut p = PbrMaterial::default();
@@ -133,6 +134,27 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
                 p.sheen_color = ext_color(obj, "sheenColorFactor", Vec3::ZERO, notes);
                 p.sheen_roughness = ext_number(obj, "sheenRoughnessFactor", 0.0, 0.0, 1.0, notes);
             }
+            IRIDESCENCE => {
+                p.iridescence = ext_number(obj, "iridescenceFactor", 0.0, 0.0, 1.0, notes);
+                p.iridescence_ior = ext_number(obj, "iridescenceIor", 1.3, 1.0, f32::MAX, notes);
+                let lo = ext_number(
+                    obj,
+                    "iridescenceThicknessMinimum",
+                    100.0,
+                    0.0,
+                    f32::MAX,
+                    notes,
+                );
+                let hi = ext_number(
+                    obj,
+                    "iridescenceThicknessMaximum",
+                    400.0,
+                    0.0,
+                    f32::MAX,
+                    notes,
+                );
+                p.iridescence_thickness = [lo, hi];
+            }
             other => notes.push(format!("material extension {other} ignored")),
         }
     }
@@ -140,7 +162,7 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
 }
 
 /// The extensions' texture slots: (extension, textureInfo key, slot).
-const LAYER_TEXTURES: [(&str, &str, Slot); 7] = [
+const LAYER_TEXTURES: [(&str, &str, Slot); 9] = [
     (SPECULAR, "specularTexture", Slot::SpecularStrength),
     (SPECULAR, "specularColorTexture", Slot::SpecularColor),
     (CLEARCOAT, "clearcoatTexture", Slot::Clearcoat),
@@ -152,6 +174,12 @@ const LAYER_TEXTURES: [(&str, &str, Slot); 7] = [
     (CLEARCOAT, "clearcoatNormalTexture", Slot::ClearcoatNormal),
     (SHEEN, "sheenColorTexture", Slot::SheenColor),
     (SHEEN, "sheenRoughnessTexture", Slot::SheenRoughness),
+    (IRIDESCENCE, "iridescenceTexture", Slot::Iridescence),
+    (
+        IRIDESCENCE,
+        "iridescenceThicknessTexture",
+        Slot::IridescenceThickness,
+    ),
 ];
 
 /// The slot of textureInfo `key` of material extension `ext`, if realist reads it.

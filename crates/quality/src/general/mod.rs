@@ -76,6 +76,7 @@ use crate::microfacet;
 use crate::render::{default_camera, frame_lights, Policy, Shot};
 use crate::scene::{AlphaMode, Material, Scene, Slot, TextureSource, UvTransform};
 use crate::shade::brdf::{self, Pbr};
+use crate::shade::iridescence;
 use crate::shade::layer_maps::LayerTexels;
 use crate::shade::{illuminate, maps, Fog, LightSet, Surface, SurfaceAt};
 use crate::texture::{Domain, Filter, SamplePoint, Sampler, Texels, Texture, Wrap};
@@ -451,6 +452,10 @@ fn environment(
     let alpha = microfacet::alpha::<f64>(pb.roughness);
     let (mut a, mut bias) = (0.0, 0.0);
     let (mut spec_d, mut spec_m) = (DVec3::ZERO, DVec3::ZERO);
+    // A thin film's Fresnel at each sample's V·H, the extension's model (the renderer takes
+    // it at N·V), and the dielectric lobe's albedo with it.
+    let film = pb.iridescence.as_ref();
+    let mut film_albedo = DVec3::ZERO;
     for i in 0..count {
         let hv = world(microfacet::sample_h(point(i), alpha));
         let vh = v.dot(hv);
@@ -464,12 +469,25 @@ fn environment(
         a += (1.0 - w) * g;
         bias += w * g;
         let light = radiance(l) * g;
-        spec_d += microfacet::schlick::<f64>(pb.f0, pb.f90, w) * light;
-        spec_m += microfacet::schlick::<f64>(s.kd, 1.0, w) * light;
+        let (mut fd, mut fm) = (
+            microfacet::schlick::<f64>(pb.f0, pb.f90, w),
+            microfacet::schlick::<f64>(s.kd, 1.0, w),
+        );
+        if let Some(f) = film {
+            let at = |f0| iridescence::fresnel::<f64>(1.0, f.ior, vh, f.thickness, f0);
+            fd = f.mix(fd, at(pb.f0));
+            fm = f.mix(fm, at(s.kd));
+            film_albedo += fd * g;
+        }
+        spec_d += fd * light;
+        spec_m += fm * light;
     }
     let k = 1.0 / f64::from(count);
     let (a, bias, spec_d, spec_m) = (a * k, bias * k, spec_d * k, spec_m * k);
-    let (d_ss, d_ms) = brdf::ibl_fresnel::<f64>(pb.f0, pb.f90, a, bias);
+    let (mut d_ss, d_ms) = brdf::ibl_fresnel::<f64>(pb.f0, pb.f90, a, bias);
+    if film.is_some() {
+        d_ss = film_albedo * k;
+    }
     let (_, m_ms) = brdf::ibl_fresnel::<f64>(s.kd, 1.0, a, bias);
     let diel = s.kd * (DVec3::ONE - d_ss - d_ms) * irradiance + spec_d + d_ms * irradiance;
     let metal = spec_m + m_ms * irradiance;

@@ -181,6 +181,19 @@ pub fn pbr_surface(m: &Material) -> Surface {
                 clearcoat_roughness: layer(p.clearcoat_roughness),
                 sheen_color: sheen,
                 sheen_roughness: layer(p.sheen_roughness),
+                iridescence: layer(p.iridescence),
+                iridescence_ior: if p.iridescence_ior.is_finite() {
+                    p.iridescence_ior.max(1.0)
+                } else {
+                    1.3
+                },
+                iridescence_thickness: p.iridescence_thickness.map(|d| {
+                    if d.is_finite() {
+                        d.max(0.0)
+                    } else {
+                        0.0
+                    }
+                }),
             }
         }
         None => {

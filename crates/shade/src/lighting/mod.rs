@@ -279,6 +279,11 @@ pub struct PbrParams {
     /// `KHR_materials_sheen`'s colour (black: no sheen) and roughness.
     pub sheen_color: Vec3,
     pub sheen_roughness: f32,
+    /// `KHR_materials_iridescence`'s factor (0: no film), the film's IOR and its thickness
+    /// range in nm (minimum, maximum; the maximum without a thickness texture).
+    pub iridescence: f32,
+    pub iridescence_ior: f32,
+    pub iridescence_thickness: [f32; 2],
 }
 
 impl Default for PbrParams {
@@ -293,6 +298,9 @@ impl Default for PbrParams {
             clearcoat_roughness: 0.0,
             sheen_color: Vec3::ZERO,
             sheen_roughness: 0.0,
+            iridescence: 0.0,
+            iridescence_ior: 1.3,
+            iridescence_thickness: [100.0, 400.0],
         }
     }
 }
@@ -341,6 +349,17 @@ impl Surface {
                             coat_keep: T::ONE,
                             sheen_ev: T::ZERO,
                             coat_normal: None,
+                        })
+                    } else {
+                        None
+                    },
+                    iridescence: if p.iridescence > 0.0 {
+                        Some(brdf::Iridescence {
+                            factor: T::of(p.iridescence),
+                            ior: T::of(p.iridescence_ior),
+                            thickness: T::of(p.iridescence_thickness[1]),
+                            dielectric: T::splat(T::ZERO),
+                            metal: T::splat(T::ZERO),
                         })
                     } else {
                         None

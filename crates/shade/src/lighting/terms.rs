@@ -235,6 +235,9 @@ pub fn view_terms<T: Shade>(s: &mut SurfaceAt<T>, n: T::V, v: T::V, single_scatt
     let nv = T::dot(n, v).max(T::of(1e-4));
     let ess = T::brdf_lut(nv, p.roughness).2;
     p.ess = if single_scatter { T::ONE } else { ess };
+    if let Some(i) = &mut p.iridescence {
+        i.view(nv, p.f0, s.kd);
+    }
     if let Some(y) = &mut p.layers {
         let e = sheen_view::<T>(y, nv);
         y.view(coat_nv(y, v, nv), e);
@@ -293,8 +296,18 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::
         }
         None => (g, g),
     };
-    let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(p.f0, p.f90, a, b);
-    let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(kd, T::ONE, a, b);
+    // A thin film: each lobe's F0 mixed with the one its Fresnel at the view makes.
+    let (f0, metal_f0) = match &mut p.iridescence {
+        Some(i) => {
+            i.view(nv, p.f0, kd);
+            let film = brdf::Iridescence::<T>::to_f0(i.dielectric, nv);
+            let metal = brdf::Iridescence::<T>::to_f0(i.metal, nv);
+            (i.mix(p.f0, film), i.mix(kd, metal))
+        }
+        None => (p.f0, kd),
+    };
+    let (d_ss, d_ms) = brdf::ibl_fresnel::<T>(f0, p.f90, a, b);
+    let (m_ss, m_ms) = brdf::ibl_fresnel::<T>(metal_f0, T::ONE, a, b);
     // Dielectric: the diffuse term gets the energy the specular lobe leaves.
     let left = T::splat(T::ONE) - d_ss - d_ms;
     let dielectric = T::ONE - p.metallic;

@@ -144,6 +144,49 @@ fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
         "material sheen roughness",
     );
     ui.end_row();
+    ui.label("iridescence").on_hover_text(
+        "KHR_materials_iridescence: a thin film on the base whose interference colours the reflection; 0 for none",
+    );
+    changed |= edit::slider(
+        ui,
+        &mut p.iridescence,
+        0.0..=1.0,
+        false,
+        "material iridescence",
+    );
+    ui.end_row();
+    ui.label("film IOR");
+    changed |= edit::drag(
+        ui,
+        &mut p.iridescence_ior,
+        1.0..=3.0,
+        0.01,
+        "material iridescence ior",
+    );
+    ui.end_row();
+    ui.label("film thickness").on_hover_text(
+        "The film's thickness: the maximum, or from the minimum to the maximum by the thickness texture's G",
+    );
+    ui.horizontal(|ui| {
+        let [lo, hi] = &mut p.iridescence_thickness;
+        changed |= edit::drag_with(
+            ui,
+            lo,
+            0.0..=2000.0,
+            1.0,
+            "material iridescence thickness minimum",
+            " nm",
+        );
+        changed |= edit::drag_with(
+            ui,
+            hi,
+            0.0..=2000.0,
+            1.0,
+            "material iridescence thickness maximum",
+            " nm",
+        );
+    });
+    ui.end_row();
     ui.label("unlit");
     changed |= ui
         .checkbox(
