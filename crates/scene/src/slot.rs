@@ -570,6 +570,20 @@ mod tests {
     #[test]
     fn colour_slots_are_srgb_and_data_slots_linear() {
         let srgb: Vec<_> = Slot::ALL.into_iter().filter(|s| s.srgb()).collect();
-        assert_eq!(srgb, [Slot::BaseColor, Slot::Specular, Slot::Emissive]);
+        assert_eq!(
+            srgb,
+            [
+                Slot::BaseColor,
+                Slot::Specular,
+                Slot::Emissive,
+                Slot::SpecularColor,
+                Slot::SheenColor
+            ]
+        );
+        // Every extension slot has its place in `LAYERS`, in order.
+        for (i, s) in Slot::LAYERS.into_iter().enumerate() {
+            assert_eq!(s.layer_index(), Some(i));
+        }
+        assert_eq!(Slot::Bump.layer_index(), None);
     }
 }
