@@ -179,6 +179,7 @@ fn benches(c: &mut Criterion) {
         emissive_map: None,
         bump: None,
         metal_rough: None,
+        layer_maps: Default::default(),
         unlit: false,
         view: TexView::Lit,
         measure: None,

@@ -77,8 +77,9 @@ pub struct Material {
     pub roughness: f32,
     /// [`Slot::MetallicRoughness`]: G multiplies `roughness`, B `metallic`.
     pub metallic_roughness_texture: Option<TextureSlot>,
-    /// The slots of the `KHR_materials_*` extensions ([`Slot::LAYERS`], in its order).
-    pub layer_textures: [Option<TextureSlot>; Slot::LAYERS.len()],
+    /// The slots of the `KHR_materials_*` extensions ([`Slot::LAYERS`], in its order), if
+    /// the material has any (boxed: most have none).
+    pub layer_textures: Option<Box<LayerTextures>>,
     pub alpha_mode: AlphaMode,
     pub double_sided: bool,
     /// `Some` for a material authored as glTF metallic-roughness (or an MTL with PBR keys):
@@ -177,9 +178,7 @@ impl Material {
             Slot::MetallicRoughness => self.metallic_roughness_texture.as_ref(),
             Slot::Bump => self.bump_texture.as_ref(),
             // The rest are the extensions' slots: `layer_index` is `Some`.
-            layer => layer
-                .layer_index()
-                .and_then(|i| self.layer_textures[i].as_ref()),
+            layer => self.layer_textures.as_ref()?[layer.layer_index()?].as_ref(),
         }
     }
 
@@ -194,7 +193,10 @@ impl Material {
             Slot::MetallicRoughness => &mut self.metallic_roughness_texture,
             Slot::Bump => &mut self.bump_texture,
             // The rest are the extensions' slots: `layer_index` is `Some`.
-            layer => &mut self.layer_textures[layer.layer_index().unwrap_or_default()],
+            layer => {
+                let all = self.layer_textures.get_or_insert_with(Box::default);
+                &mut all[layer.layer_index().unwrap_or_default()]
+            }
         }
     }
 }
@@ -217,13 +219,16 @@ impl Default for Material {
             metallic: 0.0,
             roughness: 0.5,
             metallic_roughness_texture: None,
-            layer_textures: [None; Slot::LAYERS.len()],
+            layer_textures: None,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             pbr: None,
         }
     }
 }
+
+/// The textures of a material's [`Slot::LAYERS`], in that order.
+pub type LayerTextures = [Option<TextureSlot>; Slot::LAYERS.len()];
 
 /// How one instance is drawn when the render does not force a mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -73,10 +73,12 @@ impl<T: Num> Iridescence<T> {
     /// Sets the film's Fresnel at `nv` over the dielectric's `f0` and the metal's base
     /// colour `kd`.
     #[inline(always)]
-    pub fn view(&mut self, nv: T, f0: T::V, kd: T::V) {
-        let outside = T::of(crate::iridescence::OUTSIDE_IOR);
-        self.dielectric = crate::iridescence::fresnel(outside, self.ior, nv, self.thickness, f0);
-        self.metal = crate::iridescence::fresnel(outside, self.ior, nv, self.thickness, kd);
+    pub fn view(&mut self, nv: T, f0: T::V, kd: T::V)
+    where
+        T: Shade,
+    {
+        self.dielectric = T::film(self.ior, nv, self.thickness, f0);
+        self.metal = T::film(self.ior, nv, self.thickness, kd);
     }
 
     /// `F` mixed with the film's `film` by the factor.

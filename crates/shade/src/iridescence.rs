@@ -97,6 +97,14 @@ pub fn thickness<T: Num>(minimum: T, maximum: T, g: Option<T>) -> T {
     }
 }
 
+/// [`fresnel`] under air in `f32`, out of line: what the shaders' lanes call lane by lane
+/// ([`crate::Shade::film`]).
+#[inline(never)]
+#[must_use]
+pub fn film_f32(ior: f32, cos: f32, thickness: f32, f0: glam::Vec3) -> glam::Vec3 {
+    fresnel::<f32>(OUTSIDE_IOR, ior, cos, thickness, f0)
+}
+
 /// The thin-film Fresnel `F_iridescence` in linear Rec. 709, per channel, for a film of IOR
 /// `film_ior` and thickness `thickness_nm` under a medium of IOR `outside_ior` (1, or the
 /// clear coat's), over a base whose normal-incidence Fresnel is `base_f0`, seen at

@@ -411,8 +411,10 @@ fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
     s.emitted = (d.emissive != Vec3::ZERO).then(|| V3::get(&r.emitted));
     let mask = d.layer_mask();
     if let (Some(p), Some(params), true) = (&mut s.pbr, &d.surface.pbr, mask != 0) {
-        let mut t = LayerTexels::<F8<L>>::default();
-        t.mask = mask;
+        let mut t = LayerTexels::<F8<L>> {
+            mask,
+            ..LayerTexels::default()
+        };
         for (v, lane) in t.values.iter_mut().zip(&r.layer) {
             *v = lane.get();
         }

@@ -423,6 +423,11 @@ pub trait Shade: Num {
     /// The environment's radiance averaged over the sheen lobe of `roughness` around the
     /// normal `n` (`EnvView::sheen`).
     fn env_sheen(env: &EnvView, n: Self::V, roughness: Self) -> Self::V;
+    /// A thin film's Fresnel ([`crate::iridescence::fresnel`] under air) for a film of IOR
+    /// `ior` and `thickness` nm at `cos` over a base of `f0`: on lanes, lane by lane in
+    /// `f32` out of line (a film is rare and its formula long: inlined into every kernel's
+    /// copy of the lighting it would make the vertex shaders' functions 12 KB larger).
+    fn film(ior: Self, cos: Self, thickness: Self, f0: Self::V) -> Self::V;
 }
 
 macro_rules! shade_scalar {
@@ -445,6 +450,10 @@ macro_rules! shade_scalar {
             #[inline(always)]
             fn env_sheen(env: &EnvView, n: Self::V, roughness: $t) -> Self::V {
                 <$t>::vec(env.sheen(<$t>::to_vec3(n), roughness as f32))
+            }
+            #[inline(always)]
+            fn film(ior: $t, cos: $t, thickness: $t, f0: Self::V) -> Self::V {
+                crate::iridescence::fresnel::<$t>(1.0, ior, cos, thickness, f0)
             }
             #[inline(always)]
             fn sheen_albedo(cos: $t, roughness: $t) -> $t {
@@ -499,6 +508,21 @@ impl<L: Level> Shade for F8<L> {
             F8::from_array(s[0]),
             F8::from_array(s[1]),
             F8::from_array(s[2]),
+        )
+    }
+    #[inline(always)]
+    fn film(ior: Self, cos: Self, thickness: Self, f0: V3<L>) -> V3<L> {
+        let (ior, c, d) = (ior.to_array(), cos.to_array(), thickness.to_array());
+        let (x, y, z) = (f0.x.to_array(), f0.y.to_array(), f0.z.to_array());
+        let mut out = [[0.0; 8]; 3];
+        for i in 0..crate::simd::LANES {
+            let f = crate::iridescence::film_f32(ior[i], c[i], d[i], Vec3::new(x[i], y[i], z[i]));
+            (out[0][i], out[1][i], out[2][i]) = (f.x, f.y, f.z);
+        }
+        V3::new(
+            F8::from_array(out[0]),
+            F8::from_array(out[1]),
+            F8::from_array(out[2]),
         )
     }
     #[inline(always)]
