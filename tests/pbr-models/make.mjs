@@ -7,7 +7,7 @@
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
 // lights-punctual.glb, variants.glb, pointer.glb, instanced.glb, clearcoat.glb,
 // clearcoat-only.glb, sheen.glb, sheen-only.glb, layer-textures.glb, layer-factors.glb,
-// coat-normal.glb and iridescence.glb. Every piece of
+// coat-normal.glb, iridescence.glb, anisotropy.glb and anisotropy-texture.glb. Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -18,6 +18,7 @@ import {
   EXTMeshFeatures,
   EXTMeshGPUInstancing,
   KHRLightsPunctual,
+  KHRMaterialsAnisotropy,
   KHRMaterialsClearcoat,
   Light,
   KHRMaterialsEmissiveStrength,
@@ -39,6 +40,7 @@ const io = new NodeIO().registerExtensions([
   EXTMeshFeatures,
   EXTMeshGPUInstancing,
   KHRLightsPunctual,
+  KHRMaterialsAnisotropy,
   KHRMaterialsClearcoat,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
@@ -565,6 +567,41 @@ async function iridescenceFile() {
 }
 
 // ---------------------------------------------------------------------------------------
+// anisotropy.glb and anisotropy-texture.glb: KHR_materials_anisotropy on a 2 x 2 quad in the
+// XY plane facing +Z (vertices (-1, 1), (-1, -1), (1, -1), (1, 1), NORMAL +Z, TEXCOORD_0 (0, 0)
+// top-left to (1, 1) bottom-right, TANGENT (1, 0, 0, 1): the tangent +X, the bitangent +Y).
+// Material "brushed": base (0.9, 0.9, 0.9), metallic 1, roughness 0.2, and
+//   anisotropy.glb          anisotropyStrength 0.5, anisotropyRotation π/6: the highlight
+//                           stretches along 30° from +X towards +Y;
+//   anisotropy-texture.glb  strength 1, rotation π/6, anisotropyTexture a uniform 4 x 4 PNG
+//                           of ANISOTROPY_TEXEL: direction (128, 255) -> (0.004, 1), about
+//                           90°, strength B 128 -> 0.502: in all 120° and 0.5.
+
+export const ANISOTROPY_TEXEL = [128, 255, 128, 255];
+
+async function anisotropy(textured) {
+  const doc = newDocument();
+  const prim = doc
+    .createPrimitive()
+    .setAttribute("POSITION", accessor(doc, "VEC3", [-1, 1, 0, -1, -1, 0, 1, -1, 0, 1, 1, 0]))
+    .setAttribute("NORMAL", accessor(doc, "VEC3", [0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1]))
+    .setAttribute("TANGENT", doc.createAccessor().setType("VEC4").setArray(new Float32Array([1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1])).setBuffer(buffer(doc)))
+    .setAttribute("TEXCOORD_0", accessor(doc, "VEC2", [0, 0, 0, 1, 1, 1, 1, 0]))
+    .setIndices(indices(doc, [0, 1, 2, 0, 2, 3]));
+  const a = doc.createExtension(KHRMaterialsAnisotropy).createAnisotropy().setAnisotropyRotation(Math.PI / 6);
+  if (textured) {
+    const t = doc.createTexture("direction").setImage(png(4, 4, () => ANISOTROPY_TEXEL)).setMimeType("image/png");
+    a.setAnisotropyStrength(1).setAnisotropyTexture(t);
+  } else {
+    a.setAnisotropyStrength(0.5);
+  }
+  const m = doc.createMaterial("brushed").setBaseColorFactor([0.9, 0.9, 0.9, 1]).setMetallicFactor(1).setRoughnessFactor(0.2);
+  m.setExtension("KHR_materials_anisotropy", a);
+  place(doc, "brushed", doc.createMesh("brushed").addPrimitive(prim.setMaterial(m)), [0, 0, 0]);
+  await write(doc, textured ? "anisotropy-texture.glb" : "anisotropy.glb");
+}
+
+// ---------------------------------------------------------------------------------------
 // instanced.glb: EXT_mesh_gpu_instancing, required. One node "forest" at (0, -0.5, 0) whose
 // mesh "box" (a cube of side 0.4 around the origin: 24 vertices with face normals, 12
 // triangles, material "bark", base colour (0.8, 0.5, 0.2), roughness 0.6) is drawn 12
@@ -780,3 +817,5 @@ await layerTextures(true);
 await layerTextures(false);
 await coatNormal();
 await iridescenceFile();
+await anisotropy(false);
+await anisotropy(true);

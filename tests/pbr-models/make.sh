@@ -8,7 +8,8 @@
 #    emissive-strength.glb, unlit.glb (with its texture unlit-4x4.png), ior-specular.glb,
 #    unknown-extension.glb, no-material.glb, lights-punctual.glb, variants.glb, pointer.glb,
 #    instanced.glb, clearcoat.glb, clearcoat-only.glb, sheen.glb, sheen-only.glb,
-#    layer-textures.glb, layer-factors.glb, coat-normal.glb and iridescence.glb; all geometry and the PNGs are
+#    layer-textures.glb, layer-factors.glb, coat-normal.glb, iridescence.glb, anisotropy.glb
+#    and anisotropy-texture.glb; all geometry and the PNGs are
 #    computed in make.mjs itself (no
 #    cargo build, no other input);
 # 2. it writes them a second time into a temporary folder: the bytes must be identical;

@@ -55,6 +55,8 @@ const EXPECTED = new Map([
   ]),
   ["coat-normal.glb", [["coat-normal", ["KHR_materials_clearcoat", "KHR_materials_specular"]]]],
   ["iridescence.glb", [["film", ["KHR_materials_iridescence"]]]],
+  ["anisotropy.glb", [["brushed", ["KHR_materials_anisotropy"]]]],
+  ["anisotropy-texture.glb", [["brushed", ["KHR_materials_anisotropy"]]]],
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],

@@ -47,3 +47,10 @@ node render.mjs --quiet --model ../../models/pbr/iridescence.glb --out refs/irid
   --size 256x256 --eye 0,0,1.5 --target 0,0,0 --yfov 45 --light directional:0,0,-1:1 \
   --env uniform:0.25 --tone none --background 0,0,0
 echo "wrote tests/threejs/refs/iridescence-headon.png"
+# KHR_materials_anisotropy on a 2 x 2 metal quad seen from (0, 0, 1.2), 1.4 rad.
+for m in anisotropy anisotropy-texture; do
+  node render.mjs --quiet --model ../../models/pbr/$m.glb --out refs/$m-headon.png \
+    --size 129x129 --eye 0,0,1.2 --target 0,0,0 --yfov 80.21409131831524 \
+    --light directional:0,0,-1:1 --env uniform:0.25 --tone none --background 0,0,0
+  echo "wrote tests/threejs/refs/$m-headon.png"
+done

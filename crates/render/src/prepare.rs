@@ -463,6 +463,16 @@ impl PreparedScene {
                                 _ => p.iridescence_thickness[1] = x.max(0.0),
                             }
                         }
+                        P::AnisotropyStrength | P::AnisotropyRotation => {
+                            let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) else {
+                                continue;
+                            };
+                            if property == P::AnisotropyStrength {
+                                p.anisotropy = x.clamp(0.0, 1.0);
+                            } else {
+                                p.anisotropy_rotation = x;
+                            }
+                        }
                         P::TexOffset(slot) | P::TexRotation(slot) | P::TexScale(slot) => {
                             let Some(t) = m.slot_mut(slot).as_mut() else {
                                 continue;

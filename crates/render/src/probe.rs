@@ -274,6 +274,15 @@ pub fn probe(
             }
         }
         texels.apply(params, p);
+        // Anisotropy, in the frame of the mesh's tangents (as the shader reads them), about
+        // the normal before it turned to the side seen (the direction's line is the same).
+        let unturned = if hit.front { normal } else { -normal };
+        if let (Some(ts), true) = (&tri.tangents, d.layout.tangent_at().is_some()) {
+            let t4 = ts[a] * bary.x + ts[b] * bary.y + ts[c] * bary.z;
+            let m3 = glam::Mat3::from_mat4(world);
+            let handed = if mirrored { -1.0 } else { 1.0 };
+            p.anisotropy = texels.anisotropy(params, unturned, m3 * t4.truncate(), t4.w * handed);
+        }
     }
     let occlusion = d
         .occlusion

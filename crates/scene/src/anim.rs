@@ -71,6 +71,9 @@ pub enum Property {
     IridescenceIor,
     IridescenceThicknessMin,
     IridescenceThicknessMax,
+    /// A material's `KHR_materials_anisotropy` strength and rotation (radians).
+    AnisotropyStrength,
+    AnisotropyRotation,
     /// A material slot's `KHR_texture_transform` offset (2 numbers), rotation (radians)
     /// and scale (2 numbers).
     TexOffset(crate::Slot),
@@ -117,6 +120,8 @@ impl Property {
             Property::IridescenceIor => "iridescenceIor",
             Property::IridescenceThicknessMin => "iridescenceThicknessMinimum",
             Property::IridescenceThicknessMax => "iridescenceThicknessMaximum",
+            Property::AnisotropyStrength => "anisotropyStrength",
+            Property::AnisotropyRotation => "anisotropyRotation",
             Property::TexOffset(_) => "offset",
             Property::TexRotation(_) => "rotation",
             Property::TexScale(_) => "scale",
@@ -143,6 +148,8 @@ impl Property {
             | Property::IridescenceIor
             | Property::IridescenceThicknessMin
             | Property::IridescenceThicknessMax
+            | Property::AnisotropyStrength
+            | Property::AnisotropyRotation
             | Property::TexOffset(_)
             | Property::TexRotation(_)
             | Property::TexScale(_) => Target::Material,

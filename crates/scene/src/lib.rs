@@ -117,6 +117,11 @@ pub struct PbrMaterial {
     pub iridescence: f32,
     pub iridescence_ior: f32,
     pub iridescence_thickness: [f32; 2],
+    /// `KHR_materials_anisotropy`: `anisotropyStrength` (0: isotropic) and
+    /// `anisotropyRotation` (radians, counter-clockwise from the tangent in the tangent
+    /// frame) of the direction the highlight stretches along.
+    pub anisotropy: f32,
+    pub anisotropy_rotation: f32,
 }
 
 impl Default for PbrMaterial {
@@ -134,6 +139,8 @@ impl Default for PbrMaterial {
             iridescence: 0.0,
             iridescence_ior: 1.3,
             iridescence_thickness: [100.0, 400.0],
+            anisotropy: 0.0,
+            anisotropy_rotation: 0.0,
         }
     }
 }
@@ -425,21 +432,41 @@ impl Scene {
                     ));
                 }
             }
-            // The clear coat's normal map reads the same tangents.
-            let normal_map = (m.normal_texture.as_ref().map(|n| (n, Slot::Normal))).or_else(|| {
-                m.slot(Slot::ClearcoatNormal)
-                    .map(|n| (n, Slot::ClearcoatNormal))
-            });
-            if let (Some((n, slot)), None) = (normal_map, &mesh.tangents) {
-                if mesh.generate_tangents(n.uv_set).is_ok() {
-                    self.report.generated.push(format!(
-                        "mesh '{}': MikkTSpace tangents from TEXCOORD_{} ({} map of \
-                         material '{}')",
+            // The clear coat's normal map reads the same tangents, and so does anisotropy
+            // (its direction is in the tangent frame), with or without a texture.
+            let normal_map = (m.normal_texture.as_ref().map(|n| (n.uv_set, Slot::Normal)))
+                .or_else(|| {
+                    m.slot(Slot::ClearcoatNormal)
+                        .map(|n| (n.uv_set, Slot::ClearcoatNormal))
+                })
+                .or_else(|| {
+                    m.slot(Slot::Anisotropy)
+                        .map(|n| (n.uv_set, Slot::Anisotropy))
+                })
+                .or_else(|| {
+                    m.pbr
+                        .is_some_and(|p| p.anisotropy > 0.0)
+                        .then_some((0, Slot::Anisotropy))
+                });
+            if let (Some((set, slot)), None) = (normal_map, &mesh.tangents) {
+                match mesh.generate_tangents(set) {
+                    Ok(()) => self.report.generated.push(format!(
+                        "mesh '{}': MikkTSpace tangents from TEXCOORD_{set} ({} of material \
+                         '{}')",
                         mesh.name,
-                        n.uv_set,
-                        slot.name(),
+                        if slot == Slot::Anisotropy {
+                            "anisotropy".to_owned()
+                        } else {
+                            format!("{} map", slot.name())
+                        },
                         m.name
-                    ));
+                    )),
+                    Err(_) if slot == Slot::Anisotropy => self.report.warnings.push(format!(
+                        "mesh '{}': material '{}' is anisotropic but the mesh has neither \
+                         tangents nor TEXCOORD_{set} to make them from: drawn isotropic",
+                        mesh.name, m.name
+                    )),
+                    Err(_) => {}
                 }
             }
         }

@@ -59,12 +59,15 @@ pub enum Slot {
     /// `KHR_materials_iridescence` `iridescenceThicknessTexture`: G mixes the film's
     /// thickness from `iridescenceThicknessMinimum` (0) to `Maximum` (1).
     IridescenceThickness,
+    /// `KHR_materials_anisotropy` `anisotropyTexture`: RG the direction in the tangent
+    /// frame (from [0, 1] to [-1, 1]), B multiplies `anisotropyStrength`.
+    Anisotropy,
 }
 
 impl Slot {
     /// Every slot, in the order panels and reports list them: the core ones, then
     /// [`Slot::LAYERS`].
-    pub const ALL: [Slot; 16] = [
+    pub const ALL: [Slot; 17] = [
         Slot::BaseColor,
         Slot::Specular,
         Slot::Normal,
@@ -81,11 +84,12 @@ impl Slot {
         Slot::SheenRoughness,
         Slot::Iridescence,
         Slot::IridescenceThickness,
+        Slot::Anisotropy,
     ];
 
     /// The slots of the `KHR_materials_*` extensions, which only the `pbr` mode reads (in
     /// the order of [`Slot::layer_index`]).
-    pub const LAYERS: [Slot; 9] = [
+    pub const LAYERS: [Slot; 10] = [
         Slot::SpecularStrength,
         Slot::SpecularColor,
         Slot::Clearcoat,
@@ -95,6 +99,7 @@ impl Slot {
         Slot::SheenRoughness,
         Slot::Iridescence,
         Slot::IridescenceThickness,
+        Slot::Anisotropy,
     ];
 
     /// The slot's position in [`Slot::LAYERS`], if it is one of them.
@@ -123,6 +128,7 @@ impl Slot {
             Slot::SheenRoughness => "sheen roughness",
             Slot::Iridescence => "iridescence",
             Slot::IridescenceThickness => "iridescence thickness",
+            Slot::Anisotropy => "anisotropy",
         }
     }
 
@@ -152,6 +158,7 @@ impl Slot {
             Slot::SheenRoughness => "sheen_roughness",
             Slot::Iridescence => "iridescence",
             Slot::IridescenceThickness => "iridescence_thickness",
+            Slot::Anisotropy => "anisotropy",
         }
     }
 
@@ -175,7 +182,8 @@ impl Slot {
             | Slot::ClearcoatNormal
             | Slot::SheenRoughness
             | Slot::Iridescence
-            | Slot::IridescenceThickness => false,
+            | Slot::IridescenceThickness
+            | Slot::Anisotropy => false,
         }
     }
 }

@@ -13,6 +13,7 @@
 //! | `sheenRoughnessTexture` | A | `sheenRoughnessFactor` |
 //! | `iridescenceTexture` | R | `iridescenceFactor` |
 //! | `iridescenceThicknessTexture` | G | the film's thickness: `mix(minimum, maximum, G)` (without it, the maximum) |
+//! | `anisotropyTexture` | RGB | RG the direction in the tangent frame, B `anisotropyStrength` ([`LayerTexels::anisotropy`]) |
 //!
 //! The channels are the extensions' own (so one image can pack the clear coat in R and its
 //! roughness in G, or the sheen colour in RGB and its roughness in A).
@@ -23,7 +24,7 @@ use crate::scene::Slot;
 use crate::simd::Num;
 
 /// How many values the extensions' textures give a point (see [`LayerTexels::values`]).
-pub const LAYER_VALUES: usize = 12;
+pub const LAYER_VALUES: usize = 15;
 
 /// Where the texel of a slot of [`Slot::LAYERS`] goes: its first channel, how many
 /// channels, and the index of the first in [`LayerTexels::values`]; `None` for the coat's
@@ -39,6 +40,7 @@ pub const fn channels(slot: Slot) -> Option<(usize, usize, usize)> {
         Slot::SheenRoughness => Some((3, 1, 9)),
         Slot::Iridescence => Some((0, 1, 10)),
         Slot::IridescenceThickness => Some((1, 1, 11)),
+        Slot::Anisotropy => Some((0, 3, 12)),
         _ => None,
     }
 }
@@ -49,7 +51,7 @@ pub const fn channels(slot: Slot) -> Option<(usize, usize, usize)> {
 pub struct LayerTexels<T: Num> {
     pub mask: u8,
     /// Specular strength, specular colour (3), clear coat, its roughness, sheen colour (3),
-    /// sheen roughness, iridescence, its thickness.
+    /// sheen roughness, iridescence, its thickness, anisotropy direction (2) and strength.
     pub values: [T; LAYER_VALUES],
 }
 
@@ -79,6 +81,36 @@ impl<T: Num> LayerTexels<T> {
         };
         self.mask |= 1 << i;
         self.values[to..to + n].copy_from_slice(&texel[from..from + n]);
+    }
+
+    /// The base's anisotropy at a point of unit normal `n` and interpolated tangent
+    /// `tangent` (handedness `w`), from the material's `params` and the anisotropy
+    /// texture's values if read; `None` for an isotropic material.
+    #[inline(always)]
+    #[must_use]
+    pub fn anisotropy(
+        &self,
+        params: &PbrParams,
+        n: T::V,
+        tangent: T::V,
+        w: T,
+    ) -> Option<brdf::Anisotropy<T>> {
+        if params.anisotropy <= 0.0 {
+            return None;
+        }
+        let (s, c) = params.anisotropy_rotation.sin_cos();
+        let strength = T::of(params.anisotropy);
+        let (dir, strength) = if self.has(Slot::Anisotropy) {
+            let v = &self.values;
+            let two = T::of(2.0);
+            (
+                [v[12] * two - T::ONE, v[13] * two - T::ONE],
+                strength * v[14],
+            )
+        } else {
+            ([T::ONE, T::ZERO], strength)
+        };
+        Some(brdf::Anisotropy::at(n, tangent, w, dir, [c, s], strength))
     }
 
     /// Applies the values read to `p`, the point's parameters from the material's factors

@@ -70,6 +70,10 @@ pub struct Regs {
     /// ([`crate::brdf::Iridescence::view`]), where the draw has iridescence.
     pub film_dielectric: [Lane; 3],
     pub film_metal: [Lane; 3],
+    /// The anisotropy's direction (world, unit) and strength
+    /// ([`crate::brdf::Anisotropy::at`]), where the draw is anisotropic.
+    pub aniso_t: [Lane; 3],
+    pub aniso_strength: Lane,
     /// The coat's normal (the interpolated one, before the maps), where the draw has a
     /// clear coat over a normal- or bump-mapped base ([`coat_normal`]).
     pub nc: [Lane; 3],
@@ -125,6 +129,9 @@ impl Program {
                     push(layer_sample::pick(kernel), k as u32);
                 }
             }
+        }
+        if anisotropic(d) && d.view == TexView::Lit && !d.unlit {
+            push(anisotropy::pick(kernel), 0);
         }
         if d.view != TexView::Lit {
             push(debug::pick(kernel), 0);
@@ -364,6 +371,40 @@ crate::simd::per_kernel! {
 }
 
 crate::simd::per_kernel! {
+    /// The anisotropy's direction at each pixel, from the mapped normal, the interpolated
+    /// tangent and the anisotropy texture's values if any.
+    fn anisotropy<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
+        let d = cx.d;
+        let (Some(params), Some(k)) = (&d.surface.pbr, d.layout.tangent_at()) else {
+            return;
+        };
+        let mask = d.layer_mask();
+        for (g, r) in regs.iter_mut().enumerate() {
+            let v = &b.var[g];
+            let tangent = V3::<L>::new(v[k].get(), v[k + 1].get(), v[k + 2].get());
+            let mut t = LayerTexels::<F8<L>> {
+                mask,
+                ..LayerTexels::default()
+            };
+            for (x, lane) in t.values.iter_mut().zip(&r.layer) {
+                *x = lane.get();
+            }
+            if let Some(a) = t.anisotropy(params, V3::get(&r.n), tangent, v[k + 3].get()) {
+                a.t.set(&mut r.aniso_t);
+                r.aniso_strength.set(a.strength);
+            }
+        }
+    }
+}
+
+/// Whether draw `d` is anisotropic (a `pbr` material with `KHR_materials_anisotropy`, on a
+/// mesh with tangents).
+#[inline(always)]
+fn anisotropic(d: &DrawParams) -> bool {
+    d.surface.pbr.is_some_and(|p| p.anisotropy > 0.0) && d.layout.tangent_at().is_some()
+}
+
+crate::simd::per_kernel! {
     /// A texture debug view (the last stage).
     fn debug<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
         for (g, r) in regs.iter_mut().enumerate() {
@@ -419,6 +460,14 @@ fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
             *v = lane.get();
         }
         t.apply(params, p);
+    }
+    if let (Some(p), true) = (&mut s.pbr, anisotropic(d)) {
+        let t = V3::get(&r.aniso_t);
+        p.anisotropy = Some(crate::brdf::Anisotropy {
+            strength: r.aniso_strength.get(),
+            t,
+            b: V3::get(&r.n).cross(t),
+        });
     }
     if let (Some(y), true) = (
         s.pbr.as_mut().and_then(|p| p.layers.as_mut()),

@@ -39,6 +39,7 @@ pub const SPECULAR: &str = "KHR_materials_specular";
 pub const CLEARCOAT: &str = "KHR_materials_clearcoat";
 pub const SHEEN: &str = "KHR_materials_sheen";
 pub const IRIDESCENCE: &str = "KHR_materials_iridescence";
+pub const ANISOTROPY: &str = "KHR_materials_anisotropy";
 
 /// A colour field (three non-negative finite numbers) of an extension object: `default`
 /// when absent or unusable (with the problem in `notes`).
@@ -155,6 +156,11 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
                 );
                 p.iridescence_thickness = [lo, hi];
             }
+            ANISOTROPY => {
+                p.anisotropy = ext_number(obj, "anisotropyStrength", 0.0, 0.0, 1.0, notes);
+                p.anisotropy_rotation =
+                    ext_number(obj, "anisotropyRotation", 0.0, f32::MIN, f32::MAX, notes);
+            }
             other => notes.push(format!("material extension {other} ignored")),
         }
     }
@@ -162,7 +168,7 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
 }
 
 /// The extensions' texture slots: (extension, textureInfo key, slot).
-const LAYER_TEXTURES: [(&str, &str, Slot); 9] = [
+const LAYER_TEXTURES: [(&str, &str, Slot); 10] = [
     (SPECULAR, "specularTexture", Slot::SpecularStrength),
     (SPECULAR, "specularColorTexture", Slot::SpecularColor),
     (CLEARCOAT, "clearcoatTexture", Slot::Clearcoat),
@@ -180,6 +186,7 @@ const LAYER_TEXTURES: [(&str, &str, Slot); 9] = [
         "iridescenceThicknessTexture",
         Slot::IridescenceThickness,
     ),
+    (ANISOTROPY, "anisotropyTexture", Slot::Anisotropy),
 ];
 
 /// The slot of textureInfo `key` of material extension `ext`, if realist reads it.

@@ -306,6 +306,15 @@ impl Tri {
                 }
             }
             texels.apply(params, p);
+            // Anisotropy, in the frame of the mesh's tangents, about the normal before it
+            // turned to the side seen.
+            if let Some(ts) = &inst.tri.tangents {
+                let at = |k: usize| ts.get(v[k]).map_or(DVec4::X, |t| t.as_dvec4());
+                let t4 = at(0) * b.x + at(1) * b.y + at(2) * b.z;
+                let t = DMat3::from_mat4(inst.world) * t4.truncate();
+                let unturned = if self.g.front { n } else { -n };
+                p.anisotropy = texels.anisotropy(params, unturned, t, t4.w * inst.handed);
+            }
         }
         if let Some(o) = &inst.occlusion {
             // On the ambient (or image-based) term only.

@@ -217,10 +217,14 @@ pub(crate) fn resolve(
     // an OBJ, say), per pixel.
     let uv_frame = view == TexView::TangentNormals && tri.tangents.is_none();
     let normal_mapped = normal_map.is_some() || coat_normal;
+    // An anisotropic material reads the tangents (the mesh's: the loader makes them).
+    let anisotropic = pbr && view == TexView::Lit && m.pbr.is_some_and(|p| p.anisotropy > 0.0);
     let derived_frame = normal_mapped && tri.tangents.is_none();
     layout.position_derivatives = bump.is_some() || uv_frame || derived_frame;
     layout.tangent = tri.tangents.is_some()
-        && (normal_mapped || matches!(view, TexView::Tangents | TexView::TangentNormals));
+        && (normal_mapped
+            || anisotropic
+            || matches!(view, TexView::Tangents | TexView::TangentNormals));
     // The texture the mip-level, texel-density and anisotropy views measure: the first
     // image the draw reads, else UV set 0 against a nominal 1024 x 1024 image.
     let measure = match view {

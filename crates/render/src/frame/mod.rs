@@ -187,6 +187,12 @@ pub fn pbr_surface(m: &Material) -> Surface {
                 } else {
                     1.3
                 },
+                anisotropy: layer(p.anisotropy),
+                anisotropy_rotation: if p.anisotropy_rotation.is_finite() {
+                    p.anisotropy_rotation
+                } else {
+                    0.0
+                },
                 iridescence_thickness: p.iridescence_thickness.map(|d| {
                     if d.is_finite() {
                         d.max(0.0)

@@ -284,6 +284,9 @@ pub struct PbrParams {
     pub iridescence: f32,
     pub iridescence_ior: f32,
     pub iridescence_thickness: [f32; 2],
+    /// `KHR_materials_anisotropy`'s strength (0: isotropic) and rotation (radians).
+    pub anisotropy: f32,
+    pub anisotropy_rotation: f32,
 }
 
 impl Default for PbrParams {
@@ -301,6 +304,8 @@ impl Default for PbrParams {
             iridescence: 0.0,
             iridescence_ior: 1.3,
             iridescence_thickness: [100.0, 400.0],
+            anisotropy: 0.0,
+            anisotropy_rotation: 0.0,
         }
     }
 }
@@ -364,6 +369,8 @@ impl Surface {
                     } else {
                         None
                     },
+                    // Set where the point has a tangent frame.
+                    anisotropy: None,
                 }),
                 None => None,
             },

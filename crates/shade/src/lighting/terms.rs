@@ -290,7 +290,14 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::
     // is a uniform environment, where both equal its radiance.
     let (prefiltered, irradiance) = match &set.env {
         Some(env) => {
-            let r = dominant::<T>(n, v, nv, p.roughness);
+            // An anisotropic base reads the light about its bent normal.
+            let r = match &p.anisotropy {
+                Some(a) => {
+                    let bent = a.bent(n, v, p.roughness);
+                    dominant::<T>(bent, v, T::dot(bent, v).max(T::of(1e-4)), p.roughness)
+                }
+                None => dominant::<T>(n, v, nv, p.roughness),
+            };
             let (s, e) = T::env(env, n, r, p.roughness);
             (s + g, e + g)
         }

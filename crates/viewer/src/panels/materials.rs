@@ -187,6 +187,31 @@ fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
         );
     });
     ui.end_row();
+    ui.label("anisotropy").on_hover_text(
+        "KHR_materials_anisotropy: the highlight stretched along a direction of the tangent frame; 0 for none (needs tangents)",
+    );
+    changed |= edit::slider(
+        ui,
+        &mut p.anisotropy,
+        0.0..=1.0,
+        false,
+        "material anisotropy",
+    );
+    ui.end_row();
+    ui.label("anisotropy direction");
+    let mut degrees = p.anisotropy_rotation.to_degrees();
+    if edit::drag_with(
+        ui,
+        &mut degrees,
+        -360.0..=360.0,
+        1.0,
+        "material anisotropy rotation",
+        "°",
+    ) {
+        p.anisotropy_rotation = degrees.to_radians();
+        changed = true;
+    }
+    ui.end_row();
     ui.label("unlit");
     changed |= ui
         .checkbox(
