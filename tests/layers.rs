@@ -868,3 +868,109 @@ fn an_anisotropic_highlight_stretches_along_its_direction() {
         assert!(e0 < 1.05, "{e0}");
     }
 }
+
+#[test]
+fn diffuse_transmission_passes_light_from_behind() {
+    // translucency.glb: a quad facing the camera, base (0.2, 0.6, 0.2), specular factor 0
+    // (Fresnel 0), diffuseTransmissionFactor t = 0.6, colour c = (1, 0.8, 0.3). The
+    // specification: `base = mix(diffuse_brdf(baseColor), diffuse_btdf(c), t)`, both
+    // Lambert's. So a light of irradiance E at θ from the normal gives `(1 - t) base E cos θ
+    // / π` from the front and `t c E cos θ / π` from behind, and a uniform surround of
+    // radiance L gives `L ((1 - t) base + t c)` (it lights both sides). Evaluated here in
+    // f64, every kernel, the probe, and the texture slots (a diffuse transmission texture's
+    // A and colour texture's RGB multiply the factors).
+    use realist::simd::KernelKind;
+    let scene = model("translucency.glb");
+    let p = scene.materials[0].pbr.expect("pbr");
+    assert_eq!(p.diffuse_transmission, 0.6);
+    let (base, t, c) = (DVec3::new(0.2, 0.6, 0.2), 0.6, DVec3::new(1.0, 0.8, 0.3));
+    let theta = 40f64.to_radians();
+    let e = 2.0;
+    let toward = DVec3::new(theta.sin(), 0.0, theta.cos());
+    let cases = [
+        // A light in front (travelling towards -Z), one behind, and the surround.
+        (
+            Light::directional(-toward.as_vec3(), Vec3::splat(e as f32)),
+            base * ((1.0 - t) * e * theta.cos() / PI),
+        ),
+        (
+            Light::directional(
+                (toward * DVec3::new(-1.0, 1.0, 1.0)).as_vec3(),
+                Vec3::splat(e as f32),
+            ),
+            c * (t * e * theta.cos() / PI),
+        ),
+        (
+            Light::ambient(Vec3::splat(0.3)),
+            (base * (1.0 - t) + c * t) * 0.3,
+        ),
+    ];
+    let v = View {
+        camera: Camera {
+            eye: Vec3::new(0.0, 0.0, 3.0),
+            yfov: 0.2,
+            ..view().camera
+        },
+        ..view()
+    };
+    for (light, want) in cases {
+        let s = settings(vec![light.clone()]);
+        for kernel in KernelKind::available_kinds() {
+            let s = Settings {
+                kernel: Some(kernel),
+                ..s.clone()
+            };
+            let prepared = PreparedScene::new(scene.clone());
+            let mut r = Renderer::new();
+            r.render(&prepared, &s, &v);
+            let fb = r.take_target().expect("a frame").resolve();
+            let got = pixel(&fb, SIZE / 2, SIZE / 2);
+            assert!(
+                (got - want).abs().max_element() < 1e-4,
+                "{kernel:?} {light:?}: {got} vs {want}"
+            );
+            let hit = probe(&prepared, &s, &v, SIZE / 2, SIZE / 2).expect("the quad");
+            assert!(
+                (hit.color.as_dvec3() - want).abs().max_element() < 1e-4,
+                "probe: {}",
+                hit.color
+            );
+        }
+        eprintln!("{:?}: {want:.5}", light.kind);
+    }
+    // The textures multiply the factors: a uniform texture (A 0.5, RGB (0.5, 1, 1) in sRGB
+    // terms decoded) in both slots equals the factors times them.
+    use realist::scene::{Slot, TextureSlot};
+    use realist::texture::Texture;
+    let texel = [188u8, 255, 255, 128];
+    let image = Texture::new("dt", 4, 4, vec![texel; 16], true).expect("texture");
+    let decoded = realist::color::srgb_to_linear(f32::from(texel[0]) / 255.0);
+    let mut textured = scene.clone();
+    textured.textures.push(std::sync::Arc::new(image));
+    let k = textured.textures.len() - 1;
+    *textured.materials[0].slot_mut(Slot::DiffuseTransmission) = Some(TextureSlot::new(k));
+    *textured.materials[0].slot_mut(Slot::DiffuseTransmissionColor) = Some(TextureSlot::new(k));
+    let mut factors = scene.clone();
+    let pf = factors.materials[0].pbr.as_mut().unwrap();
+    pf.diffuse_transmission *= 128.0 / 255.0;
+    pf.diffuse_transmission_color *= Vec3::new(decoded, 1.0, 1.0);
+    let s = settings(vec![
+        Light::directional(Vec3::new(-0.3, 0.2, 1.0), Vec3::splat(2.0)),
+        Light::ambient(Vec3::splat(0.3)),
+    ]);
+    let (a, b) = (
+        render_with(&textured, &s, &v),
+        render_with(&factors, &s, &v),
+    );
+    let d = (pixel(&a, SIZE / 2, SIZE / 2) - pixel(&b, SIZE / 2, SIZE / 2))
+        .abs()
+        .max_element();
+    assert!(d < 1e-5, "{d}");
+}
+
+fn render_with(scene: &Scene, settings: &Settings, v: &View) -> Framebuffer {
+    let prepared = PreparedScene::new(scene.clone());
+    let mut r = Renderer::new();
+    r.render(&prepared, settings, v);
+    r.take_target().expect("a frame").resolve()
+}

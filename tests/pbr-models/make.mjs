@@ -7,7 +7,8 @@
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
 // lights-punctual.glb, variants.glb, pointer.glb, instanced.glb, clearcoat.glb,
 // clearcoat-only.glb, sheen.glb, sheen-only.glb, layer-textures.glb, layer-factors.glb,
-// coat-normal.glb, iridescence.glb, anisotropy.glb and anisotropy-texture.glb. Every piece of
+// coat-normal.glb, iridescence.glb, anisotropy.glb, anisotropy-texture.glb and translucency.glb.
+// Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
 
@@ -20,6 +21,7 @@ import {
   KHRLightsPunctual,
   KHRMaterialsAnisotropy,
   KHRMaterialsClearcoat,
+  KHRMaterialsDiffuseTransmission,
   Light,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
@@ -42,6 +44,7 @@ const io = new NodeIO().registerExtensions([
   KHRLightsPunctual,
   KHRMaterialsAnisotropy,
   KHRMaterialsClearcoat,
+  KHRMaterialsDiffuseTransmission,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
   KHRMaterialsIridescence,
@@ -602,6 +605,30 @@ async function anisotropy(textured) {
 }
 
 // ---------------------------------------------------------------------------------------
+// translucency.glb: KHR_materials_diffuse_transmission on the 1 x 1 quad of unlit.glb (facing
+// +Z, TEXCOORD_0), material "leaf": base (0.2, 0.6, 0.2), metallic 0, roughness 0.5,
+// specularFactor 0 (Fresnel 0: the base's diffuse terms alone), diffuseTransmissionFactor 0.6,
+// diffuseTransmissionColorFactor (1, 0.8, 0.3).
+
+async function translucency() {
+  const doc = newDocument();
+  const dt = doc
+    .createExtension(KHRMaterialsDiffuseTransmission)
+    .createDiffuseTransmission()
+    .setDiffuseTransmissionFactor(0.6)
+    .setDiffuseTransmissionColorFactor([1, 0.8, 0.3]);
+  const m = doc
+    .createMaterial("leaf")
+    .setBaseColorFactor([0.2, 0.6, 0.2, 1])
+    .setMetallicFactor(0)
+    .setRoughnessFactor(0.5)
+    .setExtension("KHR_materials_specular", doc.createExtension(KHRMaterialsSpecular).createSpecular().setSpecularFactor(0))
+    .setExtension("KHR_materials_diffuse_transmission", dt);
+  place(doc, "leaf", doc.createMesh("leaf").addPrimitive(quadPrimitive(doc, { uv: true }).setMaterial(m)), [0, 0, 0]);
+  await write(doc, "translucency.glb");
+}
+
+// ---------------------------------------------------------------------------------------
 // instanced.glb: EXT_mesh_gpu_instancing, required. One node "forest" at (0, -0.5, 0) whose
 // mesh "box" (a cube of side 0.4 around the origin: 24 vertices with face normals, 12
 // triangles, material "bark", base colour (0.8, 0.5, 0.2), roughness 0.6) is drawn 12
@@ -819,3 +846,4 @@ await coatNormal();
 await iridescenceFile();
 await anisotropy(false);
 await anisotropy(true);
+await translucency();

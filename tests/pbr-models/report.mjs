@@ -57,6 +57,7 @@ const EXPECTED = new Map([
   ["iridescence.glb", [["film", ["KHR_materials_iridescence"]]]],
   ["anisotropy.glb", [["brushed", ["KHR_materials_anisotropy"]]]],
   ["anisotropy-texture.glb", [["brushed", ["KHR_materials_anisotropy"]]]],
+  ["translucency.glb", [["leaf", ["KHR_materials_diffuse_transmission", "KHR_materials_specular"]]]],
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],

@@ -463,6 +463,16 @@ impl PreparedScene {
                                 _ => p.iridescence_thickness[1] = x.max(0.0),
                             }
                         }
+                        P::DiffuseTransmission => {
+                            if let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) {
+                                p.diffuse_transmission = x.clamp(0.0, 1.0);
+                            }
+                        }
+                        P::DiffuseTransmissionColor => {
+                            if let (Some(p), Some(c)) = (&mut m.pbr, rgb(v)) {
+                                p.diffuse_transmission_color = c.clamp(Vec3::ZERO, Vec3::ONE);
+                            }
+                        }
                         P::AnisotropyStrength | P::AnisotropyRotation => {
                             let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) else {
                                 continue;

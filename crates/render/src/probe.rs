@@ -338,14 +338,18 @@ pub fn probe(
                 .and_then(|p| p.layers.as_ref()?.coat_normal);
             let facing = normal.dot(dir) > 0.0 || coat.is_some_and(|nc| nc.dot(dir) > 0.0);
             let lit = facing && rad != Vec3::ZERO;
-            let shadow = if lit && light.shadow && light.kind.can_shadow() {
+            // Light from behind through a translucent base (as `contribution` has it).
+            let translucent = surf.pbr.as_ref().is_some_and(|p| p.translucency.is_some());
+            let back = translucent && normal.dot(dir) < 0.0 && rad != Vec3::ZERO;
+            let shadow = if (lit || back) && light.shadow && light.kind.can_shadow() {
                 let to = match light.kind {
                     LightKind::Directional => {
                         position + dir * (4.0 * radius + (position - center).length())
                     }
                     _ => src.position,
                 };
-                let from = position + normal * (1e-4 * radius.max(1e-3));
+                let side = if back { -normal } else { normal };
+                let from = position + side * (1e-4 * radius.max(1e-3));
                 if cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some() {
                     0.0
                 } else {
@@ -359,7 +363,7 @@ pub fn probe(
             } else {
                 normal.dot(dir)
             };
-            let terms = reflect(&surf, normal, dir, v, lit, ndl, blinn);
+            let terms = reflect(&surf, normal, dir, v, lit, ndl, back, blinn);
             lights.push(LightShare {
                 index: src.index,
                 light,

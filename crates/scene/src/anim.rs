@@ -74,6 +74,9 @@ pub enum Property {
     /// A material's `KHR_materials_anisotropy` strength and rotation (radians).
     AnisotropyStrength,
     AnisotropyRotation,
+    /// A material's `KHR_materials_diffuse_transmission` factor and colour (RGB).
+    DiffuseTransmission,
+    DiffuseTransmissionColor,
     /// A material slot's `KHR_texture_transform` offset (2 numbers), rotation (radians)
     /// and scale (2 numbers).
     TexOffset(crate::Slot),
@@ -122,6 +125,8 @@ impl Property {
             Property::IridescenceThicknessMax => "iridescenceThicknessMaximum",
             Property::AnisotropyStrength => "anisotropyStrength",
             Property::AnisotropyRotation => "anisotropyRotation",
+            Property::DiffuseTransmission => "diffuseTransmissionFactor",
+            Property::DiffuseTransmissionColor => "diffuseTransmissionColorFactor",
             Property::TexOffset(_) => "offset",
             Property::TexRotation(_) => "rotation",
             Property::TexScale(_) => "scale",
@@ -150,6 +155,8 @@ impl Property {
             | Property::IridescenceThicknessMax
             | Property::AnisotropyStrength
             | Property::AnisotropyRotation
+            | Property::DiffuseTransmission
+            | Property::DiffuseTransmissionColor
             | Property::TexOffset(_)
             | Property::TexRotation(_)
             | Property::TexScale(_) => Target::Material,
@@ -169,7 +176,8 @@ impl Property {
             | Property::Scale
             | Property::Emissive
             | Property::LightColor
-            | Property::SheenColor => Some(3),
+            | Property::SheenColor
+            | Property::DiffuseTransmissionColor => Some(3),
             Property::TexOffset(_) | Property::TexScale(_) => Some(2),
             Property::Rotation | Property::BaseColor => Some(4),
             Property::Weights => None,

@@ -122,6 +122,11 @@ pub struct PbrMaterial {
     /// frame) of the direction the highlight stretches along.
     pub anisotropy: f32,
     pub anisotropy_rotation: f32,
+    /// `KHR_materials_diffuse_transmission`: `diffuseTransmissionFactor` (0: none), the
+    /// share of the diffuse light that passes through the surface (a leaf, paper, a lamp
+    /// shade), and `diffuseTransmissionColorFactor`, its colour (linear RGB).
+    pub diffuse_transmission: f32,
+    pub diffuse_transmission_color: Vec3,
 }
 
 impl Default for PbrMaterial {
@@ -141,6 +146,8 @@ impl Default for PbrMaterial {
             iridescence_thickness: [100.0, 400.0],
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
+            diffuse_transmission: 0.0,
+            diffuse_transmission_color: Vec3::ONE,
         }
     }
 }

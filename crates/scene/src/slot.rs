@@ -62,12 +62,18 @@ pub enum Slot {
     /// `KHR_materials_anisotropy` `anisotropyTexture`: RG the direction in the tangent
     /// frame (from [0, 1] to [-1, 1]), B multiplies `anisotropyStrength`.
     Anisotropy,
+    /// `KHR_materials_diffuse_transmission` `diffuseTransmissionTexture`: A multiplies
+    /// `diffuseTransmissionFactor`.
+    DiffuseTransmission,
+    /// `KHR_materials_diffuse_transmission` `diffuseTransmissionColorTexture`: RGB
+    /// multiplies `diffuseTransmissionColorFactor`.
+    DiffuseTransmissionColor,
 }
 
 impl Slot {
     /// Every slot, in the order panels and reports list them: the core ones, then
     /// [`Slot::LAYERS`].
-    pub const ALL: [Slot; 17] = [
+    pub const ALL: [Slot; 19] = [
         Slot::BaseColor,
         Slot::Specular,
         Slot::Normal,
@@ -85,11 +91,13 @@ impl Slot {
         Slot::Iridescence,
         Slot::IridescenceThickness,
         Slot::Anisotropy,
+        Slot::DiffuseTransmission,
+        Slot::DiffuseTransmissionColor,
     ];
 
     /// The slots of the `KHR_materials_*` extensions, which only the `pbr` mode reads (in
     /// the order of [`Slot::layer_index`]).
-    pub const LAYERS: [Slot; 10] = [
+    pub const LAYERS: [Slot; 12] = [
         Slot::SpecularStrength,
         Slot::SpecularColor,
         Slot::Clearcoat,
@@ -100,6 +108,8 @@ impl Slot {
         Slot::Iridescence,
         Slot::IridescenceThickness,
         Slot::Anisotropy,
+        Slot::DiffuseTransmission,
+        Slot::DiffuseTransmissionColor,
     ];
 
     /// The slot's position in [`Slot::LAYERS`], if it is one of them.
@@ -129,6 +139,8 @@ impl Slot {
             Slot::Iridescence => "iridescence",
             Slot::IridescenceThickness => "iridescence thickness",
             Slot::Anisotropy => "anisotropy",
+            Slot::DiffuseTransmission => "diffuse transmission",
+            Slot::DiffuseTransmissionColor => "diffuse transmission colour",
         }
     }
 
@@ -159,6 +171,8 @@ impl Slot {
             Slot::Iridescence => "iridescence",
             Slot::IridescenceThickness => "iridescence_thickness",
             Slot::Anisotropy => "anisotropy",
+            Slot::DiffuseTransmission => "diffuse_transmission",
+            Slot::DiffuseTransmissionColor => "diffuse_transmission_color",
         }
     }
 
@@ -171,7 +185,8 @@ impl Slot {
             | Slot::Specular
             | Slot::Emissive
             | Slot::SpecularColor
-            | Slot::SheenColor => true,
+            | Slot::SheenColor
+            | Slot::DiffuseTransmissionColor => true,
             Slot::Normal
             | Slot::Occlusion
             | Slot::MetallicRoughness
@@ -183,7 +198,8 @@ impl Slot {
             | Slot::SheenRoughness
             | Slot::Iridescence
             | Slot::IridescenceThickness
-            | Slot::Anisotropy => false,
+            | Slot::Anisotropy
+            | Slot::DiffuseTransmission => false,
         }
     }
 }
@@ -585,7 +601,8 @@ mod tests {
                 Slot::Specular,
                 Slot::Emissive,
                 Slot::SpecularColor,
-                Slot::SheenColor
+                Slot::SheenColor,
+                Slot::DiffuseTransmissionColor
             ]
         );
         // Every extension slot has its place in `LAYERS`, in order.

@@ -50,6 +50,43 @@ pub struct Pbr<T: Num> {
     /// The base's anisotropy (`KHR_materials_anisotropy`) at the point, where the material
     /// has it and the point a tangent frame ([`Anisotropy::at`]).
     pub anisotropy: Option<Anisotropy<T>>,
+    /// The base's diffuse transmission (`KHR_materials_diffuse_transmission`), if any.
+    pub translucency: Option<Translucency<T>>,
+}
+
+/// Diffuse transmission (`KHR_materials_diffuse_transmission`): the dielectric base's
+/// diffuse term becomes `mix(diffuse_brdf(baseColor), diffuse_btdf(color), factor)`, the
+/// BTDF Lambert's `color / π` for light from the other side ([`translucent`]); Fresnel
+/// and the specular lobe are unchanged.
+#[derive(Clone, Copy, Debug)]
+pub struct Translucency<T: Num> {
+    pub factor: T,
+    pub color: T::V,
+}
+
+/// What light `l` arriving from behind (`ndl = N·L < 0`) gives through a translucent base,
+/// per unit irradiance: `factor color / π (1 - metallic) (1 - max F) (-N·L)`, with the
+/// dielectric's Fresnel `F` at the light mirrored to the front (as the Khronos sample
+/// viewer takes it).
+#[inline(always)]
+#[must_use]
+pub fn translucent<T: Num>(
+    p: &Pbr<T>,
+    tr: &Translucency<T>,
+    n: T::V,
+    l: T::V,
+    v: T::V,
+    ndl: T,
+) -> T::V {
+    let mirrored = l - n * (ndl + ndl);
+    let vh = T::dot(v, T::normalize_or_zero(mirrored + v)).max(T::ZERO);
+    let fd = schlick::<T>(p.f0, p.f90, schlick_weight(vh));
+    let k = tr.factor
+        * (T::ONE - p.metallic)
+        * (T::ONE - T::vmax(fd))
+        * T::of64(std::f64::consts::FRAC_1_PI)
+        * (-ndl).max(T::ZERO);
+    tr.color * k
 }
 
 /// An anisotropic base (`KHR_materials_anisotropy`): GGX with the roughness `α_t =
@@ -287,7 +324,10 @@ pub fn pbr<T: Shade>(
     let dielectric = T::ONE - p.metallic;
     let fresnel = fd * dielectric + fm * p.metallic;
     let inv_pi = T::of64(std::f64::consts::FRAC_1_PI);
-    let diffuse = s.kd * (dielectric * (T::ONE - T::vmax(fd)) * inv_pi * ndl);
+    let mut diffuse = s.kd * (dielectric * (T::ONE - T::vmax(fd)) * inv_pi * ndl);
+    if let Some(tr) = &p.translucency {
+        diffuse = diffuse * (T::ONE - tr.factor);
+    }
     // The energy lost between microfacets, given back: each lobe times 1 + F0 (1/E_ss - 1)
     // (exactly 1 when E_ss = 1).
     let k = T::ONE / p.ess.max(T::of(1e-3)) - T::ONE;

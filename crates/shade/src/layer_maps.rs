@@ -13,6 +13,8 @@
 //! | `sheenRoughnessTexture` | A | `sheenRoughnessFactor` |
 //! | `iridescenceTexture` | R | `iridescenceFactor` |
 //! | `iridescenceThicknessTexture` | G | the film's thickness: `mix(minimum, maximum, G)` (without it, the maximum) |
+//! | `diffuseTransmissionTexture` | A | `diffuseTransmissionFactor` |
+//! | `diffuseTransmissionColorTexture` | RGB | `diffuseTransmissionColorFactor` |
 //! | `anisotropyTexture` | RGB | RG the direction in the tangent frame, B `anisotropyStrength` ([`LayerTexels::anisotropy`]) |
 //!
 //! The channels are the extensions' own (so one image can pack the clear coat in R and its
@@ -24,7 +26,7 @@ use crate::scene::Slot;
 use crate::simd::Num;
 
 /// How many values the extensions' textures give a point (see [`LayerTexels::values`]).
-pub const LAYER_VALUES: usize = 15;
+pub const LAYER_VALUES: usize = 19;
 
 /// Where the texel of a slot of [`Slot::LAYERS`] goes: its first channel, how many
 /// channels, and the index of the first in [`LayerTexels::values`]; `None` for the coat's
@@ -41,6 +43,8 @@ pub const fn channels(slot: Slot) -> Option<(usize, usize, usize)> {
         Slot::Iridescence => Some((0, 1, 10)),
         Slot::IridescenceThickness => Some((1, 1, 11)),
         Slot::Anisotropy => Some((0, 3, 12)),
+        Slot::DiffuseTransmission => Some((3, 1, 15)),
+        Slot::DiffuseTransmissionColor => Some((0, 3, 16)),
         _ => None,
     }
 }
@@ -51,7 +55,8 @@ pub const fn channels(slot: Slot) -> Option<(usize, usize, usize)> {
 pub struct LayerTexels<T: Num> {
     pub mask: u8,
     /// Specular strength, specular colour (3), clear coat, its roughness, sheen colour (3),
-    /// sheen roughness, iridescence, its thickness, anisotropy direction (2) and strength.
+    /// sheen roughness, iridescence, its thickness, anisotropy direction (2) and strength,
+    /// diffuse transmission and its colour (3).
     pub values: [T; LAYER_VALUES],
 }
 
@@ -131,6 +136,14 @@ impl<T: Num> LayerTexels<T> {
         }
         if self.has(Slot::SpecularStrength) {
             p.f90 = p.f90 * strength;
+        }
+        if let Some(tr) = &mut p.translucency {
+            if self.has(Slot::DiffuseTransmission) {
+                tr.factor = tr.factor * v[15];
+            }
+            if self.has(Slot::DiffuseTransmissionColor) {
+                tr.color = tr.color * T::new3(v[16], v[17], v[18]);
+            }
         }
         if let Some(i) = &mut p.iridescence {
             if self.has(Slot::Iridescence) {

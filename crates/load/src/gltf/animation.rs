@@ -119,6 +119,14 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
             };
             Ok(Pointed::Material(index(m)?, property))
         }
+        ["", "materials", m, "extensions", "KHR_materials_diffuse_transmission", field] => {
+            let property = match *field {
+                "diffuseTransmissionFactor" => Property::DiffuseTransmission,
+                "diffuseTransmissionColorFactor" => Property::DiffuseTransmissionColor,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Material(index(m)?, property))
+        }
         ["", "materials", m, "extensions", "KHR_materials_sheen", field] => {
             let property = match *field {
                 "sheenColorFactor" => Property::SheenColor,
@@ -160,7 +168,7 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
             Ok(Pointed::Light(index(l)?, property))
         }
         ["", "cameras", c, "perspective", "yfov"] => Ok(Pointed::Camera(index(c)?, Property::CameraYfov)),
-        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights, the materials' base colour, emissive, metallic, roughness, emissive strength, clear coat, sheen, iridescence and anisotropy factors and texture transforms, the lights' colour, intensity and cone angles and the cameras' yfov)")),
+        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights, the materials' base colour, emissive, metallic, roughness, emissive strength, clear coat, sheen, iridescence, anisotropy and diffuse transmission factors and texture transforms, the lights' colour, intensity and cone angles and the cameras' yfov)")),
     }
 }
 

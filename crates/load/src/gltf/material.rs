@@ -40,6 +40,7 @@ pub const CLEARCOAT: &str = "KHR_materials_clearcoat";
 pub const SHEEN: &str = "KHR_materials_sheen";
 pub const IRIDESCENCE: &str = "KHR_materials_iridescence";
 pub const ANISOTROPY: &str = "KHR_materials_anisotropy";
+pub const DIFFUSE_TRANSMISSION: &str = "KHR_materials_diffuse_transmission";
 
 /// A colour field (three non-negative finite numbers) of an extension object: `default`
 /// when absent or unusable (with the problem in `notes`).
@@ -161,6 +162,12 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
                 p.anisotropy_rotation =
                     ext_number(obj, "anisotropyRotation", 0.0, f32::MIN, f32::MAX, notes);
             }
+            DIFFUSE_TRANSMISSION => {
+                p.diffuse_transmission =
+                    ext_number(obj, "diffuseTransmissionFactor", 0.0, 0.0, 1.0, notes);
+                p.diffuse_transmission_color =
+                    ext_color(obj, "diffuseTransmissionColorFactor", Vec3::ONE, notes);
+            }
             other => notes.push(format!("material extension {other} ignored")),
         }
     }
@@ -168,7 +175,7 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
 }
 
 /// The extensions' texture slots: (extension, textureInfo key, slot).
-const LAYER_TEXTURES: [(&str, &str, Slot); 10] = [
+const LAYER_TEXTURES: [(&str, &str, Slot); 12] = [
     (SPECULAR, "specularTexture", Slot::SpecularStrength),
     (SPECULAR, "specularColorTexture", Slot::SpecularColor),
     (CLEARCOAT, "clearcoatTexture", Slot::Clearcoat),
@@ -187,6 +194,16 @@ const LAYER_TEXTURES: [(&str, &str, Slot); 10] = [
         Slot::IridescenceThickness,
     ),
     (ANISOTROPY, "anisotropyTexture", Slot::Anisotropy),
+    (
+        DIFFUSE_TRANSMISSION,
+        "diffuseTransmissionTexture",
+        Slot::DiffuseTransmission,
+    ),
+    (
+        DIFFUSE_TRANSMISSION,
+        "diffuseTransmissionColorTexture",
+        Slot::DiffuseTransmissionColor,
+    ),
 ];
 
 /// The slot of textureInfo `key` of material extension `ext`, if realist reads it.

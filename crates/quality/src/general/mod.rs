@@ -435,17 +435,19 @@ fn environment(
     let (t, b) = n.any_orthonormal_pair();
     let world = |d: DVec3| t * d.x + b * d.y + n * d.z;
     // E/π: cosine-distributed directions, pdf NL/π.
-    let mut irradiance = DVec3::ZERO;
+    // And behind (about -n) for a translucent base.
+    let (mut irradiance, mut behind) = (DVec3::ZERO, DVec3::ZERO);
     for i in 0..count {
         let (u1, u2) = point(i);
         let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
-        irradiance += radiance(world(DVec3::new(
-            r * phi.cos(),
-            r * phi.sin(),
-            (1.0 - u1).sqrt(),
-        )));
+        let d = world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).sqrt()));
+        irradiance += radiance(d);
+        if pb.translucency.is_some() {
+            behind += radiance(-d);
+        }
     }
     irradiance /= f64::from(count);
+    behind /= f64::from(count);
     // The specular lobe: GGX half vectors, pdf(l) = D NH / (4 VH), so the weight of
     // D Vis NL is g = 4 Vis NL VH / NH.
     let nv = n.dot(v).max(1e-4);
@@ -489,7 +491,11 @@ fn environment(
         d_ss = film_albedo * k;
     }
     let (_, m_ms) = brdf::ibl_fresnel::<f64>(s.kd, 1.0, a, bias);
-    let diel = s.kd * (DVec3::ONE - d_ss - d_ms) * irradiance + spec_d + d_ms * irradiance;
+    let lit_diffuse = match &pb.translucency {
+        Some(tr) => s.kd * irradiance * (1.0 - tr.factor) + tr.color * behind * tr.factor,
+        None => s.kd * irradiance,
+    };
+    let diel = lit_diffuse * (DVec3::ONE - d_ss - d_ms) + spec_d + d_ms * irradiance;
     let metal = spec_m + m_ms * irradiance;
     let base = diel * (1.0 - pb.metallic) + metal * pb.metallic;
     let Some(y) = &pb.layers else {

@@ -188,6 +188,12 @@ pub fn pbr_surface(m: &Material) -> Surface {
                     1.3
                 },
                 anisotropy: layer(p.anisotropy),
+                diffuse_transmission: layer(p.diffuse_transmission),
+                diffuse_transmission_color: if p.diffuse_transmission_color.is_finite() {
+                    p.diffuse_transmission_color.clamp(Vec3::ZERO, Vec3::ONE)
+                } else {
+                    Vec3::ONE
+                },
                 anisotropy_rotation: if p.anisotropy_rotation.is_finite() {
                     p.anisotropy_rotation
                 } else {

@@ -287,6 +287,9 @@ pub struct PbrParams {
     /// `KHR_materials_anisotropy`'s strength (0: isotropic) and rotation (radians).
     pub anisotropy: f32,
     pub anisotropy_rotation: f32,
+    /// `KHR_materials_diffuse_transmission`'s factor (0: none) and colour.
+    pub diffuse_transmission: f32,
+    pub diffuse_transmission_color: Vec3,
 }
 
 impl Default for PbrParams {
@@ -306,6 +309,8 @@ impl Default for PbrParams {
             iridescence_thickness: [100.0, 400.0],
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
+            diffuse_transmission: 0.0,
+            diffuse_transmission_color: Vec3::ONE,
         }
     }
 }
@@ -371,6 +376,14 @@ impl Surface {
                     },
                     // Set where the point has a tangent frame.
                     anisotropy: None,
+                    translucency: if p.diffuse_transmission > 0.0 {
+                        Some(brdf::Translucency {
+                            factor: T::of(p.diffuse_transmission),
+                            color: T::vec(p.diffuse_transmission_color),
+                        })
+                    } else {
+                        None
+                    },
                 }),
                 None => None,
             },

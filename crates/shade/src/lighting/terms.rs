@@ -89,6 +89,7 @@ pub fn arriving<T: Shade>(s: &Source, p: T::V) -> Option<(T::V, T::V, T::M)> {
 /// parameters; zero elsewhere.
 #[inline(always)]
 #[must_use]
+#[allow(clippy::too_many_arguments)]
 pub fn reflect<T: Shade>(
     s: &SurfaceAt<T>,
     n: T::V,
@@ -96,14 +97,22 @@ pub fn reflect<T: Shade>(
     v: T::V,
     lit: T::M,
     ndl: T,
+    back: T::M,
     blinn: bool,
 ) -> Terms<T> {
     let zero = T::splat(T::ZERO);
+    let raw = ndl;
     let ndl = T::select(lit, ndl, T::ZERO);
     if let Some(p) = &s.pbr {
         let t = brdf::pbr(s, p, brdf::alpha(p.roughness), n, l, v, ndl);
+        let mut diffuse = T::vselect(lit, t.diffuse, zero);
+        // A translucent base passes on the light from behind (`back`: where it arrives).
+        if let Some(tr) = &p.translucency {
+            let through = brdf::translucent(p, tr, n, l, v, raw);
+            diffuse = diffuse + T::vselect(back, through, zero);
+        }
         return Terms {
-            diffuse: T::vselect(lit, t.diffuse, zero),
+            diffuse,
             specular: T::vselect(lit, t.specular, zero),
             ..t
         };
@@ -155,6 +164,11 @@ pub fn contribution<T: Shade>(
     };
     let ndl = T::dot(n, l);
     let mut lit = ndl.gt(T::ZERO) & live;
+    // Light from behind reaches the front of a translucent base.
+    let back = match surf.pbr.as_ref().and_then(|p| p.translucency.as_ref()) {
+        Some(_) => T::ZERO.gt(ndl) & live,
+        None => T::ZERO.gt(T::ONE),
+    };
     let coat = surf
         .pbr
         .as_ref()
@@ -168,13 +182,14 @@ pub fn contribution<T: Shade>(
         }
         None => ndl,
     };
-    if !T::any(lit) {
+    if !T::any(lit | back) {
         return zero;
     }
-    let r = reflect(surf, n, l, v, lit, ndl, blinn);
+    let r = reflect(surf, n, l, v, lit, ndl, back, blinn);
     let t = (r.diffuse + r.specular) * rad;
     match set.shadow_of(s) {
-        Some(map) => t * T::shadow(map, p, n, l, lit),
+        // The shadow map's test offset towards the light: off the back for light from behind.
+        Some(map) => t * T::shadow(map, p, T::vselect(back, -n, n), l, lit | back),
         None => t,
     }
 }
@@ -318,7 +333,16 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::
     // Dielectric: the diffuse term gets the energy the specular lobe leaves.
     let left = T::splat(T::ONE) - d_ss - d_ms;
     let dielectric = T::ONE - p.metallic;
-    let diffuse = kd * left * irradiance * dielectric;
+    let mut diffuse = kd * left * irradiance * dielectric;
+    // A translucent base: `mix(base colour x irradiance, colour x the irradiance behind)`.
+    if let Some(tr) = &p.translucency {
+        let behind = match &set.env {
+            Some(env) => T::env(env, -n, -n, p.roughness).1 + g,
+            None => g,
+        };
+        diffuse =
+            diffuse * (T::ONE - tr.factor) + tr.color * left * behind * (tr.factor * dielectric);
+    }
     let specular = (d_ss * prefiltered + d_ms * irradiance) * dielectric
         + (m_ss * prefiltered + m_ms * irradiance) * p.metallic;
     let Some(y) = &mut p.layers else {

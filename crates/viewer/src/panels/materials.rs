@@ -212,6 +212,24 @@ fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
         changed = true;
     }
     ui.end_row();
+    ui.label("diffuse transmission").on_hover_text(
+        "KHR_materials_diffuse_transmission: the share of the diffuse light that passes through (leaves, paper); 0 for none",
+    );
+    changed |= edit::slider(
+        ui,
+        &mut p.diffuse_transmission,
+        0.0..=1.0,
+        false,
+        "material diffuse transmission",
+    );
+    ui.end_row();
+    ui.label("transmission colour");
+    changed |= edit::colour(
+        ui,
+        &mut p.diffuse_transmission_color,
+        "material diffuse transmission colour",
+    );
+    ui.end_row();
     ui.label("unlit");
     changed |= ui
         .checkbox(
