@@ -207,7 +207,10 @@ impl Lit<'_> {
             F8::splat(base[2]) * F8::from_array(c[2]),
             F8::splat(base[3]) * F8::from_array(c[3]),
         ];
-        let surf = d.surface.at::<F8<L>>(V3::new(b[0], b[1], b[2]));
+        let mut surf = d.surface.at::<F8<L>>(V3::new(b[0], b[1], b[2]));
+        // The vertex passes are Gouraud's and flat's, Phong's lighting: a `pbr` draw shades
+        // per pixel. Said here, the compiler leaves the BRDF's code out of this function.
+        surf.pbr = None;
         let active = d.active(self.active);
         let eye = V3::splat(self.eye);
         let mut rgb = illuminate::<F8<L>>(self.lights, Some(active), &surf, p, n, eye, d.blinn);
