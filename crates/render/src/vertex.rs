@@ -179,7 +179,9 @@ impl Lit<'_> {
     #[inline]
     fn colour(&self, d: &DrawParams, p: Vec3, n: Vec3, c: Vec4) -> Vec4 {
         let base = d.base * c;
-        let surf = d.surface.at::<f32>(base.truncate());
+        let mut surf = d.surface.at::<f32>(base.truncate());
+        // Gouraud's and flat's lighting is Phong's (as in `colour_lanes`).
+        surf.pbr = None;
         let active = d.active(self.active);
         let mut rgb = illuminate::<f32>(self.lights, Some(active), &surf, p, n, self.eye, d.blinn);
         rgb += d.emissive;

@@ -26,10 +26,12 @@
 use glam::Vec3;
 
 use super::layer_maps::{self, LayerTexels, LAYER_VALUES};
+use super::lighting::PbrParams;
 use super::lighting::{ambient_at, contribution, emission_seen, view_vector, SurfaceAt};
 use super::maps::perturb_lanes;
 use super::shaders::{DrawParams, LitShader, SlotParams, TexView};
 use super::texlab;
+use crate::brdf::Pbr;
 use crate::raster::{Batch, Colors, Fragments, GROUPS};
 use crate::scene::{AlphaMode, Slot, TextureSource};
 use crate::simd::{KernelKind, Lane, Level, F8, V3};
@@ -42,30 +44,34 @@ pub const SLOTS: usize = 6;
 /// stage loads the ones it reads and stores the ones it writes.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Regs {
+    // What every lit draw reads first, together (a few cache lines per group); the maps',
+    // the layers' and the extensions' values after.
     /// Base (diffuse) colour and alpha.
     pub base: [Lane; 4],
     /// Specular colour (the gloss map multiplies it).
     pub ks: [Lane; 3],
     /// Unit shading normal: after the maps; turned to the side seen by `ambient`.
     pub n: [Lane; 3],
+    /// Unit view vector (zero without a specular term).
+    pub v: [Lane; 3],
+    /// The colour so far (linear RGB).
+    pub c: [Lane; 3],
+    /// Emitted light.
+    pub emitted: [Lane; 3],
+    /// Ambient occlusion, where the draw has an occlusion map.
+    pub occlusion: Lane,
+    /// `E_ss` of a `pbr` surface for the punctual lights ([`crate::brdf::Pbr::ess`]).
+    pub ess: Lane,
     /// The metallic-roughness texture's (roughness, metallic) factors, where the draw has one.
     pub rough: Lane,
     pub metal: Lane,
-    /// Ambient occlusion, where the draw has an occlusion map.
-    pub occlusion: Lane,
-    /// Emitted light.
-    pub emitted: [Lane; 3],
-    /// The texels of the draw's slots (base colour, gloss, normal, occlusion, emissive,
-    /// metallic-roughness).
-    pub texel: [[Lane; 4]; SLOTS],
-    /// Unit view vector (zero without a specular term).
-    pub v: [Lane; 3],
-    /// `E_ss` of a `pbr` surface for the punctual lights ([`crate::brdf::Pbr::ess`]).
-    pub ess: Lane,
     /// The layers' values at the view ([`crate::brdf::Layers::view`]), where the draw has
     /// a clear coat or a sheen.
     pub coat_keep: Lane,
     pub sheen_ev: Lane,
+    /// The coat's normal (the interpolated one, before the maps), where the draw has a
+    /// clear coat over a normal- or bump-mapped base ([`coat_normal`]).
+    pub nc: [Lane; 3],
     /// The thin film's Fresnel at the view over the dielectric and the metal
     /// ([`crate::brdf::Iridescence::view`]), where the draw has iridescence.
     pub film_dielectric: [Lane; 3],
@@ -74,14 +80,12 @@ pub struct Regs {
     /// ([`crate::brdf::Anisotropy::at`]), where the draw is anisotropic.
     pub aniso_t: [Lane; 3],
     pub aniso_strength: Lane,
-    /// The coat's normal (the interpolated one, before the maps), where the draw has a
-    /// clear coat over a normal- or bump-mapped base ([`coat_normal`]).
-    pub nc: [Lane; 3],
+    /// The texels of the draw's slots (base colour, gloss, normal, occlusion, emissive,
+    /// metallic-roughness).
+    pub texel: [[Lane; 4]; SLOTS],
     /// What the `KHR_materials_*` extensions' textures read ([`LayerTexels::values`]),
     /// where the draw has them.
     pub layer: [Lane; LAYER_VALUES],
-    /// The colour so far (linear RGB).
-    pub c: [Lane; 3],
 }
 
 /// What every stage of a batch reads: the shader (lights, eye, fog, level-of-detail scale)
@@ -437,21 +441,37 @@ fn coat_normal(d: &DrawParams) -> bool {
             || d.layer_map(Slot::ClearcoatNormal).is_some())
 }
 
-/// The surface of draw `d` at the lanes of `r` (after the maps).
+/// The surface of draw `d` at the lanes of `r` (after the maps); `PBR` false for a draw
+/// of the Phong modes (its surface has no `pbr` part: said statically, the compiler leaves
+/// the BRDF's code out of the caller).
 #[inline(always)]
-fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
+fn surface<L: Level, const PBR: bool>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
     let mut s = d
         .surface
         .at::<F8<L>>(V3::new(r.base[0].get(), r.base[1].get(), r.base[2].get()));
+    if !PBR {
+        s.pbr = None;
+    }
     s.ks = V3::get(&r.ks);
     s.occlusion = d.occlusion.is_some().then(|| r.occlusion.get());
-    if let (Some(p), true) = (&mut s.pbr, d.metal_rough.is_some()) {
+    s.emitted = (d.emissive != Vec3::ZERO).then(|| V3::get(&r.emitted));
+    // Everything else is the `pbr` mode's: one test for the others.
+    if let (Some(p), Some(params)) = (&mut s.pbr, &d.surface.pbr) {
+        pbr_at(d, params, r, p);
+    }
+    s
+}
+
+/// The `pbr` parameters of draw `d` at the lanes of `r`: the metallic-roughness texture,
+/// the extensions' textures, the anisotropy's frame, the coat's normal.
+#[inline(always)]
+fn pbr_at<L: Level>(d: &DrawParams, params: &PbrParams, r: &Regs, p: &mut Pbr<F8<L>>) {
+    if d.metal_rough.is_some() {
         p.roughness *= r.rough.get();
         p.metallic *= r.metal.get();
     }
-    s.emitted = (d.emissive != Vec3::ZERO).then(|| V3::get(&r.emitted));
     let mask = d.layer_mask();
-    if let (Some(p), Some(params), true) = (&mut s.pbr, &d.surface.pbr, mask != 0) {
+    if mask != 0 {
         let mut t = LayerTexels::<F8<L>> {
             mask,
             ..LayerTexels::default()
@@ -461,7 +481,7 @@ fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
         }
         t.apply(params, p);
     }
-    if let (Some(p), true) = (&mut s.pbr, anisotropic(d)) {
+    if anisotropic(d) {
         let t = V3::get(&r.aniso_t);
         p.anisotropy = Some(crate::brdf::Anisotropy {
             strength: r.aniso_strength.get(),
@@ -469,13 +489,9 @@ fn surface<L: Level>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
             b: V3::get(&r.n).cross(t),
         });
     }
-    if let (Some(y), true) = (
-        s.pbr.as_mut().and_then(|p| p.layers.as_mut()),
-        coat_normal(d),
-    ) {
+    if let (Some(y), true) = (p.layers.as_mut(), coat_normal(d)) {
         y.coat_normal = Some(V3::get(&r.nc));
     }
-    s
 }
 
 /// The world position of group `g` (varyings 0..3).
@@ -489,64 +505,89 @@ crate::simd::per_kernel! {
     /// The normal turned to the side seen, the view vector, and the ambient term (Phong's,
     /// or `pbr`'s image-based light) plus the emission.
     fn ambient_stage<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, _arg: u32) {
-        let eye = V3::<L>::splat(cx.s.eye);
-        for (g, r) in regs.iter_mut().enumerate() {
-            let mut n = V3::<L>::get(&r.n);
-            if !b.front {
-                n = -n;
-                n.set(&mut r.n);
-                if coat_normal(cx.d) {
-                    (-V3::<L>::get(&r.nc)).set(&mut r.nc);
-                }
-            }
-            let mut s = surface::<L>(cx.d, r);
-            let v = view_vector(&s, position(b, g), eye);
-            v.set(&mut r.v);
-            let mut c = ambient_at(cx.s.lights, &mut s, n, v);
-            if let Some(p) = &s.pbr {
-                r.ess.set(p.ess);
-                if let Some(y) = &p.layers {
-                    r.coat_keep.set(y.coat_keep);
-                    r.sheen_ev.set(y.sheen_ev);
-                }
-                if let Some(i) = &p.iridescence {
-                    i.dielectric.set(&mut r.film_dielectric);
-                    i.metal.set(&mut r.film_metal);
-                }
-            }
-            if let Some(e) = s.emitted {
-                c = c + emission_seen(&s, e);
-            }
-            c.set(&mut r.c);
+        // Two copies of the loop: the Phong modes' without the BRDF's code.
+        if cx.d.surface.pbr.is_some() {
+            ambient_groups::<L, true>(b, regs, cx);
+        } else {
+            ambient_groups::<L, false>(b, regs, cx);
         }
+    }
+}
+
+/// [`ambient_stage`]'s loop, for a `pbr` draw or not (`PBR`).
+#[inline(always)]
+fn ambient_groups<L: Level, const PBR: bool>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>) {
+    let eye = V3::<L>::splat(cx.s.eye);
+    for (g, r) in regs.iter_mut().enumerate() {
+        let mut n = V3::<L>::get(&r.n);
+        if !b.front {
+            n = -n;
+            n.set(&mut r.n);
+            if PBR && coat_normal(cx.d) {
+                (-V3::<L>::get(&r.nc)).set(&mut r.nc);
+            }
+        }
+        let mut s = surface::<L, PBR>(cx.d, r);
+        let v = view_vector(&s, position(b, g), eye);
+        v.set(&mut r.v);
+        let mut c = ambient_at(cx.s.lights, &mut s, n, v);
+        if let Some(p) = &s.pbr {
+            r.ess.set(p.ess);
+            if let Some(y) = &p.layers {
+                r.coat_keep.set(y.coat_keep);
+                r.sheen_ev.set(y.sheen_ev);
+            }
+            if let Some(i) = &p.iridescence {
+                i.dielectric.set(&mut r.film_dielectric);
+                i.metal.set(&mut r.film_metal);
+            }
+        }
+        if let Some(e) = s.emitted {
+            c = c + emission_seen(&s, e);
+        }
+        c.set(&mut r.c);
     }
 }
 
 crate::simd::per_kernel! {
     /// Light `arg`'s share (an index into the frame's sources).
     fn light<L>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>, arg: u32) {
-        let set = cx.s.lights;
-        let Some(src) = set.sources.get(arg as usize) else {
+        let Some(src) = cx.s.lights.sources.get(arg as usize) else {
             return;
         };
-        let blinn = cx.d.blinn;
-        for (g, r) in regs.iter_mut().enumerate() {
-            let mut s = surface::<L>(cx.d, r);
-            if let Some(p) = &mut s.pbr {
-                p.ess = r.ess.get();
-                if let Some(y) = &mut p.layers {
-                    y.coat_keep = r.coat_keep.get();
-                    y.sheen_ev = r.sheen_ev.get();
-                }
-                if let Some(i) = &mut p.iridescence {
-                    i.dielectric = V3::get(&r.film_dielectric);
-                    i.metal = V3::get(&r.film_metal);
-                }
-            }
-            let (n, v) = (V3::get(&r.n), V3::get(&r.v));
-            let c = V3::<L>::get(&r.c) + contribution(set, src, &s, position(b, g), n, v, blinn);
-            c.set(&mut r.c);
+        if cx.d.surface.pbr.is_some() {
+            light_groups::<L, true>(b, regs, cx, src);
+        } else {
+            light_groups::<L, false>(b, regs, cx, src);
         }
+    }
+}
+
+/// [`light`]'s loop, for a `pbr` draw or not (`PBR`).
+#[inline(always)]
+fn light_groups<L: Level, const PBR: bool>(
+    b: &mut Batch,
+    regs: &mut [Regs],
+    cx: &Cx<'_>,
+    src: &crate::lighting::Source,
+) {
+    let (set, blinn) = (cx.s.lights, cx.d.blinn);
+    for (g, r) in regs.iter_mut().enumerate() {
+        let mut s = surface::<L, PBR>(cx.d, r);
+        if let Some(p) = &mut s.pbr {
+            p.ess = r.ess.get();
+            if let Some(y) = &mut p.layers {
+                y.coat_keep = r.coat_keep.get();
+                y.sheen_ev = r.sheen_ev.get();
+            }
+            if let Some(i) = &mut p.iridescence {
+                i.dielectric = V3::get(&r.film_dielectric);
+                i.metal = V3::get(&r.film_metal);
+            }
+        }
+        let (n, v) = (V3::get(&r.n), V3::get(&r.v));
+        let c = V3::<L>::get(&r.c) + contribution(set, src, &s, position(b, g), n, v, blinn);
+        c.set(&mut r.c);
     }
 }
 
