@@ -58,10 +58,7 @@ fn settings(lights: Vec<Light>) -> Settings {
 }
 
 fn render(scene: &Scene, settings: &Settings) -> Framebuffer {
-    let prepared = PreparedScene::new(scene.clone());
-    let mut r = Renderer::new();
-    r.render(&prepared, settings, &view());
-    r.take_target().expect("a frame").resolve()
+    render_with(scene, settings, &view())
 }
 
 fn pixel(fb: &Framebuffer, x: u32, y: u32) -> DVec3 {
@@ -518,12 +515,7 @@ fn the_layers_textures_multiply_their_factors() {
             Light::ambient(Vec3::splat(0.2)),
         ])
     };
-    let draw = |scene: &Scene, s: &Settings| {
-        let prepared = PreparedScene::new(scene.clone());
-        let mut r = Renderer::new();
-        r.render(&prepared, s, &row_view());
-        r.take_target().expect("a frame").resolve()
-    };
+    let draw = |scene: &Scene, s: &Settings| render_with(scene, s, &row_view());
     let largest = |a: &Framebuffer, b: &Framebuffer| {
         a.color
             .iter()
@@ -645,12 +637,7 @@ fn the_coat_normal_map_tilts_the_coat() {
         ..view()
     };
     let s = settings(vec![Light::directional(Vec3::NEG_Z, Vec3::splat(2.0))]);
-    let draw = |scene: &Scene, s: &Settings| {
-        let prepared = PreparedScene::new(scene.clone());
-        let mut r = Renderer::new();
-        r.render(&prepared, s, &v);
-        r.take_target().expect("a frame").resolve()
-    };
+    let draw = |scene: &Scene, s: &Settings| render_with(scene, s, &v);
     for kernel in KernelKind::available_kinds() {
         let s = Settings {
             kernel: Some(kernel),
@@ -830,12 +817,7 @@ fn an_anisotropic_highlight_stretches_along_its_direction() {
         ),
     ] {
         let scene = model(file);
-        let drawn = {
-            let prepared = PreparedScene::new(scene.clone());
-            let mut r = Renderer::new();
-            r.render(&prepared, &s, &v);
-            red(&r.take_target().expect("a frame").resolve())
-        };
+        let drawn = red(&render_with(&scene, &s, &v));
         let want = spec(strength, angle.to_radians());
         // On the quad (|x|, |y| < 1) with a pixel of margin, relative to the value or 0.05.
         let on_quad = |i: usize| {
@@ -861,10 +843,7 @@ fn an_anisotropic_highlight_stretches_along_its_direction() {
         // Without the anisotropy the highlight is round.
         let mut round = scene.clone();
         round.materials[0].pbr.as_mut().unwrap().anisotropy = 0.0;
-        let prepared = PreparedScene::new(round);
-        let mut r = Renderer::new();
-        r.render(&prepared, &s, &v);
-        let (_, e0) = highlight_axis(&red(&r.take_target().expect("a frame").resolve()), SIZE);
+        let (_, e0) = highlight_axis(&red(&render_with(&round, &s, &v)), SIZE);
         assert!(e0 < 1.05, "{e0}");
     }
 }
@@ -920,11 +899,8 @@ fn diffuse_transmission_passes_light_from_behind() {
                 kernel: Some(kernel),
                 ..s.clone()
             };
+            let got = pixel(&render_with(&scene, &s, &v), SIZE / 2, SIZE / 2);
             let prepared = PreparedScene::new(scene.clone());
-            let mut r = Renderer::new();
-            r.render(&prepared, &s, &v);
-            let fb = r.take_target().expect("a frame").resolve();
-            let got = pixel(&fb, SIZE / 2, SIZE / 2);
             assert!(
                 (got - want).abs().max_element() < 1e-4,
                 "{kernel:?} {light:?}: {got} vs {want}"

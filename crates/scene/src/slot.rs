@@ -70,6 +70,37 @@ pub enum Slot {
     DiffuseTransmissionColor,
 }
 
+/// Where [`Slot::LAYERS`] begins in [`Slot::ALL`].
+const FIRST_LAYER: usize = Slot::SpecularStrength.index();
+
+/// Every slot's name, scene-file key and whether its RGB is sRGB-encoded, in the order of
+/// [`Slot::ALL`].
+const INFO: [(&str, &str, bool); Slot::ALL.len()] = [
+    ("base colour", "base_color", true),
+    ("gloss", "gloss", true),
+    ("normal", "normal", false),
+    ("occlusion", "occlusion", false),
+    ("emissive", "emissive", true),
+    ("metallic-roughness", "metallic_roughness", false),
+    ("bump", "bump", false),
+    ("specular strength", "specular_strength", false),
+    ("specular colour", "specular_color", true),
+    ("clear coat", "clearcoat", false),
+    ("clear-coat roughness", "clearcoat_roughness", false),
+    ("clear-coat normal", "clearcoat_normal", false),
+    ("sheen colour", "sheen_color", true),
+    ("sheen roughness", "sheen_roughness", false),
+    ("iridescence", "iridescence", false),
+    ("iridescence thickness", "iridescence_thickness", false),
+    ("anisotropy", "anisotropy", false),
+    ("diffuse transmission", "diffuse_transmission", false),
+    (
+        "diffuse transmission colour",
+        "diffuse_transmission_color",
+        true,
+    ),
+];
+
 impl Slot {
     /// Every slot, in the order panels and reports list them: the core ones, then
     /// [`Slot::LAYERS`].
@@ -96,52 +127,27 @@ impl Slot {
     ];
 
     /// The slots of the `KHR_materials_*` extensions, which only the `pbr` mode reads (in
-    /// the order of [`Slot::layer_index`]).
-    pub const LAYERS: [Slot; 12] = [
-        Slot::SpecularStrength,
-        Slot::SpecularColor,
-        Slot::Clearcoat,
-        Slot::ClearcoatRoughness,
-        Slot::ClearcoatNormal,
-        Slot::SheenColor,
-        Slot::SheenRoughness,
-        Slot::Iridescence,
-        Slot::IridescenceThickness,
-        Slot::Anisotropy,
-        Slot::DiffuseTransmission,
-        Slot::DiffuseTransmissionColor,
-    ];
+    /// the order of [`Slot::layer_index`]): the end of [`Slot::ALL`].
+    pub const LAYERS: [Slot; Slot::ALL.len() - FIRST_LAYER] = {
+        let mut out = [Slot::BaseColor; Slot::ALL.len() - FIRST_LAYER];
+        let mut i = 0;
+        while i < out.len() {
+            out[i] = Slot::ALL[FIRST_LAYER + i];
+            i += 1;
+        }
+        out
+    };
 
     /// The slot's position in [`Slot::LAYERS`], if it is one of them.
     #[must_use]
     pub const fn layer_index(self) -> Option<usize> {
-        self.index().checked_sub(Slot::Bump.index() + 1)
+        self.index().checked_sub(FIRST_LAYER)
     }
 
     /// The slot's name in reports, scene files and the command line.
     #[must_use]
     pub fn name(self) -> &'static str {
-        match self {
-            Slot::BaseColor => "base colour",
-            Slot::Specular => "gloss",
-            Slot::Normal => "normal",
-            Slot::Occlusion => "occlusion",
-            Slot::Emissive => "emissive",
-            Slot::MetallicRoughness => "metallic-roughness",
-            Slot::Bump => "bump",
-            Slot::SpecularStrength => "specular strength",
-            Slot::SpecularColor => "specular colour",
-            Slot::Clearcoat => "clear coat",
-            Slot::ClearcoatRoughness => "clear-coat roughness",
-            Slot::ClearcoatNormal => "clear-coat normal",
-            Slot::SheenColor => "sheen colour",
-            Slot::SheenRoughness => "sheen roughness",
-            Slot::Iridescence => "iridescence",
-            Slot::IridescenceThickness => "iridescence thickness",
-            Slot::Anisotropy => "anisotropy",
-            Slot::DiffuseTransmission => "diffuse transmission",
-            Slot::DiffuseTransmissionColor => "diffuse transmission colour",
-        }
+        INFO[self.index()].0
     }
 
     /// The slot's position in [`Slot::ALL`].
@@ -153,54 +159,14 @@ impl Slot {
     /// The slot's name in scene-file keys (`base_color`, `bump`, ...).
     #[must_use]
     pub fn key(self) -> &'static str {
-        match self {
-            Slot::BaseColor => "base_color",
-            Slot::Specular => "gloss",
-            Slot::Normal => "normal",
-            Slot::Occlusion => "occlusion",
-            Slot::Emissive => "emissive",
-            Slot::MetallicRoughness => "metallic_roughness",
-            Slot::Bump => "bump",
-            Slot::SpecularStrength => "specular_strength",
-            Slot::SpecularColor => "specular_color",
-            Slot::Clearcoat => "clearcoat",
-            Slot::ClearcoatRoughness => "clearcoat_roughness",
-            Slot::ClearcoatNormal => "clearcoat_normal",
-            Slot::SheenColor => "sheen_color",
-            Slot::SheenRoughness => "sheen_roughness",
-            Slot::Iridescence => "iridescence",
-            Slot::IridescenceThickness => "iridescence_thickness",
-            Slot::Anisotropy => "anisotropy",
-            Slot::DiffuseTransmission => "diffuse_transmission",
-            Slot::DiffuseTransmissionColor => "diffuse_transmission_color",
-        }
+        INFO[self.index()].1
     }
 
     /// True if the slot's RGB is sRGB-encoded colour (decoded to linear light before
     /// filtering); false for linear data. Alpha is linear in every slot.
     #[must_use]
     pub fn srgb(self) -> bool {
-        match self {
-            Slot::BaseColor
-            | Slot::Specular
-            | Slot::Emissive
-            | Slot::SpecularColor
-            | Slot::SheenColor
-            | Slot::DiffuseTransmissionColor => true,
-            Slot::Normal
-            | Slot::Occlusion
-            | Slot::MetallicRoughness
-            | Slot::Bump
-            | Slot::SpecularStrength
-            | Slot::Clearcoat
-            | Slot::ClearcoatRoughness
-            | Slot::ClearcoatNormal
-            | Slot::SheenRoughness
-            | Slot::Iridescence
-            | Slot::IridescenceThickness
-            | Slot::Anisotropy
-            | Slot::DiffuseTransmission => false,
-        }
+        INFO[self.index()].2
     }
 }
 
@@ -605,7 +571,10 @@ mod tests {
                 Slot::DiffuseTransmissionColor
             ]
         );
-        // Every extension slot has its place in `LAYERS`, in order.
+        // `ALL` is in the enum's order, and every extension slot has its place in `LAYERS`.
+        for (i, s) in Slot::ALL.into_iter().enumerate() {
+            assert_eq!(s.index(), i);
+        }
         for (i, s) in Slot::LAYERS.into_iter().enumerate() {
             assert_eq!(s.layer_index(), Some(i));
         }
