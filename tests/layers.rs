@@ -950,3 +950,29 @@ fn render_with(scene: &Scene, settings: &Settings, v: &View) -> Framebuffer {
     r.render(&prepared, settings, v);
     r.take_target().expect("a frame").resolve()
 }
+
+#[test]
+fn the_load_report_names_none_of_the_material_extensions_read() {
+    // Every test file of models/pbr but the one made to use an unknown extension loads
+    // with nothing skipped and no extension or texture named as ignored.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/pbr");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .expect("models/pbr")
+        .filter_map(|e| Some(e.ok()?.file_name().into_string().ok()?))
+        .filter(|n| n.ends_with(".glb") && n != "unknown-extension.glb")
+        .collect();
+    names.sort();
+    assert!(names.len() >= 20, "{names:?}");
+    for name in names {
+        let scene = model(&name);
+        assert!(
+            scene.report.skipped.is_empty(),
+            "{name}: {:?}",
+            scene.report.skipped
+        );
+        let ignored: Vec<_> = (scene.report.warnings.iter())
+            .filter(|w| w.contains("ignored"))
+            .collect();
+        assert!(ignored.is_empty(), "{name}: {ignored:?}");
+    }
+}

@@ -501,7 +501,7 @@ const QUANTIZATION: &str = "KHR_mesh_quantization";
 /// material extensions of [`material`], material variants ([`variants`]), animation
 /// pointers ([`animation`]), and the compressed forms of geometry ([`meshopt`],
 /// [`draco`]) and images (`KHR_texture_basisu`, `EXT_texture_webp`).
-const SUPPORTED: [&str; 17] = [
+const SUPPORTED: [&str; 20] = [
     QUANTIZATION,
     meshopt::EXT,
     meshopt::KHR,
@@ -516,6 +516,9 @@ const SUPPORTED: [&str; 17] = [
     material::SPECULAR,
     material::CLEARCOAT,
     material::SHEEN,
+    material::IRIDESCENCE,
+    material::ANISOTROPY,
+    material::DIFFUSE_TRANSMISSION,
     variants::EXTENSION,
     animation::POINTER,
     instancing::EXTENSION,

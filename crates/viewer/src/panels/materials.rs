@@ -223,7 +223,7 @@ fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
         "material diffuse transmission",
     );
     ui.end_row();
-    ui.label("transmission colour");
+    ui.label("diffuse transmission colour");
     changed |= edit::colour(
         ui,
         &mut p.diffuse_transmission_color,
