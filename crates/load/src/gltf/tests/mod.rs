@@ -524,3 +524,112 @@ fn gpu_instancing_reads_copies_or_says_why_not() {
         assert_eq!(inst.placement(0), inst.world, "drawn once, at the node");
     }
 }
+
+#[test]
+fn material_extensions_and_their_textures_or_why_not() {
+    let mut png = Vec::new();
+    ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([10, 20, 30, 40]))
+        .write_to(
+            &mut std::io::Cursor::new(&mut png),
+            ::image::ImageFormat::Png,
+        )
+        .unwrap();
+    let png_uri = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    );
+    let mut d = Doc::default();
+    let tri = d.floats(&TRI, "VEC3");
+    let uv = d.u8s(&[0, 0, 255, 0, 0, 255], "VEC2", true);
+    let text = d.finish(json!({
+        "extensionsUsed": ["KHR_materials_iridescence", "KHR_materials_anisotropy",
+                           "KHR_materials_diffuse_transmission", "KHR_materials_clearcoat",
+                           "KHR_materials_sheen", "KHR_materials_specular"],
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": tri, "TEXCOORD_0": uv}, "material": 0},
+            {"attributes": {"POSITION": tri, "TEXCOORD_0": uv}, "material": 1}
+        ]}],
+        "nodes": [{"mesh": 0}],
+        "materials": [
+            {"extensions": {
+                "KHR_materials_iridescence": {"iridescenceFactor": 0.5, "iridescenceIor": 1.8,
+                    "iridescenceThicknessMaximum": 300, "iridescenceTexture": {"index": 0},
+                    "iridescenceThicknessTexture": {"index": 0, "texCoord": 0}},
+                "KHR_materials_anisotropy": {"anisotropyStrength": 0.25, "anisotropyRotation": 1.5,
+                    "anisotropyTexture": {"index": 0}},
+                "KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.75,
+                    "diffuseTransmissionColorFactor": [1, 0.5, 0],
+                    "diffuseTransmissionColorTexture": {"index": 0}},
+                "KHR_materials_clearcoat": {"clearcoatFactor": 1,
+                    "clearcoatNormalTexture": {"index": 0, "scale": 0.5}},
+                "KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1], "sheenRoughnessTexture": {"index": 0}},
+                "KHR_materials_specular": {"specularColorTexture": {"index": 0,
+                    "extensions": {"KHR_texture_transform": {"offset": [0.5, 0]}}}}
+            }},
+            {"extensions": {
+                "KHR_materials_iridescence": {"iridescenceFactor": 2, "iridescenceIor": 0.5},
+                "KHR_materials_anisotropy": {"anisotropyStrength": "strong"},
+                "KHR_materials_clearcoat": {"clearcoatTexture": {"index": "zero"},
+                    "clearcoatRoughnessTexture": {"index": 7}},
+                "KHR_materials_diffuse_transmission": {"diffuseTransmissionColorFactor": [1, -1, 0]}
+            }}
+        ],
+        "textures": [{"source": 0}],
+        "images": [{"uri": png_uri}]
+    }));
+    let scene = load_text(&TempDir::new("gltf-layers"), &text).unwrap();
+    use crate::scene::Slot;
+    let m = &scene.materials[0];
+    let p = m.pbr.unwrap();
+    assert_eq!(
+        (p.iridescence, p.iridescence_ior, p.iridescence_thickness),
+        (0.5, 1.8, [100.0, 300.0])
+    );
+    assert_eq!((p.anisotropy, p.anisotropy_rotation), (0.25, 1.5));
+    assert_eq!(
+        (p.diffuse_transmission, p.diffuse_transmission_color),
+        (0.75, Vec3::new(1.0, 0.5, 0.0))
+    );
+    for slot in [
+        Slot::Iridescence,
+        Slot::IridescenceThickness,
+        Slot::Anisotropy,
+        Slot::DiffuseTransmissionColor,
+        Slot::ClearcoatNormal,
+        Slot::SheenRoughness,
+        Slot::SpecularColor,
+    ] {
+        assert!(m.slot(slot).is_some(), "{slot:?}");
+    }
+    assert_eq!(m.slot(Slot::ClearcoatNormal).unwrap().scale, 0.5);
+    assert_eq!(
+        m.slot(Slot::SpecularColor).unwrap().transform.offset,
+        glam::Vec2::new(0.5, 0.0)
+    );
+    assert!(m.slot(Slot::Clearcoat).is_none() && m.slot(Slot::DiffuseTransmission).is_none());
+    // The colour slots decode sRGB, the data slots not: one image, two textures.
+    assert_eq!(scene.textures.len(), 2);
+    assert!(
+        scene.report.skipped.is_empty(),
+        "{:?}",
+        scene.report.skipped
+    );
+    // The second material: every bad value named, its default used, the file drawn.
+    let p = scene.materials[1].pbr.unwrap();
+    assert_eq!(
+        (p.iridescence, p.iridescence_ior, p.anisotropy),
+        (0.0, 1.3, 0.0)
+    );
+    assert_eq!(p.diffuse_transmission_color, Vec3::ONE);
+    let w = scene.report.warnings.join("\n");
+    for needle in [
+        "iridescenceFactor 2 is not a number in 0..=1",
+        "iridescenceIor 0.5 is not a number in 1..=",
+        "anisotropyStrength \"strong\"",
+        "clearcoatTexture {\"index\":\"zero\"} is not a textureInfo",
+        "clear-coat roughness texture: texture 7 does not exist",
+        "diffuseTransmissionColorFactor [1,-1,0] is not three non-negative numbers",
+    ] {
+        assert!(w.contains(needle), "{needle} not in:\n{w}");
+    }
+}
