@@ -958,7 +958,7 @@ fn the_load_report_names_none_of_the_material_extensions_read() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/pbr");
     let mut names: Vec<_> = std::fs::read_dir(&dir)
         .expect("models/pbr")
-        .filter_map(|e| Some(e.ok()?.file_name().into_string().ok()?))
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
         .filter(|n| n.ends_with(".glb") && n != "unknown-extension.glb")
         .collect();
     names.sort();
