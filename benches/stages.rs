@@ -180,6 +180,7 @@ fn benches(c: &mut Criterion) {
         bump: None,
         metal_rough: None,
         layer_maps: Default::default(),
+        model_scale: glam::Vec3::ONE,
         unlit: false,
         view: TexView::Lit,
         measure: None,
@@ -210,6 +211,7 @@ fn benches(c: &mut Criterion) {
             forward: -Vec3::Z,
             fog: None,
             lod_scale: 1.0,
+            backdrop: None,
         };
         c.bench_function(&format!("fill_shade/sphere lambert/{name}"), |b| {
             let mut target = Target::new(W, H, Vec4::ZERO);

@@ -976,3 +976,59 @@ fn the_load_report_names_none_of_the_material_extensions_read() {
         assert!(ignored.is_empty(), "{name}: {ignored:?}");
     }
 }
+
+#[test]
+fn transmission_absorbs_by_beers_law() {
+    // transmission-slab.glb: a quad that transmits everything (transmission 1, IOR 1, no
+    // Fresnel: specular factor 0, roughness 0) with a volume 0.5 thick whose
+    // attenuationColor c = (0.5, 0.7, 0.9) is reached after attenuationDistance 1. With no
+    // light and a background B, every pixel of the quad is B c^(0.5 / 1), whatever the
+    // view angle (the ray leaves the volume after the thickness: three.js's and the sample
+    // viewer's model), evaluated here in f64; every kernel.
+    use realist::simd::KernelKind;
+    let scene = model("transmission-slab.glb");
+    let p = scene.materials[0].pbr.expect("pbr");
+    assert_eq!(
+        (p.transmission, p.thickness, p.attenuation_distance),
+        (1.0, 0.5, 1.0)
+    );
+    let b = DVec3::new(0.6, 0.5, 0.4);
+    let want = b * DVec3::new(0.5f64.powf(0.5), 0.7f64.powf(0.5), 0.9f64.powf(0.5));
+    let v = View {
+        camera: Camera {
+            eye: Vec3::new(0.4, 0.3, 2.0),
+            target: Vec3::ZERO,
+            yfov: 0.5,
+            ..view().camera
+        },
+        ..view()
+    };
+    for kernel in KernelKind::available_kinds() {
+        let s = Settings {
+            kernel: Some(kernel),
+            background: b.as_vec3().extend(1.0),
+            ..settings(vec![])
+        };
+        let fb = render_with(&scene, &s, &v);
+        let prepared = PreparedScene::new(scene.clone());
+        let (mut worst, mut count) = (0.0f64, 0);
+        for y in 0..SIZE {
+            for x in 0..SIZE {
+                let on = |dx: i32, dy: i32| {
+                    let (px, py) = (x as i32 + dx, y as i32 + dy);
+                    (0..SIZE as i32).contains(&px)
+                        && (0..SIZE as i32).contains(&py)
+                        && probe(&prepared, &s, &v, px as u32, py as u32).is_some()
+                };
+                if !(-1..=1).all(|dy| (-1..=1).all(|dx| on(dx, dy))) {
+                    continue;
+                }
+                worst = worst.max((pixel(&fb, x, y) - want).abs().max_element());
+                count += 1;
+            }
+        }
+        eprintln!("{kernel:?}: {count} pixels of the slab within {worst:.2e} of B c^0.5");
+        assert!(count > 3000, "{count}");
+        assert!(worst < 1e-5, "{kernel:?}: {worst}");
+    }
+}

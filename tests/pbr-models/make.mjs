@@ -7,7 +7,8 @@
 // (and its texture, unlit-4x4.png), ior-specular.glb, unknown-extension.glb, no-material.glb
 // lights-punctual.glb, variants.glb, pointer.glb, instanced.glb, clearcoat.glb,
 // clearcoat-only.glb, sheen.glb, sheen-only.glb, layer-textures.glb, layer-factors.glb,
-// coat-normal.glb, iridescence.glb, anisotropy.glb, anisotropy-texture.glb and translucency.glb.
+// coat-normal.glb, iridescence.glb, anisotropy.glb, anisotropy-texture.glb, translucency.glb,
+// transmission-slab.glb and transmission.glb.
 // Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
@@ -22,13 +23,16 @@ import {
   KHRMaterialsAnisotropy,
   KHRMaterialsClearcoat,
   KHRMaterialsDiffuseTransmission,
+  KHRMaterialsDispersion,
   Light,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
   KHRMaterialsIridescence,
   KHRMaterialsSheen,
   KHRMaterialsSpecular,
+  KHRMaterialsTransmission,
   KHRMaterialsUnlit,
+  KHRMaterialsVolume,
   KHRMaterialsVariants,
 } from "@gltf-transform/extensions";
 
@@ -45,12 +49,15 @@ const io = new NodeIO().registerExtensions([
   KHRMaterialsAnisotropy,
   KHRMaterialsClearcoat,
   KHRMaterialsDiffuseTransmission,
+  KHRMaterialsDispersion,
   KHRMaterialsEmissiveStrength,
   KHRMaterialsIOR,
   KHRMaterialsIridescence,
   KHRMaterialsSheen,
   KHRMaterialsSpecular,
+  KHRMaterialsTransmission,
   KHRMaterialsUnlit,
+  KHRMaterialsVolume,
   KHRMaterialsVariants,
 ]);
 
@@ -629,6 +636,59 @@ async function translucency() {
 }
 
 // ---------------------------------------------------------------------------------------
+// transmission-slab.glb: KHR_materials_transmission and KHR_materials_volume on the 1 x 1
+// quad of unlit.glb (facing +Z), material "slab": base white, metallic 0, roughness 0,
+// transmission 1, KHR_materials_ior 1 and specularFactor 0 (no refraction and no Fresnel:
+// the light through it is all there is), thickness 0.5, attenuationColor (0.5, 0.7, 0.9),
+// attenuationDistance 1: what lies behind is seen times attenuationColor^0.5.
+//
+// transmission.glb: a glass sphere (radius 0.4 at the origin), material "glass": base white,
+// roughness 0.1, transmission 1, IOR 1.5 (the default), thickness 0.8 (its diameter),
+// attenuationColor (0.9, 0.6, 0.3), attenuationDistance 0.5, KHR_materials_dispersion 2 (the
+// channels refract at IOR 1.5 -+ 0.025); behind it an opaque sphere
+// "behind" (radius 0.4 at (0.3, 0.2, -1.2), base (0.2, 0.4, 0.8), roughness 0.5).
+
+async function transmissionFiles() {
+  {
+    const doc = newDocument();
+    const m = doc
+      .createMaterial("slab")
+      .setBaseColorFactor([1, 1, 1, 1])
+      .setMetallicFactor(0)
+      .setRoughnessFactor(0)
+      .setExtension("KHR_materials_transmission", doc.createExtension(KHRMaterialsTransmission).createTransmission().setTransmissionFactor(1))
+      .setExtension("KHR_materials_ior", doc.createExtension(KHRMaterialsIOR).createIOR().setIOR(1))
+      .setExtension("KHR_materials_specular", doc.createExtension(KHRMaterialsSpecular).createSpecular().setSpecularFactor(0))
+      .setExtension(
+        "KHR_materials_volume",
+        doc.createExtension(KHRMaterialsVolume).createVolume().setThicknessFactor(0.5).setAttenuationColor([0.5, 0.7, 0.9]).setAttenuationDistance(1),
+      );
+    place(doc, "slab", doc.createMesh("slab").addPrimitive(quadPrimitive(doc, { uv: true }).setMaterial(m)), [0, 0, 0]);
+    await write(doc, "transmission-slab.glb");
+  }
+  {
+    const doc = newDocument();
+    const glass = doc
+      .createMaterial("glass")
+      .setBaseColorFactor([1, 1, 1, 1])
+      .setMetallicFactor(0)
+      .setRoughnessFactor(0.1)
+      .setExtension("KHR_materials_transmission", doc.createExtension(KHRMaterialsTransmission).createTransmission().setTransmissionFactor(1))
+      .setExtension(
+        "KHR_materials_volume",
+        doc.createExtension(KHRMaterialsVolume).createVolume().setThicknessFactor(0.8).setAttenuationColor([0.9, 0.6, 0.3]).setAttenuationDistance(0.5),
+      )
+      .setExtension("KHR_materials_dispersion", doc.createExtension(KHRMaterialsDispersion).createDispersion().setDispersion(2));
+    const behind = doc.createMaterial("behind").setBaseColorFactor([0.2, 0.4, 0.8, 1]).setMetallicFactor(0).setRoughnessFactor(0.5);
+    const sphere = spherePrimitive(doc);
+    place(doc, "glass", meshWith(doc, "glass", sphere, glass), [0, 0, 0]);
+    place(doc, "behind", meshWith(doc, "behind", sphere, behind), [0.3, 0.2, -1.2]);
+    sphere.dispose();
+    await write(doc, "transmission.glb");
+  }
+}
+
+// ---------------------------------------------------------------------------------------
 // instanced.glb: EXT_mesh_gpu_instancing, required. One node "forest" at (0, -0.5, 0) whose
 // mesh "box" (a cube of side 0.4 around the origin: 24 vertices with face normals, 12
 // triangles, material "bark", base colour (0.8, 0.5, 0.2), roughness 0.6) is drawn 12
@@ -847,3 +907,4 @@ await iridescenceFile();
 await anisotropy(false);
 await anisotropy(true);
 await translucency();
+await transmissionFiles();

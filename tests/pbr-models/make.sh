@@ -9,7 +9,8 @@
 #    unknown-extension.glb, no-material.glb, lights-punctual.glb, variants.glb, pointer.glb,
 #    instanced.glb, clearcoat.glb, clearcoat-only.glb, sheen.glb, sheen-only.glb,
 #    layer-textures.glb, layer-factors.glb, coat-normal.glb, iridescence.glb, anisotropy.glb
-#    anisotropy-texture.glb and translucency.glb; all geometry and the PNGs are
+#    anisotropy-texture.glb, translucency.glb, transmission-slab.glb and transmission.glb; all
+#    geometry and the PNGs are
 #    computed in make.mjs itself (no
 #    cargo build, no other input);
 # 2. it writes them a second time into a temporary folder: the bytes must be identical;

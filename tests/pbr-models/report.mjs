@@ -58,6 +58,14 @@ const EXPECTED = new Map([
   ["anisotropy.glb", [["brushed", ["KHR_materials_anisotropy"]]]],
   ["anisotropy-texture.glb", [["brushed", ["KHR_materials_anisotropy"]]]],
   ["translucency.glb", [["leaf", ["KHR_materials_diffuse_transmission", "KHR_materials_specular"]]]],
+  [
+    "transmission-slab.glb",
+    [["slab", ["KHR_materials_ior", "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume"]]],
+  ],
+  [
+    "transmission.glb",
+    [["glass", ["KHR_materials_dispersion", "KHR_materials_transmission", "KHR_materials_volume"]], ["behind", []]],
+  ],
   ["no-material.glb", []],
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],

@@ -54,3 +54,9 @@ for m in anisotropy anisotropy-texture; do
     --light directional:0,0,-1:1 --env uniform:0.25 --tone none --background 0,0,0
   echo "wrote tests/threejs/refs/$m-headon.png"
 done
+# KHR_materials_transmission, KHR_materials_volume and KHR_materials_dispersion: a glass
+# sphere in front of an opaque one on a grey background (0.3 in sRGB), from (0, 0, 2).
+node render.mjs --quiet --model ../../models/pbr/transmission.glb --out refs/transmission-headon.png \
+  --size 256x256 --eye 0,0,2 --target 0,0,0 --yfov 45 --light directional:0,0,-1:1 \
+  --env uniform:0.25 --tone none --background 0.3,0.3,0.3
+echo "wrote tests/threejs/refs/transmission-headon.png"

@@ -277,8 +277,10 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
         return group(cx, fd, all, Geometry::Indexed, vertex, &CountShader);
     }
     let fdr = &*fd;
+    // The transmissive surfaces wait for the opaque ones they see through.
+    let transmits = |fi: &FrameInst| fdr.params[fi.param as usize].transmits();
     if !solid(cx, fdr, &|_, fi| {
-        !fi.blend && fi.mode.mode().pass != Pass::Edges && fi.tris
+        !fi.blend && fi.mode.mode().pass != Pass::Edges && fi.tris && !transmits(fi)
     }) {
         return false;
     }
@@ -297,6 +299,15 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     if done {
         done = strokes(cx, fdr);
     }
+    let transmissive = |fd: &FrameData, fi: &FrameInst| {
+        !fi.blend && fi.tris && fd.params[fi.param as usize].transmits()
+    };
+    if done && fd.insts.iter().any(|fi| transmissive(fd, fi)) {
+        fd.backdrop = backdrop(cx, fd);
+        let fdr = &*fd;
+        done = solid(cx, fdr, &|_, fi| transmissive(fdr, fi));
+    }
+    let fdr = &*fd;
     cx.sort = true;
     for &k in &fdr.order {
         if !done {
@@ -306,6 +317,26 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     }
     cx.sort = false;
     done
+}
+
+/// What the frame's transmissive surfaces see through: the target's colour so far (the
+/// opaque surfaces, the background) in linear light, its mip chain built at once, with
+/// this pass's world -> clip.
+fn backdrop(cx: &mut Cx, fd: &FrameData) -> Option<crate::shade::Backdrop> {
+    let fb = cx.target.resolve();
+    let texels = fb.color.iter().map(|c| c.to_array()).collect();
+    let image = crate::texture::Texture::from_texels(
+        "backdrop",
+        fb.width,
+        fb.height,
+        crate::texture::Texels::Float(texels),
+    )
+    .ok()?;
+    image.prepare_mips();
+    Some(crate::shade::Backdrop {
+        image: std::sync::Arc::new(image),
+        view_proj: cx.jitter * fd.view_proj,
+    })
 }
 
 /// The frame's points and lines and their vertex colours, kept in the pool between frames,
@@ -635,6 +666,7 @@ fn lit_group(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bo
         forward: cx.camera.forward(),
         fog: fd.fog,
         lod_scale: cx.lod_scale,
+        backdrop: fd.backdrop.as_ref(),
     };
     let scene = cx.scene;
     group(

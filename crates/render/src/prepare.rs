@@ -463,6 +463,26 @@ impl PreparedScene {
                                 _ => p.iridescence_thickness[1] = x.max(0.0),
                             }
                         }
+                        P::TransmissionFactor
+                        | P::ThicknessFactor
+                        | P::AttenuationDistance
+                        | P::Dispersion => {
+                            let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) else {
+                                continue;
+                            };
+                            match property {
+                                P::TransmissionFactor => p.transmission = x.clamp(0.0, 1.0),
+                                P::ThicknessFactor => p.thickness = x.max(0.0),
+                                P::AttenuationDistance if x > 0.0 => p.attenuation_distance = x,
+                                P::Dispersion => p.dispersion = x.max(0.0),
+                                _ => {}
+                            }
+                        }
+                        P::AttenuationColor => {
+                            if let (Some(p), Some(c)) = (&mut m.pbr, rgb(v)) {
+                                p.attenuation_color = c.clamp(Vec3::ZERO, Vec3::ONE);
+                            }
+                        }
                         P::DiffuseTransmission => {
                             if let (Some(p), Some(x)) = (&mut m.pbr, finite(v[0])) {
                                 p.diffuse_transmission = x.clamp(0.0, 1.0);

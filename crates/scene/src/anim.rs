@@ -77,6 +77,13 @@ pub enum Property {
     /// A material's `KHR_materials_diffuse_transmission` factor and colour (RGB).
     DiffuseTransmission,
     DiffuseTransmissionColor,
+    /// A material's `KHR_materials_transmission` factor, `KHR_materials_volume` thickness,
+    /// attenuation distance and colour (RGB), and `KHR_materials_dispersion`.
+    TransmissionFactor,
+    ThicknessFactor,
+    AttenuationDistance,
+    AttenuationColor,
+    Dispersion,
     /// A material slot's `KHR_texture_transform` offset (2 numbers), rotation (radians)
     /// and scale (2 numbers).
     TexOffset(crate::Slot),
@@ -127,6 +134,11 @@ impl Property {
             Property::AnisotropyRotation => "anisotropyRotation",
             Property::DiffuseTransmission => "diffuseTransmissionFactor",
             Property::DiffuseTransmissionColor => "diffuseTransmissionColorFactor",
+            Property::TransmissionFactor => "transmissionFactor",
+            Property::ThicknessFactor => "thicknessFactor",
+            Property::AttenuationDistance => "attenuationDistance",
+            Property::AttenuationColor => "attenuationColor",
+            Property::Dispersion => "dispersion",
             Property::TexOffset(_) => "offset",
             Property::TexRotation(_) => "rotation",
             Property::TexScale(_) => "scale",
@@ -157,6 +169,11 @@ impl Property {
             | Property::AnisotropyRotation
             | Property::DiffuseTransmission
             | Property::DiffuseTransmissionColor
+            | Property::TransmissionFactor
+            | Property::ThicknessFactor
+            | Property::AttenuationDistance
+            | Property::AttenuationColor
+            | Property::Dispersion
             | Property::TexOffset(_)
             | Property::TexRotation(_)
             | Property::TexScale(_) => Target::Material,
@@ -177,7 +194,8 @@ impl Property {
             | Property::Emissive
             | Property::LightColor
             | Property::SheenColor
-            | Property::DiffuseTransmissionColor => Some(3),
+            | Property::DiffuseTransmissionColor
+            | Property::AttenuationColor => Some(3),
             Property::TexOffset(_) | Property::TexScale(_) => Some(2),
             Property::Rotation | Property::BaseColor => Some(4),
             Property::Weights => None,

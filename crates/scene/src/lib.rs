@@ -127,6 +127,17 @@ pub struct PbrMaterial {
     /// shade), and `diffuseTransmissionColorFactor`, its colour (linear RGB).
     pub diffuse_transmission: f32,
     pub diffuse_transmission_color: Vec3,
+    /// `KHR_materials_transmission`: `transmissionFactor` (0: opaque), the share of the
+    /// light that passes through the base specularly (glass, water, thin plastic).
+    pub transmission: f32,
+    /// `KHR_materials_volume`: `thicknessFactor` (0: thin-walled; else the thickness of the
+    /// volume under the surface, in the mesh's units), `attenuationDistance` (infinite: no
+    /// absorption) and `attenuationColor`: white light has that colour after that distance.
+    pub thickness: f32,
+    pub attenuation_distance: f32,
+    pub attenuation_color: Vec3,
+    /// `KHR_materials_dispersion`: `dispersion` (0: none), 20 / the Abbe number.
+    pub dispersion: f32,
 }
 
 impl Default for PbrMaterial {
@@ -148,6 +159,11 @@ impl Default for PbrMaterial {
             anisotropy_rotation: 0.0,
             diffuse_transmission: 0.0,
             diffuse_transmission_color: Vec3::ONE,
+            transmission: 0.0,
+            thickness: 0.0,
+            attenuation_distance: f32::INFINITY,
+            attenuation_color: Vec3::ONE,
+            dispersion: 0.0,
         }
     }
 }

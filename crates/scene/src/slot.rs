@@ -68,6 +68,11 @@ pub enum Slot {
     /// `KHR_materials_diffuse_transmission` `diffuseTransmissionColorTexture`: RGB
     /// multiplies `diffuseTransmissionColorFactor`.
     DiffuseTransmissionColor,
+    /// `KHR_materials_transmission` `transmissionTexture`: R multiplies
+    /// `transmissionFactor`.
+    Transmission,
+    /// `KHR_materials_volume` `thicknessTexture`: G multiplies `thicknessFactor`.
+    Thickness,
 }
 
 /// Where [`Slot::LAYERS`] begins in [`Slot::ALL`].
@@ -99,12 +104,14 @@ const INFO: [(&str, &str, bool); Slot::ALL.len()] = [
         "diffuse_transmission_color",
         true,
     ),
+    ("transmission", "transmission", false),
+    ("thickness", "thickness", false),
 ];
 
 impl Slot {
     /// Every slot, in the order panels and reports list them: the core ones, then
     /// [`Slot::LAYERS`].
-    pub const ALL: [Slot; 19] = [
+    pub const ALL: [Slot; 21] = [
         Slot::BaseColor,
         Slot::Specular,
         Slot::Normal,
@@ -124,6 +131,8 @@ impl Slot {
         Slot::Anisotropy,
         Slot::DiffuseTransmission,
         Slot::DiffuseTransmissionColor,
+        Slot::Transmission,
+        Slot::Thickness,
     ];
 
     /// The slots of the `KHR_materials_*` extensions, which only the `pbr` mode reads (in

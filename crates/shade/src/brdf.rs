@@ -52,6 +52,19 @@ pub struct Pbr<T: Num> {
     pub anisotropy: Option<Anisotropy<T>>,
     /// The base's diffuse transmission (`KHR_materials_diffuse_transmission`), if any.
     pub translucency: Option<Translucency<T>>,
+    /// The base's specular transmission (`KHR_materials_transmission`), if any: its
+    /// diffuse terms are scaled by `1 - factor`, and the light through it is added by the
+    /// shader's `transmit` stage.
+    pub transmission: Option<Transmission<T>>,
+}
+
+/// Specular transmission (`KHR_materials_transmission`, `KHR_materials_volume`): the
+/// dielectric base's `mix(diffuse, specular_btdf x baseColor, factor)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Transmission<T: Num> {
+    pub factor: T,
+    /// The volume's thickness under the surface (mesh units; 0: thin-walled).
+    pub thickness: T,
 }
 
 /// Diffuse transmission (`KHR_materials_diffuse_transmission`): the dielectric base's
@@ -327,6 +340,9 @@ pub fn pbr<T: Shade>(
     let mut diffuse = s.kd * (dielectric * (T::ONE - T::vmax(fd)) * inv_pi * ndl);
     if let Some(tr) = &p.translucency {
         diffuse = diffuse * (T::ONE - tr.factor);
+    }
+    if let Some(t) = &p.transmission {
+        diffuse = diffuse * (T::ONE - t.factor);
     }
     // The energy lost between microfacets, given back: each lobe times 1 + F0 (1/E_ss - 1)
     // (exactly 1 when E_ss = 1).

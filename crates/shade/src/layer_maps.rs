@@ -15,6 +15,8 @@
 //! | `iridescenceThicknessTexture` | G | the film's thickness: `mix(minimum, maximum, G)` (without it, the maximum) |
 //! | `diffuseTransmissionTexture` | A | `diffuseTransmissionFactor` |
 //! | `diffuseTransmissionColorTexture` | RGB | `diffuseTransmissionColorFactor` |
+//! | `transmissionTexture` | R | `transmissionFactor` |
+//! | `thicknessTexture` | G | `thicknessFactor` |
 //! | `anisotropyTexture` | RGB | RG the direction in the tangent frame, B `anisotropyStrength` ([`LayerTexels::anisotropy`]) |
 //!
 //! The channels are the extensions' own (so one image can pack the clear coat in R and its
@@ -26,7 +28,7 @@ use crate::scene::Slot;
 use crate::simd::Num;
 
 /// How many values the extensions' textures give a point (see [`LayerTexels::values`]).
-pub const LAYER_VALUES: usize = 19;
+pub const LAYER_VALUES: usize = 21;
 
 /// Where the texel of a slot of [`Slot::LAYERS`] goes: its first channel, how many
 /// channels, and the index of the first in [`LayerTexels::values`]; `None` for the coat's
@@ -45,6 +47,8 @@ pub const fn channels(slot: Slot) -> Option<(usize, usize, usize)> {
         Slot::Anisotropy => Some((0, 3, 12)),
         Slot::DiffuseTransmission => Some((3, 1, 15)),
         Slot::DiffuseTransmissionColor => Some((0, 3, 16)),
+        Slot::Transmission => Some((0, 1, 19)),
+        Slot::Thickness => Some((1, 1, 20)),
         _ => None,
     }
 }
@@ -56,7 +60,7 @@ pub struct LayerTexels<T: Num> {
     pub mask: u8,
     /// Specular strength, specular colour (3), clear coat, its roughness, sheen colour (3),
     /// sheen roughness, iridescence, its thickness, anisotropy direction (2) and strength,
-    /// diffuse transmission and its colour (3).
+    /// diffuse transmission and its colour (3), transmission, thickness.
     pub values: [T; LAYER_VALUES],
 }
 
@@ -136,6 +140,14 @@ impl<T: Num> LayerTexels<T> {
         }
         if self.has(Slot::SpecularStrength) {
             p.f90 = p.f90 * strength;
+        }
+        if let Some(t) = &mut p.transmission {
+            if self.has(Slot::Transmission) {
+                t.factor = t.factor * v[19];
+            }
+            if self.has(Slot::Thickness) {
+                t.thickness = t.thickness * v[20];
+            }
         }
         if let Some(tr) = &mut p.translucency {
             if self.has(Slot::DiffuseTransmission) {

@@ -46,8 +46,8 @@ pub use lighting::{
     Shade, Source, Surface, SurfaceAt, IMAGE_SAMPLER, MAX_HALF_ANGLE,
 };
 pub use shaders::{
-    ColorShader, Constant, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitLayout,
-    LitShader, SlotParams, TexView, UvChannel, MAX_UV_CHANNELS,
+    Backdrop, ColorShader, Constant, CountShader, Debug, DebugShader, DepthOnly, DrawParams,
+    LitLayout, LitShader, SlotParams, TexView, UvChannel, MAX_UV_CHANNELS,
 };
 pub use shadow::{ShadowMap, ShadowSettings, MAX_SHADOW_SIZE, SHADOW_SIZE};
 

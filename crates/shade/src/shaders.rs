@@ -72,6 +72,9 @@ pub struct DrawParams {
     /// The `KHR_materials_*` extensions' textures ([`Slot::LAYERS`](crate::scene::Slot),
     /// in its order; `pbr` mode): see [`crate::layer_maps`].
     pub layer_maps: [Option<SlotParams>; LAYER_SLOTS],
+    /// The per-axis scale of the instance's world matrix (`KHR_materials_volume`'s
+    /// thickness is in the mesh's units).
+    pub model_scale: Vec3,
     /// `KHR_materials_unlit` in the `pbr` mode: the base colour is the colour.
     pub unlit: bool,
     /// The lit surface or a debug view.
@@ -128,6 +131,17 @@ impl DrawParams {
     #[must_use]
     pub fn layer_map(&self, slot: crate::scene::Slot) -> Option<&SlotParams> {
         self.layer_maps.get(slot.layer_index()?)?.as_ref()
+    }
+
+    /// Whether the draw transmits light (`KHR_materials_transmission` in the lit `pbr`
+    /// mode): drawn after the opaque surfaces, it reads them through the frame's
+    /// [`Backdrop`].
+    #[inline(always)]
+    #[must_use]
+    pub fn transmits(&self) -> bool {
+        self.view == TexView::Lit
+            && !self.unlit
+            && self.surface.pbr.is_some_and(|p| p.transmission > 0.0)
     }
 
     /// The extensions' slots the draw reads: bit `i` for `Slot::LAYERS[i]`.
@@ -370,6 +384,17 @@ pub struct LitShader<'a> {
     /// one sample per pixel, 1/n for a pass of an n x n supersampled frame (whose samples
     /// are 1/n pixel apart, as if rendered n times larger).
     pub lod_scale: f32,
+    /// The opaque frame the transmissive draws see through, when the frame has any.
+    pub backdrop: Option<&'a Backdrop>,
+}
+
+/// What a transmissive surface (`KHR_materials_transmission`) sees through: the frame's
+/// opaque surfaces and background in linear light, with mips (the rougher the surface, the
+/// blurrier the level read), and the world -> clip transform they were drawn with.
+#[derive(Debug)]
+pub struct Backdrop {
+    pub image: std::sync::Arc<crate::texture::Texture>,
+    pub view_proj: glam::Mat4,
 }
 
 impl FragmentShader for LitShader<'_> {

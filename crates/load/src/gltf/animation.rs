@@ -127,6 +127,17 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
             };
             Ok(Pointed::Material(index(m)?, property))
         }
+        ["", "materials", m, "extensions", ext @ ("KHR_materials_transmission" | "KHR_materials_volume" | "KHR_materials_dispersion"), field] => {
+            let property = match (*ext, *field) {
+                ("KHR_materials_transmission", "transmissionFactor") => Property::TransmissionFactor,
+                ("KHR_materials_volume", "thicknessFactor") => Property::ThicknessFactor,
+                ("KHR_materials_volume", "attenuationDistance") => Property::AttenuationDistance,
+                ("KHR_materials_volume", "attenuationColor") => Property::AttenuationColor,
+                ("KHR_materials_dispersion", "dispersion") => Property::Dispersion,
+                _ => return Err(format!("pointer '{pointer}' is not supported")),
+            };
+            Ok(Pointed::Material(index(m)?, property))
+        }
         ["", "materials", m, "extensions", "KHR_materials_sheen", field] => {
             let property = match *field {
                 "sheenColorFactor" => Property::SheenColor,
@@ -168,7 +179,7 @@ fn pointed(pointer: &str) -> Result<Pointed, String> {
             Ok(Pointed::Light(index(l)?, property))
         }
         ["", "cameras", c, "perspective", "yfov"] => Ok(Pointed::Camera(index(c)?, Property::CameraYfov)),
-        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights, the materials' base colour, emissive, metallic, roughness, emissive strength, clear coat, sheen, iridescence, anisotropy and diffuse transmission factors and texture transforms, the lights' colour, intensity and cone angles and the cameras' yfov)")),
+        _ => Err(format!("pointer '{pointer}' is not supported (realist animates node transforms and weights, the materials' base colour, emissive, metallic, roughness, emissive strength, clear coat, sheen, iridescence, anisotropy, diffuse transmission, transmission, volume and dispersion factors and texture transforms, the lights' colour, intensity and cone angles and the cameras' yfov)")),
     }
 }
 

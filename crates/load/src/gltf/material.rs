@@ -41,6 +41,9 @@ pub const SHEEN: &str = "KHR_materials_sheen";
 pub const IRIDESCENCE: &str = "KHR_materials_iridescence";
 pub const ANISOTROPY: &str = "KHR_materials_anisotropy";
 pub const DIFFUSE_TRANSMISSION: &str = "KHR_materials_diffuse_transmission";
+pub const TRANSMISSION: &str = "KHR_materials_transmission";
+pub const VOLUME: &str = "KHR_materials_volume";
+pub const DISPERSION: &str = "KHR_materials_dispersion";
 
 /// A colour field (three non-negative finite numbers) of an extension object: `default`
 /// when absent or unusable (with the problem in `notes`).
@@ -168,6 +171,27 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
                 p.diffuse_transmission_color =
                     ext_color(obj, "diffuseTransmissionColorFactor", Vec3::ONE, notes);
             }
+            TRANSMISSION => {
+                p.transmission = ext_number(obj, "transmissionFactor", 0.0, 0.0, 1.0, notes);
+            }
+            VOLUME => {
+                p.thickness = ext_number(obj, "thicknessFactor", 0.0, 0.0, f32::MAX, notes);
+                p.attenuation_distance = match obj.get("attenuationDistance") {
+                    None => f32::INFINITY,
+                    Some(_) => ext_number(
+                        obj,
+                        "attenuationDistance",
+                        f32::INFINITY,
+                        f32::MIN_POSITIVE,
+                        f32::MAX,
+                        notes,
+                    ),
+                };
+                p.attenuation_color = ext_color(obj, "attenuationColor", Vec3::ONE, notes);
+            }
+            DISPERSION => {
+                p.dispersion = ext_number(obj, "dispersion", 0.0, 0.0, f32::MAX, notes);
+            }
             other => notes.push(format!("material extension {other} ignored")),
         }
     }
@@ -175,7 +199,7 @@ fn pbr_material(ext: Option<&Map<String, Value>>, notes: &mut Vec<String>) -> Pb
 }
 
 /// The extensions' texture slots: (extension, textureInfo key, slot).
-const LAYER_TEXTURES: [(&str, &str, Slot); 12] = [
+const LAYER_TEXTURES: [(&str, &str, Slot); 14] = [
     (SPECULAR, "specularTexture", Slot::SpecularStrength),
     (SPECULAR, "specularColorTexture", Slot::SpecularColor),
     (CLEARCOAT, "clearcoatTexture", Slot::Clearcoat),
@@ -204,6 +228,8 @@ const LAYER_TEXTURES: [(&str, &str, Slot); 12] = [
         "diffuseTransmissionColorTexture",
         Slot::DiffuseTransmissionColor,
     ),
+    (TRANSMISSION, "transmissionTexture", Slot::Transmission),
+    (VOLUME, "thicknessTexture", Slot::Thickness),
 ];
 
 /// The slot of textureInfo `key` of material extension `ext`, if realist reads it.

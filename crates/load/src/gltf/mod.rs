@@ -501,7 +501,7 @@ const QUANTIZATION: &str = "KHR_mesh_quantization";
 /// material extensions of [`material`], material variants ([`variants`]), animation
 /// pointers ([`animation`]), and the compressed forms of geometry ([`meshopt`],
 /// [`draco`]) and images (`KHR_texture_basisu`, `EXT_texture_webp`).
-const SUPPORTED: [&str; 20] = [
+const SUPPORTED: [&str; 23] = [
     QUANTIZATION,
     meshopt::EXT,
     meshopt::KHR,
@@ -519,6 +519,9 @@ const SUPPORTED: [&str; 20] = [
     material::IRIDESCENCE,
     material::ANISOTROPY,
     material::DIFFUSE_TRANSMISSION,
+    material::TRANSMISSION,
+    material::VOLUME,
+    material::DISPERSION,
     variants::EXTENSION,
     animation::POINTER,
     instancing::EXTENSION,

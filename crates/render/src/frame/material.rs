@@ -278,6 +278,11 @@ pub(crate) fn resolve(
         bump,
         metal_rough,
         layer_maps,
+        model_scale: glam::Vec3::new(
+            inst.world.x_axis.truncate().length(),
+            inst.world.y_axis.truncate().length(),
+            inst.world.z_axis.truncate().length(),
+        ),
         unlit: policy.unlit,
         view,
         measure,

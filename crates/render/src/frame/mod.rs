@@ -75,6 +75,11 @@ pub(super) struct FrameData {
     pub line_width: f32,
     /// The section caps' colour (linear RGBA), when planes cut and caps are on.
     pub cap: Option<Vec4>,
+    /// World -> clip of the frame (without a supersampling pass's jitter).
+    pub view_proj: Mat4,
+    /// The opaque surfaces the transmissive ones see through, made by the pass that draws
+    /// them (`KHR_materials_transmission`).
+    pub backdrop: Option<crate::shade::Backdrop>,
 }
 
 /// Calls `f` with every light of the frame and the matrix that moves it into the world
@@ -188,6 +193,32 @@ pub fn pbr_surface(m: &Material) -> Surface {
                     1.3
                 },
                 anisotropy: layer(p.anisotropy),
+                transmission: layer(p.transmission),
+                thickness: if p.thickness.is_finite() {
+                    p.thickness.max(0.0)
+                } else {
+                    0.0
+                },
+                attenuation_distance: if p.attenuation_distance > 0.0 {
+                    p.attenuation_distance
+                } else {
+                    f32::INFINITY
+                },
+                attenuation_color: if p.attenuation_color.is_finite() {
+                    p.attenuation_color.clamp(Vec3::ZERO, Vec3::ONE)
+                } else {
+                    Vec3::ONE
+                },
+                dispersion: if p.dispersion.is_finite() {
+                    p.dispersion.max(0.0)
+                } else {
+                    0.0
+                },
+                ior: if p.ior.is_finite() {
+                    p.ior.max(0.0)
+                } else {
+                    1.5
+                },
                 diffuse_transmission: layer(p.diffuse_transmission),
                 diffuse_transmission_color: if p.diffuse_transmission_color.is_finite() {
                     p.diffuse_transmission_color.clamp(Vec3::ZERO, Vec3::ONE)
@@ -385,6 +416,8 @@ pub(super) fn set_up(
         .map(|c| c.clamp(Vec3::ZERO, Vec3::ONE).extend(1.0));
     fd.point_size = settings.point_size;
     fd.line_width = settings.line_width;
+    fd.view_proj = vp;
+    fd.backdrop = None;
     let shadows = settings.output == Output::Shaded && fd.lights.sources.iter().any(|s| s.casts);
     fd.casters.clear();
     fd.insts.clear();

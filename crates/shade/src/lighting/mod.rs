@@ -290,6 +290,15 @@ pub struct PbrParams {
     /// `KHR_materials_diffuse_transmission`'s factor (0: none) and colour.
     pub diffuse_transmission: f32,
     pub diffuse_transmission_color: Vec3,
+    /// `KHR_materials_transmission`'s factor (0: none); `KHR_materials_volume`'s
+    /// thickness (0: thin-walled), attenuation distance (infinite: none) and colour;
+    /// `KHR_materials_dispersion`'s dispersion; the dielectric's IOR.
+    pub transmission: f32,
+    pub thickness: f32,
+    pub attenuation_distance: f32,
+    pub attenuation_color: Vec3,
+    pub dispersion: f32,
+    pub ior: f32,
 }
 
 impl Default for PbrParams {
@@ -311,6 +320,12 @@ impl Default for PbrParams {
             anisotropy_rotation: 0.0,
             diffuse_transmission: 0.0,
             diffuse_transmission_color: Vec3::ONE,
+            transmission: 0.0,
+            thickness: 0.0,
+            attenuation_distance: f32::INFINITY,
+            attenuation_color: Vec3::ONE,
+            dispersion: 0.0,
+            ior: 1.5,
         }
     }
 }
@@ -376,6 +391,14 @@ impl Surface {
                     },
                     // Set where the point has a tangent frame.
                     anisotropy: None,
+                    transmission: if p.transmission > 0.0 {
+                        Some(brdf::Transmission {
+                            factor: T::of(p.transmission),
+                            thickness: T::of(p.thickness),
+                        })
+                    } else {
+                        None
+                    },
                     translucency: if p.diffuse_transmission > 0.0 {
                         Some(brdf::Translucency {
                             factor: T::of(p.diffuse_transmission),

@@ -334,6 +334,11 @@ fn ambient_terms<T: Shade>(set: &LightSet, s: &mut SurfaceAt<T>, n: T::V, v: T::
     let left = T::splat(T::ONE) - d_ss - d_ms;
     let dielectric = T::ONE - p.metallic;
     let mut diffuse = kd * left * irradiance * dielectric;
+    // A transmissive base: the diffuse term gives way to the light through it (the
+    // shader's `transmit` stage).
+    if let Some(t) = &p.transmission {
+        diffuse = diffuse * (T::ONE - t.factor);
+    }
     // A translucent base: `mix(base colour x irradiance, colour x the irradiance behind)`.
     if let Some(tr) = &p.translucency {
         let behind = match &set.env {

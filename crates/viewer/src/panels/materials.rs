@@ -230,6 +230,60 @@ fn pbr_rows(ui: &mut egui::Ui, m: &mut Material) -> bool {
         "material diffuse transmission colour",
     );
     ui.end_row();
+    ui.label("transmission").on_hover_text(
+        "KHR_materials_transmission: the share of the light that passes through (glass, water); 0 for none",
+    );
+    changed |= edit::slider(
+        ui,
+        &mut p.transmission,
+        0.0..=1.0,
+        false,
+        "material transmission",
+    );
+    ui.end_row();
+    ui.label("thickness").on_hover_text(
+        "KHR_materials_volume: the volume's thickness under the surface, in the model's units; 0: thin-walled",
+    );
+    changed |= edit::drag(
+        ui,
+        &mut p.thickness,
+        0.0..=1000.0,
+        0.01,
+        "material thickness",
+    );
+    ui.end_row();
+    ui.label("attenuation distance").on_hover_text(
+        "KHR_materials_volume: the distance after which white light has the attenuation colour; 0 or less: none",
+    );
+    let mut d = if p.attenuation_distance.is_finite() {
+        p.attenuation_distance
+    } else {
+        0.0
+    };
+    if edit::drag(
+        ui,
+        &mut d,
+        0.0..=1000.0,
+        0.01,
+        "material attenuation distance",
+    ) {
+        p.attenuation_distance = if d > 0.0 { d } else { f32::INFINITY };
+        changed = true;
+    }
+    ui.end_row();
+    ui.label("attenuation colour");
+    changed |= edit::colour(ui, &mut p.attenuation_color, "material attenuation colour");
+    ui.end_row();
+    ui.label("dispersion")
+        .on_hover_text("KHR_materials_dispersion: 20 / the Abbe number; 0 for none");
+    changed |= edit::drag(
+        ui,
+        &mut p.dispersion,
+        0.0..=100.0,
+        0.05,
+        "material dispersion",
+    );
+    ui.end_row();
     ui.label("unlit");
     changed |= ui
         .checkbox(
