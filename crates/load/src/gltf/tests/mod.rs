@@ -542,7 +542,7 @@ fn material_extensions_and_their_textures_or_why_not() {
     let tri = d.floats(&TRI, "VEC3");
     let uv = d.u8s(&[0, 0, 255, 0, 0, 255], "VEC2", true);
     let text = d.finish(json!({
-        "extensionsUsed": ["KHR_materials_iridescence", "KHR_materials_anisotropy",
+        "extensionsUsed": ["KHR_materials_iridescence", "KHR_materials_anisotropy", "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_dispersion",
                            "KHR_materials_diffuse_transmission", "KHR_materials_clearcoat",
                            "KHR_materials_sheen", "KHR_materials_specular"],
         "meshes": [{"primitives": [
@@ -564,14 +564,20 @@ fn material_extensions_and_their_textures_or_why_not() {
                     "clearcoatNormalTexture": {"index": 0, "scale": 0.5}},
                 "KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1], "sheenRoughnessTexture": {"index": 0}},
                 "KHR_materials_specular": {"specularColorTexture": {"index": 0,
-                    "extensions": {"KHR_texture_transform": {"offset": [0.5, 0]}}}}
+                    "extensions": {"KHR_texture_transform": {"offset": [0.5, 0]}}}},
+                "KHR_materials_transmission": {"transmissionFactor": 0.9, "transmissionTexture": {"index": 0}},
+                "KHR_materials_volume": {"thicknessFactor": 0.3, "attenuationDistance": 2,
+                    "attenuationColor": [0.5, 0.25, 1], "thicknessTexture": {"index": 0}},
+                "KHR_materials_dispersion": {"dispersion": 1.5}
             }},
             {"extensions": {
                 "KHR_materials_iridescence": {"iridescenceFactor": 2, "iridescenceIor": 0.5},
                 "KHR_materials_anisotropy": {"anisotropyStrength": "strong"},
                 "KHR_materials_clearcoat": {"clearcoatTexture": {"index": "zero"},
                     "clearcoatRoughnessTexture": {"index": 7}},
-                "KHR_materials_diffuse_transmission": {"diffuseTransmissionColorFactor": [1, -1, 0]}
+                "KHR_materials_diffuse_transmission": {"diffuseTransmissionColorFactor": [1, -1, 0]},
+                "KHR_materials_volume": {"attenuationDistance": 0},
+                "KHR_materials_dispersion": {"dispersion": -1}
             }}
         ],
         "textures": [{"source": 0}],
@@ -601,6 +607,17 @@ fn material_extensions_and_their_textures_or_why_not() {
     ] {
         assert!(m.slot(slot).is_some(), "{slot:?}");
     }
+    assert_eq!(
+        (
+            p.transmission,
+            p.thickness,
+            p.attenuation_distance,
+            p.dispersion
+        ),
+        (0.9, 0.3, 2.0, 1.5)
+    );
+    assert_eq!(p.attenuation_color, Vec3::new(0.5, 0.25, 1.0));
+    assert!(m.slot(Slot::Transmission).is_some() && m.slot(Slot::Thickness).is_some());
     assert_eq!(m.slot(Slot::ClearcoatNormal).unwrap().scale, 0.5);
     assert_eq!(
         m.slot(Slot::SpecularColor).unwrap().transform.offset,
@@ -621,6 +638,7 @@ fn material_extensions_and_their_textures_or_why_not() {
         (0.0, 1.3, 0.0)
     );
     assert_eq!(p.diffuse_transmission_color, Vec3::ONE);
+    assert_eq!((p.attenuation_distance, p.dispersion), (f32::INFINITY, 0.0));
     let w = scene.report.warnings.join("\n");
     for needle in [
         "iridescenceFactor 2 is not a number in 0..=1",
@@ -629,6 +647,8 @@ fn material_extensions_and_their_textures_or_why_not() {
         "clearcoatTexture {\"index\":\"zero\"} is not a textureInfo",
         "clear-coat roughness texture: texture 7 does not exist",
         "diffuseTransmissionColorFactor [1,-1,0] is not three non-negative numbers",
+        "attenuationDistance 0 is not a number in",
+        "dispersion -1 is not a number in 0..=",
     ] {
         assert!(w.contains(needle), "{needle} not in:\n{w}");
     }
