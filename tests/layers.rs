@@ -1032,3 +1032,71 @@ fn transmission_absorbs_by_beers_law() {
         assert!(worst < 1e-5, "{kernel:?}: {worst}");
     }
 }
+
+#[test]
+fn dispersion_refracts_each_channel_at_its_own_ior() {
+    // dispersion.glb: a slab (transmission 1, IOR 1.5, no Fresnel, thickness 0.5,
+    // dispersion 10: the channels refract at IOR 1.5 ∓ (1.5 - 1) 0.025 10, that is 1.375,
+    // 1.5 and 1.625) before an unlit ramp at z = -1 that goes linearly from 0 at x = -2 to 1
+    // at x = 2. Seen from aside, each channel of a pixel of the slab shows the ramp where its
+    // own refracted ray leaves the volume (the point at thickness along it, as three.js and
+    // the sample viewer take it), seen from the eye. Evaluated here in f64: the refraction
+    // (Snell's law), the exit point's place on the screen, the ramp behind it.
+    let scene = model("dispersion.glb");
+    let eye = DVec3::new(1.2, 0.3, 2.0);
+    let v = View {
+        camera: Camera {
+            eye: eye.as_vec3(),
+            target: Vec3::ZERO,
+            yfov: 0.6,
+            near: 0.5,
+            far: 10.0,
+            ..view().camera
+        },
+        ..view()
+    };
+    let s = settings(vec![]);
+    let fb = render_with(&scene, &s, &v);
+    let prepared = PreparedScene::new(scene.clone());
+    let vp = (v.camera.projection(1.0) * v.camera.view()).as_dmat4();
+    let inv = vp.inverse();
+    let (mut worst, mut count, mut spread) = (0.0f64, 0, 0.0f64);
+    for y in (8..SIZE - 8).step_by(3) {
+        for x in (8..SIZE - 8).step_by(3) {
+            // The slab's pixels, away from its edges.
+            let Some(hit) = probe(&prepared, &s, &v, x, y) else {
+                continue;
+            };
+            let p = hit.position.as_dvec3();
+            if hit.instance != 1 || p.x.abs() > 0.45 || p.y.abs() > 0.45 {
+                continue;
+            }
+            let view_dir = (eye - p).normalize();
+            let mut want = [0.0; 3];
+            for (k, w) in want.iter_mut().enumerate() {
+                let ior = 1.5 + 0.125 * (k as f64 - 1.0);
+                // Snell: the ray -v into the surface (normal +Z) with eta = 1 / ior.
+                let (i, n, eta) = (-view_dir, DVec3::Z, 1.0 / ior);
+                let c = -n.dot(i);
+                let t = i * eta + n * (eta * c - (1.0 - eta * eta * (1.0 - c * c)).sqrt());
+                let exit = p + t.normalize() * 0.5;
+                // Where the exit point is on the screen, and what the eye sees there: the
+                // ramp at z = -1.
+                let ndc = vp.project_point3(exit);
+                let far = inv.project_point3(ndc.truncate().extend(0.5));
+                let dir = (far - eye).normalize();
+                let along = (-1.0 - eye.z) / dir.z;
+                let x_on_ramp = eye.x + dir.x * along;
+                *w = ((x_on_ramp + 2.0) / 4.0).clamp(0.0, 1.0);
+            }
+            let got = pixel(&fb, x, y);
+            worst = worst.max((got - DVec3::from(want)).abs().max_element());
+            spread = spread.max((want[0] - want[2]).abs());
+            count += 1;
+        }
+    }
+    eprintln!("{count} pixels: within {worst:.2e} of the ramp behind each channel's exit; red and blue {spread:.3} apart");
+    assert!(count > 200, "{count}");
+    assert!(spread > 0.01, "{spread}");
+    assert!(worst < 1e-4, "{worst}");
+}

@@ -8,7 +8,7 @@
 // lights-punctual.glb, variants.glb, pointer.glb, instanced.glb, clearcoat.glb,
 // clearcoat-only.glb, sheen.glb, sheen-only.glb, layer-textures.glb, layer-factors.glb,
 // coat-normal.glb, iridescence.glb, anisotropy.glb, anisotropy-texture.glb, translucency.glb,
-// transmission-slab.glb and transmission.glb.
+// transmission-slab.glb, transmission.glb and dispersion.glb.
 // Every piece of
 // geometry and the PNG are built here; glTF-Transform only writes the files. Nothing depends
 // on the clock or on randomness, so running it twice gives the same bytes.
@@ -685,6 +685,33 @@ async function transmissionFiles() {
     place(doc, "behind", meshWith(doc, "behind", sphere, behind), [0.3, 0.2, -1.2]);
     sphere.dispose();
     await write(doc, "transmission.glb");
+  }
+  {
+    // dispersion.glb: a dispersive slab before a ramp. "ramp": the 1 x 1 quad of unlit.glb
+    // with COLOR_0 black on the left and white on the right, KHR_materials_unlit (its
+    // colour is the vertex colour), scaled (4, 2, 1) and moved to z = -1: linear from 0 at
+    // x = -2 to 1 at x = 2. "prism": the 1 x 1 quad at the origin, white, roughness 0,
+    // transmission 1, IOR 1.5, specularFactor 0 (no Fresnel), thickness 0.5,
+    // KHR_materials_dispersion 10 (the channels refract at 1.375, 1.5, 1.625).
+    const doc = newDocument();
+    const ramp = doc
+      .createMaterial("ramp")
+      .setBaseColorFactor([1, 1, 1, 1])
+      .setExtension("KHR_materials_unlit", doc.createExtension(KHRMaterialsUnlit).createUnlit());
+    const [L, R] = [[0, 0, 0], [1, 1, 1]];
+    const rampNode = place(doc, "ramp", doc.createMesh("ramp").addPrimitive(quadPrimitive(doc, { colors: [L, L, R, R] }).setMaterial(ramp)), [0, 0, -1]);
+    rampNode.setScale([4, 2, 1]);
+    const prism = doc
+      .createMaterial("prism")
+      .setBaseColorFactor([1, 1, 1, 1])
+      .setMetallicFactor(0)
+      .setRoughnessFactor(0)
+      .setExtension("KHR_materials_transmission", doc.createExtension(KHRMaterialsTransmission).createTransmission().setTransmissionFactor(1))
+      .setExtension("KHR_materials_specular", doc.createExtension(KHRMaterialsSpecular).createSpecular().setSpecularFactor(0))
+      .setExtension("KHR_materials_volume", doc.createExtension(KHRMaterialsVolume).createVolume().setThicknessFactor(0.5))
+      .setExtension("KHR_materials_dispersion", doc.createExtension(KHRMaterialsDispersion).createDispersion().setDispersion(10));
+    place(doc, "prism", doc.createMesh("prism").addPrimitive(quadPrimitive(doc, { uv: true }).setMaterial(prism)), [0, 0, 0]);
+    await write(doc, "dispersion.glb");
   }
 }
 

@@ -9,7 +9,8 @@
 #    unknown-extension.glb, no-material.glb, lights-punctual.glb, variants.glb, pointer.glb,
 #    instanced.glb, clearcoat.glb, clearcoat-only.glb, sheen.glb, sheen-only.glb,
 #    layer-textures.glb, layer-factors.glb, coat-normal.glb, iridescence.glb, anisotropy.glb
-#    anisotropy-texture.glb, translucency.glb, transmission-slab.glb and transmission.glb; all
+#    anisotropy-texture.glb, translucency.glb, transmission-slab.glb, transmission.glb and
+#    dispersion.glb; all
 #    geometry and the PNGs are
 #    computed in make.mjs itself (no
 #    cargo build, no other input);

@@ -63,6 +63,10 @@ const EXPECTED = new Map([
     [["slab", ["KHR_materials_ior", "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume"]]],
   ],
   [
+    "dispersion.glb",
+    [["ramp", ["KHR_materials_unlit"]], ["prism", ["KHR_materials_dispersion", "KHR_materials_specular", "KHR_materials_transmission", "KHR_materials_volume"]]],
+  ],
+  [
     "transmission.glb",
     [["glass", ["KHR_materials_dispersion", "KHR_materials_transmission", "KHR_materials_volume"]], ["behind", []]],
   ],
