@@ -644,3 +644,56 @@ fn transmission_against_three_js() {
     assert!(elsewhere <= 4, "{elsewhere}");
     assert!(on_glass <= 8 && over <= 20, "{on_glass} {over}");
 }
+
+#[test]
+fn a_slab_and_dispersion_against_three_js() {
+    // transmission-slab.glb (transmission 1, IOR 1, no Fresnel, 0.5 thick, absorbing) and
+    // dispersion.glb (a slab of IOR 1.5 with dispersion 10 before a linear ramp), seen from
+    // aside on a background of (0.6, 0.5, 0.4) in sRGB: tests/layers.rs checks both against
+    // f64; three draws them alike, within 4 levels on the slab away from its edges.
+    let bg = [0.6f32, 0.5, 0.4].map(realist::color::srgb_to_linear);
+    let v = View {
+        camera: Camera {
+            eye: Vec3::new(1.2, 0.3, 2.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            yfov: 0.6,
+            near: 0.5,
+            far: 10.0,
+            ..Camera::default()
+        },
+        width: 129,
+        height: 129,
+    };
+    for m in ["transmission-slab", "dispersion"] {
+        let three = reference(&format!("{m}-aside.png"));
+        let scene = load_model(&format!("models/pbr/{m}.glb"));
+        // The slab is the last instance.
+        let slab = scene.instances.len() - 1;
+        let prepared = PreparedScene::new(scene);
+        let s = Settings {
+            background: Vec4::new(bg[0], bg[1], bg[2], 1.0),
+            ..settings(false, 1.0, SURROUND)
+        };
+        let mut r = Renderer::new();
+        r.render(&prepared, &s, &v);
+        let ours = rgb8(&r.take_target().expect("a frame").resolve());
+        // The slab's pixels two in from its edges.
+        let on = |x: i64, y: i64| {
+            (0..129).contains(&x)
+                && (0..129).contains(&y)
+                && probe(&prepared, &s, &v, x as u32, y as u32).is_some_and(|h| h.instance == slab)
+        };
+        let (mut worst, mut n) = (0u8, 0);
+        for (x, y, p) in ours.enumerate_pixels() {
+            let (xi, yi) = (i64::from(x), i64::from(y));
+            if (-2..=2).all(|dy| (-2..=2).all(|dx| on(xi + dx, yi + dy))) {
+                worst = worst.max(levels(p.0, three.get_pixel(x, y).0));
+                n += 1;
+            }
+        }
+        eprintln!("realist vs three.js r187, {m}: max {worst} levels over {n} pixels of the slab");
+        assert!(n > 2000, "{m}: {n}");
+        assert!(worst <= 4, "{m}: {worst}");
+    }
+}

@@ -60,3 +60,11 @@ node render.mjs --quiet --model ../../models/pbr/transmission.glb --out refs/tra
   --size 256x256 --eye 0,0,2 --target 0,0,0 --yfov 45 --light directional:0,0,-1:1 \
   --env uniform:0.25 --tone none --background 0.3,0.3,0.3
 echo "wrote tests/threejs/refs/transmission-headon.png"
+# A transmissive slab (Beer's law) and a dispersive one before a ramp, seen from aside:
+# (1.2, 0.3, 2) towards the origin, 0.6 rad, on a background of (0.6, 0.5, 0.4) in sRGB.
+for m in transmission-slab dispersion; do
+  node render.mjs --quiet --model ../../models/pbr/$m.glb --out refs/$m-aside.png \
+    --size 129x129 --eye 1.2,0.3,2 --target 0,0,0 --yfov 34.37746770784939 \
+    --light directional:0,0,-1:1 --env uniform:0.25 --tone none --background 0.6,0.5,0.4
+  echo "wrote tests/threejs/refs/$m-aside.png"
+done
