@@ -278,9 +278,8 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     }
     let fdr = &*fd;
     // The transmissive surfaces wait for the opaque ones they see through.
-    let transmits = |fi: &FrameInst| fdr.params[fi.param as usize].transmits();
     if !solid(cx, fdr, &|_, fi| {
-        !fi.blend && fi.mode.mode().pass != Pass::Edges && fi.tris && !transmits(fi)
+        !fi.blend && fi.mode.mode().pass != Pass::Edges && fi.tris && !transmissive(fdr, fi)
     }) {
         return false;
     }
@@ -290,22 +289,21 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     let wire = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass == Pass::Edges;
     let mut depth = std::mem::take(&mut fd.depth);
     let mut done = wireframe(cx, fd, &wire, false, &mut depth);
-    if done && overlay {
-        let shaded = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass != Pass::Edges;
-        done = wireframe(cx, fd, &shaded, true, &mut depth);
-    }
     fd.depth = depth;
-    let fdr = &*fd;
     if done {
-        done = strokes(cx, fdr);
+        done = strokes(cx, fd);
     }
-    let transmissive = |fd: &FrameData, fi: &FrameInst| {
-        !fi.blend && fi.tris && fd.params[fi.param as usize].transmits()
-    };
     if done && fd.insts.iter().any(|fi| transmissive(fd, fi)) {
         fd.backdrop = backdrop(cx, fd);
         let fdr = &*fd;
         done = solid(cx, fdr, &|_, fi| transmissive(fdr, fi));
+    }
+    // The wireframe over the shaded surfaces, the transmissive ones included.
+    if done && overlay {
+        let shaded = |_: usize, fi: &FrameInst| !fi.blend && fi.mode.mode().pass != Pass::Edges;
+        let mut depth = std::mem::take(&mut fd.depth);
+        done = wireframe(cx, fd, &shaded, true, &mut depth);
+        fd.depth = depth;
     }
     let fdr = &*fd;
     cx.sort = true;
@@ -317,6 +315,12 @@ pub(super) fn frame(cx: &mut Cx, fd: &mut FrameData, overdraw: bool, overlay: bo
     }
     cx.sort = false;
     done
+}
+
+/// Whether `fi` is drawn in the transmissive pass (`DrawParams::transmits`), after the
+/// opaque surfaces it sees through.
+fn transmissive(fd: &FrameData, fi: &FrameInst) -> bool {
+    !fi.blend && fi.tris && fd.params[fi.param as usize].transmits()
 }
 
 /// What the frame's transmissive surfaces see through: the target's colour so far (the

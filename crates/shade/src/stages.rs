@@ -448,7 +448,7 @@ fn coat_normal(d: &DrawParams) -> bool {
 /// of the Phong modes (its surface has no `pbr` part: said statically, the compiler leaves
 /// the BRDF's code out of the caller).
 #[inline(always)]
-fn surface<L: Level, const PBR: bool>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<L>> {
+fn surface<L: Level, const PBR: bool>(d: &DrawParams, r: &Regs, mask: u8) -> SurfaceAt<F8<L>> {
     let mut s = d
         .surface
         .at::<F8<L>>(V3::new(r.base[0].get(), r.base[1].get(), r.base[2].get()));
@@ -460,20 +460,20 @@ fn surface<L: Level, const PBR: bool>(d: &DrawParams, r: &Regs) -> SurfaceAt<F8<
     s.emitted = (d.emissive != Vec3::ZERO).then(|| V3::get(&r.emitted));
     // Everything else is the `pbr` mode's: one test for the others.
     if let (Some(p), Some(params)) = (&mut s.pbr, &d.surface.pbr) {
-        pbr_at(d, params, r, p);
+        pbr_at(d, params, r, p, mask);
     }
     s
 }
 
 /// The `pbr` parameters of draw `d` at the lanes of `r`: the metallic-roughness texture,
-/// the extensions' textures, the anisotropy's frame, the coat's normal.
+/// the extensions' textures (`mask`: [`DrawParams::layer_mask`], taken once per stage), the
+/// anisotropy's frame, the coat's normal.
 #[inline(always)]
-fn pbr_at<L: Level>(d: &DrawParams, params: &PbrParams, r: &Regs, p: &mut Pbr<F8<L>>) {
+fn pbr_at<L: Level>(d: &DrawParams, params: &PbrParams, r: &Regs, p: &mut Pbr<F8<L>>, mask: u8) {
     if d.metal_rough.is_some() {
         p.roughness *= r.rough.get();
         p.metallic *= r.metal.get();
     }
-    let mask = d.layer_mask();
     if mask != 0 {
         let mut t = LayerTexels::<F8<L>> {
             mask,
@@ -521,6 +521,7 @@ crate::simd::per_kernel! {
 #[inline(always)]
 fn ambient_groups<L: Level, const PBR: bool>(b: &mut Batch, regs: &mut [Regs], cx: &Cx<'_>) {
     let eye = V3::<L>::splat(cx.s.eye);
+    let mask = cx.d.layer_mask();
     for (g, r) in regs.iter_mut().enumerate() {
         let mut n = V3::<L>::get(&r.n);
         if !b.front {
@@ -530,7 +531,7 @@ fn ambient_groups<L: Level, const PBR: bool>(b: &mut Batch, regs: &mut [Regs], c
                 (-V3::<L>::get(&r.nc)).set(&mut r.nc);
             }
         }
-        let mut s = surface::<L, PBR>(cx.d, r);
+        let mut s = surface::<L, PBR>(cx.d, r, mask);
         let v = view_vector(&s, position(b, g), eye);
         v.set(&mut r.v);
         let mut c = ambient_at(cx.s.lights, &mut s, n, v);
@@ -574,9 +575,9 @@ fn light_groups<L: Level, const PBR: bool>(
     cx: &Cx<'_>,
     src: &crate::lighting::Source,
 ) {
-    let (set, blinn) = (cx.s.lights, cx.d.blinn);
+    let (set, blinn, mask) = (cx.s.lights, cx.d.blinn, cx.d.layer_mask());
     for (g, r) in regs.iter_mut().enumerate() {
-        let mut s = surface::<L, PBR>(cx.d, r);
+        let mut s = surface::<L, PBR>(cx.d, r, mask);
         if let Some(p) = &mut s.pbr {
             p.ess = r.ess.get();
             if let Some(y) = &mut p.layers {
@@ -601,8 +602,9 @@ crate::simd::per_kernel! {
         let (Some(backdrop), Some(params)) = (cx.s.backdrop, &cx.d.surface.pbr) else {
             return;
         };
+        let mask = cx.d.layer_mask();
         for (g, r) in regs.iter_mut().enumerate() {
-            let s = surface::<L, true>(cx.d, r);
+            let s = surface::<L, true>(cx.d, r, mask);
             let (Some(p), n, v) = (&s.pbr, V3::get(&r.n), V3::get(&r.v)) else {
                 continue;
             };

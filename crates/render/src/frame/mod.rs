@@ -153,100 +153,61 @@ pub fn material_surface(m: &Material) -> Surface {
 /// `phong_from_pbr` in the glTF loader).
 #[must_use]
 pub fn pbr_surface(m: &Material) -> Surface {
-    let unit = |v: f32| {
+    // A factor in [0, 1], `default` if not finite; a number at least `lo`, likewise; a
+    // colour in [0, 1] per channel, likewise.
+    let unit = |v: f32, default: f32| {
         if v.is_finite() {
             v.clamp(0.0, 1.0)
         } else {
-            1.0
+            default
+        }
+    };
+    let at_least = |v: f32, lo: f32, default: f32| if v.is_finite() { v.max(lo) } else { default };
+    let colour = |c: Vec3, default: Vec3| {
+        if c.is_finite() {
+            c.clamp(Vec3::ZERO, Vec3::ONE)
+        } else {
+            default
         }
     };
     let params = match &m.pbr {
         Some(p) => {
             let (f0, f90) = p.dielectric_fresnel();
             // The layers' factors: 0 (no layer) if not finite.
-            let layer = |v: f32| {
-                if v.is_finite() {
-                    v.clamp(0.0, 1.0)
-                } else {
-                    0.0
-                }
-            };
-            let sheen = if p.sheen_color.is_finite() {
-                p.sheen_color.clamp(Vec3::ZERO, Vec3::ONE)
-            } else {
-                Vec3::ZERO
-            };
+            let layer = |v: f32| unit(v, 0.0);
             PbrParams {
-                metallic: unit(m.metallic),
-                roughness: unit(m.roughness),
+                metallic: unit(m.metallic, 1.0),
+                roughness: unit(m.roughness, 1.0),
                 f0,
                 f90,
                 f0_tint: p.f0_tint(),
                 clearcoat: layer(p.clearcoat),
                 clearcoat_roughness: layer(p.clearcoat_roughness),
-                sheen_color: sheen,
+                sheen_color: colour(p.sheen_color, Vec3::ZERO),
                 sheen_roughness: layer(p.sheen_roughness),
                 iridescence: layer(p.iridescence),
-                iridescence_ior: if p.iridescence_ior.is_finite() {
-                    p.iridescence_ior.max(1.0)
-                } else {
-                    1.3
-                },
+                iridescence_ior: at_least(p.iridescence_ior, 1.0, 1.3),
+                iridescence_thickness: p.iridescence_thickness.map(|d| at_least(d, 0.0, 0.0)),
                 anisotropy: layer(p.anisotropy),
+                anisotropy_rotation: at_least(p.anisotropy_rotation, f32::MIN, 0.0),
                 transmission: layer(p.transmission),
-                thickness: if p.thickness.is_finite() {
-                    p.thickness.max(0.0)
-                } else {
-                    0.0
-                },
+                thickness: at_least(p.thickness, 0.0, 0.0),
                 attenuation_distance: if p.attenuation_distance > 0.0 {
                     p.attenuation_distance
                 } else {
                     f32::INFINITY
                 },
-                attenuation_color: if p.attenuation_color.is_finite() {
-                    p.attenuation_color.clamp(Vec3::ZERO, Vec3::ONE)
-                } else {
-                    Vec3::ONE
-                },
-                dispersion: if p.dispersion.is_finite() {
-                    p.dispersion.max(0.0)
-                } else {
-                    0.0
-                },
-                ior: if p.ior.is_finite() {
-                    p.ior.max(0.0)
-                } else {
-                    1.5
-                },
+                attenuation_color: colour(p.attenuation_color, Vec3::ONE),
+                dispersion: at_least(p.dispersion, 0.0, 0.0),
+                ior: at_least(p.ior, 0.0, 1.5),
                 diffuse_transmission: layer(p.diffuse_transmission),
-                diffuse_transmission_color: if p.diffuse_transmission_color.is_finite() {
-                    p.diffuse_transmission_color.clamp(Vec3::ZERO, Vec3::ONE)
-                } else {
-                    Vec3::ONE
-                },
-                anisotropy_rotation: if p.anisotropy_rotation.is_finite() {
-                    p.anisotropy_rotation
-                } else {
-                    0.0
-                },
-                iridescence_thickness: p.iridescence_thickness.map(|d| {
-                    if d.is_finite() {
-                        d.max(0.0)
-                    } else {
-                        0.0
-                    }
-                }),
+                diffuse_transmission_color: colour(p.diffuse_transmission_color, Vec3::ONE),
             }
         }
         None => {
             let n = material_surface(m).shininess;
             PbrParams {
-                metallic: if m.metallic.is_finite() {
-                    m.metallic.clamp(0.0, 1.0)
-                } else {
-                    0.0
-                },
+                metallic: unit(m.metallic, 0.0),
                 roughness: (2.0 / (n + 2.0)).sqrt().sqrt(),
                 ..PbrParams::default()
             }

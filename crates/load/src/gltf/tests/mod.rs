@@ -83,6 +83,21 @@ fn load_text(dir: &TempDir, text: &str) -> Result<Scene, LoadError> {
     load(&dir.write("model.gltf", text), &LoadOptions::default())
 }
 
+/// A `data:` URI of a 2 x 2 PNG of one colour.
+fn png_uri(rgba: [u8; 4]) -> String {
+    let mut png = Vec::new();
+    ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba(rgba))
+        .write_to(
+            &mut std::io::Cursor::new(&mut png),
+            ::image::ImageFormat::Png,
+        )
+        .unwrap();
+    format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    )
+}
+
 fn one_mesh_scene(primitives: Value) -> Value {
     json!({"meshes": [{"primitives": primitives}], "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0})
 }
@@ -217,17 +232,7 @@ fn cycles_and_deep_chains_end() {
 
 #[test]
 fn materials_textures_and_samplers() {
-    let mut png = Vec::new();
-    ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([0, 255, 0, 255]))
-        .write_to(
-            &mut std::io::Cursor::new(&mut png),
-            ::image::ImageFormat::Png,
-        )
-        .unwrap();
-    let png_uri = format!(
-        "data:image/png;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(&png)
-    );
+    let png_uri = png_uri([0, 255, 0, 255]);
     let mut d = Doc::default();
     let tri = d.floats(&TRI, "VEC3");
     let uv = d.u8s(&[0, 0, 255, 0, 0, 255], "VEC2", true);
@@ -527,17 +532,7 @@ fn gpu_instancing_reads_copies_or_says_why_not() {
 
 #[test]
 fn material_extensions_and_their_textures_or_why_not() {
-    let mut png = Vec::new();
-    ::image::RgbaImage::from_pixel(2, 2, ::image::Rgba([10, 20, 30, 40]))
-        .write_to(
-            &mut std::io::Cursor::new(&mut png),
-            ::image::ImageFormat::Png,
-        )
-        .unwrap();
-    let png_uri = format!(
-        "data:image/png;base64,{}",
-        base64::engine::general_purpose::STANDARD.encode(&png)
-    );
+    let png_uri = png_uri([10, 20, 30, 40]);
     let mut d = Doc::default();
     let tri = d.floats(&TRI, "VEC3");
     let uv = d.u8s(&[0, 0, 255, 0, 0, 255], "VEC2", true);
