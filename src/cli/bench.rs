@@ -22,11 +22,13 @@ mod diff;
 mod frame;
 mod micro;
 mod peer_scene;
+mod rays;
 mod skin;
 
 pub(crate) use diff::{diff, DiffArgs};
 pub(crate) use frame::{frame, FrameArgs};
 pub(crate) use micro::{micro, MicroArgs};
+pub(crate) use rays::{rays, RaysArgs};
 pub(crate) use skin::{skin, SkinArgs};
 
 /// The peer harness's view: eye = normalize(1.6, 1.2, 2.0) * 2.8 for a mesh scaled so its

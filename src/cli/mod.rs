@@ -105,6 +105,10 @@ pub(crate) enum BenchCommand {
     /// Time to pose a skinned mesh (the built-in tube: animation, joint matrices, skinning
     /// of every vertex, bounds), one JSON line.
     Skin(bench::SkinArgs),
+    /// Ray queries of the traced modes (the textbook's §9.6): hierarchy build time and
+    /// Mrays/s of primary and shadow rays on the peer's mesh on the ground plane, one JSON
+    /// line.
+    Rays(bench::RaysArgs),
     /// Mean absolute 8-bit difference of two RGBA PNGs over interior (non-silhouette) pixels.
     #[command(hide = true)]
     Diff(bench::DiffArgs),
@@ -213,6 +217,7 @@ pub fn run() -> Result<()> {
             Some(BenchCommand::Micro(a)) => bench::micro(a),
             Some(BenchCommand::Diff(a)) => bench::diff(a),
             Some(BenchCommand::Skin(a)) => bench::skin(a),
+            Some(BenchCommand::Rays(a)) => bench::rays(a),
             None => bench(&args),
         },
         Some(Command::Color(args)) => color(&args),

@@ -225,6 +225,7 @@ impl Subject {
                 | Shading::Gouraud
                 | Shading::Phong
                 | Shading::Pbr
+                | Shading::Whitted
                 | Shading::Normals
                 | Shading::Depth
                 | Shading::Uv

@@ -39,10 +39,12 @@ mod passes;
 mod pool;
 mod prepare;
 mod probe;
+pub mod rays;
 mod renderer;
 mod settings;
 mod shadows;
 mod vertex;
+mod whitted;
 
 pub use frame::{found, Found, Policy};
 pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};

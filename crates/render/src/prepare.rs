@@ -37,6 +37,8 @@ pub struct PreparedScene {
     /// The scene's lights and cameras as posed now (those under animated nodes move).
     lights: Vec<Light>,
     cameras: Vec<Camera>,
+    /// The ray-traced modes' hierarchies, built on first use ([`PreparedScene::rays`]).
+    pub(crate) rays: super::rays::Rays,
 }
 
 /// An instance whose mesh is posed per frame: `rest` is the shared rest mesh, `out` the
@@ -271,6 +273,7 @@ impl PreparedScene {
             animated: Vec::new(),
             lights,
             cameras,
+            rays: super::rays::Rays::default(),
         };
         if !prepared.deformers.is_empty() {
             // Skinned meshes are drawn by their joints even at rest.
@@ -342,6 +345,8 @@ impl PreparedScene {
             inst.drawable = !out.tri.is_empty() && inst.world.is_finite();
         }
         self.bounds = self.posed_bounds();
+        let outs = self.deformers.iter().map(|d| d.out);
+        self.rays.posed(&self.meshes, outs);
         self.pose_lights_and_cameras(pose);
         self.pose_values(pose);
     }

@@ -74,6 +74,7 @@ pub struct Renderer {
     /// The last frame completed (an interrupted frame leaves a partial target).
     complete: bool,
     shadows: super::shadows::ShadowTargets,
+    screen_shadows: super::whitted::ScreenShadows,
 }
 
 impl Renderer {
@@ -138,7 +139,13 @@ impl Renderer {
             self.bins.kernel,
             &mut stats,
         );
-        if self.frame.lights.sources.iter().any(|s| s.casts) && settings.output == Output::Shaded {
+        let traced_shadows = settings.rays() == crate::shade::mode::Rays::Whitted
+            && settings.output == Output::Shaded
+            && self.frame.lights.sources.iter().any(|s| s.casts);
+        if !traced_shadows
+            && self.frame.lights.sources.iter().any(|s| s.casts)
+            && settings.output == Output::Shaded
+        {
             let done = self.shadows.render(
                 scene,
                 &mut self.frame,
@@ -203,6 +210,23 @@ impl Renderer {
                     env.background((mid - near).normalize_or_zero(), blur)
                         .extend(1.0)
                 });
+            }
+            if traced_shadows && k < passes {
+                let done = self.screen_shadows.render(
+                    scene,
+                    settings,
+                    &mut self.frame,
+                    camera,
+                    jitter * vp,
+                    (w, h),
+                    &mut self.bins,
+                    &mut self.pool,
+                    &mut stats,
+                    stop,
+                );
+                if !done {
+                    return Err(Interrupted);
+                }
             }
             let mut planes = [Vec4::ZERO; crate::Sections::MAX];
             let sections = settings.sections.to_clip(jitter * vp, &mut planes);

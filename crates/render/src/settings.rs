@@ -598,7 +598,7 @@ impl Settings {
     #[must_use]
     pub fn pbr_look(&self, scene: &Scene) -> bool {
         if let Some(mode) = self.shading {
-            return mode == Shading::Pbr && !scene.instances.is_empty();
+            return mode.mode().base == crate::shade::mode::Base::Pbr && !scene.instances.is_empty();
         }
         let mut any = false;
         for inst in &scene.instances {
@@ -629,6 +629,13 @@ impl Settings {
     pub fn variant_index(&self, scene: &Scene) -> Option<usize> {
         let name = self.variant.as_deref()?;
         scene.variants.iter().position(|v| v == name)
+    }
+
+    /// What rays the shading mode traces beside rasterizing (the textbook's §9.6).
+    #[must_use]
+    pub fn rays(&self) -> crate::shade::mode::Rays {
+        self.shading
+            .map_or(crate::shade::mode::Rays::None, |s| s.mode().rays)
     }
 
     /// [`Lights::Auto`] with no lights in `scene` lights the frame with the default rig;

@@ -91,6 +91,7 @@ impl ShadowTargets {
             map.size = size;
             map.texel = texel;
             map.settings = *settings;
+            map.screen = None;
             fd.lights.sources[i].shadow = Some(used as u32);
             stats.shadow_maps += 1;
             used += 1;

@@ -62,6 +62,9 @@ pub enum Shading {
     Textured,
     /// glTF metallic-roughness ([`brdf`]).
     Pbr,
+    /// `pbr` with ray-traced shadows, mirror reflection and refraction (the textbook's
+    /// §9.6.1, Whitted's model).
+    Whitted,
     Normals,
     Depth,
     Uv,
@@ -78,7 +81,7 @@ pub enum Shading {
 
 impl Shading {
     /// Every mode, in the order the CLI lists them.
-    pub const ALL: [Shading; 16] = [
+    pub const ALL: [Shading; 17] = [
         Shading::Wireframe,
         Shading::Flat,
         Shading::Gouraud,
@@ -86,6 +89,7 @@ impl Shading {
         Shading::Blinn,
         Shading::Textured,
         Shading::Pbr,
+        Shading::Whitted,
         Shading::Normals,
         Shading::Depth,
         Shading::Uv,

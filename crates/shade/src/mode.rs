@@ -31,6 +31,16 @@ pub enum Base {
     UvGrid,
 }
 
+/// What rays a mode traces beside rasterizing (the textbook's §9.6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rays {
+    /// None: rasterized only.
+    None,
+    /// Whitted's model: shadow rays to every light (in place of shadow maps), mirror
+    /// reflection and refraction on smooth and transmissive surfaces.
+    Whitted,
+}
+
 /// One shading mode.
 #[derive(Clone, Copy, Debug)]
 pub struct Mode {
@@ -47,6 +57,7 @@ pub struct Mode {
     pub base: Base,
     /// The texture debug view of the lit shader ([`TexView::Lit`]: the lit surface).
     pub view: TexView,
+    pub rays: Rays,
 }
 
 impl Mode {
@@ -67,6 +78,7 @@ const fn lit(name: &'static str, shows: &'static str, maps: bool, blinn: bool, b
         blinn,
         base,
         view: TexView::Lit,
+        rays: Rays::None,
     }
 }
 
@@ -79,6 +91,7 @@ const fn unlit(name: &'static str, shows: &'static str, pass: Pass) -> Mode {
         blinn: false,
         base: Base::Material,
         view: TexView::Lit,
+        rays: Rays::None,
     }
 }
 
@@ -91,11 +104,19 @@ const fn texture_view(name: &'static str, shows: &'static str, maps: bool, view:
         blinn: false,
         base: Base::Material,
         view,
+        rays: Rays::None,
+    }
+}
+
+const fn traced(name: &'static str, shows: &'static str, rays: Rays) -> Mode {
+    Mode {
+        rays,
+        ..lit(name, shows, true, false, Base::Pbr)
     }
 }
 
 /// The rows, in [`Shading::ALL`] order (a test checks each row's name against its variant).
-static MODES: [Mode; 16] = [
+static MODES: [Mode; 17] = [
     unlit(
         "wireframe",
         "the mesh's edges, hidden lines removed",
@@ -138,6 +159,12 @@ static MODES: [Mode; 16] = [
         true,
         false,
         Base::Pbr,
+    ),
+    traced(
+        "whitted",
+        "pbr with ray-traced shadows to every light, mirror reflection and refraction \
+         (Whitted's model, the textbook's §9.6.1)",
+        Rays::Whitted,
     ),
     unlit(
         "normals",
@@ -225,6 +252,7 @@ mod tests {
             (Shading::Blinn, "blinn"),
             (Shading::Textured, "textured"),
             (Shading::Pbr, "pbr"),
+            (Shading::Whitted, "whitted"),
             (Shading::Normals, "normals"),
             (Shading::Depth, "depth"),
             (Shading::Uv, "uv"),

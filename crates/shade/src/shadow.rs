@@ -63,6 +63,10 @@ pub struct ShadowMap {
     /// World size of one texel at unit depth (perspective) or everywhere (parallel).
     pub texel: f32,
     pub settings: ShadowSettings,
+    /// A screen-space mask instead of a depth map (`--shading whitted`): `depth` then holds
+    /// each pixel's visibility of the light, found by a shadow ray from the point seen
+    /// there, and `view_proj` is the frame's; the value is the `(width, height)` in pixels.
+    pub screen: Option<(u32, u32)>,
 }
 
 impl ShadowMap {
@@ -145,6 +149,23 @@ impl ShadowMap {
         }
     }
 
+    /// The screen mask's value at the pixel `p` projects into (1 outside the image).
+    fn screen_lookup(&self, p: Vec3, w: u32, h: u32) -> f32 {
+        let c: Vec4 = self.view_proj * p.extend(1.0);
+        if c.w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return 1.0;
+        }
+        let u = (c.x / c.w * 0.5 + 0.5) * w as f32;
+        let v = (0.5 - c.y / c.w * 0.5) * h as f32;
+        if !(u.is_finite() && v.is_finite()) {
+            return 1.0;
+        }
+        // The pixel's centre projects to about (x + 0.5, y + 0.5): the floor is its pixel.
+        let x = (u.floor().max(0.0) as u32).min(w - 1) as usize;
+        let y = (v.floor().max(0.0) as u32).min(h - 1) as usize;
+        self.depth.get(y * w as usize + x).copied().unwrap_or(1.0)
+    }
+
     /// Visibility of the light at `p` with unit normal `n` and unit direction to the light
     /// `l`: 1 lit, 0 in shadow, between at a filtered edge.
     #[must_use]
@@ -173,6 +194,9 @@ impl ShadowMap {
     /// light.
     #[must_use]
     pub fn lookup(&self, p: Vec3, ndl: f32) -> f32 {
+        if let Some((w, h)) = self.screen {
+            return self.screen_lookup(p, w, h);
+        }
         let size = self.size as usize;
         if size == 0 || self.depth.len() < size * size || !p.is_finite() {
             return 1.0;

@@ -29,7 +29,8 @@ pub(crate) struct FrameArgs {
     #[arg(long, default_value = "1920x1080", value_parser = parse_size)]
     size: (u32, u32),
     /// phong (Blinn-Phong per pixel, the peer's `phong`), gouraud, flat, or textured (the
-    /// peer's `tex`: phong with its 1024x1024 procedural texture, trilinear).
+    /// peer's `tex`: phong with its 1024x1024 procedural texture, trilinear); pbr and
+    /// whitted are realist's own (no peer row).
     #[arg(long, default_value = "phong", value_parser = parse_mode)]
     shading: PeerMode,
     /// Worker threads (default: all cores).
@@ -69,6 +70,9 @@ pub(crate) enum PeerMode {
     /// Not a peer mode: glTF metallic-roughness with the default environment, to compare
     /// its cost with `phong` on the same scene.
     Pbr,
+    /// Not a peer mode: `pbr` with ray-traced shadows (Whitted's model, the textbook's
+    /// §9.6.1): the hybrid frame of issue 38 (with `--ground`, the bunny on a plane).
+    Whitted,
 }
 
 impl PeerMode {
@@ -79,6 +83,7 @@ impl PeerMode {
             PeerMode::Flat => "flat",
             PeerMode::Textured => "textured",
             PeerMode::Pbr => "pbr",
+            PeerMode::Whitted => "whitted",
         }
     }
 
@@ -90,6 +95,7 @@ impl PeerMode {
             PeerMode::Flat => Shading::Flat,
             PeerMode::Textured => Shading::Textured,
             PeerMode::Pbr => Shading::Pbr,
+            PeerMode::Whitted => Shading::Whitted,
         }
     }
 }
@@ -101,9 +107,10 @@ fn parse_mode(s: &str) -> Result<PeerMode, String> {
         "flat" => PeerMode::Flat,
         "textured" | "tex" => PeerMode::Textured,
         "pbr" => PeerMode::Pbr,
+        "whitted" => PeerMode::Whitted,
         _ => {
             return Err(format!(
-                "unknown shading '{s}' (expected phong, gouraud, flat, textured or pbr)"
+                "unknown shading '{s}' (expected phong, gouraud, flat, textured, pbr or whitted)"
             ))
         }
     })

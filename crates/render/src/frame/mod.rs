@@ -13,7 +13,7 @@ use crate::raster::{Blend, Cull, DepthCopy, DepthTest, DrawState, Stats};
 use crate::scene::{
     AlphaMode, Light, Material, Slot, SlotOverride, Style, TextureSource, UvTransform,
 };
-use crate::shade::mode::{Base, Pass};
+use crate::shade::mode::{Base, Pass, Rays};
 use crate::shade::stages::Program;
 use crate::shade::{
     DrawParams, Fog, LightSet, LitLayout, PbrParams, Shading, SlotParams, Surface, TexView,
@@ -283,7 +283,7 @@ impl Policy {
             (None, Style::Inherit) if mapped => Shading::Textured,
             (None, Style::Inherit) => Shading::Phong,
         };
-        let pbr = mode == Shading::Pbr;
+        let pbr = mode.mode().base == Base::Pbr;
         let finite_or_white = |c: Vec4| if c.is_finite() { c } else { Vec4::ONE };
         Self {
             mode,
@@ -369,6 +369,12 @@ pub(super) fn set_up(
         &mut fd.lights,
     );
     fd.lights.single_scatter = settings.single_scatter;
+    if settings.rays() == Rays::Whitted {
+        // Whitted's model sends a shadow ray to every light (the textbook's §9.6.1).
+        for s in &mut fd.lights.sources {
+            s.casts = s.kind.can_shadow();
+        }
+    }
     fd.fog = settings.fog.filter(Fog::is_valid);
     fd.cap = settings
         .sections
