@@ -13,14 +13,14 @@
 use glam::{DVec3, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 
-use super::frame::{for_each_light, resolve};
+use super::frame::{for_each_light, resolve, Resolved};
 use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::{Light, LightKind, Slot, TextureSource};
 use crate::shade::layer_maps::LayerTexels;
 use crate::shade::{
-    ambient_split, arriving, emission_seen, maps, reflect, texlab, view_terms, view_vector,
+    ambient_split, arriving, emission_seen, maps, reflect, texlab, view_terms, view_vector, SurfaceAt,
     LightSet, Shading, SlotParams,
 };
 
@@ -118,23 +118,124 @@ pub fn probe(
     let far = inv.project_point3(ndc.extend(0.0));
     let hit = cast(scene, settings, near, far, true)?;
     let inst = &scene.instances[hit.instance];
-    let tri = &scene.meshes[inst.mesh].tri;
     let r = resolve(scene, settings, inst);
+    let d = &r.params;
     // The copy hit (an instanced mesh's) places it.
     let world = inst.placement(hit.copy);
-    let (normal_m, mirrored) = if inst.copies.is_some() {
-        (
-            crate::prepare::normal_matrix(world),
-            world.determinant() < 0.0,
-        )
-    } else {
-        (inst.normal, inst.mirrored)
+    let position = (near + (far - near) * hit.t).as_vec3();
+    let eye = cam.shading_eye();
+    let pt = point_at(scene, &r, world, &hit, position, eye, settings.single_scatter);
+    let shadow_ray = |from: Vec3, to: Vec3| {
+        cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some()
     };
+    let lit = light_point(scene, settings, view_m.inverse(), &pt, false, &shadow_ray);
+    let Point {
+        normal,
+        face_normal,
+        uv,
+        base,
+        surf,
+        occlusion: _,
+        emitted,
+        ..
+    } = pt;
+    let Lit {
+        lights,
+        ambient_diffuse,
+        ambient_specular,
+    } = lit;
+    let ambient = ambient_diffuse + ambient_specular;
+    let image_based = surf
+        .pbr
+        .is_some()
+        .then_some((ambient_diffuse, ambient_specular));
+    let bary = hit.bary;
+    let tri = &scene.meshes[inst.mesh].tri;
+    let lit = lights
+        .iter()
+        .fold(ambient + emitted, |acc, s| acc + s.diffuse + s.specular);
+    let (lit, lights) = if d.unlit {
+        // KHR_materials_unlit: the base colour as it is, no light and no fog.
+        (base.truncate(), Vec::new())
+    } else {
+        (lit, lights)
+    };
+    let fog = settings.fog.filter(|f| f.is_valid());
+    let color = match &fog {
+        Some(f) if !d.unlit => f.apply::<f32>(lit, position, eye, cam.forward()),
+        _ => lit,
+    };
+    let fog = fog.map(|f| f.factor::<f32>(f.distance::<f32>(position, eye, cam.forward())));
+    let clip = vp * position.extend(1.0);
+    // The scene's mesh (a skinned instance draws a posed copy made from it).
+    let (mesh_index, mesh) = scene.scene_mesh(inst)?;
+    Some(Probe {
+        position,
+        view_depth: -view_m.transform_point3(position).z,
+        depth: clip.z / clip.w,
+        normal,
+        face_normal,
+        front: hit.front,
+        uv,
+        barycentric: bary,
+        instance: hit.instance,
+        mesh: mesh_index,
+        material: mesh
+            .material_in(settings.variant_index(scene.scene()))
+            .filter(|&m| m < scene.scene().materials.len()),
+        triangle: hit.triangle,
+        facet: if hit.triangle < tri.triangles.len() {
+            tri.facet_of(hit.triangle)
+        } else {
+            0
+        },
+        mode: r.mode,
+        base,
+        ambient,
+        image_based,
+        emitted,
+        lights,
+        fog,
+        color,
+    })
+}
+
+/// A point of a surface as the lit shaders see it: the interpolated attributes, the maps
+/// applied, the surface's parameters at the view (`v`, from the eye or a ray's origin).
+pub(crate) struct Point {
+    pub position: Vec3,
+    /// Unit world normal as shaded (turned towards the viewer on a back face).
+    pub normal: Vec3,
+    pub face_normal: Vec3,
+    pub front: bool,
+    pub uv: Option<Vec2>,
+    pub base: Vec4,
+    pub surf: SurfaceAt<f32>,
+    pub v: Vec3,
+    pub occlusion: f32,
+    pub emitted: Vec3,
+    pub blinn: bool,
+    pub unlit: bool,
+}
+
+/// The surface of `r` (an instance's resolved material) at `hit` (of the mesh placed by
+/// `world`), at world `position`, seen from `eye`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn point_at(
+    scene: &PreparedScene,
+    r: &Resolved,
+    world: glam::Mat4,
+    hit: &Hit,
+    position: Vec3,
+    eye: Vec3,
+    single_scatter: bool,
+) -> Point {
+    let tri = &scene.meshes[scene.instances[hit.instance].mesh].tri;
+    let normal_m = crate::prepare::normal_matrix(world);
+    let mirrored = world.determinant() < 0.0;
     let [a, b, c] = tri.triangles[hit.triangle].map(|k| k as usize);
     let bary = hit.bary;
     let mix3 = |v: &[Vec3]| v[a] * bary.x + v[b] * bary.y + v[c] * bary.z;
-    let position = near + (far - near) * hit.t;
-    let position = position.as_vec3();
     let mut normal = (normal_m * mix3(&tri.normals)).normalize_or_zero();
     // Before the maps: the clear coat's normal when the base is normal- or bump-mapped.
     let mut geometric = normal;
@@ -256,7 +357,6 @@ pub fn probe(
         base *= sample(t);
     }
     let blinn = d.blinn;
-    let eye = cam.shading_eye();
     let mut surf = d.surface.at::<f32>(base.truncate());
     if let Some(g) = &d.gloss {
         surf.ks *= sample(g).truncate();
@@ -301,10 +401,46 @@ pub fn probe(
     }
     // The punctual lights' multiple-scattering compensation and the layers' values at the
     // view, as the shaders have them.
-    view_terms(&mut surf, normal, v, settings.single_scatter);
+    view_terms(&mut surf, normal, v, single_scatter);
     let emitted = emission_seen(&surf, emitted);
+    Point {
+        position,
+        normal,
+        face_normal,
+        front: hit.front,
+        uv,
+        base,
+        surf,
+        v,
+        occlusion,
+        emitted,
+        blinn,
+        unlit: d.unlit,
+    }
+}
+
+/// What lights a [`Point`]: each light's share and the ambient light's (and for pbr the
+/// environment's) diffuse and specular parts, after occlusion.
+pub(crate) struct Lit {
+    pub lights: Vec<LightShare>,
+    pub ambient_diffuse: Vec3,
+    pub ambient_specular: Vec3,
+}
+
+/// Lights `pt` with the frame's lights (`cam_to_world` places camera-attached ones).
+/// `occluded(from, to)` answers a shadow ray, asked for lights that cast shadows, or for
+/// `every` light that can (Whitted's model).
+pub(crate) fn light_point(
+    scene: &PreparedScene,
+    settings: &Settings,
+    cam_to_world: glam::Mat4,
+    pt: &Point,
+    every: bool,
+    occluded: &dyn Fn(Vec3, Vec3) -> bool,
+) -> Lit {
     let mut set = LightSet::default();
-    let cam_to_world = view_m.inverse();
+    let (position, normal, v, blinn) = (pt.position, pt.normal, pt.v, pt.blinn);
+    let surf = &pt.surf;
     let mut ambient_light = Vec3::ZERO;
     let mut lights = Vec::new();
     let mut index = 0;
@@ -341,7 +477,7 @@ pub fn probe(
             // Light from behind through a translucent base (as `contribution` has it).
             let translucent = surf.pbr.as_ref().is_some_and(|p| p.translucency.is_some());
             let back = translucent && normal.dot(dir) < 0.0 && rad != Vec3::ZERO;
-            let shadow = if (lit || back) && light.shadow && light.kind.can_shadow() {
+            let shadow = if (lit || back) && (light.shadow || every) && light.kind.can_shadow() {
                 let to = match light.kind {
                     LightKind::Directional => {
                         position + dir * (4.0 * radius + (position - center).length())
@@ -350,7 +486,7 @@ pub fn probe(
                 };
                 let side = if back { -normal } else { normal };
                 let from = position + side * (1e-4 * radius.max(1e-3));
-                if cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some() {
+                if occluded(from, to) {
                     0.0
                 } else {
                     1.0
@@ -363,7 +499,7 @@ pub fn probe(
             } else {
                 normal.dot(dir)
             };
-            let terms = reflect(&surf, normal, dir, v, lit, ndl, back, blinn);
+            let terms = reflect(surf, normal, dir, v, lit, ndl, back, blinn);
             lights.push(LightShare {
                 index: src.index,
                 light,
@@ -383,59 +519,12 @@ pub fn probe(
     set.clear();
     set.ambient = ambient_light;
     set.env = settings.environment.view();
-    let (ambient_diffuse, ambient_specular) = ambient_split::<f32>(&set, &surf, normal, v);
-    let ambient = (ambient_diffuse + ambient_specular) * occlusion;
-    let image_based = surf
-        .pbr
-        .is_some()
-        .then(|| (ambient_diffuse * occlusion, ambient_specular * occlusion));
-    let lit = lights
-        .iter()
-        .fold(ambient + emitted, |acc, s| acc + s.diffuse + s.specular);
-    let (lit, lights) = if d.unlit {
-        // KHR_materials_unlit: the base colour as it is, no light and no fog.
-        (base.truncate(), Vec::new())
-    } else {
-        (lit, lights)
-    };
-    let fog = settings.fog.filter(|f| f.is_valid());
-    let color = match &fog {
-        Some(f) if !d.unlit => f.apply::<f32>(lit, position, eye, cam.forward()),
-        _ => lit,
-    };
-    let fog = fog.map(|f| f.factor::<f32>(f.distance::<f32>(position, eye, cam.forward())));
-    let clip = vp * position.extend(1.0);
-    // The scene's mesh (a skinned instance draws a posed copy made from it).
-    let (mesh_index, mesh) = scene.scene_mesh(inst)?;
-    Some(Probe {
-        position,
-        view_depth: -view_m.transform_point3(position).z,
-        depth: clip.z / clip.w,
-        normal,
-        face_normal,
-        front: hit.front,
-        uv,
-        barycentric: bary,
-        instance: hit.instance,
-        mesh: mesh_index,
-        material: mesh
-            .material_in(settings.variant_index(scene.scene()))
-            .filter(|&m| m < scene.scene().materials.len()),
-        triangle: hit.triangle,
-        facet: if hit.triangle < tri.triangles.len() {
-            tri.facet_of(hit.triangle)
-        } else {
-            0
-        },
-        mode: r.mode,
-        base,
-        ambient,
-        image_based,
-        emitted,
+    let (ambient_diffuse, ambient_specular) = ambient_split::<f32>(&set, surf, normal, v);
+    Lit {
         lights,
-        fog,
-        color,
-    })
+        ambient_diffuse: ambient_diffuse * pt.occlusion,
+        ambient_specular: ambient_specular * pt.occlusion,
+    }
 }
 
 /// The nearest hit of a ray.

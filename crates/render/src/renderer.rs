@@ -139,9 +139,9 @@ impl Renderer {
             self.bins.kernel,
             &mut stats,
         );
-        let traced_shadows = settings.rays() == crate::shade::mode::Rays::Whitted
-            && settings.output == Output::Shaded
-            && self.frame.lights.sources.iter().any(|s| s.casts);
+        let traced = settings.rays() == crate::shade::mode::Rays::Whitted
+            && settings.output == Output::Shaded;
+        let traced_shadows = traced && self.frame.lights.sources.iter().any(|s| s.casts);
         if !traced_shadows
             && self.frame.lights.sources.iter().any(|s| s.casts)
             && settings.output == Output::Shaded
@@ -260,6 +260,12 @@ impl Renderer {
             vertex_nanos += cx.vertex_nanos;
             if !done {
                 return Err(Interrupted);
+            }
+            if traced && k < passes {
+                let cam_to_world = view_m.inverse();
+                if !super::whitted::mirrors(scene, settings, target, jitter * vp, cam_to_world, stop) {
+                    return Err(Interrupted);
+                }
             }
             if map && k < passes {
                 // Each pass tone mapped before the passes are averaged (as the samples of a

@@ -5,7 +5,7 @@
 //! which the shaders read where they would read a shadow map ([`ShadowMap::screen`]). Exact
 //! where the shadow map approximates: no resolution, no bias, no acne, no peter-panning.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::frame::FrameData;
@@ -15,6 +15,7 @@ use super::prepare::PreparedScene;
 use super::settings::Settings;
 use crate::raster::{Bins, Stats, Target};
 use crate::scene::{Camera, LightKind};
+use crate::shade::mode::Rays;
 use crate::shade::ShadowMap;
 use realist_trace::Ray;
 
@@ -74,7 +75,6 @@ impl ScreenShadows {
         target.write_depth(&mut self.depth);
         let rays = scene.rays(settings);
         let inv = jvp.inverse();
-        let (_, radius) = scene.bounding_sphere();
         let depth = &self.depth;
         let mut used = 0;
         for i in 0..fd.lights.sources.len() {
@@ -95,20 +95,22 @@ impl ScreenShadows {
                 .par_chunks_mut(w as usize)
                 .enumerate()
                 .for_each(|(y, row)| {
+                    // Clip -> world along the row: linear in x before the divide.
+                    let ny = 1.0 - (y as f32 + 0.5) / h as f32 * 2.0;
+                    let dx = inv.x_axis * (2.0 / w as f32);
+                    let at0 = inv * Vec4::new(-1.0 + 1.0 / w as f32, ny, 0.0, 1.0);
                     for (x, vis) in row.iter_mut().enumerate() {
                         let z = depth[y * w as usize + x];
                         if z <= 0.0 {
                             continue;
                         }
-                        let ndc = Vec2::new(
-                            (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
-                            1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
-                        );
-                        let p = inv.project_point3(ndc.extend(z));
-                        let near = inv.project_point3(ndc.extend(1.0));
-                        let Some(from) = lifted(p, near, radius) else {
+                        // A little nearer the camera than the depth buffer says (reversed
+                        // Z: larger is nearer), so the ray starts in front of the surface.
+                        let q = at0 + dx * x as f32 + inv.z_axis * lift(z);
+                        let from = q.truncate() / q.w;
+                        if !from.is_finite() {
                             continue;
-                        };
+                        }
                         let ray = match kind {
                             LightKind::Directional => Ray::new(from, -axis, 0.0, f32::INFINITY),
                             _ => Ray::new(from, position - from, 0.0, 1.0),
@@ -125,12 +127,334 @@ impl ScreenShadows {
     }
 }
 
-/// The point `p` seen from `near` (its camera ray's start on the near plane) moved back
-/// towards the camera by a little more than the depth buffer's rounding, so that its
-/// shadow ray starts in front of the surface it lies on; `None` if not finite.
-fn lifted(p: Vec3, near: Vec3, radius: f32) -> Option<Vec3> {
-    let d = p - near;
-    let len = d.length();
-    let out = p - d / len.max(1e-30) * (2e-5 * (len + radius));
-    out.is_finite().then_some(out)
+/// A depth-buffer value moved towards the camera by well over its rounding: in reversed Z
+/// a perspective depth is about `near / distance`, so scaling it by `1 + 2e-5` moves the
+/// point 2e-5 of its distance nearer; the constant term does the same for a parallel
+/// projection's depth, linear in distance.
+fn lift(z: f32) -> f32 {
+    z * (1.0 + 2e-5) + 2e-6
+}
+
+/// Perceptual roughness at or below which a surface is a mirror in Whitted's model: its
+/// reflection is traced (in place of the environment's prefiltered lobe).
+pub const MIRROR_ROUGHNESS: f32 = 0.1;
+/// Rays deeper than this end (the textbook's depth limit); their surface keeps the
+/// environment's lobe in place of a traced reflection.
+pub const MAX_DEPTH: u32 = 8;
+/// Rays whose contribution to the pixel falls below this end (the textbook's
+/// low-contribution limit): about an eighth of an 8-bit level.
+pub const MIN_WEIGHT: f32 = 1.0 / 2048.0;
+
+/// What a Whitted ray needs: the scene's hierarchy and each shown instance's material.
+pub(crate) struct Tracer<'a> {
+    scene: &'a PreparedScene,
+    settings: &'a Settings,
+    rays: std::sync::Arc<realist_trace::Scene>,
+    /// Per instance: its material as drawn, `None` if not shown.
+    resolved: Vec<Option<super::frame::Resolved>>,
+    ground: Option<Mat4>,
+    cam_to_world: Mat4,
+    env: Option<crate::texture::env::EnvView>,
+    background: Vec3,
+    radius: f32,
+}
+
+/// The light a volume absorbs: its colour at `distance` and that distance.
+#[derive(Clone, Copy)]
+struct Medium {
+    color: Vec3,
+    distance: f32,
+}
+
+impl<'a> Tracer<'a> {
+    #[must_use]
+    pub fn new(scene: &'a PreparedScene, settings: &'a Settings, cam_to_world: Mat4) -> Self {
+        let ground = settings.ground.as_ref().map(|g| scene.ground_world(g));
+        let resolved = scene
+            .instances
+            .iter()
+            .enumerate()
+            .map(|(k, inst)| {
+                let shown = if inst.ground {
+                    ground.is_some()
+                } else {
+                    inst.drawable && !settings.hidden.contains(k)
+                };
+                shown.then(|| {
+                    let mut r = super::frame::resolve(scene, settings, inst);
+                    if let (true, Some(g)) = (inst.ground, &settings.ground) {
+                        r.params.base = if g.color.is_finite() {
+                            g.color.extend(1.0)
+                        } else {
+                            Vec3::splat(0.5).extend(1.0)
+                        };
+                    }
+                    r
+                })
+            })
+            .collect();
+        Self {
+            scene,
+            settings,
+            rays: scene.rays(settings),
+            resolved,
+            ground,
+            cam_to_world,
+            env: settings.environment.view(),
+            background: settings.background.truncate(),
+            radius: scene.bounding_sphere().1.max(1e-6),
+        }
+    }
+
+    /// Whether instance `k`'s material can be a mirror or transmit (only then do its
+    /// pixels need rays beyond the shadow rays).
+    fn may_trace(&self, k: usize) -> bool {
+        self.resolved.get(k).and_then(Option::as_ref).is_some_and(|r| {
+            !r.params.unlit
+                && r.mode.mode().rays == Rays::Whitted
+                && r.params.surface.pbr.as_ref().is_some_and(|p| {
+                    p.transmission > 0.0 || p.roughness <= MIRROR_ROUGHNESS
+                })
+        })
+    }
+
+    /// Whether any shown instance needs them.
+    #[must_use]
+    pub fn any(&self) -> bool {
+        (0..self.resolved.len()).any(|k| self.may_trace(k))
+    }
+
+    /// The light arriving along `d` at `o` (unit `d`), from `depth` bounces in, carrying
+    /// `weight` of the pixel; inside `medium` (a volume being crossed) if any.
+    fn radiance(&self, o: Vec3, d: Vec3, depth: u32, weight: Vec3, medium: Option<Medium>) -> Vec3 {
+        let Some(h) = self.rays.closest(&Ray::new(o, d, 0.0, f32::INFINITY)) else {
+            return self.miss(d);
+        };
+        let c = self.shade_hit(&h, o, d, depth, weight);
+        match medium {
+            // Beer's law over the path inside (KHR_materials_volume's attenuation).
+            Some(m) if m.distance.is_finite() => {
+                let k = (h.t / m.distance).min(1e4);
+                c * m.color.max(Vec3::splat(1e-6)).powf(k)
+            }
+            _ => c,
+        }
+    }
+
+    /// What a ray that meets nothing sees: the environment (its full-resolution image), or
+    /// the background colour.
+    fn miss(&self, d: Vec3) -> Vec3 {
+        match &self.env {
+            Some(env) => env.background(d, 0.0),
+            None => self.background,
+        }
+    }
+
+    /// The colour a ray from `o` along unit `d` sees at its hit `h`.
+    pub fn shade_hit(
+        &self,
+        h: &realist_trace::Hit,
+        o: Vec3,
+        d: Vec3,
+        depth: u32,
+        weight: Vec3,
+    ) -> Vec3 {
+        let (k, copy) = super::rays::unkey(h.key);
+        let Some(r) = self.resolved.get(k).and_then(Option::as_ref) else {
+            return self.miss(d);
+        };
+        let inst = &self.scene.instances[k];
+        let world = match (inst.ground, self.ground) {
+            (true, Some(g)) => g,
+            _ => inst.placement(copy),
+        };
+        let hit = super::probe::Hit {
+            t: f64::from(h.t),
+            instance: k,
+            copy,
+            triangle: h.triangle as usize,
+            bary: Vec3::from_array(h.bary),
+            front: h.front,
+        };
+        let position = o + d * h.t;
+        let pt = super::probe::point_at(
+            self.scene,
+            r,
+            world,
+            &hit,
+            position,
+            o,
+            self.settings.single_scatter,
+        );
+        if pt.unlit {
+            return pt.base.truncate();
+        }
+        let rays = &self.rays;
+        let occluded = |from: Vec3, to: Vec3| rays.occluded(&Ray::new(from, to - from, 0.0, 1.0));
+        let lit = super::probe::light_point(
+            self.scene,
+            self.settings,
+            self.cam_to_world,
+            &pt,
+            true,
+            &occluded,
+        );
+        let direct = lit
+            .lights
+            .iter()
+            .fold(pt.emitted + lit.ambient_diffuse, |a, s| a + s.diffuse + s.specular);
+        let Some(p) = pt.surf.pbr.as_ref().filter(|_| r.mode.mode().rays == Rays::Whitted) else {
+            return direct + lit.ambient_specular;
+        };
+        let params = r.params.surface.pbr.as_ref();
+        let transmission = p.transmission.map_or(0.0, |t| t.factor) * (1.0 - p.metallic);
+        let mirror = p.roughness <= MIRROR_ROUGHNESS;
+        if !(mirror || transmission > 0.0) || depth >= MAX_DEPTH || weight.max_element() < MIN_WEIGHT {
+            return direct + lit.ambient_specular;
+        }
+        // The side the ray came from, and the geometric normal facing it.
+        let n = pt.normal;
+        let ng = if pt.face_normal.dot(d) < 0.0 {
+            pt.face_normal
+        } else {
+            -pt.face_normal
+        };
+        let cos = (-d).dot(n).clamp(0.0, 1.0);
+        let base = pt.surf.kd;
+        let eps = 2e-5 * (position.abs().max_element() + self.radius);
+        let above = position + ng * eps;
+        let below = position - ng * eps;
+        let reflected = (d - 2.0 * d.dot(n) * n).normalize_or_zero();
+        // Specular reflectance at the view: the dielectric lobe's Fresnel and the metal's
+        // base colour (Schlick), mixed by metalness.
+        let schlick = |f0: Vec3, f90: f32| f0 + (Vec3::splat(f90) - f0) * (1.0 - cos).powi(5);
+        let metal = schlick(base, 1.0);
+        let mut color = direct;
+        if transmission > 0.0 && params.is_some() {
+            let params = params.expect("checked");
+            let thin = p.transmission.is_some_and(|t| t.thickness <= 0.0);
+            let entering = pt.front;
+            let ior = params.ior.max(1.0);
+            let eta = if thin || entering { 1.0 / ior } else { ior };
+            // The dielectric's exact Fresnel (the textbook's §9.6.2 transparency model).
+            let (fr, refracted) = fresnel_refract(d, n, cos, eta, thin);
+            let f_diel = Vec3::splat(fr);
+            let reflect_w = metal * p.metallic + f_diel * (1.0 - p.metallic);
+            if reflect_w.max_element() > 0.0 {
+                let w = weight * reflect_w;
+                color += reflect_w * self.radiance(above, reflected, depth + 1, w, None);
+            }
+            if let Some(t_dir) = refracted {
+                let tw = (1.0 - fr) * transmission * base;
+                let w = weight * tw;
+                // A closed volume entered: its attenuation applies until the ray leaves.
+                let medium = (!thin && entering).then_some(Medium {
+                    color: params.attenuation_color,
+                    distance: params.attenuation_distance,
+                });
+                color += tw * self.radiance(below, t_dir, depth + 1, w, medium);
+            }
+            // The dielectric lobe's environment light is now traced.
+            return color + lit.ambient_specular * p.metallic;
+        }
+        let f_diel = schlick(p.f0, p.f90);
+        let reflect_w = metal * p.metallic + f_diel * (1.0 - p.metallic);
+        let w = weight * reflect_w;
+        color + reflect_w * self.radiance(above, reflected, depth + 1, w, None)
+    }
+}
+
+/// The dielectric's reflectance for a ray along unit `d` meeting unit normal `n` (facing
+/// the ray, `cos = -d·n`) from a medium `eta` = n1/n2 times the other's, and the refracted
+/// direction by Snell's law; `None` beyond the critical angle (total internal reflection,
+/// reflectance 1). A thin wall passes the ray on unbent.
+fn fresnel_refract(d: Vec3, n: Vec3, cos: f32, eta: f32, thin: bool) -> (f32, Option<Vec3>) {
+    let sin2_t = eta * eta * (1.0 - cos * cos);
+    if sin2_t >= 1.0 {
+        return (1.0, None);
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    // Fresnel's equations for unpolarised light (n1 cos_i vs n2 cos_t, with n1/n2 = eta).
+    let rs = (eta * cos - cos_t) / (eta * cos + cos_t);
+    let rp = (cos - eta * cos_t) / (cos + eta * cos_t);
+    let r = 0.5 * (rs * rs + rp * rp);
+    let t = if thin {
+        d
+    } else {
+        (eta * d + (eta * cos - cos_t) * n).normalize_or_zero()
+    };
+    (r.clamp(0.0, 1.0), Some(t))
+}
+
+/// Whitted's rays for the pixels that see a mirror or a transmissive surface (the others
+/// keep what the rasterizer drew): a camera ray through each pixel's sample point (`jvp`,
+/// the pass's jittered projection), and where it meets such a surface, its colour traced
+/// to the depth and contribution limits, written over the pass's. Returns false if
+/// stopped.
+pub(super) fn mirrors(
+    scene: &PreparedScene,
+    settings: &Settings,
+    target: &mut Target,
+    jvp: Mat4,
+    cam_to_world: Mat4,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> bool {
+    let tracer = Tracer::new(scene, settings, cam_to_world);
+    if !tracer.any() {
+        return true;
+    }
+    let (w, h) = (target.width, target.height);
+    let inv = jvp.inverse();
+    let fog = settings.fog.filter(|f| f.is_valid());
+    let eye = cam_to_world.w_axis.truncate();
+    let forward = -cam_to_world.z_axis.truncate();
+    let rows: Option<Vec<Vec<(u32, Vec3)>>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            if stop() {
+                return None;
+            }
+            let mut out = Vec::new();
+            for x in 0..w {
+                let ndc = glam::Vec2::new(
+                    (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+                );
+                let near = inv.project_point3(ndc.extend(1.0));
+                let far = inv.project_point3(ndc.extend(0.0));
+                let seg = far - near;
+                let len = seg.length();
+                if !(len > 0.0 && len.is_finite()) {
+                    continue;
+                }
+                let d = seg / len;
+                let Some(hit) = tracer.rays.closest(&Ray::new(near, d, 0.0, len)) else {
+                    continue;
+                };
+                let (k, _) = super::rays::unkey(hit.key);
+                if !tracer.may_trace(k) {
+                    continue;
+                }
+                let c = tracer.shade_hit(&hit, near, d, 0, Vec3::ONE);
+                let c = match &fog {
+                    Some(f) => f.apply::<f32>(c, near + d * hit.t, eye, forward),
+                    None => c,
+                };
+                out.push((x, c));
+            }
+            Some(out)
+        })
+        .collect();
+    let Some(rows) = rows else {
+        return false;
+    };
+    for (y, row) in rows.into_iter().enumerate() {
+        for (x, c) in row {
+            let (t, o) = target.locate(x, y as u32);
+            let tile = &mut target.tiles[t];
+            tile.materialize();
+            tile.set_color(o, c.extend(1.0));
+        }
+    }
+    true
 }

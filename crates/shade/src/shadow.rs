@@ -69,6 +69,12 @@ pub struct ShadowMap {
     pub screen: Option<(u32, u32)>,
 }
 
+/// One row of a matrix times `(p, 1)` on lanes.
+#[inline(always)]
+fn clip_row<L: Level>(r: Vec4, p: V3<L>) -> F8<L> {
+    F8::splat(r.x) * p.x + F8::splat(r.y) * p.y + F8::splat(r.z) * p.z + F8::splat(r.w)
+}
+
 impl ShadowMap {
     /// The camera a map is rendered with: from `eye` (spot; parallel if `None`) along unit
     /// `axis`, covering the sphere (`center`, `radius`) that holds every occluder and receiver,
@@ -152,18 +158,42 @@ impl ShadowMap {
     /// The screen mask's value at the pixel `p` projects into (1 outside the image).
     fn screen_lookup(&self, p: Vec3, w: u32, h: u32) -> f32 {
         let c: Vec4 = self.view_proj * p.extend(1.0);
-        if c.w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        self.screen_texel(c.x, c.y, c.w, w, h)
+    }
+
+    /// The mask's value at clip position `(x, y, w)`. The pixel's centre projects to about
+    /// `(i + 0.5, j + 0.5)`: truncating (the floor, for what is not negative) finds it.
+    #[inline(always)]
+    fn screen_texel(&self, cx: f32, cy: f32, cw: f32, w: u32, h: u32) -> f32 {
+        if cw.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return 1.0;
         }
-        let u = (c.x / c.w * 0.5 + 0.5) * w as f32;
-        let v = (0.5 - c.y / c.w * 0.5) * h as f32;
+        let u = (cx / cw * 0.5 + 0.5) * w as f32;
+        let v = (0.5 - cy / cw * 0.5) * h as f32;
         if !(u.is_finite() && v.is_finite()) {
             return 1.0;
         }
-        // The pixel's centre projects to about (x + 0.5, y + 0.5): the floor is its pixel.
-        let x = (u.floor().max(0.0) as u32).min(w - 1) as usize;
-        let y = (v.floor().max(0.0) as u32).min(h - 1) as usize;
+        let x = (u.max(0.0) as u32).min(w - 1) as usize;
+        let y = (v.max(0.0) as u32).min(h - 1) as usize;
         self.depth.get(y * w as usize + x).copied().unwrap_or(1.0)
+    }
+
+    /// [`ShadowMap::screen_lookup`] on the lanes of `mask` (others 1): the projection on
+    /// all lanes at once, the reads lane by lane.
+    #[inline(always)]
+    fn screen_lanes<L: Level>(&self, p: V3<L>, mask: u32, w: u32, h: u32) -> F8<L> {
+        let m = self.view_proj;
+        let cx = clip_row(m.row(0), p).to_array();
+        let cy = clip_row(m.row(1), p).to_array();
+        let cw = clip_row(m.row(3), p).to_array();
+        let mut out = [1.0; 8];
+        let mut bits = mask;
+        while bits != 0 {
+            let i = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            out[i] = self.screen_texel(cx[i], cy[i], cw[i], w, h);
+        }
+        F8::from_array(out)
     }
 
     /// Visibility of the light at `p` with unit normal `n` and unit direction to the light
@@ -178,6 +208,9 @@ impl ShadowMap {
     #[must_use]
     #[inline(always)]
     pub fn visibility_lanes<L: Level>(&self, p: V3<L>, n: V3<L>, l: V3<L>, mask: u32) -> F8<L> {
+        if let Some((w, h)) = self.screen {
+            return self.screen_lanes(p, mask, w, h);
+        }
         let ndl = n.dot(l).to_array();
         let (px, py, pz) = (p.x.to_array(), p.y.to_array(), p.z.to_array());
         let mut out = [1.0; 8];

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4, Vec3};
 use rayon::prelude::*;
 
-use crate::bvh::{Bvh, Slabs};
+use crate::bvh::{with_stack, Bvh, Entry, Slabs};
 use crate::triangle::Sheared;
 
 /// A mesh's triangles in its own space and their hierarchy.
@@ -142,9 +142,10 @@ impl Mesh {
         tmin: f32,
         tmax: f32,
         accept: &impl Fn(u32, bool, f32) -> bool,
+        stack: &mut Vec<Entry>,
     ) -> Option<(f32, u32, [f32; 3], bool)> {
         let mut best = None;
-        self.bvh.traverse(slabs, tmin, tmax, |first, count, mut t| {
+        self.bvh.traverse(slabs, tmin, tmax, stack, |first, count, mut t, _| {
             for slot in first..first + count {
                 let [a, b, c] = self.tris[slot as usize];
                 if let Some((th, w, front)) = s.hit_sided(a, b, c, tmin, t) {
@@ -162,9 +163,9 @@ impl Mesh {
 
     /// Whether anything lies in `(tmin, tmax)`.
     #[inline]
-    fn any(&self, s: &Sheared, slabs: &Slabs, tmin: f32, tmax: f32) -> bool {
+    fn any(&self, s: &Sheared, slabs: &Slabs, tmin: f32, tmax: f32, stack: &mut Vec<Entry>) -> bool {
         let mut found = false;
-        self.bvh.traverse(slabs, tmin, tmax, |first, count, t| {
+        self.bvh.traverse(slabs, tmin, tmax, stack, |first, count, t, _| {
             for slot in first..first + count {
                 let [a, b, c] = self.tris[slot as usize];
                 if s.hit(a, b, c, tmin, t).is_some() {
@@ -357,7 +358,8 @@ impl Scene {
         }
         let slabs = Slabs::new(ray.origin, ray.dir);
         let mut best = None;
-        self.tlas.traverse(&slabs, ray.tmin, ray.tmax, |first, count, mut t| {
+        with_stack(|stack| {
+        self.tlas.traverse(&slabs, ray.tmin, ray.tmax, stack, |first, count, mut t, stack| {
             for slot in first..first + count {
                 let k = self.tlas.order[slot as usize];
                 let inst = &self.instances[k as usize];
@@ -366,7 +368,7 @@ impl Scene {
                 };
                 let take = |tri: u32, front: bool, t: f32| accept(inst, tri, front, t);
                 let mesh = &self.meshes[inst.mesh as usize];
-                if let Some((th, tri, w, front)) = mesh.closest(&s, &sl, ray.tmin, t, &take) {
+                if let Some((th, tri, w, front)) = mesh.closest(&s, &sl, ray.tmin, t, &take, stack) {
                     t = th;
                     best = Some(Hit {
                         t: th,
@@ -380,6 +382,7 @@ impl Scene {
             }
             Some(t)
         });
+        });
         best
     }
 
@@ -392,18 +395,20 @@ impl Scene {
         }
         let slabs = Slabs::new(ray.origin, ray.dir);
         let mut found = false;
-        self.tlas.traverse(&slabs, ray.tmin, ray.tmax, |first, count, t| {
+        with_stack(|stack| {
+        self.tlas.traverse(&slabs, ray.tmin, ray.tmax, stack, |first, count, t, stack| {
             for slot in first..first + count {
                 let inst = &self.instances[self.tlas.order[slot as usize] as usize];
                 let Some((s, sl)) = self.local(inst, ray) else {
                     continue;
                 };
-                if self.meshes[inst.mesh as usize].any(&s, &sl, ray.tmin, t) {
+                if self.meshes[inst.mesh as usize].any(&s, &sl, ray.tmin, t, stack) {
                     found = true;
                     return None;
                 }
             }
             Some(t)
+        });
         });
         found
     }
