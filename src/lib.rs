@@ -36,9 +36,9 @@ pub use realist_render as render;
 pub use realist_scene as scene;
 pub use realist_scenefile as scenefile;
 pub use realist_shade as shade;
-pub use realist_trace as trace;
 pub use realist_simd as simd;
 pub use realist_texture as texture;
 pub use realist_texture::microfacet;
+pub use realist_trace as trace;
 #[cfg(feature = "viewer")]
 pub use realist_viewer as viewer;

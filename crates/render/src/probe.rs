@@ -20,8 +20,8 @@ use crate::raster::Cull;
 use crate::scene::{Light, LightKind, Slot, TextureSource};
 use crate::shade::layer_maps::LayerTexels;
 use crate::shade::{
-    ambient_split, arriving, emission_seen, maps, reflect, texlab, view_terms, view_vector, SurfaceAt,
-    LightSet, Shading, SlotParams,
+    ambient_split, arriving, emission_seen, maps, reflect, texlab, view_terms, view_vector,
+    LightSet, Shading, SlotParams, SurfaceAt,
 };
 
 /// One light's contribution at the probed point (linear RGB).
@@ -124,7 +124,15 @@ pub fn probe(
     let world = inst.placement(hit.copy);
     let position = (near + (far - near) * hit.t).as_vec3();
     let eye = cam.shading_eye();
-    let pt = point_at(scene, &r, world, &hit, position, eye, settings.single_scatter);
+    let pt = point_at(
+        scene,
+        &r,
+        world,
+        &hit,
+        position,
+        eye,
+        settings.single_scatter,
+    );
     let shadow_ray = |from: Vec3, to: Vec3| {
         cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some()
     };

@@ -48,7 +48,11 @@ pub fn unkey(key: u64) -> (usize, usize) {
 impl Rays {
     /// A pose moved mesh `meshes` (their hierarchies are refit from `scene`'s vertices
     /// when built) and perhaps instances.
-    pub(crate) fn posed(&mut self, scene: &[super::PreparedMesh], meshes: impl Iterator<Item = usize>) {
+    pub(crate) fn posed(
+        &mut self,
+        scene: &[super::PreparedMesh],
+        meshes: impl Iterator<Item = usize>,
+    ) {
         let c = self.0.get_mut().unwrap_or_else(PoisonError::into_inner);
         c.pose += 1;
         for m in meshes {

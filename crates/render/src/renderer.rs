@@ -263,7 +263,14 @@ impl Renderer {
             }
             if traced && k < passes {
                 let cam_to_world = view_m.inverse();
-                if !super::whitted::mirrors(scene, settings, target, jitter * vp, cam_to_world, stop) {
+                if !super::whitted::mirrors(
+                    scene,
+                    settings,
+                    target,
+                    jitter * vp,
+                    cam_to_world,
+                    stop,
+                ) {
                     return Err(Interrupted);
                 }
             }

@@ -598,7 +598,8 @@ impl Settings {
     #[must_use]
     pub fn pbr_look(&self, scene: &Scene) -> bool {
         if let Some(mode) = self.shading {
-            return mode.mode().base == crate::shade::mode::Base::Pbr && !scene.instances.is_empty();
+            return mode.mode().base == crate::shade::mode::Base::Pbr
+                && !scene.instances.is_empty();
         }
         let mut any = false;
         for inst in &scene.instances {

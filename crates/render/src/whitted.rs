@@ -209,13 +209,18 @@ impl<'a> Tracer<'a> {
     /// Whether instance `k`'s material can be a mirror or transmit (only then do its
     /// pixels need rays beyond the shadow rays).
     fn may_trace(&self, k: usize) -> bool {
-        self.resolved.get(k).and_then(Option::as_ref).is_some_and(|r| {
-            !r.params.unlit
-                && r.mode.mode().rays == Rays::Whitted
-                && r.params.surface.pbr.as_ref().is_some_and(|p| {
-                    p.transmission > 0.0 || p.roughness <= MIRROR_ROUGHNESS
-                })
-        })
+        self.resolved
+            .get(k)
+            .and_then(Option::as_ref)
+            .is_some_and(|r| {
+                !r.params.unlit
+                    && r.mode.mode().rays == Rays::Whitted
+                    && r.params
+                        .surface
+                        .pbr
+                        .as_ref()
+                        .is_some_and(|p| p.transmission > 0.0 || p.roughness <= MIRROR_ROUGHNESS)
+            })
     }
 
     /// Whether any shown instance needs them.
@@ -302,14 +307,24 @@ impl<'a> Tracer<'a> {
         let direct = lit
             .lights
             .iter()
-            .fold(pt.emitted + lit.ambient_diffuse, |a, s| a + s.diffuse + s.specular);
-        let Some(p) = pt.surf.pbr.as_ref().filter(|_| r.mode.mode().rays == Rays::Whitted) else {
+            .fold(pt.emitted + lit.ambient_diffuse, |a, s| {
+                a + s.diffuse + s.specular
+            });
+        let Some(p) = pt
+            .surf
+            .pbr
+            .as_ref()
+            .filter(|_| r.mode.mode().rays == Rays::Whitted)
+        else {
             return direct + lit.ambient_specular;
         };
         let params = r.params.surface.pbr.as_ref();
         let transmission = p.transmission.map_or(0.0, |t| t.factor) * (1.0 - p.metallic);
         let mirror = p.roughness <= MIRROR_ROUGHNESS;
-        if !(mirror || transmission > 0.0) || depth >= MAX_DEPTH || weight.max_element() < MIN_WEIGHT {
+        if !(mirror || transmission > 0.0)
+            || depth >= MAX_DEPTH
+            || weight.max_element() < MIN_WEIGHT
+        {
             return direct + lit.ambient_specular;
         }
         // The side the ray came from, and the geometric normal facing it.

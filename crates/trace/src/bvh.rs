@@ -288,10 +288,17 @@ impl Bvh {
                     },
                 )
             } else {
-                let (a, b) = (self.nodes[n.index() as usize], self.nodes[n.index() as usize + 1]);
+                let (a, b) = (
+                    self.nodes[n.index() as usize],
+                    self.nodes[n.index() as usize + 1],
+                );
                 (a.min().min(b.min()), a.max().max(b.max()))
             };
-            let (min, max) = if n.count() > 0 { widen(min, max) } else { (min, max) };
+            let (min, max) = if n.count() > 0 {
+                widen(min, max)
+            } else {
+                (min, max)
+            };
             self.nodes[k] = Node::new(min, max, n.count(), n.index());
         }
         self.make_wide();

@@ -30,11 +30,14 @@ fn common_plane(tris: &[[Vec3; 3]]) -> Option<(Vec3, f32, f32)> {
         (n.length_squared() > 0.0).then(|| (n.normalize(), t[0]))
     })?;
     let (n, p) = first;
-    let (lo, hi) = tris.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), t| {
-        let (a, b) = tri_box(t);
-        (lo.min(a), hi.max(b))
-    });
-    let margin = 1e-6 * (hi - lo).max_element() + 8.0 * f32::EPSILON * lo.abs().max(hi.abs()).max_element();
+    let (lo, hi) = tris
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), t| {
+            let (a, b) = tri_box(t);
+            (lo.min(a), hi.max(b))
+        });
+    let margin =
+        1e-6 * (hi - lo).max_element() + 8.0 * f32::EPSILON * lo.abs().max(hi.abs()).max_element();
     let d = n.dot(p);
     tris.iter()
         .all(|t| t.iter().all(|v| (n.dot(*v) - d).abs() <= margin))
@@ -94,7 +97,9 @@ impl Mesh {
     /// vertex that is not finite makes its triangle a point at the origin's box (never hit).
     pub fn refit(&mut self, positions: &[Vec3], triangles: &[[u32; 3]]) {
         for (slot, &k) in self.bvh.order.iter().enumerate() {
-            let t = triangles.get(k as usize).and_then(|&t| corners(positions, t));
+            let t = triangles
+                .get(k as usize)
+                .and_then(|&t| corners(positions, t));
             self.tris[slot] = t.unwrap_or([Vec3::NAN; 3]);
         }
         self.plane = common_plane(&self.tris);
@@ -145,36 +150,45 @@ impl Mesh {
         stack: &mut Vec<Entry>,
     ) -> Option<(f32, u32, [f32; 3], bool)> {
         let mut best = None;
-        self.bvh.traverse(slabs, tmin, tmax, stack, |first, count, mut t, _| {
-            for slot in first..first + count {
-                let [a, b, c] = self.tris[slot as usize];
-                if let Some((th, w, front)) = s.hit_sided(a, b, c, tmin, t) {
-                    let tri = self.bvh.order[slot as usize];
-                    if accept(tri, front, th) {
-                        t = th;
-                        best = Some((th, tri, w, front));
+        self.bvh
+            .traverse(slabs, tmin, tmax, stack, |first, count, mut t, _| {
+                for slot in first..first + count {
+                    let [a, b, c] = self.tris[slot as usize];
+                    if let Some((th, w, front)) = s.hit_sided(a, b, c, tmin, t) {
+                        let tri = self.bvh.order[slot as usize];
+                        if accept(tri, front, th) {
+                            t = th;
+                            best = Some((th, tri, w, front));
+                        }
                     }
                 }
-            }
-            Some(t)
-        });
+                Some(t)
+            });
         best
     }
 
     /// Whether anything lies in `(tmin, tmax)`.
     #[inline]
-    fn any(&self, s: &Sheared, slabs: &Slabs, tmin: f32, tmax: f32, stack: &mut Vec<Entry>) -> bool {
+    fn any(
+        &self,
+        s: &Sheared,
+        slabs: &Slabs,
+        tmin: f32,
+        tmax: f32,
+        stack: &mut Vec<Entry>,
+    ) -> bool {
         let mut found = false;
-        self.bvh.traverse(slabs, tmin, tmax, stack, |first, count, t, _| {
-            for slot in first..first + count {
-                let [a, b, c] = self.tris[slot as usize];
-                if s.hit(a, b, c, tmin, t).is_some() {
-                    found = true;
-                    return None;
+        self.bvh
+            .traverse(slabs, tmin, tmax, stack, |first, count, t, _| {
+                for slot in first..first + count {
+                    let [a, b, c] = self.tris[slot as usize];
+                    if s.hit(a, b, c, tmin, t).is_some() {
+                        found = true;
+                        return None;
+                    }
                 }
-            }
-            Some(t)
-        });
+                Some(t)
+            });
         found
     }
 }
@@ -353,35 +367,46 @@ impl Scene {
         ray: &Ray,
         accept: impl Fn(&Instance, u32, bool, f32) -> bool,
     ) -> Option<Hit> {
-        if !(ray.origin.is_finite() && ray.dir.is_finite()) || ray.tmin.is_nan() || ray.tmax.is_nan() {
+        if !(ray.origin.is_finite() && ray.dir.is_finite())
+            || ray.tmin.is_nan()
+            || ray.tmax.is_nan()
+        {
             return None;
         }
         let slabs = Slabs::new(ray.origin, ray.dir);
         let mut best = None;
         with_stack(|stack| {
-        self.tlas.traverse(&slabs, ray.tmin, ray.tmax, stack, |first, count, mut t, stack| {
-            for slot in first..first + count {
-                let k = self.tlas.order[slot as usize];
-                let inst = &self.instances[k as usize];
-                let Some((s, sl)) = self.local(inst, ray) else {
-                    continue;
-                };
-                let take = |tri: u32, front: bool, t: f32| accept(inst, tri, front, t);
-                let mesh = &self.meshes[inst.mesh as usize];
-                if let Some((th, tri, w, front)) = mesh.closest(&s, &sl, ray.tmin, t, &take, stack) {
-                    t = th;
-                    best = Some(Hit {
-                        t: th,
-                        instance: k,
-                        key: inst.key,
-                        triangle: tri,
-                        bary: w,
-                        front,
-                    });
-                }
-            }
-            Some(t)
-        });
+            self.tlas.traverse(
+                &slabs,
+                ray.tmin,
+                ray.tmax,
+                stack,
+                |first, count, mut t, stack| {
+                    for slot in first..first + count {
+                        let k = self.tlas.order[slot as usize];
+                        let inst = &self.instances[k as usize];
+                        let Some((s, sl)) = self.local(inst, ray) else {
+                            continue;
+                        };
+                        let take = |tri: u32, front: bool, t: f32| accept(inst, tri, front, t);
+                        let mesh = &self.meshes[inst.mesh as usize];
+                        if let Some((th, tri, w, front)) =
+                            mesh.closest(&s, &sl, ray.tmin, t, &take, stack)
+                        {
+                            t = th;
+                            best = Some(Hit {
+                                t: th,
+                                instance: k,
+                                key: inst.key,
+                                triangle: tri,
+                                bary: w,
+                                front,
+                            });
+                        }
+                    }
+                    Some(t)
+                },
+            );
         });
         best
     }
@@ -390,25 +415,34 @@ impl Scene {
     /// found ends the search).
     #[must_use]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        if !(ray.origin.is_finite() && ray.dir.is_finite()) || ray.tmin.is_nan() || ray.tmax.is_nan() {
+        if !(ray.origin.is_finite() && ray.dir.is_finite())
+            || ray.tmin.is_nan()
+            || ray.tmax.is_nan()
+        {
             return false;
         }
         let slabs = Slabs::new(ray.origin, ray.dir);
         let mut found = false;
         with_stack(|stack| {
-        self.tlas.traverse(&slabs, ray.tmin, ray.tmax, stack, |first, count, t, stack| {
-            for slot in first..first + count {
-                let inst = &self.instances[self.tlas.order[slot as usize] as usize];
-                let Some((s, sl)) = self.local(inst, ray) else {
-                    continue;
-                };
-                if self.meshes[inst.mesh as usize].any(&s, &sl, ray.tmin, t, stack) {
-                    found = true;
-                    return None;
-                }
-            }
-            Some(t)
-        });
+            self.tlas.traverse(
+                &slabs,
+                ray.tmin,
+                ray.tmax,
+                stack,
+                |first, count, t, stack| {
+                    for slot in first..first + count {
+                        let inst = &self.instances[self.tlas.order[slot as usize] as usize];
+                        let Some((s, sl)) = self.local(inst, ray) else {
+                            continue;
+                        };
+                        if self.meshes[inst.mesh as usize].any(&s, &sl, ray.tmin, t, stack) {
+                            found = true;
+                            return None;
+                        }
+                    }
+                    Some(t)
+                },
+            );
         });
         found
     }

@@ -24,7 +24,12 @@ fn sphere(center: Vec3, r: f32, lat: usize, lon: usize) -> (Vec<Vec3>, Vec<[u32;
     }
     for i in 1..lat - 1 {
         for j in 0..lon {
-            let (a, b, c, d) = (ring(i, j), ring(i, j + 1), ring(i + 1, j), ring(i + 1, j + 1));
+            let (a, b, c, d) = (
+                ring(i, j),
+                ring(i, j + 1),
+                ring(i + 1, j),
+                ring(i + 1, j + 1),
+            );
             t.push([a, b, d]);
             t.push([a, d, c]);
         }
@@ -43,7 +48,11 @@ fn targets(p: &[Vec3], t: &[[u32; 3]]) -> Vec<Vec3> {
     edges.dedup();
     p.iter()
         .copied()
-        .chain(edges.iter().map(|&(a, b)| (p[a as usize] + p[b as usize]) * 0.5))
+        .chain(
+            edges
+                .iter()
+                .map(|&(a, b)| (p[a as usize] + p[b as usize]) * 0.5),
+        )
         .collect()
 }
 
@@ -104,7 +113,12 @@ fn rays_at_shared_edges_and_vertices_of_a_closed_mesh_never_miss() {
                 })
                 .count();
             rays += world_aims.len();
-            assert_eq!(misses, 0, "{misses} of {} rays from {from} slipped out", world_aims.len());
+            assert_eq!(
+                misses,
+                0,
+                "{misses} of {} rays from {from} slipped out",
+                world_aims.len()
+            );
         }
     }
     assert!(rays > 100_000, "{rays}");
@@ -163,7 +177,9 @@ fn refit_follows_moved_vertices() {
         let o = Vec3::new(a.cos() * 4.0, (a * 0.7).sin() * 2.0, a.sin() * 4.0);
         let d = -o + Vec3::new((a * 3.1).sin(), 0.3 * (a * 1.3).cos(), 0.2);
         let want = brute(&moved, &t, o, d, f32::INFINITY).map(|h| h.1);
-        let got = scene.closest(&Ray::new(o, d, 0.0, f32::INFINITY)).map(|h| h.triangle);
+        let got = scene
+            .closest(&Ray::new(o, d, 0.0, f32::INFINITY))
+            .map(|h| h.triangle);
         assert_eq!(got, want, "ray {k}");
     }
 }
@@ -176,7 +192,13 @@ fn instances_are_hit_where_they_are_placed() {
     let instances = (0..50)
         .map(|k| {
             let at = Vec3::new((k % 10) as f32 * 3.0, (k / 10) as f32 * 3.0, 0.0);
-            Instance::new(0, k, Mat4::from_translation(at) * Mat4::from_scale(Vec3::splat(0.5 + (k % 3) as f32 * 0.25))).unwrap()
+            Instance::new(
+                0,
+                k,
+                Mat4::from_translation(at)
+                    * Mat4::from_scale(Vec3::splat(0.5 + (k % 3) as f32 * 0.25)),
+            )
+            .unwrap()
         })
         .collect();
     let scene = Scene::assemble(vec![mesh.into()], instances);
@@ -187,11 +209,21 @@ fn instances_are_hit_where_they_are_placed() {
             .closest(&Ray::new(at + Vec3::Z * 10.0, -Vec3::Z, 0.0, f32::INFINITY))
             .unwrap();
         assert_eq!(hit.key, k);
-        assert!((hit.t - (10.0 - r)).abs() < 2e-3 * r, "{} vs {}", hit.t, 10.0 - r);
+        assert!(
+            (hit.t - (10.0 - r)).abs() < 2e-3 * r,
+            "{} vs {}",
+            hit.t,
+            10.0 - r
+        );
     }
     // Between the copies: nothing.
     assert!(scene
-        .closest(&Ray::new(Vec3::new(1.5, 1.5, 10.0), -Vec3::Z, 0.0, f32::INFINITY))
+        .closest(&Ray::new(
+            Vec3::new(1.5, 1.5, 10.0),
+            -Vec3::Z,
+            0.0,
+            f32::INFINITY
+        ))
         .is_none());
 }
 
@@ -207,8 +239,18 @@ fn bad_geometry_and_rays_are_left_out_not_panicked_on() {
     assert_eq!(mesh.skipped, bad);
     assert!(Instance::new(0, 0, Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0))).is_none());
     assert!(Instance::new(0, 0, Mat4::from_translation(Vec3::splat(f32::INFINITY))).is_none());
-    let scene = Scene::assemble(vec![mesh.into(), Mesh::new(&[], &[]).into()], vec![Instance::new(0, 0, Mat4::IDENTITY).unwrap(), Instance::new(1, 1, Mat4::IDENTITY).unwrap()]);
-    assert_eq!(scene.instances().len(), 1, "the empty mesh's instance is dropped");
+    let scene = Scene::assemble(
+        vec![mesh.into(), Mesh::new(&[], &[]).into()],
+        vec![
+            Instance::new(0, 0, Mat4::IDENTITY).unwrap(),
+            Instance::new(1, 1, Mat4::IDENTITY).unwrap(),
+        ],
+    );
+    assert_eq!(
+        scene.instances().len(),
+        1,
+        "the empty mesh's instance is dropped"
+    );
     for (o, d) in [
         (Vec3::NAN, Vec3::X),
         (Vec3::ZERO, Vec3::ZERO),
@@ -220,7 +262,9 @@ fn bad_geometry_and_rays_are_left_out_not_panicked_on() {
     // All triangles degenerate (zero area): built, never hit.
     let flat = vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
     let s = one(flat, vec![[0, 1, 2]; 1000], Mat4::IDENTITY);
-    assert!(s.closest(&Ray::new(Vec3::new(1.0, 0.0, -1.0), Vec3::Z, 0.0, 10.0)).is_none());
+    assert!(s
+        .closest(&Ray::new(Vec3::new(1.0, 0.0, -1.0), Vec3::Z, 0.0, 10.0))
+        .is_none());
 }
 
 proptest! {
@@ -249,7 +293,11 @@ fn rays_leaving_a_flat_mesh_skip_it_and_agree_with_brute_force() {
     let mut p = Vec::new();
     for z in 0..=n {
         for x in 0..=n {
-            p.push(Vec3::new(x as f32 / n as f32 * 2.0 - 1.0, 0.25, z as f32 / n as f32 * 2.0 - 1.0));
+            p.push(Vec3::new(
+                x as f32 / n as f32 * 2.0 - 1.0,
+                0.25,
+                z as f32 / n as f32 * 2.0 - 1.0,
+            ));
         }
     }
     let at = |x: u32, z: u32| z * (n + 1) + x;
@@ -275,7 +323,9 @@ fn rays_leaving_a_flat_mesh_skip_it_and_agree_with_brute_force() {
             let o = tilt.transform_point3(Vec3::new(0.3 * a.sin(), oy, 0.2 * a.cos()));
             let d = tilt.transform_vector3(Vec3::new(0.3, dy, 0.2));
             let want = brute(&world, &t, o, d, 10.0).map(|h| h.1);
-            let got = scene.closest(&Ray::new(o, d, 0.0, 10.0)).map(|h| h.triangle);
+            let got = scene
+                .closest(&Ray::new(o, d, 0.0, 10.0))
+                .map(|h| h.triangle);
             assert_eq!(got.is_some(), want.is_some(), "from y {oy} along {dy}");
             assert_eq!(scene.occluded(&Ray::new(o, d, 0.0, 10.0)), want.is_some());
         }

@@ -132,7 +132,10 @@ mod tests {
             assert!((got - want).abs() < 1e-5, "{w:?}");
         }
         // Behind the origin, or beyond tmax: no hit.
-        assert!(Sheared::new(o, -d).unwrap().hit(a, b, c, 0.0, 1e9).is_none());
+        assert!(Sheared::new(o, -d)
+            .unwrap()
+            .hit(a, b, c, 0.0, 1e9)
+            .is_none());
         assert!(s.hit(a, b, c, 0.0, 1.9).is_none());
         // A zero direction is refused up front.
         assert!(Sheared::new(o, Vec3::ZERO).is_none());
@@ -165,9 +168,18 @@ mod side {
     /// every axis both ways and oblique ones.
     #[test]
     fn det_sign_tells_the_front_side() {
-        let (a, b, c) = (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+        let (a, b, c) = (
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        );
         let n = (b - a).cross(c - a);
-        for d in [Vec3::Z, -Vec3::Z, Vec3::new(0.2, 0.1, -1.0), Vec3::new(-0.3, 0.2, 1.0)] {
+        for d in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(0.2, 0.1, -1.0),
+            Vec3::new(-0.3, 0.2, 1.0),
+        ] {
             for (p, q, r) in [(a, b, c), (b, c, a), (a, c, b)] {
                 let n = (q - p).cross(r - p);
                 let s = Sheared::new(-d * 5.0, d).unwrap();

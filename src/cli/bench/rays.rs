@@ -99,25 +99,6 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
                 });
             primary.push(t.elapsed().as_secs_f64() * 1e3);
             let t = Instant::now();
-            let only_ground = {
-                let mut s = settings.clone();
-                s.hidden.set(0, true);
-                prepared.rays(&s)
-            };
-            let t2 = Instant::now();
-            let _ = points.par_iter().flatten().filter(|&&p| {
-                let from = p + (cam.eye - p) * 1e-4;
-                only_ground.occluded(&Ray::new(from, light, 0.0, f32::INFINITY))
-            }).count();
-            eprintln!("ground only {:.1} ms", t2.elapsed().as_secs_f64() * 1e3);
-            let floor = points.iter().flatten().map(|p| p.y).fold(f32::INFINITY, f32::min) + 1e-3;
-            let on_bunny: Vec<Vec3> = points.iter().flatten().copied().filter(|p| p.y > floor).collect();
-            let t2 = Instant::now();
-            let _ = on_bunny.par_iter().filter(|&&p| {
-                let from = p + (cam.eye - p) * 1e-4;
-                rays.occluded(&Ray::new(from, light, 0.0, f32::INFINITY))
-            }).count();
-            eprintln!("{} rays from above y=-0.99: {:.1} ms", on_bunny.len(), t2.elapsed().as_secs_f64() * 1e3);
             let t = Instant::now();
             let blocked = points
                 .par_iter()
@@ -132,9 +113,17 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
             hits = points.iter().flatten().count();
             shadowed = blocked;
         }
-        eprintln!("flat: {:?}", rays.meshes.iter().map(|m| (m.len(), m.is_flat())).collect::<Vec<_>>());
         let tris = rays.triangles();
-        (median(&mut build), scene_ms, median(&mut primary), median(&mut shadow), hits, shadowed, tris, triangles.len())
+        (
+            median(&mut build),
+            scene_ms,
+            median(&mut primary),
+            median(&mut shadow),
+            hits,
+            shadowed,
+            tris,
+            triangles.len(),
+        )
     });
     let (build, scene_ms, primary, shadow, hits, shadowed, tris, mesh_tris) = out;
     let round = |v: f64| (v * 100.0).round() / 100.0;

@@ -1,0 +1,340 @@
+//! Whitted's model (`--shading whitted`, the textbook's §9.6.1) against answers known
+//! independently of the renderer: a mirror sphere shows the environment it reflects, texel
+//! for texel; from inside glass (IOR 1.5) the outside is seen only within Snell's critical
+//! angle, asin(1/1.5) = 41.81°, and totally reflected beyond it; traced shadows fall
+//! exactly where the occluder's outline projects.
+
+mod common;
+
+use std::sync::Arc;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use realist::mesh::Mesh;
+use realist::render::{Environment, Lights, PreparedScene, Renderer, Settings, Shot};
+use realist::scene::{Camera, Instance, Light, LightKind, Material, PbrMaterial, Scene, Style};
+use realist::shade::Shading;
+use realist::texture::env::{texel_dir, EnvImage, EnvView, Prefiltered};
+
+fn pbr(base: Vec4, metallic: f32, roughness: f32, pbr: PbrMaterial) -> Material {
+    Material {
+        base_color: base,
+        metallic,
+        roughness,
+        pbr: Some(pbr),
+        ..Material::default()
+    }
+}
+
+/// `meshes` each with its material, placed as given.
+fn scene(parts: Vec<(Mesh, Material, Mat4)>) -> Scene {
+    let mut s = Scene::default();
+    for (k, (mut mesh, material, world)) in parts.into_iter().enumerate() {
+        mesh.material = Some(k);
+        s.materials.push(material);
+        s.meshes.push(mesh);
+        s.instances.push(Instance {
+            mesh: k,
+            world,
+            name: format!("part {k}"),
+            style: Style::Inherit,
+            node: None,
+            skin: None,
+            copies: None,
+        });
+    }
+    s
+}
+
+fn shot(w: u32, h: u32, camera: Camera, env: Option<EnvView>, lights: Vec<Light>) -> Shot {
+    Shot {
+        width: w,
+        height: h,
+        camera: Some(camera),
+        settings: Settings {
+            shading: Some(Shading::Whitted),
+            background: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            lights: Lights::Custom {
+                lights,
+                follow_camera: false,
+            },
+            environment: env.map_or(Environment::Off, Environment::On),
+            tone: realist::render::ToneMap::Clamp,
+            ..Settings::default()
+        },
+    }
+}
+
+/// Linear RGB per pixel, row-major.
+fn render(scene: &Scene, shot: &Shot) -> Vec<Vec3> {
+    let prepared = PreparedScene::new(scene.clone());
+    let view = shot.view(prepared.scene());
+    let mut r = Renderer::new();
+    r.render(&prepared, &shot.settings, &view);
+    let fb = r.take_target().expect("a frame").resolve();
+    fb.color.iter().map(|c| c.truncate()).collect()
+}
+
+/// The camera ray through the centre of pixel (x, y): origin and unit direction.
+fn pixel_ray(cam: &Camera, w: u32, h: u32, x: u32, y: u32) -> (Vec3, Vec3) {
+    let inv = (cam.projection(w as f32 / h as f32) * cam.view()).inverse();
+    let ndc = Vec2::new(
+        (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+        1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+    );
+    let near = inv.project_point3(ndc.extend(1.0));
+    let far = inv.project_point3(ndc.extend(0.0));
+    (near, (far - near).normalize())
+}
+
+fn camera(eye: Vec3, target: Vec3, up: Vec3, yfov_deg: f32) -> Camera {
+    Camera {
+        name: "test".into(),
+        eye,
+        target,
+        up,
+        yfov: yfov_deg.to_radians(),
+        near: 0.05,
+        far: 100.0,
+        aspect: None,
+        ortho: None,
+    }
+}
+
+/// A mirror (metal, roughness 0, white) sphere reflects the environment: each pixel is the
+/// environment's texel along the ray reflected off the exact sphere (found here
+/// analytically, not by the renderer's code), but for the tessellation and the bilinear
+/// filter.
+#[test]
+fn a_mirror_sphere_reflects_the_environment_texel_for_texel() {
+    // A chequer of 16 x 8 squares of 16 texels, coloured by direction, over 256 x 128.
+    let (ew, eh) = (256u32, 128u32);
+    let texels = (0..eh)
+        .flat_map(|y| (0..ew).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let d = texel_dir(x as usize, y as usize, ew as usize, eh as usize);
+            let check = if (x / 16 + y / 16) % 2 == 0 {
+                1.0
+            } else {
+                0.25
+            };
+            ((d * 0.5 + Vec3::splat(0.5)) * check).to_array()
+        })
+        .collect();
+    let env = EnvView::new(Arc::new(Prefiltered::build(
+        EnvImage::from_rgb(ew, eh, texels).expect("environment"),
+    )));
+    let mirror = pbr(Vec4::ONE, 1.0, 0.0, PbrMaterial::default());
+    let s = scene(vec![(
+        Mesh::sphere(1.0, 512, 256).expect("sphere"),
+        mirror,
+        Mat4::IDENTITY,
+    )]);
+    let cam = camera(Vec3::new(0.0, 0.6, 4.0), Vec3::ZERO, Vec3::Y, 32.0);
+    let (w, h) = (160, 160);
+    let img = render(&s, &shot(w, h, cam.clone(), Some(env.clone()), vec![]));
+    let (mut n, mut close, mut sum) = (0usize, 0usize, 0.0f64);
+    for y in 0..h {
+        for x in 0..w {
+            let (o, d) = pixel_ray(&cam, w, h, x, y);
+            // The exact sphere, away from its rim (where the tessellated outline differs).
+            let b = o.dot(d);
+            let disc = b * b - (o.length_squared() - 1.0);
+            if disc <= 0.0 || (o - d * b).length() > 0.97 {
+                continue;
+            }
+            let t = -b - disc.sqrt();
+            let nrm = (o + d * t).normalize();
+            let r = d - 2.0 * d.dot(nrm) * nrm;
+            let want = env.background(r, 0.0);
+            let got = img[(y * w + x) as usize];
+            let err = (got - want).abs().max_element();
+            n += 1;
+            sum += f64::from(err);
+            if err <= 1.0 / 255.0 {
+                close += 1;
+            }
+        }
+    }
+    let mean = sum / n as f64;
+    let share = close as f64 / n as f64;
+    eprintln!(
+        "mirror sphere: {n} pixels, mean error {mean:.5}, {:.2}% within one level",
+        share * 100.0
+    );
+    assert!(n > 12_000, "{n}");
+    // The squares' edges move by the tessellation's normal error: a thin band.
+    assert!(
+        share > 0.97,
+        "only {:.2}% of pixels within one 8-bit level",
+        share * 100.0
+    );
+    assert!(mean < 2e-3, "mean error {mean}");
+}
+
+/// Snell's window: from inside a glass block (IOR 1.5, a closed volume) looking up at its
+/// top face under a uniform sky, the outside shows within the critical angle
+/// asin(1/1.5) = 41.81° and beyond it the face reflects totally (here onto a black floor
+/// inside the block, which also catches what the top face reflects inside the window).
+/// Along the image's middle row each pixel's incidence angle is known from the camera
+/// alone.
+#[test]
+fn glass_reflects_totally_beyond_the_critical_angle() {
+    let glass = pbr(
+        Vec4::ONE,
+        0.0,
+        0.0,
+        PbrMaterial {
+            transmission: 1.0,
+            ior: 1.5,
+            thickness: 1.0,
+            ..PbrMaterial::default()
+        },
+    );
+    let black = pbr(
+        Vec4::new(0.0, 0.0, 0.0, 1.0),
+        0.0,
+        1.0,
+        PbrMaterial::default(),
+    );
+    let floor = common::triangles(
+        vec![
+            Vec3::new(-150.0, -5.0, -150.0),
+            Vec3::new(-150.0, -5.0, 150.0),
+            Vec3::new(150.0, -5.0, 150.0),
+            Vec3::new(150.0, -5.0, -150.0),
+        ],
+        vec![0, 1, 2, 0, 2, 3],
+    );
+    let s = scene(vec![
+        // A slab 400 wide and 20 high: every ray from its middle meets the top face.
+        (
+            Mesh::cube(20.0).expect("cube"),
+            glass,
+            Mat4::from_scale(Vec3::new(20.0, 1.0, 20.0)),
+        ),
+        (floor, black, Mat4::IDENTITY),
+    ]);
+    let sky = EnvView::new(Arc::new(Prefiltered::build(EnvImage::uniform(Vec3::ONE))));
+    let cam = camera(Vec3::ZERO, Vec3::Y, Vec3::Z, 120.0);
+    let (w, h) = (401, 9);
+    let mut cam_wide = cam.clone();
+    // The vertical field is small; the horizontal one spans ±60° (aspect 401 / 9).
+    cam_wide.yfov = 2.0 * ((60f32.to_radians()).tan() * h as f32 / w as f32).atan();
+    let img = render(&s, &shot(w, h, cam_wide.clone(), Some(sky), vec![]));
+    let critical = (1.0f32 / 1.5).asin().to_degrees();
+    let y = h / 2;
+    let mut crossing = None;
+    for x in w / 2..w {
+        let (_, d) = pixel_ray(&cam_wide, w, h, x, y);
+        let angle = d.y.clamp(-1.0, 1.0).acos().to_degrees();
+        let v = img[(y * w + x) as usize].y;
+        if std::env::var("DIAG").is_ok() {
+            eprintln!("{angle:.2} {v:.4}");
+        }
+        if angle < critical - 3.0 {
+            assert!(v > 0.6, "at {angle:.2}° (inside the window) only {v}");
+        }
+        if angle < critical - 0.5 {
+            // Fresnel's equations for glass to air (written here in f64): the sky comes
+            // through with 1 - R, the floor's little (under 0.03) with R.
+            let (ci, n) = (f64::from(angle).to_radians().cos(), 1.5f64);
+            let ct = (1.0 - n * n * (1.0 - ci * ci)).sqrt();
+            let rs = (n * ci - ct) / (n * ci + ct);
+            let rp = (ci - n * ct) / (ci + n * ct);
+            let r = 0.5 * (rs * rs + rp * rp);
+            let want = 1.0 - r;
+            assert!(
+                (f64::from(v) - want).abs() < 0.03 * r + 2e-3,
+                "at {angle:.2}°: {v} against 1 - R = {want:.4}"
+            );
+        }
+        if angle > critical + 0.3 {
+            assert!(
+                v < 0.1,
+                "at {angle:.2}° (beyond the critical angle) still {v}"
+            );
+        }
+        if crossing.is_none() && v < 0.5 {
+            crossing = Some(angle);
+        }
+    }
+    let crossing = crossing.expect("the window has an edge");
+    eprintln!("Snell's window: brightness halves at {crossing:.2}°, critical angle {critical:.2}°");
+    assert!(
+        (critical - 2.0..=critical + 0.3).contains(&crossing),
+        "the window's edge is at {crossing:.2}°, the critical angle {critical:.2}°"
+    );
+}
+
+/// A square held above the ground under a light straight above: the traced shadow is
+/// the square's outline on the ground, to the pixel (the shadow map's is blurred by its
+/// filter and shifted by its bias).
+#[test]
+fn traced_shadows_fall_where_the_outline_projects() {
+    let grey = pbr(
+        Vec4::new(0.8, 0.8, 0.8, 1.0),
+        0.0,
+        1.0,
+        PbrMaterial::default(),
+    );
+    let quad = |y: f32, half: f32| {
+        common::triangles(
+            vec![
+                Vec3::new(-half, y, -half),
+                Vec3::new(-half, y, half),
+                Vec3::new(half, y, half),
+                Vec3::new(half, y, -half),
+            ],
+            vec![0, 1, 2, 0, 2, 3],
+        )
+    };
+    let s = scene(vec![
+        (quad(0.0, 4.0), grey.clone(), Mat4::IDENTITY),
+        (quad(1.0, 1.0), grey, Mat4::IDENTITY),
+    ]);
+    let sun = Light {
+        kind: LightKind::Directional,
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        intensity: 3.0,
+        ..Light::default()
+    };
+    let cam = camera(Vec3::new(0.0, 9.0, 0.01), Vec3::ZERO, Vec3::Y, 50.0);
+    let (w, h) = (200, 200);
+    let img = render(&s, &shot(w, h, cam.clone(), None, vec![sun.clone()]));
+    let (mut checked, mut wrong) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let (o, d) = pixel_ray(&cam, w, h, x, y);
+            // Ground pixels not covered by the square (seen from above).
+            let t_sq = (1.0 - o.y) / d.y;
+            let on_sq = o + d * t_sq;
+            if on_sq.x.abs() < 1.02 && on_sq.z.abs() < 1.02 {
+                continue;
+            }
+            let t = -o.y / d.y;
+            let p = o + d * t;
+            if p.x.abs() > 3.9 || p.z.abs() > 3.9 {
+                continue;
+            }
+            // Where the light's ray from this point crosses the square's plane.
+            let up = -sun.direction;
+            let q = p + up * ((1.0 - p.y) / up.y);
+            let margin = (q.x.abs() - 1.0).abs().min((q.z.abs() - 1.0).abs());
+            // The pixel's footprint on the ground is about 0.05: skip the outline's band.
+            if margin < 0.06 && q.x.abs() < 1.06 && q.z.abs() < 1.06 {
+                continue;
+            }
+            let shadowed = q.x.abs() < 1.0 && q.z.abs() < 1.0;
+            let v = img[(y * w + x) as usize].y;
+            checked += 1;
+            if shadowed != (v < 0.05) {
+                wrong += 1;
+            }
+        }
+    }
+    assert!(checked > 20_000, "{checked}");
+    assert_eq!(
+        wrong, 0,
+        "{wrong} of {checked} ground pixels lit or shadowed wrongly"
+    );
+}
