@@ -226,6 +226,7 @@ impl Subject {
                 | Shading::Phong
                 | Shading::Pbr
                 | Shading::Whitted
+                | Shading::Path
                 | Shading::Normals
                 | Shading::Depth
                 | Shading::Uv

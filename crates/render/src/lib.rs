@@ -36,6 +36,7 @@ mod frame;
 pub mod measure;
 mod numeric;
 mod passes;
+pub mod path;
 mod pool;
 mod prepare;
 mod probe;

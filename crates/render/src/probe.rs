@@ -136,7 +136,15 @@ pub fn probe(
     let shadow_ray = |from: Vec3, to: Vec3| {
         cast(scene, settings, from.as_dvec3(), to.as_dvec3(), false).is_some()
     };
-    let lit = light_point(scene, settings, view_m.inverse(), &pt, false, &shadow_ray);
+    let lit = light_point(
+        scene,
+        settings,
+        view_m.inverse(),
+        &pt,
+        false,
+        true,
+        &shadow_ray,
+    );
     let Point {
         normal,
         face_normal,
@@ -151,6 +159,7 @@ pub fn probe(
         lights,
         ambient_diffuse,
         ambient_specular,
+        ..
     } = lit;
     let ambient = ambient_diffuse + ambient_specular;
     let image_based = surf
@@ -437,13 +446,15 @@ pub(crate) struct Lit {
 
 /// Lights `pt` with the frame's lights (`cam_to_world` places camera-attached ones).
 /// `occluded(from, to)` answers a shadow ray, asked for lights that cast shadows, or for
-/// `every` light that can (Whitted's model).
+/// `every` light that can (Whitted's model). Without `image_based` the ambient and
+/// environment terms are left at zero (a path tracer samples them itself).
 pub(crate) fn light_point(
     scene: &PreparedScene,
     settings: &Settings,
     cam_to_world: glam::Mat4,
     pt: &Point,
     every: bool,
+    image_based: bool,
     occluded: &dyn Fn(Vec3, Vec3) -> bool,
 ) -> Lit {
     let mut set = LightSet::default();
@@ -452,7 +463,7 @@ pub(crate) fn light_point(
     let mut ambient_light = Vec3::ZERO;
     let mut lights = Vec::new();
     let mut index = 0;
-    let (center, radius) = scene_sphere(scene);
+    let (center, radius) = scene.bounding_sphere();
     let rig = settings.default_rig(scene.scene());
     for_each_light(
         scene.lights(),
@@ -527,7 +538,11 @@ pub(crate) fn light_point(
     set.clear();
     set.ambient = ambient_light;
     set.env = settings.environment.view();
-    let (ambient_diffuse, ambient_specular) = ambient_split::<f32>(&set, surf, normal, v);
+    let (ambient_diffuse, ambient_specular) = if image_based {
+        ambient_split::<f32>(&set, surf, normal, v)
+    } else {
+        (Vec3::ZERO, Vec3::ZERO)
+    };
     Lit {
         lights,
         ambient_diffuse: ambient_diffuse * pt.occlusion,
@@ -546,14 +561,6 @@ pub(crate) struct Hit {
     pub triangle: usize,
     pub bary: Vec3,
     pub front: bool,
-}
-
-/// The world bounding sphere of the whole scene (centre, radius).
-fn scene_sphere(scene: &PreparedScene) -> (Vec3, f32) {
-    match scene.scene().bounds() {
-        Some((lo, hi)) => ((lo + hi) * 0.5, (hi - lo).length() * 0.5),
-        None => (Vec3::ZERO, 1.0),
-    }
 }
 
 /// Casts the segment `near -> far` (world space) against every instance; with `cull` (a

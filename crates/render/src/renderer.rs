@@ -75,6 +75,8 @@ pub struct Renderer {
     complete: bool,
     shadows: super::shadows::ShadowTargets,
     screen_shadows: super::whitted::ScreenShadows,
+    /// A path-traced pass's pixels (row-major), reused.
+    path: Vec<Vec3>,
 }
 
 impl Renderer {
@@ -246,7 +248,35 @@ impl Renderer {
                 sort: false,
                 sections: &planes[..sections],
             };
-            let done = if k < passes {
+            let path = settings.rays() == crate::shade::mode::Rays::Path
+                && settings.output == Output::Shaded;
+            let done = if path {
+                // Nothing rasterized: one path per pixel for this pass (sample `k`), and no
+                // depth (the centre-depth pass finds none).
+                k >= passes || {
+                    self.path.clear();
+                    self.path.resize(w as usize * h as usize, Vec3::ZERO);
+                    let done = super::path::path_into(
+                        scene,
+                        settings,
+                        vp,
+                        view_m.inverse(),
+                        (w, h),
+                        k..k + 1,
+                        0,
+                        &mut self.path,
+                        stop,
+                    );
+                    for (i, c) in self.path.iter().enumerate() {
+                        let (x, y) = ((i % w as usize) as u32, (i / w as usize) as u32);
+                        let (t, o) = cx.target.locate(x, y);
+                        let tile = &mut cx.target.tiles[t];
+                        tile.materialize();
+                        tile.set_color(o, c.extend(1.0));
+                    }
+                    done
+                }
+            } else if k < passes {
                 let overdraw = settings.output == Output::Overdraw;
                 passes::frame(
                     &mut cx,

@@ -147,16 +147,16 @@ pub const MIN_WEIGHT: f32 = 1.0 / 2048.0;
 
 /// What a Whitted ray needs: the scene's hierarchy and each shown instance's material.
 pub(crate) struct Tracer<'a> {
-    scene: &'a PreparedScene,
-    settings: &'a Settings,
-    rays: std::sync::Arc<realist_trace::Scene>,
+    pub(super) scene: &'a PreparedScene,
+    pub(super) settings: &'a Settings,
+    pub(super) rays: std::sync::Arc<realist_trace::Scene>,
     /// Per instance: its material as drawn, `None` if not shown.
-    resolved: Vec<Option<super::frame::Resolved>>,
+    pub(super) resolved: Vec<Option<super::frame::Resolved>>,
     ground: Option<Mat4>,
-    cam_to_world: Mat4,
-    env: Option<crate::texture::env::EnvView>,
-    background: Vec3,
-    radius: f32,
+    pub(super) cam_to_world: Mat4,
+    pub(super) env: Option<crate::texture::env::EnvView>,
+    pub(super) background: Vec3,
+    pub(super) radius: f32,
 }
 
 /// The light a volume absorbs: its colour at `distance` and that distance.
@@ -248,26 +248,22 @@ impl<'a> Tracer<'a> {
 
     /// What a ray that meets nothing sees: the environment (its full-resolution image), or
     /// the background colour.
-    fn miss(&self, d: Vec3) -> Vec3 {
+    pub(super) fn miss(&self, d: Vec3) -> Vec3 {
         match &self.env {
             Some(env) => env.background(d, 0.0),
             None => self.background,
         }
     }
 
-    /// The colour a ray from `o` along unit `d` sees at its hit `h`.
-    pub fn shade_hit(
+    /// The surface a ray from `o` along unit `d` meets at `h`, and its instance's material.
+    pub(super) fn point(
         &self,
         h: &realist_trace::Hit,
         o: Vec3,
         d: Vec3,
-        depth: u32,
-        weight: Vec3,
-    ) -> Vec3 {
+    ) -> Option<(super::probe::Point, &super::frame::Resolved)> {
         let (k, copy) = super::rays::unkey(h.key);
-        let Some(r) = self.resolved.get(k).and_then(Option::as_ref) else {
-            return self.miss(d);
-        };
+        let r = self.resolved.get(k).and_then(Option::as_ref)?;
         let inst = &self.scene.instances[k];
         let world = match (inst.ground, self.ground) {
             (true, Some(g)) => g,
@@ -291,6 +287,22 @@ impl<'a> Tracer<'a> {
             o,
             self.settings.single_scatter,
         );
+        Some((pt, r))
+    }
+
+    /// The colour a ray from `o` along unit `d` sees at its hit `h`.
+    pub fn shade_hit(
+        &self,
+        h: &realist_trace::Hit,
+        o: Vec3,
+        d: Vec3,
+        depth: u32,
+        weight: Vec3,
+    ) -> Vec3 {
+        let Some((pt, r)) = self.point(h, o, d) else {
+            return self.miss(d);
+        };
+        let position = pt.position;
         if pt.unlit {
             return pt.base.truncate();
         }
@@ -301,6 +313,7 @@ impl<'a> Tracer<'a> {
             self.settings,
             self.cam_to_world,
             &pt,
+            true,
             true,
             &occluded,
         );
@@ -345,8 +358,7 @@ impl<'a> Tracer<'a> {
         let schlick = |f0: Vec3, f90: f32| f0 + (Vec3::splat(f90) - f0) * (1.0 - cos).powi(5);
         let metal = schlick(base, 1.0);
         let mut color = direct;
-        if transmission > 0.0 && params.is_some() {
-            let params = params.expect("checked");
+        if let (true, Some(params)) = (transmission > 0.0, params) {
             let thin = p.transmission.is_some_and(|t| t.thickness <= 0.0);
             let entering = pt.front;
             let ior = params.ior.max(1.0);
@@ -354,13 +366,23 @@ impl<'a> Tracer<'a> {
             // The dielectric's exact Fresnel (the textbook's §9.6.2 transparency model).
             let (fr, refracted) = fresnel_refract(d, n, cos, eta, thin);
             let f_diel = Vec3::splat(fr);
-            let reflect_w = metal * p.metallic + f_diel * (1.0 - p.metallic);
+            let reflect_w = if entering || thin {
+                metal * p.metallic + f_diel * (1.0 - p.metallic)
+            } else {
+                // Inside a volume: the bare interface.
+                f_diel
+            };
             if reflect_w.max_element() > 0.0 {
                 let w = weight * reflect_w;
                 color += reflect_w * self.radiance(above, reflected, depth + 1, w, None);
             }
             if let Some(t_dir) = refracted {
-                let tw = (1.0 - fr) * transmission * base;
+                // The base colour tints the light once, on its way in.
+                let tw = if entering || thin {
+                    (1.0 - fr) * transmission * base
+                } else {
+                    Vec3::splat(1.0 - fr)
+                };
                 let w = weight * tw;
                 // A closed volume entered: its attenuation applies until the ray leaves.
                 let medium = (!thin && entering).then_some(Medium {
@@ -383,7 +405,13 @@ impl<'a> Tracer<'a> {
 /// the ray, `cos = -d·n`) from a medium `eta` = n1/n2 times the other's, and the refracted
 /// direction by Snell's law; `None` beyond the critical angle (total internal reflection,
 /// reflectance 1). A thin wall passes the ray on unbent.
-fn fresnel_refract(d: Vec3, n: Vec3, cos: f32, eta: f32, thin: bool) -> (f32, Option<Vec3>) {
+pub(super) fn fresnel_refract(
+    d: Vec3,
+    n: Vec3,
+    cos: f32,
+    eta: f32,
+    thin: bool,
+) -> (f32, Option<Vec3>) {
     let sin2_t = eta * eta * (1.0 - cos * cos);
     if sin2_t >= 1.0 {
         return (1.0, None);

@@ -65,6 +65,8 @@ pub enum Shading {
     /// `pbr` with ray-traced shadows, mirror reflection and refraction (the textbook's
     /// §9.6.1, Whitted's model).
     Whitted,
+    /// Path tracing ([`mode::Rays::Path`]).
+    Path,
     Normals,
     Depth,
     Uv,
@@ -81,7 +83,7 @@ pub enum Shading {
 
 impl Shading {
     /// Every mode, in the order the CLI lists them.
-    pub const ALL: [Shading; 17] = [
+    pub const ALL: [Shading; 18] = [
         Shading::Wireframe,
         Shading::Flat,
         Shading::Gouraud,
@@ -90,6 +92,7 @@ impl Shading {
         Shading::Textured,
         Shading::Pbr,
         Shading::Whitted,
+        Shading::Path,
         Shading::Normals,
         Shading::Depth,
         Shading::Uv,

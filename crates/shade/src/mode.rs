@@ -39,6 +39,8 @@ pub enum Rays {
     /// Whitted's model: shadow rays to every light (in place of shadow maps), mirror
     /// reflection and refraction on smooth and transmissive surfaces.
     Whitted,
+    /// Path tracing: every pixel by random light paths, nothing rasterized.
+    Path,
 }
 
 /// One shading mode.
@@ -116,7 +118,7 @@ const fn traced(name: &'static str, shows: &'static str, rays: Rays) -> Mode {
 }
 
 /// The rows, in [`Shading::ALL`] order (a test checks each row's name against its variant).
-static MODES: [Mode; 17] = [
+static MODES: [Mode; 18] = [
     unlit(
         "wireframe",
         "the mesh's edges, hidden lines removed",
@@ -165,6 +167,12 @@ static MODES: [Mode; 17] = [
         "pbr with ray-traced shadows to every light, mirror reflection and refraction \
          (Whitted's model, the textbook's §9.6.1)",
         Rays::Whitted,
+    ),
+    traced(
+        "path",
+        "path tracing: the rendering equation by random light paths, the ground truth \
+         (the textbook's §9.6); one path per pixel per supersampling pass",
+        Rays::Path,
     ),
     unlit(
         "normals",
@@ -253,6 +261,7 @@ mod tests {
             (Shading::Textured, "textured"),
             (Shading::Pbr, "pbr"),
             (Shading::Whitted, "whitted"),
+            (Shading::Path, "path"),
             (Shading::Normals, "normals"),
             (Shading::Depth, "depth"),
             (Shading::Uv, "uv"),

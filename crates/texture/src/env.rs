@@ -52,6 +52,7 @@ mod ggx;
 mod lut;
 mod prefilter;
 mod resample;
+mod sample;
 mod sh;
 #[cfg(test)]
 mod tests;
@@ -69,6 +70,7 @@ pub use equirect::{
 };
 pub use lut::{brdf_lut, BrdfLut, LUT_SAMPLES, LUT_SIZE};
 pub use prefilter::{Prefiltered, PREFILTER_VERSION};
+pub use sample::EnvSampler;
 pub use sh::{SH_C1, SH_C2, SH_C3, SH_C4, SH_C5};
 
 /// Sample Viewer's default environment rotation, in degrees: the image centre faces world +Z.
@@ -140,6 +142,24 @@ impl EnvView {
     pub fn sheen(&self, n: Vec3, r: f32) -> Vec3 {
         let (u, v) = equirect::dir_to_uv(self.to_image(n).normalize_or_zero());
         self.env.sheen_uv(u, v, r) * self.intensity
+    }
+
+    /// A direction drawn in proportion to the environment's radiance (two uniform numbers
+    /// in `[0, 1)`), its radiance (as [`Self::background`] reads it, sharp) and its density
+    /// per unit solid angle ([`EnvSampler`]).
+    #[must_use]
+    pub fn sample(&self, u1: f32, u2: f32) -> (Vec3, Vec3, f32) {
+        let (d, pdf) = self.env.sampler().sample(u1, u2);
+        // Image frame -> world: the inverse rotation.
+        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        let w = Vec3::new(d.x * c - d.z * s, d.y, d.x * s + d.z * c);
+        (w, self.background(w, 0.0), pdf)
+    }
+
+    /// The density [`Self::sample`] gives world direction `dir`.
+    #[must_use]
+    pub fn pdf(&self, dir: Vec3) -> f32 {
+        self.env.sampler().pdf(self.to_image(dir))
     }
 
     /// What a camera ray in direction `dir` sees; see [`Prefiltered::background`].

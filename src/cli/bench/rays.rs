@@ -99,7 +99,6 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
                 });
             primary.push(t.elapsed().as_secs_f64() * 1e3);
             let t = Instant::now();
-            let t = Instant::now();
             let blocked = points
                 .par_iter()
                 .flatten()

@@ -30,6 +30,18 @@ pub struct Prefiltered {
     /// The sheen chain (`chain::SHEEN_LEVELS`).
     sheen: Vec<Plane>,
     sh: [Vec3; 9],
+    /// Importance sampling of the source, made on first use.
+    sampler: Lazy,
+}
+
+/// The sampler, built once; two environments compare equal whether or not it was built.
+#[derive(Clone, Default)]
+struct Lazy(std::sync::OnceLock<super::sample::EnvSampler>);
+
+impl PartialEq for Lazy {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl std::fmt::Debug for Prefiltered {
@@ -74,7 +86,16 @@ impl Prefiltered {
             levels,
             sheen,
             sh,
+            sampler: Lazy::default(),
         }
+    }
+
+    /// The importance sampler of the full-resolution source (built on first use).
+    #[must_use]
+    pub fn sampler(&self) -> &super::sample::EnvSampler {
+        self.sampler
+            .0
+            .get_or_init(|| super::sample::EnvSampler::new(&self.source))
     }
 
     /// Prefilters `image`, or returns the environment already built from the same texels

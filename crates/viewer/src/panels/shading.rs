@@ -18,6 +18,8 @@ fn settings_controls(s: &mut Settings, lab: &mut LabUi, uv: UvView, ui: &mut egu
     };
     egui::ComboBox::from_id_salt((id, "mode"))
         .selected_text(s.shading.map_or("per model", |m| m.name()))
+        // Every mode in view at once, no scrolling (about 20 rows).
+        .height(640.0)
         .show_ui(ui, |ui| {
             ui.selectable_value(
                 &mut s.shading,

@@ -1,0 +1,443 @@
+//! A path tracer (`--shading path`, the textbook's §9.6 carried to its end: the rendering
+//! equation estimated by random light paths), the ground truth the rasterizer's
+//! approximations are measured against. It evaluates surfaces exactly as the `pbr` mode
+//! shades them (the probe's surface point and the shared BRDF, [`crate::shade::reflect`]),
+//! and at each bounce:
+//!
+//! - next-event estimation: a shadow ray to every punctual light, and a direction drawn
+//!   from the environment in proportion to its radiance
+//!   ([`crate::texture::env::EnvView::sample`]);
+//! - the next direction drawn from the BRDF: a mixture of the cosine (diffuse) and GGX
+//!   visible-normal (specular) lobes, weighted by their albedos, or through a transmissive
+//!   surface by Fresnel's equations (reflection or Snell's refraction);
+//! - multiple importance sampling (the power heuristic) between the environment's and the
+//!   BRDF's samples of the same light;
+//! - Russian roulette after three bounces, a depth limit of [`MAX_BOUNCES`].
+//!
+//! Emissive surfaces are found by the BRDF's samples (no light sampling of them yet).
+//! Every pixel's random numbers come from its position and sample number alone, so images
+//! do not depend on the thread count.
+
+use glam::{Mat4, Vec2, Vec3};
+use rayon::prelude::*;
+
+use super::prepare::PreparedScene;
+use super::settings::{Settings, View};
+use super::whitted::Tracer;
+use crate::texture::microfacet::{alpha as alpha_of, ggx};
+use realist_trace::Ray;
+
+/// Bounces after which a path ends whatever it carries.
+pub const MAX_BOUNCES: u32 = 32;
+/// Bounces before Russian roulette may end a path.
+const ROULETTE_AFTER: u32 = 3;
+
+/// A small, fast generator (PCG32), seeded per pixel sample.
+struct Rng(u64);
+
+impl Rng {
+    fn new(x: u32, y: u32, sample: u32, seed: u64) -> Self {
+        let mut h = seed ^ 0x9e37_79b9_7f4a_7c15;
+        for v in [x, y, sample] {
+            h = (h ^ u64::from(v)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            h ^= h >> 31;
+        }
+        let mut r = Self(h);
+        r.next();
+        r
+    }
+
+    fn next(&mut self) -> u32 {
+        let old = self.0;
+        self.0 = old
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
+        xorshifted.rotate_right((old >> 59) as u32)
+    }
+
+    /// Uniform in `[0, 1)`.
+    fn f(&mut self) -> f32 {
+        (self.next() >> 8) as f32 * (1.0 / 16_777_216.0)
+    }
+}
+
+/// An orthonormal frame around unit `n` (Duff et al. 2017).
+fn frame(n: Vec3) -> (Vec3, Vec3) {
+    let s = 1f32.copysign(n.z);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        Vec3::new(b, s + n.y * n.y * a, -n.y),
+    )
+}
+
+fn luminance(c: Vec3) -> f32 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+}
+
+/// The power heuristic's weight of a sample of density `a` against `b`.
+fn mis(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 && (a2 + b2).is_finite() {
+        a2 / (a2 + b2)
+    } else if a.is_infinite() {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// Smith's masking of the view for GGX α at `NV`.
+fn g1(nv: f32, a: f32) -> f32 {
+    let a2 = a * a;
+    2.0 * nv / (nv + (a2 + (1.0 - a2) * nv * nv).sqrt())
+}
+
+/// The BRDF's sampling lobes at a point.
+struct Lobes {
+    n: Vec3,
+    v: Vec3,
+    alpha: f32,
+    /// Chance of drawing from the specular lobe (else the cosine lobe).
+    p_spec: f32,
+}
+
+impl Lobes {
+    /// A direction and its density under the mixture.
+    fn sample(&self, rng: &mut Rng) -> Option<(Vec3, f32)> {
+        let (t, b) = frame(self.n);
+        let l = if rng.f() < self.p_spec {
+            // Heitz 2018: the visible normals of GGX, in the frame where n = +z.
+            let v = Vec3::new(self.v.dot(t), self.v.dot(b), self.v.dot(self.n));
+            if v.z <= 0.0 {
+                return None;
+            }
+            let vh = Vec3::new(self.alpha * v.x, self.alpha * v.y, v.z).normalize();
+            let len2 = vh.x * vh.x + vh.y * vh.y;
+            let t1 = if len2 > 0.0 {
+                Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
+            } else {
+                Vec3::X
+            };
+            let t2 = vh.cross(t1);
+            let (u1, u2) = (rng.f(), rng.f());
+            let r = u1.sqrt();
+            let phi = std::f32::consts::TAU * u2;
+            let p1 = r * phi.cos();
+            let s = 0.5 * (1.0 + vh.z);
+            let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+            let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+            let h = Vec3::new(self.alpha * nh.x, self.alpha * nh.y, nh.z.max(0.0)).normalize();
+            let hw = t * h.x + b * h.y + self.n * h.z;
+            2.0 * self.v.dot(hw) * hw - self.v
+        } else {
+            let (u1, u2) = (rng.f(), rng.f());
+            let r = u1.sqrt();
+            let phi = std::f32::consts::TAU * u2;
+            t * (r * phi.cos()) + b * (r * phi.sin()) + self.n * (1.0 - u1).max(0.0).sqrt()
+        };
+        let l = l.normalize_or_zero();
+        let pdf = self.pdf(l);
+        (pdf > 0.0 && pdf.is_finite()).then_some((l, pdf))
+    }
+
+    /// The mixture's density of direction `l`.
+    fn pdf(&self, l: Vec3) -> f32 {
+        let nl = self.n.dot(l);
+        if nl <= 0.0 {
+            return 0.0;
+        }
+        let diffuse = nl * std::f32::consts::FRAC_1_PI;
+        let nv = self.n.dot(self.v);
+        let h = (l + self.v).normalize_or_zero();
+        let spec = if nv > 0.0 {
+            let d = ggx::<f32>(self.n.dot(h).max(0.0), self.alpha);
+            g1(nv, self.alpha) * d / (4.0 * nv)
+        } else {
+            0.0
+        };
+        self.p_spec * spec + (1.0 - self.p_spec) * diffuse
+    }
+}
+
+impl Tracer<'_> {
+    /// One path's estimate of the radiance arriving at `o` from unit direction `d`.
+    fn path(&self, o: Vec3, d: Vec3, reach: f32, rng: &mut Rng, ambient: Vec3) -> Vec3 {
+        let mut l = Vec3::ZERO;
+        let mut beta = Vec3::ONE;
+        let (mut o, mut d) = (o, d);
+        // The BRDF density that chose `d` (`None`: the camera or a mirror-like choice,
+        // which the environment's samples cannot take).
+        let mut chose: Option<f32> = None;
+        let mut medium: Option<(Vec3, f32)> = None;
+        for bounce in 0..MAX_BOUNCES {
+            // The camera's rays end at its far plane, as the rasterizer's view does.
+            let tmax = if bounce == 0 { reach } else { f32::INFINITY };
+            let Some(h) = self.rays.closest(&Ray::new(o, d, 0.0, tmax)) else {
+                // The camera sees the background (the environment if the settings show
+                // it); light comes from the environment and the ambient light only.
+                let sky = if bounce == 0 {
+                    match (&self.env, self.settings.env_background) {
+                        (Some(env), Some(blur)) => env.background(d, blur),
+                        _ => self.background,
+                    }
+                } else {
+                    self.env
+                        .as_ref()
+                        .map_or(Vec3::ZERO, |e| e.background(d, 0.0))
+                        + ambient
+                };
+                let w = match (chose, &self.env) {
+                    (Some(p), Some(env)) => mis(p, env.pdf(d)),
+                    _ => 1.0,
+                };
+                l += beta * sky * w;
+                break;
+            };
+            if let Some((color, dist)) = medium {
+                if dist.is_finite() {
+                    beta *= color.max(Vec3::splat(1e-6)).powf((h.t / dist).min(1e4));
+                }
+            }
+            let Some((pt, r)) = self.point(&h, o, d) else {
+                break;
+            };
+            if pt.unlit {
+                l += beta * pt.base.truncate();
+                break;
+            }
+            l += beta * pt.emitted;
+            let Some(p) = pt.surf.pbr.as_ref() else {
+                break;
+            };
+            let n = pt.normal;
+            let v = -d;
+            let ng = if pt.face_normal.dot(d) < 0.0 {
+                pt.face_normal
+            } else {
+                -pt.face_normal
+            };
+            let eps = 2e-5 * (pt.position.abs().max_element() + self.radius);
+            let above = pt.position + ng * eps;
+            let below = pt.position - ng * eps;
+            let base = pt.surf.kd;
+            let params = r.params.surface.pbr.as_ref();
+            let transmission = p.transmission.map_or(0.0, |t| t.factor) * (1.0 - p.metallic);
+            let thin = p.transmission.is_some_and(|t| t.thickness <= 0.0);
+            let p_trans = transmission.clamp(0.0, 0.95);
+            let ior = params.map_or(1.5, |q| q.ior.max(1.0));
+            let cos = v.dot(n).clamp(0.0, 1.0);
+            if transmission > 0.0 && !thin && !pt.front {
+                // Inside a volume: its boundary is the bare interface, by Fresnel's
+                // equations (reflection, total beyond the critical angle, or refraction
+                // out; the base colour tinted the light once, on the way in).
+                let (fr, refracted) = fresnel(d, n, cos, ior, false);
+                match refracted {
+                    Some(t) if rng.f() >= fr => {
+                        d = t;
+                        o = below;
+                        medium = None;
+                    }
+                    _ => {
+                        d = (d - 2.0 * d.dot(n) * n).normalize_or_zero();
+                        o = above;
+                    }
+                }
+                chose = None;
+            } else if p_trans > 0.0 && rng.f() < p_trans {
+                // Into the surface: the transmitted share (1 - F) T base, refracted (a
+                // thin wall passes it on unbent). Its reflection is the BRDF's.
+                let (fr, refracted) = fresnel(d, n, cos, 1.0 / ior, thin);
+                let Some(t) = refracted else { break };
+                beta *= base * ((1.0 - fr) * transmission / p_trans);
+                d = t;
+                o = below;
+                medium = match params {
+                    Some(q) if !thin => Some((q.attenuation_color, q.attenuation_distance)),
+                    _ => None,
+                };
+                chose = None;
+            } else {
+                let keep = 1.0 - p_trans;
+                // Next-event estimation: every punctual light (shadow rays), then the
+                // environment.
+                let rays = &self.rays;
+                let occluded =
+                    |from: Vec3, to: Vec3| rays.occluded(&Ray::new(from, to - from, 0.0, 1.0));
+                let lit = super::probe::light_point(
+                    self.scene,
+                    self.settings,
+                    self.cam_to_world,
+                    &pt,
+                    true,
+                    false,
+                    &occluded,
+                );
+                for s in &lit.lights {
+                    l += beta * (s.diffuse + s.specular) / keep;
+                }
+                let diffuse_albedo = luminance(base) * (1.0 - p.metallic) * (1.0 - transmission);
+                let spec_albedo = luminance(p.f0 * (1.0 - p.metallic) + base * p.metallic);
+                let lobes = Lobes {
+                    n,
+                    v,
+                    alpha: alpha_of::<f32>(p.roughness),
+                    p_spec: (spec_albedo / (spec_albedo + diffuse_albedo + 1e-6)).clamp(0.1, 0.9),
+                };
+                let brdf = |dir: Vec3| {
+                    let ndl = n.dot(dir);
+                    let t = crate::shade::reflect::<f32>(
+                        &pt.surf,
+                        n,
+                        dir,
+                        v,
+                        ndl > 0.0,
+                        ndl,
+                        false,
+                        pt.blinn,
+                    );
+                    t.diffuse + t.specular
+                };
+                if let Some(env) = &self.env {
+                    let (wi, le, pdf) = env.sample(rng.f(), rng.f());
+                    let f = brdf(wi);
+                    if pdf > 0.0
+                        && f != Vec3::ZERO
+                        && !rays.occluded(&Ray::new(above, wi, 0.0, f32::INFINITY))
+                    {
+                        let w = mis(pdf, lobes.pdf(wi));
+                        l += beta * f * (le + ambient) * (w / (pdf * keep));
+                    }
+                }
+                let Some((wi, pdf)) = lobes.sample(rng) else {
+                    break;
+                };
+                let f = brdf(wi);
+                if f == Vec3::ZERO {
+                    break;
+                }
+                beta *= f / (pdf * keep);
+                d = wi;
+                o = above;
+                chose = Some(pdf);
+                medium = None;
+            }
+            if !beta.is_finite() {
+                break;
+            }
+            if bounce >= ROULETTE_AFTER {
+                let q = beta.max_element().clamp(0.05, 0.95);
+                if rng.f() >= q {
+                    break;
+                }
+                beta /= q;
+            }
+        }
+        if l.is_finite() {
+            l
+        } else {
+            Vec3::ZERO
+        }
+    }
+}
+
+/// The dielectric's reflectance and refracted direction (as in Whitted's model).
+fn fresnel(d: Vec3, n: Vec3, cos: f32, eta: f32, thin: bool) -> (f32, Option<Vec3>) {
+    super::whitted::fresnel_refract(d, n, cos, eta, thin)
+}
+
+/// The path-traced image of `scene` seen through `view`: `spp` paths per pixel, the
+/// stream of random numbers chosen by `seed` (sample `k` of a pixel is the same whatever
+/// `spp`, so a longer run extends a shorter one). Linear RGB, row-major.
+#[must_use]
+pub fn path_image(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    spp: u32,
+    seed: u64,
+) -> Vec<Vec3> {
+    let (w, h) = (view.width.max(1), view.height.max(1));
+    let mut out = vec![Vec3::ZERO; w as usize * h as usize];
+    let vp = view.camera.projection(view.aspect()) * view.camera.view();
+    path_into(
+        scene,
+        settings,
+        vp,
+        view.camera.view().inverse(),
+        (w, h),
+        0..spp,
+        seed,
+        &mut out,
+        &|| false,
+    );
+    out
+}
+
+/// Adds samples `samples` of every pixel to `sum` (row-major, `w` x `h`) for the camera
+/// `vp` (world -> clip). Returns false if stopped.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn path_into(
+    scene: &PreparedScene,
+    settings: &Settings,
+    vp: Mat4,
+    cam_to_world: Mat4,
+    (w, h): (u32, u32),
+    samples: std::ops::Range<u32>,
+    seed: u64,
+    sum: &mut [Vec3],
+    stop: &(dyn Fn() -> bool + Sync),
+) -> bool {
+    let tracer = Tracer::new(scene, settings, cam_to_world);
+    let inv = vp.inverse();
+    let ambient = ambient_light(scene, settings, cam_to_world);
+    let count = samples.len().max(1) as f32;
+    let stopped = std::sync::atomic::AtomicBool::new(false);
+    sum.par_chunks_mut(w as usize)
+        .enumerate()
+        .for_each(|(y, row)| {
+            if stopped.load(std::sync::atomic::Ordering::Relaxed) || stop() {
+                stopped.store(true, std::sync::atomic::Ordering::Relaxed);
+                return;
+            }
+            for (x, px) in row.iter_mut().enumerate() {
+                let mut acc = Vec3::ZERO;
+                for s in samples.clone() {
+                    let mut rng = Rng::new(x as u32, y as u32, s, seed);
+                    let ndc = Vec2::new(
+                        (x as f32 + rng.f()) / w as f32 * 2.0 - 1.0,
+                        1.0 - (y as f32 + rng.f()) / h as f32 * 2.0,
+                    );
+                    let near = inv.project_point3(ndc.extend(1.0));
+                    let far = inv.project_point3(ndc.extend(0.0));
+                    let reach = (far - near).length();
+                    let d = (far - near) / reach;
+                    if !(reach > 0.0 && d.is_finite() && near.is_finite()) {
+                        continue;
+                    }
+                    acc += tracer.path(near, d, reach, &mut rng, ambient);
+                }
+                *px += acc / count;
+            }
+        });
+    !stopped.into_inner()
+}
+
+/// The frame's ambient lights' radiance, summed (a uniform environment for the paths).
+fn ambient_light(scene: &PreparedScene, settings: &Settings, cam_to_world: Mat4) -> Vec3 {
+    let mut sum = Vec3::ZERO;
+    super::frame::for_each_light(
+        scene.lights(),
+        &settings.lights,
+        settings.default_rig(scene.scene()),
+        cam_to_world,
+        |l, _| {
+            if l.kind == crate::scene::LightKind::Ambient {
+                sum += l.color * l.intensity;
+            }
+        },
+    );
+    sum
+}
