@@ -40,6 +40,7 @@ pub mod path;
 mod pool;
 mod prepare;
 mod probe;
+pub mod radiosity;
 pub mod rays;
 mod renderer;
 mod settings;
