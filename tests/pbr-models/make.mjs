@@ -915,6 +915,70 @@ async function lightsPunctual() {
   await write(doc, "lights-punctual.glb");
 }
 
+// ---------------------------------------------------------------------------------------
+// cornell-box.glb: the Cornell box (Cornell University's Program of Computer Graphics,
+// its measured colours), axis-aligned and 5.5 units a side: a red left wall, a green right
+// one, white floor, ceiling and back, a short and a tall white block, and a light panel
+// under the ceiling (emissive, KHR_materials_emissive_strength). Every surface is a pure
+// Lambertian reflector (KHR_materials_specular 0), so radiosity and the path tracer solve
+// the same problem (the textbook's §9.6).
+
+/** A quad primitive with corners `c` (counter-clockwise seen from the side it faces). */
+function panel(doc, c) {
+  const [a, b, , d] = c;
+  const u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+  const v = [d[0] - a[0], d[1] - a[1], d[2] - a[2]];
+  const n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+  const len = Math.hypot(...n);
+  const nn = n.map((x) => x / len);
+  return doc
+    .createPrimitive()
+    .setAttribute("POSITION", accessor(doc, "VEC3", c.flat()))
+    .setAttribute("NORMAL", accessor(doc, "VEC3", [nn, nn, nn, nn].flat()))
+    .setIndices(indices(doc, [0, 1, 2, 0, 2, 3]));
+}
+
+async function cornellBox() {
+  const doc = newDocument();
+  const specular = doc.createExtension(KHRMaterialsSpecular);
+  const strength = doc.createExtension(KHRMaterialsEmissiveStrength);
+  const lambert = (name, color) =>
+    doc
+      .createMaterial(name)
+      .setBaseColorFactor([...color, 1])
+      .setMetallicFactor(0)
+      .setRoughnessFactor(1)
+      .setExtension("KHR_materials_specular", specular.createSpecular().setSpecularFactor(0));
+  const white = lambert("white", [0.725, 0.71, 0.68]);
+  const red = lambert("red", [0.63, 0.065, 0.05]);
+  const green = lambert("green", [0.14, 0.45, 0.091]);
+  const light = lambert("light", [0.78, 0.78, 0.78])
+    .setEmissiveFactor([1, 0.71, 0.24])
+    .setExtension("KHR_materials_emissive_strength", strength.createEmissiveStrength().setEmissiveStrength(17));
+  const h = 2.75;
+  const top = 5.5;
+  const wall = (name, corners, material) =>
+    place(doc, name, doc.createMesh(name).addPrimitive(panel(doc, corners).setMaterial(material)), [0, 0, 0]);
+  wall("floor", [[-h, 0, -h], [-h, 0, h], [h, 0, h], [h, 0, -h]], white);
+  wall("ceiling", [[-h, top, -h], [h, top, -h], [h, top, h], [-h, top, h]], white);
+  wall("back", [[-h, 0, -h], [h, 0, -h], [h, top, -h], [-h, top, -h]], white);
+  wall("left", [[-h, 0, -h], [-h, top, -h], [-h, top, h], [-h, 0, h]], red);
+  wall("right", [[h, 0, -h], [h, 0, h], [h, top, h], [h, top, -h]], green);
+  const lx = 0.65;
+  const lz = 0.525;
+  wall("light", [[-lx, top - 0.01, -lz], [lx, top - 0.01, -lz], [lx, top - 0.01, lz], [-lx, top - 0.01, lz]], light);
+  const block = cubePrimitive(doc, 1);
+  const yaw = (deg) => [0, Math.sin((deg * Math.PI) / 360), 0, Math.cos((deg * Math.PI) / 360)];
+  place(doc, "short-block", meshWith(doc, "short-block", block, white), [0.9, 0.825, 0.75])
+    .setRotation(yaw(-17))
+    .setScale([1.65, 1.65, 1.65]);
+  place(doc, "tall-block", meshWith(doc, "tall-block", block, white), [-0.9, 1.65, -0.9])
+    .setRotation(yaw(17))
+    .setScale([1.65, 3.3, 1.65]);
+  block.dispose();
+  await write(doc, "cornell-box.glb");
+}
+
 await sphereGrid("sphere-grid.glb", [0.9, 0.55, 0.2, 1]);
 await sphereGrid("sphere-grid-white.glb", [1, 1, 1, 1]);
 await emissiveStrength();
@@ -935,3 +999,4 @@ await anisotropy(false);
 await anisotropy(true);
 await translucency();
 await transmissionFiles();
+await cornellBox();

@@ -10,7 +10,7 @@
 #    instanced.glb, clearcoat.glb, clearcoat-only.glb, sheen.glb, sheen-only.glb,
 #    layer-textures.glb, layer-factors.glb, coat-normal.glb, iridescence.glb, anisotropy.glb
 #    anisotropy-texture.glb, translucency.glb, transmission-slab.glb, transmission.glb and
-#    dispersion.glb; all
+#    dispersion.glb and cornell-box.glb; all
 #    geometry and the PNGs are
 #    computed in make.mjs itself (no
 #    cargo build, no other input);

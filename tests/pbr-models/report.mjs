@@ -74,6 +74,15 @@ const EXPECTED = new Map([
   ["lights-punctual.glb", [["floor", []], ["red", []], ["green", []], ["blue", []]]],
   ["variants.glb", [["green", []], ["red", []], ["blue", []]]],
   ["pointer.glb", [["pulse", ["KHR_materials_emissive_strength"]]]],
+  [
+    "cornell-box.glb",
+    [
+      ["white", ["KHR_materials_specular"]],
+      ["red", ["KHR_materials_specular"]],
+      ["green", ["KHR_materials_specular"]],
+      ["light", ["KHR_materials_emissive_strength", "KHR_materials_specular"]],
+    ],
+  ],
 ]);
 
 /** Extensions a file requires (none for the others). */

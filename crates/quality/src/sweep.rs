@@ -227,6 +227,7 @@ impl Subject {
                 | Shading::Pbr
                 | Shading::Whitted
                 | Shading::Path
+                | Shading::Radiosity
                 | Shading::Normals
                 | Shading::Depth
                 | Shading::Uv

@@ -14,7 +14,9 @@
 //!   BRDF's samples of the same light;
 //! - Russian roulette after three bounces, a depth limit of [`MAX_BOUNCES`].
 //!
-//! Emissive surfaces are found by the BRDF's samples (no light sampling of them yet).
+//! Emissive surfaces are lights too: a point drawn on them in proportion to their power,
+//! weighed against the BRDF's samples that meet them (an emissive texture is not sampled:
+//! such a surface is found by the BRDF's samples alone).
 //! Every pixel's random numbers come from its position and sample number alone, so images
 //! do not depend on the thread count.
 
@@ -162,9 +164,116 @@ impl Lobes {
     }
 }
 
+/// The scene's emissive triangles as lights: drawn in proportion to their power (area
+/// times the luminance of their emission), a point uniformly on the chosen one.
+pub(crate) struct Emitters {
+    tris: Vec<([Vec3; 3], Vec3, f32)>,
+    /// Cumulative power share.
+    cdf: Vec<f32>,
+    /// Each triangle's chance, by (instance key, triangle).
+    index: std::collections::HashMap<(u64, u32), usize>,
+}
+
+impl Emitters {
+    /// Every shown triangle whose material emits (an emissive texture is not sampled:
+    /// such a surface lights the scene only where paths meet it).
+    fn new(t: &Tracer) -> Self {
+        let mut tris = Vec::new();
+        let mut keys = Vec::new();
+        for (k, inst) in t.scene.instances.iter().enumerate() {
+            let Some(r) = t.resolved.get(k).and_then(Option::as_ref) else {
+                continue;
+            };
+            let e = r.params.emissive;
+            if r.params.unlit
+                || r.params.emissive_map.is_some()
+                || luminance(e) <= 0.0
+                || !e.is_finite()
+            {
+                continue;
+            }
+            let mesh = &t.scene.meshes[inst.mesh].tri;
+            for copy in 0..inst.copy_count() {
+                let world = inst.placement(copy);
+                for (i, tr) in mesh.triangles.iter().enumerate() {
+                    let c = tr.map(|v| {
+                        mesh.positions
+                            .get(v as usize)
+                            .map_or(Vec3::NAN, |p| world.transform_point3(*p))
+                    });
+                    let area = 0.5 * (c[1] - c[0]).cross(c[2] - c[0]).length();
+                    if area > 0.0 && area.is_finite() {
+                        tris.push((c, e, area));
+                        keys.push(((k as u64) << 32 | copy as u64, i as u32));
+                    }
+                }
+            }
+        }
+        let mut cdf = Vec::with_capacity(tris.len());
+        let mut sum = 0.0f64;
+        for (_, e, a) in &tris {
+            sum += f64::from(luminance(*e) * a);
+            cdf.push(sum as f32);
+        }
+        if sum > 0.0 {
+            for c in &mut cdf {
+                *c /= sum as f32;
+            }
+        }
+        let index = keys.into_iter().enumerate().map(|(i, k)| (k, i)).collect();
+        Self { tris, cdf, index }
+    }
+
+    fn chance(&self, i: usize) -> f32 {
+        self.cdf[i] - if i > 0 { self.cdf[i - 1] } else { 0.0 }
+    }
+
+    /// A point on an emitter seen from `p`: unit direction, distance, emitted radiance and
+    /// density per unit solid angle (both sides emit).
+    fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<(Vec3, f32, Vec3, f32)> {
+        if self.tris.is_empty() {
+            return None;
+        }
+        let u = rng.f();
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.tris.len() - 1);
+        let ([a, b, c], e, area) = self.tris[i];
+        let (r1, r2) = (rng.f().sqrt(), rng.f());
+        let q = a * (1.0 - r1) + b * (r1 * (1.0 - r2)) + c * (r1 * r2);
+        let d = q - p;
+        let dist2 = d.length_squared();
+        let dist = dist2.sqrt();
+        let w = d / dist;
+        let n = (b - a).cross(c - a).normalize_or_zero();
+        let cos = n.dot(w).abs();
+        if !(cos > 0.0 && dist > 0.0) {
+            return None;
+        }
+        Some((w, dist, e, self.chance(i) / area * dist2 / cos))
+    }
+
+    /// The density [`Emitters::sample`] gives the direction towards triangle `tri` of
+    /// instance `key`, met at distance `t` at cosine `cos`.
+    fn pdf(&self, key: u64, tri: u32, t: f32, cos: f32) -> Option<f32> {
+        let &i = self.index.get(&(key, tri))?;
+        let area = self.tris[i].2;
+        (cos > 0.0).then(|| self.chance(i) / area * t * t / cos)
+    }
+}
+
 impl Tracer<'_> {
     /// One path's estimate of the radiance arriving at `o` from unit direction `d`.
-    fn path(&self, o: Vec3, d: Vec3, reach: f32, rng: &mut Rng, ambient: Vec3) -> Vec3 {
+    fn path(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        reach: f32,
+        rng: &mut Rng,
+        ambient: Vec3,
+        emitters: &Emitters,
+    ) -> Vec3 {
         let mut l = Vec3::ZERO;
         let mut beta = Vec3::ONE;
         let (mut o, mut d) = (o, d);
@@ -208,7 +317,18 @@ impl Tracer<'_> {
                 l += beta * pt.base.truncate();
                 break;
             }
-            l += beta * pt.emitted;
+            // Emission met by a BRDF sample is weighed against the emitter sampling of the
+            // same light (camera rays and mirror-like choices take it all).
+            let w = match chose {
+                Some(p) if pt.emitted != Vec3::ZERO => {
+                    let cos = pt.face_normal.dot(d).abs();
+                    emitters
+                        .pdf(h.key, h.triangle, h.t, cos)
+                        .map_or(1.0, |pl| mis(p, pl))
+                }
+                _ => 1.0,
+            };
+            l += beta * pt.emitted * w;
             let Some(p) = pt.surf.pbr.as_ref() else {
                 break;
             };
@@ -300,6 +420,15 @@ impl Tracer<'_> {
                     );
                     t.diffuse + t.specular
                 };
+                if let Some((wi, dist, le, pdf)) = emitters.sample(pt.position, rng) {
+                    let f = brdf(wi);
+                    if f != Vec3::ZERO
+                        && !rays.occluded(&Ray::new(above, wi, 0.0, dist * (1.0 - 1e-4)))
+                    {
+                        let w = mis(pdf, lobes.pdf(wi));
+                        l += beta * f * le * (w / (pdf * keep));
+                    }
+                }
                 if let Some(env) = &self.env {
                     let (wi, le, pdf) = env.sample(rng.f(), rng.f());
                     let f = brdf(wi);
@@ -391,6 +520,7 @@ pub(crate) fn path_into(
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
     let tracer = Tracer::new(scene, settings, cam_to_world);
+    let emitters = Emitters::new(&tracer);
     let inv = vp.inverse();
     let ambient = ambient_light(scene, settings, cam_to_world);
     let count = samples.len().max(1) as f32;
@@ -417,7 +547,7 @@ pub(crate) fn path_into(
                     if !(reach > 0.0 && d.is_finite() && near.is_finite()) {
                         continue;
                     }
-                    acc += tracer.path(near, d, reach, &mut rng, ambient);
+                    acc += tracer.path(near, d, reach, &mut rng, ambient, &emitters);
                 }
                 *px += acc / count;
             }

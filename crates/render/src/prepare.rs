@@ -39,6 +39,8 @@ pub struct PreparedScene {
     cameras: Vec<Camera>,
     /// The ray-traced modes' hierarchies, built on first use ([`PreparedScene::rays`]).
     pub(crate) rays: super::rays::Rays,
+    /// The radiosity solution, made on first use ([`PreparedScene::radiosity`]).
+    pub(crate) radiosity: super::radiosity::Cache,
 }
 
 /// An instance whose mesh is posed per frame: `rest` is the shared rest mesh, `out` the
@@ -274,6 +276,7 @@ impl PreparedScene {
             lights,
             cameras,
             rays: super::rays::Rays::default(),
+            radiosity: super::radiosity::Cache::default(),
         };
         if !prepared.deformers.is_empty() {
             // Skinned meshes are drawn by their joints even at rest.

@@ -23,6 +23,9 @@ pub struct Patch {
     pub radiosity: Vec3,
     /// Radiosity received but not yet shot on.
     pub unshot: Vec3,
+    /// The patch this element was cut from ([`solve_grouped`] shoots from those), its
+    /// own index when it was not cut.
+    pub group: usize,
 }
 
 impl Patch {
@@ -34,6 +37,7 @@ impl Patch {
             emission,
             radiosity: emission,
             unshot: emission,
+            group: 0,
         }
     }
 
@@ -82,6 +86,9 @@ pub struct Hemicube {
     top: Vec<f32>,
     side: Vec<f32>,
     sums: Vec<f32>,
+    /// The rasterizer's memory, kept between shots.
+    bins: raster::Bins,
+    scratch: raster::RasterScratch,
 }
 
 impl Hemicube {
@@ -119,6 +126,8 @@ impl Hemicube {
             top,
             side,
             sums: Vec::new(),
+            bins: raster::Bins::default(),
+            scratch: raster::RasterScratch::default(),
         }
     }
 
@@ -156,14 +165,15 @@ impl Hemicube {
                 ortho: None,
             };
             let vp: Mat4 = cam.projection(1.0) * cam.view();
-            self.draw(patches, vp);
-            let fb = self.target.resolve();
+            self.draw(patches, vp, p, n);
             let n_px = self.res as usize;
             let rows = if k == 0 { n_px } else { n_px / 2 };
             for j in 0..rows {
                 for i in 0..n_px {
-                    let c = fb.color[j * n_px + i];
-                    let id = c.x.round() as i64 - 1;
+                    let (t, o) = self.target.locate(i as u32, j as u32);
+                    let c = self.target.tiles[t].color_at(o);
+                    // (Numbers from 1; truncating x + 0.5 rounds what is not negative.)
+                    let id = (c.x + 0.5) as i64 - 1;
                     if id < 0 || id as usize >= patches.len() {
                         continue;
                     }
@@ -179,12 +189,16 @@ impl Hemicube {
         &self.sums
     }
 
-    /// Every patch into the target, its number plus one as its colour.
-    fn draw(&mut self, patches: &[Patch], vp: Mat4) {
+    /// Every patch in front of the plane through `p` with normal `n` into the target, its
+    /// number plus one as its colour.
+    fn draw(&mut self, patches: &[Patch], vp: Mat4, p: Vec3, n: Vec3) {
         self.clip.clear();
         self.varyings.clear();
         self.triangles.clear();
         for (k, q) in patches.iter().enumerate() {
+            if q.corners.iter().all(|c| (*c - p).dot(n) <= 0.0) {
+                continue;
+            }
             let id = (k + 1) as f32;
             let base = self.clip.len() as u32;
             for c in q.corners {
@@ -207,7 +221,15 @@ impl Hemicube {
             sections: &[],
         };
         let mut stats = Stats::default();
-        raster::draw(&mut self.target, &[draw], &Numbers, &mut stats);
+        raster::draw_list(
+            &mut self.target,
+            &[draw][..],
+            &Numbers,
+            &mut stats,
+            &mut self.bins,
+            &mut self.scratch,
+            &|| false,
+        );
     }
 }
 
@@ -223,41 +245,86 @@ fn power(c: Vec3) -> f32 {
     c.x + c.y + c.z
 }
 
-/// Progressive refinement: shoots from the patch with the most unshot power until what is
-/// left is below `tolerance` of what was emitted, or `max_shots` shots.
+/// Progressive refinement: shoots from the patch with the most unshot power until the
+/// power left unshot is below `tolerance` of what there was to shoot at the start (the
+/// emission and any light already received), or `max_shots` shots.
 pub fn solve(
     patches: &mut [Patch],
     cube: &mut Hemicube,
     tolerance: f32,
     max_shots: usize,
 ) -> Solved {
-    let emitted: f32 = patches.iter().map(|q| power(q.emission) * q.area()).sum();
+    for (k, q) in patches.iter_mut().enumerate() {
+        q.group = k;
+    }
+    let shooters: Vec<[Vec3; 3]> = patches.iter().map(|q| q.corners).collect();
+    solve_grouped(patches, &shooters, cube, tolerance, max_shots)
+}
+
+/// [`solve`] with patches and elements (Cohen et al. 1986): light is received by the
+/// elements (`elements`, each in group `group` of `shooters`) and shot from the patches
+/// they were cut from, each with its elements' unshot power: shots as few as the patches,
+/// shading as fine as the elements.
+pub fn solve_grouped(
+    elements: &mut [Patch],
+    shooters: &[[Vec3; 3]],
+    cube: &mut Hemicube,
+    tolerance: f32,
+    max_shots: usize,
+) -> Solved {
+    let patches = elements;
+    let emitted: f32 = patches.iter().map(|q| power(q.unshot) * q.area()).sum();
     let size = patches
         .iter()
         .flat_map(|q| q.corners)
         .fold(0.0f32, |m, c| m.max(c.abs().max_element()));
     let near = 1e-4 * size.max(1e-6);
+    // Per group: its elements, and its unshot power (area-weighted).
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); shooters.len()];
+    for (k, q) in patches.iter().enumerate() {
+        if let Some(m) = members.get_mut(q.group) {
+            m.push(k);
+        }
+    }
     let mut shots = 0;
     loop {
-        let (i, left) = patches
-            .iter()
-            .enumerate()
-            .map(|(k, q)| (k, power(q.unshot) * q.area()))
-            .fold((0, 0.0f32), |a, b| if b.1 > a.1 { b } else { a });
-        if shots >= max_shots || left <= tolerance * emitted || left <= 0.0 {
-            let rest: f32 = patches.iter().map(|q| power(q.unshot) * q.area()).sum();
+        let unshot_of = |g: &[usize]| -> (Vec3, f32) {
+            let (mut sum, mut area) = (Vec3::ZERO, 0.0);
+            for &k in g {
+                let a = patches[k].area();
+                sum += patches[k].unshot * a;
+                area += a;
+            }
+            (sum, area)
+        };
+        let mut best = (0usize, 0.0f32);
+        let mut rest = 0.0f32;
+        for (g, m) in members.iter().enumerate() {
+            let (sum, _) = unshot_of(m);
+            let p = power(sum);
+            rest += p;
+            if p > best.1 {
+                best = (g, p);
+            }
+        }
+        if shots >= max_shots || rest <= tolerance * emitted || best.1 <= 0.0 {
             return Solved {
                 shots,
                 unshot: if emitted > 0.0 { rest / emitted } else { 0.0 },
             };
         }
-        let (p, n, area, shot) = {
-            let q = &patches[i];
-            (q.centre(), q.normal(), q.area(), q.unshot)
-        };
-        let ff = cube.form_factors(patches, p + n * near, n, near).to_vec();
-        for (j, f) in ff.into_iter().enumerate() {
-            if f <= 0.0 || j == i {
+        let g = best.0;
+        let (sum, area) = unshot_of(&members[g]);
+        let shooter = Patch::new(shooters[g], Vec3::ZERO, Vec3::ZERO);
+        let (p, n) = (shooter.centre(), shooter.normal());
+        let shot = sum / area.max(1e-30);
+        let power_area = area;
+        let ff = std::mem::take(&mut cube.sums);
+        cube.sums = ff;
+        cube.form_factors(patches, p + n * near, n, near);
+        let ff = std::mem::take(&mut cube.sums);
+        for (j, &f) in ff.iter().enumerate() {
+            if f <= 0.0 || patches[j].group == g {
                 continue;
             }
             let aj = patches[j].area();
@@ -265,11 +332,14 @@ pub fn solve(
                 continue;
             }
             let q = &mut patches[j];
-            let d = q.reflectance * shot * (f * area / aj);
+            let d = q.reflectance * shot * (f * power_area / aj);
             q.radiosity += d;
             q.unshot += d;
         }
-        patches[i].unshot = Vec3::ZERO;
+        cube.sums = ff;
+        for &k in &members[g] {
+            patches[k].unshot = Vec3::ZERO;
+        }
         shots += 1;
     }
 }
@@ -396,5 +466,378 @@ mod tests {
             (absorbed + unshot - emitted).abs() < 0.01 * emitted,
             "absorbed {absorbed} + unshot {unshot} against emitted {emitted}"
         );
+    }
+}
+
+/// The surfaces are cut into patches (which shoot) until no side is longer than this share
+/// of the scene's bounding diameter, and the patches into elements (which receive and are
+/// drawn) until no side is longer than [`ELEMENT_SHARE`].
+pub const PATCH_SHARE: f32 = 1.0 / 8.0;
+pub const ELEMENT_SHARE: f32 = 1.0 / 16.0;
+/// At most this many patches (a larger scene keeps its triangles as they are, cut no
+/// further, and a scene with more triangles than this is solved on its first ones only,
+/// with a warning in the frame's report).
+pub const MAX_PATCHES: usize = 40_000;
+/// Pixels per side of the hemicube's top face.
+pub const HEMICUBE: u32 = 128;
+/// Shooting stops when the power left unshot falls below this share of the power there
+/// was to shoot, or after [`MAX_SHOTS`]; what is left is spread as an ambient term (Cohen
+/// et al. 1988), so the picture is right on average.
+pub const TOLERANCE: f32 = 5e-2;
+pub const MAX_SHOTS: usize = 20_000;
+/// The first solution (on the uncut patches, to find where to cut) stops earlier.
+pub const FIRST_TOLERANCE: f32 = 0.3;
+/// A patch whose corners' smoothed radiosity differs from its own by more than this share
+/// is cut in four for the second solution (where shadows and light change fast).
+pub const REFINE_ABOVE: f32 = 0.25;
+
+/// Cuts `t` into four by its edges' midpoints until no side is longer than `max`.
+fn cut(t: [Vec3; 3], max: f32, out: &mut Vec<[Vec3; 3]>, budget: usize) {
+    let [a, b, c] = t;
+    let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+    if longest <= max || out.len() + 4 > budget || !longest.is_finite() {
+        out.push(t);
+        return;
+    }
+    let (ab, bc, ca) = ((a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5);
+    for q in [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]] {
+        cut(q, max, out, budget);
+    }
+}
+
+/// Radiance (B/π) at each patch corner: the area-weighted mean of the patches that share
+/// that point and face the same way (one surface's patches blend; a crease keeps its edge).
+fn corner_radiance(patches: &[Patch]) -> Vec<[Vec3; 3]> {
+    use std::collections::HashMap;
+    let size = patches
+        .iter()
+        .flat_map(|q| q.corners)
+        .fold(1e-6f32, |m, c| m.max(c.abs().max_element()));
+    let q = |v: Vec3| (v / size * 1e5).round().as_ivec3();
+    let key = |p: Vec3, n: Vec3| (q(p), (n * 8.0).round().as_ivec3());
+    let mut sums: HashMap<_, (Vec3, f32)> = HashMap::new();
+    for t in patches {
+        let (n, a) = (t.normal(), t.area());
+        for c in t.corners {
+            let e = sums.entry(key(c, n)).or_insert((Vec3::ZERO, 0.0));
+            e.0 += t.radiosity * a;
+            e.1 += a;
+        }
+    }
+    patches
+        .iter()
+        .map(|t| {
+            let n = t.normal();
+            t.corners.map(|c| {
+                let (s, a) = sums.get(&key(c, n)).copied().unwrap_or((t.radiosity, 1.0));
+                s / a.max(1e-30) * std::f32::consts::FRAC_1_PI
+            })
+        })
+        .collect()
+}
+
+/// The patches of `scene` as `settings` show it: every shown instance's triangles in the
+/// world (each copy), cut to the patch size, with the material's diffuse reflectance (base
+/// colour times one minus metalness; textures are not read) and emission (π times the
+/// emissive radiance).
+fn patches_of(t: &super::whitted::Tracer) -> (Vec<Patch>, Vec<[Vec3; 3]>, bool) {
+    let scene = t.scene;
+    let max = 2.0 * t.radius * PATCH_SHARE;
+    let fine = 2.0 * t.radius * ELEMENT_SHARE;
+    let mut shooters = Vec::new();
+    let mut elements = Vec::new();
+    let ground = t.settings.ground.as_ref().map(|g| scene.ground_world(g));
+    let mut out = Vec::new();
+    let mut cut_tris = Vec::new();
+    let mut truncated = false;
+    for (k, inst) in scene.instances.iter().enumerate() {
+        let Some(r) = t.resolved.get(k).and_then(Option::as_ref) else {
+            continue;
+        };
+        let d = &r.params;
+        let metal = d.surface.pbr.as_ref().map_or(0.0, |p| p.metallic);
+        let rho = (d.base.truncate() * (1.0 - metal)).clamp(Vec3::ZERO, Vec3::splat(0.999));
+        let emission = d.emissive.max(Vec3::ZERO) * std::f32::consts::PI;
+        let tri = &scene.meshes[inst.mesh].tri;
+        for copy in 0..inst.copy_count() {
+            let world = match (inst.ground, ground) {
+                (true, Some(g)) => g,
+                _ => inst.placement(copy),
+            };
+            for tr in &tri.triangles {
+                let c = tr.map(|i| {
+                    tri.positions
+                        .get(i as usize)
+                        .map_or(Vec3::NAN, |p| world.transform_point3(*p))
+                });
+                if !c.iter().all(|v| v.is_finite()) {
+                    continue;
+                }
+                if out.len() >= MAX_PATCHES {
+                    truncated = true;
+                    break;
+                }
+                cut_tris.clear();
+                cut(c, max, &mut cut_tris, MAX_PATCHES - out.len());
+                for &q in &cut_tris {
+                    let p = Patch::new(q, rho, emission);
+                    if p.area() <= 0.0 {
+                        continue;
+                    }
+                    elements.clear();
+                    cut(q, fine, &mut elements, MAX_PATCHES - out.len());
+                    for &e in &elements {
+                        let mut e = Patch::new(e, rho, emission);
+                        e.group = shooters.len();
+                        if e.area() > 0.0 {
+                            out.push(e);
+                        }
+                    }
+                    shooters.push(q);
+                }
+            }
+        }
+    }
+    (out, shooters, truncated)
+}
+
+/// The punctual lights' first bounce: each patch's irradiance from every light at its
+/// centre, past a shadow ray, reflected (and left to shoot on).
+fn direct_light(t: &super::whitted::Tracer, patches: &mut [Patch]) {
+    use crate::shade::{arriving, LightSet};
+    use rayon::prelude::*;
+    let mut set = LightSet::default();
+    let mut index = 0;
+    super::frame::for_each_light(
+        t.scene.lights(),
+        &t.settings.lights,
+        t.settings.default_rig(t.scene.scene()),
+        t.cam_to_world,
+        |l, m| {
+            set.push(l, m, index);
+            index += 1;
+        },
+    );
+    let ambient = set.ambient;
+    let rays = &t.rays;
+    let eps = 1e-5 * t.radius.max(1e-6);
+    patches.par_iter_mut().for_each(|q| {
+        let (p, n) = (q.centre(), q.normal());
+        // The ambient light reaches everything, unshadowed (as in the rasterizer).
+        let mut h = ambient;
+        for s in &set.sources {
+            let Some((dir, rad, _)) = arriving::<f32>(s, p) else {
+                continue;
+            };
+            let cos = n.dot(dir);
+            if cos <= 0.0 || rad == Vec3::ZERO {
+                continue;
+            }
+            let from = p + n * eps;
+            let ray = match s.kind {
+                crate::scene::LightKind::Directional => {
+                    realist_trace::Ray::new(from, dir, 0.0, f32::INFINITY)
+                }
+                _ => realist_trace::Ray::new(from, s.position - from, 0.0, 1.0),
+            };
+            if !rays.occluded(&ray) {
+                h += rad * cos;
+            }
+        }
+        let b = q.reflectance * h;
+        q.radiosity += b;
+        q.unshot += b;
+    });
+}
+
+/// Cohen's ambient term for the power still unshot: spread evenly over the scene's area
+/// and reflected on by the mean reflectance `ρ̄` (a geometric series, `1 / (1 - ρ̄)`), each
+/// patch adds its reflectance times it. Leaves `unshot` as it was.
+fn ambient_correction(patches: &mut [Patch]) {
+    let area: f32 = patches.iter().map(Patch::area).sum();
+    if area <= 0.0 {
+        return;
+    }
+    let unshot = patches
+        .iter()
+        .fold(Vec3::ZERO, |a, q| a + q.unshot * q.area())
+        / area;
+    let rho = patches
+        .iter()
+        .fold(Vec3::ZERO, |a, q| a + q.reflectance * q.area())
+        / area;
+    let ambient = unshot / (Vec3::ONE - rho).max(Vec3::splat(1e-3));
+    for q in patches {
+        q.radiosity += q.reflectance * ambient;
+    }
+}
+
+/// A solved scene ready to draw: one mesh of every patch, unlit, its corners coloured by
+/// their radiance.
+fn display(patches: &[Patch]) -> crate::scene::Scene {
+    use crate::mesh::{Channel, Mesh, MeshData, NormalPolicy};
+    use crate::scene::{Instance, Material, PbrMaterial, Scene, Style};
+    let colours = corner_radiance(patches);
+    let mut positions = Vec::with_capacity(patches.len() * 3);
+    let mut colors = Vec::with_capacity(patches.len() * 3);
+    for (p, c) in patches.iter().zip(&colours) {
+        positions.extend_from_slice(&p.corners);
+        colors.extend(c.iter().map(|v| v.extend(1.0)));
+    }
+    let corners = (0..positions.len() as u32).collect();
+    let normals = patches
+        .iter()
+        .flat_map(|p| [p.normal(); 3])
+        .collect::<Vec<_>>();
+    let data = MeshData {
+        name: "radiosity".into(),
+        positions,
+        corners,
+        normals: Some(Channel::per_vertex(normals)),
+        colors: Some(Channel::per_vertex(colors)),
+        material: Some(0),
+        ..MeshData::default()
+    };
+    let mut scene = Scene::default();
+    if let Ok(mesh) = Mesh::new(data, NormalPolicy::default()) {
+        scene.meshes.push(mesh);
+        scene.materials.push(Material {
+            name: "radiosity".into(),
+            base_color: Vec4::ONE,
+            double_sided: true,
+            pbr: Some(PbrMaterial {
+                unlit: true,
+                ..PbrMaterial::default()
+            }),
+            ..Material::default()
+        });
+        scene.instances.push(Instance {
+            mesh: 0,
+            world: Mat4::IDENTITY,
+            name: "radiosity".into(),
+            style: Style::Inherit,
+            node: None,
+            skin: None,
+            copies: None,
+        });
+    }
+    scene
+}
+
+/// What a solution was made for.
+#[derive(Clone, Debug, PartialEq)]
+struct Key {
+    ground: Option<Mat4>,
+    hidden: super::settings::Hidden,
+    lights: super::settings::Lights,
+    pose: u64,
+}
+
+/// The solution a prepared scene keeps; a clone starts empty.
+#[derive(Debug, Default)]
+pub(crate) struct Cache(std::sync::Mutex<Option<(Key, std::sync::Arc<Solution>)>>);
+
+impl Clone for Cache {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+/// A solved scene: its patches' radiosity drawn as a mesh.
+#[derive(Debug)]
+pub struct Solution {
+    pub scene: super::PreparedScene,
+    pub patches: usize,
+    pub shots: usize,
+    /// Unshot power left, as a share of what was emitted and reflected first.
+    pub unshot: f32,
+    /// The scene had more triangles than [`MAX_PATCHES`]: its first ones only.
+    pub truncated: bool,
+}
+
+impl super::PreparedScene {
+    /// The radiosity solution of the scene as `settings` show it (solved on first use and
+    /// kept until the shown instances, the ground, the lights or the pose change): two
+    /// solutions, the second on patches cut where the first changes fast.
+    #[must_use]
+    pub fn radiosity(&self, settings: &super::Settings) -> std::sync::Arc<Solution> {
+        let key = Key {
+            ground: settings.ground.as_ref().map(|g| self.ground_world(g)),
+            hidden: settings.hidden.clone(),
+            lights: settings.lights.clone(),
+            pose: self.rays.pose(),
+        };
+        let mut c = self
+            .radiosity
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((k, s)) = &*c {
+            if *k == key {
+                return std::sync::Arc::clone(s);
+            }
+        }
+        let t = super::whitted::Tracer::new(self, settings, Mat4::IDENTITY);
+        let (mut patches, shooters, truncated) = patches_of(&t);
+        let mut cube = Hemicube::new(HEMICUBE);
+        direct_light(&t, &mut patches);
+        let first = solve_grouped(
+            &mut patches,
+            &shooters,
+            &mut cube,
+            FIRST_TOLERANCE,
+            MAX_SHOTS,
+        );
+        // Adaptive subdivision: cut where the smoothed corners disagree with the patch.
+        let corners = corner_radiance(&patches);
+        let mut refined = Vec::with_capacity(patches.len());
+        let min = 2.0 * t.radius * ELEMENT_SHARE / 4.0;
+        let mut cut_any = false;
+        for (q, c) in patches.iter().zip(&corners) {
+            let g = q.group;
+            let b = power(q.radiosity) * std::f32::consts::FRAC_1_PI;
+            let off = c.iter().map(|v| (power(*v) - b).abs()).fold(0.0, f32::max);
+            let longest = (q.corners[1] - q.corners[0])
+                .length()
+                .max((q.corners[2] - q.corners[1]).length());
+            if off > REFINE_ABOVE * (b + 1e-3) && longest > min && refined.len() + 4 <= MAX_PATCHES
+            {
+                let mut parts = Vec::new();
+                cut(q.corners, longest * 0.6, &mut parts, 4);
+                for p in parts {
+                    let mut e = Patch::new(p, q.reflectance, q.emission);
+                    e.group = g;
+                    refined.push(e);
+                }
+                cut_any = true;
+            } else {
+                let mut e = Patch::new(q.corners, q.reflectance, q.emission);
+                e.group = g;
+                refined.push(e);
+            }
+        }
+        let solved = if cut_any {
+            patches = refined;
+            direct_light(&t, &mut patches);
+            solve_grouped(&mut patches, &shooters, &mut cube, TOLERANCE, MAX_SHOTS)
+        } else {
+            first
+        };
+        ambient_correction(&mut patches);
+        if std::env::var_os("REALIST_RADIOSITY").is_some() {
+            eprintln!(
+                "radiosity: {} patches, first {first:?}, then {solved:?}",
+                patches.len()
+            );
+        }
+        let solution = std::sync::Arc::new(Solution {
+            scene: super::PreparedScene::new(display(&patches)),
+            patches: patches.len(),
+            shots: solved.shots,
+            unshot: solved.unshot,
+            truncated,
+        });
+        *c = Some((key, std::sync::Arc::clone(&solution)));
+        solution
     }
 }

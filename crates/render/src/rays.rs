@@ -46,6 +46,11 @@ pub fn unkey(key: u64) -> (usize, usize) {
 }
 
 impl Rays {
+    /// Poses applied so far (what a cached solution was made for).
+    pub(crate) fn pose(&self) -> u64 {
+        self.0.lock().unwrap_or_else(PoisonError::into_inner).pose
+    }
+
     /// A pose moved mesh `meshes` (their hierarchies are refit from `scene`'s vertices
     /// when built) and perhaps instances.
     pub(crate) fn posed(

@@ -110,6 +110,20 @@ impl Renderer {
         view: &View,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<&FrameReport, Interrupted> {
+        if settings.rays() == crate::shade::mode::Rays::Radiosity
+            && settings.output == Output::Shaded
+        {
+            // The solution (made once, kept) drawn as it is: unlit patches whose corners
+            // carry their radiance, interpolated (Gouraud).
+            let solved = scene.radiosity(settings);
+            let shown = Settings {
+                shading: Some(crate::shade::Shading::Pbr),
+                ground: None,
+                hidden: super::settings::Hidden::default(),
+                ..settings.clone()
+            };
+            return self.render_until(&solved.scene, &shown, view, stop);
+        }
         let t0 = Instant::now();
         self.complete = false;
         let (w, h) = (view.width.max(1), view.height.max(1));

@@ -67,6 +67,8 @@ pub enum Shading {
     Whitted,
     /// Path tracing ([`mode::Rays::Path`]).
     Path,
+    /// Radiosity ([`mode::Rays::Radiosity`], the textbook's §9.6.3).
+    Radiosity,
     Normals,
     Depth,
     Uv,
@@ -83,7 +85,7 @@ pub enum Shading {
 
 impl Shading {
     /// Every mode, in the order the CLI lists them.
-    pub const ALL: [Shading; 18] = [
+    pub const ALL: [Shading; 19] = [
         Shading::Wireframe,
         Shading::Flat,
         Shading::Gouraud,
@@ -93,6 +95,7 @@ impl Shading {
         Shading::Pbr,
         Shading::Whitted,
         Shading::Path,
+        Shading::Radiosity,
         Shading::Normals,
         Shading::Depth,
         Shading::Uv,

@@ -41,6 +41,8 @@ pub enum Rays {
     Whitted,
     /// Path tracing: every pixel by random light paths, nothing rasterized.
     Path,
+    /// Radiosity: the diffuse interreflection solved once for the scene, drawn by Gouraud.
+    Radiosity,
 }
 
 /// One shading mode.
@@ -118,7 +120,7 @@ const fn traced(name: &'static str, shows: &'static str, rays: Rays) -> Mode {
 }
 
 /// The rows, in [`Shading::ALL`] order (a test checks each row's name against its variant).
-static MODES: [Mode; 18] = [
+static MODES: [Mode; 19] = [
     unlit(
         "wireframe",
         "the mesh's edges, hidden lines removed",
@@ -173,6 +175,12 @@ static MODES: [Mode; 18] = [
         "path tracing: the rendering equation by random light paths, the ground truth \
          (the textbook's §9.6); one path per pixel per supersampling pass",
         Rays::Path,
+    ),
+    traced(
+        "radiosity",
+        "progressive-refinement radiosity with hemicube form factors, solved once and drawn \
+         with Gouraud shading from any view (the textbook's §9.6.3)",
+        Rays::Radiosity,
     ),
     unlit(
         "normals",
@@ -262,6 +270,7 @@ mod tests {
             (Shading::Pbr, "pbr"),
             (Shading::Whitted, "whitted"),
             (Shading::Path, "path"),
+            (Shading::Radiosity, "radiosity"),
             (Shading::Normals, "normals"),
             (Shading::Depth, "depth"),
             (Shading::Uv, "uv"),
