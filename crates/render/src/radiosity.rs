@@ -239,6 +239,9 @@ pub struct Solved {
     pub shots: usize,
     /// The unshot power left, as a share of the power emitted.
     pub unshot: f32,
+    /// The share of the power shot that met a patch (1 in a closed room; the rest left
+    /// the scene), over all shots (1 if none was shot).
+    pub closure: f32,
 }
 
 fn power(c: Vec3) -> f32 {
@@ -287,6 +290,7 @@ pub fn solve_grouped(
         }
     }
     let mut shots = 0;
+    let (mut sent, mut met) = (0.0f64, 0.0f64);
     loop {
         let unshot_of = |g: &[usize]| -> (Vec3, f32) {
             let (mut sum, mut area) = (Vec3::ZERO, 0.0);
@@ -311,6 +315,7 @@ pub fn solve_grouped(
             return Solved {
                 shots,
                 unshot: if emitted > 0.0 { rest / emitted } else { 0.0 },
+                closure: if sent > 0.0 { (met / sent) as f32 } else { 1.0 },
             };
         }
         let g = best.0;
@@ -323,6 +328,13 @@ pub fn solve_grouped(
         cube.sums = ff;
         cube.form_factors(patches, p + n * near, n, near);
         let ff = std::mem::take(&mut cube.sums);
+        sent += f64::from(best.1);
+        met += f64::from(best.1)
+            * ff.iter()
+                .enumerate()
+                .filter(|(j, _)| patches[*j].group != g)
+                .map(|(_, &f)| f64::from(f))
+                .sum::<f64>();
         for (j, &f) in ff.iter().enumerate() {
             if f <= 0.0 || patches[j].group == g {
                 continue;
@@ -474,10 +486,15 @@ mod tests {
 /// drawn) until no side is longer than [`ELEMENT_SHARE`].
 pub const PATCH_SHARE: f32 = 1.0 / 8.0;
 pub const ELEMENT_SHARE: f32 = 1.0 / 16.0;
-/// At most this many patches (a larger scene keeps its triangles as they are, cut no
-/// further, and a scene with more triangles than this is solved on its first ones only,
-/// with a warning in the frame's report).
+/// Cutting stops at this many elements (a larger scene keeps its triangles as they are);
+/// a scene of more triangles than [`MAX_ELEMENTS`] is solved and drawn on its first ones
+/// only ([`Solution::truncated`]).
 pub const MAX_PATCHES: usize = 40_000;
+pub const MAX_ELEMENTS: usize = 1_000_000;
+/// Shots stop when they have drawn this many triangles into hemicubes in all (about four
+/// seconds here): a large scene is solved coarsely (its direct light exact, the rest
+/// mostly the ambient term) rather than for minutes.
+pub const MAX_WORK: usize = 6_000_000;
 /// Pixels per side of the hemicube's top face.
 pub const HEMICUBE: u32 = 128;
 /// Shooting stops when the power left unshot falls below this share of the power there
@@ -573,19 +590,29 @@ fn patches_of(t: &super::whitted::Tracer) -> (Vec<Patch>, Vec<[Vec3; 3]>, bool) 
                 if !c.iter().all(|v| v.is_finite()) {
                     continue;
                 }
-                if out.len() >= MAX_PATCHES {
+                if out.len() >= MAX_ELEMENTS {
                     truncated = true;
                     break;
                 }
                 cut_tris.clear();
-                cut(c, max, &mut cut_tris, MAX_PATCHES - out.len());
+                cut(
+                    c,
+                    max,
+                    &mut cut_tris,
+                    MAX_PATCHES.saturating_sub(out.len()).max(1),
+                );
                 for &q in &cut_tris {
                     let p = Patch::new(q, rho, emission);
                     if p.area() <= 0.0 {
                         continue;
                     }
                     elements.clear();
-                    cut(q, fine, &mut elements, MAX_PATCHES - out.len());
+                    cut(
+                        q,
+                        fine,
+                        &mut elements,
+                        MAX_PATCHES.saturating_sub(out.len()).max(1),
+                    );
                     for &e in &elements {
                         let mut e = Patch::new(e, rho, emission);
                         e.group = shooters.len();
@@ -601,7 +628,10 @@ fn patches_of(t: &super::whitted::Tracer) -> (Vec<Patch>, Vec<[Vec3; 3]>, bool) 
     (out, shooters, truncated)
 }
 
-/// The punctual lights' first bounce: each patch's irradiance from every light at its
+/// Environment directions per patch for its sky light.
+pub const ENV_SAMPLES: u32 = 64;
+
+/// The punctual lights' and the environment's first bounce: each patch's irradiance from every light at its
 /// centre, past a shadow ray, reflected (and left to shoot on).
 fn direct_light(t: &super::whitted::Tracer, patches: &mut [Patch]) {
     use crate::shade::{arriving, LightSet};
@@ -621,10 +651,34 @@ fn direct_light(t: &super::whitted::Tracer, patches: &mut [Patch]) {
     let ambient = set.ambient;
     let rays = &t.rays;
     let eps = 1e-5 * t.radius.max(1e-6);
-    patches.par_iter_mut().for_each(|q| {
+    let env = t.env.as_ref();
+    patches.par_iter_mut().enumerate().for_each(|(k, q)| {
         let (p, n) = (q.centre(), q.normal());
         // The ambient light reaches everything, unshadowed (as in the rasterizer).
         let mut h = ambient;
+        // The environment: directions drawn in proportion to its radiance, past shadow
+        // rays (the sky a patch sees), estimating its irradiance.
+        if let Some(env) = env {
+            let mut seed = (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 0x5851_f42d_4c95_7f2d;
+            let mut next = || {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                (seed >> 40) as f32 / (1u64 << 24) as f32
+            };
+            let mut sum = Vec3::ZERO;
+            for _ in 0..ENV_SAMPLES {
+                let (d, le, pdf) = env.sample(next(), next());
+                let cos = n.dot(d);
+                if cos > 0.0
+                    && pdf > 0.0
+                    && !rays.occluded(&realist_trace::Ray::new(p + n * eps, d, 0.0, f32::INFINITY))
+                {
+                    sum += le * (cos / pdf);
+                }
+            }
+            h += sum / ENV_SAMPLES as f32;
+        }
         for s in &set.sources {
             let Some((dir, rad, _)) = arriving::<f32>(s, p) else {
                 continue;
@@ -650,10 +704,18 @@ fn direct_light(t: &super::whitted::Tracer, patches: &mut [Patch]) {
     });
 }
 
+/// The shots [`MAX_WORK`] allows for `elements` (each shot draws them all).
+fn shots_for(elements: usize) -> usize {
+    (MAX_WORK / elements.max(1)).clamp(1, MAX_SHOTS)
+}
+
 /// Cohen's ambient term for the power still unshot: spread evenly over the scene's area
 /// and reflected on by the mean reflectance `ρ̄` (a geometric series, `1 / (1 - ρ̄)`), each
-/// patch adds its reflectance times it. Leaves `unshot` as it was.
-fn ambient_correction(patches: &mut [Patch]) {
+/// patch adds its reflectance times it. Cohen's room is closed; here the share of the
+/// power shot that met a patch (`closure`, measured by the shots) scales what comes back,
+/// `c / (1 - ρ̄ c)`, so an open scene (a model under the sky) is not brightened by light
+/// that would have left it. Leaves `unshot` as it was.
+fn ambient_correction(patches: &mut [Patch], closure: f32) {
     let area: f32 = patches.iter().map(Patch::area).sum();
     if area <= 0.0 {
         return;
@@ -666,7 +728,8 @@ fn ambient_correction(patches: &mut [Patch]) {
         .iter()
         .fold(Vec3::ZERO, |a, q| a + q.reflectance * q.area())
         / area;
-    let ambient = unshot / (Vec3::ONE - rho).max(Vec3::splat(1e-3));
+    let c = closure.clamp(0.0, 1.0);
+    let ambient = unshot * c / (Vec3::ONE - rho * c).max(Vec3::splat(1e-3));
     for q in patches {
         q.radiosity += q.reflectance * ambient;
     }
@@ -751,7 +814,7 @@ pub struct Solution {
     pub shots: usize,
     /// Unshot power left, as a share of what was emitted and reflected first.
     pub unshot: f32,
-    /// The scene had more triangles than [`MAX_PATCHES`]: its first ones only.
+    /// The scene had more triangles than [`MAX_ELEMENTS`]: its first ones only.
     pub truncated: bool,
 }
 
@@ -781,13 +844,8 @@ impl super::PreparedScene {
         let (mut patches, shooters, truncated) = patches_of(&t);
         let mut cube = Hemicube::new(HEMICUBE);
         direct_light(&t, &mut patches);
-        let first = solve_grouped(
-            &mut patches,
-            &shooters,
-            &mut cube,
-            FIRST_TOLERANCE,
-            MAX_SHOTS,
-        );
+        let shots = shots_for(patches.len());
+        let first = solve_grouped(&mut patches, &shooters, &mut cube, FIRST_TOLERANCE, shots);
         // Adaptive subdivision: cut where the smoothed corners disagree with the patch.
         let corners = corner_radiance(&patches);
         let mut refined = Vec::with_capacity(patches.len());
@@ -816,14 +874,26 @@ impl super::PreparedScene {
                 refined.push(e);
             }
         }
-        let solved = if cut_any {
+        let solved = if cut_any && patches.len() < MAX_PATCHES {
             patches = refined;
             direct_light(&t, &mut patches);
-            solve_grouped(&mut patches, &shooters, &mut cube, TOLERANCE, MAX_SHOTS)
+            let shots = shots_for(patches.len());
+            solve_grouped(&mut patches, &shooters, &mut cube, TOLERANCE, shots)
         } else {
-            first
+            // Nothing to cut (or no room to): the first solution goes on.
+            let shots = shots_for(patches.len()).saturating_sub(first.shots).max(1);
+            let more = solve_grouped(&mut patches, &shooters, &mut cube, TOLERANCE, shots);
+            Solved {
+                shots: first.shots + more.shots,
+                closure: if more.shots > 0 {
+                    more.closure
+                } else {
+                    first.closure
+                },
+                ..more
+            }
         };
-        ambient_correction(&mut patches);
+        ambient_correction(&mut patches, solved.closure);
         if std::env::var_os("REALIST_RADIOSITY").is_some() {
             eprintln!(
                 "radiosity: {} patches, first {first:?}, then {solved:?}",
