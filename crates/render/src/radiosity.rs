@@ -523,22 +523,22 @@ fn cut(t: [Vec3; 3], max: f32, out: &mut Vec<[Vec3; 3]>, budget: usize) {
 }
 
 /// Radiance (B/π) at each patch corner: the area-weighted mean of the patches that share
-/// that point and face the same way (one surface's patches blend; a crease keeps its edge).
+/// that point and face within [`SMOOTH_DEGREES`] of the same way (one surface's patches
+/// blend, a curved one's too; a crease keeps its edge).
 fn corner_radiance(patches: &[Patch]) -> Vec<[Vec3; 3]> {
     use std::collections::HashMap;
     let size = patches
         .iter()
         .flat_map(|q| q.corners)
         .fold(1e-6f32, |m, c| m.max(c.abs().max_element()));
-    let q = |v: Vec3| (v / size * 1e5).round().as_ivec3();
-    let key = |p: Vec3, n: Vec3| (q(p), (n * 8.0).round().as_ivec3());
-    let mut sums: HashMap<_, (Vec3, f32)> = HashMap::new();
+    let key = |v: Vec3| (v / size * 1e5).round().as_ivec3();
+    let cos_max = SMOOTH_DEGREES.to_radians().cos();
+    // Per point: each patch's normal, radiosity times area, and area.
+    let mut at: HashMap<_, Vec<(Vec3, Vec3, f32)>> = HashMap::new();
     for t in patches {
         let (n, a) = (t.normal(), t.area());
         for c in t.corners {
-            let e = sums.entry(key(c, n)).or_insert((Vec3::ZERO, 0.0));
-            e.0 += t.radiosity * a;
-            e.1 += a;
+            at.entry(key(c)).or_default().push((n, t.radiosity * a, a));
         }
     }
     patches
@@ -546,12 +546,20 @@ fn corner_radiance(patches: &[Patch]) -> Vec<[Vec3; 3]> {
         .map(|t| {
             let n = t.normal();
             t.corners.map(|c| {
-                let (s, a) = sums.get(&key(c, n)).copied().unwrap_or((t.radiosity, 1.0));
+                let (s, a) = at.get(&key(c)).map_or((t.radiosity, 1.0), |list| {
+                    list.iter()
+                        .filter(|(m, _, _)| m.dot(n) >= cos_max)
+                        .fold((Vec3::ZERO, 0.0), |(s, a), (_, b, w)| (s + *b, a + w))
+                });
                 s / a.max(1e-30) * std::f32::consts::FRAC_1_PI
             })
         })
         .collect()
 }
+
+/// Patches meeting at a corner blend their radiosity there when their normals are within
+/// this angle.
+pub const SMOOTH_DEGREES: f32 = 45.0;
 
 /// The patches of `scene` as `settings` show it: every shown instance's triangles in the
 /// world (each copy), cut to the patch size, with the material's diffuse reflectance (base
@@ -603,7 +611,8 @@ fn patches_of(t: &super::whitted::Tracer) -> (Vec<Patch>, Vec<[Vec3; 3]>, bool) 
                 );
                 for &q in &cut_tris {
                     let p = Patch::new(q, rho, emission);
-                    if p.area() <= 0.0 {
+                    // (Coordinates so large that the area overflows are left out.)
+                    if !(p.area() > 0.0 && p.area().is_finite() && p.normal() != Vec3::ZERO) {
                         continue;
                     }
                     elements.clear();
@@ -616,7 +625,7 @@ fn patches_of(t: &super::whitted::Tracer) -> (Vec<Patch>, Vec<[Vec3; 3]>, bool) 
                     for &e in &elements {
                         let mut e = Patch::new(e, rho, emission);
                         e.group = shooters.len();
-                        if e.area() > 0.0 {
+                        if e.area() > 0.0 && e.area().is_finite() {
                             out.push(e);
                         }
                     }
@@ -745,7 +754,14 @@ fn display(patches: &[Patch]) -> crate::scene::Scene {
     let mut colors = Vec::with_capacity(patches.len() * 3);
     for (p, c) in patches.iter().zip(&colours) {
         positions.extend_from_slice(&p.corners);
-        colors.extend(c.iter().map(|v| v.extend(1.0)));
+        // A value that overflowed shows black rather than poisoning the frame.
+        colors.extend(c.iter().map(|v| {
+            if v.is_finite() {
+                v.extend(1.0)
+            } else {
+                Vec4::new(0.0, 0.0, 0.0, 1.0)
+            }
+        }));
     }
     let corners = (0..positions.len() as u32).collect();
     let normals = patches
