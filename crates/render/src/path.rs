@@ -384,17 +384,7 @@ impl Tracer<'_> {
                 // Next-event estimation: every punctual light (shadow rays), then the
                 // environment.
                 let rays = &self.rays;
-                let occluded =
-                    |from: Vec3, to: Vec3| rays.occluded(&Ray::new(from, to - from, 0.0, 1.0));
-                let lit = super::probe::light_point(
-                    self.scene,
-                    self.settings,
-                    self.cam_to_world,
-                    &pt,
-                    true,
-                    false,
-                    &occluded,
-                );
+                let lit = self.light(&pt, false);
                 for s in &lit.lights {
                     l += beta * (s.diffuse + s.specular) / keep;
                 }

@@ -290,6 +290,22 @@ impl<'a> Tracer<'a> {
         Some((pt, r))
     }
 
+    /// Every light's share at `pt`, shadow rays to each (and, with `image_based`, the
+    /// ambient and environment terms as the rasterizer has them).
+    pub(super) fn light(&self, pt: &super::probe::Point, image_based: bool) -> super::probe::Lit {
+        let rays = &self.rays;
+        let occluded = |from: Vec3, to: Vec3| rays.occluded(&Ray::new(from, to - from, 0.0, 1.0));
+        super::probe::light_point(
+            self.scene,
+            self.settings,
+            self.cam_to_world,
+            pt,
+            true,
+            image_based,
+            &occluded,
+        )
+    }
+
     /// The colour a ray from `o` along unit `d` sees at its hit `h`.
     pub fn shade_hit(
         &self,
@@ -306,17 +322,7 @@ impl<'a> Tracer<'a> {
         if pt.unlit {
             return pt.base.truncate();
         }
-        let rays = &self.rays;
-        let occluded = |from: Vec3, to: Vec3| rays.occluded(&Ray::new(from, to - from, 0.0, 1.0));
-        let lit = super::probe::light_point(
-            self.scene,
-            self.settings,
-            self.cam_to_world,
-            &pt,
-            true,
-            true,
-            &occluded,
-        );
+        let lit = self.light(&pt, true);
         let direct = lit
             .lights
             .iter()

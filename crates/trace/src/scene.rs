@@ -240,6 +240,16 @@ impl Ray {
             tmax,
         }
     }
+
+    /// Finite origin and direction, and a range that is a number (a ray that is not meets
+    /// nothing).
+    #[must_use]
+    pub fn is_valid(&self) -> bool {
+        self.origin.is_finite()
+            && self.dir.is_finite()
+            && !self.tmin.is_nan()
+            && !self.tmax.is_nan()
+    }
 }
 
 /// The nearest hit of a ray.
@@ -367,10 +377,7 @@ impl Scene {
         ray: &Ray,
         accept: impl Fn(&Instance, u32, bool, f32) -> bool,
     ) -> Option<Hit> {
-        if !(ray.origin.is_finite() && ray.dir.is_finite())
-            || ray.tmin.is_nan()
-            || ray.tmax.is_nan()
-        {
+        if !ray.is_valid() {
             return None;
         }
         let slabs = Slabs::new(ray.origin, ray.dir);
@@ -415,10 +422,7 @@ impl Scene {
     /// found ends the search).
     #[must_use]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        if !(ray.origin.is_finite() && ray.dir.is_finite())
-            || ray.tmin.is_nan()
-            || ray.tmax.is_nan()
-        {
+        if !ray.is_valid() {
             return false;
         }
         let slabs = Slabs::new(ray.origin, ray.dir);
