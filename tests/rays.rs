@@ -494,3 +494,68 @@ fn path_error_falls_as_one_over_root_samples() {
     eprintln!("path error: log-log slope {slope:.3} over {points:?}");
     assert!((slope + 0.5).abs() <= 0.1, "slope {slope}");
 }
+
+/// The Cornell box (`models/pbr/cornell-box.glb`, Lambertian, lit by its panel alone):
+/// radiosity and the path tracer (1,024 paths a pixel) solve the same light, within 2 ΔE00
+/// of each other on the walls (the figure), and both show colour bleeding: the
+/// white back wall is redder near the red wall than near the green one.
+#[test]
+fn cornell_box_radiosity_matches_the_path_tracer_on_the_walls() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/pbr/cornell-box.glb");
+    let s =
+        realist::load::load(&path, &realist::load::LoadOptions::default()).expect("cornell box");
+    let cam = camera(
+        Vec3::new(0.0, 2.75, 10.5),
+        Vec3::new(0.0, 2.75, 0.0),
+        Vec3::Y,
+        39.0,
+    );
+    let (w, h) = (48u32, 48u32);
+    let mut sh = shot(w, h, cam, None, vec![]);
+    sh.settings.shading = Some(Shading::Radiosity);
+    let radiosity = render(&s, &sh);
+    let prepared = PreparedScene::new(s);
+    let view = sh.view(prepared.scene());
+    sh.settings.shading = Some(Shading::Path);
+    let path = realist::render::path::path_image(&prepared, &sh.settings, &view, 1024, 7);
+    let image = |px: &[Vec3], (x0, x1, y0, y1): (u32, u32, u32, u32)| {
+        let rgb = (y0..y1)
+            .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+            .map(|(x, y)| px[(y * w + x) as usize].as_dvec3().to_array())
+            .collect();
+        realist::quality::LinearImage {
+            width: x1 - x0,
+            height: y1 - y0,
+            rgb,
+        }
+    };
+    let walls = [
+        ("back wall", (18, 30, 12, 20)),
+        ("red wall", (2, 7, 14, 34)),
+        ("green wall", (41, 46, 14, 34)),
+    ];
+    for (name, r) in walls {
+        let de = realist::quality::metrics::delta_e_map(&image(&radiosity, r), &image(&path, r));
+        let mean = de.iter().sum::<f64>() / de.len() as f64;
+        eprintln!("Cornell box, {name}: mean ΔE00 {mean:.2} between radiosity and path");
+        assert!(mean <= 2.0, "{name}: mean ΔE00 {mean:.2}");
+    }
+    // Colour bleeding on the back wall, in both: red over green near the red wall, the
+    // other way near the green one.
+    for (what, px) in [("radiosity", &radiosity), ("path", &path)] {
+        let mean = |x0: u32, x1: u32| {
+            // Rows above the tall block; columns clear of the side walls.
+            let v: Vec3 = (11..19)
+                .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+                .map(|(x, y)| px[(y * w + x) as usize])
+                .sum();
+            v / ((x1 - x0) * 8) as f32
+        };
+        let (left, right) = (mean(12, 16), mean(32, 36));
+        eprintln!("{what}: back wall near red {left}, near green {right}");
+        assert!(
+            left.x / left.y > right.x / right.y,
+            "{what}: no red bleeding ({left} vs {right})"
+        );
+    }
+}
