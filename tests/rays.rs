@@ -559,3 +559,156 @@ fn cornell_box_radiosity_matches_the_path_tracer_on_the_walls() {
         );
     }
 }
+
+/// Two facing mirrors (white metal, roughness 0: each reflection keeps all the light) with
+/// a lamp between them: every reflected ray meets the other mirror, so only the depth limit
+/// ends it. A depth of 0 shows the lamp alone, each level one more pair of images, and
+/// ten thousand (past [`realist::render::MAX_RAY_DEPTH`]) is held to that limit: the frame
+/// finishes without overflowing the stack, as the 64-deep frame does.
+#[test]
+fn facing_mirrors_end_at_the_depth_limit() {
+    let mirror = pbr(Vec4::ONE, 1.0, 0.0, PbrMaterial::default());
+    let lamp = Material {
+        emissive: Vec3::ONE,
+        ..pbr(
+            Vec4::new(0.0, 0.0, 0.0, 1.0),
+            0.0,
+            1.0,
+            PbrMaterial::default(),
+        )
+    };
+    let wall = |z: f32| {
+        common::triangles(
+            vec![
+                Vec3::new(-3.0, -3.0, z),
+                Vec3::new(40.0, -3.0, z),
+                Vec3::new(40.0, 3.0, z),
+                Vec3::new(-3.0, 3.0, z),
+            ],
+            if z < 0.0 {
+                vec![0, 1, 2, 0, 2, 3]
+            } else {
+                vec![0, 2, 1, 0, 3, 2]
+            },
+        )
+    };
+    let s = scene(vec![
+        (wall(-1.0), mirror.clone(), Mat4::IDENTITY),
+        (wall(1.0), mirror, Mat4::IDENTITY),
+        (
+            Mesh::sphere(0.4, 16, 8).expect("sphere"),
+            lamp,
+            Mat4::from_translation(Vec3::new(8.0, 0.0, 0.0)),
+        ),
+    ]);
+    // Looking down the corridor at the lamp: its images repeat every 2 units across it,
+    // one more pair with each level of depth.
+    let cam = camera(
+        Vec3::new(-1.5, 0.0, 0.3),
+        Vec3::new(8.0, 0.0, 0.0),
+        Vec3::Y,
+        60.0,
+    );
+    let lit = |depth: u32| {
+        let mut sh = shot(192, 128, cam.clone(), None, vec![]);
+        sh.settings.ray_depth = depth;
+        sh.settings.double_sided = true;
+        let img = render(&s, &sh);
+        assert!(
+            img.iter().all(|c| c.is_finite()),
+            "depth {depth}: not finite"
+        );
+        img.iter().filter(|c| c.max_element() > 0.5).count()
+    };
+    let counts: Vec<usize> = [0, 1, 2, 32, 64, 10_000].into_iter().map(lit).collect();
+    eprintln!("lamp pixels at depth 0, 1, 2, 32, 64, 10,000: {counts:?}");
+    assert!(
+        counts[0] < counts[1] && counts[1] < counts[2] && counts[2] < counts[3],
+        "each level of depth adds images of the lamp: {counts:?}"
+    );
+    let (deepest, clamped) = (counts[4], counts[5]);
+    assert_eq!(clamped, deepest, "a depth of 10,000 is held to 64");
+}
+
+/// Bad geometry in the traced modes: a NaN vertex, zero-area triangles (a repeated corner
+/// and three points on a line) and a sphere scaled by a billion. Every mode finishes with
+/// finite pixels; the good triangles are still drawn; the billion-times sphere, framed by
+/// its own camera, covers the same pixels as the unit one.
+#[test]
+fn bad_geometry_in_the_traced_modes_gives_finite_images() {
+    let grey = pbr(
+        Vec4::new(0.7, 0.7, 0.7, 1.0),
+        0.0,
+        0.5,
+        PbrMaterial::default(),
+    );
+    let sun = Light {
+        kind: LightKind::Directional,
+        direction: Vec3::new(0.3, -1.0, -0.5).normalize(),
+        intensity: 3.0,
+        shadow: true,
+        ..Light::default()
+    };
+    let modes = [Shading::Whitted, Shading::Path, Shading::Radiosity];
+    let frame = |s: &Scene, cam: &Camera, mode: Shading| {
+        let mut sh = shot(64, 48, cam.clone(), None, vec![sun.clone()]);
+        sh.settings.shading = Some(mode);
+        let img = render(s, &sh);
+        assert!(
+            img.iter().all(|c| c.is_finite()),
+            "{mode}: a pixel is not finite"
+        );
+        img
+    };
+    let covered = |img: &[Vec3]| img.iter().filter(|c| c.max_element() > 0.0).count();
+
+    // A NaN corner and degenerate triangles beside a good quad.
+    let bad = common::triangles(
+        vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(f32::NAN, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 0.5),
+            Vec3::new(0.5, 0.0, 0.5),
+        ],
+        vec![0, 1, 2, 0, 2, 3, 0, 4, 1, 5, 5, 6, 0, 5, 2],
+    );
+    let s = scene(vec![(bad, grey.clone(), Mat4::IDENTITY)]);
+    let cam = camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, 45.0);
+    for mode in modes {
+        let img = frame(&s, &cam, mode);
+        assert!(covered(&img) > 500, "{mode}: the good quad is not drawn");
+    }
+
+    // The same sphere at scale 1 and scale 1e9, each seen from 4 of its radii.
+    let sphere = |r: f32| {
+        scene(vec![(
+            Mesh::sphere(r, 32, 16).expect("sphere"),
+            grey.clone(),
+            Mat4::IDENTITY,
+        )])
+    };
+    for mode in modes {
+        let at = |r: f32| {
+            let cam = Camera {
+                near: 0.05 * r,
+                far: 100.0 * r,
+                ..camera(Vec3::new(0.0, 0.0, 4.0 * r), Vec3::ZERO, Vec3::Y, 45.0)
+            };
+            frame(&sphere(r), &cam, mode)
+        };
+        let (unit, huge) = (at(1.0), at(1e9));
+        let differ = unit
+            .iter()
+            .zip(&huge)
+            .filter(|(a, b)| (a.max_element() > 0.0) != (b.max_element() > 0.0))
+            .count();
+        assert!(covered(&unit) > 500, "{mode}: the unit sphere is not drawn");
+        assert!(
+            differ <= 16,
+            "{mode}: {differ} pixels covered at one scale and not the other"
+        );
+    }
+}

@@ -299,6 +299,7 @@ fn view(
         flat_last_vertex: false,
         msaa: Some(4),
         samples: None,
+        ray_depth: None,
         subpixel_bits: None,
         scene: None,
         point_size: None,

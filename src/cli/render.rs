@@ -111,6 +111,11 @@ pub(crate) struct RenderArgs {
     /// Supersampling: N x N jittered passes per pixel, averaged in linear light (1 to 8).
     #[arg(long, value_parser = numeric("samples").parser_u32())]
     pub samples: Option<u32>,
+    /// Traced rays: the most surfaces a ray may meet after the first (0 to 64, default
+    /// 32): Whitted's reflection and refraction depth, the path tracer's bounces (the
+    /// textbook's depth limit, §9.6.1).
+    #[arg(long, value_name = "N", value_parser = numeric("ray_depth").parser_u32())]
+    pub ray_depth: Option<u32>,
     /// Sub-pixel bits of the vertex snap (0 to 8, default 8): fewer bits move vertices to
     /// a coarser grid, the precision experiment of the rasterizer's fixed-point set-up.
     #[arg(long, value_name = "BITS", value_parser = numeric("subpixel_bits").parser_u32())]
@@ -304,6 +309,9 @@ fn settings(args: &RenderArgs, input: &Input) -> Result<Settings> {
     }
     if let Some(n) = args.samples {
         s.samples = n;
+    }
+    if let Some(n) = args.ray_depth {
+        s.ray_depth = n;
     }
     if let Some(bits) = args.subpixel_bits {
         s.subpixel_bits = bits as u8;

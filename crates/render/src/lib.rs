@@ -56,6 +56,7 @@ pub use probe::{probe, LightShare, Probe};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
 pub use settings::{
     Environment, Ground, Hidden, Lights, Output, Sections, Settings, ToneMap, VertexLighting, View,
+    DEFAULT_RAY_DEPTH, MAX_RAY_DEPTH,
 };
 
 /// A one-shot frame: the [`Settings`], the size and the camera (`None`:

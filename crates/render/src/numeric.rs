@@ -220,6 +220,7 @@ pub static NUMERIC: &[Numeric] = &[
         },
     },
     scalar!("samples", "samples per pixel side", Range::Whole(1, 8), None, samples: u32),
+    scalar!("ray_depth", "a number of bounces", Range::Whole(0, super::MAX_RAY_DEPTH), None, ray_depth: u32),
     scalar!("msaa", "samples per pixel", Range::OneOf(&SAMPLE_COUNTS), None, msaa: u32),
     scalar!("subpixel_bits", "bits of the vertex snap", Range::Whole(0, SUBPIXEL_BITS), None, subpixel_bits: u8),
     scalar!("point_size", "pixels", Range::Between(1.0, MAX_STROKE_PX as f64), None, point_size: f32),

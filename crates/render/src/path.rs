@@ -12,7 +12,8 @@
 //!   surface by Fresnel's equations (reflection or Snell's refraction);
 //! - multiple importance sampling (the power heuristic) between the environment's and the
 //!   BRDF's samples of the same light;
-//! - Russian roulette after three bounces, a depth limit of [`MAX_BOUNCES`].
+//! - Russian roulette after three bounces, and the depth limit
+//!   [`Settings::ray_depth`] (surfaces met after the first).
 //!
 //! Emissive surfaces are lights too: a point drawn on them in proportion to their power,
 //! weighed against the BRDF's samples that meet them (an emissive texture is not sampled:
@@ -29,8 +30,6 @@ use super::whitted::Tracer;
 use crate::texture::microfacet::{alpha as alpha_of, ggx};
 use realist_trace::Ray;
 
-/// Bounces after which a path ends whatever it carries.
-pub const MAX_BOUNCES: u32 = 32;
 /// Bounces before Russian roulette may end a path.
 const ROULETTE_AFTER: u32 = 3;
 
@@ -281,7 +280,7 @@ impl Tracer<'_> {
         // which the environment's samples cannot take).
         let mut chose: Option<f32> = None;
         let mut medium: Option<(Vec3, f32)> = None;
-        for bounce in 0..MAX_BOUNCES {
+        for bounce in 0..=self.settings.ray_depth.min(super::MAX_RAY_DEPTH) {
             // The camera's rays end at its far plane, as the rasterizer's view does.
             let tmax = if bounce == 0 { reach } else { f32::INFINITY };
             let Some(h) = self.rays.closest(&Ray::new(o, d, 0.0, tmax)) else {

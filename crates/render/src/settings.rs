@@ -12,6 +12,14 @@ use crate::simd::KernelKind;
 use crate::texture::env::{default_cache_dir, EnvCache, EnvImage, EnvView, Prefiltered};
 use crate::texture::Filter;
 
+/// [`Settings::ray_depth`]'s default: deep enough that a white room's paths lose well under
+/// 0.1% of their light to the limit (0.8³² of it), while Russian roulette ends most paths
+/// long before.
+pub const DEFAULT_RAY_DEPTH: u32 = 32;
+/// The largest [`Settings::ray_depth`] accepted: Whitted's rays recurse once per surface,
+/// and 64 levels stay far inside a rendering thread's stack.
+pub const MAX_RAY_DEPTH: u32 = 64;
+
 /// The lights a frame uses.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum Lights {
@@ -350,6 +358,11 @@ pub struct Settings {
     /// resolved in linear light. Combines with `samples` (each supersampling pass is
     /// multisampled).
     pub msaa: u32,
+    /// The most surfaces a traced ray may meet after the first (the textbook's depth
+    /// limit, §9.6.1): Whitted's reflection and refraction depth, the path tracer's bounce
+    /// limit. 0 to [`MAX_RAY_DEPTH`]; a ray at the limit keeps its surface's environment
+    /// light (Whitted) or ends (path).
+    pub ray_depth: u32,
     /// The kernel the fill and shaders run with; `None` is [`KernelKind::best`] (a kernel the
     /// CPU lacks runs as the portable one).
     pub kernel: Option<KernelKind>,
@@ -699,6 +712,7 @@ impl Default for Settings {
             hidden: Hidden::default(),
             variant: None,
             single_scatter: false,
+            ray_depth: DEFAULT_RAY_DEPTH,
         }
     }
 }

@@ -138,9 +138,6 @@ fn lift(z: f32) -> f32 {
 /// Perceptual roughness at or below which a surface is a mirror in Whitted's model: its
 /// reflection is traced (in place of the environment's prefiltered lobe).
 pub const MIRROR_ROUGHNESS: f32 = 0.1;
-/// Rays deeper than this end (the textbook's depth limit); their surface keeps the
-/// environment's lobe in place of a traced reflection.
-pub const MAX_DEPTH: u32 = 8;
 /// Rays whose contribution to the pixel falls below this end (the textbook's
 /// low-contribution limit): about an eighth of an 8-bit level.
 pub const MIN_WEIGHT: f32 = 1.0 / 2048.0;
@@ -341,7 +338,7 @@ impl<'a> Tracer<'a> {
         let transmission = p.transmission.map_or(0.0, |t| t.factor) * (1.0 - p.metallic);
         let mirror = p.roughness <= MIRROR_ROUGHNESS;
         if !(mirror || transmission > 0.0)
-            || depth >= MAX_DEPTH
+            || depth >= self.settings.ray_depth.min(super::MAX_RAY_DEPTH)
             || weight.max_element() < MIN_WEIGHT
         {
             return direct + lit.ambient_specular;

@@ -64,6 +64,7 @@ pub(super) fn doc(
         shading: s.shading.map(Kw),
         msaa: Some(s.msaa.into()),
         samples: Some(s.samples.into()),
+        ray_depth: (s.ray_depth != crate::render::DEFAULT_RAY_DEPTH).then(|| s.ray_depth.into()),
         background: Some(rgba(s.background)),
         double_sided: Some(s.double_sided),
         wireframe_overlay: Some(s.wireframe_overlay),

@@ -269,6 +269,9 @@ pub struct SceneDoc {
     pub msaa: Option<Count>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<Count>,
+    /// Traced rays' depth limit (`whitted`, `path`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ray_depth: Option<Count>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub background: Option<Rgba>,
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -257,6 +257,9 @@ impl SceneFile {
         if let Some(n) = d.samples {
             s.samples = self.number("samples", n.0)? as u32;
         }
+        if let Some(n) = d.ray_depth {
+            s.ray_depth = self.number("ray_depth", n.0)? as u32;
+        }
         if let Some(n) = d.msaa {
             s.msaa = self.number("msaa", n.0)? as u32;
         }
