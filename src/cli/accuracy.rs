@@ -9,6 +9,7 @@ use realist::quality::metrics;
 use realist::quality::plane::PlaneSetup;
 use realist::quality::sphere::{Shape, SphereSetup};
 use realist::quality::sweep::{self, ModelSetup, Subject};
+use realist::quality::traced::{self, Light, TracedSetup};
 use realist::texture::Filter;
 
 use realist::load::LoadOptions;
@@ -25,12 +26,21 @@ pub(crate) struct AccuracyArgs {
     /// Scene: sphere, cylinder or plane (textured, at a grazing angle), each with an exact
     /// reference; or a model file (glTF, GLB, OBJ) or a scene file (.toml, .json: its
     /// model, camera, lights, materials, fog, tone mapping and sidedness), measured against
-    /// the general f64 reference.
+    /// the general f64 reference; or `shadows` (one shadow-casting directional light) or
+    /// `environment` (the studio environment alone): objects on a ground plane measured
+    /// against the path tracer (the textbook's §9.6), for shadow maps and environment
+    /// light without occlusion.
     #[arg(long, default_value = "sphere")]
     scene: String,
-    /// Samples per pixel side of a model's reference (8 = 64 samples per pixel).
-    #[arg(long, default_value_t = 8)]
-    samples: u32,
+    /// With `--scene shadows` or `environment`: this model on the ground instead of the
+    /// built-in sphere, torus and cube.
+    #[arg(long, value_name = "FILE")]
+    model: Option<PathBuf>,
+    /// Samples per pixel side of the reference: a model's f64 reference (default 8 = 64
+    /// samples per pixel) or the path tracer's (default 16 = 256 paths per pixel, at most
+    /// 128).
+    #[arg(long)]
+    samples: Option<u32>,
     #[command(flatten)]
     normals: NormalArgs,
     /// Image size WIDTHxHEIGHT (default 1280x720, or a scene file's).
@@ -44,10 +54,39 @@ pub(crate) struct AccuracyArgs {
     runs: usize,
 }
 
+/// The traced scenes' default size: the path-traced references cost minutes at 1280x720.
+const TRACED_SIZE: (u32, u32) = (640, 360);
+
 pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
     let name = args.file.as_deref().unwrap_or(&args.scene);
     let (w, h) = args.size.unwrap_or(scenefile::DEFAULT_SIZE);
+    let samples = args.samples.unwrap_or(8);
+    if args.model.is_some() && !matches!(name, "shadows" | "environment") {
+        bail!("--model goes with --scene shadows or --scene environment");
+    }
     let subject = match name {
+        "shadows" | "environment" => {
+            let light = if name == "shadows" {
+                Light::Shadows
+            } else {
+                Light::Environment
+            };
+            let (w, h) = args.size.unwrap_or(TRACED_SIZE);
+            let samples = args.samples.unwrap_or(16);
+            if !(1..=traced::MAX_SAMPLES).contains(&samples) {
+                bail!(
+                    "--samples {samples}: the path-traced reference takes 1 to {} paths per pixel side",
+                    traced::MAX_SAMPLES
+                );
+            }
+            Subject::Traced(match &args.model {
+                Some(path) => {
+                    let scene = load_model(path, &args.normals)?;
+                    TracedSetup::with_scene(light, scene, w, h, samples)
+                }
+                None => TracedSetup::standard(light, w, h, samples),
+            })
+        }
         "sphere" => Subject::Shape(SphereSetup::standard_shape(Shape::Sphere, w, h)),
         "cylinder" => Subject::Shape(SphereSetup::standard_shape(Shape::Cylinder, w, h)),
         "plane" => Subject::Plane(PlaneSetup::standard(w, h)),
@@ -63,11 +102,17 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
                 );
             }
             let scene = load_model(path, &args.normals)?;
-            Subject::Model(ModelSetup::new(scene, w, h, args.samples))
+            Subject::Model(ModelSetup::new(scene, w, h, samples))
         }
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
+    if let Subject::Traced(t) = &subject {
+        say!(
+            "references: the path tracer at {} paths per pixel, direct light (exact visibility) and every bounce",
+            t.samples * t.samples
+        );
+    }
     let result = sweep::sweep(&subject, args.runs.max(1))?;
     let rows = &result.rows;
     let front = sweep::pareto(rows);
@@ -128,11 +173,7 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
     remove_previous_images(&args.out)?;
     for (index, reference) in result.references.iter().enumerate() {
         if let Some(r) = reference {
-            let name = [
-                "reference.png",
-                "reference-blinn.png",
-                "reference-textured.png",
-            ][index];
+            let name = subject.reference_name(index);
             write_png(&args.out.join(name), r.width, r.height, r.to_srgb8())?;
         }
     }
@@ -236,7 +277,7 @@ fn scene_file_setup(path: &Path, args: &AccuracyArgs) -> Result<ModelSetup> {
     if let realist::render::Lights::Custom { lights, .. } = &mut lights {
         lights.iter_mut().for_each(|l| l.shadow = false);
     }
-    let mut setup = ModelSetup::new(scene, w, h, args.samples);
+    let mut setup = ModelSetup::new(scene, w, h, args.samples.unwrap_or(8));
     if let Some(c) = camera {
         setup.camera = c;
     }

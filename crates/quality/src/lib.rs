@@ -9,6 +9,7 @@
 //! | `sphere.rs` | the ray-cast sphere reference and its rasterizer scene |
 //! | `plane.rs` | the exactly box-filtered textured plane reference and its scene |
 //! | `sweep.rs` | one knob at a time: settings, timings, metrics, Pareto front, plot |
+//! | `traced.rs` | scenes measured against the path tracer: shadows, environment occlusion |
 
 // The crates below this one, under the module names the code uses (`crate::scene::...`).
 use realist_color as color;
@@ -27,6 +28,7 @@ pub mod metrics;
 pub mod plane;
 pub mod sphere;
 pub mod sweep;
+pub mod traced;
 
 pub use image::LinearImage;
 pub use metrics::{compare, Metrics};

@@ -15,6 +15,7 @@ use glam::Vec4;
 use super::general;
 use super::plane::PlaneSetup;
 use super::sphere::{Shape, SphereSetup};
+use super::traced::{Light, Reference, TracedSetup};
 use super::{compare, metrics, LinearImage, Metrics};
 use crate::raster::SUBPIXEL_BITS;
 use crate::render::{self, PreparedScene, Renderer, Settings, Shot};
@@ -37,6 +38,31 @@ pub struct Setting {
     pub filter: Option<Filter>,
     /// Sub-pixel bits of the rasterizer's vertex snap.
     pub bits: u8,
+    /// Shadow map texels per side and PCF radius (0, 0: the settings' own).
+    pub shadow_size: u32,
+    pub pcf: u32,
+    /// Measured against the path tracer's every bounce instead of its direct light
+    /// ([`Subject::Traced`] only).
+    pub global: bool,
+}
+
+impl Default for Setting {
+    /// Phong, one sample, the texture's own filter, full sub-pixel precision, the
+    /// settings' shadows, no tessellation (a fixed scene).
+    fn default() -> Self {
+        Self {
+            slices: 0,
+            stacks: 0,
+            shading: Shading::Phong,
+            ss: 1,
+            msaa: 1,
+            filter: None,
+            bits: SUBPIXEL_BITS as u8,
+            shadow_size: 0,
+            pcf: 0,
+            global: false,
+        }
+    }
 }
 
 impl Setting {
@@ -45,6 +71,20 @@ impl Setting {
     #[must_use]
     pub fn label(&self) -> String {
         let mut out = self.shading.to_string();
+        if self.shading == Shading::Path {
+            // The path tracer's samples are paths per pixel, not supersampling.
+            out.push_str(&format!(" {}spp", self.ss * self.ss));
+            if self.global {
+                out.push_str(" global");
+            }
+            return out;
+        }
+        if self.shadow_size > 0 {
+            out.push_str(&format!(" shadow{}", self.shadow_size));
+        }
+        if self.shadow_size > 0 || self.pcf > 0 {
+            out.push_str(&format!(" pcf{}", self.pcf));
+        }
         if self.slices > 0 {
             out.push_str(&format!(" {}x{}", self.slices, self.stacks));
         }
@@ -58,6 +98,9 @@ impl Setting {
         }
         if u32::from(self.bits) != SUBPIXEL_BITS {
             out.push_str(&format!(" {}bit", self.bits));
+        }
+        if self.global {
+            out.push_str(" global");
         }
         out
     }
@@ -90,6 +133,10 @@ pub enum Subject {
     /// Any scene against the general f64 reference: shading mode, supersampling, texture
     /// filter (if textured), sub-pixel bits.
     Model(ModelSetup),
+    /// A scene on the ground under one shadow-casting light or the environment, against the
+    /// path tracer: shadow map size and filter, traced shadows, environment light without
+    /// occlusion, the path tracer's own samples.
+    Traced(TracedSetup),
 }
 
 /// A loaded scene under a fixed camera, measured against [`general::reference`].
@@ -167,6 +214,7 @@ impl Subject {
             Subject::Shape(s) => (s.width, s.height),
             Subject::Plane(p) => (p.width, p.height),
             Subject::Model(m) => (m.width, m.height),
+            Subject::Traced(t) => (t.width, t.height),
         }
     }
 
@@ -174,7 +222,8 @@ impl Subject {
     fn base_options(&self) -> Shot {
         match self {
             Subject::Model(m) => (*m.base).clone(),
-            _ => Shot::default(),
+            Subject::Traced(t) => t.shot(t.settings()),
+            Subject::Shape(_) | Subject::Plane(_) => Shot::default(),
         }
     }
 
@@ -183,6 +232,7 @@ impl Subject {
             Subject::Shape(s) => &s.camera,
             Subject::Plane(p) => &p.camera,
             Subject::Model(m) => &m.camera,
+            Subject::Traced(t) => &t.camera,
         }
     }
 
@@ -207,6 +257,7 @@ impl Subject {
                 }
                 Ok(scene)
             }
+            Subject::Traced(t) => Ok(t.scene.clone()),
         }
     }
 
@@ -216,6 +267,16 @@ impl Subject {
     pub fn reference_index(&self, s: &Setting) -> usize {
         match (self, s.shading) {
             (Subject::Plane(_), _) => 0,
+            (Subject::Traced(_), shading) => {
+                let r = if s.global {
+                    Reference::Global
+                } else if s.ss == 1 && shading != Shading::Path {
+                    Reference::Centres
+                } else {
+                    Reference::Areas
+                };
+                Reference::ALL.iter().position(|&a| a == r).unwrap_or(0)
+            }
             (_, Shading::Blinn) => 1,
             (_, Shading::Textured) => 2,
             (
@@ -254,7 +315,21 @@ impl Subject {
                 let shading = [Shading::Phong, Shading::Blinn, Shading::Textured][index.min(2)];
                 general::reference(&m.scene, &m.options(shading), m.samples, index > 0)?
             }
+            Subject::Traced(t) => t.reference(Reference::ALL[index.min(2)]),
         })
+    }
+
+    /// The file name of reference `index`'s image.
+    #[must_use]
+    pub fn reference_name(&self, index: usize) -> &'static str {
+        match self {
+            Subject::Traced(_) => Reference::ALL[index.min(2)].file_name(),
+            Subject::Shape(_) | Subject::Plane(_) | Subject::Model(_) => [
+                "reference.png",
+                "reference-blinn.png",
+                "reference-textured.png",
+            ][index.min(2)],
+        }
     }
 
     /// The settings of the sweep: a base setting and one knob at a time around it.
@@ -264,8 +339,90 @@ impl Subject {
             Subject::Shape(s) => shape_settings(s.shape),
             Subject::Plane(_) => plane_settings(),
             Subject::Model(m) => model_settings(m.textured()),
+            Subject::Traced(t) => traced_settings(t.light),
         }
     }
+}
+
+/// The traced scenes' settings, `pbr` with the default shadow map (1,024 texels, PCF
+/// radius 1) as the base. Under the shadow-casting light: the shadow map's size and
+/// filter, supersampling, and `whitted`'s traced shadows; under the environment: `pbr`'s
+/// unoccluded environment light. Then the path tracer at 1, 4 and 16 paths a pixel, all
+/// against the direct light; and the base, `whitted` and 16 paths against every bounce.
+fn traced_settings(light: Light) -> Vec<(&'static str, Setting)> {
+    let base = Setting {
+        shading: Shading::Pbr,
+        shadow_size: crate::shade::SHADOW_SIZE,
+        pcf: 1,
+        ..Setting::default()
+    };
+    let mut out = Vec::new();
+    match light {
+        Light::Shadows => {
+            for shadow_size in [256, 512, 1024, 2048, 4096, 8192] {
+                out.push((
+                    "shadow map",
+                    Setting {
+                        shadow_size,
+                        ..base
+                    },
+                ));
+            }
+            for pcf in [0, 1, 2, 4] {
+                out.push(("shadow filter", Setting { pcf, ..base }));
+            }
+            out.push(("supersampling", Setting { ss: 2, ..base }));
+            let traced = Setting {
+                shading: Shading::Whitted,
+                shadow_size: 0,
+                pcf: 0,
+                ..base
+            };
+            out.push(("traced shadows", traced));
+            out.push(("traced shadows", Setting { ss: 2, ..traced }));
+        }
+        Light::Environment => {
+            out.push(("environment", base));
+            out.push(("environment", Setting { ss: 2, ..base }));
+        }
+    }
+    let path = Setting {
+        shading: Shading::Path,
+        shadow_size: 0,
+        pcf: 0,
+        ..base
+    };
+    for ss in [1, 2, 4] {
+        out.push(("path", Setting { ss, ..path }));
+    }
+    out.push((
+        "global",
+        Setting {
+            global: true,
+            ..base
+        },
+    ));
+    if light == Light::Shadows {
+        out.push((
+            "global",
+            Setting {
+                shading: Shading::Whitted,
+                shadow_size: 0,
+                pcf: 0,
+                global: true,
+                ..base
+            },
+        ));
+    }
+    out.push((
+        "global",
+        Setting {
+            ss: 4,
+            global: true,
+            ..path
+        },
+    ));
+    out
 }
 
 /// A model's settings around a base setting: on an untextured model every lit shading
@@ -285,6 +442,9 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
         msaa: 1,
         filter: None,
         bits: SUBPIXEL_BITS as u8,
+        shadow_size: 0,
+        pcf: 0,
+        global: false,
     };
     let mut out = Vec::new();
     if textured {
@@ -342,6 +502,9 @@ fn plane_settings() -> Vec<(&'static str, Setting)> {
                     msaa: 1,
                     filter: Some(filter),
                     bits: SUBPIXEL_BITS as u8,
+                    shadow_size: 0,
+                    pcf: 0,
+                    global: false,
                 },
             ));
         }
@@ -369,6 +532,9 @@ pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
         msaa: 1,
         filter: None,
         bits: SUBPIXEL_BITS as u8,
+        shadow_size: 0,
+        pcf: 0,
+        global: false,
     };
     let fine = Setting {
         slices: 256,
@@ -417,18 +583,33 @@ pub fn run_setting(
     let scene = subject.scene(&s)?;
     let prepared = PreparedScene::new(scene);
     let (w, h) = subject.size();
-    let opts = Shot {
-        width: w * s.ss,
-        height: h * s.ss,
+    // The path tracer's samples are its paths per pixel; every other mode supersamples.
+    let (enlarge, samples) = if s.shading == Shading::Path {
+        (1, s.ss)
+    } else {
+        (s.ss, 1)
+    };
+    let mut opts = Shot {
+        width: w * enlarge,
+        height: h * enlarge,
         camera: Some(subject.camera().clone()),
         settings: Settings {
             shading: Some(s.shading),
             background: Vec4::new(0.0, 0.0, 0.0, 1.0),
             subpixel_bits: s.bits,
             msaa: s.msaa,
+            samples,
             ..subject.base_options().settings
         },
     };
+    if matches!(subject, Subject::Traced(_)) && s.shading == Shading::Path && !s.global {
+        // Against the direct light, the path tracer draws the direct light.
+        opts.settings.ray_depth = 0;
+    }
+    if s.shadow_size > 0 {
+        opts.settings.shadow.size = s.shadow_size;
+        opts.settings.shadow.pcf = s.pcf;
+    }
     // Frames into one reused renderer, as a viewer renders them (no allocation after the
     // warm-up), timed alone: resolving to f64 is the metric's cost, not the renderer's.
     let view = opts.view(prepared.scene());
@@ -444,7 +625,7 @@ pub fn run_setting(
     let target = renderer
         .take_target()
         .expect("the renderer has rendered a frame");
-    let image = LinearImage::from_framebuffer(&target.resolve()).downsample(s.ss);
+    let image = LinearImage::from_framebuffer(&target.resolve()).downsample(enlarge);
     times.sort_by(f64::total_cmp);
     Ok((times[times.len() / 2], image))
 }

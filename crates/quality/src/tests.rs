@@ -19,6 +19,9 @@ fn shape_setting(slices: u32, stacks: u32, shading: Shading, ss: u32) -> sweep::
         msaa: 1,
         filter: None,
         bits: 8,
+        shadow_size: 0,
+        pcf: 0,
+        global: false,
     }
 }
 
@@ -174,6 +177,9 @@ fn plane_interior_of_a_uniform_texture_is_exact_in_the_rasterizer_too() {
             msaa: 1,
             filter: Some(filter),
             bits: 8,
+            shadow_size: 0,
+            pcf: 0,
+            global: false,
         };
         let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
         let expect = crate::color::srgb_decode(128.0 / 255.0);
@@ -202,6 +208,9 @@ fn plane_supersampling_converges_to_the_exact_filter() {
             msaa: 1,
             filter: Some(filter),
             bits: 8,
+            shadow_size: 0,
+            pcf: 0,
+            global: false,
         };
         let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD)
@@ -244,6 +253,9 @@ fn anisotropic_filtering_beats_trilinear_on_the_grazing_plane() {
             msaa: 1,
             filter: Some(filter),
             bits: 8,
+            shadow_size: 0,
+            pcf: 0,
+            global: false,
         };
         let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD)
@@ -279,6 +291,7 @@ fn coarser_subpixel_snap_costs_accuracy() {
             msaa: 1,
             filter: None,
             bits,
+            ..sweep::Setting::default()
         };
         let (_, img) = sweep::run_setting(&subject, s, 1).unwrap();
         compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD).rmse
@@ -348,4 +361,42 @@ fn multisampling_halves_the_silhouette_error() {
     assert!(ms4.mean_de2000 < 0.5 * one.mean_de2000, "{one:?} {ms4:?}");
     assert!(ms4.over_threshold < one.over_threshold, "{one:?} {ms4:?}");
     assert!(ss4.mean_de2000 < ms4.mean_de2000, "{ss4:?} {ms4:?}");
+}
+
+/// `whitted`'s traced shadows are exact where the rasterizer samples (pixel centres): on the
+/// traced shadows stage they match the path tracer's direct light at pixel centres but for
+/// a few pixels along silhouettes, including the ground far off at a grazing angle, where
+/// a depth buffer's point lies furthest from its surface.
+#[test]
+fn traced_shadows_match_the_direct_light_at_pixel_centres() {
+    use crate::traced::{Light, Reference, TracedSetup};
+    let t = TracedSetup::standard(Light::Shadows, 320, 180, 1);
+    let subject = sweep::Subject::Traced(t.clone());
+    let reference = t.reference(Reference::Centres);
+    let setting = |shading, shadow_size| sweep::Setting {
+        shading,
+        shadow_size,
+        pcf: u32::from(shadow_size > 0),
+        ..sweep::Setting::default()
+    };
+    let (_, traced) = sweep::run_setting(&subject, setting(Shading::Whitted, 0), 1).unwrap();
+    let (_, mapped) = sweep::run_setting(&subject, setting(Shading::Pbr, 256), 1).unwrap();
+    let (tm, mm) = (
+        compare(&traced, &reference, metrics::DEFAULT_DE_THRESHOLD),
+        compare(&mapped, &reference, metrics::DEFAULT_DE_THRESHOLD),
+    );
+    eprintln!(
+        "traced: mean dE00 {:.4}, {} px > 1; 256-texel shadow map: {:.4}, {} px > 1",
+        tm.mean_de2000, tm.over_threshold, mm.mean_de2000, mm.over_threshold
+    );
+    assert!(
+        tm.over_threshold < 60 && tm.mean_de2000 < 0.02,
+        "traced shadows: {} pixels over 1 dE00, mean {}",
+        tm.over_threshold,
+        tm.mean_de2000
+    );
+    assert!(
+        mm.over_threshold > 4 * tm.over_threshold,
+        "the shadow map is as exact"
+    );
 }

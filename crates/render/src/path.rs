@@ -477,6 +477,21 @@ pub fn path_image(
     spp: u32,
     seed: u64,
 ) -> Vec<Vec3> {
+    path_image_sampled(scene, settings, view, spp, seed, true)
+}
+
+/// [`path_image`], every path through a random point of its pixel (`jitter`: the pixel's
+/// average, antialiased) or through its centre (what a renderer taking one sample per
+/// pixel, at the centre, should show).
+#[must_use]
+pub fn path_image_sampled(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    spp: u32,
+    seed: u64,
+    jitter: bool,
+) -> Vec<Vec3> {
     let (w, h) = (view.width.max(1), view.height.max(1));
     let mut out = vec![Vec3::ZERO; w as usize * h as usize];
     let vp = view.camera.projection(view.aspect()) * view.camera.view();
@@ -487,7 +502,7 @@ pub fn path_image(
         view.camera.view().inverse(),
         (w, h),
         0..spp,
-        seed,
+        (seed, jitter),
         &mut out,
         &|| false,
     );
@@ -495,7 +510,8 @@ pub fn path_image(
 }
 
 /// Adds samples `samples` of every pixel to `sum` (row-major, `w` x `h`) for the camera
-/// `vp` (world -> clip). Returns false if stopped.
+/// `vp` (world -> clip), from the random stream `seed`, through random points of each pixel
+/// (`jitter`) or its centre. Returns false if stopped.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn path_into(
     scene: &PreparedScene,
@@ -504,7 +520,7 @@ pub(crate) fn path_into(
     cam_to_world: Mat4,
     (w, h): (u32, u32),
     samples: std::ops::Range<u32>,
-    seed: u64,
+    (seed, jitter): (u64, bool),
     sum: &mut [Vec3],
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
@@ -525,9 +541,11 @@ pub(crate) fn path_into(
                 let mut acc = Vec3::ZERO;
                 for s in samples.clone() {
                     let mut rng = Rng::new(x as u32, y as u32, s, seed);
+                    let (jx, jy) = (rng.f(), rng.f());
+                    let (jx, jy) = if jitter { (jx, jy) } else { (0.5, 0.5) };
                     let ndc = Vec2::new(
-                        (x as f32 + rng.f()) / w as f32 * 2.0 - 1.0,
-                        1.0 - (y as f32 + rng.f()) / h as f32 * 2.0,
+                        (x as f32 + jx) / w as f32 * 2.0 - 1.0,
+                        1.0 - (y as f32 + jy) / h as f32 * 2.0,
                     );
                     let near = inv.project_point3(ndc.extend(1.0));
                     let far = inv.project_point3(ndc.extend(0.0));

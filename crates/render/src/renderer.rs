@@ -277,7 +277,7 @@ impl Renderer {
                         view_m.inverse(),
                         (w, h),
                         k..k + 1,
-                        0,
+                        (0, true),
                         &mut self.path,
                         stop,
                     );

@@ -76,6 +76,33 @@ impl ScreenShadows {
         let rays = scene.rays(settings);
         let inv = jvp.inverse();
         let depth = &self.depth;
+        // The rasterizer snaps vertices to 2^-bits of a pixel, which tilts each triangle's
+        // depth plane by up to the depth's slope times half that: a grazing surface's
+        // depth can then lie behind the surface by far more than `lift` covers.
+        let snap = 1.0 / (1u32 << settings.subpixel_bits.min(16)) as f32;
+        let slope = |x: usize, y: usize| {
+            let (w, h) = (w as usize, h as usize);
+            let z = depth[y * w + x];
+            // Each axis's smaller one-sided difference: the surface's own slope, not the
+            // jump across an edge to whatever lies behind it.
+            let along = |a: Option<f32>, b: Option<f32>| {
+                [a, b]
+                    .into_iter()
+                    .flatten()
+                    .filter(|n| *n > 0.0)
+                    .map(|n| (n - z).abs())
+                    .fold(f32::INFINITY, f32::min)
+            };
+            let gx = along(
+                x.checked_sub(1).map(|x| depth[y * w + x]),
+                (x + 1 < w).then(|| depth[y * w + x + 1]),
+            );
+            let gy = along(
+                y.checked_sub(1).map(|y| depth[y * w + x]),
+                (y + 1 < h).then(|| depth[(y + 1) * w + x]),
+            );
+            [gx, gy].into_iter().filter(|g| g.is_finite()).sum::<f32>()
+        };
         let mut used = 0;
         for i in 0..fd.lights.sources.len() {
             let src = &fd.lights.sources[i];
@@ -106,17 +133,24 @@ impl ScreenShadows {
                         }
                         // A little nearer the camera than the depth buffer says (reversed
                         // Z: larger is nearer), so the ray starts in front of the surface.
-                        let q = at0 + dx * x as f32 + inv.z_axis * lift(z);
-                        let from = q.truncate() / q.w;
-                        if !from.is_finite() {
-                            continue;
-                        }
-                        let ray = match kind {
-                            LightKind::Directional => Ray::new(from, -axis, 0.0, f32::INFINITY),
-                            _ => Ray::new(from, position - from, 0.0, 1.0),
+                        let blocked = |z: f32| {
+                            let q = at0 + dx * x as f32 + inv.z_axis * z;
+                            let from = q.truncate() / q.w;
+                            from.is_finite()
+                                && rays.occluded(&match kind {
+                                    LightKind::Directional => {
+                                        Ray::new(from, -axis, 0.0, f32::INFINITY)
+                                    }
+                                    _ => Ray::new(from, position - from, 0.0, 1.0),
+                                })
                         };
-                        if rays.occluded(&ray) {
-                            *vis = 0.0;
+                        // A blocked ray is tried again from past the snap's error (few
+                        // pixels are in shadow, so lit ones pay nothing for it).
+                        if blocked(lift(z)) {
+                            let s = slope(x, y) * snap;
+                            if s == 0.0 || blocked(lift(z) + s) {
+                                *vis = 0.0;
+                            }
                         }
                     }
                 });
