@@ -712,3 +712,67 @@ fn bad_geometry_in_the_traced_modes_gives_finite_images() {
         );
     }
 }
+
+/// `bench accuracy --scene shadows` measures the shadow maps and the traced shadows against
+/// the path tracer, and `--scene environment` the environment light without occlusion:
+/// every row is written and the traced shadows beat the finest shadow map, which beats the
+/// coarsest (the environment's error against the reference's noise is measured in
+/// `realist-quality`'s tests).
+#[test]
+fn bench_accuracy_measures_shadows_and_occlusion_against_the_path_tracer() {
+    let run = |scene: &str| {
+        let out = std::env::temp_dir().join(format!(
+            "realist-traced-accuracy-{scene}-{}",
+            std::process::id()
+        ));
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_realist"))
+            .args(["bench", "accuracy", "--scene", scene])
+            .args(["--size", "160x90", "--runs", "1", "--samples", "4", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+        for name in [
+            "reference-direct-centres.png",
+            "reference-direct.png",
+            "reference-global.png",
+        ] {
+            assert!(out.join(name).is_file(), "{scene}: no {name}");
+        }
+        let _ = std::fs::remove_dir_all(&out);
+        // (knob, shading, shadow size and supersampling, mean ΔE00) per row.
+        let rows: Vec<(String, String, String, f64)> = csv
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (
+                    f[0].to_owned(),
+                    f[1].to_owned(),
+                    format!("{} ss{}", f[8], f[5]),
+                    f[15].parse().unwrap(),
+                )
+            })
+            .collect();
+        eprintln!("{scene}:\n{csv}");
+        rows
+    };
+    let shadows = run("shadows");
+    let error = |rows: &[(String, String, String, f64)], knob: &str, shading: &str, size: &str| {
+        rows.iter()
+            .find(|r| r.0 == knob && r.1 == shading && r.2 == size)
+            .unwrap_or_else(|| panic!("no row {knob} {shading} {size}"))
+            .3
+    };
+    let coarse = error(&shadows, "shadow map", "pbr", "256 ss1");
+    let fine = error(&shadows, "shadow map", "pbr", "8192 ss1");
+    let traced = error(&shadows, "traced shadows", "whitted", "0 ss1");
+    assert!(
+        traced < fine && fine < coarse,
+        "traced {traced}, 8192 texels {fine}, 256 texels {coarse}"
+    );
+    let env = run("environment");
+    assert!(env.iter().any(|r| r.0 == "environment" && r.1 == "pbr"));
+    assert!(env.iter().any(|r| r.0 == "global" && r.1 == "path"));
+}

@@ -27,7 +27,7 @@ pub(crate) struct AccuracyArgs {
     /// reference; or a model file (glTF, GLB, OBJ) or a scene file (.toml, .json: its
     /// model, camera, lights, materials, fog, tone mapping and sidedness), measured against
     /// the general f64 reference; or `shadows` (one shadow-casting directional light) or
-    /// `environment` (the studio environment alone): objects on a ground plane measured
+    /// `environment` (the built-in sky alone): objects on a ground plane measured
     /// against the path tracer (the textbook's §9.6), for shadow maps and environment
     /// light without occlusion.
     #[arg(long, default_value = "sphere")]
@@ -143,6 +143,17 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
         );
     }
     filter_summary(rows)?;
+    if let Subject::Traced(t) = &subject {
+        if let Some(r) = &result.references[1] {
+            let n = t.noise(r);
+            say!(
+                "reference noise: another {} paths a pixel differ from the direct-light reference by mean dE00 {:.4} (rmse {:.5}); errors well above it are the renderer's",
+                t.samples * t.samples,
+                n.mean_de2000,
+                n.rmse
+            );
+        }
+    }
     say!("Pareto-optimal (fastest first; * above):");
     for &i in &front {
         let r = &rows[i];

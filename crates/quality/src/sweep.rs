@@ -382,6 +382,12 @@ fn traced_settings(light: Light) -> Vec<(&'static str, Setting)> {
             out.push(("traced shadows", Setting { ss: 2, ..traced }));
         }
         Light::Environment => {
+            // No light casts shadows here.
+            let base = Setting {
+                shadow_size: 0,
+                pcf: 0,
+                ..base
+            };
             out.push(("environment", base));
             out.push(("environment", Setting { ss: 2, ..base }));
         }
@@ -395,14 +401,17 @@ fn traced_settings(light: Light) -> Vec<(&'static str, Setting)> {
     for ss in [1, 2, 4] {
         out.push(("path", Setting { ss, ..path }));
     }
+    let shadowed = light == Light::Shadows;
     out.push((
         "global",
         Setting {
             global: true,
+            shadow_size: if shadowed { base.shadow_size } else { 0 },
+            pcf: if shadowed { base.pcf } else { 0 },
             ..base
         },
     ));
-    if light == Light::Shadows {
+    if shadowed {
         out.push((
             "global",
             Setting {
@@ -650,12 +659,12 @@ pub fn pareto(rows: &[Row]) -> Vec<usize> {
 #[must_use]
 pub fn csv(rows: &[Row], front: &[usize]) -> String {
     let mut out = String::from(
-        "knob,shading,slices,stacks,filter,supersampling,multisampling,subpixel_bits,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
+        "knob,shading,slices,stacks,filter,supersampling,multisampling,subpixel_bits,shadow_size,pcf,global,median_ms,rmse,psnr_db,max_abs,mean_de2000,p95_de2000,pixels_over_1de,pareto\n",
     );
     for (i, r) in rows.iter().enumerate() {
         let (s, m) = (&r.setting, &r.metrics);
         out.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.6},{:.2},{:.6},{:.4},{:.4},{},{}\n",
             r.knob,
             s.shading,
             s.slices,
@@ -664,6 +673,9 @@ pub fn csv(rows: &[Row], front: &[usize]) -> String {
             s.ss,
             s.msaa,
             s.bits,
+            s.shadow_size,
+            s.pcf,
+            s.global,
             r.ms,
             m.rmse,
             m.psnr,

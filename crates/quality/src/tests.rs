@@ -400,3 +400,32 @@ fn traced_shadows_match_the_direct_light_at_pixel_centres() {
         "the shadow map is as exact"
     );
 }
+
+/// `pbr` lights every point by the whole environment: beside the objects and under them,
+/// where the path tracer's direct light is blocked, its error stands well above the
+/// reference's own noise.
+#[test]
+fn unoccluded_environment_light_errs_above_the_path_tracers_noise() {
+    use crate::traced::{Light, Reference, TracedSetup};
+    let t = TracedSetup::standard(Light::Environment, 128, 72, 8);
+    let subject = sweep::Subject::Traced(t.clone());
+    let reference = t.reference(Reference::Areas);
+    let noise = t.noise(&reference);
+    let setting = sweep::Setting {
+        shading: Shading::Pbr,
+        ss: 2,
+        ..sweep::Setting::default()
+    };
+    let (_, img) = sweep::run_setting(&subject, setting, 1).unwrap();
+    let m = compare(&img, &reference, metrics::DEFAULT_DE_THRESHOLD);
+    eprintln!(
+        "unoccluded environment: mean dE00 {:.4}; reference noise {:.4}",
+        m.mean_de2000, noise.mean_de2000
+    );
+    assert!(
+        m.mean_de2000 > 2.0 * noise.mean_de2000,
+        "unoccluded {} against noise {}",
+        m.mean_de2000,
+        noise.mean_de2000
+    );
+}

@@ -6,7 +6,7 @@
 //!   `whitted`'s traced shadows are measured against the path tracer's *direct* light (no
 //!   bounce, [`Settings::ray_depth`] 0): the same light with exact visibility, integrated
 //!   over each pixel, so the error is the shadows' alone.
-//! - [`Light::Environment`]: the same objects lit by the built-in studio environment alone.
+//! - [`Light::Environment`]: the same objects lit by the built-in sky environment alone.
 //!   `pbr` lights every point by the whole environment, as if nothing stood in the way;
 //!   the path tracer's direct light is occluded by the objects and the ground, so the error
 //!   is that of environment light without occlusion.
@@ -32,7 +32,7 @@ use crate::shade::Shading;
 pub enum Light {
     /// One directional light with shadows, no environment, no ambient light.
     Shadows,
-    /// The built-in studio environment, no lights.
+    /// The built-in sky environment, no lights.
     Environment,
 }
 
@@ -46,6 +46,9 @@ impl Light {
         }
     }
 }
+
+/// The references' stream of random numbers.
+pub const REFERENCE_SEED: u64 = 0x5eed_0001;
 
 /// The largest reference: paths per pixel side (128 x 128 = 16,384 paths a pixel).
 pub const MAX_SAMPLES: u32 = 128;
@@ -108,7 +111,11 @@ impl TracedSetup {
                     lights: Vec::new(),
                     follow_camera: false,
                 },
-                Environment::Auto,
+                // The built-in sky: smooth, so the path tracer's reference converges in
+                // hundreds of paths (the studio's small bright lamps need many thousands).
+                Environment::builtin("sky").map_or(Environment::Auto, |env| {
+                    Environment::On(crate::texture::env::EnvView::new(env))
+                }),
             ),
         };
         Settings {
@@ -162,17 +169,29 @@ impl TracedSetup {
         }
     }
 
-    /// Reference `index` ([`Reference`]): [`TracedSetup::path`] at the setup's samples,
-    /// seed 0. The direct light of one directional light at pixel centres has nothing
+    /// Reference `r`: [`TracedSetup::path`] at the setup's samples from stream
+    /// [`REFERENCE_SEED`] (the renderer's own paths use stream 0, so a short run is not
+    /// the reference's first samples). The direct light of one directional light at pixel centres has nothing
     /// random left (one shadow ray from each centre's point), so one path is exact.
     #[must_use]
     pub fn reference(&self, r: Reference) -> LinearImage {
         match r {
-            Reference::Centres if self.light == Light::Shadows => self.path(false, 1, 0, false),
-            Reference::Centres => self.path(false, self.samples, 0, false),
-            Reference::Areas => self.path(false, self.samples, 0, true),
-            Reference::Global => self.path(true, self.samples, 0, true),
+            Reference::Centres if self.light == Light::Shadows => {
+                self.path(false, 1, REFERENCE_SEED, false)
+            }
+            Reference::Centres => self.path(false, self.samples, REFERENCE_SEED, false),
+            Reference::Areas => self.path(false, self.samples, REFERENCE_SEED, true),
+            Reference::Global => self.path(true, self.samples, REFERENCE_SEED, true),
         }
+    }
+
+    /// The reference's own noise: the direct light over pixels from another stream of
+    /// random numbers, compared with `reference` ([`Reference::Areas`]). Each reference is
+    /// about `1/√2` of this from the truth; an error well above it is the renderer's.
+    #[must_use]
+    pub fn noise(&self, reference: &LinearImage) -> super::Metrics {
+        let other = self.path(false, self.samples, REFERENCE_SEED + 1, true);
+        super::compare(&other, reference, super::metrics::DEFAULT_DE_THRESHOLD)
     }
 }
 

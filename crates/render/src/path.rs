@@ -280,7 +280,11 @@ impl Tracer<'_> {
         // which the environment's samples cannot take).
         let mut chose: Option<f32> = None;
         let mut medium: Option<(Vec3, f32)> = None;
-        for bounce in 0..=self.settings.ray_depth.min(super::MAX_RAY_DEPTH) {
+        // Surfaces shaded: the first and `depth` more; the last one's sampled direction is
+        // still followed to the light it meets (the environment, an emitter), which is its
+        // share of the direct light by multiple importance sampling.
+        let depth = self.settings.ray_depth.min(super::MAX_RAY_DEPTH);
+        for bounce in 0..=depth + 1 {
             // The camera's rays end at its far plane, as the rasterizer's view does.
             let tmax = if bounce == 0 { reach } else { f32::INFINITY };
             let Some(h) = self.rays.closest(&Ray::new(o, d, 0.0, tmax)) else {
@@ -328,7 +332,7 @@ impl Tracer<'_> {
                 _ => 1.0,
             };
             l += beta * pt.emitted * w;
-            let Some(p) = pt.surf.pbr.as_ref() else {
+            let Some(p) = pt.surf.pbr.as_ref().filter(|_| bounce <= depth) else {
                 break;
             };
             let n = pt.normal;

@@ -361,7 +361,8 @@ pub struct Settings {
     /// The most surfaces a traced ray may meet after the first (the textbook's depth
     /// limit, §9.6.1): Whitted's reflection and refraction depth, the path tracer's bounce
     /// limit. 0 to [`MAX_RAY_DEPTH`]; a ray at the limit keeps its surface's environment
-    /// light (Whitted) or ends (path).
+    /// light (Whitted) or ends (path; its last surface's direct light is complete: 0 gives
+    /// the direct light alone).
     pub ray_depth: u32,
     /// The kernel the fill and shaders run with; `None` is [`KernelKind::best`] (a kernel the
     /// CPU lacks runs as the portable one).

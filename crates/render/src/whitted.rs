@@ -133,22 +133,33 @@ impl ScreenShadows {
                         }
                         // A little nearer the camera than the depth buffer says (reversed
                         // Z: larger is nearer), so the ray starts in front of the surface.
-                        let blocked = |z: f32| {
+                        let at = |z: f32| {
                             let q = at0 + dx * x as f32 + inv.z_axis * z;
-                            let from = q.truncate() / q.w;
+                            q.truncate() / q.w
+                        };
+                        let blocked = |from: Vec3, tmin: f32| {
                             from.is_finite()
                                 && rays.occluded(&match kind {
                                     LightKind::Directional => {
-                                        Ray::new(from, -axis, 0.0, f32::INFINITY)
+                                        Ray::new(from, -axis, tmin, f32::INFINITY)
                                     }
-                                    _ => Ray::new(from, position - from, 0.0, 1.0),
+                                    _ => {
+                                        let to = position - from;
+                                        let reach = to.length().max(f32::MIN_POSITIVE);
+                                        Ray::new(from, to, tmin / reach, 1.0)
+                                    }
                                 })
                         };
-                        // A blocked ray is tried again from past the snap's error (few
-                        // pixels are in shadow, so lit ones pay nothing for it).
-                        if blocked(lift(z)) {
-                            let s = slope(x, y) * snap;
-                            if s == 0.0 || blocked(lift(z) + s) {
+                        // A blocked ray is tried again from past the snap's error in depth,
+                        // passing over what lies within a pixel's width of its start (a
+                        // face seen edge-on, a pixel thin, has no neighbour to measure its
+                        // slope by). Few pixels are in shadow, so lit ones pay nothing.
+                        let from = at(lift(z));
+                        if blocked(from, 0.0) {
+                            let again = at(lift(z) + slope(x, y) * snap);
+                            let next = at0 + dx * (x as f32 + 1.0) + inv.z_axis * lift(z);
+                            let pixel = (next.truncate() / next.w - from).length();
+                            if !(pixel.is_finite() && !blocked(again, pixel)) {
                                 *vis = 0.0;
                             }
                         }

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4, Vec3};
 use rayon::prelude::*;
 
-use crate::bvh::{with_stack, Bvh, Entry, Slabs};
+use crate::bvh::{with_stack, Bvh, Entry, Node, Slabs};
 use crate::triangle::Sheared;
 
 /// A mesh's triangles in its own space and their hierarchy.
@@ -274,6 +274,9 @@ pub struct Scene {
     /// reuse a mesh's hierarchy.
     pub meshes: Vec<Arc<Mesh>>,
     instances: Vec<Instance>,
+    /// Each instance's world box (widened): tested before a ray is carried into the
+    /// instance's space, since a leaf of the instances' tree holds several.
+    boxes: Vec<Node>,
     tlas: Bvh,
 }
 
@@ -314,6 +317,7 @@ impl Scene {
         let mut s = Self {
             meshes,
             instances,
+            boxes: Vec::new(),
             tlas: Bvh::default(),
         };
         s.rebuild_instances();
@@ -332,6 +336,13 @@ impl Scene {
             .map(|i| placed_box(&meshes[i.mesh as usize], i).unwrap_or((Vec3::ZERO, Vec3::ZERO)))
             .collect();
         self.tlas = Bvh::build(&boxes);
+        self.boxes = boxes
+            .iter()
+            .map(|&(lo, hi)| {
+                let (lo, hi) = crate::bvh::widen(lo, hi);
+                Node::new(lo, hi, 0, 0)
+            })
+            .collect();
     }
 
     #[must_use]
@@ -391,6 +402,9 @@ impl Scene {
                 |first, count, mut t, stack| {
                     for slot in first..first + count {
                         let k = self.tlas.order[slot as usize];
+                        if slabs.enter(&self.boxes[k as usize], ray.tmin, t).is_none() {
+                            continue;
+                        }
                         let inst = &self.instances[k as usize];
                         let Some((s, sl)) = self.local(inst, ray) else {
                             continue;
@@ -435,7 +449,11 @@ impl Scene {
                 stack,
                 |first, count, t, stack| {
                     for slot in first..first + count {
-                        let inst = &self.instances[self.tlas.order[slot as usize] as usize];
+                        let k = self.tlas.order[slot as usize] as usize;
+                        if slabs.enter(&self.boxes[k], ray.tmin, t).is_none() {
+                            continue;
+                        }
+                        let inst = &self.instances[k];
                         let Some((s, sl)) = self.local(inst, ray) else {
                             continue;
                         };
