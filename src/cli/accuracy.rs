@@ -27,7 +27,7 @@ pub(crate) struct AccuracyArgs {
     /// reference; or a model file (glTF, GLB, OBJ) or a scene file (.toml, .json: its
     /// model, camera, lights, materials, fog, tone mapping and sidedness), measured against
     /// the general f64 reference; or `shadows` (one shadow-casting directional light) or
-    /// `environment` (the built-in sky alone): objects on a ground plane measured
+    /// `environment` (a uniform sky alone): objects on a ground plane measured
     /// against the path tracer (the textbook's §9.6), for shadow maps and environment
     /// light without occlusion.
     #[arg(long, default_value = "sphere")]

@@ -6,7 +6,7 @@
 //!   `whitted`'s traced shadows are measured against the path tracer's *direct* light (no
 //!   bounce, [`Settings::ray_depth`] 0): the same light with exact visibility, integrated
 //!   over each pixel, so the error is the shadows' alone.
-//! - [`Light::Environment`]: the same objects lit by the built-in sky environment alone.
+//! - [`Light::Environment`]: the same objects lit by a uniform sky alone.
 //!   `pbr` lights every point by the whole environment, as if nothing stood in the way;
 //!   the path tracer's direct light is occluded by the objects and the ground, so the error
 //!   is that of environment light without occlusion.
@@ -32,7 +32,7 @@ use crate::shade::Shading;
 pub enum Light {
     /// One directional light with shadows, no environment, no ambient light.
     Shadows,
-    /// The built-in sky environment, no lights.
+    /// A uniform sky (the built-in `uniform` environment), no lights.
     Environment,
 }
 
@@ -111,9 +111,11 @@ impl TracedSetup {
                     lights: Vec::new(),
                     follow_camera: false,
                 },
-                // The built-in sky: smooth, so the path tracer's reference converges in
-                // hundreds of paths (the studio's small bright lamps need many thousands).
-                Environment::builtin("sky").map_or(Environment::Auto, |env| {
+                // A uniform sky of radiance 1: what reaches a point is then the share of
+                // the sky it sees (its ambient occlusion), and the path tracer's reference
+                // converges in hundreds of paths (a sun or a studio's small lamps need
+                // many thousands).
+                Environment::builtin("uniform").map_or(Environment::Auto, |env| {
                     Environment::On(crate::texture::env::EnvView::new(env))
                 }),
             ),
