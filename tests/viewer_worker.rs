@@ -669,3 +669,34 @@ fn a_new_job_abandons_the_path_sum_and_starts_from_zero() {
     wait_idle(&w.host);
     assert!(w.host.take_frame().is_none());
 }
+
+#[test]
+fn a_split_view_beside_a_path_job_keeps_its_raster_image_and_heat_map() {
+    let scene = demo();
+    let mut w = Gated::new(2);
+    let v = view(&scene, 64, 40, 0.3);
+    w.host.submit(Job {
+        b: Some(Arc::new(Settings::default())),
+        heat: true,
+        ..path_job(&scene, v.clone(), 4)
+    });
+    let frames = w.frames_until_last_of(1);
+    assert_eq!(frames.last().unwrap().level, Level::Paths(PATH_CAP));
+    assert!(
+        frames.iter().all(|f| f.heat.is_some()),
+        "a heat map each batch"
+    );
+    let b: Vec<&Frame> = frames.iter().collect();
+    // B is drawn with one sample beside the first path, 4x4 beside the second, then kept.
+    let report = |f: &Frame| f.b.as_ref().expect("B").report.samples;
+    assert_eq!((report(b[0]), report(b[1])), (1, 4));
+    let second = &b[1].b.as_ref().unwrap().pixels;
+    assert!(b[2..]
+        .iter()
+        .all(|f| &f.b.as_ref().unwrap().pixels == second));
+    // The heat map follows A's accumulation: the difference changes as the noise falls.
+    let mean = |f: &Frame| f.heat.as_ref().unwrap().mean;
+    assert!(mean(b[1]) != mean(frames.last().unwrap()));
+    w.gate.open();
+    wait_idle(&w.host);
+}

@@ -125,6 +125,7 @@ pub struct Job {
 }
 
 /// One rendered image with what the panels show about it.
+#[derive(Clone)]
 pub struct Image {
     /// sRGB8, row-major, `view.width * view.height` (of the frame's view).
     pub pixels: Vec<Color32>,
@@ -299,6 +300,8 @@ struct Worker {
     times: [Option<f64>; 5],
     /// The same for the simplified copy of the scene.
     proxy_times: [Option<f64>; 5],
+    /// Side B's image beside a path-traced A, kept for A's later batches.
+    b_image: Option<Image>,
 }
 
 impl Worker {
@@ -508,23 +511,12 @@ impl Worker {
             Level::Paths(to) => Some(from..to),
             _ => None,
         };
-        let a = render_image(
-            &mut self.a,
-            scene,
-            &job.a,
-            &view,
-            (samples, paths.clone()),
-            stale,
-        )?;
+        let a = render_image(&mut self.a, scene, &job.a, &view, (samples, paths), stale)?;
         let b = match &job.b {
-            Some(s) => Some(render_image(
-                &mut self.b,
-                scene,
-                s,
-                &view,
-                (samples, paths),
-                stale,
-            )?),
+            Some(s) => {
+                let how = (level, from, job.max_samples);
+                Some(self.render_b(scene, s, &view, how, stale)?)
+            }
             None => None,
         };
         if !matches!(level, Level::Supersampled(_) | Level::Paths(2..)) {
@@ -556,6 +548,38 @@ impl Worker {
 
 /// Renders one side: `samples` per axis, or for a path-traced side, the paths `paths` added
 /// to its running sum (a side not path traced is drawn with one sample at every such level).
+impl Worker {
+    /// Renders side B at `level` (`from`: as in [`Worker::render_level`]). Beside a
+    /// path-traced A that accumulates, a B not path traced is drawn twice only: with one
+    /// sample beside A's first path, then supersampled as far as `max_samples` allows beside
+    /// the second batch; A's later batches show that image again (a path-traced B
+    /// accumulates as A does).
+    fn render_b(
+        &mut self,
+        scene: &PreparedScene,
+        settings: &Settings,
+        view: &View,
+        (level, from, max_samples): (Level, u32, u32),
+        stale: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Image, crate::render::Interrupted> {
+        let paths = match level {
+            Level::Paths(to) => Some(from..to),
+            _ => None,
+        };
+        let fixed = paths.is_some() && !path_traced(settings);
+        if let (true, 2.., Some(image)) = (fixed, from, &self.b_image) {
+            return Ok(image.clone());
+        }
+        let samples = match (fixed, from) {
+            (true, 1) => max_samples.clamp(1, 4),
+            _ => level.samples(),
+        };
+        let image = render_image(&mut self.b, scene, settings, view, (samples, paths), stale)?;
+        self.b_image = fixed.then(|| image.clone());
+        Ok(image)
+    }
+}
+
 fn render_image(
     r: &mut Renderer,
     scene: &PreparedScene,
