@@ -546,8 +546,6 @@ impl Worker {
     }
 }
 
-/// Renders one side: `samples` per axis, or for a path-traced side, the paths `paths` added
-/// to its running sum (a side not path traced is drawn with one sample at every such level).
 impl Worker {
     /// Renders side B at `level` (`from`: as in [`Worker::render_level`]). Beside a
     /// path-traced A that accumulates, a B not path traced is drawn twice only: with one
@@ -580,6 +578,8 @@ impl Worker {
     }
 }
 
+/// Renders one side: `samples` per axis, or for a path-traced side given `paths`, those
+/// paths added to its running sum (a side not path traced is drawn with `samples`).
 fn render_image(
     r: &mut Renderer,
     scene: &PreparedScene,
