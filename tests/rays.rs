@@ -776,3 +776,89 @@ fn bench_accuracy_measures_shadows_and_occlusion_against_the_path_tracer() {
     assert!(env.iter().any(|r| r.0 == "environment" && r.1 == "pbr"));
     assert!(env.iter().any(|r| r.0 == "global" && r.1 == "path"));
 }
+
+/// The probe lists a pixel's Whitted rays: at the middle of a mirror sphere, the primary
+/// ray meets the mirror and its reflection goes straight back past the camera to the
+/// diffuse ball behind it, what the mirror shows there; that ball's shadow ray reaches
+/// the light.
+#[test]
+fn the_probe_lists_the_mirrors_reflection_and_what_it_meets() {
+    use realist::render::{RayHit, RayKind};
+    let mirror = pbr(Vec4::ONE, 1.0, 0.0, PbrMaterial::default());
+    let ball = Material {
+        name: "red ball".into(),
+        ..pbr(
+            Vec4::new(0.8, 0.1, 0.1, 1.0),
+            0.0,
+            0.8,
+            PbrMaterial::default(),
+        )
+    };
+    let eye = Vec3::new(0.0, 0.6, 4.0);
+    let s = scene(vec![
+        (
+            Mesh::sphere(1.0, 128, 64).expect("sphere"),
+            mirror,
+            Mat4::IDENTITY,
+        ),
+        (
+            Mesh::sphere(1.0, 64, 32).expect("sphere"),
+            ball,
+            Mat4::from_translation(2.0 * eye),
+        ),
+    ]);
+    let cam = camera(eye, Vec3::ZERO, Vec3::Y, 32.0);
+    let sun = Light {
+        kind: LightKind::Directional,
+        direction: Vec3::new(0.0, -1.0, 1.0).normalize(),
+        ..Light::default()
+    };
+    let (w, h) = (64, 64);
+    let sh = shot(w, h, cam, None, vec![sun]);
+    let prepared = PreparedScene::new(s);
+    let view = sh.view(prepared.scene());
+    let p = realist::render::probe(&prepared, &sh.settings, &view, w / 2, h / 2).expect("a hit");
+    for r in &p.rays {
+        eprintln!("{r:?}");
+    }
+    let first = &p.rays[0];
+    assert_eq!((first.kind, first.depth), (RayKind::Primary, 0));
+    assert!(
+        matches!(first.hit, RayHit::Surface { instance: 0, .. }),
+        "{:?}",
+        first.hit
+    );
+    let reflection = p
+        .rays
+        .iter()
+        .find(|r| r.kind == RayKind::Reflection)
+        .expect("a reflection");
+    assert_eq!(reflection.depth, 1);
+    // From the mirror (1 from the origin) to the ball's near side (|2 eye| - 1).
+    let want = 2.0 * eye.length() - 2.0;
+    let RayHit::Surface {
+        instance,
+        material,
+        t,
+        ..
+    } = reflection.hit
+    else {
+        panic!("the reflection meets the ball: {:?}", reflection.hit);
+    };
+    assert_eq!((instance, material), (1, Some(1)));
+    assert_eq!(prepared.scene().materials[1].name, "red ball");
+    // (Within the tessellation and the half-pixel offset of the pixel centre.)
+    assert!((t - want).abs() < 0.15, "t {t}, want {want}");
+    // A white metal mirror reflects all: its share is 1.
+    assert!((reflection.share - Vec3::ONE).abs().max_element() < 1e-3);
+    assert!(p.rays.iter().any(|r| r.kind == RayKind::Shadow
+        && r.depth == 1
+        && r.hit == RayHit::Light { index: 0, lit: 1.0 }));
+    // The other modes list none.
+    let blinn = Settings {
+        shading: Some(Shading::Blinn),
+        ..sh.settings.clone()
+    };
+    let p = realist::render::probe(&prepared, &blinn, &view, w / 2, h / 2).expect("a hit");
+    assert!(p.rays.is_empty());
+}

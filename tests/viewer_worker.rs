@@ -12,7 +12,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
 
 use realist::render::{default_camera, PreparedScene, Settings, View};
-use realist::viewer::worker::{Frame, Job, Level, RenderHost, FRAME_BUDGET_MS};
+use realist::viewer::worker::{Frame, Job, Level, RenderHost, FRAME_BUDGET_MS, PATH_CAP};
 
 /// Longest wait for anything the worker does.
 const TIMEOUT: Duration = Duration::from_secs(30);
@@ -43,6 +43,18 @@ fn job(scene: &Arc<PreparedScene>, view: View, interactive: bool, max_samples: u
         interactive,
         max_samples,
         proxy: None,
+    }
+}
+
+/// A job path traced (`--shading path`).
+fn path_job(scene: &Arc<PreparedScene>, view: View, max_samples: u32) -> Job {
+    let settings = Settings {
+        shading: Some(realist::shade::Shading::Path),
+        ..Settings::default()
+    };
+    Job {
+        a: Arc::new(settings),
+        ..job(scene, view, false, max_samples)
     }
 }
 
@@ -578,4 +590,113 @@ fn the_split_views_difference_statistics_are_over_the_drawn_pixels() {
         heat.mean,
         heat.p95
     );
+}
+
+#[test]
+fn a_path_job_counts_paths_up_to_the_cap_then_idles() {
+    let scene = demo();
+    let mut w = Gated::new(2);
+    let v = view(&scene, 64, 40, 0.3);
+    w.host.submit(path_job(&scene, v.clone(), 4));
+    let frames = w.frames_until_last_of(1);
+    let counts: Vec<u32> = frames
+        .iter()
+        .map(|f| match f.level {
+            Level::Paths(n) => n,
+            other => panic!("a path job shows paths, not {other:?}"),
+        })
+        .collect();
+    // One path, then batches that double while they are quick (a small frame: always).
+    assert_eq!(counts[..3], [1, 2, 4], "{counts:?}");
+    assert!(counts.windows(2).all(|p| p[0] < p[1]), "{counts:?}");
+    assert!(
+        counts.windows(2).all(|p| p[1] <= 2 * p[0]),
+        "batches at most double: {counts:?}"
+    );
+    assert_eq!(*counts.last().unwrap(), PATH_CAP);
+    assert_eq!(frames.iter().filter(|f| f.last).count(), 1);
+    assert!(frames
+        .iter()
+        .all(|f| f.view == v && f.a.pixels.len() == 64 * 40));
+    assert_eq!(
+        frames.last().unwrap().level.label(),
+        "path: 1024 paths per pixel"
+    );
+    // Nothing follows: the worker is idle.
+    w.gate.open();
+    wait_idle(&w.host);
+    assert!(w.host.take_frame().is_none());
+    // The sum of the batches is the image of the 1,024 paths in one go (the synchronous
+    // host renders the final level at once).
+    let mut sync = RenderHost::synchronous();
+    sync.submit(path_job(&scene, v, 4));
+    let once = sync.take_frame().expect("a frame");
+    assert_eq!((once.level, once.last), (Level::Paths(PATH_CAP), true));
+    assert!(once.a.pixels == frames.last().unwrap().a.pixels);
+    // With refinement off, one path per pixel and no more.
+    sync.submit(path_job(&scene, view(&scene, 64, 40, 0.3), 1));
+    let one = sync.take_frame().expect("a frame");
+    assert_eq!(one.level, Level::Paths(1));
+    assert!(one.a.pixels == frames[0].a.pixels);
+}
+
+#[test]
+fn a_new_job_abandons_the_path_sum_and_starts_from_zero() {
+    let scene = demo();
+    let mut w = Gated::new(2);
+    // Big enough that the sum is far from its cap when job 2 arrives.
+    w.host
+        .submit(path_job(&scene, view(&scene, 320, 200, 0.0), 4));
+    let first = w.next_frame();
+    assert_eq!((first.job, first.level), (1, Level::Paths(1)));
+    let second = w.next_frame();
+    assert_eq!((second.job, second.level), (1, Level::Paths(2)));
+    let new = view(&scene, 320, 200, 0.5);
+    w.host.submit(path_job(&scene, new.clone(), 1));
+    let frames = w.frames_until_last_of(2);
+    assert!(
+        frames.iter().all(|f| !(f.job == 1 && f.last)),
+        "job 1 never reaches its cap: {:?}",
+        levels(&frames)
+    );
+    let last = frames.last().unwrap();
+    assert_eq!((last.level, &last.view), (Level::Paths(1), &new));
+    // Job 2's one path is a fresh sum, not job 1's continued.
+    let mut sync = RenderHost::synchronous();
+    sync.submit(path_job(&scene, new, 1));
+    assert!(sync.take_frame().expect("a frame").a.pixels == last.a.pixels);
+    w.gate.open();
+    wait_idle(&w.host);
+    assert!(w.host.take_frame().is_none());
+}
+
+#[test]
+fn a_split_view_beside_a_path_job_keeps_its_raster_image_and_heat_map() {
+    let scene = demo();
+    let mut w = Gated::new(2);
+    let v = view(&scene, 64, 40, 0.3);
+    w.host.submit(Job {
+        b: Some(Arc::new(Settings::default())),
+        heat: true,
+        ..path_job(&scene, v.clone(), 4)
+    });
+    let frames = w.frames_until_last_of(1);
+    assert_eq!(frames.last().unwrap().level, Level::Paths(PATH_CAP));
+    assert!(
+        frames.iter().all(|f| f.heat.is_some()),
+        "a heat map each batch"
+    );
+    let b: Vec<&Frame> = frames.iter().collect();
+    // B is drawn with one sample beside the first path, 4x4 beside the second, then kept.
+    let report = |f: &Frame| f.b.as_ref().expect("B").report.samples;
+    assert_eq!((report(b[0]), report(b[1])), (1, 4));
+    let second = &b[1].b.as_ref().unwrap().pixels;
+    assert!(b[2..]
+        .iter()
+        .all(|f| &f.b.as_ref().unwrap().pixels == second));
+    // The heat map follows A's accumulation: the difference changes as the noise falls.
+    let mean = |f: &Frame| f.heat.as_ref().unwrap().mean;
+    assert!(mean(b[1]) != mean(frames.last().unwrap()));
+    w.gate.open();
+    wait_idle(&w.host);
 }

@@ -41,6 +41,7 @@ mod pool;
 mod prepare;
 mod probe;
 pub mod radiosity;
+mod raylog;
 pub mod rays;
 mod renderer;
 mod settings;
@@ -53,6 +54,7 @@ pub use frame::{frame_lights, material_emission, material_surface, pbr_surface};
 pub use numeric::{numeric, Numeric, Range, NUMERIC};
 pub use prepare::{FlatMesh, PreparedMesh, PreparedScene};
 pub use probe::{probe, LightShare, Probe};
+pub use raylog::{RayHit, RayKind, RayStep};
 pub use renderer::{unproject, FrameReport, Interrupted, Renderer, StageTimes};
 pub use settings::{
     Environment, Ground, Hidden, Lights, Output, Sections, Settings, ToneMap, VertexLighting, View,

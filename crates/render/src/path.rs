@@ -505,17 +505,29 @@ pub fn path_image_sampled(
         vp,
         view.camera.view().inverse(),
         (w, h),
-        0..spp,
-        (seed, jitter),
+        (0..spp, seed, jitter),
+        Store::Mean,
         &mut out,
         &|| false,
     );
     out
 }
 
+/// How [`path_into`] stores a pixel's samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Store {
+    /// Adds the samples' mean to the pixel.
+    Mean,
+    /// Adds the samples one by one to the pixel, a running sum: the sum of samples
+    /// `0..n` made in several calls is bit for bit the one made in one call (the same
+    /// additions in the same order), so its mean is that of [`path_image`] with `n` paths.
+    Sum,
+}
+
 /// Adds samples `samples` of every pixel to `sum` (row-major, `w` x `h`) for the camera
 /// `vp` (world -> clip), from the random stream `seed`, through random points of each pixel
-/// (`jitter`) or its centre. Returns false if stopped.
+/// (`jitter`) or its centre, as `store` says. Returns false if stopped (some rows then have
+/// their samples added and some not).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn path_into(
     scene: &PreparedScene,
@@ -523,8 +535,8 @@ pub(crate) fn path_into(
     vp: Mat4,
     cam_to_world: Mat4,
     (w, h): (u32, u32),
-    samples: std::ops::Range<u32>,
-    (seed, jitter): (u64, bool),
+    (samples, seed, jitter): (std::ops::Range<u32>, u64, bool),
+    store: Store,
     sum: &mut [Vec3],
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
@@ -542,7 +554,10 @@ pub(crate) fn path_into(
                 return;
             }
             for (x, px) in row.iter_mut().enumerate() {
-                let mut acc = Vec3::ZERO;
+                let mut acc = match store {
+                    Store::Mean => Vec3::ZERO,
+                    Store::Sum => *px,
+                };
                 for s in samples.clone() {
                     let mut rng = Rng::new(x as u32, y as u32, s, seed);
                     let (jx, jy) = (rng.f(), rng.f());
@@ -560,7 +575,10 @@ pub(crate) fn path_into(
                     }
                     acc += tracer.path(near, d, reach, &mut rng, ambient, &emitters);
                 }
-                *px += acc / count;
+                *px = match store {
+                    Store::Mean => *px + acc / count,
+                    Store::Sum => acc,
+                };
             }
         });
     !stopped.into_inner()

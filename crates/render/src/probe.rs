@@ -93,6 +93,10 @@ pub struct Probe {
     /// Ambient plus every light's share, fogged: the colour per-pixel lighting gives here
     /// (Blinn's highlight for the Blinn and textured modes, Phong's otherwise).
     pub color: Vec3,
+    /// In Whitted's model (`--shading whitted`), the pixel's ray tree as the tracer follows
+    /// it: the primary ray, shadow rays, reflections and refractions, each with what it met
+    /// and its share of the pixel. Empty in the other modes.
+    pub rays: Vec<super::raylog::RayStep>,
 }
 
 /// Probes pixel (x, y) of `view` (pixel centre, y down). `None` if the ray meets nothing.
@@ -214,6 +218,11 @@ pub fn probe(
         lights,
         fog,
         color,
+        rays: if settings.rays() == crate::shade::mode::Rays::Whitted {
+            super::raylog::whitted_steps(scene, settings, view, x, y)
+        } else {
+            Vec::new()
+        },
     })
 }
 

@@ -12,6 +12,7 @@ use super::frame::FrameData;
 use super::passes::{self, Cx};
 use super::pool::Pool;
 use super::prepare::PreparedScene;
+use super::raylog::RayKind;
 use super::settings::Settings;
 use crate::raster::{Bins, Stats, Target};
 use crate::scene::{Camera, LightKind};
@@ -199,6 +200,8 @@ pub(crate) struct Tracer<'a> {
     pub(super) env: Option<crate::texture::env::EnvView>,
     pub(super) background: Vec3,
     pub(super) radius: f32,
+    /// The probe's record of the rays cast ([`super::raylog`]); `None` when rendering.
+    pub(super) log: Option<std::sync::Mutex<Vec<super::raylog::RayStep>>>,
 }
 
 /// The light a volume absorbs: its colour at `distance` and that distance.
@@ -245,6 +248,7 @@ impl<'a> Tracer<'a> {
             env: settings.environment.view(),
             background: settings.background.truncate(),
             radius: scene.bounding_sphere().1.max(1e-6),
+            log: None,
         }
     }
 
@@ -272,9 +276,19 @@ impl<'a> Tracer<'a> {
     }
 
     /// The light arriving along `d` at `o` (unit `d`), from `depth` bounces in, carrying
-    /// `weight` of the pixel; inside `medium` (a volume being crossed) if any.
-    fn radiance(&self, o: Vec3, d: Vec3, depth: u32, weight: Vec3, medium: Option<Medium>) -> Vec3 {
-        let Some(h) = self.rays.closest(&Ray::new(o, d, 0.0, f32::INFINITY)) else {
+    /// `weight` of the pixel; inside `medium` (a volume being crossed) if any. `why`: the
+    /// ray's kind and its share of the parent's colour, for the probe's log.
+    fn radiance(
+        &self,
+        (o, d): (Vec3, Vec3),
+        depth: u32,
+        weight: Vec3,
+        medium: Option<Medium>,
+        why: (RayKind, Vec3),
+    ) -> Vec3 {
+        let hit = self.rays.closest(&Ray::new(o, d, 0.0, f32::INFINITY));
+        self.note_ray(hit.as_ref(), depth, why, weight);
+        let Some(h) = hit else {
             return self.miss(d);
         };
         let c = self.shade_hit(&h, o, d, depth, weight);
@@ -365,6 +379,7 @@ impl<'a> Tracer<'a> {
             return pt.base.truncate();
         }
         let lit = self.light(&pt, true);
+        self.note_shadows(&lit, depth, weight);
         let direct = lit
             .lights
             .iter()
@@ -422,7 +437,8 @@ impl<'a> Tracer<'a> {
             };
             if reflect_w.max_element() > 0.0 {
                 let w = weight * reflect_w;
-                color += reflect_w * self.radiance(above, reflected, depth + 1, w, None);
+                let why = (RayKind::Reflection, reflect_w);
+                color += reflect_w * self.radiance((above, reflected), depth + 1, w, None, why);
             }
             if let Some(t_dir) = refracted {
                 // The base colour tints the light once, on its way in.
@@ -437,7 +453,8 @@ impl<'a> Tracer<'a> {
                     color: params.attenuation_color,
                     distance: params.attenuation_distance,
                 });
-                color += tw * self.radiance(below, t_dir, depth + 1, w, medium);
+                let why = (RayKind::Refraction, tw);
+                color += tw * self.radiance((below, t_dir), depth + 1, w, medium, why);
             }
             // The dielectric lobe's environment light is now traced.
             return color + lit.ambient_specular * p.metallic;
@@ -445,7 +462,8 @@ impl<'a> Tracer<'a> {
         let f_diel = schlick(p.f0, p.f90);
         let reflect_w = metal * p.metallic + f_diel * (1.0 - p.metallic);
         let w = weight * reflect_w;
-        color + reflect_w * self.radiance(above, reflected, depth + 1, w, None)
+        let why = (RayKind::Reflection, reflect_w);
+        color + reflect_w * self.radiance((above, reflected), depth + 1, w, None, why)
     }
 }
 

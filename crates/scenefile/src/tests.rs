@@ -365,6 +365,7 @@ fn everything(dir: &TempDir) -> (Settings, View) {
         materials: Some(materials),
         samples: 3,
         msaa: 4,
+        ray_depth: 12,
         kernel: None,
         fog: Some(Fog {
             color: Vec3::new(0.5, 0.6, 0.7),

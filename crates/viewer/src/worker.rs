@@ -11,6 +11,13 @@
 //! 3. 2 x 2, then 4 x 4 supersampling (as far as the job's `max_samples` allows), each a
 //!    finished image shown as soon as it is done.
 //!
+//! A path-traced job (`--shading path` on the A side) instead accumulates: after one path
+//! per pixel, batches of paths are added to a running sum kept in the renderer
+//! ([`Renderer::render_paths`]), each batch shown as soon as it is done, the batch
+//! doubling (1, 1, 2, 4, ... paths per pixel) while it takes less than
+//! [`PATH_BATCH_MS`], up to [`PATH_CAP`] paths per pixel (or one, with `max_samples` 1).
+//! Then the worker goes idle; a newer job abandons the sum and starts again from 0.
+//!
 //! A newer job abandons refinements at once, but a job's first frame only once it has run
 //! [`ABANDON_FIRST_MS`]: a drag whose events come faster than frames then still shows a
 //! frame per render instead of abandoning them all.
@@ -43,6 +50,10 @@ pub const ABANDON_FIRST_MS: f64 = 4.0 * FRAME_BUDGET_MS;
 pub const PROXY_ABOVE: u64 = 1_000_000;
 /// About how many triangles the simplified copy keeps.
 pub const PROXY_TRIANGLES: u64 = 250_000;
+/// A path-traced job accumulates up to this many paths per pixel.
+pub const PATH_CAP: u32 = 1024;
+/// A path-traced job's batches stop doubling once one takes this long.
+pub const PATH_BATCH_MS: f64 = 1000.0;
 
 /// A quality level of a shown frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,6 +67,8 @@ pub enum Level {
     Full,
     /// Full resolution, n x n samples per pixel.
     Supersampled(u32),
+    /// Full resolution, path traced: the mean of this many paths per pixel.
+    Paths(u32),
 }
 
 impl Level {
@@ -68,6 +81,8 @@ impl Level {
             Level::Simplified(d) => format!("1/{d} resolution, simplified (moving)"),
             Level::Full => "full resolution".into(),
             Level::Supersampled(n) => format!("{n}x{n} supersampled"),
+            Level::Paths(1) => "path: 1 path per pixel".into(),
+            Level::Paths(n) => format!("path: {n} paths per pixel"),
         }
     }
 
@@ -76,7 +91,7 @@ impl Level {
         match self {
             Level::Reduced(d) => d.clamp(2, 4),
             Level::Simplified(d) => d.clamp(1, 4),
-            Level::Full | Level::Supersampled(_) => 1,
+            Level::Full | Level::Supersampled(_) | Level::Paths(_) => 1,
         }
     }
 
@@ -110,6 +125,7 @@ pub struct Job {
 }
 
 /// One rendered image with what the panels show about it.
+#[derive(Clone)]
 pub struct Image {
     /// sRGB8, row-major, `view.width * view.height` (of the frame's view).
     pub pixels: Vec<Color32>,
@@ -209,10 +225,11 @@ impl RenderHost {
         let n = self.submitted;
         if let Some(w) = &mut self.sync {
             let level = match job.max_samples {
+                _ if accumulates(&job) => Level::Paths(path_cap(&job)),
                 0 | 1 => Level::Full,
                 s => Level::Supersampled(s),
             };
-            if let Ok(frame) = w.render_level(&job, n, level, &|| false) {
+            if let Ok(frame) = w.render_level(&job, n, (level, 0), &|| false) {
                 *lock(&self.shared.frame) = Some(Frame {
                     last: true,
                     ..frame
@@ -283,6 +300,8 @@ struct Worker {
     times: [Option<f64>; 5],
     /// The same for the simplified copy of the scene.
     proxy_times: [Option<f64>; 5],
+    /// Side B's image beside a path-traced A, kept for A's later batches.
+    b_image: Option<Image>,
 }
 
 impl Worker {
@@ -305,8 +324,11 @@ impl Worker {
             };
             sh.busy.store(true, Ordering::SeqCst);
             let stale = || sh.newest.load(Ordering::SeqCst) != n;
-            let levels = self.plan(&job);
-            for (i, &level) in levels.iter().enumerate() {
+            let mut levels = self.plan(&job);
+            // A path-traced job's levels grow as they are rendered (`next_paths`).
+            for i in 0.. {
+                let Some(&level) = levels.get(i) else { break };
+                let from = paths_before(&levels, i);
                 if i == 1 && job.interactive && Self::newer_within(sh, n, SETTLE_MS) {
                     break;
                 }
@@ -321,10 +343,14 @@ impl Worker {
                 // A panic in a frame (a renderer bug) must not kill the worker: the frame is
                 // dropped and the next job starts from fresh renderers.
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    self.render_level(&job, n, level, stop)
+                    self.render_level(&job, n, (level, from), stop)
                 }));
                 match result {
                     Ok(Ok(frame)) => {
+                        if i + 1 == levels.len() {
+                            let ms = started.elapsed().as_secs_f64() * 1e3;
+                            levels.extend(next_paths(level, from, path_cap(&job), ms));
+                        }
                         let last = i + 1 == levels.len();
                         *lock(&sh.frame) = Some(Frame { last, ..frame });
                         repaint();
@@ -373,7 +399,9 @@ impl Worker {
     fn times_of(&mut self, level: Level) -> &mut [Option<f64>; 5] {
         match level {
             Level::Simplified(_) => &mut self.proxy_times,
-            Level::Reduced(_) | Level::Full | Level::Supersampled(_) => &mut self.times,
+            Level::Reduced(_) | Level::Full | Level::Supersampled(_) | Level::Paths(_) => {
+                &mut self.times
+            }
         }
     }
 
@@ -389,6 +417,10 @@ impl Worker {
                     levels.push(Level::Reduced(d));
                 }
             }
+        }
+        if accumulates(job) {
+            levels.push(Level::Paths(1));
+            return levels;
         }
         levels.push(Level::Full);
         for n in [2, 4] {
@@ -456,12 +488,13 @@ fn divisor(times: &[Option<f64>; 5]) -> u32 {
 }
 
 impl Worker {
-    /// Renders one level of a job (A, B and the heat map).
+    /// Renders one level of a job (A, B and the heat map); `from`: for a [`Level::Paths`],
+    /// the paths per pixel already summed by the job's earlier levels.
     fn render_level(
         &mut self,
         job: &Job,
         n: u64,
-        level: Level,
+        (level, from): (Level, u32),
         stale: &(dyn Fn() -> bool + Sync),
     ) -> Result<Frame, crate::render::Interrupted> {
         let start = Instant::now();
@@ -474,17 +507,26 @@ impl Worker {
             (Level::Simplified(_), Some(p)) => p,
             _ => &job.scene,
         };
-        let a = render_image(&mut self.a, scene, &job.a, &view, samples, stale)?;
+        let paths = match level {
+            Level::Paths(to) => Some(from..to),
+            _ => None,
+        };
+        let a = render_image(&mut self.a, scene, &job.a, &view, (samples, paths), stale)?;
         let b = match &job.b {
-            Some(s) => Some(render_image(&mut self.b, scene, s, &view, samples, stale)?),
+            Some(s) => {
+                let how = (level, from, job.max_samples);
+                Some(self.render_b(scene, s, &view, how, stale)?)
+            }
             None => None,
         };
-        if !matches!(level, Level::Supersampled(_)) {
+        if !matches!(level, Level::Supersampled(_) | Level::Paths(2..)) {
             let ms = start.elapsed().as_secs_f64() * 1e3;
             record(self.times_of(level), level.divisor() as usize, ms);
         }
         let heat = match (&b, job.heat, level) {
-            (Some(_), true, Level::Full | Level::Supersampled(_)) => Some(heat(&self.a, &self.b)),
+            (Some(_), true, Level::Full | Level::Supersampled(_) | Level::Paths(_)) => {
+                Some(heat(&self.a, &self.b))
+            }
             _ => None,
         };
         let mut depth = vec![0.0; (view.width * view.height) as usize];
@@ -504,17 +546,58 @@ impl Worker {
     }
 }
 
+impl Worker {
+    /// Renders side B at `level` (`from`: as in [`Worker::render_level`]). Beside a
+    /// path-traced A that accumulates, a B not path traced is drawn twice only: with one
+    /// sample beside A's first path, then supersampled as far as `max_samples` allows beside
+    /// the second batch; A's later batches show that image again (a path-traced B
+    /// accumulates as A does).
+    fn render_b(
+        &mut self,
+        scene: &PreparedScene,
+        settings: &Settings,
+        view: &View,
+        (level, from, max_samples): (Level, u32, u32),
+        stale: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Image, crate::render::Interrupted> {
+        let paths = match level {
+            Level::Paths(to) => Some(from..to),
+            _ => None,
+        };
+        let fixed = paths.is_some() && !path_traced(settings);
+        if let (true, 2.., Some(image)) = (fixed, from, &self.b_image) {
+            return Ok(image.clone());
+        }
+        let samples = match (fixed, from) {
+            (true, 1) => max_samples.clamp(1, 4),
+            _ => level.samples(),
+        };
+        let image = render_image(&mut self.b, scene, settings, view, (samples, paths), stale)?;
+        self.b_image = fixed.then(|| image.clone());
+        Ok(image)
+    }
+}
+
+/// Renders one side: `samples` per axis, or for a path-traced side given `paths`, those
+/// paths added to its running sum (a side not path traced is drawn with `samples`).
 fn render_image(
     r: &mut Renderer,
     scene: &PreparedScene,
     settings: &Settings,
     view: &View,
-    samples: u32,
+    (samples, paths): (u32, Option<std::ops::Range<u32>>),
     stale: &(dyn Fn() -> bool + Sync),
 ) -> Result<Image, crate::render::Interrupted> {
-    let mut s = settings.clone();
-    s.samples = samples;
-    let report = r.render_until(scene, &s, view, stale)?.clone();
+    let report = match paths {
+        Some(range) if path_traced(settings) => {
+            r.render_paths(scene, settings, view, range, stale)?.clone()
+        }
+        _ => {
+            let mut s = settings.clone();
+            s.samples = samples;
+            r.render_until(scene, &s, view, stale)?.clone()
+        }
+    };
     let mut pixels = vec![Color32::BLACK; (view.width * view.height) as usize];
     r.write_pixels(&mut pixels, |[cr, cg, cb, ca]| {
         Color32::from_rgba_premultiplied(cr, cg, cb, ca)
@@ -526,6 +609,53 @@ fn render_image(
         tile_costs: r.tile_costs().to_vec(),
         tiles_x,
     })
+}
+
+/// Whether `settings` shade by path tracing (what [`Renderer::render_paths`] adds up).
+fn path_traced(settings: &Settings) -> bool {
+    settings.rays() == crate::shade::mode::Rays::Path
+        && settings.output == crate::render::Output::Shaded
+}
+
+/// Whether a job accumulates paths: its A side is path traced (a path-traced B beside
+/// another A follows A's levels: supersampled, its passes one path each).
+fn accumulates(job: &Job) -> bool {
+    path_traced(&job.a)
+}
+
+/// Paths per pixel a path-traced job accumulates: [`PATH_CAP`], or one when refinement is
+/// off (`max_samples` 1).
+fn path_cap(job: &Job) -> u32 {
+    if job.max_samples > 1 {
+        PATH_CAP
+    } else {
+        1
+    }
+}
+
+/// Paths per pixel summed by the levels before `levels[i]` (0 unless it follows a
+/// [`Level::Paths`]).
+fn paths_before(levels: &[Level], i: usize) -> u32 {
+    match i.checked_sub(1).map(|j| levels[j]) {
+        Some(Level::Paths(n)) => n,
+        _ => 0,
+    }
+}
+
+/// The level after `level` of a path-traced job, which added paths `from..n` in `ms`
+/// milliseconds: the batch doubles (as many paths again as summed so far) unless that
+/// would take longer than [`PATH_BATCH_MS`] (then as many as fit, at least one), up to
+/// `cap` paths per pixel; `None` at the cap or after any other level.
+fn next_paths(level: Level, from: u32, cap: u32, ms: f64) -> Option<Level> {
+    let Level::Paths(n) = level else { return None };
+    if n >= cap {
+        return None;
+    }
+    let per_path = ms / f64::from(n.saturating_sub(from).max(1));
+    // A float beyond u32's range saturates.
+    let fits = (PATH_BATCH_MS / per_path.max(1e-9)).floor() as u32;
+    let batch = n.min(fits).max(1).min(cap - n);
+    Some(Level::Paths(n + batch))
 }
 
 /// The ΔE00 map between the two renderers' frames.
@@ -564,7 +694,34 @@ fn heat(a: &Renderer, b: &Renderer) -> Heat {
 
 #[cfg(test)]
 mod tests {
-    use super::{divisor, record, FRAME_BUDGET_MS};
+    use super::{divisor, next_paths, record, Level, FRAME_BUDGET_MS, PATH_BATCH_MS, PATH_CAP};
+
+    #[test]
+    fn path_batches_double_within_the_batch_time_up_to_the_cap() {
+        let quick = |level, from| next_paths(level, from, PATH_CAP, 1.0);
+        let mut n = Level::Paths(1);
+        let mut from = 0;
+        let mut counts = vec![1];
+        while let Some(next) = quick(n, from) {
+            let Level::Paths(k) = next else { panic!() };
+            (from, n) = (counts[counts.len() - 1], next);
+            counts.push(k);
+        }
+        assert_eq!(counts, [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]);
+        // A slow batch (8 paths in 4 batch times): the next adds 2 paths, not 16.
+        let slow = next_paths(Level::Paths(16), 8, PATH_CAP, 4.0 * PATH_BATCH_MS);
+        assert_eq!(slow, Some(Level::Paths(18)));
+        // Slower than a batch time per path: one at a time.
+        let slower = next_paths(Level::Paths(16), 8, PATH_CAP, 80.0 * PATH_BATCH_MS);
+        assert_eq!(slower, Some(Level::Paths(17)));
+        // The cap is not passed, and nothing follows other levels.
+        assert_eq!(
+            next_paths(Level::Paths(1000), 500, PATH_CAP, 1.0),
+            Some(Level::Paths(1024))
+        );
+        assert_eq!(next_paths(Level::Paths(1), 0, 1, 1.0), None);
+        assert_eq!(next_paths(Level::Full, 0, PATH_CAP, 1.0), None);
+    }
 
     #[test]
     fn one_slow_full_frame_does_not_keep_later_frames_reduced() {

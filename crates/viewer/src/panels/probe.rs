@@ -198,6 +198,70 @@ fn show(ui: &mut egui::Ui, cx: &Cx<'_>) {
         .show(ui, |ui| colour_rows(ui, p.color));
     ui.separator();
     light_shares(ui, p);
+    if !p.rays.is_empty() {
+        ui.separator();
+        ray_steps(ui, p, scene);
+    }
+}
+
+/// The pixel's Whitted ray tree, one row per ray in the order the tracer casts them
+/// (indented by bounce): what it met and its share.
+fn ray_steps(ui: &mut egui::Ui, p: &crate::render::Probe, scene: &crate::scene::Scene) {
+    use crate::render::{RayHit, RayKind};
+    ui.label(RichText::new("Rays (Whitted, the textbook's §9.6.1)").strong())
+        .on_hover_text(
+            "every ray traced for this pixel's centre: the primary ray, then from each hit \
+             its shadow rays and the reflection and refraction it spawns, to the depth and \
+             contribution limits",
+        );
+    egui::Grid::new("probe-rays")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            for (h, what) in [
+                ("ray", "why it was cast, indented by bounce"),
+                ("met", "what it hit, and how far along the ray"),
+                (
+                    "share",
+                    "of its parent's colour (Fresnel, the metal's colour, the part \
+                     transmitted); the pixel's share on hover",
+                ),
+            ] {
+                ui.label(RichText::new(h).italics()).on_hover_text(what);
+            }
+            ui.end_row();
+            for r in &p.rays {
+                let kind = match r.kind {
+                    RayKind::Primary => "primary",
+                    RayKind::Reflection => "reflection",
+                    RayKind::Refraction => "refraction",
+                    RayKind::Shadow => "shadow",
+                };
+                ui.monospace(format!("{}{kind}", "  ".repeat(r.depth as usize)));
+                ui.label(match &r.hit {
+                    RayHit::Surface {
+                        instance,
+                        material,
+                        triangle,
+                        t,
+                        ..
+                    } => {
+                        let name = scene.instances.get(*instance).map_or("", |i| &i.name);
+                        let m = material
+                            .and_then(|m| scene.materials.get(m))
+                            .map_or("default material".into(), |m| format!("'{}'", m.name));
+                        format!("instance {instance} '{name}', {m}, triangle {triangle}, t {t:.4}")
+                    }
+                    RayHit::Environment => "nothing: the environment".into(),
+                    RayHit::Background => "nothing: the background".into(),
+                    RayHit::Light { index, lit } if *lit > 0.0 => format!("light {index}: lit"),
+                    RayHit::Light { index, .. } => format!("light {index}: blocked"),
+                });
+                ui.monospace(v3(r.share))
+                    .on_hover_text(format!("of the pixel: {}", v3(r.weight)));
+                ui.end_row();
+            }
+        });
 }
 
 /// One row per light of the frame (after attenuation, cone or pyramid, image and shadow),

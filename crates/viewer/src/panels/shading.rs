@@ -169,6 +169,12 @@ impl ShadingPanel {
                 );
             }
         });
+        if cx.settings.rays() == crate::shade::mode::Rays::Path {
+            ui.label(format!(
+                "path: while still, paths are added up to {} per pixel (one when off)",
+                crate::worker::PATH_CAP
+            ));
+        }
         egui::CollapsingHeader::new("rasterizer views")
             .id_salt("rasterizer-views")
             .show(ui, |ui| {

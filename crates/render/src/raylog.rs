@@ -1,0 +1,176 @@
+//! The pixel probe's ray tree in Whitted's model (the textbook's §9.6.1): every ray the
+//! tracer casts for one pixel, in the order it casts them (a ray, the shadow rays from
+//! its hit, then the rays it spawns), each with what it met and its share of the pixel.
+//! The tracer itself records them ([`Tracer::note`]), so the tree is the one the renderer
+//! follows, to the same depth and contribution limits.
+
+use glam::Vec3;
+
+use super::prepare::PreparedScene;
+use super::settings::{Settings, View};
+use super::whitted::Tracer;
+use realist_trace::Ray;
+
+/// Why a ray was cast.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayKind {
+    /// From the camera through the pixel centre.
+    Primary,
+    /// Off a mirror or a dielectric's surface.
+    Reflection,
+    /// Through a transmissive surface (Snell's law).
+    Refraction,
+    /// From a hit towards a light.
+    Shadow,
+}
+
+/// What a ray met.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RayHit {
+    /// A triangle of an instance: its scene mesh, its material (`None`: the default) and
+    /// the distance along the ray.
+    Surface {
+        instance: usize,
+        mesh: usize,
+        material: Option<usize>,
+        triangle: usize,
+        t: f32,
+    },
+    /// Nothing: the environment is seen.
+    Environment,
+    /// Nothing: the background colour is seen.
+    Background,
+    /// A shadow ray towards light `index` of the frame: 1 lit, 0 blocked.
+    Light { index: usize, lit: f32 },
+}
+
+/// One ray of a pixel's tree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayStep {
+    pub kind: RayKind,
+    /// Bounces from the camera: 0 for the primary ray and its hit's shadow rays.
+    pub depth: u32,
+    /// The share of its parent's colour it brings (Fresnel's reflectance, the metal's
+    /// colour, the transmitted part); 1 for the primary and shadow rays.
+    pub share: Vec3,
+    /// Its share of the pixel: the product of the shares from the camera.
+    pub weight: Vec3,
+    pub hit: RayHit,
+}
+
+/// The Whitted ray tree of pixel (x, y) of `view` (its centre), as the tracer follows it.
+/// Empty if the pixel's ray is degenerate.
+#[must_use]
+pub(crate) fn whitted_steps(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    x: u32,
+    y: u32,
+) -> Vec<RayStep> {
+    let (w, h) = (view.width.max(1), view.height.max(1));
+    let cam_to_world = view.camera.view().inverse();
+    let vp = view.camera.projection(view.aspect()) * view.camera.view();
+    let inv = vp.inverse();
+    let ndc = glam::Vec2::new(
+        (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+        1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+    );
+    let near = inv.project_point3(ndc.extend(1.0));
+    let far = inv.project_point3(ndc.extend(0.0));
+    let len = (far - near).length();
+    if !(len > 0.0 && len.is_finite()) {
+        return Vec::new();
+    }
+    let d = (far - near) / len;
+    let mut tracer = Tracer::new(scene, settings, cam_to_world);
+    tracer.log = Some(std::sync::Mutex::new(Vec::new()));
+    let hit = tracer.rays.closest(&Ray::new(near, d, 0.0, len));
+    tracer.note_ray(hit.as_ref(), 0, (RayKind::Primary, Vec3::ONE), Vec3::ONE);
+    if let Some(hit) = hit {
+        tracer.shade_hit(&hit, near, d, 0, Vec3::ONE);
+    }
+    tracer
+        .log
+        .take()
+        .map(|m| {
+            m.into_inner()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+        })
+        .unwrap_or_default()
+}
+
+impl Tracer<'_> {
+    /// Records a step if this tracer keeps a log.
+    fn note(&self, step: impl FnOnce() -> RayStep) {
+        if let Some(log) = &self.log {
+            log.lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .push(step());
+        }
+    }
+
+    /// Records a ray `depth` bounces in, cast for `kind` with `share` of its parent's
+    /// colour (`weight` of the pixel), that met `hit`.
+    pub(super) fn note_ray(
+        &self,
+        hit: Option<&realist_trace::Hit>,
+        depth: u32,
+        (kind, share): (RayKind, Vec3),
+        weight: Vec3,
+    ) {
+        self.note(|| RayStep {
+            kind,
+            depth,
+            share,
+            weight,
+            hit: match hit {
+                Some(h) => self.surface(h),
+                None if self.env.is_some() => RayHit::Environment,
+                None => RayHit::Background,
+            },
+        });
+    }
+
+    /// Records the shadow rays of a hit `depth` bounces in (`weight` of the pixel), lit or
+    /// blocked as `lit` found.
+    pub(super) fn note_shadows(&self, lit: &super::probe::Lit, depth: u32, weight: Vec3) {
+        if self.log.is_none() {
+            return;
+        }
+        // Whitted's model casts one to every light that can shadow and could light the
+        // point; those behind it (no ray) are left out, as lights that bring nothing.
+        let cast = |s: &&super::probe::LightShare| {
+            s.light.kind.can_shadow() && (s.shadow < 1.0 || s.diffuse + s.specular != Vec3::ZERO)
+        };
+        for s in lit.lights.iter().filter(cast) {
+            self.note(|| RayStep {
+                kind: RayKind::Shadow,
+                depth,
+                share: Vec3::ONE,
+                weight,
+                hit: RayHit::Light {
+                    index: s.index,
+                    lit: s.shadow,
+                },
+            });
+        }
+    }
+
+    /// A hit as the probe names it: the instance, its scene mesh and material.
+    fn surface(&self, h: &realist_trace::Hit) -> RayHit {
+        let (k, _) = super::rays::unkey(h.key);
+        let inst = self.scene.instances.get(k);
+        let mesh = inst.and_then(|i| self.scene.scene_mesh(i));
+        RayHit::Surface {
+            instance: k,
+            mesh: mesh.map_or(usize::MAX, |m| m.0),
+            material: mesh.and_then(|(_, m)| {
+                m.material_in(self.settings.variant_index(self.scene.scene()))
+                    .filter(|&i| i < self.scene.scene().materials.len())
+            }),
+            triangle: h.triangle as usize,
+            t: h.t,
+        }
+    }
+}
