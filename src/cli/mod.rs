@@ -54,7 +54,7 @@ enum Command {
     /// render it to a PNG instead.
     View(ViewArgs),
     /// Render a model (or the built-in demo) headless to a PNG.
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Print the load report and the topology of every mesh.
     Info(InfoArgs),
     /// Time warm frames of a model (median of rounds), with the camera and light that

@@ -160,7 +160,7 @@ impl ScreenShadows {
                             let again = at(lift(z) + slope(x, y) * snap);
                             let next = at0 + dx * (x as f32 + 1.0) + inv.z_axis * lift(z);
                             let pixel = (next.truncate() / next.w - from).length();
-                            if !(pixel.is_finite() && !blocked(again, pixel)) {
+                            if !pixel.is_finite() || blocked(again, pixel) {
                                 *vis = 0.0;
                             }
                         }
