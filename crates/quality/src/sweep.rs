@@ -447,13 +447,7 @@ fn model_settings(textured: bool) -> Vec<(&'static str, Setting)> {
         } else {
             Shading::Phong
         },
-        ss: 1,
-        msaa: 1,
-        filter: None,
-        bits: SUBPIXEL_BITS as u8,
-        shadow_size: 0,
-        pcf: 0,
-        global: false,
+        ..Setting::default()
     };
     let mut out = Vec::new();
     if textured {
@@ -504,16 +498,10 @@ fn plane_settings() -> Vec<(&'static str, Setting)> {
             out.push((
                 knob,
                 Setting {
-                    slices: 0,
-                    stacks: 0,
                     shading: Shading::Textured,
                     ss,
-                    msaa: 1,
                     filter: Some(filter),
-                    bits: SUBPIXEL_BITS as u8,
-                    shadow_size: 0,
-                    pcf: 0,
-                    global: false,
+                    ..Setting::default()
                 },
             ));
         }
@@ -537,13 +525,7 @@ pub fn shape_settings(shape: Shape) -> Vec<(&'static str, Setting)> {
         slices: 64,
         stacks: stacks(64),
         shading: Shading::Phong,
-        ss: 1,
-        msaa: 1,
-        filter: None,
-        bits: SUBPIXEL_BITS as u8,
-        shadow_size: 0,
-        pcf: 0,
-        global: false,
+        ..Setting::default()
     };
     let fine = Setting {
         slices: 256,

@@ -55,6 +55,27 @@ fn settings_controls(s: &mut Settings, lab: &mut LabUi, uv: UvView, ui: &mut egu
 }
 
 /// The rasterizer's own controls of a side: overdraw view, vertex snap, multisampling.
+/// The traced modes' depth limit (`whitted`, `path`).
+fn ray_depth(s: &mut Settings, ui: &mut egui::Ui) {
+    if matches!(
+        s.rays(),
+        crate::shade::mode::Rays::Whitted | crate::shade::mode::Rays::Path
+    ) {
+        ui.horizontal(|ui| {
+            let label = ui.label("ray depth").on_hover_text(
+                "traced rays: the most surfaces a ray meets after the first (Whitted's \
+             depth, the path tracer's bounces; 0 is the direct light alone; the \
+             textbook's §9.6.1 depth limit)",
+            );
+            ui.add(egui::Slider::new(
+                &mut s.ray_depth,
+                super::edit::whole_range_of("ray_depth"),
+            ))
+            .labelled_by(label.id);
+        });
+    }
+}
+
 fn rasterizer_controls(s: &mut Settings, ui: &mut egui::Ui) {
     let mut overdraw = s.output == Output::Overdraw;
     if ui
@@ -76,23 +97,6 @@ fn rasterizer_controls(s: &mut Settings, ui: &mut egui::Ui) {
         ui.add(egui::Slider::new(&mut s.subpixel_bits, bits))
             .labelled_by(label.id);
     });
-    if matches!(
-        s.rays(),
-        crate::shade::mode::Rays::Whitted | crate::shade::mode::Rays::Path
-    ) {
-        ui.horizontal(|ui| {
-            let label = ui.label("ray depth").on_hover_text(
-                "traced rays: the most surfaces a ray meets after the first (Whitted's \
-                 depth, the path tracer's bounces; 0 is the direct light alone; the \
-                 textbook's §9.6.1 depth limit)",
-            );
-            ui.add(egui::Slider::new(
-                &mut s.ray_depth,
-                super::edit::whole_range_of("ray_depth"),
-            ))
-            .labelled_by(label.id);
-        });
-    }
     ui.horizontal(|ui| {
         ui.label("multisampling (Shift+A)");
         for n in crate::raster::SAMPLE_COUNTS {
@@ -169,6 +173,7 @@ impl ShadingPanel {
                 );
             }
         });
+        ray_depth(cx.settings, ui);
         if cx.settings.rays() == crate::shade::mode::Rays::Path {
             ui.label(format!(
                 "path: while still, paths are added up to {} per pixel (one when off)",
