@@ -137,13 +137,33 @@ impl Hemicube {
     pub fn form_factors(&mut self, patches: &[Patch], p: Vec3, n: Vec3, near: f32) -> &[f32] {
         self.sums.clear();
         self.sums.resize(patches.len(), 0.0);
+        self.add_form_factors(patches, p, n, near, 0.0, 1.0);
+        &self.sums
+    }
+
+    /// Adds `weight` times the form factors from `p` (unit normal `n`) to the sums, the
+    /// cube turned by `spin` radians about `n`.
+    fn add_form_factors(
+        &mut self,
+        patches: &[Patch],
+        p: Vec3,
+        n: Vec3,
+        near: f32,
+        spin: f32,
+        weight: f32,
+    ) {
         let up = if n.cross(Vec3::Y).length_squared() > 1e-3 {
             Vec3::Y
         } else {
             Vec3::X
         };
-        let t = n.cross(up).normalize();
-        let b = n.cross(t);
+        let (t0, b0) = {
+            let t = n.cross(up).normalize();
+            (t, n.cross(t))
+        };
+        let (sin, cos) = spin.sin_cos();
+        let t = t0 * cos + b0 * sin;
+        let b = b0 * cos - t0 * sin;
         let far = patches
             .iter()
             .flat_map(|q| q.corners)
@@ -182,9 +202,45 @@ impl Hemicube {
                     } else {
                         self.side[j * n_px + i]
                     };
-                    self.sums[id as usize] += w;
+                    self.sums[id as usize] += w * weight;
                 }
             }
+        }
+    }
+
+    /// The form factors from triangle `shooter` (unit normal `n`) to every patch: from one
+    /// point, its centroid, or (`views` 4) averaged over the centroids of its four
+    /// midpoint-cut parts, each cube turned by a different angle about `n`, so that the
+    /// pixels' aliasing on small, far elements, which one cube prints on the whole scene
+    /// as streaks, averages out where a shot carries much of the light.
+    pub fn form_factors_from(
+        &mut self,
+        patches: &[Patch],
+        shooter: [Vec3; 3],
+        n: Vec3,
+        near: f32,
+        views: usize,
+    ) -> &[f32] {
+        self.sums.clear();
+        self.sums.resize(patches.len(), 0.0);
+        let [a, b, c] = shooter;
+        let centre = (a + b + c) / 3.0;
+        let (ab, bc, ca) = ((a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5);
+        let parts = [
+            (a + ab + ca) / 3.0,
+            (ab + b + bc) / 3.0,
+            (ca + bc + c) / 3.0,
+            (ab + bc + ca) / 3.0,
+        ];
+        if views >= parts.len() {
+            let weight = 1.0 / parts.len() as f32;
+            for (k, q) in parts.into_iter().enumerate() {
+                // Quarter turns would repeat the pixel grid: spread over one quarter.
+                let spin = std::f32::consts::FRAC_PI_2 * (k as f32 + 0.5) / parts.len() as f32;
+                self.add_form_factors(patches, q + n * near, n, near, spin, weight);
+            }
+        } else {
+            self.add_form_factors(patches, centre + n * near, n, near, 0.0, 1.0);
         }
         &self.sums
     }
@@ -250,7 +306,8 @@ fn power(c: Vec3) -> f32 {
 
 /// Progressive refinement: shoots from the patch with the most unshot power until the
 /// power left unshot is below `tolerance` of what there was to shoot at the start (the
-/// emission and any light already received), or `max_shots` shots.
+/// emission and any light already received), or after `max_shots` hemicubes (a shot
+/// carrying much of the light draws four).
 pub fn solve(
     patches: &mut [Patch],
     cube: &mut Hemicube,
@@ -289,7 +346,8 @@ pub fn solve_grouped(
             m.push(k);
         }
     }
-    let mut shots = 0;
+    // Shots, and hemicubes drawn (the work `max_shots` bounds: a shot may draw four).
+    let (mut shots, mut cubes) = (0, 0);
     let (mut sent, mut met) = (0.0f64, 0.0f64);
     loop {
         let unshot_of = |g: &[usize]| -> (Vec3, f32) {
@@ -311,7 +369,7 @@ pub fn solve_grouped(
                 best = (g, p);
             }
         }
-        if shots >= max_shots || rest <= tolerance * emitted || best.1 <= 0.0 {
+        if cubes >= max_shots || rest <= tolerance * emitted || best.1 <= 0.0 {
             return Solved {
                 shots,
                 unshot: if emitted > 0.0 { rest / emitted } else { 0.0 },
@@ -321,12 +379,12 @@ pub fn solve_grouped(
         let g = best.0;
         let (sum, area) = unshot_of(&members[g]);
         let shooter = Patch::new(shooters[g], Vec3::ZERO, Vec3::ZERO);
-        let (p, n) = (shooter.centre(), shooter.normal());
+        let n = shooter.normal();
         let shot = sum / area.max(1e-30);
         let power_area = area;
-        let ff = std::mem::take(&mut cube.sums);
-        cube.sums = ff;
-        cube.form_factors(patches, p + n * near, n, near);
+        // A shot carrying much of the light is seen from four points of its patch.
+        let views = if best.1 > SPLIT_SHOTS_ABOVE * emitted { 4 } else { 1 };
+        cube.form_factors_from(patches, shooters[g], n, near, views);
         let ff = std::mem::take(&mut cube.sums);
         sent += f64::from(best.1);
         met += f64::from(best.1)
@@ -353,6 +411,7 @@ pub fn solve_grouped(
             patches[k].unshot = Vec3::ZERO;
         }
         shots += 1;
+        cubes += views;
     }
 }
 
@@ -497,6 +556,9 @@ pub const MAX_ELEMENTS: usize = 1_000_000;
 pub const MAX_WORK: usize = 6_000_000;
 /// Pixels per side of the hemicube's top face.
 pub const HEMICUBE: u32 = 128;
+/// A shot carrying more than this share of the emitted power is seen by four hemicubes
+/// ([`Hemicube::form_factors_from`]).
+pub const SPLIT_SHOTS_ABOVE: f32 = 1.0 / 64.0;
 /// Shooting stops when the power left unshot falls below this share of the power there
 /// was to shoot, or after [`MAX_SHOTS`]; what is left is spread as an ambient term (Cohen
 /// et al. 1988), so the picture is right on average.
