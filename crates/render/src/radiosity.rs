@@ -383,7 +383,11 @@ pub fn solve_grouped(
         let shot = sum / area.max(1e-30);
         let power_area = area;
         // A shot carrying much of the light is seen from four points of its patch.
-        let views = if best.1 > SPLIT_SHOTS_ABOVE * emitted { 4 } else { 1 };
+        let views = if best.1 > SPLIT_SHOTS_ABOVE * emitted {
+            4
+        } else {
+            1
+        };
         cube.form_factors_from(patches, shooters[g], n, near, views);
         let ff = std::mem::take(&mut cube.sums);
         sent += f64::from(best.1);
