@@ -144,7 +144,7 @@ pub(crate) fn accuracy(args: &AccuracyArgs) -> Result<()> {
     }
     filter_summary(rows)?;
     if let Subject::Traced(t) = &subject {
-        if let Some(r) = &result.references[1] {
+        if let Some(r) = &result.references[traced::Reference::Areas.index()] {
             let n = t.noise(r);
             say!(
                 "reference noise: another {} paths a pixel differ from the direct-light reference by mean dE00 {:.4} (rmse {:.5}); errors well above it are the renderer's",

@@ -275,7 +275,7 @@ impl Subject {
                 } else {
                     Reference::Areas
                 };
-                Reference::ALL.iter().position(|&a| a == r).unwrap_or(0)
+                r.index()
             }
             (_, Shading::Blinn) => 1,
             (_, Shading::Textured) => 2,

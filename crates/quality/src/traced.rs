@@ -203,15 +203,22 @@ pub enum Reference {
     /// The direct light at each pixel's centre: what a renderer sampling pixel centres
     /// should show (the one-sample renders are measured against it, so that the
     /// silhouettes' aliasing, the same in every setting, does not hide the shadows' error).
-    Centres,
+    Centres = 0,
     /// The direct light averaged over each pixel (supersampled renders, the path tracer).
-    Areas,
+    Areas = 1,
     /// Every bounce, averaged over each pixel.
-    Global,
+    Global = 2,
 }
 
 impl Reference {
+    /// By index ([`Reference::index`]).
     pub const ALL: [Reference; 3] = [Reference::Centres, Reference::Areas, Reference::Global];
+
+    /// Its place in [`Reference::ALL`] and in a sweep's references.
+    #[must_use]
+    pub fn index(self) -> usize {
+        self as usize
+    }
 
     /// The image's file name.
     #[must_use]
