@@ -18,7 +18,7 @@ use crate::raster::{Bins, Stats, Target};
 use crate::scene::{Camera, LightKind};
 use crate::shade::mode::Rays;
 use crate::shade::ShadowMap;
-use realist_trace::Ray;
+use realist_trace::{Ray, PACKET};
 
 /// The depth pass's target and its depth, kept between frames.
 #[derive(Debug, Default)]
@@ -127,41 +127,55 @@ impl ScreenShadows {
                     let ny = 1.0 - (y as f32 + 0.5) / h as f32 * 2.0;
                     let dx = inv.x_axis * (2.0 / w as f32);
                     let at0 = inv * Vec4::new(-1.0 + 1.0 / w as f32, ny, 0.0, 1.0);
-                    for (x, vis) in row.iter_mut().enumerate() {
-                        let z = depth[y * w as usize + x];
-                        if z <= 0.0 {
-                            continue;
+                    let at = |x: usize, z: f32| {
+                        let q = at0 + dx * x as f32 + inv.z_axis * z;
+                        q.truncate() / q.w
+                    };
+                    let ray = |from: Vec3, tmin: f32| match kind {
+                        LightKind::Directional => Ray::new(from, -axis, tmin, f32::INFINITY),
+                        _ => {
+                            let to = position - from;
+                            let reach = to.length().max(f32::MIN_POSITIVE);
+                            Ray::new(from, to, tmin / reach, 1.0)
                         }
-                        // A little nearer the camera than the depth buffer says (reversed
-                        // Z: larger is nearer), so the ray starts in front of the surface.
-                        let at = |z: f32| {
-                            let q = at0 + dx * x as f32 + inv.z_axis * z;
-                            q.truncate() / q.w
-                        };
-                        let blocked = |from: Vec3, tmin: f32| {
-                            from.is_finite()
-                                && rays.occluded(&match kind {
-                                    LightKind::Directional => {
-                                        Ray::new(from, -axis, tmin, f32::INFINITY)
-                                    }
-                                    _ => {
-                                        let to = position - from;
-                                        let reach = to.length().max(f32::MIN_POSITIVE);
-                                        Ray::new(from, to, tmin / reach, 1.0)
-                                    }
-                                })
-                        };
-                        // A blocked ray is tried again from past the snap's error in depth,
-                        // passing over what lies within a pixel's width of its start (a
-                        // face seen edge-on, a pixel thin, has no neighbour to measure its
-                        // slope by). Few pixels are in shadow, so lit ones pay nothing.
-                        let from = at(lift(z));
-                        if blocked(from, 0.0) {
-                            let again = at(lift(z) + slope(x, y) * snap);
+                    };
+                    let blocked =
+                        |from: Vec3, tmin: f32| from.is_finite() && rays.occluded(&ray(from, tmin));
+                    // Eight neighbouring pixels' rays walk the hierarchy together.
+                    let mut xs = [0usize; PACKET];
+                    let mut batch = [ray(Vec3::ZERO, 0.0); PACKET];
+                    let mut x = 0;
+                    while x < row.len() {
+                        let mut n = 0;
+                        while x < row.len() && n < PACKET {
+                            let z = depth[y * w as usize + x];
+                            if z > 0.0 {
+                                // A little nearer the camera than the depth buffer says
+                                // (reversed Z: larger is nearer), so the ray starts in
+                                // front of the surface. A point that is not finite makes
+                                // an invalid ray, which nothing blocks.
+                                (xs[n], batch[n]) = (x, ray(at(x, lift(z)), 0.0));
+                                n += 1;
+                            }
+                            x += 1;
+                        }
+                        let mut hit = rays.occluded_packet(&batch[..n]);
+                        while hit != 0 {
+                            let k = hit.trailing_zeros() as usize;
+                            hit &= hit - 1;
+                            let x = xs[k];
+                            let z = depth[y * w as usize + x];
+                            // A blocked ray is tried again from past the snap's error in
+                            // depth, passing over what lies within a pixel's width of its
+                            // start (a face seen edge-on, a pixel thin, has no neighbour
+                            // to measure its slope by). Few pixels are in shadow, so lit
+                            // ones pay nothing.
+                            let from = batch[k].origin;
+                            let again = at(x, lift(z) + slope(x, y) * snap);
                             let next = at0 + dx * (x as f32 + 1.0) + inv.z_axis * lift(z);
                             let pixel = (next.truncate() / next.w - from).length();
                             if !pixel.is_finite() || blocked(again, pixel) {
-                                *vis = 0.0;
+                                row[x] = 0.0;
                             }
                         }
                     }

@@ -49,6 +49,7 @@ mod cache;
 mod chain;
 mod equirect;
 mod ggx;
+mod lanes;
 mod lut;
 mod prefilter;
 mod resample;

@@ -57,18 +57,18 @@ impl Node {
 }
 
 /// The tag of a [`Node4`] child that is a leaf (its low bits: the first primitive slot).
-const LEAF: u32 = 1 << 31;
+pub(crate) const LEAF: u32 = 1 << 31;
 
 /// Four children's boxes as lanes (x, y and z of their minima and maxima), tested against a
 /// ray at once; a child is another node (its index) or a leaf ([`LEAF`] | its index in
 /// the tree's leaf table). Empty slots are masked out.
 #[derive(Clone, Copy, Debug)]
 pub struct Node4 {
-    lo: [Vec4; 3],
-    hi: [Vec4; 3],
-    child: [u32; 4],
+    pub(crate) lo: [Vec4; 3],
+    pub(crate) hi: [Vec4; 3],
+    pub(crate) child: [u32; 4],
     /// Bit `i` set: slot `i` holds a child.
-    used: u32,
+    pub(crate) used: u32,
 }
 
 impl Node4 {
@@ -97,9 +97,9 @@ pub struct Bvh {
     pub nodes: Vec<Node>,
     /// The same tree four children to a node, each node's four boxes tested at once
     /// (what queries traverse); made from `nodes` after a build or a refit.
-    wide: Vec<Node4>,
+    pub(crate) wide: Vec<Node4>,
     /// The wide tree's leaves: first primitive slot and count.
-    leaves: Vec<[u32; 2]>,
+    pub(crate) leaves: Vec<[u32; 2]>,
     /// Primitive slot -> the index the caller gave.
     pub order: Vec<u32>,
     /// Depth of the deepest leaf (the traversal's stack size).

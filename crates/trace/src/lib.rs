@@ -6,9 +6,11 @@
 //! aimed at an edge or a vertex shared by triangles of a closed mesh never passes through.
 
 pub mod bvh;
+pub mod packet;
 pub mod scene;
 pub mod triangle;
 
+pub use packet::PACKET;
 pub use scene::{Hit, Instance, Mesh, Ray, Scene};
 
 #[cfg(test)]

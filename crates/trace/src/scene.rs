@@ -13,9 +13,9 @@ use crate::triangle::Sheared;
 /// A mesh's triangles in its own space and their hierarchy.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
-    bvh: Bvh,
+    pub(crate) bvh: Bvh,
     /// Triangles in the hierarchy's slot order.
-    tris: Vec<[Vec3; 3]>,
+    pub(crate) tris: Vec<[Vec3; 3]>,
     /// Triangles left out (a vertex not finite, or an index out of range).
     pub skipped: usize,
     /// The plane every triangle lies in, if they all do (a floor, a wall, the ground): unit
@@ -273,11 +273,11 @@ pub struct Scene {
     /// Shared: scenes with other instances (another ground plane, other objects hidden)
     /// reuse a mesh's hierarchy.
     pub meshes: Vec<Arc<Mesh>>,
-    instances: Vec<Instance>,
+    pub(crate) instances: Vec<Instance>,
     /// Each instance's world box (widened): tested before a ray is carried into the
     /// instance's space, since a leaf of the instances' tree holds several.
-    boxes: Vec<Node>,
-    tlas: Bvh,
+    pub(crate) boxes: Vec<Node>,
+    pub(crate) tlas: Bvh,
 }
 
 /// The world box of `mesh`'s box placed by the inverse of `to_object`.
@@ -359,7 +359,7 @@ impl Scene {
     /// The ray in instance `i`'s own space; `None` if it cannot meet the instance's mesh
     /// (it leaves the plane a flat mesh lies in).
     #[inline]
-    fn local(&self, i: &Instance, ray: &Ray) -> Option<(Sheared, Slabs)> {
+    pub(crate) fn local(&self, i: &Instance, ray: &Ray) -> Option<(Sheared, Slabs)> {
         let (o, d) = if i.identity {
             (ray.origin, ray.dir)
         } else {

@@ -55,7 +55,7 @@ impl Sheared {
 
     /// The hit of triangle `(a, b, c)` within `(tmin, tmax)` (in units of the ray's
     /// direction): `t` and the barycentric weights of `a`, `b`, `c`. Both sides are hit.
-    #[inline]
+    #[inline(always)]
     #[must_use]
     pub fn hit(&self, a: Vec3, b: Vec3, c: Vec3, tmin: f32, tmax: f32) -> Option<(f32, [f32; 3])> {
         self.hit_sided(a, b, c, tmin, tmax).map(|(t, w, _)| (t, w))

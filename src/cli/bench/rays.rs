@@ -14,7 +14,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use realist::render::{Ground, PreparedScene, Settings, View};
-use realist::trace::{Mesh, Ray};
+use realist::trace::{Mesh, Ray, PACKET};
 
 use super::{median, parse_size, peer_scene};
 
@@ -83,6 +83,8 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
         let light = peer_scene::LIGHT.normalize();
         let mut primary = Vec::new();
         let mut shadow = Vec::new();
+        let mut packets = Vec::new();
+        let mut agree = true;
         let mut hits = 0;
         let mut shadowed = 0;
         let mut points: Vec<Option<Vec3>> = vec![None; w as usize * h as usize];
@@ -109,8 +111,30 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
                 })
                 .count();
             shadow.push(t.elapsed().as_secs_f64() * 1e3);
+            // The same rays in packets of eight neighbours along a row, as `whitted`
+            // traces its shadows; they must find the same shadowed count.
+            let t = Instant::now();
+            let blocked_packets: u32 = points
+                .par_chunks(w as usize)
+                .map(|row| {
+                    let mut count = 0;
+                    let mut batch = Vec::with_capacity(PACKET);
+                    let mut hits = row.iter().flatten().peekable();
+                    while hits.peek().is_some() {
+                        batch.clear();
+                        batch.extend(hits.by_ref().take(PACKET).map(|&p| {
+                            let from = p + (cam.eye - p) * 1e-4;
+                            Ray::new(from, light, 0.0, f32::INFINITY)
+                        }));
+                        count += rays.occluded_packet(&batch).count_ones();
+                    }
+                    count
+                })
+                .sum();
+            packets.push(t.elapsed().as_secs_f64() * 1e3);
             hits = points.iter().flatten().count();
             shadowed = blocked;
+            agree &= blocked_packets as usize == blocked;
         }
         let tris = rays.triangles();
         (
@@ -118,13 +142,19 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
             scene_ms,
             median(&mut primary),
             median(&mut shadow),
+            median(&mut packets),
+            agree,
             hits,
             shadowed,
             tris,
             triangles.len(),
         )
     });
-    let (build, scene_ms, primary, shadow, hits, shadowed, tris, mesh_tris) = out;
+    let (build, scene_ms, primary, shadow, packet, agree, hits, shadowed, tris, mesh_tris) = out;
+    anyhow::ensure!(
+        agree,
+        "shadow rays in packets found a different number of shadowed points than one by one"
+    );
     let round = |v: f64| (v * 100.0).round() / 100.0;
     let json = serde_json::json!({
         "model": name,
@@ -141,6 +171,8 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
         "shadowed": shadowed,
         "shadow_ms": round(shadow),
         "shadow_mrays_s": round(hits as f64 / shadow / 1e3),
+        "shadow_packet_ms": round(packet),
+        "shadow_packet_mrays_s": round(hits as f64 / packet / 1e3),
         "primary_plus_shadow_ms": round(primary + shadow),
         "issue_38_one_core_ms": {"obvhs": 361, "embree_4_4": 254, "bvh_crate": 1193},
     });

@@ -527,31 +527,15 @@ impl<L: Level> Shade for F8<L> {
     }
     #[inline(always)]
     fn brdf_lut(nv: Self, roughness: Self) -> (Self, Self, Self) {
-        let lut = brdf_lut();
-        let (nv, r) = (nv.to_array(), roughness.to_array());
-        let (mut a, mut b, mut e) = ([0.0; 8], [0.0; 8], [0.0; 8]);
-        for i in 0..crate::simd::LANES {
-            (a[i], b[i], e[i]) = lut.lookup_ess(nv[i], r[i]);
-        }
-        (F8::from_array(a), F8::from_array(b), F8::from_array(e))
+        let [a, b, e] = brdf_lut().lookup_ess_lanes(nv, roughness);
+        (a, b, e)
     }
     #[inline(always)]
     fn env_sheen(env: &EnvView, n: V3<L>, roughness: Self) -> V3<L> {
         let (sin, cos) = env.rotation_sin_cos();
         let (u, v) = env_uv(n, F8::splat(sin), F8::splat(cos));
-        let (u, v, r) = (u.to_array(), v.to_array(), roughness.to_array());
-        let mut s = [[0.0; 8]; 3];
-        for i in 0..crate::simd::LANES {
-            let c = env.env.sheen_uv(u[i], v[i], r[i]) * env.intensity;
-            for k in 0..3 {
-                s[k][i] = c[k];
-            }
-        }
-        V3::new(
-            F8::from_array(s[0]),
-            F8::from_array(s[1]),
-            F8::from_array(s[2]),
-        )
+        let [r, g, b] = env.env.sheen_lanes(u, v, roughness);
+        V3::new(r, g, b) * F8::splat(env.intensity)
     }
     #[inline(always)]
     fn film(ior: Self, cos: Self, thickness: Self, f0: V3<L>) -> V3<L> {
@@ -579,32 +563,16 @@ impl<L: Level> Shade for F8<L> {
     }
     #[inline(always)]
     fn env(env: &EnvView, n: V3<L>, r: V3<L>, roughness: Self) -> (V3<L>, V3<L>) {
-        // The rotation and the image coordinates on all lanes at once (`F8::atan2` and
-        // `F8::acos`, within 2e-5 rad: a thousandth of a texel of the largest level); the
-        // texel reads per lane.
+        // The rotation and the image coordinates (`F8::atan2` and `F8::acos`, within 2e-5
+        // rad: a thousandth of a texel of the largest level) and the reads (`lanes.rs` in
+        // the environment's module) on all lanes at once.
         let (sin, cos) = env.rotation_sin_cos();
         let (sin, cos) = (F8::splat(sin), F8::splat(cos));
         let ((ur, vr), (un, vn)) = (env_uv(r, sin, cos), env_uv(n, sin, cos));
-        let (ur, vr, un, vn) = (ur.to_array(), vr.to_array(), un.to_array(), vn.to_array());
-        let rough = roughness.to_array();
-        let k = env.intensity;
-        let (mut s, mut e) = ([[0.0; 8]; 3], [[0.0; 8]; 3]);
-        for i in 0..crate::simd::LANES {
-            let si = env.env.specular_uv(ur[i], vr[i], rough[i]) * k;
-            let ei = env.env.irradiance_uv(un[i], vn[i]) * k;
-            for c in 0..3 {
-                s[c][i] = si[c];
-                e[c][i] = ei[c];
-            }
-        }
-        let v3 = |a: [[f32; 8]; 3]| {
-            V3::new(
-                F8::from_array(a[0]),
-                F8::from_array(a[1]),
-                F8::from_array(a[2]),
-            )
-        };
-        (v3(s), v3(e))
+        let [sr, sg, sb] = env.env.specular_lanes(ur, vr, roughness);
+        let [er, eg, eb] = env.env.irradiance_lanes(un, vn);
+        let k = F8::splat(env.intensity);
+        (V3::new(sr, sg, sb) * k, V3::new(er, eg, eb) * k)
     }
 }
 

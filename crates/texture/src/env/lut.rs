@@ -153,6 +153,18 @@ impl BrdfLut {
         let v = top.lerp(bottom, ty);
         (v.x, v.y, v.z)
     }
+
+    /// [`BrdfLut::lookup_ess`] for eight points at once (the same values; NaN reads entry
+    /// 0).
+    #[must_use]
+    #[inline(always)]
+    pub fn lookup_ess_lanes<L: realist_simd::Level>(
+        &self,
+        nv: realist_simd::F8<L>,
+        r: realist_simd::F8<L>,
+    ) -> [realist_simd::F8<L>; 3] {
+        super::lanes::table(self.size, &self.ab, &self.ec, nv, r)
+    }
 }
 
 /// [`BrdfLut::compute`]`(`[`LUT_SIZE`]`, `[`LUT_SAMPLES`]`)`, stored with the source

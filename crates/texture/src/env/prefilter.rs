@@ -11,6 +11,7 @@
 use std::path::Path;
 
 use glam::{DVec3, Vec3};
+use realist_simd::{Level, F8, LANES};
 
 use super::cache::{content_key, Cached, EnvCache};
 use super::equirect::{dir_to_uv, dir_to_uv_f64, EnvImage, Plane};
@@ -211,6 +212,45 @@ impl Prefiltered {
                     * std::f32::consts::FRAC_1_PI
             }
         }
+    }
+
+    /// [`Self::specular_uv`] at eight points at once (the same values).
+    #[must_use]
+    #[inline(always)]
+    pub fn specular_lanes<L: Level>(&self, u: F8<L>, v: F8<L>, r: F8<L>) -> [F8<L>; 3] {
+        super::lanes::chain(&self.levels, u, v, r)
+    }
+
+    /// [`Self::irradiance_uv`] at eight points at once (the same values).
+    #[must_use]
+    #[inline(always)]
+    pub fn irradiance_lanes<L: Level>(&self, u: F8<L>, v: F8<L>) -> [F8<L>; 3] {
+        match self.levels.last() {
+            Some(level) => super::lanes::bilinear([level; LANES], u, v),
+            None => {
+                let (u, v) = (u.to_array(), v.to_array());
+                let mut c = [[0.0; LANES]; 3];
+                for i in 0..LANES {
+                    let e = self.irradiance_uv(u[i], v[i]);
+                    (c[0][i], c[1][i], c[2][i]) = (e.x, e.y, e.z);
+                }
+                [
+                    F8::from_array(c[0]),
+                    F8::from_array(c[1]),
+                    F8::from_array(c[2]),
+                ]
+            }
+        }
+    }
+
+    /// [`Self::sheen_uv`] at eight points at once (the same values).
+    #[must_use]
+    #[inline(always)]
+    pub fn sheen_lanes<L: Level>(&self, u: F8<L>, v: F8<L>, r: F8<L>) -> [F8<L>; 3] {
+        if self.sheen.is_empty() {
+            return self.irradiance_lanes(u, v);
+        }
+        super::lanes::chain(&self.sheen, u, v, r)
     }
 
     /// Irradiance from the nine SH coefficients (Ramamoorthi & Hanrahan 2001): smooth and

@@ -12,6 +12,7 @@ use super::cache::file_path;
 use super::*;
 
 mod files;
+mod lanes;
 
 /// A directory under the system temp dir, removed on drop.
 struct TempDir(PathBuf);
