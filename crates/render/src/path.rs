@@ -16,8 +16,9 @@
 //!   [`Settings::ray_depth`] (surfaces met after the first).
 //!
 //! Emissive surfaces are lights too: a point drawn on them in proportion to their power,
-//! weighed against the BRDF's samples that meet them (an emissive texture is not sampled:
-//! such a surface is found by the BRDF's samples alone).
+//! weighed against the BRDF's samples that meet them. Under an emissive texture a
+//! triangle's power is estimated at its centroid and the point drawn is shaded for its own
+//! emission.
 //! Every pixel's random numbers come from its position and sample number alone, so images
 //! do not depend on the thread count.
 
@@ -27,6 +28,7 @@ use rayon::prelude::*;
 use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use super::whitted::Tracer;
+use crate::texture::env::brdf_lut;
 use crate::texture::microfacet::{alpha as alpha_of, ggx};
 use realist_trace::Ray;
 
@@ -96,6 +98,34 @@ fn g1(nv: f32, a: f32) -> f32 {
     2.0 * nv / (nv + (a2 + (1.0 - a2) * nv * nv).sqrt())
 }
 
+/// A microfacet normal of GGX (roughness `alpha`) about unit normal `n`, drawn among those
+/// visible from unit direction `v` in proportion to their projected area (Heitz 2018,
+/// "Sampling the GGX Distribution of Visible Normals"); `None` if `v` is below the surface.
+fn vndf(n: Vec3, v: Vec3, alpha: f32, rng: &mut Rng) -> Option<Vec3> {
+    let (t, b) = frame(n);
+    let v = Vec3::new(v.dot(t), v.dot(b), v.dot(n));
+    if v.z <= 0.0 {
+        return None;
+    }
+    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
+    let len2 = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if len2 > 0.0 {
+        Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
+    } else {
+        Vec3::X
+    };
+    let t2 = vh.cross(t1);
+    let (u1, u2) = (rng.f(), rng.f());
+    let r = u1.sqrt();
+    let phi = std::f32::consts::TAU * u2;
+    let p1 = r * phi.cos();
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+    let h = Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize();
+    Some(t * h.x + b * h.y + n * h.z)
+}
+
 /// The BRDF's sampling lobes at a point.
 struct Lobes {
     n: Vec3,
@@ -108,32 +138,11 @@ struct Lobes {
 impl Lobes {
     /// A direction and its density under the mixture.
     fn sample(&self, rng: &mut Rng) -> Option<(Vec3, f32)> {
-        let (t, b) = frame(self.n);
         let l = if rng.f() < self.p_spec {
-            // Heitz 2018: the visible normals of GGX, in the frame where n = +z.
-            let v = Vec3::new(self.v.dot(t), self.v.dot(b), self.v.dot(self.n));
-            if v.z <= 0.0 {
-                return None;
-            }
-            let vh = Vec3::new(self.alpha * v.x, self.alpha * v.y, v.z).normalize();
-            let len2 = vh.x * vh.x + vh.y * vh.y;
-            let t1 = if len2 > 0.0 {
-                Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
-            } else {
-                Vec3::X
-            };
-            let t2 = vh.cross(t1);
-            let (u1, u2) = (rng.f(), rng.f());
-            let r = u1.sqrt();
-            let phi = std::f32::consts::TAU * u2;
-            let p1 = r * phi.cos();
-            let s = 0.5 * (1.0 + vh.z);
-            let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
-            let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-            let h = Vec3::new(self.alpha * nh.x, self.alpha * nh.y, nh.z.max(0.0)).normalize();
-            let hw = t * h.x + b * h.y + self.n * h.z;
-            2.0 * self.v.dot(hw) * hw - self.v
+            let h = vndf(self.n, self.v, self.alpha, rng)?;
+            2.0 * self.v.dot(h) * h - self.v
         } else {
+            let (t, b) = frame(self.n);
             let (u1, u2) = (rng.f(), rng.f());
             let r = u1.sqrt();
             let phi = std::f32::consts::TAU * u2;
@@ -166,16 +175,43 @@ impl Lobes {
 /// The scene's emissive triangles as lights: drawn in proportion to their power (area
 /// times the luminance of their emission), a point uniformly on the chosen one.
 pub(crate) struct Emitters {
-    tris: Vec<([Vec3; 3], Vec3, f32)>,
+    tris: Vec<Emitter>,
     /// Cumulative power share.
     cdf: Vec<f32>,
     /// Each triangle's chance, by (instance key, triangle).
     index: std::collections::HashMap<(u64, u32), usize>,
 }
 
+/// One emissive triangle: world corners, emission (for an emissive texture, its estimate
+/// at the centroid: the point drawn is shaded for its own), area, and for a textured one
+/// its instance key and triangle.
+struct Emitter {
+    corners: [Vec3; 3],
+    emitted: Vec3,
+    area: f32,
+    textured: Option<(u64, u32)>,
+}
+
+/// A point drawn on an emitter: the unit direction to it, its distance, its emission (for
+/// a textured emitter, shaded at the point by the caller from `textured`) and the density
+/// per unit solid angle.
+struct Drawn {
+    dir: Vec3,
+    dist: f32,
+    emitted: Vec3,
+    pdf: f32,
+    textured: Option<realist_trace::Hit>,
+}
+
+/// Share of the emission factor's luminance a textured triangle is drawn with at least,
+/// whatever its centroid shows: every point that may emit keeps a chance to be drawn.
+const TEXTURED_FLOOR: f32 = 1.0 / 16.0;
+
 impl Emitters {
-    /// Every shown triangle whose material emits (an emissive texture is not sampled:
-    /// such a surface lights the scene only where paths meet it).
+    /// Every shown triangle whose material emits. A triangle under an emissive texture is
+    /// drawn in proportion to its area times the emission at its centroid (at least
+    /// [`TEXTURED_FLOOR`] of the factor's), and the point drawn is shaded for its own
+    /// emission, so the estimate stays unbiased.
     fn new(t: &Tracer) -> Self {
         let mut tris = Vec::new();
         let mut keys = Vec::new();
@@ -184,16 +220,14 @@ impl Emitters {
                 continue;
             };
             let e = r.params.emissive;
-            if r.params.unlit
-                || r.params.emissive_map.is_some()
-                || luminance(e) <= 0.0
-                || !e.is_finite()
-            {
+            if r.params.unlit || luminance(e) <= 0.0 || !e.is_finite() {
                 continue;
             }
+            let textured = r.params.emissive_map.is_some();
             let mesh = &t.scene.meshes[inst.mesh].tri;
             for copy in 0..inst.copy_count() {
                 let world = inst.placement(copy);
+                let key = (k as u64) << 32 | copy as u64;
                 for (i, tr) in mesh.triangles.iter().enumerate() {
                     let c = tr.map(|v| {
                         mesh.positions
@@ -201,17 +235,29 @@ impl Emitters {
                             .map_or(Vec3::NAN, |p| world.transform_point3(*p))
                     });
                     let area = 0.5 * (c[1] - c[0]).cross(c[2] - c[0]).length();
-                    if area > 0.0 && area.is_finite() {
-                        tris.push((c, e, area));
-                        keys.push(((k as u64) << 32 | copy as u64, i as u32));
+                    if !(area > 0.0 && area.is_finite()) {
+                        continue;
                     }
+                    let emitted = if textured {
+                        let seen = centroid_emission(t, key, i as u32, c).unwrap_or(Vec3::ZERO);
+                        seen.max(e * TEXTURED_FLOOR)
+                    } else {
+                        e
+                    };
+                    tris.push(Emitter {
+                        corners: c,
+                        emitted,
+                        area,
+                        textured: textured.then_some((key, i as u32)),
+                    });
+                    keys.push((key, i as u32));
                 }
             }
         }
         let mut cdf = Vec::with_capacity(tris.len());
         let mut sum = 0.0f64;
-        for (_, e, a) in &tris {
-            sum += f64::from(luminance(*e) * a);
+        for e in &tris {
+            sum += f64::from(luminance(e.emitted) * e.area);
             cdf.push(sum as f32);
         }
         if sum > 0.0 {
@@ -227,9 +273,8 @@ impl Emitters {
         self.cdf[i] - if i > 0 { self.cdf[i - 1] } else { 0.0 }
     }
 
-    /// A point on an emitter seen from `p`: unit direction, distance, emitted radiance and
-    /// density per unit solid angle (both sides emit).
-    fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<(Vec3, f32, Vec3, f32)> {
+    /// A point on an emitter seen from `p` (both sides emit).
+    fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<Drawn> {
         if self.tris.is_empty() {
             return None;
         }
@@ -238,9 +283,11 @@ impl Emitters {
             .cdf
             .partition_point(|&c| c <= u)
             .min(self.tris.len() - 1);
-        let ([a, b, c], e, area) = self.tris[i];
+        let em = &self.tris[i];
+        let [a, b, c] = em.corners;
         let (r1, r2) = (rng.f().sqrt(), rng.f());
-        let q = a * (1.0 - r1) + b * (r1 * (1.0 - r2)) + c * (r1 * r2);
+        let bary = [1.0 - r1, r1 * (1.0 - r2), r1 * r2];
+        let q = a * bary[0] + b * bary[1] + c * bary[2];
         let d = q - p;
         let dist2 = d.length_squared();
         let dist = dist2.sqrt();
@@ -250,16 +297,47 @@ impl Emitters {
         if !(cos > 0.0 && dist > 0.0) {
             return None;
         }
-        Some((w, dist, e, self.chance(i) / area * dist2 / cos))
+        let textured = em.textured.map(|(key, triangle)| realist_trace::Hit {
+            t: dist,
+            instance: 0,
+            key,
+            triangle,
+            bary,
+            front: n.dot(w) < 0.0,
+        });
+        Some(Drawn {
+            dir: w,
+            dist,
+            emitted: em.emitted,
+            pdf: self.chance(i) / em.area * dist2 / cos,
+            textured,
+        })
     }
 
     /// The density [`Emitters::sample`] gives the direction towards triangle `tri` of
     /// instance `key`, met at distance `t` at cosine `cos`.
     fn pdf(&self, key: u64, tri: u32, t: f32, cos: f32) -> Option<f32> {
         let &i = self.index.get(&(key, tri))?;
-        let area = self.tris[i].2;
+        let area = self.tris[i].area;
         (cos > 0.0).then(|| self.chance(i) / area * t * t / cos)
     }
+}
+
+/// The emission of triangle `triangle` of instance `key` (world corners `c`) at its
+/// centroid, seen from a unit in front of it.
+fn centroid_emission(t: &Tracer, key: u64, triangle: u32, c: [Vec3; 3]) -> Option<Vec3> {
+    let centre = (c[0] + c[1] + c[2]) / 3.0;
+    let n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
+    let hit = realist_trace::Hit {
+        t: 1.0,
+        instance: 0,
+        key,
+        triangle,
+        bary: [1.0 / 3.0; 3],
+        front: true,
+    };
+    let (pt, _) = t.point(&hit, centre + n, -n)?;
+    Some(pt.emitted).filter(|e| e.is_finite())
 }
 
 impl Tracer<'_> {
@@ -351,30 +429,83 @@ impl Tracer<'_> {
             let thin = p.transmission.is_some_and(|t| t.thickness <= 0.0);
             let p_trans = transmission.clamp(0.0, 0.95);
             let ior = params.map_or(1.5, |q| q.ior.max(1.0));
-            let cos = v.dot(n).clamp(0.0, 1.0);
+            // A rough interface refracts and reflects about a microfacet normal drawn
+            // among those the ray sees (Walter et al. 2007 with Heitz's visible normals),
+            // weighed by the masking of the way out, Smith's G1; a smooth one (roughness 0)
+            // about the shading normal itself.
+            let alpha = alpha_of::<f32>(p.roughness);
+            let smooth = alpha <= crate::texture::microfacet::MIN_ALPHA;
+            let facet = |rng: &mut Rng| {
+                if smooth {
+                    Some(n)
+                } else {
+                    vndf(n, v, alpha, rng)
+                }
+            };
+            let masked = |l: Vec3| {
+                if smooth {
+                    1.0
+                } else {
+                    g1(n.dot(l).abs(), alpha)
+                }
+            };
             if transmission > 0.0 && !thin && !pt.front {
                 // Inside a volume: its boundary is the bare interface, by Fresnel's
                 // equations (reflection, total beyond the critical angle, or refraction
                 // out; the base colour tinted the light once, on the way in).
-                let (fr, refracted) = fresnel(d, n, cos, ior, false);
+                let Some(m) = facet(rng) else { break };
+                let cos = v.dot(m).clamp(0.0, 1.0);
+                let (fr, refracted) = fresnel(d, m, cos, ior, false);
                 match refracted {
                     Some(t) if rng.f() >= fr => {
+                        if t.dot(n) >= 0.0 {
+                            break;
+                        }
+                        beta *= masked(t);
                         d = t;
                         o = below;
                         medium = None;
                     }
                     _ => {
-                        d = (d - 2.0 * d.dot(n) * n).normalize_or_zero();
+                        let r = (d - 2.0 * d.dot(m) * m).normalize_or_zero();
+                        if r.dot(n) <= 0.0 {
+                            break;
+                        }
+                        beta *= masked(r);
+                        d = r;
                         o = above;
                     }
                 }
                 chose = None;
             } else if p_trans > 0.0 && rng.f() < p_trans {
                 // Into the surface: the transmitted share (1 - F) T base, refracted (a
-                // thin wall passes it on unbent). Its reflection is the BRDF's.
-                let (fr, refracted) = fresnel(d, n, cos, 1.0 / ior, thin);
+                // thin wall passes it on: unbent when smooth, and when rough the reflection
+                // about the facet mirrored through the surface). Its reflection is the
+                // BRDF's.
+                let Some(m) = facet(rng) else { break };
+                let cos = v.dot(m).clamp(0.0, 1.0);
+                let (fr, refracted) = fresnel(d, m, cos, 1.0 / ior, thin);
                 let Some(t) = refracted else { break };
-                beta *= base * ((1.0 - fr) * transmission / p_trans);
+                // The mirrored lobe loses what a white rough mirror loses (reflections
+                // into the surface, masking): given back by its albedo `A + B`, as the
+                // multiple-scattering compensation of the reflection does (unless
+                // single-scattering is asked for).
+                let (t, regain) = if thin && !smooth {
+                    let r = 2.0 * v.dot(m) * m - v;
+                    let regain = if self.settings.single_scatter {
+                        1.0
+                    } else {
+                        let (a, b) = brdf_lut().lookup(v.dot(n).clamp(0.0, 1.0), p.roughness);
+                        1.0 / (a + b).max(0.05)
+                    };
+                    ((r - 2.0 * r.dot(n) * n).normalize_or_zero(), regain)
+                } else {
+                    (t, 1.0)
+                };
+                if t.dot(n) >= 0.0 {
+                    break;
+                }
+                beta *= base * ((1.0 - fr) * transmission / p_trans * masked(t) * regain);
                 d = t;
                 o = below;
                 medium = match params {
@@ -413,10 +544,19 @@ impl Tracer<'_> {
                     );
                     t.diffuse + t.specular
                 };
-                if let Some((wi, dist, le, pdf)) = emitters.sample(pt.position, rng) {
+                if let Some(e) = emitters.sample(pt.position, rng) {
+                    let (wi, pdf) = (e.dir, e.pdf);
                     let f = brdf(wi);
+                    // A textured emitter's point shaded for its own emission.
+                    let le = match &e.textured {
+                        Some(h) => self
+                            .point(h, above, wi)
+                            .map_or(Vec3::ZERO, |(q, _)| q.emitted),
+                        None => e.emitted,
+                    };
                     if f != Vec3::ZERO
-                        && !rays.occluded(&Ray::new(above, wi, 0.0, dist * (1.0 - 1e-4)))
+                        && le != Vec3::ZERO
+                        && !rays.occluded(&Ray::new(above, wi, 0.0, e.dist * (1.0 - 1e-4)))
                     {
                         let w = mis(pdf, lobes.pdf(wi));
                         l += beta * f * le * (w / (pdf * keep));
