@@ -1089,3 +1089,132 @@ fn the_probe_lists_the_mirrors_reflection_and_what_it_meets() {
     let p = realist::render::probe(&prepared, &blinn, &view, w / 2, h / 2).expect("a hit");
     assert!(p.rays.is_empty());
 }
+
+/// The probe lists a pixel's first path in the path tracer: on a floor lit by the sun, a
+/// lamp overhead and a sky, the camera ray meets the floor; from there a shadow ray to the
+/// sun (open), a point drawn on the lamp (reached), a direction drawn from the sky, then
+/// the bounce drawn from the BRDF, one level deeper. A floor pixel in the shadow a box
+/// casts lists the sun's ray blocked. The same pixel lists the same path twice.
+#[test]
+fn the_probe_lists_the_first_path() {
+    use realist::render::{RayHit, RayKind};
+    let grey = pbr(
+        Vec4::new(0.7, 0.7, 0.7, 1.0),
+        0.0,
+        0.9,
+        PbrMaterial::default(),
+    );
+    let lamp = Material {
+        emissive: Vec3::splat(5.0),
+        ..pbr(
+            Vec4::new(0.0, 0.0, 0.0, 1.0),
+            0.0,
+            1.0,
+            PbrMaterial::default(),
+        )
+    };
+    let floor = common::triangles(
+        vec![
+            Vec3::new(-4.0, 0.0, -4.0),
+            Vec3::new(-4.0, 0.0, 4.0),
+            Vec3::new(4.0, 0.0, 4.0),
+            Vec3::new(4.0, 0.0, -4.0),
+        ],
+        vec![0, 1, 2, 0, 2, 3],
+    );
+    let panel = common::triangles(
+        vec![
+            Vec3::new(-0.3, 3.0, -0.3),
+            Vec3::new(0.3, 3.0, -0.3),
+            Vec3::new(0.3, 3.0, 0.3),
+            Vec3::new(-0.3, 3.0, 0.3),
+        ],
+        vec![0, 1, 2, 0, 2, 3],
+    );
+    let s = scene(vec![
+        (floor, grey.clone(), Mat4::IDENTITY),
+        (panel, lamp, Mat4::IDENTITY),
+        (
+            Mesh::cube(1.0).expect("cube"),
+            grey,
+            Mat4::from_translation(Vec3::new(-2.0, 0.5, 0.0)),
+        ),
+    ]);
+    // The sun at 45° towards +x: the unit box's shadow reaches from x = -1.5 to -0.5.
+    let sun = Light {
+        kind: LightKind::Directional,
+        direction: Vec3::new(1.0, -1.0, 0.0).normalize(),
+        ..Light::default()
+    };
+    let sky = EnvView::new(Arc::new(Prefiltered::build(EnvImage::uniform(
+        Vec3::splat(0.3),
+    ))));
+    // Straight down, the image's x along the world's and its rows along +z.
+    let cam = camera(Vec3::new(0.0, 6.0, 0.0), Vec3::ZERO, -Vec3::Z, 60.0);
+    let (w, h) = (64u32, 64u32);
+    let mut sh = shot(w, h, cam.clone(), Some(sky), vec![sun]);
+    sh.settings.shading = Some(Shading::Path);
+    sh.settings.double_sided = true;
+    let prepared = PreparedScene::new(s);
+    let view = sh.view(prepared.scene());
+    let probe = |x: u32, y: u32| {
+        realist::render::probe(&prepared, &sh.settings, &view, x, y)
+            .expect("a hit")
+            .rays
+    };
+    // The pixel column over floor point x (the floor is 6 below the eye).
+    let x_at = |wx: f32| {
+        let half = (cam.yfov * 0.5).tan() * 6.0;
+        ((wx / half * 0.5 + 0.5) * w as f32) as u32
+    };
+    let rays = probe(x_at(1.5), h / 2);
+    for r in &rays {
+        eprintln!("{r:?}");
+    }
+    assert_eq!(rays[0].kind, RayKind::Primary);
+    assert!(
+        matches!(rays[0].hit, RayHit::Surface { instance: 0, .. }),
+        "{:?}",
+        rays[0]
+    );
+    let at_first = |kind: RayKind| rays.iter().filter(move |r| r.kind == kind && r.depth == 0);
+    assert!(
+        at_first(RayKind::Shadow).any(|r| r.hit == RayHit::Light { index: 0, lit: 1.0 }),
+        "the sun's ray is open"
+    );
+    assert!(
+        at_first(RayKind::LightSample).any(|r| matches!(
+            r.hit,
+            RayHit::Emitter {
+                instance: 1,
+                lit: true,
+                ..
+            }
+        )),
+        "a point on the lamp is reached"
+    );
+    assert!(
+        at_first(RayKind::LightSample).any(|r| matches!(r.hit, RayHit::Sky { .. })),
+        "a direction drawn from the sky"
+    );
+    let bounce = rays
+        .iter()
+        .find(|r| r.kind == RayKind::Bounce)
+        .expect("a bounce");
+    assert_eq!(bounce.depth, 1);
+    assert!(bounce.share.max_element() > 0.0 && bounce.weight == bounce.share);
+    assert_eq!(rays, probe(x_at(1.5), h / 2), "the same path twice");
+    // In the box's shadow the sun's ray is blocked.
+    let shaded = probe(x_at(-1.0), h / 2);
+    assert!(
+        matches!(shaded[0].hit, RayHit::Surface { instance: 0, .. }),
+        "{:?}",
+        shaded[0]
+    );
+    assert!(
+        shaded
+            .iter()
+            .any(|r| r.depth == 0 && r.hit == RayHit::Light { index: 0, lit: 0.0 }),
+        "{shaded:?}"
+    );
+}

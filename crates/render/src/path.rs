@@ -26,6 +26,7 @@ use glam::{Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::prepare::PreparedScene;
+use super::raylog::{RayHit, RayKind, RayStep};
 use super::settings::{Settings, View};
 use super::whitted::Tracer;
 use crate::texture::env::brdf_lut;
@@ -189,7 +190,9 @@ struct Emitter {
     corners: [Vec3; 3],
     emitted: Vec3,
     area: f32,
-    textured: Option<(u64, u32)>,
+    /// Instance key and triangle.
+    key: (u64, u32),
+    textured: bool,
 }
 
 /// A point drawn on an emitter: the unit direction to it, its distance, its emission (for
@@ -200,6 +203,8 @@ struct Drawn {
     dist: f32,
     emitted: Vec3,
     pdf: f32,
+    /// The emitter's instance key and triangle.
+    key: (u64, u32),
     textured: Option<realist_trace::Hit>,
 }
 
@@ -248,7 +253,8 @@ impl Emitters {
                         corners: c,
                         emitted,
                         area,
-                        textured: textured.then_some((key, i as u32)),
+                        key: (key, i as u32),
+                        textured,
                     });
                     keys.push((key, i as u32));
                 }
@@ -297,7 +303,8 @@ impl Emitters {
         if !(cos > 0.0 && dist > 0.0) {
             return None;
         }
-        let textured = em.textured.map(|(key, triangle)| realist_trace::Hit {
+        let (key, triangle) = em.key;
+        let textured = em.textured.then_some(realist_trace::Hit {
             t: dist,
             instance: 0,
             key,
@@ -310,6 +317,7 @@ impl Emitters {
             dist,
             emitted: em.emitted,
             pdf: self.chance(i) / em.area * dist2 / cos,
+            key: em.key,
             textured,
         })
     }
@@ -358,6 +366,8 @@ impl Tracer<'_> {
         // which the environment's samples cannot take).
         let mut chose: Option<f32> = None;
         let mut medium: Option<(Vec3, f32)> = None;
+        // Why the current ray was cast, and its share of its parent's (the probe's log).
+        let mut why = (RayKind::Primary, Vec3::ONE);
         // Surfaces shaded: the first and `depth` more; the last one's sampled direction is
         // still followed to the light it meets (the environment, an emitter), which is its
         // share of the direct light by multiple importance sampling.
@@ -365,7 +375,9 @@ impl Tracer<'_> {
         for bounce in 0..=depth + 1 {
             // The camera's rays end at its far plane, as the rasterizer's view does.
             let tmax = if bounce == 0 { reach } else { f32::INFINITY };
-            let Some(h) = self.rays.closest(&Ray::new(o, d, 0.0, tmax)) else {
+            let hit = self.rays.closest(&Ray::new(o, d, 0.0, tmax));
+            self.note_ray(hit.as_ref(), bounce, why, beta);
+            let Some(h) = hit else {
                 // The camera sees the background (the environment if the settings show
                 // it); light comes from the environment and the ambient light only.
                 let sky = if bounce == 0 {
@@ -462,6 +474,7 @@ impl Tracer<'_> {
                             break;
                         }
                         beta *= masked(t);
+                        why = (RayKind::Refraction, Vec3::splat(masked(t)));
                         d = t;
                         o = below;
                         medium = None;
@@ -472,6 +485,7 @@ impl Tracer<'_> {
                             break;
                         }
                         beta *= masked(r);
+                        why = (RayKind::Reflection, Vec3::splat(masked(r)));
                         d = r;
                         o = above;
                     }
@@ -505,7 +519,9 @@ impl Tracer<'_> {
                 if t.dot(n) >= 0.0 {
                     break;
                 }
-                beta *= base * ((1.0 - fr) * transmission / p_trans * masked(t) * regain);
+                let share = base * ((1.0 - fr) * transmission / p_trans * masked(t) * regain);
+                beta *= share;
+                why = (RayKind::Refraction, share);
                 d = t;
                 o = below;
                 medium = match params {
@@ -519,6 +535,7 @@ impl Tracer<'_> {
                 // environment.
                 let rays = &self.rays;
                 let lit = self.light(&pt, false);
+                self.note_shadows(&lit, bounce, beta);
                 for s in &lit.lights {
                     l += beta * (s.diffuse + s.specular) / keep;
                 }
@@ -554,23 +571,41 @@ impl Tracer<'_> {
                             .map_or(Vec3::ZERO, |(q, _)| q.emitted),
                         None => e.emitted,
                     };
-                    if f != Vec3::ZERO
-                        && le != Vec3::ZERO
-                        && !rays.occluded(&Ray::new(above, wi, 0.0, e.dist * (1.0 - 1e-4)))
-                    {
-                        let w = mis(pdf, lobes.pdf(wi));
-                        l += beta * f * le * (w / (pdf * keep));
+                    if f != Vec3::ZERO && le != Vec3::ZERO {
+                        let open = !rays.occluded(&Ray::new(above, wi, 0.0, e.dist * (1.0 - 1e-4)));
+                        self.note(|| RayStep {
+                            kind: RayKind::LightSample,
+                            depth: bounce,
+                            share: Vec3::ONE,
+                            weight: beta,
+                            hit: RayHit::Emitter {
+                                instance: super::rays::unkey(e.key.0).0,
+                                triangle: e.key.1 as usize,
+                                lit: open,
+                            },
+                        });
+                        if open {
+                            let w = mis(pdf, lobes.pdf(wi));
+                            l += beta * f * le * (w / (pdf * keep));
+                        }
                     }
                 }
                 if let Some(env) = &self.env {
                     let (wi, le, pdf) = env.sample(rng.f(), rng.f());
                     let f = brdf(wi);
-                    if pdf > 0.0
-                        && f != Vec3::ZERO
-                        && !rays.occluded(&Ray::new(above, wi, 0.0, f32::INFINITY))
-                    {
-                        let w = mis(pdf, lobes.pdf(wi));
-                        l += beta * f * (le + ambient) * (w / (pdf * keep));
+                    if pdf > 0.0 && f != Vec3::ZERO {
+                        let open = !rays.occluded(&Ray::new(above, wi, 0.0, f32::INFINITY));
+                        self.note(|| RayStep {
+                            kind: RayKind::LightSample,
+                            depth: bounce,
+                            share: Vec3::ONE,
+                            weight: beta,
+                            hit: RayHit::Sky { lit: open },
+                        });
+                        if open {
+                            let w = mis(pdf, lobes.pdf(wi));
+                            l += beta * f * (le + ambient) * (w / (pdf * keep));
+                        }
                     }
                 }
                 let Some((wi, pdf)) = lobes.sample(rng) else {
@@ -581,6 +616,7 @@ impl Tracer<'_> {
                     break;
                 }
                 beta *= f / (pdf * keep);
+                why = (RayKind::Bounce, f / (pdf * keep));
                 d = wi;
                 o = above;
                 chose = Some(pdf);
@@ -700,19 +736,11 @@ pub(crate) fn path_into(
                 };
                 for s in samples.clone() {
                     let mut rng = Rng::new(x as u32, y as u32, s, seed);
-                    let (jx, jy) = (rng.f(), rng.f());
-                    let (jx, jy) = if jitter { (jx, jy) } else { (0.5, 0.5) };
-                    let ndc = Vec2::new(
-                        (x as f32 + jx) / w as f32 * 2.0 - 1.0,
-                        1.0 - (y as f32 + jy) / h as f32 * 2.0,
-                    );
-                    let near = inv.project_point3(ndc.extend(1.0));
-                    let far = inv.project_point3(ndc.extend(0.0));
-                    let reach = (far - near).length();
-                    let d = (far - near) / reach;
-                    if !(reach > 0.0 && d.is_finite() && near.is_finite()) {
+                    let Some((near, d, reach)) =
+                        camera_ray(inv, (w, h), (x as u32, y as u32), &mut rng, jitter)
+                    else {
                         continue;
-                    }
+                    };
                     acc += tracer.path(near, d, reach, &mut rng, ambient, &emitters);
                 }
                 *px = match store {
@@ -722,6 +750,62 @@ pub(crate) fn path_into(
             }
         });
     !stopped.into_inner()
+}
+
+/// The camera ray of a path through pixel `(x, y)` (of `w` x `h`, clip -> world `inv`): a
+/// random point of the pixel (`jitter`) or its centre; the two numbers are drawn either
+/// way, so a pixel's stream does not depend on it. Origin on the near plane, unit
+/// direction and the distance to the far plane; `None` if degenerate.
+fn camera_ray(
+    inv: Mat4,
+    (w, h): (u32, u32),
+    (x, y): (u32, u32),
+    rng: &mut Rng,
+    jitter: bool,
+) -> Option<(Vec3, Vec3, f32)> {
+    let (jx, jy) = (rng.f(), rng.f());
+    let (jx, jy) = if jitter { (jx, jy) } else { (0.5, 0.5) };
+    let ndc = Vec2::new(
+        (x as f32 + jx) / w as f32 * 2.0 - 1.0,
+        1.0 - (y as f32 + jy) / h as f32 * 2.0,
+    );
+    let near = inv.project_point3(ndc.extend(1.0));
+    let far = inv.project_point3(ndc.extend(0.0));
+    let reach = (far - near).length();
+    let d = (far - near) / reach;
+    (reach > 0.0 && d.is_finite() && near.is_finite()).then_some((near, d, reach))
+}
+
+/// The first path of pixel (x, y) of `view` (its sample 0 of the renderer's stream, through
+/// the same point of the pixel), as the pixel probe lists it ([`super::raylog`]). Empty if
+/// the pixel's ray is degenerate.
+#[must_use]
+pub(crate) fn path_steps(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    x: u32,
+    y: u32,
+) -> Vec<RayStep> {
+    let (w, h) = (view.width.max(1), view.height.max(1));
+    let cam_to_world = view.camera.view().inverse();
+    let vp = view.camera.projection(view.aspect()) * view.camera.view();
+    let mut tracer = Tracer::new(scene, settings, cam_to_world);
+    tracer.log = Some(std::sync::Mutex::new(Vec::new()));
+    let emitters = Emitters::new(&tracer);
+    let ambient = ambient_light(scene, settings, cam_to_world);
+    let mut rng = Rng::new(x, y, 0, 0);
+    if let Some((near, d, reach)) = camera_ray(vp.inverse(), (w, h), (x, y), &mut rng, true) {
+        let _ = tracer.path(near, d, reach, &mut rng, ambient, &emitters);
+    }
+    tracer
+        .log
+        .take()
+        .map(|m| {
+            m.into_inner()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+        })
+        .unwrap_or_default()
 }
 
 /// The frame's ambient lights' radiance, summed (a uniform environment for the paths).

@@ -218,10 +218,12 @@ pub fn probe(
         lights,
         fog,
         color,
-        rays: if settings.rays() == crate::shade::mode::Rays::Whitted {
-            super::raylog::whitted_steps(scene, settings, view, x, y)
-        } else {
-            Vec::new()
+        rays: match settings.rays() {
+            crate::shade::mode::Rays::Whitted => {
+                super::raylog::whitted_steps(scene, settings, view, x, y)
+            }
+            crate::shade::mode::Rays::Path => super::path::path_steps(scene, settings, view, x, y),
+            _ => Vec::new(),
         },
     })
 }

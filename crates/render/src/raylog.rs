@@ -1,8 +1,10 @@
-//! The pixel probe's ray tree in Whitted's model (the textbook's §9.6.1): every ray the
-//! tracer casts for one pixel, in the order it casts them (a ray, the shadow rays from
-//! its hit, then the rays it spawns), each with what it met and its share of the pixel.
-//! The tracer itself records them ([`Tracer::note`]), so the tree is the one the renderer
-//! follows, to the same depth and contribution limits.
+//! The pixel probe's rays: in Whitted's model (the textbook's §9.6.1) every ray the tracer
+//! casts for one pixel, in the order it casts them (a ray, the shadow rays from its hit,
+//! then the rays it spawns); in the path tracer the pixel's first path (its sample 0, as
+//! the renderer traces it): at each bounce the ray, the next-event rays towards the lights,
+//! an emitter and the environment, and the direction drawn next. Each with what it met and
+//! its share of the pixel. The tracer itself records them ([`Tracer::note`]), so the rays
+//! are the ones the renderer follows, to the same limits.
 
 use glam::Vec3;
 
@@ -22,6 +24,11 @@ pub enum RayKind {
     Refraction,
     /// From a hit towards a light.
     Shadow,
+    /// The path tracer's next direction, drawn from the BRDF.
+    Bounce,
+    /// The path tracer's next-event estimation: towards a point drawn on an emitter or a
+    /// direction drawn from the environment.
+    LightSample,
 }
 
 /// What a ray met.
@@ -42,6 +49,15 @@ pub enum RayHit {
     Background,
     /// A shadow ray towards light `index` of the frame: 1 lit, 0 blocked.
     Light { index: usize, lit: f32 },
+    /// A ray towards a point drawn on triangle `triangle` of emissive instance `instance`:
+    /// reached or blocked.
+    Emitter {
+        instance: usize,
+        triangle: usize,
+        lit: bool,
+    },
+    /// A ray along a direction drawn from the environment: open or blocked.
+    Sky { lit: bool },
 }
 
 /// One ray of a pixel's tree.
@@ -102,7 +118,7 @@ pub(crate) fn whitted_steps(
 
 impl Tracer<'_> {
     /// Records a step if this tracer keeps a log.
-    fn note(&self, step: impl FnOnce() -> RayStep) {
+    pub(super) fn note(&self, step: impl FnOnce() -> RayStep) {
         if let Some(log) = &self.log {
             log.lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner)

@@ -204,16 +204,28 @@ fn show(ui: &mut egui::Ui, cx: &Cx<'_>) {
     }
 }
 
-/// The pixel's Whitted ray tree, one row per ray in the order the tracer casts them
-/// (indented by bounce): what it met and its share.
+/// The pixel's rays, one row per ray in the order the tracer casts them (indented by
+/// bounce): what it met and its share. In Whitted's model the whole ray tree of the
+/// pixel's centre; in the path tracer the pixel's first path.
 fn ray_steps(ui: &mut egui::Ui, p: &crate::render::Probe, scene: &crate::scene::Scene) {
     use crate::render::{RayHit, RayKind};
-    ui.label(RichText::new("Rays (Whitted, the textbook's §9.6.1)").strong())
-        .on_hover_text(
+    let (title, about) = if p.mode == crate::shade::Shading::Path {
+        (
+            "First path (the textbook's §9.6: the rendering equation by random paths)",
+            "the pixel's first path, as the renderer traced it (its sample 0): at each \
+             bounce the ray, the next-event rays towards each light, a point drawn on an \
+             emitter and a direction drawn from the environment, then the direction drawn \
+             from the BRDF (or refracted), to the depth limit and Russian roulette",
+        )
+    } else {
+        (
+            "Rays (Whitted, the textbook's §9.6.1)",
             "every ray traced for this pixel's centre: the primary ray, then from each hit \
              its shadow rays and the reflection and refraction it spawns, to the depth and \
              contribution limits",
-        );
+        )
+    };
+    ui.label(RichText::new(title).strong()).on_hover_text(about);
     egui::Grid::new("probe-rays")
         .num_columns(3)
         .striped(true)
@@ -236,6 +248,8 @@ fn ray_steps(ui: &mut egui::Ui, p: &crate::render::Probe, scene: &crate::scene::
                     RayKind::Reflection => "reflection",
                     RayKind::Refraction => "refraction",
                     RayKind::Shadow => "shadow",
+                    RayKind::Bounce => "bounce",
+                    RayKind::LightSample => "light sample",
                 };
                 ui.monospace(format!("{}{kind}", "  ".repeat(r.depth as usize)));
                 ui.label(match &r.hit {
@@ -256,6 +270,19 @@ fn ray_steps(ui: &mut egui::Ui, p: &crate::render::Probe, scene: &crate::scene::
                     RayHit::Background => "nothing: the background".into(),
                     RayHit::Light { index, lit } if *lit > 0.0 => format!("light {index}: lit"),
                     RayHit::Light { index, .. } => format!("light {index}: blocked"),
+                    RayHit::Emitter {
+                        instance,
+                        triangle,
+                        lit,
+                    } => {
+                        let name = scene.instances.get(*instance).map_or("", |i| &i.name);
+                        let state = if *lit { "reached" } else { "blocked" };
+                        format!(
+                            "emitter: instance {instance} '{name}', triangle {triangle}: {state}"
+                        )
+                    }
+                    RayHit::Sky { lit: true } => "environment sample: open".into(),
+                    RayHit::Sky { lit: false } => "environment sample: blocked".into(),
                 });
                 ui.monospace(v3(r.share))
                     .on_hover_text(format!("of the pixel: {}", v3(r.weight)));
