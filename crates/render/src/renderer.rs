@@ -363,9 +363,9 @@ impl Renderer {
     /// # Errors
     /// [`Interrupted`] if stopped; the sum is then lost (the next call starts from 0).
     ///
-    /// # Panics
-    /// If `samples` starts neither at 0 nor where the sum ends ([`Renderer::paths`]), or
-    /// the view's size changed since the sum began.
+    /// A range that starts neither at 0 nor where the sum ends ([`Renderer::paths`]), or a
+    /// view whose size changed since the sum began, starts a new sum: paths `0..end` are
+    /// traced.
     pub fn render_paths(
         &mut self,
         scene: &PreparedScene,
@@ -377,15 +377,11 @@ impl Renderer {
         let t0 = Instant::now();
         let (w, h) = (view.width.max(1), view.height.max(1));
         let pixels = w as usize * h as usize;
+        let continues = samples.start == self.paths && self.path.len() == pixels;
+        let samples = if continues { samples } else { 0..samples.end };
         if samples.start == 0 {
             self.path.clear();
             self.path.resize(pixels, Vec3::ZERO);
-        } else {
-            assert!(
-                samples.start == self.paths && self.path.len() == pixels,
-                "paths {samples:?} do not continue a sum of {} at this size",
-                self.paths
-            );
         }
         self.paths = 0;
         self.complete = false;
@@ -663,6 +659,32 @@ mod tests {
             assert_eq!(first, colors(&r));
             assert_eq!(r.paths(), 0, "a frame ends the sum");
         }
+    }
+
+    /// A range that does not continue the sum (a gap, or a new size) starts a new one over
+    /// `0..end`: the same image as one run of that many paths, and no panic.
+    #[test]
+    fn a_range_that_does_not_continue_the_sum_starts_anew() {
+        let (scene, settings, view) = path_job(super::super::ToneMap::Clamp, 0.0);
+        let mut r = Renderer::new();
+        r.render_paths(&scene, &settings, &view, 0..2, &|| false)
+            .expect("not stopped");
+        r.render_paths(&scene, &settings, &view, 5..6, &|| false)
+            .expect("not stopped");
+        assert_eq!(r.paths(), 6);
+        let once: Vec<Vec4> = super::super::path::path_image(&scene, &settings, &view, 6, 0)
+            .iter()
+            .map(|c| c.extend(1.0))
+            .collect();
+        assert_eq!(colors(&r), once);
+        let small = View {
+            width: 24,
+            height: 16,
+            ..view.clone()
+        };
+        r.render_paths(&scene, &settings, &small, 6..7, &|| false)
+            .expect("not stopped");
+        assert_eq!(r.paths(), 7);
     }
 
     #[test]
