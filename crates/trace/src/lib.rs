@@ -6,6 +6,7 @@
 //! aimed at an edge or a vertex shared by triangles of a closed mesh never passes through.
 
 pub mod bvh;
+mod sah;
 pub mod scene;
 pub mod triangle;
 
