@@ -1,31 +1,66 @@
-//! A binary bounding-volume hierarchy: built by `obvhs` (PLOC with reinsertion, in
-//! parallel), then copied into our own node array in depth-first order (children after
-//! their parent, which is what [`Bvh::refit`] walks backwards) with every box widened by a
-//! few ulps of its coordinates, and traversed by our own code. The widening and the slab
-//! test's `1/d` (infinite for a zero component, never clamped) follow Ize, "Robust BVH Ray
-//! Traversal" (JCGT 2(2), 2013): a box that exactly touches a vertex or an edge is never
-//! missed through rounding, which with the watertight triangle test keeps closed meshes
-//! closed.
+//! A bounding-volume hierarchy: a binary tree built by our own binned-SAH builder
+//! (module `sah`, in parallel), its nodes depth first (children after their parent, which
+//! is what [`Bvh::refit`] walks backwards) with every box widened by a few ulps of its
+//! coordinates, then collapsed into a tree of four children to a node, which queries
+//! traverse. The widening and the slab test's `1/d` (infinite for a zero component, never
+//! clamped) follow Ize, "Robust BVH Ray Traversal" (JCGT 2(2), 2013): a box that exactly
+//! touches a vertex or an edge is never missed through rounding, which with the watertight
+//! triangle test keeps closed meshes closed.
+//!
+//! On the bunny (69,451 triangles, `realist bench rays`, 2 threads) [`crate::Mesh::new`]
+//! takes 10.5 ms: about 7 in the builder, 1 collapsing into the wide tree (while the
+//! triangles are gathered into slot order on the other thread), half a millisecond making
+//! the records, and in the bench about 1,400 page faults (the allocator hands each build
+//! fresh pages). `obvhs`'s PLOC, which built the tree before, took 18-21 ms.
 
-use glam::{Vec3, Vec3A, Vec4};
-use obvhs::aabb::Aabb;
-use obvhs::BvhBuildParams;
+use glam::{Mat4, Vec3, Vec3A, Vec4};
+use rayon::prelude::*;
+
+use crate::sah;
+pub use crate::sah::Prim;
+
+/// Flips the exponent bits of a count or index kept in a float lane: a small integer's own
+/// bits are a subnormal float, and SSE arithmetic on a subnormal takes a microcode assist
+/// even in a lane whose result is thrown away (the compiler computes a box's extent on all
+/// four lanes). Flipped, an index below 2^23 is a float from 1 to 2. Collapsing the bunny's
+/// tree into the wide one took 2.0 ms with the plain bits, 0.7 ms with these.
+const LANE_TAG: u32 = 0x3F80_0000;
+
+/// `v` as a float lane's value.
+#[inline(always)]
+pub(crate) fn in_lane(v: u32) -> f32 {
+    f32::from_bits(v ^ LANE_TAG)
+}
+
+/// The count or index [`in_lane`] stored.
+#[inline(always)]
+pub(crate) fn from_lane(f: f32) -> u32 {
+    f.to_bits() ^ LANE_TAG
+}
 
 /// One node, 32 bytes: its box, and either its first child (the second follows it) with a
 /// count of 0, or its first primitive and their count (a leaf). The count and index ride in
-/// the boxes' fourth lanes, so each corner loads as one SIMD vector.
-#[derive(Clone, Copy, Debug, Default)]
+/// the boxes' fourth lanes (as `in_lane` keeps them), so each corner loads as one SIMD
+/// vector.
+#[derive(Clone, Copy, Debug)]
 pub struct Node {
     lo: Vec4,
     hi: Vec4,
+}
+
+impl Default for Node {
+    /// A zero box, an inner node whose children would be at 0.
+    fn default() -> Self {
+        Self::new(Vec3::ZERO, Vec3::ZERO, 0, 0)
+    }
 }
 
 impl Node {
     #[must_use]
     pub fn new(min: Vec3, max: Vec3, count: u32, index: u32) -> Self {
         Self {
-            lo: min.extend(f32::from_bits(count)),
-            hi: max.extend(f32::from_bits(index)),
+            lo: min.extend(in_lane(count)),
+            hi: max.extend(in_lane(index)),
         }
     }
 
@@ -45,14 +80,14 @@ impl Node {
     #[inline(always)]
     #[must_use]
     pub fn count(&self) -> u32 {
-        self.lo.w.to_bits()
+        from_lane(self.lo.w)
     }
 
     /// First child, or first primitive slot of a leaf.
     #[inline(always)]
     #[must_use]
     pub fn index(&self) -> u32 {
-        self.hi.w.to_bits()
+        from_lane(self.hi.w)
     }
 }
 
@@ -79,14 +114,19 @@ impl Node4 {
         used: 0,
     };
 
-    fn set(&mut self, slot: usize, box_of: &Node, child: u32) {
-        let (a, b) = (box_of.min(), box_of.max());
-        for axis in 0..3 {
-            self.lo[axis][slot] = a[axis];
-            self.hi[axis][slot] = b[axis];
+    /// The node over `kids` (up to four; empty slots are zero boxes, masked out), with
+    /// child codes `child`: the four corners transposed into lanes at once.
+    fn of(kids: &[Node], child: [u32; 4]) -> Self {
+        let k = |i: usize| kids.get(i).copied().unwrap_or_default();
+        let (a, b, c, d) = (k(0), k(1), k(2), k(3));
+        let lo = Mat4::from_cols(a.lo, b.lo, c.lo, d.lo).transpose();
+        let hi = Mat4::from_cols(a.hi, b.hi, c.hi, d.hi).transpose();
+        Self {
+            lo: [lo.x_axis, lo.y_axis, lo.z_axis],
+            hi: [hi.x_axis, hi.y_axis, hi.z_axis],
+            child,
+            used: (1 << kids.len()) - 1,
         }
-        self.child[slot] = child;
-        self.used |= 1 << slot;
     }
 }
 
@@ -106,14 +146,6 @@ pub struct Bvh {
     pub depth: usize,
 }
 
-fn to34(v: Vec3) -> glam34::Vec3A {
-    glam34::Vec3A::new(v.x, v.y, v.z)
-}
-
-fn from34(v: glam34::Vec3A) -> Vec3 {
-    Vec3::new(v.x, v.y, v.z)
-}
-
 /// A box widened by 4 ulps of its largest coordinate on each side (Ize 2013).
 #[must_use]
 pub fn widen(min: Vec3, max: Vec3) -> (Vec3, Vec3) {
@@ -122,154 +154,61 @@ pub fn widen(min: Vec3, max: Vec3) -> (Vec3, Vec3) {
     (min - pad, max + pad)
 }
 
-/// `obvhs`'s fastest preset (one PLOC pass with the shortest search, no reinsertion) with
-/// leaves of up to 4 primitives collapsed where the surface-area cost says so. Measured on
-/// the bunny and ground (`realist bench rays`, 2 threads): leaves of 1 (the preset) built in
-/// 19.7 ms and traced in 156 + 56 ms (primary + shadow); of 4, 18.1 ms and 145 + 54 ms; of
-/// 8 the same as 4; a longer search or reinsertion cost 1 to 5 ms more build for 1-2% less
-/// trace.
-fn build_params() -> BvhBuildParams {
-    BvhBuildParams {
-        max_prims_per_leaf: 4,
-        ..BvhBuildParams::fastest_build()
-    }
-}
-
-struct Boxed(Aabb);
-
-impl obvhs::Boundable for Boxed {
-    fn aabb(&self) -> Aabb {
-        self.0
-    }
-}
-
 impl Bvh {
     /// Builds over `boxes` (each `(min, max)`, all finite: the caller leaves out what is
-    /// not).
+    /// not); [`Bvh::order`] gives each slot's index into `boxes`.
     #[must_use]
     pub fn build(boxes: &[(Vec3, Vec3)]) -> Self {
-        if boxes.is_empty() {
-            return Self::default();
-        }
-        let prims: Vec<Boxed> = boxes
-            .iter()
-            .map(|&(a, b)| {
-                Boxed(Aabb {
-                    min: to34(a),
-                    max: to34(b),
-                })
-            })
-            .collect();
-        let mut took = std::time::Duration::ZERO;
-        let built = obvhs::bvh2::builder::build_bvh2(&prims, build_params(), &mut took);
-        Self::from_obvhs(&built, boxes)
+        Self::build_prims(
+            boxes
+                .iter()
+                .enumerate()
+                .map(|(i, &(a, b))| Prim::new(a, b, i as u32))
+                .collect(),
+        )
     }
 
-    /// Copies `b` depth first, leaves' primitives made contiguous in visiting order.
-    fn from_obvhs(b: &obvhs::bvh2::Bvh2, boxes: &[(Vec3, Vec3)]) -> Self {
-        let mut out = Self {
-            nodes: Vec::with_capacity(b.nodes.len()),
-            wide: Vec::new(),
-            leaves: Vec::new(),
-            order: Vec::with_capacity(boxes.len()),
-            depth: 0,
+    /// Builds over `prims` (boxes all finite); [`Bvh::order`] gives each slot the index its
+    /// [`Prim`] carried.
+    #[must_use]
+    pub fn build_prims(prims: Vec<Prim>) -> Self {
+        Self::build_prims_with(prims, |_| ()).0
+    }
+
+    /// [`Bvh::build_prims`], running `then(order)` (the caller gathering its data into slot
+    /// order) on another thread while the binary tree is collapsed into the wide one.
+    #[must_use]
+    pub fn build_prims_with<R: Send>(
+        mut prims: Vec<Prim>,
+        then: impl FnOnce(&[u32]) -> R + Send,
+    ) -> (Self, R) {
+        if prims.is_empty() {
+            return (Self::default(), then(&[]));
+        }
+        let (nodes, depth) = sah::build(&mut prims);
+        let order: Vec<u32> = prims.par_iter().map(Prim::index).collect();
+        drop(prims);
+        let (mut wide, mut leaves) = (Vec::new(), Vec::new());
+        let ((), r) = rayon::join(|| collapse(&nodes, &mut wide, &mut leaves), || then(&order));
+        let bvh = Self {
+            nodes,
+            wide,
+            leaves,
+            order,
+            depth,
         };
-        if b.nodes.is_empty() {
-            return out;
-        }
-        // (obvhs node, our slot, depth); a slot is reserved before its children are copied.
-        out.nodes.push(Node::default());
-        let mut todo = vec![(0usize, 0usize, 1usize)];
-        while let Some((src, dst, depth)) = todo.pop() {
-            out.depth = out.depth.max(depth);
-            let n = &b.nodes[src];
-            let (min, max) = widen(from34(n.aabb.min), from34(n.aabb.max));
-            if n.prim_count > 0 {
-                let first = out.order.len() as u32;
-                let range = n.first_index as usize..(n.first_index + n.prim_count) as usize;
-                out.order.extend_from_slice(&b.primitive_indices[range]);
-                out.nodes[dst] = Node::new(min, max, n.prim_count, first);
-            } else {
-                let first = out.nodes.len();
-                out.nodes.push(Node::default());
-                out.nodes.push(Node::default());
-                out.nodes[dst] = Node::new(min, max, 0, first as u32);
-                todo.push((n.first_index as usize + 1, first + 1, depth + 1));
-                todo.push((n.first_index as usize, first, depth + 1));
-            }
-        }
-        out.make_wide();
-        out
+        (bvh, r)
     }
 
-    /// Collapses the binary tree into [`Node4`]s: each takes an inner node's two children
-    /// and opens the largest inner ones among them until it holds four.
+    /// The root's box (widened), if there is anything in the tree.
+    #[must_use]
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        self.nodes.first().map(|n| (n.min(), n.max()))
+    }
+
+    /// Remakes the wide tree from the binary one.
     fn make_wide(&mut self) {
-        self.wide.clear();
-        self.leaves.clear();
-        let Some(root) = self.nodes.first() else {
-            return;
-        };
-        if root.count() > 0 {
-            // A single leaf: one wide node holding it.
-            let mut n = Node4::EMPTY;
-            n.set(0, root, LEAF);
-            self.leaves.push([root.index(), root.count()]);
-            self.wide.push(n);
-            return;
-        }
-        self.wide.reserve(self.nodes.len() / 2);
-        self.wide.push(Node4::EMPTY);
-        // Half the surface of each box, or -1 for a leaf (never opened).
-        let area: Vec<f32> = self
-            .nodes
-            .iter()
-            .map(|n| {
-                let e = n.max() - n.min();
-                if n.count() > 0 {
-                    -1.0
-                } else {
-                    e.x * e.y + e.y * e.z + e.z * e.x
-                }
-            })
-            .collect();
-        // (binary inner node, wide slot to fill)
-        let mut todo = vec![(0usize, 0usize)];
-        while let Some((b, w)) = todo.pop() {
-            let n = self.nodes[b];
-            let mut kids: [usize; 4] = [n.index() as usize, n.index() as usize + 1, 0, 0];
-            let mut len = 2;
-            while len < 4 {
-                // The inner child with the largest box surface opens into its two.
-                let mut open = 0;
-                for i in 1..len {
-                    if area[kids[i]] > area[kids[open]] {
-                        open = i;
-                    }
-                }
-                if area[kids[open]] < 0.0 {
-                    break;
-                }
-                let first = self.nodes[kids[open]].index() as usize;
-                kids[open] = first;
-                kids[len] = first + 1;
-                len += 1;
-            }
-            let mut out = Node4::EMPTY;
-            for (slot, &k) in kids[..len].iter().enumerate() {
-                let c = self.nodes[k];
-                if c.count() > 0 {
-                    out.set(slot, &c, LEAF | self.leaves.len() as u32);
-                    self.leaves.push([c.index(), c.count()]);
-                } else {
-                    let at = self.wide.len();
-                    self.wide.push(Node4::EMPTY);
-                    out.set(slot, &c, at as u32);
-                    todo.push((k, at));
-                }
-            }
-            self.wide[w] = out;
-        }
+        collapse(&self.nodes, &mut self.wide, &mut self.leaves);
     }
 
     /// Recomputes every box from the primitives' new boxes (`bounds(slot)` of primitive
@@ -302,6 +241,85 @@ impl Bvh {
             self.nodes[k] = Node::new(min, max, n.count(), n.index());
         }
         self.make_wide();
+    }
+}
+
+/// Collapses the binary tree `nodes` into [`Node4`]s (`wide`, their leaves in `leaves`,
+/// both cleared first): each takes an inner node's two children and opens the largest
+/// inner ones among them until it holds four.
+fn collapse(nodes: &[Node], wide: &mut Vec<Node4>, leaves: &mut Vec<[u32; 2]>) {
+    wide.clear();
+    leaves.clear();
+    let Some(root) = nodes.first() else {
+        return;
+    };
+    if root.count() > 0 {
+        // A single leaf: one wide node holding it.
+        leaves.push([root.index(), root.count()]);
+        wide.push(Node4::of(&[*root], [LEAF, 0, 0, 0]));
+        return;
+    }
+    // A binary tree of `l` leaves has `l - 1` inner nodes and `l` leaves, and a wide node
+    // takes one to three of the inner ones: about two on the bunny (18,909 wide nodes for
+    // 37,599 inner ones), so room for a third of all the nodes seldom has to grow. (Room
+    // for half, the bound, made each of the bench's builds fault 1,860 pages instead of
+    // 1,380: the allocator gave back more memory between builds.)
+    wide.reserve(nodes.len() / 3);
+    leaves.reserve(nodes.len().div_ceil(2));
+    wide.push(Node4::EMPTY);
+    // Half the surface of a node's box, or -1 for a leaf (never opened).
+    let area = |n: &Node| {
+        let e = n.max() - n.min();
+        if n.count() > 0 {
+            -1.0
+        } else {
+            e.x * e.y + e.y * e.z + e.z * e.x
+        }
+    };
+    // (first child of a binary inner node, wide slot to fill); the first child is taken
+    // first, so the binary nodes are read mostly in their order.
+    let mut todo = vec![(root.index() as usize, 0usize)];
+    while let Some((first, w)) = todo.pop() {
+        let mut kids = [
+            nodes[first],
+            nodes[first + 1],
+            Node::default(),
+            Node::default(),
+        ];
+        let mut areas = [area(&kids[0]), area(&kids[1]), 0.0, 0.0];
+        let mut len = 2;
+        while len < 4 {
+            // The inner child with the largest box surface opens into its two.
+            let mut open = 0;
+            for i in 1..len {
+                if areas[i] > areas[open] {
+                    open = i;
+                }
+            }
+            if areas[open] < 0.0 {
+                break;
+            }
+            let first = kids[open].index() as usize;
+            (kids[open], kids[len]) = (nodes[first], nodes[first + 1]);
+            (areas[open], areas[len]) = (area(&kids[open]), area(&kids[len]));
+            len += 1;
+        }
+        let mut child = [0u32; 4];
+        let mut inner = [(0usize, 0usize); 4];
+        let mut inners = 0;
+        for (code, c) in child.iter_mut().zip(&kids[..len]) {
+            if c.count() > 0 {
+                *code = LEAF | leaves.len() as u32;
+                leaves.push([c.index(), c.count()]);
+            } else {
+                *code = wide.len() as u32;
+                inner[inners] = (c.index() as usize, wide.len());
+                wide.push(Node4::EMPTY);
+                inners += 1;
+            }
+        }
+        wide[w] = Node4::of(&kids[..len], child);
+        todo.extend(inner[..inners].iter().rev());
     }
 }
 

@@ -7,6 +7,7 @@
 
 pub mod bvh;
 pub mod packet;
+mod sah;
 pub mod scene;
 pub mod triangle;
 

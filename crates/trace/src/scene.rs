@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Mat4, Vec3};
 use rayon::prelude::*;
 
-use crate::bvh::{with_stack, Bvh, Entry, Node, Slabs};
+use crate::bvh::{with_stack, Bvh, Entry, Node, Prim, Slabs};
 use crate::triangle::Sheared;
 
 /// A mesh's triangles in its own space and their hierarchy.
@@ -24,24 +24,34 @@ pub struct Mesh {
 }
 
 /// The plane all of `tris` lie in (within a millionth of their extent), if one does.
-fn common_plane(tris: &[[Vec3; 3]]) -> Option<(Vec3, f32, f32)> {
+/// `around`, a box known to hold them all, lets a mesh that is not flat be told at its
+/// first triangle off the plane (its margin is at least the exact box's), before the exact
+/// box is folded.
+fn common_plane(tris: &[[Vec3; 3]], around: Option<(Vec3, Vec3)>) -> Option<(Vec3, f32, f32)> {
     let first = tris.iter().find_map(|t| {
         let n = (t[1] - t[0]).cross(t[2] - t[0]);
         (n.length_squared() > 0.0).then(|| (n.normalize(), t[0]))
     })?;
     let (n, p) = first;
-    let (lo, hi) = tris
+    let d = n.dot(p);
+    let margin = |(lo, hi): (Vec3, Vec3)| {
+        1e-6 * (hi - lo).max_element() + 8.0 * f32::EPSILON * lo.abs().max(hi.abs()).max_element()
+    };
+    let on = |margin: f32| {
+        tris.iter()
+            .all(|t| t.iter().all(|v| (n.dot(*v) - d).abs() <= margin))
+    };
+    if around.is_some_and(|b| !on(margin(b))) {
+        return None;
+    }
+    let exact = tris
         .iter()
         .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), t| {
             let (a, b) = tri_box(t);
             (lo.min(a), hi.max(b))
         });
-    let margin =
-        1e-6 * (hi - lo).max_element() + 8.0 * f32::EPSILON * lo.abs().max(hi.abs()).max_element();
-    let d = n.dot(p);
-    tris.iter()
-        .all(|t| t.iter().all(|v| (n.dot(*v) - d).abs() <= margin))
-        .then_some((n, d, margin))
+    let margin = margin(exact);
+    on(margin).then_some((n, d, margin))
 }
 
 fn tri_box(t: &[Vec3; 3]) -> (Vec3, Vec3) {
@@ -58,23 +68,38 @@ impl Mesh {
     /// of range or a vertex that is not finite is left out and counted in [`Mesh::skipped`].
     #[must_use]
     pub fn new(positions: &[Vec3], triangles: &[[u32; 3]]) -> Self {
-        let (keep, tris): (Vec<u32>, Vec<[Vec3; 3]>) = triangles
-            .iter()
+        // One record per triangle kept, carrying the caller's index (which `order` keeps);
+        // the corners are read again in slot order rather than kept in a second array. A
+        // triangle left out is first an empty box (made in parallel, in place), then
+        // dropped.
+        let mut prims: Vec<Prim> = triangles
+            .par_iter()
             .enumerate()
-            .filter_map(|(i, &t)| Some((i as u32, corners(positions, t)?)))
-            .unzip();
-        let boxes: Vec<(Vec3, Vec3)> = tris.iter().map(tri_box).collect();
-        let mut bvh = Bvh::build(&boxes);
-        // Slots index the triangles in slot order; `order` keeps the caller's indices.
-        let slot_tris: Vec<[Vec3; 3]> = bvh.order.iter().map(|&k| tris[k as usize]).collect();
-        for k in &mut bvh.order {
-            *k = keep[*k as usize];
+            .map(|(i, &t)| match corners(positions, t) {
+                Some(c) => {
+                    let (lo, hi) = tri_box(&c);
+                    Prim::new(lo, hi, i as u32)
+                }
+                None => Prim::new(Vec3::INFINITY, Vec3::NEG_INFINITY, i as u32),
+            })
+            .collect();
+        if prims.par_iter().any(Prim::is_empty) {
+            prims.retain(|p| !p.is_empty());
         }
-        let plane = common_plane(&slot_tris);
+        let kept = prims.len();
+        // The triangles in slot order are gathered while the wide tree is made (every slot's
+        // triangle has its corners: it was kept).
+        let (bvh, slot_tris) = Bvh::build_prims_with(prims, |order| {
+            order
+                .par_iter()
+                .map(|&k| corners(positions, triangles[k as usize]).unwrap_or([Vec3::NAN; 3]))
+                .collect::<Vec<_>>()
+        });
+        let plane = common_plane(&slot_tris, bvh.bounds());
         Self {
             bvh,
             tris: slot_tris,
-            skipped: triangles.len() - keep.len(),
+            skipped: triangles.len() - kept,
             plane,
         }
     }
@@ -102,7 +127,7 @@ impl Mesh {
                 .and_then(|&t| corners(positions, t));
             self.tris[slot] = t.unwrap_or([Vec3::NAN; 3]);
         }
-        self.plane = common_plane(&self.tris);
+        self.plane = common_plane(&self.tris, None);
         let tris = &self.tris;
         self.bvh.refit(|slot| {
             let t = &tris[slot];
@@ -134,7 +159,7 @@ impl Mesh {
     /// Box of everything in the mesh, if anything.
     #[must_use]
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        self.bvh.nodes.first().map(|n| (n.min(), n.max()))
+        self.bvh.bounds()
     }
 
     /// The nearest hit in `(tmin, tmax)` that `accept(triangle, front, t)` takes: `t`, the

@@ -56,7 +56,7 @@ fn targets(p: &[Vec3], t: &[[u32; 3]]) -> Vec<Vec3> {
         .collect()
 }
 
-fn brute(p: &[Vec3], t: &[[u32; 3]], o: Vec3, d: Vec3, tmax: f32) -> Option<(f32, u32)> {
+pub(crate) fn brute(p: &[Vec3], t: &[[u32; 3]], o: Vec3, d: Vec3, tmax: f32) -> Option<(f32, u32)> {
     let s = Sheared::new(o, d)?;
     let mut best: Option<(f32, u32)> = None;
     for (i, &[a, b, c]) in t.iter().enumerate() {
