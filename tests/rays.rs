@@ -28,6 +28,19 @@ fn pbr(base: Vec4, metallic: f32, roughness: f32, pbr: PbrMaterial) -> Material 
     }
 }
 
+/// A black, rough surface that emits `emissive`: a lamp.
+fn lamp_of(emissive: Vec3) -> Material {
+    Material {
+        emissive,
+        ..pbr(
+            Vec4::new(0.0, 0.0, 0.0, 1.0),
+            0.0,
+            1.0,
+            PbrMaterial::default(),
+        )
+    }
+}
+
 /// `meshes` each with its material, placed as given.
 fn scene(parts: Vec<(Mesh, Material, Mat4)>) -> Scene {
     let mut s = Scene::default();
@@ -298,15 +311,7 @@ fn snells_window(mode: Shading, samples: u32) {
 /// it does not pass on it reflects, less only the single-scattering model's loss.
 #[test]
 fn rough_glass_blurs_what_is_behind_it_in_path() {
-    let lamp = Material {
-        emissive: Vec3::ONE,
-        ..pbr(
-            Vec4::new(0.0, 0.0, 0.0, 1.0),
-            0.0,
-            1.0,
-            PbrMaterial::default(),
-        )
-    };
+    let lamp = lamp_of(Vec3::ONE);
     let pane = |roughness: f32| {
         pbr(
             Vec4::ONE,
@@ -665,15 +670,7 @@ fn an_emissive_texture_is_sampled_as_a_light() {
         1.0,
         PbrMaterial::default(),
     );
-    let glow = |emissive: f32| Material {
-        emissive: Vec3::splat(emissive),
-        ..pbr(
-            Vec4::new(0.0, 0.0, 0.0, 1.0),
-            0.0,
-            1.0,
-            PbrMaterial::default(),
-        )
-    };
+    let glow = |emissive: f32| lamp_of(Vec3::splat(emissive));
     let plain = scene(vec![
         (floor.clone(), grey.clone(), Mat4::IDENTITY),
         (lamp.clone(), glow(20.0), Mat4::IDENTITY),
@@ -795,15 +792,7 @@ fn cornell_box_radiosity_matches_the_path_tracer_on_the_walls() {
 #[test]
 fn facing_mirrors_end_at_the_depth_limit() {
     let mirror = pbr(Vec4::ONE, 1.0, 0.0, PbrMaterial::default());
-    let lamp = Material {
-        emissive: Vec3::ONE,
-        ..pbr(
-            Vec4::new(0.0, 0.0, 0.0, 1.0),
-            0.0,
-            1.0,
-            PbrMaterial::default(),
-        )
-    };
+    let lamp = lamp_of(Vec3::ONE);
     let wall = |z: f32| {
         common::triangles(
             vec![
@@ -1104,15 +1093,7 @@ fn the_probe_lists_the_first_path() {
         0.9,
         PbrMaterial::default(),
     );
-    let lamp = Material {
-        emissive: Vec3::splat(5.0),
-        ..pbr(
-            Vec4::new(0.0, 0.0, 0.0, 1.0),
-            0.0,
-            1.0,
-            PbrMaterial::default(),
-        )
-    };
+    let lamp = lamp_of(Vec3::splat(5.0));
     let floor = common::triangles(
         vec![
             Vec3::new(-4.0, 0.0, -4.0),

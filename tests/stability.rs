@@ -20,19 +20,15 @@ use realist::simd::KernelKind;
 /// Distance from a pixel centre within which the reference decision is not enforced.
 const AMBIGUOUS_PX: f64 = 0.02;
 
-/// splitmix64: small, fast, deterministic.
-struct Rng(u64);
+/// splitmix64 ([`realist_testkit::SplitMix`]) with ranges.
+struct Rng(realist_testkit::SplitMix);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.unit_f64()
     }
     fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.unit()
@@ -268,7 +264,7 @@ fn random_tri(rng: &mut Rng, w: u32, h: u32) -> (Tri, f64) {
 
 #[test]
 fn random_triangles_match_the_reference_coverage_and_interpolation() {
-    let mut rng = Rng(0x5EED_0001);
+    let mut rng = Rng(realist_testkit::SplitMix(0x5EED_0001));
     let (mut tris, mut judged, mut attr_checked) = (0usize, 0usize, 0usize);
     // Odd sizes that straddle the 64 px tile border, and one full-HD-plus-one.
     for &(w, h, n) in &[
@@ -291,7 +287,7 @@ fn random_triangles_match_the_reference_coverage_and_interpolation() {
 
 #[test]
 fn triangles_crossing_w_zero_and_the_near_plane() {
-    let mut rng = Rng(0x5EED_0002);
+    let mut rng = Rng(realist_testkit::SplitMix(0x5EED_0002));
     let (w, h) = (97u32, 61u32);
     let mut n = 0;
     for k in 0..4000 {
@@ -322,7 +318,7 @@ fn triangles_crossing_w_zero_and_the_near_plane() {
 
 #[test]
 fn extreme_coordinates_never_panic_or_poison_buffers() {
-    let mut rng = Rng(0x5EED_0003);
+    let mut rng = Rng(realist_testkit::SplitMix(0x5EED_0003));
     let (w, h) = (129u32, 67u32);
     let specials = [
         0.0,
@@ -374,7 +370,7 @@ fn extreme_coordinates_never_panic_or_poison_buffers() {
 fn coplanar_triangles_resolve_depth_deterministically() {
     // Two triangles in the same plane, drawn twice with GreaterEqual (reversed-Z) depth: the second pass
     // writes exactly where the first did (equal depths compare equal), 1 and 2 threads alike.
-    let mut rng = Rng(0x5EED_0004);
+    let mut rng = Rng(realist_testkit::SplitMix(0x5EED_0004));
     let (w, h) = (83u32, 59u32);
     for _ in 0..500 {
         let (t, _) = random_tri(&mut rng, w, h);
@@ -411,7 +407,7 @@ fn coplanar_triangles_resolve_depth_deterministically() {
 
 #[test]
 fn averaged_normals_are_finite_and_unit_for_degenerate_meshes() {
-    let mut rng = Rng(0x5EED_0005);
+    let mut rng = Rng(realist_testkit::SplitMix(0x5EED_0005));
     let mut cases = 0;
     for _ in 0..2_000 {
         let nv = 3 + (rng.next() % 12) as usize;

@@ -754,17 +754,27 @@ pub(crate) fn path_into(
 
 /// The camera ray of a path through pixel `(x, y)` (of `w` x `h`, clip -> world `inv`): a
 /// random point of the pixel (`jitter`) or its centre; the two numbers are drawn either
-/// way, so a pixel's stream does not depend on it. Origin on the near plane, unit
-/// direction and the distance to the far plane; `None` if degenerate.
+/// way, so a pixel's stream does not depend on it.
 fn camera_ray(
     inv: Mat4,
-    (w, h): (u32, u32),
-    (x, y): (u32, u32),
+    size: (u32, u32),
+    pixel: (u32, u32),
     rng: &mut Rng,
     jitter: bool,
 ) -> Option<(Vec3, Vec3, f32)> {
     let (jx, jy) = (rng.f(), rng.f());
-    let (jx, jy) = if jitter { (jx, jy) } else { (0.5, 0.5) };
+    pixel_ray(inv, size, pixel, if jitter { (jx, jy) } else { (0.5, 0.5) })
+}
+
+/// The camera ray through point `(x + jx, y + jy)` of a `w` x `h` image (clip -> world
+/// `inv`, y down): origin on the near plane, unit direction and the distance to the far
+/// plane; `None` if degenerate.
+pub(super) fn pixel_ray(
+    inv: Mat4,
+    (w, h): (u32, u32),
+    (x, y): (u32, u32),
+    (jx, jy): (f32, f32),
+) -> Option<(Vec3, Vec3, f32)> {
     let ndc = Vec2::new(
         (x as f32 + jx) / w as f32 * 2.0 - 1.0,
         1.0 - (y as f32 + jy) / h as f32 * 2.0,
@@ -787,25 +797,14 @@ pub(crate) fn path_steps(
     x: u32,
     y: u32,
 ) -> Vec<RayStep> {
-    let (w, h) = (view.width.max(1), view.height.max(1));
-    let cam_to_world = view.camera.view().inverse();
-    let vp = view.camera.projection(view.aspect()) * view.camera.view();
-    let mut tracer = Tracer::new(scene, settings, cam_to_world);
-    tracer.log = Some(std::sync::Mutex::new(Vec::new()));
+    let (tracer, vp, (w, h)) = Tracer::logging(scene, settings, view);
     let emitters = Emitters::new(&tracer);
-    let ambient = ambient_light(scene, settings, cam_to_world);
+    let ambient = ambient_light(scene, settings, view.camera.view().inverse());
     let mut rng = Rng::new(x, y, 0, 0);
     if let Some((near, d, reach)) = camera_ray(vp.inverse(), (w, h), (x, y), &mut rng, true) {
         let _ = tracer.path(near, d, reach, &mut rng, ambient, &emitters);
     }
-    tracer
-        .log
-        .take()
-        .map(|m| {
-            m.into_inner()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-        })
-        .unwrap_or_default()
+    tracer.into_log()
 }
 
 /// The frame's ambient lights' radiance, summed (a uniform environment for the paths).

@@ -84,39 +84,45 @@ pub(crate) fn whitted_steps(
     x: u32,
     y: u32,
 ) -> Vec<RayStep> {
-    let (w, h) = (view.width.max(1), view.height.max(1));
-    let cam_to_world = view.camera.view().inverse();
-    let vp = view.camera.projection(view.aspect()) * view.camera.view();
-    let inv = vp.inverse();
-    let ndc = glam::Vec2::new(
-        (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
-        1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
-    );
-    let near = inv.project_point3(ndc.extend(1.0));
-    let far = inv.project_point3(ndc.extend(0.0));
-    let len = (far - near).length();
-    if !(len > 0.0 && len.is_finite()) {
+    let (tracer, vp, (w, h)) = Tracer::logging(scene, settings, view);
+    let Some((near, d, len)) = super::path::pixel_ray(vp.inverse(), (w, h), (x, y), (0.5, 0.5))
+    else {
         return Vec::new();
-    }
-    let d = (far - near) / len;
-    let mut tracer = Tracer::new(scene, settings, cam_to_world);
-    tracer.log = Some(std::sync::Mutex::new(Vec::new()));
+    };
     let hit = tracer.rays.closest(&Ray::new(near, d, 0.0, len));
     tracer.note_ray(hit.as_ref(), 0, (RayKind::Primary, Vec3::ONE), Vec3::ONE);
     if let Some(hit) = hit {
         tracer.shade_hit(&hit, near, d, 0, Vec3::ONE);
     }
-    tracer
-        .log
-        .take()
-        .map(|m| {
-            m.into_inner()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-        })
-        .unwrap_or_default()
+    tracer.into_log()
 }
 
-impl Tracer<'_> {
+impl<'a> Tracer<'a> {
+    /// A tracer for `view` that keeps a log of its rays, the view's camera (world -> clip)
+    /// and its size.
+    pub(super) fn logging(
+        scene: &'a PreparedScene,
+        settings: &'a Settings,
+        view: &View,
+    ) -> (Self, glam::Mat4, (u32, u32)) {
+        let size = (view.width.max(1), view.height.max(1));
+        let vp = view.camera.projection(view.aspect()) * view.camera.view();
+        let mut tracer = Tracer::new(scene, settings, view.camera.view().inverse());
+        tracer.log = Some(std::sync::Mutex::new(Vec::new()));
+        (tracer, vp, size)
+    }
+
+    /// The rays it logged, in order.
+    pub(super) fn into_log(mut self) -> Vec<RayStep> {
+        self.log
+            .take()
+            .map(|m| {
+                m.into_inner()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+            })
+            .unwrap_or_default()
+    }
+
     /// Records a step if this tracer keeps a log.
     pub(super) fn note(&self, step: impl FnOnce() -> RayStep) {
         if let Some(log) = &self.log {

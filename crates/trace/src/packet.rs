@@ -311,18 +311,14 @@ mod tests {
     use super::PACKET;
     use crate::{Instance, Ray, Scene};
 
-    /// splitmix64.
-    struct Rng(u64);
+    /// Test randomness with points in a cube.
+    struct Rng(realist_testkit::SplitMix);
     impl Rng {
         fn next(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
+            self.0.next_u64()
         }
         fn unit(&mut self) -> f32 {
-            (self.next() >> 40) as f32 / (1u64 << 24) as f32
+            self.0.unit_f32()
         }
         fn point(&mut self, r: f32) -> Vec3 {
             Vec3::new(self.unit(), self.unit(), self.unit()) * 2.0 * r - Vec3::splat(r)
@@ -374,7 +370,7 @@ mod tests {
     /// every ray's answer is the one-ray query's.
     #[test]
     fn packets_answer_as_single_rays() {
-        let mut rng = Rng(7);
+        let mut rng = Rng(realist_testkit::SplitMix(7));
         let scene = scene(&mut rng);
         let (mut checked, mut blocked) = (0, 0);
         for round in 0..3000 {
@@ -423,7 +419,7 @@ mod tests {
     /// More than a packet's rays: only the first [`PACKET`] are answered.
     #[test]
     fn a_long_slice_answers_its_first_packet() {
-        let mut rng = Rng(3);
+        let mut rng = Rng(realist_testkit::SplitMix(3));
         let scene = scene(&mut rng);
         let rays = vec![Ray::new(Vec3::new(0.0, 5.0, 0.0), -Vec3::Y, 0.0, f32::INFINITY); 20];
         assert_eq!(scene.occluded_packet(&rays), (1 << PACKET) - 1);
