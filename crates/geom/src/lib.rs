@@ -1,8 +1,8 @@
 //! Geometry written once for every layer that needs it: the Sutherland-Hodgman polygon
 //! clipper (the rasterizer's near-plane and guard-band clipping, the f64 reference's
 //! near/far clipping, the chromaticity diagram's gamut intersections, the plane reference's
-//! pixel coverage), the Liang-Barsky segment clipper (the rasterizer's lines, the viewer's
-//! gizmos) and the normal matrix (mesh skinning, the renderer, the f64 reference).
+//! pixel coverage), the Liang-Barsky segment clipper (the rasterizer's lines in clip space
+//! and on the screen, the viewer's gizmos) and the normal matrix (mesh skinning, the renderer, the f64 reference).
 //!
 //! Each is generic in what it clips: the caller says what is inside and how to cut an edge,
 //! so the rasterizer keeps its f32 inside test and its f64 intersections, and every caller
@@ -42,32 +42,35 @@ pub fn crossing(di: f64, d_o: f64) -> f64 {
     (di / (di - d_o)).clamp(0.0, 1.0)
 }
 
-/// Liang-Barsky: the parameters `(t0, t1)`, `0 <= t0 <= t1 <= 1`, of the part of the 2D
-/// segment from `a` to `b` inside the box `lo..=hi`, or `None` when none of it is.
+/// Liang-Barsky: the parameters `(t0, t1)`, `0 <= t0 <= t1 <= 1`, of the part of a segment
+/// on the inner side of every boundary, given each boundary's signed distances `(da, db)` of
+/// the segment's two ends (inside where >= 0, linear along the segment: a plane in 2D, 3D or
+/// homogeneous clip space), or `None` when none of it is.
 #[must_use]
-pub fn clip_segment(a: [f32; 2], b: [f32; 2], lo: [f32; 2], hi: [f32; 2]) -> Option<(f32, f32)> {
-    let d = [b[0] - a[0], b[1] - a[1]];
+pub fn clip_interval(distances: impl IntoIterator<Item = (f32, f32)>) -> Option<(f32, f32)> {
     let (mut t0, mut t1) = (0.0f32, 1.0f32);
-    for (p, q) in [
-        (-d[0], a[0] - lo[0]),
-        (d[0], hi[0] - a[0]),
-        (-d[1], a[1] - lo[1]),
-        (d[1], hi[1] - a[1]),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
+    for (da, db) in distances {
+        if da < 0.0 && db < 0.0 {
+            return None;
+        }
+        if da < 0.0 {
+            t0 = t0.max(da / (da - db));
+        } else if db < 0.0 {
+            t1 = t1.min(da / (da - db));
         }
     }
     (t0 <= t1).then_some((t0, t1))
+}
+
+/// [`clip_interval`] for the 2D segment from `a` to `b` and the box `lo..=hi`.
+#[must_use]
+pub fn clip_segment(a: [f32; 2], b: [f32; 2], lo: [f32; 2], hi: [f32; 2]) -> Option<(f32, f32)> {
+    clip_interval([
+        (a[0] - lo[0], b[0] - lo[0]),
+        (hi[0] - a[0], hi[0] - b[0]),
+        (a[1] - lo[1], b[1] - lo[1]),
+        (hi[1] - a[1], hi[1] - b[1]),
+    ])
 }
 
 macro_rules! cofactor {

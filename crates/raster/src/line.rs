@@ -269,26 +269,14 @@ pub fn draw_points(
 /// Clips segment `a`-`b` (clip space) to the near and far planes and to the frustum's sides
 /// widened by the factors `g`, returning the parameters `(t0, t1)` of the part kept.
 fn clip_segment(a: Vec4, b: Vec4, g: Vec2) -> Option<(f32, f32)> {
-    let (mut t0, mut t1) = (0.0f32, 1.0f32);
-    let planes = [
+    crate::geom::clip_interval([
         (a.w - a.z, b.w - b.z),
         (a.z, b.z),
         (a.x + g.x * a.w, b.x + g.x * b.w),
         (g.x * a.w - a.x, g.x * b.w - b.x),
         (a.y + g.y * a.w, b.y + g.y * b.w),
         (g.y * a.w - a.y, g.y * b.w - b.y),
-    ];
-    for (da, db) in planes {
-        if da < 0.0 && db < 0.0 {
-            return None;
-        }
-        if da < 0.0 {
-            t0 = t0.max(da / (da - db));
-        } else if db < 0.0 {
-            t1 = t1.min(da / (da - db));
-        }
-    }
-    (t0 <= t1).then_some((t0, t1))
+    ])
 }
 
 /// Draws `lines` (pairs of indices into `clip` and `colors`, which are parallel) with the

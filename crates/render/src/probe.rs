@@ -223,7 +223,8 @@ pub fn probe(
                 super::raylog::whitted_steps(scene, settings, view, x, y)
             }
             crate::shade::mode::Rays::Path => super::path::path_steps(scene, settings, view, x, y),
-            _ => Vec::new(),
+            // Rasterized (radiosity's solution too): no rays to list.
+            crate::shade::mode::Rays::None | crate::shade::mode::Rays::Radiosity => Vec::new(),
         },
     })
 }
