@@ -21,8 +21,9 @@ use glam::{Mat4, Quat, Vec3, Vec4};
 use super::LinearImage;
 use crate::mesh::Mesh;
 use crate::render::{
-    self, path::path_image_sampled, Environment, Ground, Lights, PreparedScene, Settings, Shot,
-    ToneMap,
+    self,
+    path::{path_image_f64, path_image_sampled},
+    Environment, Ground, Lights, PreparedScene, Settings, Shot, ToneMap,
 };
 use crate::scene::{Camera, Instance, LightKind, Material, PbrMaterial, Scene, Style};
 use crate::shade::Shading;
@@ -45,6 +46,15 @@ impl Light {
             Light::Environment => "environment",
         }
     }
+}
+
+/// The number type a path-traced image is computed in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    /// What `--shading path` renders with.
+    F32,
+    /// The references'.
+    F64,
 }
 
 /// The references' stream of random numbers.
@@ -148,9 +158,23 @@ impl TracedSetup {
 
     /// The path tracer's image with `samples`² paths per pixel from stream `seed`: the
     /// direct light alone (exact visibility, no bounce) or, `global`, every bounce; through
-    /// random points of each pixel (`jitter`) or its centre.
+    /// random points of each pixel (`jitter`) or its centre; computed in `f64`.
     #[must_use]
     pub fn path(&self, global: bool, samples: u32, seed: u64, jitter: bool) -> LinearImage {
+        self.path_in(Precision::F64, global, samples, seed, jitter)
+    }
+
+    /// [`TracedSetup::path`] computed in `precision`: in `f32` it is what `--shading path`
+    /// renders, from the same random numbers as the `f64` reference.
+    #[must_use]
+    pub fn path_in(
+        &self,
+        precision: Precision,
+        global: bool,
+        samples: u32,
+        seed: u64,
+        jitter: bool,
+    ) -> LinearImage {
         let mut settings = self.settings();
         settings.shading = Some(Shading::Path);
         if !global {
@@ -160,14 +184,21 @@ impl TracedSetup {
         let prepared = PreparedScene::new(self.scene.clone());
         let view = shot.view(prepared.scene());
         let spp = samples.clamp(1, MAX_SAMPLES).pow(2);
-        let rgb = path_image_sampled(&prepared, &shot.settings, &view, spp, seed, jitter);
+        let (s, v) = (&shot.settings, &view);
+        let rgb = match precision {
+            Precision::F64 => path_image_f64(&prepared, s, v, spp, seed, jitter)
+                .iter()
+                .map(|c| c.to_array())
+                .collect(),
+            Precision::F32 => path_image_sampled(&prepared, s, v, spp, seed, jitter)
+                .iter()
+                .map(|c| c.as_dvec3().to_array())
+                .collect(),
+        };
         LinearImage {
             width: view.width,
             height: view.height,
-            rgb: rgb
-                .iter()
-                .map(|c| [f64::from(c.x), f64::from(c.y), f64::from(c.z)])
-                .collect(),
+            rgb,
         }
     }
 
@@ -277,3 +308,6 @@ fn stage() -> Scene {
     }
     s
 }
+
+#[cfg(test)]
+mod tests;

@@ -44,6 +44,7 @@ pub mod radiosity;
 mod raylog;
 pub mod rays;
 mod renderer;
+mod scalar;
 mod settings;
 mod shadows;
 mod vertex;

@@ -22,13 +22,14 @@
 //! Every pixel's random numbers come from its position and sample number alone, so images
 //! do not depend on the thread count.
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{DVec3, Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::prepare::PreparedScene;
 use super::raylog::{RayHit, RayKind, RayStep};
 use super::settings::{Settings, View};
-use super::whitted::Tracer;
+use super::whitted::{fresnel_refract, Tracer};
+use crate::scalar::Scalar;
 use crate::texture::env::brdf_lut;
 use crate::texture::microfacet::alpha as alpha_of;
 use realist_trace::Ray;
@@ -43,22 +44,27 @@ use sampling::{g1, luminance, mis, vndf, Lobes, Rng};
 const ROULETTE_AFTER: u32 = 3;
 
 impl Tracer<'_> {
-    /// One path's estimate of the radiance arriving at `o` from unit direction `d`.
-    fn path(
+    /// One path's estimate of the radiance arriving at `o` from unit direction `d`, in `T`
+    /// (`f32` renders, `f64` is the reference); the rays are cast in `f32` and their hits
+    /// placed on the ray in `T`.
+    fn path<T: Scalar>(
         &self,
-        o: Vec3,
-        d: Vec3,
+        o: T::V,
+        d: T::V,
         reach: f32,
         rng: &mut Rng,
         ambient: Vec3,
         emitters: &Emitters,
-    ) -> Vec3 {
-        let mut l = Vec3::ZERO;
-        let mut beta = Vec3::ONE;
+    ) -> T::V {
+        let zero = T::splat(T::ZERO);
+        let f = |x: f32| T::of(x);
+        let ambient = T::vec(ambient);
+        let mut l = zero;
+        let mut beta = T::splat(T::ONE);
         let (mut o, mut d) = (o, d);
         // The BRDF density that chose `d` (`None`: the camera or a mirror-like choice,
         // which the environment's samples cannot take).
-        let mut chose: Option<f32> = None;
+        let mut chose: Option<T> = None;
         let mut medium: Option<(Vec3, f32)> = None;
         // Why the current ray was cast, and its share of its parent's (the probe's log).
         let mut why = (RayKind::Primary, Vec3::ONE);
@@ -69,153 +75,170 @@ impl Tracer<'_> {
         for bounce in 0..=depth + 1 {
             // The camera's rays end at its far plane, as the rasterizer's view does.
             let tmax = if bounce == 0 { reach } else { f32::INFINITY };
-            let hit = self.rays.closest(&Ray::new(o, d, 0.0, tmax));
-            self.note_ray(hit.as_ref(), bounce, why, beta);
+            let (o32, d32) = (T::to_vec3(o), T::to_vec3(d));
+            let hit = self.rays.closest(&Ray::new(o32, d32, 0.0, tmax));
+            self.note_ray(hit.as_ref(), bounce, why, T::to_vec3(beta));
             let Some(h) = hit else {
                 // The camera sees the background (the environment if the settings show
                 // it); light comes from the environment and the ambient light only.
                 let sky = if bounce == 0 {
                     match (&self.env, self.settings.env_background) {
-                        (Some(env), Some(blur)) => env.background(d, blur),
-                        _ => self.background,
+                        (Some(env), Some(blur)) => T::vec(env.background(d32, blur)),
+                        _ => T::vec(self.background),
                     }
                 } else {
                     self.env
                         .as_ref()
-                        .map_or(Vec3::ZERO, |e| e.background(d, 0.0))
+                        .map_or(zero, |e| T::vec(e.background(d32, 0.0)))
                         + ambient
                 };
                 let w = match (chose, &self.env) {
-                    (Some(p), Some(env)) => mis(p, env.pdf(d)),
-                    _ => 1.0,
+                    (Some(p), Some(env)) => mis(p, f(env.pdf(d32))),
+                    _ => T::ONE,
                 };
-                l += beta * sky * w;
+                l = l + beta * sky * w;
                 break;
             };
             if let Some((color, dist)) = medium {
                 if dist.is_finite() {
-                    beta *= color.max(Vec3::splat(1e-6)).powf((h.t / dist).min(1e4));
+                    let fade = T::vpowf(
+                        T::vmaxv(T::vec(color), T::splat(f(1e-6))),
+                        (f(h.t) / f(dist)).min(f(1e4)),
+                    );
+                    beta = beta * fade;
                 }
             }
-            let Some((pt, r)) = self.point(&h, o, d) else {
+            let Some((pt, r)) = self.point::<T>(&h, o, d) else {
                 break;
             };
             if pt.unlit {
-                l += beta * pt.base.truncate();
+                l = l + beta * T::vec(pt.base.truncate());
                 break;
             }
             // Emission met by a BRDF sample is weighed against the emitter sampling of the
             // same light (camera rays and mirror-like choices take it all).
             let w = match chose {
-                Some(p) if pt.emitted != Vec3::ZERO => {
-                    let cos = pt.face_normal.dot(d).abs();
+                Some(p) if !T::is_zero(pt.emitted) => {
+                    let cos = T::dot(pt.face_normal, d).abs();
                     emitters
-                        .pdf(h.key, h.triangle, h.t, cos)
-                        .map_or(1.0, |pl| mis(p, pl))
+                        .pdf(h.key, h.triangle, f(h.t), cos)
+                        .map_or(T::ONE, |pl| mis(p, pl))
                 }
-                _ => 1.0,
+                _ => T::ONE,
             };
-            l += beta * pt.emitted * w;
+            l = l + beta * pt.emitted * w;
             let Some(p) = pt.surf.pbr.as_ref().filter(|_| bounce <= depth) else {
                 break;
             };
             let n = pt.normal;
             let v = -d;
-            let ng = if pt.face_normal.dot(d) < 0.0 {
+            let ng = if T::dot(pt.face_normal, d) < T::ZERO {
                 pt.face_normal
             } else {
                 -pt.face_normal
             };
-            let eps = 2e-5 * (pt.position.abs().max_element() + self.radius);
+            let eps = f(2e-5) * (T::vmax(T::vabs(pt.position)) + f(self.radius));
             let above = pt.position + ng * eps;
             let below = pt.position - ng * eps;
             let base = pt.surf.kd;
             let params = r.params.surface.pbr.as_ref();
-            let transmission = p.transmission.map_or(0.0, |t| t.factor) * (1.0 - p.metallic);
-            let thin = p.transmission.is_some_and(|t| t.thickness <= 0.0);
-            let p_trans = transmission.clamp(0.0, 0.95);
-            let ior = params.map_or(1.5, |q| q.ior.max(1.0));
+            let transmission = p.transmission.map_or(T::ZERO, |t| t.factor) * (T::ONE - p.metallic);
+            let thin = p.transmission.is_some_and(|t| t.thickness <= T::ZERO);
+            let p_trans = transmission.max(T::ZERO).min(f(0.95));
+            let ior = params.map_or(f(1.5), |q| f(q.ior.max(1.0)));
             // A rough interface refracts and reflects about a microfacet normal drawn
             // among those the ray sees (Walter et al. 2007 with Heitz's visible normals),
             // weighed by the masking of the way out, Smith's G1; a smooth one (roughness 0)
             // about the shading normal itself.
-            let alpha = alpha_of::<f32>(p.roughness);
-            let smooth = alpha <= crate::texture::microfacet::MIN_ALPHA;
+            let alpha = alpha_of::<T>(p.roughness);
+            let smooth = alpha <= f(crate::texture::microfacet::MIN_ALPHA);
             let facet = |rng: &mut Rng| {
                 if smooth {
                     Some(n)
                 } else {
-                    vndf(n, v, alpha, rng)
+                    vndf::<T>(n, v, alpha, rng)
                 }
             };
-            let masked = |l: Vec3| {
+            let masked = |l: T::V| {
                 if smooth {
-                    1.0
+                    T::ONE
                 } else {
-                    g1(n.dot(l).abs(), alpha)
+                    g1(T::dot(n, l).abs(), alpha)
                 }
             };
-            if transmission > 0.0 && !thin && !pt.front {
+            if transmission > T::ZERO && !thin && !pt.front {
                 // Inside a volume: its boundary is the bare interface, by Fresnel's
                 // equations (reflection, total beyond the critical angle, or refraction
                 // out; the base colour tinted the light once, on the way in).
                 let Some(m) = facet(rng) else { break };
-                let cos = v.dot(m).clamp(0.0, 1.0);
-                let (fr, refracted) = fresnel(d, m, cos, ior, false);
+                let cos = T::dot(v, m).clamp01();
+                let (fr, refracted) = fresnel_refract::<T>(d, m, cos, ior, false);
                 match refracted {
-                    Some(t) if rng.f() >= fr => {
-                        if t.dot(n) >= 0.0 {
+                    Some(t) if f(rng.f()) >= fr => {
+                        if T::dot(t, n) >= T::ZERO {
                             break;
                         }
-                        beta *= masked(t);
-                        why = (RayKind::Refraction, Vec3::splat(masked(t)));
+                        beta = beta * masked(t);
+                        why = (
+                            RayKind::Refraction,
+                            Vec3::splat(T::to_f64(masked(t)) as f32),
+                        );
                         d = t;
                         o = below;
                         medium = None;
                     }
                     _ => {
-                        let r = (d - 2.0 * d.dot(m) * m).normalize_or_zero();
-                        if r.dot(n) <= 0.0 {
+                        let r = T::normalize_or_zero(d - m * (f(2.0) * T::dot(d, m)));
+                        if T::dot(r, n) <= T::ZERO {
                             break;
                         }
-                        beta *= masked(r);
-                        why = (RayKind::Reflection, Vec3::splat(masked(r)));
+                        beta = beta * masked(r);
+                        why = (
+                            RayKind::Reflection,
+                            Vec3::splat(T::to_f64(masked(r)) as f32),
+                        );
                         d = r;
                         o = above;
                     }
                 }
                 chose = None;
-            } else if p_trans > 0.0 && rng.f() < p_trans {
+            } else if p_trans > T::ZERO && f(rng.f()) < p_trans {
                 // Into the surface: the transmitted share (1 - F) T base, refracted (a
                 // thin wall passes it on: unbent when smooth, and when rough the reflection
                 // about the facet mirrored through the surface). Its reflection is the
                 // BRDF's.
                 let Some(m) = facet(rng) else { break };
-                let cos = v.dot(m).clamp(0.0, 1.0);
-                let (fr, refracted) = fresnel(d, m, cos, 1.0 / ior, thin);
+                let cos = T::dot(v, m).clamp01();
+                let (fr, refracted) = fresnel_refract::<T>(d, m, cos, T::ONE / ior, thin);
                 let Some(t) = refracted else { break };
                 // The mirrored lobe loses what a white rough mirror loses (reflections
                 // into the surface, masking): given back by its albedo `A + B`, as the
                 // multiple-scattering compensation of the reflection does (unless
                 // single-scattering is asked for).
                 let (t, regain) = if thin && !smooth {
-                    let r = 2.0 * v.dot(m) * m - v;
+                    let r = m * (f(2.0) * T::dot(v, m)) - v;
                     let regain = if self.settings.single_scatter {
-                        1.0
+                        T::ONE
                     } else {
-                        let (a, b) = brdf_lut().lookup(v.dot(n).clamp(0.0, 1.0), p.roughness);
-                        1.0 / (a + b).max(0.05)
+                        let (a, b) = brdf_lut().lookup(
+                            T::to_f64(T::dot(v, n).clamp01()) as f32,
+                            T::to_f64(p.roughness) as f32,
+                        );
+                        T::ONE / f(a + b).max(f(0.05))
                     };
-                    ((r - 2.0 * r.dot(n) * n).normalize_or_zero(), regain)
+                    (
+                        T::normalize_or_zero(r - n * (f(2.0) * T::dot(r, n))),
+                        regain,
+                    )
                 } else {
-                    (t, 1.0)
+                    (t, T::ONE)
                 };
-                if t.dot(n) >= 0.0 {
+                if T::dot(t, n) >= T::ZERO {
                     break;
                 }
-                let share = base * ((1.0 - fr) * transmission / p_trans * masked(t) * regain);
-                beta *= share;
-                why = (RayKind::Refraction, share);
+                let share = base * ((T::ONE - fr) * transmission / p_trans * masked(t) * regain);
+                beta = beta * share;
+                why = (RayKind::Refraction, T::to_vec3(share));
                 d = t;
                 o = below;
                 medium = match params {
@@ -224,54 +247,57 @@ impl Tracer<'_> {
                 };
                 chose = None;
             } else {
-                let keep = 1.0 - p_trans;
+                let keep = T::ONE - p_trans;
                 // Next-event estimation: every punctual light (shadow rays), then the
                 // environment.
                 let rays = &self.rays;
                 let lit = self.light(&pt, false);
-                self.note_shadows(&lit, bounce, beta);
-                for s in &lit.lights {
-                    l += beta * (s.diffuse + s.specular) / keep;
-                }
-                let diffuse_albedo = luminance(base) * (1.0 - p.metallic) * (1.0 - transmission);
-                let spec_albedo = luminance(p.f0 * (1.0 - p.metallic) + base * p.metallic);
+                self.note_shadows(&lit.lights, bounce, T::to_vec3(beta));
+                l = l + T::vdiv(beta * lit.direct, keep);
+                let diffuse_albedo =
+                    luminance::<T>(base) * (T::ONE - p.metallic) * (T::ONE - transmission);
+                let spec_albedo = luminance::<T>(p.f0 * (T::ONE - p.metallic) + base * p.metallic);
                 let lobes = Lobes {
                     n,
                     v,
-                    alpha: alpha_of::<f32>(p.roughness),
-                    p_spec: (spec_albedo / (spec_albedo + diffuse_albedo + 1e-6)).clamp(0.1, 0.9),
+                    alpha,
+                    p_spec: (spec_albedo / (spec_albedo + diffuse_albedo + f(1e-6)))
+                        .max(f(0.1))
+                        .min(f(0.9)),
                 };
-                let brdf = |dir: Vec3| {
-                    let ndl = n.dot(dir);
-                    let t = crate::shade::reflect::<f32>(
+                let brdf = |dir: T::V| {
+                    let ndl = T::dot(n, dir);
+                    let t = crate::shade::reflect::<T>(
                         &pt.surf,
                         n,
                         dir,
                         v,
-                        ndl > 0.0,
+                        ndl > T::ZERO,
                         ndl,
                         false,
                         pt.blinn,
                     );
                     t.diffuse + t.specular
                 };
-                if let Some(e) = emitters.sample(pt.position, rng) {
+                if let Some(e) = emitters.sample::<T>(pt.position, rng) {
                     let (wi, pdf) = (e.dir, e.pdf);
-                    let f = brdf(wi);
+                    let fl = brdf(wi);
                     // A textured emitter's point shaded for its own emission.
                     let le = match &e.textured {
                         Some(h) => self
-                            .point(h, above, wi)
-                            .map_or(Vec3::ZERO, |(q, _)| q.emitted),
-                        None => e.emitted,
+                            .point::<T>(h, above, wi)
+                            .map_or(zero, |(q, _)| q.emitted),
+                        None => T::vec(e.emitted),
                     };
-                    if f != Vec3::ZERO && le != Vec3::ZERO {
-                        let open = !rays.occluded(&Ray::new(above, wi, 0.0, e.dist * (1.0 - 1e-4)));
+                    if !T::is_zero(fl) && !T::is_zero(le) {
+                        let reach = T::to_f64(e.dist) as f32 * (1.0 - 1e-4);
+                        let from = T::to_vec3(above);
+                        let open = !rays.occluded(&Ray::new(from, T::to_vec3(wi), 0.0, reach));
                         self.note(|| RayStep {
                             kind: RayKind::LightSample,
                             depth: bounce,
                             share: Vec3::ONE,
-                            weight: beta,
+                            weight: T::to_vec3(beta),
                             hit: RayHit::Emitter {
                                 instance: super::rays::unkey(e.key.0).0,
                                 triangle: e.key.1 as usize,
@@ -280,64 +306,62 @@ impl Tracer<'_> {
                         });
                         if open {
                             let w = mis(pdf, lobes.pdf(wi));
-                            l += beta * f * le * (w / (pdf * keep));
+                            l = l + beta * fl * le * (w / (pdf * keep));
                         }
                     }
                 }
                 if let Some(env) = &self.env {
                     let (wi, le, pdf) = env.sample(rng.f(), rng.f());
-                    let f = brdf(wi);
-                    if pdf > 0.0 && f != Vec3::ZERO {
-                        let open = !rays.occluded(&Ray::new(above, wi, 0.0, f32::INFINITY));
+                    let (wi_t, pdf) = (T::vec(wi), f(pdf));
+                    let fl = brdf(wi_t);
+                    if pdf > T::ZERO && !T::is_zero(fl) {
+                        let from = T::to_vec3(above);
+                        let open = !rays.occluded(&Ray::new(from, wi, 0.0, f32::INFINITY));
                         self.note(|| RayStep {
                             kind: RayKind::LightSample,
                             depth: bounce,
                             share: Vec3::ONE,
-                            weight: beta,
+                            weight: T::to_vec3(beta),
                             hit: RayHit::Sky { lit: open },
                         });
                         if open {
-                            let w = mis(pdf, lobes.pdf(wi));
-                            l += beta * f * (le + ambient) * (w / (pdf * keep));
+                            let w = mis(pdf, lobes.pdf(wi_t));
+                            l = l + beta * fl * (T::vec(le) + ambient) * (w / (pdf * keep));
                         }
                     }
                 }
                 let Some((wi, pdf)) = lobes.sample(rng) else {
                     break;
                 };
-                let f = brdf(wi);
-                if f == Vec3::ZERO {
+                let fl = brdf(wi);
+                if T::is_zero(fl) {
                     break;
                 }
-                beta *= f / (pdf * keep);
-                why = (RayKind::Bounce, f / (pdf * keep));
+                let step = T::vdiv(fl, pdf * keep);
+                beta = beta * step;
+                why = (RayKind::Bounce, T::to_vec3(step));
                 d = wi;
                 o = above;
                 chose = Some(pdf);
                 medium = None;
             }
-            if !beta.is_finite() {
+            if !T::vfinite(beta) {
                 break;
             }
             if bounce >= ROULETTE_AFTER {
-                let q = beta.max_element().clamp(0.05, 0.95);
-                if rng.f() >= q {
+                let q = T::vmax(beta).max(f(0.05)).min(f(0.95));
+                if f(rng.f()) >= q {
                     break;
                 }
-                beta /= q;
+                beta = T::vdiv(beta, q);
             }
         }
-        if l.is_finite() {
+        if T::vfinite(l) {
             l
         } else {
-            Vec3::ZERO
+            zero
         }
     }
-}
-
-/// The dielectric's reflectance and refracted direction (as in Whitted's model).
-fn fresnel(d: Vec3, n: Vec3, cos: f32, eta: f32, thin: bool) -> (f32, Option<Vec3>) {
-    super::whitted::fresnel_refract(d, n, cos, eta, thin)
 }
 
 /// The path-traced image of `scene` seen through `view`: `spp` paths per pixel, the
@@ -366,10 +390,35 @@ pub fn path_image_sampled(
     seed: u64,
     jitter: bool,
 ) -> Vec<Vec3> {
+    image::<f32>(scene, settings, view, (spp, seed, jitter))
+}
+
+/// [`path_image_sampled`] computed in `f64` (the references of `bench accuracy`): the
+/// same paths from the same random numbers, every surface, light and step of the path in
+/// `f64`, only the rays' walk through the scene's tree in `f32`.
+#[must_use]
+pub fn path_image_f64(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    spp: u32,
+    seed: u64,
+    jitter: bool,
+) -> Vec<DVec3> {
+    image::<f64>(scene, settings, view, (spp, seed, jitter))
+}
+
+/// The path-traced image in `T`: `spp` paths a pixel from stream `seed`, jittered or not.
+fn image<T: Scalar>(
+    scene: &PreparedScene,
+    settings: &Settings,
+    view: &View,
+    (spp, seed, jitter): (u32, u64, bool),
+) -> Vec<T::V> {
     let (w, h) = (view.width.max(1), view.height.max(1));
-    let mut out = vec![Vec3::ZERO; w as usize * h as usize];
+    let mut out = vec![T::splat(T::ZERO); w as usize * h as usize];
     let vp = view.camera.projection(view.aspect()) * view.camera.view();
-    path_into(
+    path_into::<T>(
         scene,
         settings,
         vp,
@@ -399,7 +448,7 @@ pub(crate) enum Store {
 /// (`jitter`) or its centre, as `store` says. Returns false if stopped (some rows then have
 /// their samples added and some not).
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn path_into(
+pub(crate) fn path_into<T: Scalar>(
     scene: &PreparedScene,
     settings: &Settings,
     vp: Mat4,
@@ -407,14 +456,14 @@ pub(crate) fn path_into(
     (w, h): (u32, u32),
     (samples, seed, jitter): (std::ops::Range<u32>, u64, bool),
     store: Store,
-    sum: &mut [Vec3],
+    sum: &mut [T::V],
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
     let tracer = Tracer::new(scene, settings, cam_to_world);
     let emitters = Emitters::new(&tracer);
     let inv = vp.inverse();
     let ambient = ambient_light(scene, settings, cam_to_world);
-    let count = samples.len().max(1) as f32;
+    let count = T::of(samples.len().max(1) as f32);
     let stopped = std::sync::atomic::AtomicBool::new(false);
     sum.par_chunks_mut(w as usize)
         .enumerate()
@@ -425,7 +474,7 @@ pub(crate) fn path_into(
             }
             for (x, px) in row.iter_mut().enumerate() {
                 let mut acc = match store {
-                    Store::Mean => Vec3::ZERO,
+                    Store::Mean => T::splat(T::ZERO),
                     Store::Sum => *px,
                 };
                 for s in samples.clone() {
@@ -435,10 +484,11 @@ pub(crate) fn path_into(
                     else {
                         continue;
                     };
-                    acc += tracer.path(near, d, reach, &mut rng, ambient, &emitters);
+                    let (near, d) = (T::vec(near), T::vec(d));
+                    acc = acc + tracer.path::<T>(near, d, reach, &mut rng, ambient, &emitters);
                 }
                 *px = match store {
-                    Store::Mean => *px + acc / count,
+                    Store::Mean => *px + T::vdiv(acc, count),
                     Store::Sum => acc,
                 };
             }
@@ -496,7 +546,7 @@ pub(crate) fn path_steps(
     let ambient = ambient_light(scene, settings, view.camera.view().inverse());
     let mut rng = Rng::new(x, y, 0, 0);
     if let Some((near, d, reach)) = camera_ray(vp.inverse(), (w, h), (x, y), &mut rng, true) {
-        let _ = tracer.path(near, d, reach, &mut rng, ambient, &emitters);
+        let _ = tracer.path::<f32>(near, d, reach, &mut rng, ambient, &emitters);
     }
     tracer.into_log()
 }

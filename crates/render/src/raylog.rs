@@ -155,8 +155,13 @@ impl<'a> Tracer<'a> {
     }
 
     /// Records the shadow rays of a hit `depth` bounces in (`weight` of the pixel), lit or
-    /// blocked as `lit` found.
-    pub(super) fn note_shadows(&self, lit: &super::probe::Lit, depth: u32, weight: Vec3) {
+    /// blocked as the `lights`' shares found.
+    pub(super) fn note_shadows(
+        &self,
+        lights: &[super::probe::LightShare],
+        depth: u32,
+        weight: Vec3,
+    ) {
         if self.log.is_none() {
             return;
         }
@@ -165,7 +170,7 @@ impl<'a> Tracer<'a> {
         let cast = |s: &&super::probe::LightShare| {
             s.light.kind.can_shadow() && (s.shadow < 1.0 || s.diffuse + s.specular != Vec3::ZERO)
         };
-        for s in lit.lights.iter().filter(cast) {
+        for s in lights.iter().filter(cast) {
             self.note(|| RayStep {
                 kind: RayKind::Shadow,
                 depth,

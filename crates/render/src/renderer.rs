@@ -274,7 +274,7 @@ impl Renderer {
                 k >= passes || {
                     self.path.clear();
                     self.path.resize(w as usize * h as usize, Vec3::ZERO);
-                    let done = super::path::path_into(
+                    let done = super::path::path_into::<f32>(
                         scene,
                         settings,
                         vp,
@@ -393,7 +393,7 @@ impl Renderer {
         let view_m = view.camera.view();
         let vp = view.camera.projection(view.aspect()) * view_m;
         self.inv_vp = vp.inverse();
-        let done = super::path::path_into(
+        let done = super::path::path_into::<f32>(
             scene,
             settings,
             vp,

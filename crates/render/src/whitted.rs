@@ -15,6 +15,7 @@ use super::prepare::PreparedScene;
 use super::raylog::RayKind;
 use super::settings::Settings;
 use crate::raster::{Bins, Stats, Target};
+use crate::scalar::Scalar;
 use crate::scene::{Camera, LightKind};
 use crate::shade::mode::Rays;
 use crate::shade::ShadowMap;
@@ -326,12 +327,12 @@ impl<'a> Tracer<'a> {
     }
 
     /// The surface a ray from `o` along unit `d` meets at `h`, and its instance's material.
-    pub(super) fn point(
+    pub(super) fn point<T: Scalar>(
         &self,
         h: &realist_trace::Hit,
-        o: Vec3,
-        d: Vec3,
-    ) -> Option<(super::probe::Point, &super::frame::Resolved)> {
+        o: T::V,
+        d: T::V,
+    ) -> Option<(super::probe::Point<T>, &super::frame::Resolved)> {
         let (k, copy) = super::rays::unkey(h.key);
         let r = self.resolved.get(k).and_then(Option::as_ref)?;
         let inst = &self.scene.instances[k];
@@ -347,8 +348,8 @@ impl<'a> Tracer<'a> {
             bary: Vec3::from_array(h.bary),
             front: h.front,
         };
-        let position = o + d * h.t;
-        let pt = super::probe::point_at(
+        let position = o + d * T::of(h.t);
+        let pt = super::probe::point_at::<T>(
             self.scene,
             r,
             world,
@@ -362,7 +363,11 @@ impl<'a> Tracer<'a> {
 
     /// Every light's share at `pt`, shadow rays to each (and, with `image_based`, the
     /// ambient and environment terms as the rasterizer has them).
-    pub(super) fn light(&self, pt: &super::probe::Point, image_based: bool) -> super::probe::Lit {
+    pub(super) fn light<T: Scalar>(
+        &self,
+        pt: &super::probe::Point<T>,
+        image_based: bool,
+    ) -> super::probe::Lit<T> {
         let rays = &self.rays;
         let occluded = |from: Vec3, to: Vec3| rays.occluded(&Ray::new(from, to - from, 0.0, 1.0));
         super::probe::light_point(
@@ -393,7 +398,7 @@ impl<'a> Tracer<'a> {
             return pt.base.truncate();
         }
         let lit = self.light(&pt, true);
-        self.note_shadows(&lit, depth, weight);
+        self.note_shadows(&lit.lights, depth, weight);
         let direct = lit
             .lights
             .iter()
@@ -485,28 +490,29 @@ impl<'a> Tracer<'a> {
 /// the ray, `cos = -d·n`) from a medium `eta` = n1/n2 times the other's, and the refracted
 /// direction by Snell's law; `None` beyond the critical angle (total internal reflection,
 /// reflectance 1). A thin wall passes the ray on unbent.
-pub(super) fn fresnel_refract(
-    d: Vec3,
-    n: Vec3,
-    cos: f32,
-    eta: f32,
+pub(super) fn fresnel_refract<T: Scalar>(
+    d: T::V,
+    n: T::V,
+    cos: T,
+    eta: T,
     thin: bool,
-) -> (f32, Option<Vec3>) {
-    let sin2_t = eta * eta * (1.0 - cos * cos);
-    if sin2_t >= 1.0 {
-        return (1.0, None);
+) -> (T, Option<T::V>) {
+    let one = T::ONE;
+    let sin2_t = eta * eta * (one - cos * cos);
+    if sin2_t >= one {
+        return (one, None);
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
+    let cos_t = (one - sin2_t).sqrt();
     // Fresnel's equations for unpolarised light (n1 cos_i vs n2 cos_t, with n1/n2 = eta).
     let rs = (eta * cos - cos_t) / (eta * cos + cos_t);
     let rp = (cos - eta * cos_t) / (cos + eta * cos_t);
-    let r = 0.5 * (rs * rs + rp * rp);
+    let r = T::of(0.5) * (rs * rs + rp * rp);
     let t = if thin {
         d
     } else {
-        (eta * d + (eta * cos - cos_t) * n).normalize_or_zero()
+        T::normalize_or_zero(d * eta + n * (eta * cos - cos_t))
     };
-    (r.clamp(0.0, 1.0), Some(t))
+    (r.clamp01(), Some(t))
 }
 
 /// Whitted's rays for the pixels that see a mirror or a transmissive surface (the others

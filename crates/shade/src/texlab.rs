@@ -17,7 +17,7 @@ use super::maps;
 use super::shaders::{DrawParams, SlotParams, TexView};
 use crate::raster::{Colors, Fragments};
 use crate::scene::TextureSource;
-use crate::simd::{Lane, Level, F8, LANES, V3};
+use crate::simd::{Lane, Level, Real, F8, LANES, V3};
 use crate::texture::{srgb_to_linear, Filter, ProceduralTexture, SamplePoint, Sampler, Texture};
 
 /// Lane `i` of three consecutive varyings from `k`.
@@ -164,7 +164,7 @@ fn bump_gradient(
                 crate::texture::Domain::Uv => uv_slope(g.truncate()),
                 crate::texture::Domain::Object => {
                     let (lx, ly) = derivs(f, at, 3, first, i)?;
-                    solid_height_gradient(n, (sx, sy), (lx, ly), g, b.scale)
+                    solid_height_gradient::<f32>(n, (sx, sy), (lx, ly), g, b.scale)
                 }
             }
         }
@@ -176,21 +176,21 @@ fn bump_gradient(
 /// `g` is `h`'s gradient in that frame, `s` the world position's and `l` the frame
 /// position's changes along two directions in the surface.
 #[must_use]
-pub fn solid_height_gradient(
-    n: Vec3,
-    s: (Vec3, Vec3),
-    l: (Vec3, Vec3),
-    g: Vec3,
-    scale: f32,
-) -> Option<Vec3> {
-    let sg = maps::surface_gradient::<f32>(n, s.0, s.1, g.dot(l.0), g.dot(l.1))?;
+pub fn solid_height_gradient<T: Real>(
+    n: T::V,
+    s: (T::V, T::V),
+    l: (T::V, T::V),
+    g: T::V,
+    scale: T,
+) -> Option<T::V> {
+    let sg = maps::surface_gradient::<T>(n, s.0, s.1, T::dot(g, l.0), T::dot(g, l.1))?;
     // World length of one frame unit, from whichever direction moved more.
-    let (ws, ls) = if l.0.length_squared() >= l.1.length_squared() {
-        (s.0.length(), l.0.length())
+    let (ws, ls) = if T::dot(l.0, l.0) >= T::dot(l.1, l.1) {
+        (T::length(s.0), T::length(l.0))
     } else {
-        (s.1.length(), l.1.length())
+        (T::length(s.1), T::length(l.1))
     };
-    (ls > 0.0).then(|| sg * (scale * ws / ls))
+    (ls > T::ZERO).then(|| sg * (scale * ws / ls))
 }
 
 /// Bump slot `b` applied to the unit normals `n` on the live lanes of `f`.

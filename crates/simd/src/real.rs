@@ -33,6 +33,8 @@ pub trait Num:
     /// The 3-vector of this type (`Vec3`, `DVec3` or [`V3`]).
     type V: Copy
         + std::fmt::Debug
+        + Send
+        + Sync
         + Add<Output = Self::V>
         + Sub<Output = Self::V>
         + Mul<Output = Self::V>

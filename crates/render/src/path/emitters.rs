@@ -5,6 +5,7 @@ use glam::Vec3;
 
 use super::super::whitted::Tracer;
 use super::sampling::{luminance, Rng};
+use crate::scalar::Scalar;
 
 /// The scene's emissive triangles as lights: drawn in proportion to their power (area
 /// times the luminance of their emission), a point uniformly on the chosen one.
@@ -31,11 +32,11 @@ struct Emitter {
 /// A point drawn on an emitter: the unit direction to it, its distance, its emission (for
 /// a textured emitter, shaded at the point by the caller from `textured`) and the density
 /// per unit solid angle.
-pub(super) struct Drawn {
-    pub(super) dir: Vec3,
-    pub(super) dist: f32,
+pub(super) struct Drawn<T: Scalar> {
+    pub(super) dir: T::V,
+    pub(super) dist: T,
     pub(super) emitted: Vec3,
-    pub(super) pdf: f32,
+    pub(super) pdf: T,
     /// The emitter's instance key and triangle.
     pub(super) key: (u64, u32),
     pub(super) textured: Option<realist_trace::Hit>,
@@ -58,7 +59,7 @@ impl Emitters {
                 continue;
             };
             let e = r.params.emissive;
-            if r.params.unlit || luminance(e) <= 0.0 || !e.is_finite() {
+            if r.params.unlit || luminance::<f32>(e) <= 0.0 || !e.is_finite() {
                 continue;
             }
             let textured = r.params.emissive_map.is_some();
@@ -96,7 +97,7 @@ impl Emitters {
         let mut cdf = Vec::with_capacity(tris.len());
         let mut sum = 0.0f64;
         for e in &tris {
-            sum += f64::from(luminance(e.emitted) * e.area);
+            sum += f64::from(luminance::<f32>(e.emitted) * e.area);
             cdf.push(sum as f32);
         }
         if sum > 0.0 {
@@ -113,7 +114,7 @@ impl Emitters {
     }
 
     /// A point on an emitter seen from `p` (both sides emit).
-    pub(super) fn sample(&self, p: Vec3, rng: &mut Rng) -> Option<Drawn> {
+    pub(super) fn sample<T: Scalar>(&self, p: T::V, rng: &mut Rng) -> Option<Drawn<T>> {
         if self.tris.is_empty() {
             return None;
         }
@@ -126,30 +127,31 @@ impl Emitters {
         let [a, b, c] = em.corners;
         let (r1, r2) = (rng.f().sqrt(), rng.f());
         let bary = [1.0 - r1, r1 * (1.0 - r2), r1 * r2];
-        let q = a * bary[0] + b * bary[1] + c * bary[2];
+        let [ta, tb, tc] = [a, b, c].map(T::vec);
+        let q = ta * T::of(bary[0]) + tb * T::of(bary[1]) + tc * T::of(bary[2]);
         let d = q - p;
-        let dist2 = d.length_squared();
+        let dist2 = T::dot(d, d);
         let dist = dist2.sqrt();
-        let w = d / dist;
-        let n = (b - a).cross(c - a).normalize_or_zero();
-        let cos = n.dot(w).abs();
-        if !(cos > 0.0 && dist > 0.0) {
+        let w = T::vdiv(d, dist);
+        let n = T::normalize_or_zero(T::cross(tb - ta, tc - ta));
+        let cos = T::dot(n, w).abs();
+        if !(cos > T::ZERO && dist > T::ZERO) {
             return None;
         }
         let (key, triangle) = em.key;
         let textured = em.textured.then_some(realist_trace::Hit {
-            t: dist,
+            t: T::to_f64(dist) as f32,
             instance: 0,
             key,
             triangle,
             bary,
-            front: n.dot(w) < 0.0,
+            front: T::dot(n, w) < T::ZERO,
         });
         Some(Drawn {
             dir: w,
             dist,
             emitted: em.emitted,
-            pdf: self.chance(i) / em.area * dist2 / cos,
+            pdf: T::of(self.chance(i)) / T::of(em.area) * dist2 / cos,
             key: em.key,
             textured,
         })
@@ -157,10 +159,10 @@ impl Emitters {
 
     /// The density [`Emitters::sample`] gives the direction towards triangle `tri` of
     /// instance `key`, met at distance `t` at cosine `cos`.
-    pub(super) fn pdf(&self, key: u64, tri: u32, t: f32, cos: f32) -> Option<f32> {
+    pub(super) fn pdf<T: Scalar>(&self, key: u64, tri: u32, t: T, cos: T) -> Option<T> {
         let &i = self.index.get(&(key, tri))?;
-        let area = self.tris[i].area;
-        (cos > 0.0).then(|| self.chance(i) / area * t * t / cos)
+        let area = T::of(self.tris[i].area);
+        (cos > T::ZERO).then(|| T::of(self.chance(i)) / area * t * t / cos)
     }
 }
 
@@ -177,6 +179,6 @@ fn centroid_emission(t: &Tracer, key: u64, triangle: u32, c: [Vec3; 3]) -> Optio
         bary: [1.0 / 3.0; 3],
         front: true,
     };
-    let (pt, _) = t.point(&hit, centre + n, -n)?;
+    let (pt, _) = t.point::<f32>(&hit, centre + n, -n)?;
     Some(pt.emitted).filter(|e| e.is_finite())
 }

@@ -2,8 +2,7 @@
 //! around a normal, the power heuristic, Smith's masking and the GGX visible normals, and
 //! the BRDF's sampling lobes.
 
-use glam::Vec3;
-
+use crate::scalar::Scalar;
 use crate::texture::microfacet::ggx;
 
 /// A small, fast generator (PCG32), seeded per pixel sample.
@@ -37,108 +36,117 @@ impl Rng {
 }
 
 /// An orthonormal frame around unit `n` (Duff et al. 2017).
-pub(super) fn frame(n: Vec3) -> (Vec3, Vec3) {
-    let s = 1f32.copysign(n.z);
-    let a = -1.0 / (s + n.z);
-    let b = n.x * n.y * a;
+pub(super) fn frame<T: Scalar>(n: T::V) -> (T::V, T::V) {
+    let [nx, ny, nz] = T::xyz(n);
+    let one = T::ONE;
+    let s = one.copysign(nz);
+    let a = -one / (s + nz);
+    let b = nx * ny * a;
     (
-        Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
-        Vec3::new(b, s + n.y * n.y * a, -n.y),
+        T::new3(one + s * nx * nx * a, s * b, -s * nx),
+        T::new3(b, s + ny * ny * a, -ny),
     )
 }
 
-pub(super) fn luminance(c: Vec3) -> f32 {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+pub(super) fn luminance<T: Scalar>(c: T::V) -> T {
+    let [r, g, b] = T::xyz(c);
+    T::of(0.2126) * r + T::of(0.7152) * g + T::of(0.0722) * b
 }
 
 /// The power heuristic's weight of a sample of density `a` against `b`.
-pub(super) fn mis(a: f32, b: f32) -> f32 {
+pub(super) fn mis<T: Scalar>(a: T, b: T) -> T {
     let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 && (a2 + b2).is_finite() {
+    if a2 + b2 > T::ZERO && (a2 + b2).is_finite() {
         a2 / (a2 + b2)
-    } else if a.is_infinite() {
-        1.0
+    } else if !a.is_finite() && a == a {
+        T::ONE
     } else {
-        0.0
+        T::ZERO
     }
 }
 
 /// Smith's masking of the view for GGX α at `NV`.
-pub(super) fn g1(nv: f32, a: f32) -> f32 {
+pub(super) fn g1<T: Scalar>(nv: T, a: T) -> T {
     let a2 = a * a;
-    2.0 * nv / (nv + (a2 + (1.0 - a2) * nv * nv).sqrt())
+    T::of(2.0) * nv / (nv + (a2 + (T::ONE - a2) * nv * nv).sqrt())
 }
 
 /// A microfacet normal of GGX (roughness `alpha`) about unit normal `n`, drawn among those
 /// visible from unit direction `v` in proportion to their projected area (Heitz 2018,
 /// "Sampling the GGX Distribution of Visible Normals"); `None` if `v` is below the surface.
-pub(super) fn vndf(n: Vec3, v: Vec3, alpha: f32, rng: &mut Rng) -> Option<Vec3> {
-    let (t, b) = frame(n);
-    let v = Vec3::new(v.dot(t), v.dot(b), v.dot(n));
-    if v.z <= 0.0 {
+pub(super) fn vndf<T: Scalar>(n: T::V, v: T::V, alpha: T, rng: &mut Rng) -> Option<T::V> {
+    let (t, b) = frame::<T>(n);
+    let (vx, vy, vz) = (T::dot(v, t), T::dot(v, b), T::dot(v, n));
+    if vz <= T::ZERO {
         return None;
     }
-    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
-    let len2 = vh.x * vh.x + vh.y * vh.y;
-    let t1 = if len2 > 0.0 {
-        Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
+    let [hx, hy, hz] = T::xyz(T::normalize_or_zero(T::new3(alpha * vx, alpha * vy, vz)));
+    let vh = T::new3(hx, hy, hz);
+    let len2 = hx * hx + hy * hy;
+    let t1 = if len2 > T::ZERO {
+        T::vdiv(T::new3(-hy, hx, T::ZERO), len2.sqrt())
     } else {
-        Vec3::X
+        T::new3(T::ONE, T::ZERO, T::ZERO)
     };
-    let t2 = vh.cross(t1);
-    let (u1, u2) = (rng.f(), rng.f());
+    let t2 = T::cross(vh, t1);
+    let (u1, u2) = (T::of(rng.f()), T::of(rng.f()));
     let r = u1.sqrt();
-    let phi = std::f32::consts::TAU * u2;
+    let phi = T::of64(std::f64::consts::TAU) * u2;
     let p1 = r * phi.cos();
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
-    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-    let h = Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize();
-    Some(t * h.x + b * h.y + n * h.z)
+    let s = T::of(0.5) * (T::ONE + hz);
+    let p2 = (T::ONE - s) * (T::ONE - p1 * p1).max(T::ZERO).sqrt() + s * r * phi.sin();
+    let nh = t1 * p1 + t2 * p2 + vh * (T::ONE - p1 * p1 - p2 * p2).max(T::ZERO).sqrt();
+    let [nx, ny, nz] = T::xyz(nh);
+    let [x, y, z] = T::xyz(T::normalize_or_zero(T::new3(
+        alpha * nx,
+        alpha * ny,
+        nz.max(T::ZERO),
+    )));
+    Some(t * x + b * y + n * z)
 }
 
 /// The BRDF's sampling lobes at a point.
-pub(super) struct Lobes {
-    pub(super) n: Vec3,
-    pub(super) v: Vec3,
-    pub(super) alpha: f32,
+pub(super) struct Lobes<T: Scalar> {
+    pub(super) n: T::V,
+    pub(super) v: T::V,
+    pub(super) alpha: T,
     /// Chance of drawing from the specular lobe (else the cosine lobe).
-    pub(super) p_spec: f32,
+    pub(super) p_spec: T,
 }
 
-impl Lobes {
+impl<T: Scalar> Lobes<T> {
     /// A direction and its density under the mixture.
-    pub(super) fn sample(&self, rng: &mut Rng) -> Option<(Vec3, f32)> {
-        let l = if rng.f() < self.p_spec {
-            let h = vndf(self.n, self.v, self.alpha, rng)?;
-            2.0 * self.v.dot(h) * h - self.v
+    pub(super) fn sample(&self, rng: &mut Rng) -> Option<(T::V, T)> {
+        let l = if T::of(rng.f()) < self.p_spec {
+            let h = vndf::<T>(self.n, self.v, self.alpha, rng)?;
+            h * (T::of(2.0) * T::dot(self.v, h)) - self.v
         } else {
-            let (t, b) = frame(self.n);
-            let (u1, u2) = (rng.f(), rng.f());
+            let (t, b) = frame::<T>(self.n);
+            let (u1, u2) = (T::of(rng.f()), T::of(rng.f()));
             let r = u1.sqrt();
-            let phi = std::f32::consts::TAU * u2;
-            t * (r * phi.cos()) + b * (r * phi.sin()) + self.n * (1.0 - u1).max(0.0).sqrt()
+            let phi = T::of64(std::f64::consts::TAU) * u2;
+            t * (r * phi.cos()) + b * (r * phi.sin()) + self.n * (T::ONE - u1).max(T::ZERO).sqrt()
         };
-        let l = l.normalize_or_zero();
+        let l = T::normalize_or_zero(l);
         let pdf = self.pdf(l);
-        (pdf > 0.0 && pdf.is_finite()).then_some((l, pdf))
+        (pdf > T::ZERO && pdf.is_finite()).then_some((l, pdf))
     }
 
     /// The mixture's density of direction `l`.
-    pub(super) fn pdf(&self, l: Vec3) -> f32 {
-        let nl = self.n.dot(l);
-        if nl <= 0.0 {
-            return 0.0;
+    pub(super) fn pdf(&self, l: T::V) -> T {
+        let nl = T::dot(self.n, l);
+        if nl <= T::ZERO {
+            return T::ZERO;
         }
-        let diffuse = nl * std::f32::consts::FRAC_1_PI;
-        let nv = self.n.dot(self.v);
-        let h = (l + self.v).normalize_or_zero();
-        let spec = if nv > 0.0 {
-            let d = ggx::<f32>(self.n.dot(h).max(0.0), self.alpha);
-            g1(nv, self.alpha) * d / (4.0 * nv)
+        let diffuse = nl * T::of64(std::f64::consts::FRAC_1_PI);
+        let nv = T::dot(self.n, self.v);
+        let h = T::normalize_or_zero(l + self.v);
+        let spec = if nv > T::ZERO {
+            let d = ggx::<T>(T::dot(self.n, h).max(T::ZERO), self.alpha);
+            g1(nv, self.alpha) * d / (T::of(4.0) * nv)
         } else {
-            0.0
+            T::ZERO
         };
-        self.p_spec * spec + (1.0 - self.p_spec) * diffuse
+        self.p_spec * spec + (T::ONE - self.p_spec) * diffuse
     }
 }
