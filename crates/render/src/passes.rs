@@ -5,25 +5,28 @@
 //! left out of the triangle passes, whose per-triangle and per-pixel work is unchanged.
 //!
 //! Every group appends its instances' clip positions and float varyings to buffers kept in
-//! the renderer's [`Pool`] and hands the rasterizer a [`DrawList`] that builds each draw from
-//! plain indices, so a frame allocates nothing once the buffers have grown.
-
-use std::time::Instant;
+//! the renderer's [`Pool`] and hands the rasterizer a [`DrawList`](crate::raster::DrawList)
+//! that builds each draw from plain indices, so a frame allocates nothing once the buffers
+//! have grown.
 
 use glam::{Mat4, Vec3, Vec4};
 
 use super::frame::{FrameData, FrameInst};
-use super::pool::{GroupScratch, Item, Pool};
+use super::pool::Pool;
 use super::prepare::PreparedScene;
 use super::vertex::{self, Lit};
-use crate::raster::{
-    self, Bins, Cull, DepthCopy, Draw, DrawList, DrawState, LineStyle, Stats, StrokeStyle, Target,
-};
+use crate::raster::{self, Bins, Cull, DepthCopy, DrawState, LineStyle, Stats, Target};
 use crate::scene::Camera;
 use crate::shade::mode::Pass;
 use crate::shade::{
     ColorShader, Constant, CountShader, Debug, DebugShader, DepthOnly, DrawParams, LitShader,
 };
+
+mod groups;
+mod strokes;
+
+use groups::{group, group_with, Geometry};
+use strokes::{strokes, StrokeScratch};
 
 /// Everything a pass reads and writes.
 pub(super) struct Cx<'a> {
@@ -50,223 +53,6 @@ pub(super) struct Cx<'a> {
     /// The section planes in this pass's clip space (empty: nothing is cut; always empty
     /// for shadow maps).
     pub sections: &'a [Vec4],
-}
-
-/// Which positions a group's draws use.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Geometry {
-    /// The mesh's render vertices and triangles.
-    Indexed,
-    /// Flat shading's unindexed corners.
-    Flat,
-}
-
-/// A group's draws, built on demand from plain indices.
-struct GroupDraws<'a> {
-    scene: &'a PreparedScene,
-    insts: &'a [FrameInst],
-    items: &'a [Item],
-    sorted: &'a [[u32; 3]],
-    clip: &'a [Vec4],
-    var: &'a [f32],
-    geometry: Geometry,
-    state: fn(DrawState) -> DrawState,
-    sections: &'a [Vec4],
-}
-
-impl DrawList for GroupDraws<'_> {
-    fn count(&self) -> usize {
-        self.items.len()
-    }
-
-    fn draw(&self, i: usize) -> Draw<'_> {
-        let it = self.items[i];
-        let fi = &self.insts[it.inst as usize];
-        let mesh = &self.scene.meshes[fi.mesh as usize];
-        let range = it.start as usize..(it.start + it.len) as usize;
-        let vars = it.var_start as usize..(it.var_start + it.len * it.stride) as usize;
-        Draw {
-            id: fi.param,
-            clip: &self.clip[range],
-            varyings: &self.var[vars],
-            stride: it.stride as usize,
-            triangles: if it.sorted == u32::MAX {
-                match self.geometry {
-                    Geometry::Indexed => &mesh.tri.triangles,
-                    Geometry::Flat => &mesh.flat().triangles,
-                }
-            } else {
-                let first = it.sorted as usize;
-                &self.sorted[first..first + mesh.tri.triangles.len()]
-            },
-            state: (self.state)(fi.state),
-            // The ground plane is never cut.
-            sections: if self.scene.instances[fi.inst as usize].ground {
-                &[]
-            } else {
-                self.sections
-            },
-        }
-    }
-}
-
-/// Appends one instance's varyings (one vertex per position) and returns their stride.
-type VertexFn<'a> = dyn FnMut(&FrameInst, &mut Vec<f32>) -> usize + 'a;
-
-/// Draws the frame's instances for which `pick` holds as one group: the vertex stage
-/// (`vertex` appends the varyings of each position) then the rasterizer. Returns false if
-/// stopped.
-fn group<S: raster::FragmentShader>(
-    cx: &mut Cx,
-    fd: &FrameData,
-    pick: &dyn Fn(usize, &FrameInst) -> bool,
-    geometry: Geometry,
-    mut vertex: impl FnMut(&FrameInst, &mut Vec<f32>) -> usize,
-    shader: &S,
-) -> bool {
-    let (done, g) = group_with(cx, &fd.insts, pick, geometry, &mut vertex, shader, |s| s);
-    cx.pool.put(g);
-    done
-}
-
-/// Vertices a group transforms before it rasterizes what it has and starts again: a
-/// million instanced copies are drawn in pieces of this size, not with all their vertices
-/// at once (the pieces are drawn in order, so the image is the same).
-const GROUP_VERTICES: usize = 1 << 21;
-
-/// [`group`] with a state override, also returning the group's buffers (to be put back in
-/// the pool).
-fn group_with<S: raster::FragmentShader>(
-    cx: &mut Cx,
-    insts: &[FrameInst],
-    pick: &dyn Fn(usize, &FrameInst) -> bool,
-    geometry: Geometry,
-    vertex: &mut VertexFn<'_>,
-    shader: &S,
-    state: fn(DrawState) -> DrawState,
-) -> (bool, Box<GroupScratch>) {
-    let mut g = cx.pool.take::<GroupScratch>();
-    g.clear();
-    let mut start = Instant::now();
-    for (k, fi) in insts.iter().enumerate() {
-        if !pick(k, fi) {
-            continue;
-        }
-        let mesh = &cx.scene.meshes[fi.mesh as usize];
-        let positions = match geometry {
-            Geometry::Indexed => &mesh.tri.positions,
-            Geometry::Flat => &mesh.flat().corners,
-        };
-        let first = g.clip.len();
-        let var_start = g.var.len();
-        let mvp = match cx.light {
-            Some(light) => light * fi.world,
-            None => cx.jitter * fi.mvp,
-        };
-        raster::transform_positions_into(mvp, positions, &mut g.clip);
-        let stride = vertex(fi, &mut g.var);
-        let len = g.clip.len() - first;
-        debug_assert_eq!(g.var.len() - var_start, len * stride);
-        g.items.push(Item {
-            inst: k as u32,
-            start: first as u32,
-            len: len as u32,
-            var_start: var_start as u32,
-            stride: stride as u32,
-            sorted: u32::MAX,
-        });
-        if cx.sort {
-            let it = g.items.last_mut().expect("just pushed");
-            it.sorted = g.sorted.len() as u32;
-            sort_back_to_front(
-                &mesh.tri.triangles,
-                geometry,
-                &g.clip[first..],
-                &mut g.keys,
-                &mut g.sorted,
-            );
-        }
-        if g.clip.len() >= GROUP_VERTICES {
-            cx.vertex_nanos += start.elapsed().as_nanos() as u64;
-            if !rasterize(cx, insts, &mut g, geometry, shader, state) {
-                return (false, g);
-            }
-            g.clear();
-            start = Instant::now();
-        }
-    }
-    cx.vertex_nanos += start.elapsed().as_nanos() as u64;
-    let done = rasterize(cx, insts, &mut g, geometry, shader, state);
-    (done, g)
-}
-
-/// Rasterizes the draws gathered in `g`; returns false if stopped.
-fn rasterize<S: raster::FragmentShader>(
-    cx: &mut Cx,
-    insts: &[FrameInst],
-    g: &mut GroupScratch,
-    geometry: Geometry,
-    shader: &S,
-    state: fn(DrawState) -> DrawState,
-) -> bool {
-    if g.items.is_empty() {
-        return true;
-    }
-    let GroupScratch {
-        clip,
-        var,
-        items,
-        raster: scratch,
-        sorted,
-        ..
-    } = g;
-    let list = GroupDraws {
-        scene: cx.scene,
-        insts,
-        items,
-        sorted,
-        clip,
-        var,
-        geometry,
-        state,
-        sections: if cx.light.is_none() { cx.sections } else { &[] },
-    };
-    raster::draw_list(
-        cx.target, &list, shader, cx.stats, cx.bins, scratch, cx.stop,
-    )
-}
-
-/// Appends an instance's triangles to `out` in back-to-front order of their centroids'
-/// depth (the sum of the corners' clip z, which falls with distance in the reversed-depth
-/// convention of [`Camera::projection`], perspective or parallel), ties in mesh order.
-/// `clip` holds the instance's clip positions (for flat geometry, three per triangle).
-fn sort_back_to_front(
-    triangles: &[[u32; 3]],
-    geometry: Geometry,
-    clip: &[Vec4],
-    keys: &mut Vec<(f32, u32)>,
-    out: &mut Vec<[u32; 3]>,
-) {
-    keys.clear();
-    keys.extend(triangles.iter().enumerate().map(|(t, tri)| {
-        let corners = match geometry {
-            Geometry::Indexed => *tri,
-            Geometry::Flat => {
-                let t = t as u32;
-                [3 * t, 3 * t + 1, 3 * t + 2]
-            }
-        };
-        let z: f32 = corners
-            .iter()
-            .map(|&k| clip.get(k as usize).map_or(0.0, |c| c.z))
-            .sum();
-        (if z.is_nan() { 0.0 } else { z }, t as u32)
-    }));
-    keys.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    out.extend(keys.iter().map(|&(_, t)| match geometry {
-        Geometry::Indexed => triangles[t as usize],
-        Geometry::Flat => [3 * t, 3 * t + 1, 3 * t + 2],
-    }));
 }
 
 /// Draws a whole frame; returns false if stopped.
@@ -341,140 +127,6 @@ fn backdrop(cx: &mut Cx, fd: &FrameData) -> Option<crate::shade::Backdrop> {
         image: std::sync::Arc::new(image),
         view_proj: cx.jitter * fd.view_proj,
     })
-}
-
-/// The frame's points and lines and their vertex colours, kept in the pool between frames,
-/// and what is left of them after the section planes.
-#[derive(Default)]
-struct StrokeScratch {
-    clip: Vec<Vec4>,
-    colors: Vec<Vec4>,
-    cut: Cut,
-}
-
-/// Points and lines cut by section planes: the kept ones, with the new ends of the lines
-/// crossing a plane appended to the positions (and colours).
-#[derive(Default)]
-struct Cut {
-    lines: Vec<[u32; 2]>,
-    points: Vec<u32>,
-}
-
-impl Cut {
-    /// Cuts `lines` and `points` of `clip` by `planes` (clip space, kept where
-    /// `dot(plane, p) >= 0`), appending each new end to `clip` and, when given, its
-    /// interpolated colour to `colors`.
-    fn cut(
-        &mut self,
-        planes: &[Vec4],
-        clip: &mut Vec<Vec4>,
-        mut colors: Option<&mut Vec<Vec4>>,
-        lines: &[[u32; 2]],
-        points: &[u32],
-    ) {
-        self.lines.clear();
-        self.points.clear();
-        let kept = |p: Vec4| planes.iter().all(|l| l.dot(p) >= 0.0);
-        self.points.extend(
-            points
-                .iter()
-                .filter(|&&i| clip.get(i as usize).is_some_and(|&p| kept(p))),
-        );
-        for &[i, j] in lines {
-            let (Some(&a), Some(&b)) = (clip.get(i as usize), clip.get(j as usize)) else {
-                continue;
-            };
-            // The part of a..b on the kept side of every plane: t in [t0, t1].
-            let (mut t0, mut t1) = (0.0f32, 1.0f32);
-            for l in planes {
-                let (da, db) = (l.dot(a), l.dot(b));
-                if da < 0.0 && db < 0.0 {
-                    t1 = -1.0;
-                    break;
-                }
-                if da < 0.0 {
-                    t0 = t0.max(da / (da - db));
-                } else if db < 0.0 {
-                    t1 = t1.min(da / (da - db));
-                }
-            }
-            if t0.is_nan() || t1.is_nan() || t0 > t1 {
-                continue;
-            }
-            // The end at t: an existing vertex, or a new one.
-            let mut end = |t: f32| -> u32 {
-                if t == 0.0 {
-                    return i;
-                }
-                if t == 1.0 {
-                    return j;
-                }
-                clip.push(a + (b - a) * t);
-                if let Some(c) = colors.as_deref_mut() {
-                    let (ca, cb) = (c[i as usize], c[j as usize]);
-                    c.push(ca + (cb - ca) * t);
-                }
-                (clip.len() - 1) as u32
-            };
-            let e0 = end(t0);
-            let e1 = end(t1);
-            self.lines.push([e0, e1]);
-        }
-    }
-}
-
-/// The points and lines of every visible instance that has some, after the opaque
-/// surfaces and wireframe and before the blended surfaces: per-vertex colours
-/// ([`Lit::strokes`]), then [`raster::draw_points`] and [`raster::draw_wide_lines`]
-/// (serial, in instance order: the same image for any thread count). Returns false if
-/// stopped.
-fn strokes(cx: &mut Cx, fd: &FrameData) -> bool {
-    if !fd.insts.iter().any(|fi| fi.strokes) {
-        return true;
-    }
-    let lit = Lit {
-        scene: cx.scene,
-        params: &fd.params,
-        lights: &fd.lights,
-        active: &fd.active,
-        eye: cx.eye,
-        forward: cx.camera.forward(),
-        fog: fd.fog,
-        kernel: cx.bins.kernel,
-    };
-    let mut s = cx.pool.take::<StrokeScratch>();
-    let mut done = true;
-    for fi in fd.insts.iter().filter(|fi| fi.strokes) {
-        if (cx.stop)() {
-            done = false;
-            break;
-        }
-        let tri = &cx.scene.meshes[fi.mesh as usize].tri;
-        let start = Instant::now();
-        s.clip.clear();
-        raster::transform_positions_into(cx.jitter * fi.mvp, &tri.positions, &mut s.clip);
-        lit.strokes(fi, &mut s.colors);
-        cx.vertex_nanos += start.elapsed().as_nanos() as u64;
-        let point = StrokeStyle {
-            size: fd.point_size,
-            blend: fi.blend,
-        };
-        let line = StrokeStyle {
-            size: fd.line_width,
-            blend: fi.blend,
-        };
-        let StrokeScratch { clip, colors, cut } = &mut *s;
-        let (points, lines) = if cx.sections.is_empty() {
-            (&tri.points[..], &tri.lines[..])
-        } else {
-            cut.cut(cx.sections, clip, Some(colors), &tri.lines, &tri.points);
-            (&cut.points[..], &cut.lines[..])
-        };
-        raster::draw_points(cx.target, clip, colors, points, &point, cx.stats);
-        raster::draw_wide_lines(cx.target, clip, colors, lines, &line, cx.stats);
-    }
-    cx.pool.put(s);
-    done
 }
 
 /// Depth only, at the pixel centres (no jitter), of the opaque surfaces: after a

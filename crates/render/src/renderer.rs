@@ -12,7 +12,6 @@
 use std::time::Instant;
 
 use glam::{Mat4, Vec3, Vec4};
-use rayon::prelude::*;
 
 use super::frame::{self, FrameData};
 use super::passes::{self, Cx};
@@ -21,6 +20,13 @@ use super::prepare::PreparedScene;
 use super::settings::{Output, Settings, View};
 use crate::raster::{Bins, Stats, Target, TileCost, TILE};
 use crate::simd::KernelKind;
+
+mod colours;
+mod paths;
+#[cfg(test)]
+mod tests;
+
+use colours::{accumulate, map_tone, write_mean};
 
 /// Wall-clock milliseconds of a frame's stages (summed over supersampling passes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
@@ -350,88 +356,6 @@ impl Renderer {
         Ok(&self.report)
     }
 
-    /// Progressive path tracing (`--shading path`): adds paths `samples` of every pixel
-    /// to a running sum kept in the renderer, and makes the target its mean, tone mapped
-    /// as [`Renderer::render_until`] does (so [`Renderer::write_pixels`] shows it). Samples
-    /// from 0 start a new sum; later ranges continue it (the same scene, settings and view
-    /// are the caller's business). After `0..n` in any number of calls the target holds,
-    /// bit for bit, the mean of [`path::path_image`](super::path::path_image) with `n`
-    /// paths and seed 0: one path per pixel is [`Renderer::render_until`]'s path frame with
-    /// one sample, and the mean of `n` paths is tone mapped once (a supersampled path frame
-    /// tone maps each of its passes before averaging them). No depth is written.
-    ///
-    /// # Errors
-    /// [`Interrupted`] if stopped; the sum is then lost (the next call starts from 0).
-    ///
-    /// A range that starts neither at 0 nor where the sum ends ([`Renderer::paths`]), or a
-    /// view whose size changed since the sum began, starts a new sum: paths `0..end` are
-    /// traced.
-    pub fn render_paths(
-        &mut self,
-        scene: &PreparedScene,
-        settings: &Settings,
-        view: &View,
-        samples: std::ops::Range<u32>,
-        stop: &(dyn Fn() -> bool + Sync),
-    ) -> Result<&FrameReport, Interrupted> {
-        let t0 = Instant::now();
-        let (w, h) = (view.width.max(1), view.height.max(1));
-        let pixels = w as usize * h as usize;
-        let continues = samples.start == self.paths && self.path.len() == pixels;
-        let samples = if continues { samples } else { 0..samples.end };
-        if samples.start == 0 {
-            self.path.clear();
-            self.path.resize(pixels, Vec3::ZERO);
-        }
-        self.paths = 0;
-        self.complete = false;
-        let bg = settings.background;
-        let target = self.target.get_or_insert_with(|| Target::new(w, h, bg));
-        target.set_samples(1, bg);
-        target.reshape(w, h, bg);
-        self.output = Output::Shaded;
-        let view_m = view.camera.view();
-        let vp = view.camera.projection(view.aspect()) * view_m;
-        self.inv_vp = vp.inverse();
-        let done = super::path::path_into::<f32>(
-            scene,
-            settings,
-            vp,
-            view_m.inverse(),
-            (w, h),
-            (samples.clone(), 0, true),
-            super::path::Store::Sum,
-            &mut self.path,
-            stop,
-        );
-        if !done {
-            return Err(Interrupted);
-        }
-        self.paths = samples.end;
-        let t_fill = t0.elapsed();
-        write_mean(target, &self.path, self.paths);
-        let (scale, tone) = (settings.exposure_scale(), settings.tone_for(scene.scene()));
-        if tone != super::ToneMap::Clamp || scale != 1.0 {
-            map_tone(target, tone, scale, bg);
-        }
-        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
-        self.report = FrameReport {
-            width: w,
-            height: h,
-            samples: 1,
-            msaa: 1,
-            stats: Stats::default(),
-            times: StageTimes {
-                fill: ms(t_fill),
-                resolve: ms(t0.elapsed() - t_fill),
-                total: ms(t0.elapsed()),
-                ..StageTimes::default()
-            },
-        };
-        self.complete = true;
-        Ok(&self.report)
-    }
-
     /// Paths per pixel in the running sum of [`Renderer::render_paths`] (0 after any
     /// other frame or an interrupted one).
     #[must_use]
@@ -530,175 +454,4 @@ fn unproject_with(inv_vp: Mat4, w: u32, h: u32, x: f32, y: f32, depth: f32) -> O
     let p = inv_vp * ndc.extend(depth).extend(1.0);
     let p = p.truncate() / p.w;
     p.is_finite().then_some(p)
-}
-
-/// Sets every pixel of `target` to `sum / paths` (`sum` row-major, the target's size),
-/// alpha 1.
-fn write_mean(target: &mut Target, sum: &[Vec3], paths: u32) {
-    let (w, n) = (target.width as usize, paths.max(1) as f32);
-    target.tiles.par_iter_mut().for_each(|tile| {
-        tile.materialize();
-        for y in 0..tile.h {
-            let row = (tile.y0 + y) as usize * w + tile.x0 as usize;
-            for x in 0..tile.w {
-                let o = (y * TILE + x) as usize;
-                tile.set_color(o, (sum[row + x as usize] / n).extend(1.0));
-            }
-        }
-    });
-}
-
-/// Exposes and tone maps every colour of `target` but the background colour `bg`, which
-/// is shown as it is.
-fn map_tone(target: &mut Target, tone: super::ToneMap, scale: f32, bg: Vec4) {
-    target.map_colors(|c| {
-        if c == bg {
-            c
-        } else {
-            tone.apply((c.truncate() * scale).extend(c.w))
-        }
-    });
-}
-
-/// Adds the target's colour to `accum` (tile layout); with `scale`, replaces the target's
-/// colour by `accum * scale` (the average, after the last pass).
-fn accumulate(target: &mut Target, accum: &mut [Vec4], scale: Option<f32>) {
-    let n = (TILE * TILE) as usize;
-    target
-        .tiles
-        .par_iter_mut()
-        .zip(accum.par_chunks_mut(n))
-        .for_each(|(tile, acc)| {
-            for (o, a) in acc.iter_mut().enumerate() {
-                *a += tile.color_at(o);
-            }
-            if let Some(s) = scale {
-                tile.materialize();
-                for (o, a) in acc.iter().enumerate() {
-                    tile.set_color(o, *a * s);
-                }
-            }
-        });
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::shade::Shading;
-
-    fn path_job(tone: super::super::ToneMap, exposure: f32) -> (PreparedScene, Settings, View) {
-        let scene = PreparedScene::new(crate::scene::demo());
-        let settings = Settings {
-            shading: Some(Shading::Path),
-            tone,
-            exposure,
-            ..Settings::default()
-        };
-        let camera = super::super::default_camera(scene.scene(), 48.0 / 32.0);
-        let view = View {
-            camera,
-            width: 48,
-            height: 32,
-        };
-        (scene, settings, view)
-    }
-
-    /// The target's colours, row-major.
-    fn colors(r: &Renderer) -> Vec<Vec4> {
-        let t = r.target().expect("a frame");
-        (0..t.height)
-            .flat_map(|y| (0..t.width).map(move |x| (x, y)))
-            .map(|(x, y)| t.pixel(x, y).expect("inside").0)
-            .collect()
-    }
-
-    /// Paths added in batches 1, 1, 2, 4, 8 (16 in all) make, bit for bit, the image of
-    /// one run of 16 paths with the same seed, unmapped (clamp) and tone mapped once.
-    #[test]
-    fn paths_added_in_batches_equal_one_run_of_as_many() {
-        for (tone, exposure) in [
-            (super::super::ToneMap::Clamp, 0.0),
-            (super::super::ToneMap::PbrNeutral, 0.5),
-        ] {
-            let (scene, settings, view) = path_job(tone, exposure);
-            let mut r = Renderer::new();
-            let mut shown = Vec::new();
-            for batch in [0..1, 1..2, 2..4, 4..8, 8..16] {
-                r.render_paths(&scene, &settings, &view, batch, &|| false)
-                    .expect("not stopped");
-                shown.push(r.paths());
-            }
-            assert_eq!(shown, [1, 2, 4, 8, 16]);
-            let once = super::super::path::path_image(&scene, &settings, &view, 16, 0);
-            let (scale, tone) = (settings.exposure_scale(), settings.tone_for(scene.scene()));
-            let bg = settings.background;
-            let mut lit = 0;
-            for (i, (got, mean)) in colors(&r).iter().zip(&once).enumerate() {
-                let c = mean.extend(1.0);
-                let want = if tone == super::super::ToneMap::Clamp && scale == 1.0 || c == bg {
-                    c
-                } else {
-                    tone.apply((c.truncate() * scale).extend(1.0))
-                };
-                assert_eq!(*got, want, "pixel {i}, {tone:?}");
-                lit += usize::from(mean.max_element() > 0.0);
-            }
-            assert!(lit > 48 * 32 / 4, "the demo is lit: {lit} pixels");
-            // One path is what the path frame of one sample shows; a new sum starts at 0.
-            r.render_paths(&scene, &settings, &view, 0..1, &|| false)
-                .expect("not stopped");
-            let first = colors(&r);
-            r.render(
-                &scene,
-                &Settings {
-                    samples: 1,
-                    ..settings.clone()
-                },
-                &view,
-            );
-            assert_eq!(first, colors(&r));
-            assert_eq!(r.paths(), 0, "a frame ends the sum");
-        }
-    }
-
-    /// A range that does not continue the sum (a gap, or a new size) starts a new one over
-    /// `0..end`: the same image as one run of that many paths, and no panic.
-    #[test]
-    fn a_range_that_does_not_continue_the_sum_starts_anew() {
-        let (scene, settings, view) = path_job(super::super::ToneMap::Clamp, 0.0);
-        let mut r = Renderer::new();
-        r.render_paths(&scene, &settings, &view, 0..2, &|| false)
-            .expect("not stopped");
-        r.render_paths(&scene, &settings, &view, 5..6, &|| false)
-            .expect("not stopped");
-        assert_eq!(r.paths(), 6);
-        let once: Vec<Vec4> = super::super::path::path_image(&scene, &settings, &view, 6, 0)
-            .iter()
-            .map(|c| c.extend(1.0))
-            .collect();
-        assert_eq!(colors(&r), once);
-        let small = View {
-            width: 24,
-            height: 16,
-            ..view.clone()
-        };
-        r.render_paths(&scene, &settings, &small, 6..7, &|| false)
-            .expect("not stopped");
-        assert_eq!(r.paths(), 7);
-    }
-
-    #[test]
-    fn a_stopped_batch_loses_the_sum() {
-        let (scene, settings, view) = path_job(super::super::ToneMap::Clamp, 0.0);
-        let mut r = Renderer::new();
-        r.render_paths(&scene, &settings, &view, 0..2, &|| false)
-            .expect("not stopped");
-        assert_eq!(
-            r.render_paths(&scene, &settings, &view, 2..4, &|| true)
-                .err(),
-            Some(Interrupted)
-        );
-        assert_eq!(r.paths(), 0);
-        assert!(!r.complete());
-    }
 }

@@ -2,15 +2,22 @@
 //! materials, quality), and the per-frame [`View`] (camera and size). A viewer keeps one
 //! `Settings` while the user drags the camera, and sends a new `View` every frame.
 
-use std::sync::Arc;
-
-use glam::{Mat4, Vec4};
+use glam::Vec4;
 
 use crate::scene::{Camera, Light, Material, Scene, SlotOverrides, Style};
 use crate::shade::{Fog, Shading, ShadowSettings};
 use crate::simd::KernelKind;
-use crate::texture::env::{default_cache_dir, EnvCache, EnvImage, EnvView, Prefiltered};
 use crate::texture::Filter;
+
+mod environment;
+mod sections;
+#[cfg(test)]
+mod tests;
+mod tone;
+
+pub use environment::Environment;
+pub use sections::Sections;
+pub use tone::ToneMap;
 
 /// [`Settings::ray_depth`]'s default: deep enough that a white room's paths lose well under
 /// 0.1% of their light to the limit (0.8³² of it), while Russian roulette ends most paths
@@ -49,154 +56,6 @@ pub enum Output {
     Overdraw,
 }
 
-/// What happens to colours outside [0, 1] (the textbook's pipeline chapter, §4.2) before they are
-/// encoded. The background colour is never tone mapped (nor exposed); an environment shown
-/// as the background is.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum ToneMap {
-    /// [`ToneMap::PbrNeutral`] for a scene drawn entirely in the `pbr` mode (a glTF file's
-    /// own look, as the Khronos glTF Sample Viewer shows it), else [`ToneMap::Clamp`] (the
-    /// textbook's modes, whose colours are meant to be shown as they are):
-    /// [`Settings::tone_for`].
-    #[default]
-    Auto,
-    /// Each channel clamped to [0, 1]: (1, 2, 1) becomes white.
-    Clamp,
-    /// A colour whose largest channel exceeds 1 is divided by it, keeping its hue:
-    /// (1, 2, 1) becomes (0.5, 1, 0.5), light green.
-    ScaleMax,
-    /// Reinhard's operator on luminance, `L / (1 + L)`, applied as a scale to the colour
-    /// (then scaled by the largest channel if one still exceeds 1): every colour stays in
-    /// range and keeps its hue; darkens everything a little.
-    Reinhard,
-    /// Khronos PBR Neutral (KhronosGroup/ToneMapping): colours in [0.08, 0.8] lose 0.04
-    /// and keep their hue, brighter ones roll off towards white and desaturate.
-    PbrNeutral,
-    /// ACES filmic, Narkowicz's per-channel fit (2016): 1 becomes about 0.80.
-    AcesNarkowicz,
-    /// ACES filmic, Hill's fit of the RRT and ODT (BakingLab `ACES.hlsl`), in its own
-    /// colour space: 1 becomes about 0.62 (three.js's `ACESFilmicToneMapping` is this on
-    /// x / 0.6).
-    AcesHill,
-}
-
-impl ToneMap {
-    pub const ALL: [ToneMap; 7] = [
-        ToneMap::Auto,
-        ToneMap::Clamp,
-        ToneMap::ScaleMax,
-        ToneMap::Reinhard,
-        ToneMap::PbrNeutral,
-        ToneMap::AcesNarkowicz,
-        ToneMap::AcesHill,
-    ];
-
-    /// The name on the command line and in scene files.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            ToneMap::Auto => "auto",
-            ToneMap::Clamp => "clamp",
-            ToneMap::ScaleMax => "scale-max",
-            ToneMap::Reinhard => "reinhard",
-            ToneMap::PbrNeutral => "pbr-neutral",
-            ToneMap::AcesNarkowicz => "aces-narkowicz",
-            ToneMap::AcesHill => "aces-hill",
-        }
-    }
-
-    /// Maps one linear colour (alpha kept); [`ToneMap::Auto`], not resolved, clamps.
-    #[must_use]
-    #[inline]
-    pub fn apply(self, c: Vec4) -> Vec4 {
-        let rgb = c.truncate();
-        let scale_max = |rgb: glam::Vec3| {
-            let m = rgb.max_element();
-            if m > 1.0 && m.is_finite() {
-                rgb / m
-            } else {
-                rgb
-            }
-        };
-        let out = match self {
-            ToneMap::Auto | ToneMap::Clamp => return c,
-            ToneMap::ScaleMax => scale_max(rgb),
-            ToneMap::Reinhard => {
-                let l = rgb.dot(glam::Vec3::new(0.2126, 0.7152, 0.0722));
-                if l > 0.0 && l.is_finite() {
-                    scale_max(rgb / (1.0 + l))
-                } else {
-                    rgb
-                }
-            }
-            ToneMap::PbrNeutral => pbr_neutral(rgb),
-            ToneMap::AcesNarkowicz => rgb.map(aces_narkowicz),
-            ToneMap::AcesHill => aces_hill(rgb),
-        };
-        // Non-finite input stays what it was (the operators would turn NaN into NaN and
-        // infinity into NaN or 1 depending on the formula).
-        if rgb.is_finite() {
-            out.extend(c.w)
-        } else {
-            c
-        }
-    }
-}
-
-/// Khronos PBR Neutral on one linear colour (the reference GLSL, operation for operation).
-fn pbr_neutral(c: glam::Vec3) -> glam::Vec3 {
-    const START: f32 = 0.8 - 0.04;
-    const DESATURATION: f32 = 0.15;
-    let x = c.min_element();
-    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
-    let c = c - offset;
-    let peak = c.max_element();
-    if peak < START {
-        return c;
-    }
-    let d = 1.0 - START;
-    let new_peak = 1.0 - d * d / (peak + d - START);
-    let c = c * (new_peak / peak);
-    let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
-    c.lerp(glam::Vec3::splat(new_peak), g)
-}
-
-/// Narkowicz's ACES fit on one channel, clamped to [0, 1].
-fn aces_narkowicz(x: f32) -> f32 {
-    let x = x.max(0.0);
-    (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
-}
-
-/// Hill's ACES fit: into the fit's colour space, the RRT + ODT rational curve, back out,
-/// clamped to [0, 1].
-fn aces_hill(c: glam::Vec3) -> glam::Vec3 {
-    // Rows of the input and output matrices (glam's from_cols takes columns: transposed).
-    let input = glam::Mat3::from_cols_array(&[
-        0.59719, 0.07600, 0.02840, 0.35458, 0.90834, 0.13383, 0.04823, 0.01566, 0.83777,
-    ]);
-    let output = glam::Mat3::from_cols_array(&[
-        1.60475, -0.10208, -0.00327, -0.53108, 1.10813, -0.07276, -0.07367, -0.00605, 1.07602,
-    ]);
-    let v = input * c.max(glam::Vec3::ZERO);
-    let v = (v * (v + 0.024_578_6) - 0.000_090_537) / (v * (0.983_729 * v + 0.432_951) + 0.238_081);
-    (output * v).clamp(glam::Vec3::ZERO, glam::Vec3::ONE)
-}
-
-impl std::str::FromStr for ToneMap {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        ToneMap::ALL
-            .into_iter()
-            .find(|m| m.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| {
-                format!(
-                    "unknown tone map '{s}' (expected auto, clamp, scale-max, reinhard, \
-                     pbr-neutral, aces-narkowicz or aces-hill)"
-                )
-            })
-    }
-}
-
 /// A ground plane that catches shadows, placed just under the scene's bounds.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ground {
@@ -211,116 +70,6 @@ impl Default for Ground {
         Self {
             color: glam::Vec3::splat(0.5),
             extent: 4.0,
-        }
-    }
-}
-
-/// The environment that lights the `pbr` draws (image-based lighting): diffuse irradiance
-/// from its spherical harmonics, specular from its prefiltered chain (the split sum).
-#[derive(Clone, Debug, Default)]
-pub enum Environment {
-    /// The built-in studio ([`EnvImage::studio`]), as [`Environment::builtin`] gives it.
-    #[default]
-    Auto,
-    /// No environment: the lights, and the ambient light as a uniform environment.
-    Off,
-    On(EnvView),
-}
-
-impl PartialEq for Environment {
-    fn eq(&self, o: &Self) -> bool {
-        match (self, o) {
-            (Environment::Auto, Environment::Auto) | (Environment::Off, Environment::Off) => true,
-            (Environment::On(a), Environment::On(b)) => {
-                Arc::ptr_eq(&a.env, &b.env)
-                    && a.rotation_deg == b.rotation_deg
-                    && a.intensity == b.intensity
-            }
-            (Environment::Auto | Environment::Off | Environment::On(_), _) => false,
-        }
-    }
-}
-
-impl Environment {
-    /// The built-in environment `name` ("studio", "sky", "uniform": radiance 1),
-    /// prefiltered on first use and kept for the process and, like a file's, on disk in
-    /// [`default_cache_dir`] (prefiltering the studio costs about 200 ms of CPU; reading it
-    /// back about 2 ms). A cache that cannot be read or written is passed over silently:
-    /// the result is the same either way.
-    #[must_use]
-    pub fn builtin(name: &str) -> Option<Arc<Prefiltered>> {
-        let image = EnvImage::builtin(name)?;
-        let disk = default_cache_dir();
-        Some(EnvCache::global().get_or_build(image, disk.as_deref()).env)
-    }
-
-    /// The environment a command line or scene file names: `none` (or `off`), a built-in
-    /// (`studio`, `sky`, `uniform`) or an equirectangular `.hdr` / `.exr` image at
-    /// `path(name)`, prefiltered once and kept by content (in memory, and on disk in
-    /// `cache`). Returns it with a note for the user when the disk cache could not be
-    /// used, or an error naming the file and the problem.
-    ///
-    /// # Errors
-    /// The image cannot be read or is not a usable environment.
-    pub fn named(
-        name: &str,
-        path: impl FnOnce(&str) -> std::path::PathBuf,
-        cache: Option<&std::path::Path>,
-    ) -> Result<(Environment, Option<String>), String> {
-        if matches!(name, "none" | "off") {
-            return Ok((Environment::Off, None));
-        }
-        if let Some(env) = Environment::builtin(name) {
-            return Ok((Environment::On(EnvView::new(env)), None));
-        }
-        let image = EnvImage::load(&path(name)).map_err(|e| e.to_string())?;
-        let cached = EnvCache::global().get_or_build(image, cache);
-        Ok((Environment::On(EnvView::new(cached.env)), cached.disk_note))
-    }
-
-    /// This environment turned to `rotate` degrees and scaled to `intensity` (each if
-    /// given): an error names the bad value, or says there is no environment to turn.
-    ///
-    /// # Errors
-    /// A value is not finite (or the intensity negative), or the environment is off.
-    pub fn adjusted(
-        self,
-        rotate: Option<f32>,
-        intensity: Option<f32>,
-    ) -> Result<Environment, String> {
-        if rotate.is_none() && intensity.is_none() {
-            return Ok(self);
-        }
-        let Some(mut view) = self.view() else {
-            return Err("the environment is off: nothing to turn or scale".into());
-        };
-        if let Some(deg) = rotate {
-            if !deg.is_finite() {
-                return Err(format!("rotation {deg}: expected degrees"));
-            }
-            view.rotation_deg = deg;
-        }
-        if let Some(x) = intensity {
-            if !(x.is_finite() && x >= 0.0) {
-                return Err(format!("intensity {x}: expected a number at least 0"));
-            }
-            view.intensity = x;
-        }
-        Ok(Environment::On(view))
-    }
-
-    /// What the frame lights with: `None` when off.
-    #[must_use]
-    pub fn view(&self) -> Option<EnvView> {
-        match self {
-            Environment::Auto => {
-                static STUDIO: std::sync::OnceLock<Option<Arc<Prefiltered>>> =
-                    std::sync::OnceLock::new();
-                let env = STUDIO.get_or_init(|| Environment::builtin("studio"));
-                env.clone().map(EnvView::new)
-            }
-            Environment::Off => None,
-            Environment::On(v) => Some(v.clone()),
         }
     }
 }
@@ -487,102 +236,6 @@ impl Hidden {
     }
 }
 
-/// Section planes: what lies on a plane's negative side is cut away, and where the inside
-/// of a closed mesh shows through the cut it is filled with the cap colour. A cap is drawn
-/// where a back face is seen, so an open surface seen from behind gets it too. The ground
-/// plane is never cut; shadows are cast by the whole model.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Sections {
-    /// At most [`Sections::MAX`] world-space planes `(nx, ny, nz, d)` with unit normals:
-    /// a point `p` is kept where `n·p + d >= 0` for every plane.
-    pub planes: Vec<Vec4>,
-    /// Linear RGB of the caps, or `None` to leave the cut open.
-    pub cap: Option<glam::Vec3>,
-}
-
-impl Default for Sections {
-    fn default() -> Self {
-        Self {
-            planes: Vec::new(),
-            cap: Some(Self::CAP),
-        }
-    }
-}
-
-impl Sections {
-    /// Most planes at once.
-    pub const MAX: usize = crate::raster::MAX_SECTIONS;
-    /// The default cap colour (linear RGB; sRGB #db6050), a red that stands apart from
-    /// most materials.
-    pub const CAP: glam::Vec3 = glam::Vec3::new(0.708, 0.117, 0.080);
-
-    /// The plane `n·p + d = 0` scaled to a unit normal, keeping the side `n` points to.
-    ///
-    /// # Errors
-    /// A zero or non-finite normal, or a non-finite offset.
-    pub fn plane(n: glam::Vec3, d: f32) -> Result<Vec4, String> {
-        let len = n.length();
-        if !(n.is_finite() && d.is_finite()) || len < 1e-12 || !len.is_finite() {
-            return Err(format!(
-                "section plane {},{},{},{}: the normal must be finite and not zero, the offset finite",
-                n.x, n.y, n.z, d
-            ));
-        }
-        Ok((n / len).extend(d / len))
-    }
-
-    /// `NX,NY,NZ,D` (the command line's `--section`).
-    ///
-    /// # Errors
-    /// Not four numbers, or not a plane ([`Sections::plane`]).
-    pub fn parse_plane(s: &str) -> Result<Vec4, String> {
-        let v: Vec<f32> = s
-            .split(',')
-            .map(|p| p.trim().parse::<f32>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| format!("section plane '{s}': expected NX,NY,NZ,D (four numbers)"))?;
-        match v[..] {
-            [x, y, z, d] => Self::plane(glam::Vec3::new(x, y, z), d),
-            _ => Err(format!(
-                "section plane '{s}': expected NX,NY,NZ,D (four numbers)"
-            )),
-        }
-    }
-
-    /// Adds a plane.
-    ///
-    /// # Errors
-    /// Already [`Sections::MAX`] planes.
-    pub fn push(&mut self, plane: Vec4) -> Result<(), String> {
-        if self.planes.len() >= Self::MAX {
-            return Err(format!("at most {} section planes", Self::MAX));
-        }
-        self.planes.push(plane);
-        Ok(())
-    }
-
-    /// No plane cuts.
-    #[must_use]
-    pub fn is_empty(&self) -> bool {
-        self.planes.is_empty()
-    }
-
-    /// The planes in the clip space of `view_projection` (world to clip), into `out`;
-    /// returns how many. A world plane `P` becomes `(VP)^-T P`, computed in f64.
-    pub fn to_clip(&self, view_projection: Mat4, out: &mut [Vec4; Self::MAX]) -> usize {
-        let inv_t = view_projection.as_dmat4().inverse().transpose();
-        let mut n = 0;
-        for p in self.planes.iter().take(Self::MAX) {
-            let c = (inv_t * p.as_dvec4()).as_vec4();
-            if c.is_finite() {
-                out[n] = c;
-                n += 1;
-            }
-        }
-        n
-    }
-}
-
 /// The lighting formulas of the vertex modes (Gouraud and flat). The default is the
 /// textbook's: Phong's `R·V` highlight, and flat shading lit once per facet at its centroid
 /// (the textbook's §9.2.2). [`VertexLighting::GL`] is what GPU shaders and Mesa's llvmpipe
@@ -733,80 +386,5 @@ impl View {
     #[must_use]
     pub fn aspect(&self) -> f32 {
         self.width.max(1) as f32 / self.height.max(1) as f32
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::{Vec3, Vec4};
-
-    fn tone(t: ToneMap, c: Vec3) -> Vec3 {
-        t.apply(c.extend(0.5)).truncate()
-    }
-
-    #[test]
-    fn pbr_neutral_keeps_the_middle_range_and_rolls_off_the_highlights() {
-        // In [0.08, 0.8] - 0.04 per channel: the colour minus 0.04, hue kept.
-        let c = Vec3::new(0.1, 0.4, 0.7);
-        assert!(
-            (tone(ToneMap::PbrNeutral, c) - (c - 0.04))
-                .abs()
-                .max_element()
-                < 1e-6
-        );
-        // Black stays black; the toe is x - 6.25 x^2 below 0.08 (continuous at 0.08).
-        assert_eq!(tone(ToneMap::PbrNeutral, Vec3::ZERO), Vec3::ZERO);
-        let g = 0.05f32;
-        let want = g - (g - 6.25 * g * g);
-        assert!((tone(ToneMap::PbrNeutral, Vec3::splat(g)).x - want).abs() < 1e-7);
-        // Highlights: below 1, increasing, and desaturated towards white.
-        let mut last = 0.0;
-        for k in 1..200 {
-            let v = tone(ToneMap::PbrNeutral, Vec3::splat(k as f32 * 0.1)).x;
-            assert!(v > last && v < 1.0, "{k}: {v}");
-            last = v;
-        }
-        let red = tone(ToneMap::PbrNeutral, Vec3::new(8.0, 0.5, 0.5));
-        assert!(red.x < 1.0 && red.y > 0.5 - 0.04, "desaturated: {red}");
-    }
-
-    #[test]
-    fn the_aces_fits_give_their_published_values() {
-        // Narkowicz: f(1) = 2.54 / 3.16.
-        let n = tone(ToneMap::AcesNarkowicz, Vec3::ONE);
-        assert!(
-            (n - Vec3::splat(2.54 / 3.16)).abs().max_element() < 1e-6,
-            "{n}"
-        );
-        // Hill: the matrices keep grey grey (rows sum to 1), so f(1) is the rational
-        // curve at 1: (1.0245786 - 0.000090537) / (0.983729 + 0.432951 + 0.238081).
-        let h = tone(ToneMap::AcesHill, Vec3::ONE);
-        let want = (1.024_578_6 - 0.000_090_537) / (0.983_729 + 0.432_951 + 0.238_081);
-        assert!((h - Vec3::splat(want)).abs().max_element() < 1e-5, "{h}");
-        for t in [ToneMap::AcesNarkowicz, ToneMap::AcesHill] {
-            assert_eq!(tone(t, Vec3::ZERO), Vec3::ZERO, "{t:?}: black stays black");
-            let big = tone(t, Vec3::splat(1e6));
-            assert!(
-                big.max_element() <= 1.0 && big.min_element() > 0.99,
-                "{t:?}: {big}"
-            );
-        }
-    }
-
-    #[test]
-    fn every_tone_map_keeps_alpha_parses_its_name_and_leaves_non_finite_colours() {
-        for t in ToneMap::ALL {
-            assert_eq!(t.name().parse::<ToneMap>(), Ok(t));
-            let c = t.apply(Vec4::new(2.0, 1.0, 0.5, 0.25));
-            assert_eq!(c.w, 0.25, "{t:?}");
-            assert!(
-                c.truncate().max_element() <= 1.0 + 1e-6
-                    || matches!(t, ToneMap::Clamp | ToneMap::Auto)
-            );
-            let nan = Vec4::new(f32::NAN, 0.5, 0.5, 1.0);
-            assert!(t.apply(nan).x.is_nan(), "{t:?}");
-        }
-        assert!("aces".parse::<ToneMap>().unwrap_err().contains("aces-hill"));
     }
 }
