@@ -116,7 +116,8 @@ pub(crate) fn frames(
         };
         if let Some(flag) = flag {
             bail!(
-                "{flag}: the model has no animations, so every frame would be the same                  (--turntable N turns the camera around it)"
+                "{flag}: the model has no animations, so every frame would be the same \
+                 (--turntable N turns the camera around it)"
             );
         }
     }
