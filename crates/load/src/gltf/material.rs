@@ -89,8 +89,6 @@ pub fn phong_from_pbr(base: Vec3, metallic: f32, roughness: f32) -> (Vec3, Vec3,
 }
 
 impl Builder<'_> {
-    /// The scene material for glTF material `i` (used by `from`), converted on first use;
-    /// `None` (default material, with a warning) if it does not exist.
     /// The specification's default material for a primitive without one (Materials: "the
     /// default material ... is white, fully metallic and fully rough" in the metallic-roughness
     /// model): added to the scene once.
@@ -115,6 +113,8 @@ impl Builder<'_> {
         k
     }
 
+    /// The scene material for glTF material `i` (used by `from`), converted on first use;
+    /// `None` (default material, with a warning) if it does not exist.
     pub fn material(&mut self, i: usize, from: &str) -> Result<Option<usize>, LoadError> {
         if let Some(&cached) = self.materials.get(&i) {
             return Ok(cached);

@@ -1,6 +1,6 @@
 //! File values to renderer values: range checks with the key that failed, degrees to
-//! radians, defaults. Functions here return `(key, reason)` or a reason; the callers in
-//! `mod.rs` and `check.rs` add the file's path.
+//! radians, defaults. Functions here return `(key, reason)` or a reason; their callers
+//! (`lib.rs`, `settings.rs`) add the file's path.
 
 use std::sync::Arc;
 
