@@ -58,7 +58,7 @@ pub(super) fn mis<T: Scalar>(a: T, b: T) -> T {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > T::ZERO && (a2 + b2).is_finite() {
         a2 / (a2 + b2)
-    } else if !a.is_finite() && a == a {
+    } else if a.to_f64().is_infinite() {
         T::ONE
     } else {
         T::ZERO
