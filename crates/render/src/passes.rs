@@ -191,11 +191,10 @@ pub(super) fn shadow_depth(cx: &mut Cx, fd: &FrameData, culled: &[FrameInst]) ->
     done
 }
 
-/// Solid instances grouped by the shader they need.
-fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) -> bool {
-    let scene = cx.scene;
-    let lit = Lit {
-        scene,
+/// What the lit vertex functions share, for the pass `cx` and the frame `fd`.
+pub(super) fn lit_of<'a>(cx: &Cx<'a>, fd: &'a FrameData) -> Lit<'a> {
+    Lit {
+        scene: cx.scene,
         params: &fd.params,
         lights: &fd.lights,
         active: &fd.active,
@@ -203,7 +202,13 @@ fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) 
         forward: cx.camera.forward(),
         fog: fd.fog,
         kernel: cx.bins.kernel,
-    };
+    }
+}
+
+/// Solid instances grouped by the shader they need.
+fn solid(cx: &mut Cx, fd: &FrameData, pick: &dyn Fn(usize, &FrameInst) -> bool) -> bool {
+    let scene = cx.scene;
+    let lit = lit_of(cx, fd);
     let params: &[DrawParams] = &fd.params;
     let of =
         |pass: Pass| move |k: usize, fi: &FrameInst| fi.mode.mode().pass == pass && pick(k, fi);

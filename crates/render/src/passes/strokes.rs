@@ -8,7 +8,6 @@ use glam::Vec4;
 use super::Cx;
 use crate::frame::FrameData;
 use crate::raster::{self, StrokeStyle};
-use crate::vertex::Lit;
 
 /// The frame's points and lines and their vertex colours, kept in the pool between frames,
 /// and what is left of them after the section planes.
@@ -99,16 +98,7 @@ pub(super) fn strokes(cx: &mut Cx, fd: &FrameData) -> bool {
     if !fd.insts.iter().any(|fi| fi.strokes) {
         return true;
     }
-    let lit = Lit {
-        scene: cx.scene,
-        params: &fd.params,
-        lights: &fd.lights,
-        active: &fd.active,
-        eye: cx.eye,
-        forward: cx.camera.forward(),
-        fog: fd.fog,
-        kernel: cx.bins.kernel,
-    };
+    let lit = super::lit_of(cx, fd);
     let mut s = cx.pool.take::<StrokeScratch>();
     let mut done = true;
     for fi in fd.insts.iter().filter(|fi| fi.strokes) {
