@@ -1198,4 +1198,18 @@ fn the_probe_lists_the_first_path() {
             .any(|r| r.depth == 0 && r.hit == RayHit::Light { index: 0, lit: 0.0 }),
         "{shaded:?}"
     );
+    // Its colour is the path tracer's: the image's pixel after as many paths.
+    let n = realist::render::path::PROBE_PATHS;
+    let image = realist::render::path::path_image(&prepared, &sh.settings, &view, n, 0);
+    for (x, y) in [(x_at(1.5), h / 2), (x_at(-1.0), h / 2)] {
+        let got = realist::render::probe(&prepared, &sh.settings, &view, x, y)
+            .expect("a hit")
+            .color;
+        let want = image[(y * w + x) as usize];
+        assert!(want.min_element() > 0.0, "{want}");
+        assert!(
+            (got - want).abs().max_element() <= 1e-4 * (1.0 + want.max_element()),
+            "probe {got}, image {want}"
+        );
+    }
 }

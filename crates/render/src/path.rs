@@ -530,25 +530,43 @@ pub(super) fn pixel_ray(
     (reach > 0.0 && d.is_finite() && near.is_finite()).then_some((near, d, reach))
 }
 
+/// Paths the pixel probe averages for its colour in `path` mode.
+pub const PROBE_PATHS: u32 = 256;
+
 /// The first path of pixel (x, y) of `view` (its sample 0 of the renderer's stream, through
-/// the same point of the pixel), as the pixel probe lists it ([`super::raylog`]). Empty if
-/// the pixel's ray is degenerate.
+/// the same point of the pixel), as the pixel probe lists it ([`super::raylog`]), and the
+/// pixel's colour as the renderer draws it after [`PROBE_PATHS`] paths (its samples
+/// `0..PROBE_PATHS`, linear, before tone mapping). Empty and black if the pixel's ray is
+/// degenerate.
 #[must_use]
-pub(crate) fn path_steps(
+pub(crate) fn path_probe(
     scene: &PreparedScene,
     settings: &Settings,
     view: &View,
     x: u32,
     y: u32,
-) -> Vec<RayStep> {
-    let (tracer, vp, (w, h)) = Tracer::logging(scene, settings, view);
+) -> (Vec<RayStep>, Vec3) {
+    let (mut tracer, vp, (w, h)) = Tracer::logging(scene, settings, view);
     let emitters = Emitters::new(&tracer);
-    let ambient = ambient_light(scene, settings, view.camera.view().inverse());
+    let cam_to_world = view.camera.view().inverse();
+    let ambient = ambient_light(scene, settings, cam_to_world);
+    let inv = vp.inverse();
     let mut rng = Rng::new(x, y, 0, 0);
-    if let Some((near, d, reach)) = camera_ray(vp.inverse(), (w, h), (x, y), &mut rng, true) {
+    if let Some((near, d, reach)) = camera_ray(inv, (w, h), (x, y), &mut rng, true) {
         let _ = tracer.path::<f32>(near, d, reach, &mut rng, ambient, &emitters);
     }
-    tracer.into_log()
+    let steps = tracer.take_log();
+    let quiet = &tracer;
+    let sum = (0..PROBE_PATHS)
+        .into_par_iter()
+        .map(|s| {
+            let mut rng = Rng::new(x, y, s, 0);
+            camera_ray(inv, (w, h), (x, y), &mut rng, true).map_or(Vec3::ZERO, |(o, d, reach)| {
+                quiet.path::<f32>(o, d, reach, &mut rng, ambient, &emitters)
+            })
+        })
+        .reduce(|| Vec3::ZERO, |a, b| a + b);
+    (steps, sum / PROBE_PATHS as f32)
 }
 
 /// The frame's ambient lights' radiance, summed (a uniform environment for the paths).

@@ -22,6 +22,7 @@ use super::prepare::PreparedScene;
 use super::settings::{Settings, View};
 use crate::raster::Cull;
 use crate::scene::Light;
+use crate::shade::mode::Rays;
 use crate::shade::Shading;
 
 /// One light's contribution at the probed point (linear RGB).
@@ -91,7 +92,9 @@ pub struct Probe {
     /// Fog factor f (0 clear, 1 only fog), if fog is on.
     pub fog: Option<f32>,
     /// Ambient plus every light's share, fogged: the colour per-pixel lighting gives here
-    /// (Blinn's highlight for the Blinn and textured modes, Phong's otherwise).
+    /// (Blinn's highlight for the Blinn and textured modes, Phong's otherwise). In `path`,
+    /// the path tracer's estimate: the mean of the pixel's first
+    /// [`PROBE_PATHS`](crate::path::PROBE_PATHS) paths, as the image shows it after as many.
     pub color: Vec3,
     /// In Whitted's model (`--shading whitted`), the pixel's ray tree as the tracer follows
     /// it: the primary ray, shadow rays, reflections and refractions, each with what it met
@@ -187,6 +190,16 @@ pub fn probe(
         _ => lit,
     };
     let fog = fog.map(|f| f.factor::<f32>(f.distance::<f32>(position, eye, cam.forward())));
+    let (rays, color) = match settings.rays() {
+        Rays::Whitted => (
+            super::raylog::whitted_steps(scene, settings, view, x, y),
+            color,
+        ),
+        // The path tracer's own estimate: what the image shows there after as many paths.
+        Rays::Path => super::path::path_probe(scene, settings, view, x, y),
+        // Rasterized (radiosity's solution too): no rays to list.
+        Rays::None | Rays::Radiosity => (Vec::new(), color),
+    };
     let clip = vp * position.extend(1.0);
     // The scene's mesh (a skinned instance draws a posed copy made from it).
     let (mesh_index, mesh) = scene.scene_mesh(inst)?;
@@ -218,14 +231,7 @@ pub fn probe(
         lights,
         fog,
         color,
-        rays: match settings.rays() {
-            crate::shade::mode::Rays::Whitted => {
-                super::raylog::whitted_steps(scene, settings, view, x, y)
-            }
-            crate::shade::mode::Rays::Path => super::path::path_steps(scene, settings, view, x, y),
-            // Rasterized (radiosity's solution too): no rays to list.
-            crate::shade::mode::Rays::None | crate::shade::mode::Rays::Radiosity => Vec::new(),
-        },
+        rays,
     })
 }
 

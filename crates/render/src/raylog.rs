@@ -84,7 +84,7 @@ pub(crate) fn whitted_steps(
     x: u32,
     y: u32,
 ) -> Vec<RayStep> {
-    let (tracer, vp, (w, h)) = Tracer::logging(scene, settings, view);
+    let (mut tracer, vp, (w, h)) = Tracer::logging(scene, settings, view);
     let Some((near, d, len)) = super::path::pixel_ray(vp.inverse(), (w, h), (x, y), (0.5, 0.5))
     else {
         return Vec::new();
@@ -94,7 +94,7 @@ pub(crate) fn whitted_steps(
     if let Some(hit) = hit {
         tracer.shade_hit(&hit, near, d, 0, Vec3::ONE);
     }
-    tracer.into_log()
+    tracer.take_log()
 }
 
 impl<'a> Tracer<'a> {
@@ -112,8 +112,8 @@ impl<'a> Tracer<'a> {
         (tracer, vp, size)
     }
 
-    /// The rays it logged, in order.
-    pub(super) fn into_log(mut self) -> Vec<RayStep> {
+    /// The rays it logged, in order; it logs no more after.
+    pub(super) fn take_log(&mut self) -> Vec<RayStep> {
         self.log
             .take()
             .map(|m| {

@@ -181,7 +181,13 @@ fn show(ui: &mut egui::Ui, cx: &Cx<'_>) {
         ui.label(RichText::new("Re-shaded colour").strong());
         swatch(ui, p.color);
     });
-    if !matches!(
+    if p.mode == crate::shade::Shading::Path {
+        ui.label(format!(
+            "(the path tracer's estimate: the mean of the pixel's first {} paths, before \
+             tone mapping; the rows below are the direct light alone)",
+            crate::render::path::PROBE_PATHS
+        ));
+    } else if !matches!(
         p.mode,
         crate::shade::Shading::Phong
             | crate::shade::Shading::Blinn
