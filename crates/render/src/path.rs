@@ -37,7 +37,7 @@ use realist_trace::Ray;
 mod emitters;
 mod sampling;
 
-use emitters::Emitters;
+pub(crate) use emitters::Emitters;
 use sampling::{g1, luminance, mis, vndf, Lobes, Rng};
 
 /// Bounces before Russian roulette may end a path.
@@ -427,6 +427,7 @@ fn image<T: Scalar>(
         (0..spp, seed, jitter),
         Store::Mean,
         &mut out,
+        &mut None,
         &|| false,
     );
     out
@@ -446,7 +447,8 @@ pub(crate) enum Store {
 /// Adds samples `samples` of every pixel to `sum` (row-major, `w` x `h`) for the camera
 /// `vp` (world -> clip), from the random stream `seed`, through random points of each pixel
 /// (`jitter`) or its centre, as `store` says. Returns false if stopped (some rows then have
-/// their samples added and some not).
+/// their samples added and some not). The scene's emitters are drawn from `lights`, built
+/// there when it is empty (a caller that continues a sum keeps them between calls).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn path_into<T: Scalar>(
     scene: &PreparedScene,
@@ -457,10 +459,11 @@ pub(crate) fn path_into<T: Scalar>(
     (samples, seed, jitter): (std::ops::Range<u32>, u64, bool),
     store: Store,
     sum: &mut [T::V],
+    lights: &mut Option<Emitters>,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> bool {
     let tracer = Tracer::new(scene, settings, cam_to_world);
-    let emitters = Emitters::new(&tracer);
+    let emitters = &*lights.get_or_insert_with(|| Emitters::new(&tracer));
     let inv = vp.inverse();
     let ambient = ambient_light(scene, settings, cam_to_world);
     let count = T::of(samples.len().max(1) as f32);

@@ -86,6 +86,8 @@ pub struct Renderer {
     path: Vec<Vec3>,
     /// Paths per pixel summed in `path` (0: none, or `path` holds a pass).
     paths: u32,
+    /// The scene's emitters as the running sum's paths draw them (built when it starts).
+    emitters: Option<crate::path::Emitters>,
 }
 
 impl Renderer {
@@ -136,6 +138,8 @@ impl Renderer {
         let t0 = Instant::now();
         self.complete = false;
         self.paths = 0;
+        // The emitters are built again for this frame's scene and settings.
+        self.emitters = None;
         let (w, h) = (view.width.max(1), view.height.max(1));
         let n = settings.samples.clamp(1, 8);
         // The overdraw view counts from zero.
@@ -289,6 +293,7 @@ impl Renderer {
                         (k..k + 1, 0, true),
                         super::path::Store::Mean,
                         &mut self.path,
+                        &mut self.emitters,
                         stop,
                     );
                     write_mean(cx.target, &self.path, 1);

@@ -9,6 +9,7 @@ use crate::scalar::Scalar;
 
 /// The scene's emissive triangles as lights: drawn in proportion to their power (area
 /// times the luminance of their emission), a point uniformly on the chosen one.
+#[derive(Debug)]
 pub(crate) struct Emitters {
     tris: Vec<Emitter>,
     /// Cumulative power share.
@@ -20,6 +21,7 @@ pub(crate) struct Emitters {
 /// One emissive triangle: world corners, emission (for an emissive texture, its estimate
 /// at the centroid: the point drawn is shaded for its own), area, and for a textured one
 /// its instance key and triangle.
+#[derive(Debug)]
 struct Emitter {
     corners: [Vec3; 3],
     emitted: Vec3,

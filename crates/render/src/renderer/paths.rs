@@ -42,6 +42,7 @@ impl Renderer {
         let continues = samples.start == self.paths && self.path.len() == pixels;
         let samples = if continues { samples } else { 0..samples.end };
         if samples.start == 0 {
+            self.emitters = None;
             self.path.clear();
             self.path.resize(pixels, Vec3::ZERO);
         }
@@ -64,6 +65,7 @@ impl Renderer {
             (samples.clone(), 0, true),
             crate::path::Store::Sum,
             &mut self.path,
+            &mut self.emitters,
             stop,
         );
         if !done {
