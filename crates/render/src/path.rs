@@ -488,7 +488,7 @@ pub(crate) fn path_into<T: Scalar>(
                         continue;
                     };
                     let (near, d) = (T::vec(near), T::vec(d));
-                    acc = acc + tracer.path::<T>(near, d, reach, &mut rng, ambient, &emitters);
+                    acc = acc + tracer.path::<T>(near, d, reach, &mut rng, ambient, emitters);
                 }
                 *px = match store {
                     Store::Mean => *px + T::vdiv(acc, count),
