@@ -182,11 +182,14 @@ fn show(ui: &mut egui::Ui, cx: &Cx<'_>) {
         swatch(ui, p.color);
     });
     if p.mode == crate::shade::Shading::Path {
-        ui.label(format!(
-            "(the path tracer's estimate: the mean of the pixel's first {} paths, before \
-             tone mapping; the rows below are the direct light alone)",
-            crate::render::path::PROBE_PATHS
-        ));
+        ui.add(
+            egui::Label::new(format!(
+                "(the path tracer's estimate: the mean of the pixel's first {} paths, before \
+                 tone mapping; the rows below are the direct light alone)",
+                crate::render::path::PROBE_PATHS
+            ))
+            .wrap(),
+        );
     } else if !matches!(
         p.mode,
         crate::shade::Shading::Phong
@@ -231,7 +234,8 @@ fn ray_steps(ui: &mut egui::Ui, p: &crate::render::Probe, scene: &crate::scene::
              contribution limits",
         )
     };
-    ui.label(RichText::new(title).strong()).on_hover_text(about);
+    ui.add(egui::Label::new(RichText::new(title).strong()).wrap())
+        .on_hover_text(about);
     egui::Grid::new("probe-rays")
         .num_columns(3)
         .striped(true)
@@ -356,12 +360,16 @@ fn light_shares(ui: &mut egui::Ui, p: &crate::render::Probe) {
                     .on_hover_text("0 clear, 1 only fog");
                 ui.end_row();
             }
-            ui.label("colour");
-            ui.horizontal(|ui| {
-                swatch(ui, p.color);
-                ui.monospace(v3(p.color));
-            });
-            ui.end_row();
+            // The shares' total (in `path` the colour is the paths' estimate, which
+            // the direct light's shares do not add up to).
+            if p.mode != crate::shade::Shading::Path {
+                ui.label("colour");
+                ui.horizontal(|ui| {
+                    swatch(ui, p.color);
+                    ui.monospace(v3(p.color));
+                });
+                ui.end_row();
+            }
         });
     if p.lights.is_empty() {
         ui.label("(no light other than ambient reaches this frame)");
