@@ -251,7 +251,8 @@ impl Tracer<'_> {
                 // Next-event estimation: every punctual light (shadow rays), then the
                 // environment.
                 let rays = &self.rays;
-                let lit = self.light(&pt, false);
+                // The shares themselves only for the probe's log.
+                let lit = self.light(&pt, false, self.log.is_some());
                 self.note_shadows(&lit.lights, bounce, T::to_vec3(beta));
                 l = l + T::vdiv(beta * lit.direct, keep);
                 let diffuse_albedo =

@@ -150,6 +150,7 @@ pub fn probe(
         &pt,
         false,
         true,
+        true,
         &shadow_ray,
     );
     let Point {

@@ -362,11 +362,13 @@ impl<'a> Tracer<'a> {
     }
 
     /// Every light's share at `pt`, shadow rays to each (and, with `image_based`, the
-    /// ambient and environment terms as the rasterizer has them).
+    /// ambient and environment terms as the rasterizer has them); without `shares` only
+    /// their sum.
     pub(super) fn light<T: Scalar>(
         &self,
         pt: &super::probe::Point<T>,
         image_based: bool,
+        shares: bool,
     ) -> super::probe::Lit<T> {
         let rays = &self.rays;
         let occluded = |from: Vec3, to: Vec3| rays.occluded(&Ray::new(from, to - from, 0.0, 1.0));
@@ -377,6 +379,7 @@ impl<'a> Tracer<'a> {
             pt,
             true,
             image_based,
+            shares,
             &occluded,
         )
     }
@@ -397,7 +400,7 @@ impl<'a> Tracer<'a> {
         if pt.unlit {
             return pt.base.truncate();
         }
-        let lit = self.light(&pt, true);
+        let lit = self.light(&pt, true, true);
         self.note_shadows(&lit.lights, depth, weight);
         let direct = lit
             .lights

@@ -55,7 +55,6 @@ impl Emitters {
     /// emission, so the estimate stays unbiased.
     pub(super) fn new(t: &Tracer) -> Self {
         let mut tris = Vec::new();
-        let mut keys = Vec::new();
         for (k, inst) in t.scene.instances.iter().enumerate() {
             let Some(r) = t.resolved.get(k).and_then(Option::as_ref) else {
                 continue;
@@ -92,7 +91,6 @@ impl Emitters {
                         key: (key, i as u32),
                         textured,
                     });
-                    keys.push((key, i as u32));
                 }
             }
         }
@@ -107,7 +105,7 @@ impl Emitters {
                 *c /= sum as f32;
             }
         }
-        let index = keys.into_iter().enumerate().map(|(i, k)| (k, i)).collect();
+        let index = tris.iter().enumerate().map(|(i, e)| (e.key, i)).collect();
         Self { tris, cdf, index }
     }
 

@@ -262,7 +262,9 @@ pub(crate) struct Lit<T: Scalar = f32> {
 /// Lights `pt` with the frame's lights (`cam_to_world` places camera-attached ones).
 /// `occluded(from, to)` answers a shadow ray, asked for lights that cast shadows, or for
 /// `every` light that can (Whitted's model). Without `image_based` the ambient and
-/// environment terms are left at zero (a path tracer samples them itself).
+/// environment terms are left at zero (a path tracer samples them itself). Without
+/// `shares` only their sum is made (each share clones its light).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn light_point<T: Scalar>(
     scene: &PreparedScene,
     settings: &Settings,
@@ -270,6 +272,7 @@ pub(crate) fn light_point<T: Scalar>(
     pt: &Point<T>,
     every: bool,
     image_based: bool,
+    shares: bool,
     occluded: &dyn Fn(Vec3, Vec3) -> bool,
 ) -> Lit<T> {
     let mut set = LightSet::default();
@@ -295,7 +298,6 @@ pub(crate) fn light_point<T: Scalar>(
                 ambient_light += set.ambient;
                 return;
             }
-            let light = m.map_or_else(|| l.clone(), |m| l.transformed(m));
             let Some(src) = set.sources.first() else {
                 return;
             };
@@ -313,8 +315,8 @@ pub(crate) fn light_point<T: Scalar>(
             // Light from behind through a translucent base (as `contribution` has it).
             let translucent = surf.pbr.as_ref().is_some_and(|p| p.translucency.is_some());
             let back = translucent && T::dot(normal, dir) < T::ZERO && !T::is_zero(rad);
-            let shadow = if (lit || back) && (light.shadow || every) && light.kind.can_shadow() {
-                let to = match light.kind {
+            let shadow = if (lit || back) && (l.shadow || every) && l.kind.can_shadow() {
+                let to = match l.kind {
                     LightKind::Directional => {
                         position
                             + dir * (T::of(4.0 * radius) + T::length(position - T::vec(center)))
@@ -340,6 +342,10 @@ pub(crate) fn light_point<T: Scalar>(
             let s = T::of(shadow);
             let (diffuse, specular) = (terms.diffuse * rad * s, terms.specular * rad * s);
             direct = direct + diffuse + specular;
+            if !shares {
+                return;
+            }
+            let light = m.map_or_else(|| l.clone(), |m| l.transformed(m));
             lights.push(LightShare {
                 index: src.index,
                 light,
