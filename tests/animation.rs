@@ -21,7 +21,7 @@ use std::path::PathBuf;
 use base64::Engine;
 use glam::{Quat, Vec3};
 use realist::load::{load, LoadOptions};
-use realist::render::{PreparedScene, Renderer, Settings, Shot};
+use realist::render::{PreparedScene, Settings, Shot};
 use realist::scene::{Camera, Play};
 
 /// The Khronos sample `name` in the shared test data (for tests marked as needing it).
@@ -218,9 +218,7 @@ fn goldens(name: &str, elevation: f32, times: &[f32]) {
     let settings = opts.settings;
     for &t in times {
         p.pose_at(Play::All, t, true);
-        let mut r = Renderer::new();
-        r.render(&p, &settings, &view);
-        let fb = r.take_target().expect("a frame").resolve();
+        let fb = common::render_prepared(&p, &settings, &view, 2).0;
         common::assert_finite(&fb, name);
         let tol = common::Tolerance {
             max_channel: 8,

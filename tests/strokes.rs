@@ -22,7 +22,7 @@ use std::path::PathBuf;
 use glam::{Mat4, Vec3, Vec4};
 use realist::load::{load, LoadError, LoadOptions};
 use realist::mesh::{Mesh, MeshData, NormalPolicy};
-use realist::render::{PreparedScene, Renderer, Settings, Shot};
+use realist::render::{PreparedScene, Settings, Shot};
 use realist::scene::{Camera, Instance, Material, Scene, Style};
 
 /// Golden images with points, lines and PBR-shaded triangles: coverage is exact; shading
@@ -54,9 +54,7 @@ fn front(scene: Scene, w: u32, h: u32, point: f32, line: f32) -> realist::raster
             ..Settings::default()
         },
     };
-    let mut r = Renderer::new();
-    r.render(&p, &opts.settings, &opts.view(p.scene()));
-    r.take_target().expect("a frame").resolve()
+    common::render_prepared(&p, &opts.settings, &opts.view(p.scene()), 2).0
 }
 
 #[test]

@@ -305,6 +305,8 @@ fn view(
         point_size: None,
         line_width: None,
         variant: None,
+        compare: None,
+        tolerance: None,
         lighting: lighting::LightingArgs::default(),
         normals: NormalArgs {
             crease: "60".into(),

@@ -19,6 +19,7 @@ use super::lighting::LightingArgs;
 use super::sequence::{self, Drawn, Outputs, SequenceArgs};
 use super::{parse_msaa, parse_size, NormalArgs};
 
+mod compare;
 mod input;
 mod write;
 
@@ -140,6 +141,18 @@ pub(crate) struct RenderArgs {
     /// info` lists them), by name. Default: the file's default materials.
     #[arg(long, value_name = "NAME")]
     pub variant: Option<String>,
+    /// Compare the rendered image with a reference PNG, for continuous integration: exit
+    /// status 1 when they differ beyond --tolerance (identical bytes by default: realist's
+    /// images are the same on every machine), the differing pixels counted, and a heat map
+    /// (NAME.diff.png beside the image) when any pixel differs. One frame only.
+    #[arg(long, value_name = "REFERENCE.png")]
+    pub compare: Option<PathBuf>,
+    /// --compare's tolerance, LEVELS[,PIXELS]: the largest per-channel difference in 8-bit
+    /// levels that does not count, and how many pixels (a count, or a percentage such as
+    /// 0.1%) may differ by more. Default 0,0: identical bytes.
+    #[arg(long, value_name = "LEVELS[,PIXELS]", requires = "compare",
+          value_parser = compare::parse_tolerance)]
+    pub tolerance: Option<compare::Tolerance>,
     #[command(flatten)]
     pub lighting: LightingArgs,
     #[command(flatten)]
@@ -274,6 +287,12 @@ fn render_in(args: &RenderArgs) -> Result<()> {
         }
     }
     let outputs = Outputs::plan(out, &args.sequence, frames.len(), (w, h))?;
+    if args.compare.is_some() && (frames.len() != 1 || outputs.animated.is_some()) {
+        bail!(
+            "--compare compares one image: {} frames would be rendered",
+            frames.len()
+        );
+    }
     let comparison = match &input.file {
         Some(f) => f.comparison(&input.scene, &settings)?,
         None => None,
@@ -311,8 +330,14 @@ fn render_in(args: &RenderArgs) -> Result<()> {
     };
     let source = input.source.clone();
     let description = describe(&settings);
+    let compared = std::cell::RefCell::new(None);
     let write = |path: &Path, w: u32, h: u32, rgb: Vec<u8>| {
-        write_image(path, w, h, &rgb, &source, &description)
+        write_image(path, w, h, &rgb, &source, &description)?;
+        if let Some(reference) = &args.compare {
+            let tol = args.tolerance.unwrap_or_default();
+            *compared.borrow_mut() = Some(compare::check(path, (w, h), &rgb, reference, tol));
+        }
+        Ok(())
     };
     let done = sequence::run(&frames, (w, h), prepared, &outputs, draw, write)?;
     // A sequence always says where its frames went (on stderr when stdout holds the stats).
@@ -377,6 +402,13 @@ fn render_in(args: &RenderArgs) -> Result<()> {
         for line in report {
             say!("{line}");
         }
+    }
+    match compared.into_inner() {
+        Some(Ok(line)) if args.stats => eprintln!("{line}"),
+        Some(Ok(line)) => say!("{line}"),
+        Some(Err(e)) => return Err(e),
+        None if args.compare.is_some() => bail!("--compare: no image was written"),
+        None => {}
     }
     Ok(())
 }

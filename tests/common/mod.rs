@@ -85,52 +85,78 @@ pub fn checker_cube() -> Scene {
     scene
 }
 
-/// Renders with explicit options on a pool of `threads` threads.
+/// Renders with explicit options; the frame and statistics of a pool of `threads` threads
+/// are returned (see [`render_prepared`]: every kernel on 1, 2 and 3 threads must agree).
 pub fn render_with(
     scene: &Scene,
     opts: &Shot,
     threads: usize,
 ) -> (Framebuffer, realist::raster::Stats) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("thread pool");
-    pool.install(|| {
-        let prepared = PreparedScene::new(scene.clone());
-        // Every kernel this machine has renders the scene; they must agree bit for bit (no
-        // fused multiply-add, no approximate instruction: `realist_simd::level`), and the
-        // portable kernel's frame is the one checked against the goldens.
-        let (settings, view) = (opts.settings.clone(), opts.view(prepared.scene()));
-        let mut first: Option<(Framebuffer, realist::raster::Stats)> = None;
+    let prepared = PreparedScene::new(scene.clone());
+    let view = opts.view(prepared.scene());
+    render_prepared(&prepared, &opts.settings, &view, threads)
+}
+
+/// The thread counts every golden is rendered on (issue 39: the same image on every
+/// machine, whatever its cores).
+pub const THREAD_COUNTS: [usize; 3] = [1, 2, 3];
+
+/// Renders `prepared` with every kernel this machine has, each on 1, 2 and 3 threads, and
+/// asserts that every frame is the same to the bit, colour and depth (no fused
+/// multiply-add, no approximate instruction, no platform libm, tiles that do not depend on
+/// the thread count: README, "The same image on every machine"). Returns the frame and the
+/// statistics of the portable kernel on `threads` threads.
+pub fn render_prepared(
+    prepared: &PreparedScene,
+    settings: &Settings,
+    view: &realist::render::View,
+    threads: usize,
+) -> (Framebuffer, realist::raster::Stats) {
+    let bits = |fb: &Framebuffer| -> Vec<u32> {
+        let c = fb.color.iter().flat_map(|c| c.to_array());
+        c.chain(fb.depth.iter().copied())
+            .map(f32::to_bits)
+            .collect()
+    };
+    let mut first: Option<(Vec<u32>, u64, String)> = None;
+    let mut wanted = None;
+    for n in THREAD_COUNTS
+        .into_iter()
+        .chain((!THREAD_COUNTS.contains(&threads)).then_some(threads))
+    {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .expect("thread pool");
         for kernel in KernelKind::available_kinds() {
-            let mut renderer = Renderer::new();
-            let settings = Settings {
-                kernel: Some(kernel),
-                ..settings.clone()
-            };
-            let stats = renderer.render(&prepared, &settings, &view).stats;
-            let fb = renderer.take_target().expect("a frame").resolve();
+            let (fb, stats) = pool.install(|| {
+                let mut renderer = Renderer::new();
+                let settings = Settings {
+                    kernel: Some(kernel),
+                    ..settings.clone()
+                };
+                let stats = renderer.render(prepared, &settings, view).stats;
+                (renderer.take_target().expect("a frame").resolve(), stats)
+            });
+            let got = bits(&fb);
+            let what = format!("{kernel:?} on {n} thread(s)");
             match &first {
-                None => first = Some((fb, stats)),
-                Some((f, s)) => {
-                    assert_eq!(s.pixels_shaded, stats.pixels_shaded, "{kernel:?}");
-                    let bits = |fb: &Framebuffer| -> Vec<u32> {
-                        let c = fb.color.iter().flat_map(|c| c.to_array());
-                        c.chain(fb.depth.iter().copied())
-                            .map(f32::to_bits)
-                            .collect()
-                    };
-                    let (a, b) = (bits(f), bits(&fb));
-                    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+                None => first = Some((got, stats.pixels_shaded, what)),
+                Some((want, shaded, first_what)) => {
+                    assert_eq!(*shaded, stats.pixels_shaded, "{what} against {first_what}");
+                    let differ = want.iter().zip(&got).filter(|(x, y)| x != y).count();
                     assert_eq!(
                         differ, 0,
-                        "{kernel:?}: {differ} values differ from the portable kernel's"
+                        "{what}: {differ} values differ from {first_what}'s"
                     );
                 }
             }
+            if n == threads && wanted.is_none() {
+                wanted = Some((fb, stats));
+            }
         }
-        first.expect("the portable kernel is always available")
-    })
+    }
+    wanted.expect("the portable kernel is always available")
 }
 
 /// Renders `scene` at `w` x `h` with a mode (None = the scene's styles) and optional camera.
@@ -181,9 +207,30 @@ pub fn check_golden(name: &str, fb: &Framebuffer, tol: Tolerance) {
     check_golden_rgb(name, fb.width, fb.height, fb.to_srgb8(), tol);
 }
 
+/// Where [`check_golden_rgb`] records each rendered golden's hash: one file per golden
+/// (`NAME.txt`: the FNV-1a 64 hash of its RGB8 bytes, its size and name), which `.ci/run`
+/// prints, so two machines' images can be compared without the images.
+pub fn golden_hash_dir() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("golden-hashes")
+}
+
+/// FNV-1a, 64 bits: a small hash with the same value on every machine.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
 /// [`check_golden`] for any `w` x `h` RGB8 image.
 pub fn check_golden_rgb(name: &str, w: u32, h: u32, got: Vec<u8>, tol: Tolerance) {
     let path = golden_dir().join(format!("{name}.png"));
+    let hashes = golden_hash_dir();
+    std::fs::create_dir_all(&hashes).expect("golden hash dir");
+    std::fs::write(
+        hashes.join(format!("{name}.txt")),
+        format!("{:016x} {w}x{h} {name}\n", fnv1a64(&got)),
+    )
+    .expect("record the golden's hash");
     if std::env::var_os("REPLACE").is_some() {
         std::fs::create_dir_all(golden_dir()).expect("golden dir");
         realist::color::png::Png::rgb(w, h, &got)
