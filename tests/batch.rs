@@ -258,7 +258,7 @@ fn a_corrupt_file_is_one_failed_item() {
 
     let o = run(&tmp.0, &["in", "--size", "96x72", "--out", "out"]);
     let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(o.status.code(), Some(3), "{err}");
     assert!(err.contains("2 of 5 item(s) failed"), "{err}");
     let lines = manifest_lines(&tmp.0.join("out"));
     assert_eq!(lines.len(), 5);
@@ -346,7 +346,7 @@ fn an_item_over_its_time_is_killed() {
     cube(&tmp, "in/cube.obj");
     // Starting a process alone takes longer than a microsecond.
     let o = run(&tmp.0, &["in", "--turntable", "4", "--timeout", "0.000001"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     let lines = manifest_lines(&tmp.0.join("realist-batch"));
     assert_eq!(lines.len(), 1);
     assert_eq!(lines[0]["status"], "timeout");

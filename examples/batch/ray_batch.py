@@ -25,7 +25,7 @@ def run_shard(realist, models, out, index, count, threads, extra):
         "--out", out,
         *extra,
     ]
-    # Exit status 2: some models failed (the manifest says which); anything else non-zero is
+    # Exit status 3: some models failed (the manifest says which); anything else non-zero is
     # a mistake in the command or the folder.
     status = subprocess.run(cmd, check=False).returncode
     manifest = pathlib.Path(out) / f"manifest.shard-{index}-of-{count}.jsonl"
@@ -63,7 +63,7 @@ def main():
     errors = 0
     for index, status, ok, failed in ray.get(futures):
         print(f"shard {index}/{args.shards}: exit status {status}, {ok} ok, {failed} failed")
-        if status not in (0, 2):
+        if status not in (0, 3):
             errors += 1
     raise SystemExit(1 if errors else 0)
 

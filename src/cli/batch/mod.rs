@@ -30,11 +30,19 @@ use progress::Progress;
 use super::render::RenderArgs;
 use super::sequence::{frame_name, MAX_FRAMES};
 
+/// Exit status when some items failed (the others are done): neither 1, an error of the
+/// command, nor 2, a mistake in its arguments.
+const FAILED_ITEMS: i32 = 3;
+
 /// Default thumbnail size (pixels on the long side), the freedesktop "large" size.
 const THUMBNAIL_SIZE: u32 = 256;
 
 #[derive(Args)]
-#[command(group(ArgGroup::new("kind").args(["turntable", "still", "thumbnail"])))]
+#[command(
+    group(ArgGroup::new("kind").args(["turntable", "still", "thumbnail"])),
+    after_help = "Exit status: 0 when every item is ok, 3 when some failed (their manifest \
+                  lines say why; the others are done), 1 or 2 for a mistake in the command."
+)]
 pub(crate) struct BatchArgs {
     /// Folders (searched recursively for .gltf .glb .obj .stl .ply files; symbolic links to
     /// folders are not followed) and model files.
@@ -321,6 +329,7 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<()> {
         .with_context(|| format!("could not create {}", temp_root.display()))?;
     let mut manifest = Manifest::open(out.join(shard.manifest_name()))?;
     let mut progress = Progress::new(mine.len(), skipped);
+    progress.start();
     let mut running: Vec<Running> = Vec::new();
     let result = run_items(
         &plan,
@@ -350,7 +359,7 @@ pub(crate) fn batch(args: &BatchArgs) -> Result<()> {
             mine.len(),
             manifest.path.display()
         );
-        std::process::exit(2);
+        std::process::exit(FAILED_ITEMS);
     }
     Ok(())
 }

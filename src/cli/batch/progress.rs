@@ -71,6 +71,16 @@ impl Progress {
         )
     }
 
+    /// Draws the line before the first item finishes (on a terminal).
+    pub fn start(&mut self) {
+        if self.terminal && self.skipped < self.total {
+            let mut err = std::io::stderr().lock();
+            let _ = write!(err, "{}", self.line());
+            let _ = err.flush();
+            self.drawn = true;
+        }
+    }
+
     /// One item finished: `item` ok or not, after `seconds`.
     pub fn item(&mut self, item: &str, status: &str, seconds: f64, error: Option<&str>) {
         self.finished += 1;
@@ -90,7 +100,7 @@ impl Progress {
                 Some(e) => format!("{status}: {e}"),
                 None => status.to_string(),
             };
-            let _ = writeln!(err, "[{}] {item} {what} ({seconds:.1} s)", self.line());
+            let _ = writeln!(err, "[{}] {item} {what} ({seconds:.2} s)", self.line());
         }
         let _ = err.flush();
     }
