@@ -19,6 +19,7 @@ use realist::mesh::NormalOptions;
 use realist::scene::Scene;
 
 mod accuracy;
+mod batch;
 mod bench;
 mod chroma;
 mod color;
@@ -64,6 +65,9 @@ enum Command {
     Color(ColorArgs),
     /// Draw the CIE chromaticity diagram (gamuts, Planckian locus, an image's pixels).
     Chroma(ChromaArgs),
+    /// Render a still, a turntable or a thumbnail of every model in folders or a list, one
+    /// process per model, with a manifest, resume and --shard I/N for job arrays.
+    Batch(Box<batch::BatchArgs>),
 }
 
 #[derive(Args)]
@@ -222,6 +226,7 @@ pub fn run() -> Result<()> {
         },
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
+        Some(Command::Batch(args)) => batch::batch(&args),
         Some(Command::View(args)) => view(
             args.model,
             args.window,
