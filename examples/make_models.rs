@@ -519,9 +519,9 @@ fn normal_bumps() -> Result<Texture> {
             let (x, y) = (i % SIZE, i / SIZE);
             let dx = f64::from(x % 32) + 0.5 - 16.0;
             let dy = f64::from(y % 32) + 0.5 - 16.0;
-            let d = dx.hypot(dy);
+            let d = libm::hypot(dx, dy);
             let n = if d < RADIUS {
-                let slope = (std::f64::consts::PI * d / RADIUS).sin();
+                let slope = libm::sin(std::f64::consts::PI * d / RADIUS);
                 glam::DVec3::new(slope * dx / d, -slope * dy / d, 1.0).normalize()
             } else {
                 glam::DVec3::Z

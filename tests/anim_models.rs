@@ -171,13 +171,13 @@ fn slerp(a: &[f64], b: &[f64], s: f64) -> Vec<f64> {
     let d: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
     let sign = if d < 0.0 { -1.0 } else { 1.0 };
     let d = d.abs().min(1.0);
-    let angle = d.acos();
+    let angle = libm::acos(d);
     if angle < 1e-9 {
         return a;
     }
     let (wa, wb) = (
-        ((1.0 - s) * angle).sin() / angle.sin(),
-        sign * (s * angle).sin() / angle.sin(),
+        libm::sin((1.0 - s) * angle) / libm::sin(angle),
+        sign * libm::sin(s * angle) / libm::sin(angle),
     );
     normalised(
         &a.iter()
@@ -191,8 +191,8 @@ fn slerp(a: &[f64], b: &[f64], s: f64) -> Vec<f64> {
 fn quat(axis: [f64; 3], deg: f64) -> Vec<f64> {
     let len = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
     let half = deg.to_radians() / 2.0;
-    let s = half.sin() / len;
-    vec![axis[0] * s, axis[1] * s, axis[2] * s, half.cos()]
+    let s = libm::sin(half) / len;
+    vec![axis[0] * s, axis[1] * s, axis[2] * s, libm::cos(half)]
 }
 
 fn vecs<const N: usize>(rows: &[[f64; N]]) -> Vec<Vec<f64>> {
@@ -511,7 +511,7 @@ fn skin_weights(r: usize, c: usize) -> [f64; JOINTS] {
     let mut w = [0.0; JOINTS];
     for (j, w) in w.iter_mut().enumerate() {
         let d = (y - j as f64 * JOINT_STEP) / 0.6;
-        *w = (-d * d).exp() + 0.02 + 0.03 * ((j + c) % 4) as f64;
+        *w = libm::exp(-d * d) + 0.02 + 0.03 * ((j + c) % 4) as f64;
     }
     let sum: f64 = w.iter().sum();
     w.map(|x| x / sum)
@@ -626,7 +626,7 @@ fn grid_position(v: usize) -> DVec3 {
 /// Target 0: (position delta, normal delta).
 fn bump(v: usize) -> (DVec3, DVec3) {
     let (i, j) = ((v % GRID) as f64, (v / GRID) as f64);
-    let d = (i - 6.0).hypot(j - 5.0);
+    let d = libm::hypot(i - 6.0, j - 5.0);
     if d > 3.0 {
         return (DVec3::ZERO, DVec3::ZERO);
     }

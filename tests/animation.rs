@@ -157,7 +157,10 @@ fn simple_skin_bends_by_its_joint_rotation() {
     let mut p = prepared(&path);
     // The file's keys are rotations about +Z written (z, w) = (0.383, 0.924) for 45° and
     // (0.707, 0.707) for 90°: their angles 2 atan2(z, w) are used, so 45° is 45.03°.
-    let (a45, a90) = (2.0 * 0.383f32.atan2(0.924), 2.0 * 0.707f32.atan2(0.707));
+    let (a45, a90) = (
+        2.0 * libm::atan2f(0.383f32, 0.924),
+        2.0 * libm::atan2f(0.707f32, 0.707),
+    );
     let keys = [
         0.0, a45, a90, a90, a45, 0.0, 0.0, -a45, -a90, -a90, -a45, 0.0,
     ];

@@ -26,7 +26,7 @@ fn expected_pixel(x: u32, y: u32, w: u32, h: u32) -> [i32; 3] {
     let f = -eye.normalize();
     let s = f.cross(DVec3::Y).normalize();
     let u = s.cross(f);
-    let t = (22.5f64).to_radians().tan();
+    let t = libm::tan((22.5f64).to_radians());
     let ndc_x = (f64::from(x) + 0.5) / f64::from(w) * 2.0 - 1.0;
     let ndc_y = 1.0 - (f64::from(y) + 0.5) / f64::from(h) * 2.0;
     let aspect = f64::from(w) / f64::from(h);

@@ -192,7 +192,7 @@ fn generate_large(dir: &Path) -> Vec<Case> {
         write("face_2m_verts.obj", &|w| {
             for i in 0..n {
                 let a = i as f64 * std::f64::consts::TAU / n as f64;
-                writeln!(w, "v {:.7} {:.7} 0", a.cos(), a.sin())?;
+                writeln!(w, "v {:.7} {:.7} 0", libm::cos(a), libm::sin(a))?;
             }
             w.write_all(b"f")?;
             for i in 1..=n {

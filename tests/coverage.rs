@@ -194,7 +194,7 @@ proptest! {
         let mut pts = vec![Vec2::new(center.0, center.1)];
         for k in 0..spokes {
             let a = rotation + k as f32 * std::f32::consts::TAU / spokes as f32;
-            pts.push(Vec2::new(a.cos(), a.sin()) * 6.0);
+            pts.push(Vec2::new(libm::cosf(a), libm::sinf(a)) * 6.0);
         }
         let mut tris: Vec<[u32; 3]> =
             (0..spokes).map(|k| [0, 1 + k as u32, 1 + ((k + 1) % spokes) as u32]).collect();
@@ -237,7 +237,7 @@ proptest! {
         let w: Vec<f32> = (0..pts.len()).map(|k| wscale[k % wscale.len()]).collect();
         // Keep cos(a) x + sin(a) y + c >= 0 in NDC: (cos a, sin a, 0, c) in clip space.
         let sections: Vec<Vec4> =
-            planes.iter().map(|&(a, c)| Vec4::new(a.cos(), a.sin(), 0.0, c)).collect();
+            planes.iter().map(|&(a, c)| Vec4::new(libm::cosf(a), libm::sinf(a), 0.0, c)).collect();
         let counts = count_cut(width, height, &pts, &w, &tris, counting(), samples, &sections);
         // Half a pixel in NDC, along the planes' unit normals: a pixel's samples all lie
         // within 0.5 px of its centre in each axis.

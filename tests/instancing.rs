@@ -237,7 +237,7 @@ fn forest(n: usize, dest: &Path) {
     for i in 0..n {
         t.extend([(i % side) as f32, 0.0, -((i / side) as f32)]);
         let half = (i % 97) as f32 * 0.03;
-        r.extend([0.0, half.sin(), 0.0, half.cos()]);
+        r.extend([0.0, libm::sinf(half), 0.0, libm::cosf(half)]);
         s.extend([1.0 + (i % 5) as f32 * 0.2; 3]);
     }
     let (t, r, s) = (

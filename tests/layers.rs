@@ -116,7 +116,7 @@ fn a_clear_coat_adds_its_reflection_at_normal_incidence() {
 fn sheen_brdf(nh: f64, nl: f64, nv: f64, roughness: f64) -> f64 {
     let a = roughness * roughness;
     let sin2 = (1.0 - nh * nh).max(0.0);
-    let d = (2.0 + 1.0 / a) * sin2.powf(0.5 / a) / (2.0 * PI);
+    let d = (2.0 + 1.0 / a) * libm::pow(sin2, 0.5 / a) / (2.0 * PI);
     let t = (1.0 - a) * (1.0 - a);
     let mix = |x: f64, y: f64| x + (y - x) * t;
     let (ca, cb, cc, cd, ce) = (
@@ -126,12 +126,12 @@ fn sheen_brdf(nh: f64, nl: f64, nv: f64, roughness: f64) -> f64 {
         mix(-1.97760, -1.27393),
         mix(-4.32054, -4.85967),
     );
-    let l = |x: f64| ca / (1.0 + cb * x.powf(cc)) + cd * x + ce;
+    let l = |x: f64| ca / (1.0 + cb * libm::pow(x, cc)) + cd * x + ce;
     let lambda = |c: f64| {
         if c < 0.5 {
-            l(c).exp()
+            libm::exp(l(c))
         } else {
-            (2.0 * l(0.5) - l(1.0 - c)).exp()
+            libm::exp(2.0 * l(0.5) - l(1.0 - c))
         }
     };
     let v = (1.0 / ((1.0 + lambda(nv) + lambda(nl)) * 4.0 * nv * nl)).min(1.0);
@@ -147,10 +147,10 @@ fn sheen_albedo(nv: f64, roughness: f64) -> f64 {
     let mut sum = 0.0;
     for i in 0..n {
         let theta = (i as f64 + 0.5) * dt;
-        let (st, ct) = theta.sin_cos();
+        let (st, ct) = libm::sincos(theta);
         for j in 0..m {
             let phi = (j as f64 + 0.5) * dp;
-            let l = DVec3::new(st * phi.cos(), st * phi.sin(), ct);
+            let l = DVec3::new(st * libm::cos(phi), st * libm::sin(phi), ct);
             let h = (l + v).normalize();
             sum += sheen_brdf(h.z, ct, nv, roughness) * ct * st;
         }
@@ -287,12 +287,12 @@ fn the_coat_does_not_follow_the_base_normal_map() {
     let texels: Vec<[u8; 4]> = (0..w * h)
         .map(|i| {
             let s = if (i % w) / 4 % 2 == 0 {
-                tilt.sin()
+                libm::sinf(tilt)
             } else {
-                -tilt.sin()
+                -libm::sinf(tilt)
             };
             let enc = |x: f32| ((x * 0.5 + 0.5) * 255.0).round() as u8;
-            [enc(s), 128, enc(tilt.cos()), 255]
+            [enc(s), 128, enc(libm::cosf(tilt)), 255]
         })
         .collect();
     let stripes = Texture::new("stripes", w, h, texels, false).expect("texture");
@@ -483,7 +483,7 @@ fn row_view() -> View {
             eye: Vec3::new(0.0, 0.0, 4.0),
             target: Vec3::ZERO,
             up: Vec3::Y,
-            yfov: 2.0 * 0.125f32.atan(),
+            yfov: 2.0 * libm::atanf(0.125f32),
             near: 1.0,
             far: 10.0,
             ..Camera::default()
@@ -660,10 +660,10 @@ fn the_coat_normal_map_tilts_the_coat() {
     let brightest = (0..SIZE)
         .max_by(|&a, &b| pixel(&fb, a, row).x.total_cmp(&pixel(&fb, b, row).x))
         .unwrap_or(0);
-    let theta = n.x.atan2(n.z);
-    let x = -eye * (2.0 * theta).tan();
+    let theta = libm::atan2(n.x, n.z);
+    let x = -eye * libm::tan(2.0 * theta);
     // The column of world x on the plane z = 0.
-    let half = eye * (0.45f64).tan();
+    let half = eye * libm::tan(0.45f64);
     let column = (x / half + 1.0) * 0.5 * f64::from(SIZE) - 0.5;
     eprintln!(
         "the coat's highlight at column {brightest}; the tilted normal ({:.1}°) mirrors the light at {column:.1}",
@@ -743,7 +743,7 @@ fn highlight_axis(img: &[f64], w: u32) -> (f64, f64) {
         let (dx, dy) = (x - mx, y - my);
         (cxx, cyy, cxy) = (cxx + v * dx * dx, cyy + v * dy * dy, cxy + v * dx * dy);
     }
-    let angle = 0.5 * (2.0 * cxy).atan2(cxx - cyy);
+    let angle = 0.5 * libm::atan2(2.0 * cxy, cxx - cyy);
     let (m, d) = (
         (cxx + cyy) / 2.0,
         (((cxx - cyy) / 2.0).powi(2) + cxy * cxy).sqrt(),
@@ -776,14 +776,14 @@ fn an_anisotropic_highlight_stretches_along_its_direction() {
         ..view()
     };
     let s = settings(vec![Light::directional(Vec3::NEG_Z, Vec3::ONE)]);
-    let half = eye * 0.7f64.tan();
+    let half = eye * libm::tan(0.7f64);
     let spec = |strength: f64, angle: f64| -> Vec<f64> {
         // The specification's lobe at the pixel centres, in f64.
         let alpha = 0.2f64 * 0.2;
         let (at, ab) = (alpha + (1.0 - alpha) * strength * strength, alpha);
         let (t, b) = (
-            DVec3::new(angle.cos(), angle.sin(), 0.0),
-            DVec3::new(-angle.sin(), angle.cos(), 0.0),
+            DVec3::new(libm::cos(angle), libm::sin(angle), 0.0),
+            DVec3::new(-libm::sin(angle), libm::cos(angle), 0.0),
         );
         let n = DVec3::Z;
         let l = DVec3::Z;
@@ -813,7 +813,7 @@ fn an_anisotropic_highlight_stretches_along_its_direction() {
         (
             "anisotropy-texture.glb",
             128.0 / 255.0,
-            30.0 + (1.0f64).atan2(1.0 / 255.0).to_degrees(),
+            30.0 + libm::atan2(1.0f64, 1.0 / 255.0).to_degrees(),
         ),
     ] {
         let scene = model(file);
@@ -865,19 +865,19 @@ fn diffuse_transmission_passes_light_from_behind() {
     let (base, t, c) = (DVec3::new(0.2, 0.6, 0.2), 0.6, DVec3::new(1.0, 0.8, 0.3));
     let theta = 40f64.to_radians();
     let e = 2.0;
-    let toward = DVec3::new(theta.sin(), 0.0, theta.cos());
+    let toward = DVec3::new(libm::sin(theta), 0.0, libm::cos(theta));
     let cases = [
         // A light in front (travelling towards -Z), one behind, and the surround.
         (
             Light::directional(-toward.as_vec3(), Vec3::splat(e as f32)),
-            base * ((1.0 - t) * e * theta.cos() / PI),
+            base * ((1.0 - t) * e * libm::cos(theta) / PI),
         ),
         (
             Light::directional(
                 (toward * DVec3::new(-1.0, 1.0, 1.0)).as_vec3(),
                 Vec3::splat(e as f32),
             ),
-            c * (t * e * theta.cos() / PI),
+            c * (t * e * libm::cos(theta) / PI),
         ),
         (
             Light::ambient(Vec3::splat(0.3)),
@@ -993,7 +993,11 @@ fn transmission_absorbs_by_beers_law() {
         (1.0, 0.5, 1.0)
     );
     let b = DVec3::new(0.6, 0.5, 0.4);
-    let want = b * DVec3::new(0.5f64.powf(0.5), 0.7f64.powf(0.5), 0.9f64.powf(0.5));
+    let want = b * DVec3::new(
+        libm::pow(0.5f64, 0.5),
+        libm::pow(0.7f64, 0.5),
+        libm::pow(0.9f64, 0.5),
+    );
     let v = View {
         camera: Camera {
             eye: Vec3::new(0.4, 0.3, 2.0),

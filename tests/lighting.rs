@@ -198,7 +198,7 @@ fn point_light_attenuation_modes_follow_their_formulas() {
 
 /// Smoothstep in cos between the falloff and hotspot angles.
 fn spot_factor(cos_axis: f64, inner: f64, outer: f64) -> f64 {
-    let t = ((cos_axis - outer.cos()) / (inner.cos() - outer.cos())).clamp(0.0, 1.0);
+    let t = ((cos_axis - libm::cos(outer)) / (libm::cos(inner) - libm::cos(outer))).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
 }
 
@@ -245,7 +245,7 @@ fn rectangular_spot_lights_its_pyramid_and_projects_its_image() {
         Vec3::new(0.0, 4.0, 0.0),
         -Vec3::Y,
         -Vec3::Z,
-        Vec2::new(tx.atan(), tz.atan()),
+        Vec2::new(libm::atanf(tx), libm::atanf(tz)),
         Vec3::ONE,
     );
     let got = samples(
@@ -523,7 +523,7 @@ fn check_shadow(
     let target = r.target().unwrap();
     let (mut agree, mut band, mut dark, mut want_dark) = (0, 0, 0, 0);
     // The exact outline, sampled finely, for the distance test.
-    let pixel = 2.0 * 6.0 * (30f64.to_radians().tan()) / 256.0;
+    let pixel = 2.0 * 6.0 * (libm::tan(30f64.to_radians())) / 256.0;
     for y in 0..256 {
         for x in 0..256 {
             let Some(p) = r.pick(x, y) else { continue };
@@ -588,7 +588,7 @@ fn spot_shadow_matches_the_analytic_outline() {
         inner as f32,
         outer as f32,
     );
-    let in_hotspot = move |p: DVec3| (p - pos).normalize().dot(axis) > inner.cos();
+    let in_hotspot = move |p: DVec3| (p - pos).normalize().dot(axis) > libm::cos(inner);
     let shadowed = move |p: DVec3| {
         // The ray from p to the light crosses y = 1 inside the square.
         let t = (1.0 - p.y) / (pos.y - p.y);
@@ -845,7 +845,7 @@ fn vertex_lighting_follows_the_textbook_or_the_gl_formulas() {
             (DVec3::Y * (2.0 * ndl) - l).dot(v)
         };
         let spec = if ndl > 0.0 && base > 0.0 {
-            base.powf(shininess)
+            libm::pow(base, shininess)
         } else {
             0.0
         };

@@ -196,7 +196,7 @@ fn disc_error(samples: u32) -> f64 {
     for k in 0..n {
         let a = k as f32 * std::f32::consts::TAU / n as f32;
         clip.push(
-            ndc(c + Vec2::new(a.cos(), a.sin()) * r, w, h)
+            ndc(c + Vec2::new(libm::cosf(a), libm::sinf(a)) * r, w, h)
                 .extend(0.5)
                 .extend(1.0),
         );
@@ -220,7 +220,7 @@ fn disc_error(samples: u32) -> f64 {
     let poly: Vec<Vec2> = (0..n)
         .map(|k| {
             let a = k as f32 * std::f32::consts::TAU / n as f32;
-            c + Vec2::new(a.cos(), a.sin()) * r
+            c + Vec2::new(libm::cosf(a), libm::sinf(a)) * r
         })
         .collect();
     let inside = |p: Vec2| {

@@ -245,7 +245,7 @@ fn snells_window(mode: Shading, samples: u32) {
     let (w, h) = (401, 9);
     let mut cam_wide = cam.clone();
     // The vertical field is small; the horizontal one spans ±60° (aspect 401 / 9).
-    cam_wide.yfov = 2.0 * ((60f32.to_radians()).tan() * h as f32 / w as f32).atan();
+    cam_wide.yfov = 2.0 * libm::atanf(libm::tanf(60f32.to_radians()) * h as f32 / w as f32);
     let mut sh = shot(w, h, cam_wide.clone(), Some(sky), vec![]);
     sh.settings.shading = Some(mode);
     sh.settings.samples = samples;
@@ -259,12 +259,12 @@ fn snells_window(mode: Shading, samples: u32) {
             0.0
         }
     };
-    let critical = (1.0f32 / 1.5).asin().to_degrees();
+    let critical = libm::asinf(1.0f32 / 1.5).to_degrees();
     let y = h / 2;
     let mut crossing = None;
     for x in w / 2..w {
         let (_, d) = pixel_ray(&cam_wide, w, h, x, y);
-        let angle = d.y.clamp(-1.0, 1.0).acos().to_degrees();
+        let angle = libm::acosf(d.y.clamp(-1.0, 1.0)).to_degrees();
         let v = img[(y * w + x) as usize].y;
         if std::env::var("DIAG").is_ok() {
             eprintln!("{angle:.2} {v:.4}");
@@ -275,7 +275,7 @@ fn snells_window(mode: Shading, samples: u32) {
         if angle < critical - 0.5 {
             // Fresnel's equations for glass to air (written here in f64): the sky comes
             // through with 1 - R, the floor's little (under 0.03) with R.
-            let (ci, n) = (f64::from(angle).to_radians().cos(), 1.5f64);
+            let (ci, n) = (libm::cos(f64::from(angle).to_radians()), 1.5f64);
             let ct = (1.0 - n * n * (1.0 - ci * ci)).sqrt();
             let rs = (n * ci - ct) / (n * ci + ct);
             let rp = (ci - n * ct) / (ci + n * ct);
@@ -612,7 +612,7 @@ fn path_error_falls_as_one_over_root_samples() {
             .map(|(p, q)| f64::from((*p - *q).length_squared()) / 3.0)
             .sum::<f64>()
             / a.len() as f64;
-        points.push(((spp as f64).ln(), 0.5 * mse.ln()));
+        points.push((libm::log(spp as f64), 0.5 * libm::log(mse)));
     }
     let n = points.len() as f64;
     let (mx, my) = (
@@ -1145,7 +1145,7 @@ fn the_probe_lists_the_first_path() {
     };
     // The pixel column over floor point x (the floor is 6 below the eye).
     let x_at = |wx: f32| {
-        let half = (cam.yfov * 0.5).tan() * 6.0;
+        let half = libm::tanf(cam.yfov * 0.5) * 6.0;
         ((wx / half * 0.5 + 0.5) * w as f32) as u32
     };
     let rays = probe(x_at(1.5), h / 2);

@@ -268,7 +268,7 @@ fn sheared_instance_at_the_view_edge_is_not_culled() {
         far: 100.0,
         ..Camera::default()
     };
-    let tan = (cam.yfov * 0.5).tan(); // square image
+    let tan = libm::tanf(cam.yfov * 0.5); // square image
     let mut drawn_all = true;
     let mut visible_cases = 0;
     for k in 0..100 {

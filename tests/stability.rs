@@ -165,7 +165,7 @@ fn reference(t: &Tri, w: u32, h: u32, sx: f64, sy: f64) -> Option<bool> {
     // Signed distance in pixels to each edge line, positive inside.
     let dist: Vec<f64> = (0..3)
         .map(|k| {
-            let g = (nx[k] - n[k]).hypot(ny[k] - n[k]);
+            let g = libm::hypot(nx[k] - n[k], ny[k] - n[k]);
             if g > 0.0 {
                 n[k] * d.signum() / g
             } else if n[k] * d.signum() >= 0.0 {
@@ -224,7 +224,7 @@ fn check(t: &Tri, w: u32, h: u32, check_attr: bool, attr_tol: f32) -> usize {
 /// vertex, as clip coordinates for a `w` x `h` image.
 fn random_tri(rng: &mut Rng, w: u32, h: u32) -> (Tri, f64) {
     let (fw, fh) = (f64::from(w), f64::from(h));
-    let size = 10f64.powf(rng.range(-1.0, 3.5));
+    let size = libm::pow(10f64, rng.range(-1.0, 3.5));
     let (cx, cy) = (
         rng.range(-0.3 * fw, 1.3 * fw),
         rng.range(-0.3 * fh, 1.3 * fh),
@@ -250,7 +250,7 @@ fn random_tri(rng: &mut Rng, w: u32, h: u32) -> (Tri, f64) {
     let longest = (0..3)
         .map(|i| {
             let (a, b) = (pts[i], pts[(i + 1) % 3]);
-            (a.0 - b.0).hypot(a.1 - b.1)
+            libm::hypot(a.0 - b.0, a.1 - b.1)
         })
         .fold(0.0, f64::max);
     let min_altitude = if longest > 0.0 {

@@ -257,9 +257,9 @@ fn one_and_two_threads_draw_the_same_points_and_lines() {
     for i in 0..n {
         let t = i as f32 / n as f32 * std::f32::consts::TAU * 3.0;
         positions.push(Vec3::new(
-            t.cos() * (0.3 + i as f32 / n as f32),
-            t.sin(),
-            (t * 0.7).sin(),
+            libm::cosf(t) * (0.3 + i as f32 / n as f32),
+            libm::sinf(t),
+            libm::sinf(t * 0.7),
         ));
     }
     let lines: Vec<[u32; 2]> = (0..n as u32 - 7).map(|i| [i, i + 7]).collect();

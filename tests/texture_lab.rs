@@ -48,9 +48,9 @@ fn plane_scene() -> Scene {
     );
     let elevation = 10f32.to_radians();
     let travel = -Vec3::new(
-        elevation.cos() * 0.8,
-        elevation.sin(),
-        elevation.cos() * 0.6,
+        libm::cosf(elevation) * 0.8,
+        libm::sinf(elevation),
+        libm::cosf(elevation) * 0.6,
     );
     scene.lights = vec![
         Light::directional(travel.normalize(), Vec3::ONE),
@@ -66,7 +66,7 @@ fn bumps() -> Arc<Texture> {
         .map(|i| {
             let (x, y) = ((i % n) as f32 + 0.5, (i / n) as f32 + 0.5);
             let k = std::f32::consts::TAU * 4.0 / n as f32;
-            let h = 0.5 + 0.5 * (k * x).sin() * (k * y).sin();
+            let h = 0.5 + 0.5 * libm::sinf(k * x) * libm::sinf(k * y);
             let v = (h * 65535.0).round() as u16;
             [v, v, v, u16::MAX]
         })
@@ -218,9 +218,9 @@ fn normal_planes(strip: bool) -> (Scene, Shot) {
     let elevation = 10f32.to_radians();
     // The planes face +Z: the light skims them from the upper right.
     let travel = -Vec3::new(
-        elevation.cos() * 0.8,
-        elevation.cos() * 0.6,
-        elevation.sin(),
+        libm::cosf(elevation) * 0.8,
+        libm::cosf(elevation) * 0.6,
+        libm::sinf(elevation),
     );
     scene.lights = vec![
         Light::directional(travel.normalize(), Vec3::ONE),
@@ -380,7 +380,12 @@ fn the_texel_density_and_anisotropy_views_read_the_footprint() {
     let (major, minor) = footprint_axes(Vec2::new(4.0, 0.0), Vec2::new(0.0, 1.0));
     assert!((major - 4.0).abs() < 1e-5 && (minor - 1.0).abs() < 1e-5);
     let r = std::f32::consts::FRAC_PI_6;
-    let rot = |v: Vec2| Vec2::new(r.cos() * v.x - r.sin() * v.y, r.sin() * v.x + r.cos() * v.y);
+    let rot = |v: Vec2| {
+        Vec2::new(
+            libm::cosf(r) * v.x - libm::sinf(r) * v.y,
+            libm::sinf(r) * v.x + libm::cosf(r) * v.y,
+        )
+    };
     let (major, minor) = footprint_axes(rot(Vec2::new(4.0, 0.0)), rot(Vec2::new(0.0, 1.0)));
     assert!((major - 4.0).abs() < 1e-4 && (minor - 1.0).abs() < 1e-4);
 }

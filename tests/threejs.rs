@@ -219,11 +219,11 @@ fn a_clear_coat_against_three_js() {
     // over 0.4 (`g`); towards the silhouette it grows as 1 / N·V. Away from the highlight,
     // three's image is realist's with three's weight and roughness.
     let lut = realist::texture::env::brdf_lut();
-    let g = 2.0 * 1.1 * (22.5f64).to_radians().tan() / f64::from(SIZE) / 0.4;
+    let g = 2.0 * 1.1 * libm::tan((22.5f64).to_radians()) / f64::from(SIZE) / 0.4;
     let (mut facing, mut grazing, mut predicted) = (0u8, (0u8, 1.0f64), 0u8);
     for (x, y, p) in ours.enumerate_pixels() {
         let (dx, dy) = (f64::from(x) - 127.5, f64::from(y) - 127.5);
-        if dx.hypot(dy) <= 12.0 || !inside(&ours, x, y) || !inside(&three, x, y) {
+        if libm::hypot(dx, dy) <= 12.0 || !inside(&ours, x, y) || !inside(&three, x, y) {
             continue;
         }
         let q = three.get_pixel(x, y).0;
@@ -286,7 +286,7 @@ fn a_clear_coat_against_three_js() {
 /// three puts under sin²θ_h (it matters only where the sheen is negligible).
 fn charlie_d(nh: f64, roughness: f64) -> f64 {
     let a = roughness * roughness;
-    (2.0 + 1.0 / a) * (1.0 - nh * nh).max(0.0).powf(0.5 / a) / (2.0 * std::f64::consts::PI)
+    (2.0 + 1.0 / a) * libm::pow((1.0 - nh * nh).max(0.0), 0.5 / a) / (2.0 * std::f64::consts::PI)
 }
 
 #[test]
@@ -318,7 +318,7 @@ fn a_sheen_against_three_js() {
         let (r2, inv) = (r * r, 1.0 / (r + 0.1));
         let a = -1.9362 + 1.0678 * r + 0.4573 * r2 - 0.8469 * inv;
         let b = -0.6014 + 0.5538 * r - 0.4670 * r2 - 0.1255 * inv;
-        (a * nv + b).exp().clamp(0.0, 1.0)
+        libm::exp(a * nv + b).clamp(0.0, 1.0)
     };
     let settings = settings(false, 1.0, SURROUND);
     let (mut near_normal, mut predicted, mut count) = (0u8, 0u8, 0);
@@ -346,7 +346,7 @@ fn a_sheen_against_three_js() {
                 + color * (nl * charlie_d(nh, r) * neubelt)
                 + color * (f64::from(SURROUND) * fit(nv));
             predicted = predicted.max(levels(srgb(three_like), q));
-            if nv > 35f64.to_radians().cos() {
+            if nv > libm::cos(35f64.to_radians()) {
                 near_normal = near_normal.max(levels(ours.get_pixel(x, y).0, q));
             }
             count += 1;
@@ -390,7 +390,7 @@ fn the_layers_textures_against_three_js() {
     // clear coat test), which widens the bright highlights of the coat, the specular and
     // the iridescent metal: as the file says, their flanks differ by up to 14 levels
     // (measured: 14, 1, 8 and 9 on the four spheres; with three's roughness 1 on each).
-    let v = view_of(4.0, 2.0 * 0.125f32.atan(), 320, 80);
+    let v = view_of(4.0, 2.0 * libm::atanf(0.125f32), 320, 80);
     let three = reference("layer-textures-headon.png");
     let (mean, max, n) = compare(&three, &reference("layer-factors-headon.png"));
     eprintln!(
@@ -426,7 +426,7 @@ fn the_layers_textures_against_three_js() {
             .normal
             .as_dvec3()
             .dot((eye - hit.position.as_dvec3()).normalize());
-        if nv <= 35f64.to_radians().cos() {
+        if nv <= libm::cos(35f64.to_radians()) {
             continue;
         }
         let (k, q) = (hit.instance.min(3), three.get_pixel(x, y).0);
@@ -509,7 +509,7 @@ fn iridescence_against_three_js() {
             (eye - hit.position.as_dvec3()).normalize(),
         );
         let d = levels(p.0, three.get_pixel(x, y).0);
-        if n.dot((v + DVec3::Z).normalize()) > 15f64.to_radians().cos() {
+        if n.dot((v + DVec3::Z).normalize()) > libm::cos(15f64.to_radians()) {
             continue;
         }
         if n.dot(v) > GRAZING {
@@ -620,7 +620,7 @@ fn transmission_against_three_js() {
                 hit.normal.as_dvec3(),
                 (DVec3::new(0.0, 0.0, 2.0) - hit.position.as_dvec3()).normalize(),
             );
-            if n.dot((to_eye + DVec3::Z).normalize()) > 15f64.to_radians().cos() {
+            if n.dot((to_eye + DVec3::Z).normalize()) > libm::cos(15f64.to_radians()) {
                 continue;
             }
             if d > 4 {

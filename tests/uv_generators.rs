@@ -81,7 +81,7 @@ fn write_obj(mesh: &Mesh, path: &Path) {
 
 /// The longitude of `p` about +y as a fraction of a turn in [0, 1), from +z towards +x.
 fn longitude(p: Vec3) -> f32 {
-    (p.x.atan2(p.z) / std::f32::consts::TAU).rem_euclid(1.0)
+    (libm::atan2f(p.x, p.z) / std::f32::consts::TAU).rem_euclid(1.0)
 }
 
 /// Distance of two longitudes on the circle (fractions of a turn).
@@ -167,7 +167,7 @@ fn spherical_on_the_sphere_is_longitude_and_latitude() {
             "corner {c} at {p}: generated {uv}, the sphere's own {want}"
         );
         // And directly: u is the longitude, v the latitude, away from the poles.
-        let polar = p.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
+        let polar = libm::acosf(p.y.clamp(-1.0, 1.0)) / std::f32::consts::PI;
         assert!(
             (uv.y - polar).abs() < UV_EPS,
             "corner {c}: v {} vs {polar}",

@@ -337,7 +337,7 @@ fn switch_shading_modes_with_the_panel_and_the_m_key() {
 /// The turntable angles of a camera about +Y: (yaw, pitch) of the eye seen from the target.
 fn yaw_pitch(eye: Vec3, target: Vec3) -> (f32, f32) {
     let d = (eye - target).normalize();
-    (d.x.atan2(d.z), d.y.asin())
+    (libm::atan2f(d.x, d.z), libm::asinf(d.y))
 }
 
 /// The camera's right vector is horizontal (a turntable never rolls).
@@ -795,7 +795,7 @@ fn a_light_turned_into_a_spot_keeps_its_values_and_its_cone_follows_the_editor()
     // part falls outside the cone.
     let wide = shown_image(&h);
     let (radius, distance) = (h.state().scene.bounding_sphere().1, centre.length());
-    let narrow = f64::from((radius / distance).asin().to_degrees() * 0.5);
+    let narrow = f64::from(libm::asinf(radius / distance).to_degrees() * 0.5);
     assert!(f64::from(degrees(key.inner)) > narrow);
     set_value(&mut h, "light 1 outer", narrow);
     let key = custom_lights(h.state()).0[1].clone();
@@ -1901,9 +1901,9 @@ fn sphere_without_uvs(dir: &Path) -> PathBuf {
         for j in 0..slices {
             let phi = std::f32::consts::TAU * j as f32 / slices as f32;
             let (x, y, z) = (
-                theta.sin() * phi.cos(),
-                theta.cos(),
-                theta.sin() * phi.sin(),
+                libm::sinf(theta) * libm::cosf(phi),
+                libm::cosf(theta),
+                libm::sinf(theta) * libm::sinf(phi),
             );
             obj += &format!("v {x} {y} {z}\n");
         }

@@ -68,7 +68,7 @@ pub fn uv_prime_to_xy(uv: [f64; 2]) -> [f64; 2] {
 
 fn lab_f(t: f64) -> f64 {
     if t > CIE_EPSILON {
-        t.cbrt()
+        libm::cbrt(t)
     } else {
         (CIE_KAPPA * t + 16.0) / 116.0
     }
@@ -116,15 +116,15 @@ pub fn lab_to_xyz(lab: [f64; 3], white: [f64; 3]) -> [f64; 3] {
 /// Cartesian (L, a, b) to cylindrical (L, C, h) with h in degrees in [0, 360).
 #[must_use]
 pub fn lab_to_lch(lab: [f64; 3]) -> [f64; 3] {
-    let c = lab[1].hypot(lab[2]);
-    let h = lab[2].atan2(lab[1]).to_degrees().rem_euclid(360.0);
+    let c = libm::hypot(lab[1], lab[2]);
+    let h = libm::atan2(lab[2], lab[1]).to_degrees().rem_euclid(360.0);
     [lab[0], c, h]
 }
 
 /// Cylindrical (L, C, h in degrees) to cartesian (L, a, b).
 #[must_use]
 pub fn lch_to_lab(lch: [f64; 3]) -> [f64; 3] {
-    let (s, c) = lch[2].to_radians().sin_cos();
+    let (s, c) = libm::sincos(lch[2].to_radians());
     [lch[0], lch[1] * c, lch[1] * s]
 }
 

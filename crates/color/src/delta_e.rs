@@ -13,8 +13,8 @@ pub fn delta_e_1976(a: [f64; 3], b: [f64; 3]) -> f64 {
 #[must_use]
 pub fn delta_e_1994(a: [f64; 3], b: [f64; 3]) -> f64 {
     let (k1, k2) = (0.045, 0.015);
-    let c1 = a[1].hypot(a[2]);
-    let c2 = b[1].hypot(b[2]);
+    let c1 = libm::hypot(a[1], a[2]);
+    let c2 = libm::hypot(b[1], b[2]);
     let dl = a[0] - b[0];
     let dc = c1 - c2;
     let da = a[1] - b[1];
@@ -31,18 +31,18 @@ pub fn delta_e_1994(a: [f64; 3], b: [f64; 3]) -> f64 {
 pub fn delta_e_2000(lab1: [f64; 3], lab2: [f64; 3]) -> f64 {
     let [l1, a1, b1] = lab1;
     let [l2, a2, b2] = lab2;
-    let c_bar = (a1.hypot(b1) + a2.hypot(b2)) / 2.0;
+    let c_bar = (libm::hypot(a1, b1) + libm::hypot(a2, b2)) / 2.0;
     let c7 = c_bar.powi(7);
     let g = 0.5 * (1.0 - (c7 / (c7 + 25f64.powi(7))).sqrt());
     let a1p = (1.0 + g) * a1;
     let a2p = (1.0 + g) * a2;
-    let c1p = a1p.hypot(b1);
-    let c2p = a2p.hypot(b2);
+    let c1p = libm::hypot(a1p, b1);
+    let c2p = libm::hypot(a2p, b2);
     let hue = |b: f64, ap: f64| {
         if b == 0.0 && ap == 0.0 {
             0.0
         } else {
-            b.atan2(ap).to_degrees().rem_euclid(360.0)
+            libm::atan2(b, ap).to_degrees().rem_euclid(360.0)
         }
     };
     let h1p = hue(b1, a1p);
@@ -60,7 +60,7 @@ pub fn delta_e_2000(lab1: [f64; 3], lab2: [f64; 3]) -> f64 {
     } else {
         h2p - h1p + 360.0
     };
-    let d_big_hp = 2.0 * (c1p * c2p).sqrt() * (dhp.to_radians() / 2.0).sin();
+    let d_big_hp = 2.0 * (c1p * c2p).sqrt() * libm::sin(dhp.to_radians() / 2.0);
 
     let lp_bar = (l1 + l2) / 2.0;
     let cp_bar = (c1p + c2p) / 2.0;
@@ -73,18 +73,18 @@ pub fn delta_e_2000(lab1: [f64; 3], lab2: [f64; 3]) -> f64 {
     } else {
         (h1p + h2p - 360.0) / 2.0
     };
-    let t = 1.0 - 0.17 * (hp_bar - 30.0).to_radians().cos()
-        + 0.24 * (2.0 * hp_bar).to_radians().cos()
-        + 0.32 * (3.0 * hp_bar + 6.0).to_radians().cos()
-        - 0.20 * (4.0 * hp_bar - 63.0).to_radians().cos();
-    let d_theta = 30.0 * (-((hp_bar - 275.0) / 25.0).powi(2)).exp();
+    let t = 1.0 - 0.17 * libm::cos((hp_bar - 30.0).to_radians())
+        + 0.24 * libm::cos((2.0 * hp_bar).to_radians())
+        + 0.32 * libm::cos((3.0 * hp_bar + 6.0).to_radians())
+        - 0.20 * libm::cos((4.0 * hp_bar - 63.0).to_radians());
+    let d_theta = 30.0 * libm::exp(-((hp_bar - 275.0) / 25.0).powi(2));
     let cp7 = cp_bar.powi(7);
     let rc = 2.0 * (cp7 / (cp7 + 25f64.powi(7))).sqrt();
     let l50 = (lp_bar - 50.0).powi(2);
     let sl = 1.0 + 0.015 * l50 / (20.0 + l50).sqrt();
     let sc = 1.0 + 0.045 * cp_bar;
     let sh = 1.0 + 0.015 * cp_bar * t;
-    let rt = -(2.0 * d_theta).to_radians().sin() * rc;
+    let rt = -libm::sin((2.0 * d_theta).to_radians()) * rc;
     let (l, c, h) = (dlp / sl, dcp / sc, d_big_hp / sh);
     (l * l + c * c + h * h + rt * c * h).max(0.0).sqrt()
 }

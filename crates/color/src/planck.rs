@@ -27,7 +27,7 @@ pub const C2: f64 = 1.4388e-2;
 /// (refractive index 1), in W m^-3.
 #[must_use]
 pub fn planck_law(metres: f64, kelvin: f64) -> f64 {
-    C1 / (metres.powi(5) * (C2 / (metres * kelvin)).exp_m1())
+    C1 / (metres.powi(5) * libm::expm1(C2 / (metres * kelvin)))
 }
 
 /// Tristimulus values of a black body at `kelvin`, normalised to Y = 1.
@@ -175,7 +175,7 @@ fn locus_tangent(kelvin: f64) -> [f64; 2] {
     let h = kelvin * 1e-4;
     let (a, b) = (planckian_uv(kelvin - h), planckian_uv(kelvin + h));
     let d = [b[0] - a[0], b[1] - a[1]];
-    let len = d[0].hypot(d[1]);
+    let len = libm::hypot(d[0], d[1]);
     [d[0] / len, d[1] / len]
 }
 

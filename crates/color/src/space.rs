@@ -40,10 +40,13 @@ impl Transfer {
                     v / 4.5
                 } else {
                     v.signum()
-                        * ((v.abs() + 0.099_296_826_809_44) / 1.099_296_826_809_44).powf(1.0 / 0.45)
+                        * libm::pow(
+                            (v.abs() + 0.099_296_826_809_44) / 1.099_296_826_809_44,
+                            1.0 / 0.45,
+                        )
                 }
             }
-            Transfer::Gamma(g) => v.signum() * v.abs().powf(g),
+            Transfer::Gamma(g) => v.signum() * libm::pow(v.abs(), g),
         }
     }
 
@@ -57,10 +60,11 @@ impl Transfer {
                 if v.abs() < 0.018_053_968_510_807 {
                     4.5 * v
                 } else {
-                    v.signum() * (1.099_296_826_809_44 * v.abs().powf(0.45) - 0.099_296_826_809_44)
+                    v.signum()
+                        * (1.099_296_826_809_44 * libm::pow(v.abs(), 0.45) - 0.099_296_826_809_44)
                 }
             }
-            Transfer::Gamma(g) => v.signum() * v.abs().powf(1.0 / g),
+            Transfer::Gamma(g) => v.signum() * libm::pow(v.abs(), 1.0 / g),
         }
     }
 }

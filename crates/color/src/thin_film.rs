@@ -16,7 +16,7 @@ pub fn reflectance(n2: f64, n3: f64, d: f64, cos1: f64, nm: f64) -> f64 {
     let cos2 = (1.0 - sin_sq / (n2 * n2)).sqrt();
     let cos3 = (1.0 - sin_sq / (n3 * n3)).sqrt();
     let delta = 4.0 * std::f64::consts::PI * n2 * d * cos2 / nm;
-    let (sn, cs) = delta.sin_cos();
+    let (sn, cs) = libm::sincos(delta);
     // [s, p] amplitude coefficients of the two interfaces.
     let s12 = (cos1 - n2 * cos2) / (cos1 + n2 * cos2);
     let s23 = (n2 * cos2 - n3 * cos3) / (n2 * cos2 + n3 * cos3);

@@ -377,8 +377,8 @@ impl Neighbourhood<'_> {
     /// Per-vertex normals where the facets around a vertex agree within `degrees`, split
     /// (per-corner) where they do not.
     fn creased(&self, weights: &[f32], degrees: f32) -> Channel<Vec3> {
-        let cos_full = degrees.to_radians().cos();
-        let cos_half = (0.5 * degrees).to_radians().cos();
+        let cos_full = libm::cosf(degrees.to_radians());
+        let cos_half = libm::cosf((0.5 * degrees).to_radians());
         let mut values = self.smooth(weights);
         // Vertices with a facet normal beyond half the angle from the vertex normal: only
         // they can split (at all others, all pairs are within the angle).

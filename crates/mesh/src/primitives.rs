@@ -63,8 +63,8 @@ fn dimension(
 
 /// Unit direction at polar angle `theta` from +Y and longitude `phi`.
 fn direction(theta: f64, phi: f64) -> Vec3 {
-    let (st, ct) = theta.sin_cos();
-    let (sp, cp) = phi.sin_cos();
+    let (st, ct) = libm::sincos(theta);
+    let (sp, cp) = libm::sincos(phi);
     Vec3::new((st * sp) as f32, ct as f32, (st * cp) as f32)
 }
 

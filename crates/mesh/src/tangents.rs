@@ -12,7 +12,7 @@
 //! glTF's must run along -v (v grows downwards in the image), so the handedness is negated,
 //! as glTF-Transform and three.js do with raw glTF UVs.
 
-use bevy_mikktspace::{generate_tangents, Geometry, TangentSpace};
+use bevy_mikktspace::{generate_tangents, Geometry, Ops, TangentSpace};
 use glam::{Vec2, Vec3, Vec4};
 
 use super::{Channel, Mesh};
@@ -38,7 +38,22 @@ impl Faces<'_> {
     }
 }
 
-impl Geometry for Faces<'_> {
+/// MikkTSpace's math with the `libm` crate's acos (its default, `StdOps`, calls the
+/// platform's libm, whose bits differ between machines): the same computation as
+/// `StdOps` (acos in f64, rounded to f32), the same bits everywhere.
+struct LibmOps;
+
+impl Ops for LibmOps {
+    fn sqrt(x: f32) -> f32 {
+        x.sqrt()
+    }
+
+    fn acos(x: f32) -> f32 {
+        libm::acos(f64::from(x)) as f32
+    }
+}
+
+impl Geometry<LibmOps> for Faces<'_> {
     fn num_faces(&self) -> usize {
         self.mesh.facets().len()
     }

@@ -50,15 +50,18 @@ pub fn pareto(points: &[ChartPoint], front: &[usize], title: &str, labels: [&str
         let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().fold(0.0, f64::max);
         if lo.is_finite() && hi > 0.0 {
-            ((lo.log10() - 0.1).floor(), (hi.log10() + 0.1).ceil())
+            (
+                (libm::log10(lo) - 0.1).floor(),
+                (libm::log10(hi) + 0.1).ceil(),
+            )
         } else {
             (-1.0, 1.0)
         }
     };
     let ((x0, x1), (y0, y1)) = (range(&xs), range(&ys));
     let px = |ms: f64, de: f64| {
-        let fx = (ms.max(1e-12).log10() - x0) / (x1 - x0);
-        let fy = (de.max(1e-12).log10() - y0) / (y1 - y0);
+        let fx = (libm::log10(ms.max(1e-12)) - x0) / (x1 - x0);
+        let fy = (libm::log10(de.max(1e-12)) - y0) / (y1 - y0);
         (left + fx as f32 * pw, top + (1.0 - fy as f32) * ph)
     };
     // Grid and decade labels.

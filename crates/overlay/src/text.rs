@@ -135,7 +135,7 @@ pub fn text_path(
         VAlign::Baseline => 0.0,
         VAlign::Bottom => -descent,
     };
-    let (sin, cos) = degrees.to_radians().sin_cos();
+    let (sin, cos) = libm::sincosf(degrees.to_radians());
     for (id, pen) in glyphs {
         if let Some(outline) = f.outline(id) {
             // Font units (y up, origin at the pen on the baseline) -> aligned text

@@ -93,7 +93,7 @@ pub fn compare(test: &LinearImage, reference: &LinearImage, threshold: f64) -> M
     Metrics {
         rmse,
         psnr: if rmse > 0.0 {
-            -20.0 * rmse.log10()
+            -20.0 * libm::log10(rmse)
         } else {
             f64::INFINITY
         },

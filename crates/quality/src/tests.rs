@@ -41,7 +41,7 @@ fn sphere_reference_coverage_is_the_projected_disc() {
     let covered: f64 = img.rgb.iter().map(|c| c[0]).sum();
     // Silhouette radius in pixels: tan(asin(1/d)) / tan(fov/2) * h/2.
     let d = f64::from(d);
-    let r = (1.0 / (d * d - 1.0).sqrt()) / (0.4f64).tan() * f64::from(h) / 2.0;
+    let r = (1.0 / (d * d - 1.0).sqrt()) / libm::tan(0.4f64) * f64::from(h) / 2.0;
     let disc = std::f64::consts::PI * r * r;
     assert!(
         (covered / disc - 1.0).abs() < 2e-4,

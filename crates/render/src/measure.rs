@@ -149,7 +149,7 @@ pub fn angle_degrees(a: Vec3, vertex: Vec3, b: Vec3) -> Option<f64> {
         return None;
     }
     // atan2 of |u x v| and u.v: accurate at every angle (acos loses digits near 0 and 180).
-    Some(u.cross(v).length().atan2(u.dot(v)).to_degrees())
+    Some(libm::atan2(u.cross(v).length(), u.dot(v)).to_degrees())
 }
 
 #[cfg(test)]

@@ -29,7 +29,7 @@ pub trait Scalar: Shade + Real {
 }
 
 macro_rules! scalar {
-    ($t:ty, $v:ty, $m3:expr, $m4:expr, $p:expr) => {
+    ($t:ty, $v:ty, $m3:expr, $m4:expr, $p:expr, $sin:path) => {
         impl Scalar for $t {
             #[inline(always)]
             fn mat3(m: Mat3, v: $v) -> $v {
@@ -61,7 +61,8 @@ macro_rules! scalar {
             }
             #[inline(always)]
             fn sin(self) -> $t {
-                <$t>::sin(self)
+                // The `libm` crate's, not the platform's: the same bits everywhere.
+                $sin(self)
             }
             #[inline(always)]
             fn abs(self) -> $t {
@@ -79,13 +80,14 @@ macro_rules! scalar {
     };
 }
 
-scalar!(f32, Vec3, |m| m, |m| m, |p| p);
+scalar!(f32, Vec3, |m| m, |m| m, |p| p, libm::sinf);
 scalar!(
     f64,
     DVec3,
     |m: Mat3| m.as_dmat3(),
     |m: Mat4| m.as_dmat4(),
-    |p: Vec3| p.as_dvec3()
+    |p: Vec3| p.as_dvec3(),
+    libm::sin
 );
 
 #[cfg(test)]

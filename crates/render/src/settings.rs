@@ -329,7 +329,7 @@ impl Settings {
     #[must_use]
     pub fn exposure_scale(&self) -> f32 {
         if self.exposure.is_finite() && self.exposure.abs() <= 64.0 {
-            self.exposure.exp2()
+            libm::exp2f(self.exposure)
         } else {
             1.0
         }

@@ -60,20 +60,20 @@ impl Camera {
     /// The textbook's zoom factor, 1/tan(fov/2).
     #[must_use]
     pub fn zoom(&self) -> f32 {
-        1.0 / (self.yfov * 0.5).tan()
+        1.0 / libm::tanf(self.yfov * 0.5)
     }
 
     /// Sets the field of view from a zoom factor (zoom = 1/tan(fov/2)); zoom must be > 0.
     pub fn set_zoom(&mut self, zoom: f32) {
-        self.yfov = 2.0 * (1.0 / zoom).atan();
+        self.yfov = 2.0 * libm::atanf(1.0 / zoom);
     }
 
     /// A camera orbiting `center` at `distance`, from `azimuth` degrees around +Y (0 = looking
     /// down -Z from +Z, positive turns towards +X) and `elevation` degrees above the horizon.
     #[must_use]
     pub fn orbit(center: Vec3, azimuth: f32, elevation: f32, distance: f32, yfov: f32) -> Self {
-        let (sa, ca) = azimuth.to_radians().sin_cos();
-        let (se, ce) = elevation.clamp(-89.9, 89.9).to_radians().sin_cos();
+        let (sa, ca) = libm::sincosf(azimuth.to_radians());
+        let (se, ce) = libm::sincosf(elevation.clamp(-89.9, 89.9).to_radians());
         let dir = Vec3::new(sa * ce, se, ca * ce);
         Self {
             name: "orbit".into(),
@@ -126,9 +126,9 @@ impl Camera {
             1.0
         };
         let half_v = yfov * 0.5;
-        let half_h = ((half_v.tan()) * aspect.max(1e-3)).atan();
+        let half_h = libm::atanf((libm::tanf(half_v)) * aspect.max(1e-3));
         let half = half_v.min(half_h);
-        let distance = radius / half.sin() * 1.05;
+        let distance = radius / libm::sinf(half) * 1.05;
         let mut cam = Self::orbit(center, azimuth, elevation, distance, yfov);
         cam.fit(center, radius);
         cam
@@ -191,7 +191,7 @@ impl Camera {
         let dir = (cam.eye - center).normalize();
         let right = cam.up.cross(dir).normalize_or_zero();
         let up = dir.cross(right);
-        let tan_v = (cam.yfov * 0.5).tan() * 0.9;
+        let tan_v = libm::tanf(cam.yfov * 0.5) * 0.9;
         let tan_h = tan_v * aspect.max(1e-3);
         // Corner c at lateral offsets (x, y) and depth offset z along dir is inside the view
         // when |x| <= tan_h * (d - z) and |y| <= tan_v * (d - z).

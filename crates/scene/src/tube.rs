@@ -77,7 +77,7 @@ pub fn skinned_tube(
         let sum: f32 = raw.iter().sum();
         for s in 0..sides {
             let a = std::f32::consts::TAU * s as f32 / sides as f32;
-            let n = Vec3::new(a.cos(), 0.0, -a.sin());
+            let n = Vec3::new(libm::cosf(a), 0.0, -libm::sinf(a));
             positions.push(Vec3::new(0.0, y, 0.0) + n * 0.3);
             normals.push(n);
             for (&(_, j), &w) in near.iter().zip(&raw) {

@@ -307,7 +307,7 @@ mod tests {
             (0.25, 2.0, 0.055),
         ] {
             for deg in [0.0f64, 45.0] {
-                let c = deg.to_radians().cos();
+                let c = libm::cos(deg.to_radians());
                 let mut max: f64 = 0.0;
                 for d in [200.0, 300.0, 400.0, 500.0] {
                     let (m, r) = (model(n2, f0, d, c), reference(n2, f0, d, c));

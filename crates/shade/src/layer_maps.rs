@@ -107,7 +107,7 @@ impl<T: Num> LayerTexels<T> {
         if params.anisotropy <= 0.0 {
             return None;
         }
-        let (s, c) = params.anisotropy_rotation.sin_cos();
+        let (s, c) = libm::sincosf(params.anisotropy_rotation);
         let strength = T::of(params.anisotropy);
         let (dir, strength) = if self.has(Slot::Anisotropy) {
             let v = &self.values;

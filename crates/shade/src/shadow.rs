@@ -132,7 +132,7 @@ impl ShadowMap {
                     aspect: None,
                     ortho: None,
                 };
-                (cam, 2.0 * half.tan() / size as f32)
+                (cam, 2.0 * libm::tanf(half) / size as f32)
             }
         }
     }

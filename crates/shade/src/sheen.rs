@@ -56,7 +56,7 @@ pub fn integrate(nv: f64, r: f64, n: usize) -> f64 {
         let sl = (1.0 - cl * cl).sqrt();
         for j in 0..2 * n {
             let phi = (j as f64 + 0.5) * dp;
-            let l = glam::DVec3::new(sl * phi.cos(), sl * phi.sin(), cl);
+            let l = glam::DVec3::new(sl * libm::cos(phi), sl * libm::sin(phi), cl);
             let h = (l + v).normalize();
             sum += lobe(h.z, cl, nv, a);
         }

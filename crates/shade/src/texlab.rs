@@ -383,17 +383,17 @@ fn debug_colour(d: &DrawParams, f: &Fragments<'_>, lod_scale: f32, n: Vec3, i: u
     match d.view {
         TexView::Lit => grey,
         TexView::MipLevel => texel_axes().map_or(grey, |(a, b)| {
-            level_colour(a.length().max(b.length()).log2())
+            level_colour(libm::log2f(a.length().max(b.length())))
         }),
         TexView::TexelDensity => texel_axes().map_or(grey, |(a, b)| {
             // Texels per pixel, as an area's square root: 1/8 to 8 on the ramp.
             let (major, minor) = footprint_axes(a, b);
-            ramp(((major * minor).sqrt().log2() + 3.0) / 6.0)
+            ramp((libm::log2f((major * minor).sqrt()) + 3.0) / 6.0)
         }),
         TexView::Anisotropy => texel_axes().map_or(grey, |(a, b)| {
             let (major, minor) = footprint_axes(a, b);
             let ratio = if minor > 0.0 { major / minor } else { 16.0 };
-            ramp(0.5 + ratio.log2() / 8.0)
+            ramp(0.5 + libm::log2f(ratio) / 8.0)
         }),
         TexView::Tangents => tangent.map_or(grey, |(t, _)| {
             t.normalize_or_zero() * 0.5 + Vec3::splat(0.5)

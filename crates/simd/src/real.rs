@@ -155,8 +155,10 @@ pub trait Real: Num<M = bool> + PartialOrd {
     }
 }
 
+// powf, exp and cos are the `libm` crate's (the same bits on every machine), not std's (the
+// platform's libm).
 macro_rules! real {
-    ($t:ty, $v:ty, $from:expr, $to:expr) => {
+    ($t:ty, $v:ty, $from:expr, $to:expr, $powf:path, $exp:path, $cos:path) => {
         impl Num for $t {
             type V = $v;
             type M = bool;
@@ -204,7 +206,7 @@ macro_rules! real {
             }
             #[inline(always)]
             fn powf(self, e: Self) -> Self {
-                <$t>::powf(self, e)
+                $powf(self, e)
             }
             #[inline(always)]
             fn powi(self, n: u32) -> Self {
@@ -216,11 +218,11 @@ macro_rules! real {
             }
             #[inline(always)]
             fn exp(self) -> Self {
-                <$t>::exp(self)
+                $exp(self)
             }
             #[inline(always)]
             fn cos(self) -> Self {
-                <$t>::cos(self)
+                $cos(self)
             }
             #[inline(always)]
             fn gt(self, o: Self) -> bool {
@@ -273,8 +275,16 @@ macro_rules! real {
     };
 }
 
-real!(f32, Vec3, |v| v, |v| v);
-real!(f64, DVec3, |v: Vec3| v.as_dvec3(), |v: DVec3| v.as_vec3());
+real!(f32, Vec3, |v| v, |v| v, libm::powf, libm::expf, libm::cosf);
+real!(
+    f64,
+    DVec3,
+    |v: Vec3| v.as_dvec3(),
+    |v: DVec3| v.as_vec3(),
+    libm::pow,
+    libm::exp,
+    libm::cos
+);
 
 /// Eight f32 lanes of level `L`, what the pixel stages run: every kernel computes the same
 /// bits (no fused multiply-add, see [`super::lanes`]); the level only decides the

@@ -106,14 +106,14 @@ impl EnvView {
     #[inline]
     #[must_use]
     pub fn to_image(&self, d: Vec3) -> Vec3 {
-        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        let (s, c) = libm::sincosf(self.rotation_deg.to_radians());
         Vec3::new(d.x * c + d.z * s, d.y, -d.x * s + d.z * c)
     }
 
     /// The world direction the image centre (u = v = 0.5) faces: `(cos θ, 0, sin θ)`.
     #[must_use]
     pub fn image_centre(&self) -> Vec3 {
-        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        let (s, c) = libm::sincosf(self.rotation_deg.to_radians());
         Vec3::new(c, 0.0, s)
     }
 
@@ -121,7 +121,7 @@ impl EnvView {
     /// eight-lane callers compute themselves ([`Self::to_image`]).
     #[must_use]
     pub fn rotation_sin_cos(&self) -> (f32, f32) {
-        self.rotation_deg.to_radians().sin_cos()
+        libm::sincosf(self.rotation_deg.to_radians())
     }
 
     /// Prefiltered specular radiance around `dir` for perceptual roughness `r` (the first
@@ -152,7 +152,7 @@ impl EnvView {
     pub fn sample(&self, u1: f32, u2: f32) -> (Vec3, Vec3, f32) {
         let (d, pdf) = self.env.sampler().sample(u1, u2);
         // Image frame -> world: the inverse rotation.
-        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        let (s, c) = libm::sincosf(self.rotation_deg.to_radians());
         let w = Vec3::new(d.x * c - d.z * s, d.y, d.x * s + d.z * c);
         (w, self.background(w, 0.0), pdf)
     }
@@ -173,7 +173,7 @@ impl EnvView {
     /// integration in the reference renderer).
     #[must_use]
     pub fn radiance_f64(&self, dir: DVec3) -> DVec3 {
-        let (s, c) = f64::from(self.rotation_deg).to_radians().sin_cos();
+        let (s, c) = libm::sincos(f64::from(self.rotation_deg).to_radians());
         let d = DVec3::new(dir.x * c + dir.z * s, dir.y, -dir.x * s + dir.z * c);
         self.env.radiance_f64(d) * f64::from(self.intensity)
     }

@@ -80,7 +80,7 @@ pub fn sample_h(xi: (f64, f64), alpha: f64) -> DVec3 {
         .clamp(0.0, 1.0)
         .sqrt();
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-    let (s, c) = (2.0 * std::f64::consts::PI * xi.0).sin_cos();
+    let (s, c) = libm::sincos(2.0 * std::f64::consts::PI * xi.0);
     DVec3::new(sin_t * c, sin_t * s, cos_t)
 }
 

@@ -233,7 +233,7 @@ impl Texture {
             return one;
         }
         let top = (self.levels() - 1) as f32;
-        let lod = (major / taps as f32).log2().clamp(0.0, top);
+        let lod = libm::log2f(major / taps as f32).clamp(0.0, top);
         AnisoTaps {
             taps,
             lod,
@@ -277,7 +277,7 @@ impl Texture {
             .length_squared()
             .max((duv_dy * size).length_squared());
         // log2(ρ) = log2(ρ²) / 2; ρ² = 0 gives -inf and ρ² = inf gives inf, both clamped.
-        (0.5 * rho2.log2()).clamp(0.0, (self.levels() - 1) as f32)
+        (0.5 * libm::log2f(rho2)).clamp(0.0, (self.levels() - 1) as f32)
     }
 
     /// Number of mip levels, the base included: floor(log2(max(width, height))) + 1.

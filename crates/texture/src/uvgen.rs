@@ -318,11 +318,15 @@ impl UvGenerator {
             UvGenerator::Cylindrical { axis } | UvGenerator::Spherical { axis } => {
                 let s = r / frame.half.max_element();
                 let (a, b) = around(axis);
-                let radial = s[a].hypot(s[b]);
+                let radial = libm::hypot(s[a], s[b]);
                 let on_axis = radial <= SINGULAR_EPS;
-                let u = if on_axis { 0.0 } else { s[b].atan2(s[a]) / TAU };
+                let u = if on_axis {
+                    0.0
+                } else {
+                    libm::atan2(s[b], s[a]) / TAU
+                };
                 let v = match self {
-                    UvGenerator::Spherical { .. } => radial.atan2(s[axis.index()]) / PI,
+                    UvGenerator::Spherical { .. } => libm::atan2(radial, s[axis.index()]) / PI,
                     _ => 0.5 - 0.5 * q[axis.index()],
                 };
                 MappedUv {

@@ -11,7 +11,14 @@ fn sphere(center: Vec3, r: f32, lat: usize, lon: usize) -> (Vec<Vec3>, Vec<[u32;
         let th = std::f32::consts::PI * i as f32 / lat as f32;
         for j in 0..lon {
             let ph = std::f32::consts::TAU * j as f32 / lon as f32;
-            p.push(center + r * Vec3::new(th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()));
+            p.push(
+                center
+                    + r * Vec3::new(
+                        libm::sinf(th) * libm::cosf(ph),
+                        libm::cosf(th),
+                        libm::sinf(th) * libm::sinf(ph),
+                    ),
+            );
         }
     }
     p.push(center - Vec3::Y * r);
@@ -135,7 +142,7 @@ fn nearest_hits_match_testing_every_triangle() {
     let mut t = t;
     t.extend(u.iter().map(|&[a, b, c]| [a + base, b + base, c + base]));
     for (i, v) in p.iter_mut().enumerate() {
-        *v *= 1.0 + 0.05 * ((i as f32) * 1.7).sin();
+        *v *= 1.0 + 0.05 * libm::sinf((i as f32) * 1.7);
     }
     let scene = one(p.clone(), t.clone(), Mat4::IDENTITY);
     let mut rng = 0x2545_f491_4f6c_dd1du64;
@@ -174,8 +181,12 @@ fn refit_follows_moved_vertices() {
     scene.refit(0, &moved, &t);
     for k in 0..500 {
         let a = k as f32 * 0.37;
-        let o = Vec3::new(a.cos() * 4.0, (a * 0.7).sin() * 2.0, a.sin() * 4.0);
-        let d = -o + Vec3::new((a * 3.1).sin(), 0.3 * (a * 1.3).cos(), 0.2);
+        let o = Vec3::new(
+            libm::cosf(a) * 4.0,
+            libm::sinf(a * 0.7) * 2.0,
+            libm::sinf(a) * 4.0,
+        );
+        let d = -o + Vec3::new(libm::sinf(a * 3.1), 0.3 * libm::cosf(a * 1.3), 0.2);
         let want = brute(&moved, &t, o, d, f32::INFINITY).map(|h| h.1);
         let got = scene
             .closest(&Ray::new(o, d, 0.0, f32::INFINITY))
@@ -320,7 +331,7 @@ fn rays_leaving_a_flat_mesh_skip_it_and_agree_with_brute_force() {
         for dy in [1.0f32, -1.0, 0.0, 0.3, -0.3] {
             k += 1;
             let a = k as f32 * 0.7;
-            let o = tilt.transform_point3(Vec3::new(0.3 * a.sin(), oy, 0.2 * a.cos()));
+            let o = tilt.transform_point3(Vec3::new(0.3 * libm::sinf(a), oy, 0.2 * libm::cosf(a)));
             let d = tilt.transform_vector3(Vec3::new(0.3, dy, 0.2));
             let want = brute(&world, &t, o, d, 10.0).map(|h| h.1);
             let got = scene

@@ -158,7 +158,7 @@ fn circle(centre: Vec3, axis: Vec3, radius: f32) -> Vec<(Vec3, Vec3)> {
     let (u, v) = perpendiculars(axis);
     let at = |k: usize| {
         let t = k as f32 / CIRCLE_SEGMENTS as f32 * std::f32::consts::TAU;
-        centre + (u * t.cos() + v * t.sin()) * radius
+        centre + (u * libm::cosf(t) + v * libm::sinf(t)) * radius
     };
     (0..CIRCLE_SEGMENTS).map(|k| (at(k), at(k + 1))).collect()
 }
@@ -225,13 +225,13 @@ pub fn gizmo(
         LightKind::Spot => {
             let end = s.position + axis * reach;
             add(&mut faint, s.position, end);
-            let outer = s.cos_outer.clamp(-1.0, 1.0).acos();
-            let inner = s.cos_inner.clamp(-1.0, 1.0).acos();
-            let r_out = reach * outer.tan();
+            let outer = libm::acosf(s.cos_outer.clamp(-1.0, 1.0));
+            let inner = libm::acosf(s.cos_inner.clamp(-1.0, 1.0));
+            let r_out = reach * libm::tanf(outer);
             for (a, b) in circle(end, axis, r_out) {
                 add(&mut lines, a, b);
             }
-            for (a, b) in circle(end, axis, reach * inner.tan()) {
+            for (a, b) in circle(end, axis, reach * libm::tanf(inner)) {
                 add(&mut faint, a, b);
             }
             let (u, v) = perpendiculars(axis);
@@ -324,7 +324,7 @@ pub fn paint(painter: &egui::Painter, gizmos: &[Gizmo], highlight: Option<usize>
                 // Rays, so a point light reads as a lamp.
                 for k in 0..8 {
                     let t = k as f32 * std::f32::consts::FRAC_PI_4;
-                    let d = egui::vec2(t.cos(), t.sin());
+                    let d = egui::vec2(libm::cosf(t), libm::sinf(t));
                     painter.line_segment([a + d * 7.0, a + d * 11.0], stroke);
                 }
             }

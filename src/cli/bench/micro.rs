@@ -279,7 +279,7 @@ fn camera() -> Camera {
 /// A plane at z = 0 of `nx` x `ny` quads (two triangles each) that fills the view of
 /// [`camera`] at `aspect` with a 2% margin, wound to face +Z (the camera) or, if `away`, -Z.
 fn grid(nx: u32, ny: u32, aspect: f32, away: bool, textured: bool) -> PeerMesh {
-    let hh = 2.0 * (22.5f32).to_radians().tan() * 1.02;
+    let hh = 2.0 * libm::tanf((22.5f32).to_radians()) * 1.02;
     let hw = hh * aspect;
     let (sx, sy) = (nx as usize + 1, ny as usize + 1);
     let mut positions = Vec::with_capacity(sx * sy);

@@ -99,11 +99,11 @@ pub(super) fn uv_sphere(stacks: u32, slices: u32) -> PeerMesh {
     let mut uvs = Vec::with_capacity(positions.capacity());
     for &t in &th {
         for &p in &ph {
-            let (s, c) = (t.sin(), t.cos());
+            let (s, c) = (libm::sin(t), libm::cos(t));
             positions.push(Vec3::new(
-                (s * p.cos()) as f32,
+                (s * libm::cos(p)) as f32,
                 c as f32,
-                (s * p.sin()) as f32,
+                (s * libm::sin(p)) as f32,
             ));
             uvs.push(Vec2::new(
                 (p / (2.0 * std::f64::consts::PI)) as f32,

@@ -71,7 +71,7 @@ pub(crate) fn rays(args: &RaysArgs) -> Result<()> {
         // The pinhole's rays: from the eye through the pixel centre, to the far plane.
         let (fwd, right) = (cam.forward(), cam.forward().cross(cam.up).normalize());
         let up = right.cross(fwd);
-        let half_h = (cam.yfov * 0.5).tan();
+        let half_h = libm::tanf(cam.yfov * 0.5);
         let half_w = half_h * view.aspect();
         let ray_of = |x: u32, y: u32| {
             let s = Vec2::new(

@@ -159,7 +159,7 @@ pub(super) fn camera(args: &RenderArgs, input: &Input, aspect: f32) -> Result<Ca
     let yfov = match (args.fov, args.zoom) {
         (Some(f), _) if f.is_finite() && f > 0.0 && f < 180.0 => Some(f.to_radians()),
         (Some(f), _) => bail!("--fov {f}: expected degrees between 0 and 180"),
-        (None, Some(z)) if z.is_finite() && z > 0.0 => Some(2.0 * (1.0 / z).atan()),
+        (None, Some(z)) if z.is_finite() && z > 0.0 => Some(2.0 * libm::atanf(1.0 / z)),
         (None, Some(z)) => bail!("--zoom {z}: expected a positive number"),
         (None, None) => None,
     };

@@ -80,9 +80,9 @@ pub(crate) fn turntable(base: &Camera, pivot: Vec3, n: u32, up: Up) -> Vec<Camer
 pub(crate) fn orbit_of(eye: Vec3, pivot: Vec3) -> (f32, f32, f32) {
     let d = eye - pivot;
     let dist = d.length();
-    let az = d.x.atan2(d.z).to_degrees();
+    let az = libm::atan2f(d.x, d.z).to_degrees();
     let el = if dist > 0.0 {
-        (d.y / dist).clamp(-1.0, 1.0).asin().to_degrees()
+        libm::asinf((d.y / dist).clamp(-1.0, 1.0)).to_degrees()
     } else {
         0.0
     };

@@ -222,7 +222,7 @@ impl<'a> Converter<'a> {
             shininess,
             emissive: rgb(m.emissive, d.emissive),
             metallic: 0.0,
-            roughness: (2.0 / (shininess + 2.0)).powf(0.25),
+            roughness: libm::powf(2.0 / (shininess + 2.0), 0.25),
             alpha_mode: if alpha < 1.0 {
                 AlphaMode::Blend
             } else {

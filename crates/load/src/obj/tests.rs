@@ -249,7 +249,7 @@ fn large_generated_cases() {
     let mut big_face = String::new();
     for i in 0..n {
         let a = i as f32 / n as f32 * std::f32::consts::TAU;
-        big_face.push_str(&format!("v {} {} 0\n", a.cos(), a.sin()));
+        big_face.push_str(&format!("v {} {} 0\n", libm::cosf(a), libm::sinf(a)));
     }
     big_face.push('f');
     for i in 1..=n {

@@ -92,7 +92,7 @@ fn convex_polygon_fans_and_degenerate_polygon_does_not_loop() {
     let hexagon: Vec<Vec3> = (0..6)
         .map(|i| {
             let a = i as f32 * std::f32::consts::TAU / 6.0;
-            Vec3::new(a.cos(), a.sin(), 0.0)
+            Vec3::new(libm::cosf(a), libm::sinf(a), 0.0)
         })
         .collect();
     let mesh = Mesh::new(
@@ -167,7 +167,7 @@ proptest::proptest! {
             .enumerate()
             .map(|(i, &r)| {
                 let a = i as f32 * std::f32::consts::TAU / n as f32;
-                Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+                Vec3::new(r * libm::cosf(a), r * libm::sinf(a), 0.0)
             })
             .collect();
         let shoelace: f32 = (0..n).map(|i| 0.5 * p[i].truncate().perp_dot(p[(i + 1) % n].truncate())).sum();

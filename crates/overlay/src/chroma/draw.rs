@@ -188,7 +188,7 @@ fn wavelength_ticks(c: &mut Canvas, opts: &ChromaOptions, f: &Frame) {
         let (xa, ya) = f.px_xy(locus.xy(nmf - 0.5));
         let (xb, yb) = f.px_xy(locus.xy(nmf + 0.5));
         let (tx, ty) = (xb - xa, yb - ya);
-        let tl = tx.hypot(ty).max(1e-6);
+        let tl = libm::hypotf(tx, ty).max(1e-6);
         let (mut nx, mut ny) = (-ty / tl, tx / tl);
         if nx * (x - ex) + ny * (y - ey) < 0.0 {
             nx = -nx;

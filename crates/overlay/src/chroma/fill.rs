@@ -45,10 +45,10 @@ const SMOOTH_MAX_P: i32 = 8;
 
 fn p_norm(c: [f64; 3]) -> f64 {
     let p = f64::from(SMOOTH_MAX_P);
-    c.iter()
-        .map(|v| v.abs().powi(SMOOTH_MAX_P))
-        .sum::<f64>()
-        .powf(1.0 / p)
+    libm::pow(
+        c.iter().map(|v| v.abs().powi(SMOOTH_MAX_P)).sum::<f64>(),
+        1.0 / p,
+    )
 }
 
 /// Linear sRGB (IEC matrix, as colour-science plots use) of chromaticity `xy` at Y = 1.
@@ -74,7 +74,7 @@ pub fn smooth_fill_linear(space: &RgbSpace, xy: [f64; 2]) -> [f64; 3] {
         return [0.0; 3];
     }
     let c = c.map(|v| v / n);
-    let lse: f64 = c.iter().map(|v| (-SOFTMIN_K * v).exp()).sum::<f64>().ln();
+    let lse: f64 = libm::log(c.iter().map(|v| libm::exp(-SOFTMIN_K * v)).sum::<f64>());
     let softmin = -lse / SOFTMIN_K;
     let t = -softmin;
     let w = (t + (t * t + SOFTPLUS_EPS * SOFTPLUS_EPS).sqrt()) / 2.0;
@@ -126,7 +126,10 @@ mod tests {
             fill(
                 style,
                 &space,
-                [0.3127 + radius * a.cos(), 0.3290 + radius * a.sin()],
+                [
+                    0.3127 + radius * libm::cos(a),
+                    0.3290 + radius * libm::sin(a),
+                ],
             )
         };
         (0..n)

@@ -52,7 +52,7 @@ pub fn inside_gamut(space: &RgbSpace, xy: [f64; 2]) -> bool {
     let orient = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     let sign = orient.signum();
     [(a, b), (b, c), (c, a)].iter().all(|&(p, q)| {
-        let len = (q[0] - p[0]).hypot(q[1] - p[1]);
+        let len = libm::hypot(q[0] - p[0], q[1] - p[1]);
         let side = ((q[0] - p[0]) * (xy[1] - p[1]) - (q[1] - p[1]) * (xy[0] - p[0])) * sign;
         side / len >= -EDGE_TOLERANCE
     })

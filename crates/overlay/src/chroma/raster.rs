@@ -133,7 +133,7 @@ pub(super) fn pixel_image(px: &super::PixelReport, style: PixelStyle, f: &Frame)
             }
             let colour = match style {
                 PixelStyle::Density => {
-                    let t = (1.0 + count as f32).ln() / (1.0 + max).ln();
+                    let t = libm::logf(1.0 + count as f32) / libm::logf(1.0 + max);
                     let [r, g, b] = inferno(t);
                     [r, g, b, 255]
                 }

@@ -42,7 +42,11 @@ pub(super) fn environment(
     for i in 0..count {
         let (u1, u2) = point(i);
         let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
-        let d = world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).sqrt()));
+        let d = world(DVec3::new(
+            r * libm::cos(phi),
+            r * libm::sin(phi),
+            (1.0 - u1).sqrt(),
+        ));
         irradiance += radiance(d);
         if pb.translucency.is_some() {
             behind += radiance(-d);
@@ -112,7 +116,11 @@ pub(super) fn environment(
         for i in 0..count {
             let (u1, u2) = point(i);
             let (r, phi) = (u1.sqrt(), 2.0 * PI * u2);
-            let l = world(DVec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).sqrt()));
+            let l = world(DVec3::new(
+                r * libm::cos(phi),
+                r * libm::sin(phi),
+                (1.0 - u1).sqrt(),
+            ));
             let nl = n.dot(l);
             if nl <= 0.0 {
                 continue;

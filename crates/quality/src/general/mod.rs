@@ -349,7 +349,7 @@ impl View {
         );
         // Projection: reversed Z, z/w = 1 at w = near and 0 at w = far, w = distance in
         // front, as `Camera::projection` (image aspect, camera's vertical field of view).
-        let zoom = 1.0 / (yfov * 0.5).tan();
+        let zoom = 1.0 / libm::tan(yfov * 0.5);
         let aspect = f64::from(w) / f64::from(h);
         let a = near * far / (far - near);
         let b = -near / (far - near);

@@ -201,8 +201,8 @@ impl FragmentShader for Wavy {
             let (u, v): (P, P) = (b.var[g][0].get(), b.var[g][1].get());
             let (dx, dy): (P, P) = (b.ddx[g][0].get(), b.ddy[g][1].get());
             b.out[g] = Colors::of(
-                (u * P::splat(7.0) + v).map(f32::sin),
-                (dx * P::splat(31.0)).map(f32::cos) * side,
+                (u * P::splat(7.0) + v).map(libm::sinf),
+                (dx * P::splat(31.0)).map(libm::cosf) * side,
                 dy * P::splat(13.0) + P::splat(b.draw as f32),
                 (u * v).sqrt(),
             );
@@ -238,7 +238,7 @@ fn deferred_shading_gives_the_forward_image() {
             } else {
                 0.02 + rnd() * 0.05
             };
-            let (x, y) = (cx + r * a.cos(), cy + r * a.sin());
+            let (x, y) = (cx + r * libm::cosf(a), cy + r * libm::sinf(a));
             clip.push(Vec4::new(x * w, y * w, z * w, w));
             var.extend([rnd() * 4.0, rnd() * 4.0]);
         }

@@ -14,7 +14,7 @@ pub(super) fn corner_radiance(patches: &[Patch]) -> Vec<[Vec3; 3]> {
         .flat_map(|q| q.corners)
         .fold(1e-6f32, |m, c| m.max(c.abs().max_element()));
     let key = |v: Vec3| (v / size * 1e5).round().as_ivec3();
-    let cos_max = SMOOTH_DEGREES.to_radians().cos();
+    let cos_max = libm::cosf(SMOOTH_DEGREES.to_radians());
     // Per point: each patch's normal, radiosity times area, and area.
     let mut at: HashMap<_, Vec<(Vec3, Vec3, f32)>> = HashMap::new();
     for t in patches {

@@ -108,7 +108,7 @@ impl Hemicube {
             let t = n.cross(up).normalize();
             (t, n.cross(t))
         };
-        let (sin, cos) = spin.sin_cos();
+        let (sin, cos) = libm::sincosf(spin);
         let t = t0 * cos + b0 * sin;
         let b = b0 * cos - t0 * sin;
         let far = patches

@@ -130,8 +130,8 @@ impl Source {
                 }
                 let outer = light.outer.min(MAX_HALF_ANGLE);
                 let inner = light.inner.clamp(0.0, outer);
-                s.cos_inner = inner.cos();
-                s.cos_outer = outer.cos();
+                s.cos_inner = libm::cosf(inner);
+                s.cos_outer = libm::cosf(outer);
                 s.spread = outer;
             }
             LightKind::Rect => {
@@ -140,8 +140,8 @@ impl Source {
                     return None;
                 }
                 let r = r.min(Vec2::splat(MAX_HALF_ANGLE));
-                s.tan = Vec2::new(r.x.tan(), r.y.tan());
-                s.spread = s.tan.length().atan();
+                s.tan = Vec2::new(libm::tanf(r.x), libm::tanf(r.y));
+                s.spread = libm::atanf(s.tan.length());
                 let up = m.transform_vector3(light.up);
                 let up = (up - axis * up.dot(axis)).normalize_or_zero();
                 let up = if up == Vec3::ZERO || !up.is_finite() {
@@ -176,8 +176,8 @@ impl Source {
             return true;
         }
         // The sphere subtends asin(r / d) around its centre direction.
-        let angle = (to.dot(self.axis) / d).clamp(-1.0, 1.0).acos();
-        angle - (radius / d).asin() <= self.spread * 1.0001 + 1e-5
+        let angle = libm::acosf((to.dot(self.axis) / d).clamp(-1.0, 1.0));
+        angle - libm::asinf(radius / d) <= self.spread * 1.0001 + 1e-5
     }
 }
 

@@ -67,7 +67,8 @@ fn transmitted<L: Level>(
     let img = &backdrop.image;
     let (w, h) = (img.width as f32, img.height as f32);
     let spread = (params.ior - 1.0).max(0.0) * 0.025 * params.dispersion;
-    let level = F8::splat(w.max(h).log2() * (2.0 * params.ior - 2.0).clamp(0.0, 1.0)) * p.roughness;
+    let level =
+        F8::splat(libm::log2f(w.max(h)) * (2.0 * params.ior - 2.0).clamp(0.0, 1.0)) * p.roughness;
     let footprint = level.exp2();
     let sampler = crate::texture::Sampler {
         wrap_u: crate::texture::Wrap::ClampToEdge,

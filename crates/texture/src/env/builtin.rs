@@ -23,8 +23,8 @@ const HEIGHT: usize = 256;
 
 /// Unit direction at azimuth `az` and elevation `el`, in degrees (module docs).
 fn direction(az: f32, el: f32) -> Vec3 {
-    let (sa, ca) = az.to_radians().sin_cos();
-    let (se, ce) = el.to_radians().sin_cos();
+    let (sa, ca) = libm::sincosf(az.to_radians());
+    let (se, ce) = libm::sincosf(el.to_radians());
     Vec3::new(ce * ca, se, ce * sa)
 }
 
@@ -64,8 +64,8 @@ fn texel_mean(
         for i in 0..n {
             let u = (x as f32 + (i as f32 + 0.5) / n as f32) / w as f32;
             let v = (y as f32 + (j as f32 + 0.5) / n as f32) / h as f32;
-            let (st, ct) = (v * PI).sin_cos();
-            let (sp, cp) = ((u - 0.5) * 2.0 * PI).sin_cos();
+            let (st, ct) = libm::sincosf(v * PI);
+            let (sp, cp) = libm::sincosf((u - 0.5) * 2.0 * PI);
             acc += f(Vec3::new(st * cp, ct, st * sp));
         }
     }
@@ -92,8 +92,8 @@ impl Softbox {
         let right = Vec3::Y.cross(centre).normalize_or(Vec3::Z);
         let up = centre.cross(right);
         let half = (
-            (w_deg * 0.5).to_radians().tan(),
-            (h_deg * 0.5).to_radians().tan(),
+            libm::tanf((w_deg * 0.5).to_radians()),
+            libm::tanf((h_deg * 0.5).to_radians()),
         );
         Self {
             centre,
@@ -168,15 +168,15 @@ impl EnvImage {
         let ground_near = Vec3::new(0.22, 0.19, 0.16);
         let ground_far = Vec3::new(0.12, 0.10, 0.08);
         let f = |d: Vec3| {
-            let angle = d.dot(sun).clamp(-1.0, 1.0).acos();
+            let angle = libm::acosf(d.dot(sun).clamp(-1.0, 1.0));
             let air = horizon.lerp(zenith, d.y.max(0.0).sqrt())
-                + glow * (2.0 * (-angle / 0.06).exp() + 0.4 * (-angle / 0.35).exp());
+                + glow * (2.0 * libm::expf(-angle / 0.06) + 0.4 * libm::expf(-angle / 0.35));
             let disk = 1.0 - smoothstep(sun_radius * 0.9, sun_radius * 1.1, angle);
             let sky = air + sun_colour * disk;
             let ground = ground_near.lerp(ground_far, (-d.y).max(0.0).sqrt());
             ground.lerp(sky, smoothstep(-0.02, 0.005, d.y))
         };
-        let near_sun = 4f32.to_radians().cos();
+        let near_sun = libm::cosf(4f32.to_radians());
         generate("sky", WIDTH, HEIGHT, |x, y| {
             let n = if texel_dir(x, y, WIDTH, HEIGHT).dot(sun) > near_sun {
                 8

@@ -176,7 +176,7 @@ pub(super) fn build(src: &Plane) -> Vec<Plane> {
             LevelFilter::Resampled => resample(&base, d.0, d.1),
             LevelFilter::Sampled { samples, lod_bias } => sampled_level(
                 &pyramid,
-                omega_p0 / 4f64.powf(f64::from(lod_bias)),
+                omega_p0 / libm::pow(4f64, f64::from(lod_bias)),
                 r,
                 samples,
                 d,
@@ -213,7 +213,7 @@ fn lobe(r: f64, n: u32, omega_p0: f64) -> (Vec<LobeSample>, f32) {
         samples.push(LobeSample {
             l: l.as_vec3(),
             nl: l.z as f32,
-            lod_bias: (0.5 * (omega_s / omega_p0).log2()) as f32,
+            lod_bias: (0.5 * libm::log2(omega_s / omega_p0)) as f32,
         });
         weight += l.z;
     }
@@ -239,7 +239,7 @@ fn sampled_level(pyramid: &Pyramid, omega_p0: f64, r: f64, n: u32, dims: (usize,
         for s in &samples {
             let l = t * s.l.x + b * s.l.y + n0 * s.l.z;
             // Ωp = Ωp0·sinθ: ½·log2(1/sinθ) = -¼·log2(1 - y²).
-            let lod = s.lod_bias - 0.25 * (1.0 - l.y * l.y).max(1e-12).log2();
+            let lod = s.lod_bias - 0.25 * libm::log2f((1.0 - l.y * l.y).max(1e-12));
             pyramid.push_taps(dir_to_uv(l), lod, s.nl * inv, &mut taps);
         }
         for (x, out) in row.chunks_exact_mut(3).enumerate() {
@@ -304,7 +304,7 @@ fn summed_with(
         .collect();
     let omega: Vec<f64> = (0..ch)
         .map(|j| {
-            let t = |j: usize| (std::f64::consts::PI * j as f64 / ch as f64).cos();
+            let t = |j: usize| libm::cos(std::f64::consts::PI * j as f64 / ch as f64);
             2.0 * std::f64::consts::PI / cw as f64 * (t(j) - t(j + 1))
         })
         .collect();

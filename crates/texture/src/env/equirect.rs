@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec3};
+use libm::Libm;
 
 /// Largest accepted environment width or height, in texels.
 pub const MAX_ENV_SIDE: u32 = 16384;
@@ -50,8 +51,8 @@ macro_rules! equirect_mapping {
         #[must_use]
         pub fn $dir_to_uv(d: $v) -> ($f, $f) {
             use std::$f::consts::PI;
-            let u = 0.5 + d.z.atan2(d.x) * (0.5 / PI);
-            let v = d.y.clamp(-1.0, 1.0).acos() * (1.0 / PI);
+            let u = 0.5 + Libm::<$f>::atan2(d.z, d.x) * (0.5 / PI);
+            let v = Libm::<$f>::acos(d.y.clamp(-1.0, 1.0)) * (1.0 / PI);
             (u, v)
         }
 
@@ -62,8 +63,8 @@ macro_rules! equirect_mapping {
             use std::$f::consts::PI;
             let phi = ((x as $f + 0.5) / w as $f - 0.5) * (2.0 * PI);
             let theta = (y as $f + 0.5) / h as $f * PI;
-            let (st, ct) = theta.sin_cos();
-            let (sp, cp) = phi.sin_cos();
+            let (st, ct) = Libm::<$f>::sincos(theta);
+            let (sp, cp) = Libm::<$f>::sincos(phi);
             <$v>::new(st * cp, ct, st * sp)
         }
     };
@@ -75,8 +76,8 @@ equirect_mapping!(dir_to_uv, texel_dir, f32, Vec3);
 #[must_use]
 pub(super) fn uv_dir(u: f32, v: f32) -> Vec3 {
     use std::f32::consts::PI;
-    let (st, ct) = (v * PI).sin_cos();
-    let (sp, cp) = ((u - 0.5) * 2.0 * PI).sin_cos();
+    let (st, ct) = libm::sincosf(v * PI);
+    let (sp, cp) = libm::sincosf((u - 0.5) * 2.0 * PI);
     Vec3::new(st * cp, ct, st * sp)
 }
 equirect_mapping!(dir_to_uv_f64, texel_dir_f64, f64, DVec3);

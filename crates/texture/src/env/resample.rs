@@ -20,7 +20,7 @@ fn area_weights(n: usize, m: usize, polar: bool) -> Vec<(usize, Vec<f32>)> {
     // The measure of [0, t] in input cells.
     let measure = |t: f64| {
         if polar {
-            1.0 - (std::f64::consts::PI * t / n as f64).cos()
+            1.0 - libm::cos(std::f64::consts::PI * t / n as f64)
         } else {
             t
         }

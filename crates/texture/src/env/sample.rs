@@ -74,7 +74,7 @@ impl EnvSampler {
         let mut weights = vec![0.0f32; w * h];
         let mut mean = 0.0f64;
         for y in 0..plane.height {
-            let sin = ((y as f32 + 0.5) / h as f32 * PI).sin();
+            let sin = libm::sinf((y as f32 + 0.5) / h as f32 * PI);
             for x in 0..plane.width {
                 let l = lum(plane.texel(x, y));
                 mean += f64::from(l);
@@ -83,7 +83,7 @@ impl EnvSampler {
         }
         let floor = (mean / (w * h) as f64) as f32 * FLOOR + 1e-12;
         for y in 0..h {
-            let sin = ((y as f32 + 0.5) / h as f32 * PI).sin();
+            let sin = libm::sinf((y as f32 + 0.5) / h as f32 * PI);
             for v in &mut weights[y * w..(y + 1) * w] {
                 *v += floor * sin;
             }
@@ -147,7 +147,7 @@ impl EnvSampler {
 
     /// A texel's probability spread over its solid angle, `(2π/w)(π/h) sin θ`.
     fn pdf_texel(&self, x: usize, y: usize, v: f32) -> f32 {
-        let sin = (v * PI).sin();
+        let sin = libm::sinf(v * PI);
         if sin <= 0.0 {
             return 0.0;
         }
@@ -189,7 +189,7 @@ mod tests {
         let (mut mass, mut integral) = (0.0f64, 0.0f64);
         for j in 0..m {
             let v = (j as f32 + 0.5) / m as f32;
-            let dw = (2.0 * PI / n as f32) * (PI / m as f32) * (v * PI).sin();
+            let dw = (2.0 * PI / n as f32) * (PI / m as f32) * libm::sinf(v * PI);
             for i in 0..n {
                 let d = uv_dir((i as f32 + 0.5) / n as f32, v);
                 mass += f64::from(s.pdf(d) * dw);

@@ -41,12 +41,12 @@ pub const SH_C5: f64 = 0.247_707_956_100_375_7;
 fn row_factors(y: usize, h: usize) -> [f64; 6] {
     use std::f64::consts::PI;
     let (t0, t1) = (PI * y as f64 / h as f64, PI * (y + 1) as f64 / h as f64);
-    let (m0, m1) = (t0.cos(), t1.cos());
+    let (m0, m1) = (libm::cos(t0), libm::cos(t1));
     let r1 = m0 - m1;
     let rc = (m0 * m0 - m1 * m1) / 2.0;
     let rcc = (m0.powi(3) - m1.powi(3)) / 3.0;
-    let rs = (t1 - t0) / 2.0 - ((2.0 * t1).sin() - (2.0 * t0).sin()) / 4.0;
-    let rsc = (t1.sin().powi(3) - t0.sin().powi(3)) / 3.0;
+    let rs = (t1 - t0) / 2.0 - (libm::sin(2.0 * t1) - libm::sin(2.0 * t0)) / 4.0;
+    let rsc = (libm::sin(t1).powi(3) - libm::sin(t0).powi(3)) / 3.0;
     let rss = r1 - rcc;
     [r1, rc, rcc, rs, rsc, rss]
 }
@@ -58,14 +58,14 @@ fn column_factors(x: usize, w: usize) -> [f64; 6] {
     let p0 = 2.0 * PI * (x as f64 / w as f64 - 0.5);
     let p1 = 2.0 * PI * ((x + 1) as f64 / w as f64 - 0.5);
     let dp = p1 - p0;
-    let s2 = ((2.0 * p1).sin() - (2.0 * p0).sin()) / 4.0;
+    let s2 = (libm::sin(2.0 * p1) - libm::sin(2.0 * p0)) / 4.0;
     [
         dp,
-        p1.sin() - p0.sin(),
-        p0.cos() - p1.cos(),
+        libm::sin(p1) - libm::sin(p0),
+        libm::cos(p0) - libm::cos(p1),
         dp / 2.0 + s2,
         dp / 2.0 - s2,
-        (p1.sin().powi(2) - p0.sin().powi(2)) / 2.0,
+        (libm::sin(p1).powi(2) - libm::sin(p0).powi(2)) / 2.0,
     ]
 }
 

@@ -64,7 +64,7 @@ fn deriv(rng: &mut Rng) -> f32 {
     if rng.next().is_multiple_of(10) {
         return rng.pick(&SPECIAL);
     }
-    let m = (rng.unit() * 20.0 - 16.0).exp2();
+    let m = libm::exp2f(rng.unit() * 20.0 - 16.0);
     if rng.next().is_multiple_of(2) {
         m
     } else {

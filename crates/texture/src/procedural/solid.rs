@@ -35,15 +35,15 @@ pub fn cosine_attenuation(periods: f64) -> f64 {
     if periods.is_nan() {
         return 1.0;
     }
-    (-PI * PI * periods * periods / 6.0).exp()
+    libm::exp(-PI * PI * periods * periods / 6.0)
 }
 
 /// `((1 - cos 2 pi t) / 2)^2`, filtered over `periods` periods (see the module docs).
 #[must_use]
 pub fn profile(t: f64, periods: f64) -> f64 {
     let t = t - fast_floor(t);
-    let first = 0.5 * (TAU * t).cos() * cosine_attenuation(periods);
-    let second = 0.125 * (2.0 * TAU * t).cos() * cosine_attenuation(2.0 * periods);
+    let first = 0.5 * libm::cos(TAU * t) * cosine_attenuation(periods);
+    let second = 0.125 * libm::cos(2.0 * TAU * t) * cosine_attenuation(2.0 * periods);
     (PROFILE_MEAN - first + second).clamp(0.0, 1.0)
 }
 
@@ -61,7 +61,7 @@ pub fn wood(p: DVec3, width: f64, rings: f64, wobble: f64) -> f64 {
     } else {
         wobble * fbm(p * WOOD_NOISE, WOOD_OCTAVES, width * n)
     };
-    profile(p.x.hypot(p.z) * rings + noise, width * rings)
+    profile(libm::hypot(p.x, p.z) * rings + noise, width * rings)
 }
 
 /// Marble (after Perlin 1985): the profile of the phase `frequency (x + amount *

@@ -81,7 +81,7 @@ fn check_nodes(nodes: &[Node], order: &[u32], boxes: &[(Vec3, Vec3)]) -> usize {
 /// The most a tree over `n` primitives may reach: SAH cuts down to [`MEDIAN_DEPTH`], then
 /// halving.
 fn depth_bound(n: usize) -> usize {
-    MEDIAN_DEPTH + (n as f64).log2().ceil() as usize + 1
+    MEDIAN_DEPTH + libm::log2(n as f64).ceil() as usize + 1
 }
 
 fn cube(c: Vec3, r: f32) -> (Vec3, Vec3) {
@@ -103,7 +103,7 @@ fn random_boxes_make_a_well_formed_tree() {
         let d = check(&bvh, &boxes);
         // An SAH tree over scattered boxes is about as deep as a balanced one.
         assert!(
-            d <= 3 * (n as f64).log2().ceil() as usize + 2,
+            d <= 3 * libm::log2(n as f64).ceil() as usize + 2,
             "{n}: depth {d}"
         );
     }
@@ -160,9 +160,9 @@ fn degenerate_boxes_build_with_bounded_depth() {
 fn tri(c: Vec3, r: f32, k: usize) -> [Vec3; 3] {
     let a = k as f32 * 0.7;
     [
-        c + Vec3::new(a.cos(), a.sin(), 0.3) * r,
-        c + Vec3::new(-a.sin(), 0.2, a.cos()) * r,
-        c + Vec3::new(0.1, -a.cos(), -a.sin()) * r,
+        c + Vec3::new(libm::cosf(a), libm::sinf(a), 0.3) * r,
+        c + Vec3::new(-libm::sinf(a), 0.2, libm::cosf(a)) * r,
+        c + Vec3::new(0.1, -libm::cosf(a), -libm::sinf(a)) * r,
     ]
 }
 

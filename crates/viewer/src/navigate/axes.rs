@@ -96,7 +96,7 @@ impl View {
             Self::Left => (-FRAC_PI_2, 0.0),
             Self::Top => (0.0, FRAC_PI_2),
             Self::Bottom => (0.0, -FRAC_PI_2),
-            Self::Isometric => (FRAC_PI_4, std::f32::consts::FRAC_1_SQRT_2.atan()),
+            Self::Isometric => (FRAC_PI_4, libm::atanf(std::f32::consts::FRAC_1_SQRT_2)),
         }
     }
 }

@@ -131,7 +131,7 @@ impl Navigator {
             let right = up.cross(back);
             let yfov = clamp_fov(camera.yfov);
             let distance = match camera.ortho {
-                Some(half) if half.is_finite() && half > 0.0 => half / (yfov * 0.5).tan(),
+                Some(half) if half.is_finite() && half > 0.0 => half / libm::tanf(yfov * 0.5),
                 _ => length,
             };
             nav.pose = Pose {
@@ -212,10 +212,10 @@ impl Navigator {
         let r = FRAME_PADDING * self.radius;
         self.pose.target = self.center;
         self.pose.distance = if self.ortho {
-            r / aspect.min(1.0) / half_v.tan()
+            r / aspect.min(1.0) / libm::tanf(half_v)
         } else {
-            let half_h = (half_v.tan() * aspect).atan();
-            r / half_v.min(half_h).sin()
+            let half_h = libm::atanf(libm::tanf(half_v) * aspect);
+            r / libm::sinf(half_v.min(half_h))
         };
         self.clamp_pose();
     }
@@ -264,7 +264,7 @@ impl Navigator {
         let new = degrees
             .clamp(FOV_RANGE_DEGREES.0, FOV_RANGE_DEGREES.1)
             .to_radians();
-        self.pose.distance *= (self.pose.yfov * 0.5).tan() / (new * 0.5).tan();
+        self.pose.distance *= libm::tanf(self.pose.yfov * 0.5) / libm::tanf(new * 0.5);
         self.pose.yfov = new;
         self.clamp_pose();
     }
@@ -318,7 +318,7 @@ impl Navigator {
     /// orthographic half-height, `distance * tan(yfov / 2)`.
     #[must_use]
     pub fn half_height(&self) -> f32 {
-        self.pose.distance * (self.pose.yfov * 0.5).tan()
+        self.pose.distance * libm::tanf(self.pose.yfov * 0.5)
     }
 
     /// The scene's bounding sphere: centre and radius, world units.
@@ -332,14 +332,14 @@ impl Navigator {
     fn yaw_pitch(&self) -> (f32, f32) {
         let local = self.up_axis.frame().inverse() * self.pose.rotation;
         let back = local * Vec3::Z;
-        let horizontal = back.x.hypot(back.z);
-        let pitch = back.y.atan2(horizontal);
+        let horizontal = libm::hypotf(back.x, back.z);
+        let pitch = libm::atan2f(back.y, horizontal);
         let yaw = if horizontal > 1e-4 {
-            back.x.atan2(back.z)
+            libm::atan2f(back.x, back.z)
         } else {
             // Looking along the up axis: the heading is the right vector's.
             let right = local * Vec3::X;
-            (-right.z).atan2(right.x)
+            libm::atan2f(-right.z, right.x)
         };
         (yaw, pitch)
     }

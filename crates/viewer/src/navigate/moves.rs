@@ -35,7 +35,7 @@ impl Navigator {
                 let Some(axis) = (Vec3::new(dy_px, dx_px, 0.0) / scale).try_normalize() else {
                     return;
                 };
-                let angle = (dx_px.hypot(dy_px) * per_px).rem_euclid(TAU);
+                let angle = (libm::hypotf(dx_px, dy_px) * per_px).rem_euclid(TAU);
                 if !angle.is_finite() {
                     return;
                 }
@@ -76,7 +76,7 @@ impl Navigator {
         // A cursor far outside the viewport is an input glitch, not a request.
         let cursor_ndc = cursor_ndc.clamp(Vec2::splat(-10.0), Vec2::splat(10.0));
         let old = self.pose.distance;
-        let new = self.clamp_distance(old * DOLLY_PER_STEP.powf(steps.clamp(-1e3, 1e3)));
+        let new = self.clamp_distance(old * libm::powf(DOLLY_PER_STEP, steps.clamp(-1e3, 1e3)));
         let half = self.half_height();
         let right = self.pose.rotation * Vec3::X;
         let up = self.pose.rotation * Vec3::Y;

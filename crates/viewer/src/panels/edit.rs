@@ -138,8 +138,8 @@ pub fn azimuth_elevation(d: Vec3, [east, north, up]: [Vec3; 3]) -> Option<(f32, 
     if n == Vec3::ZERO || !n.is_finite() {
         return None;
     }
-    let az = n.dot(east).atan2(n.dot(north)).to_degrees();
-    let el = n.dot(up).clamp(-1.0, 1.0).asin().to_degrees();
+    let az = libm::atan2f(n.dot(east), n.dot(north)).to_degrees();
+    let el = libm::asinf(n.dot(up).clamp(-1.0, 1.0)).to_degrees();
     Some((az, el))
 }
 
@@ -148,7 +148,8 @@ pub fn azimuth_elevation(d: Vec3, [east, north, up]: [Vec3; 3]) -> Option<(f32, 
 #[must_use]
 pub fn from_azimuth_elevation(az: f32, el: f32, [east, north, up]: [Vec3; 3]) -> Vec3 {
     let (az, el) = (az.to_radians(), el.to_radians());
-    (el.cos() * (az.sin() * east + az.cos() * north) + el.sin() * up).normalize_or(north)
+    (libm::cosf(el) * (libm::sinf(az) * east + libm::cosf(az) * north) + libm::sinf(el) * up)
+        .normalize_or(north)
 }
 
 /// A slider for `v` within `range` (logarithmic if asked); true (and `v` written) only when

@@ -99,7 +99,7 @@ pub fn number(v: f64) -> String {
     if v == 0.0 || !v.is_finite() {
         return format!("{v}");
     }
-    let digits = (5 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let digits = (5 - libm::log10(v.abs()).floor() as i32).clamp(0, 12) as usize;
     let s = format!("{v:.digits$}");
     if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_owned()

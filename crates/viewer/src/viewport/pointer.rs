@@ -56,7 +56,7 @@ pub(super) fn navigate(cx: &mut Cx<'_>, ui: &mut egui::Ui, resp: &egui::Response
         if zoom != 1.0 && zoom.is_finite() && zoom > 0.0 {
             // Ctrl + wheel (or a pinch): dolly towards the centre.
             cx.nav
-                .dolly(zoom.ln() / (1.0 / crate::navigate::DOLLY_PER_STEP).ln());
+                .dolly(libm::logf(zoom) / libm::logf(1.0 / crate::navigate::DOLLY_PER_STEP));
             moved = true;
         }
     }

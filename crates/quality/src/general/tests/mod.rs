@@ -385,14 +385,14 @@ fn floor_through_the_eye_plane_is_clipped_at_near_and_far() {
     let (near, far) = (5.0f32, 300.0f32);
     let roll = 20f32.to_radians();
     let camera = Camera {
-        up: Vec3::new(roll.sin(), roll.cos(), 0.0),
+        up: Vec3::new(libm::sinf(roll), libm::cosf(roll), 0.0),
         ..forward(near, far)
     };
     // Expected: the view distance where each sample's ray meets the floor.
     let f = DVec3::NEG_Z;
     let right = f.cross(camera.up.as_dvec3()).normalize();
     let up = right.cross(f);
-    let t = (f64::from(camera.yfov) / 2.0).tan();
+    let t = libm::tan(f64::from(camera.yfov) / 2.0);
     let opts = black(w, h, Some(camera));
     let img = reference(&scene, &opts, s, false).unwrap();
     let (mut near_cut, mut far_cut) = (0, 0);

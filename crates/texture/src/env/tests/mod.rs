@@ -46,7 +46,7 @@ fn sphere_dirs(n: usize) -> Vec<Vec3> {
         .map(|i| {
             let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
             let r = (1.0 - y * y).sqrt();
-            let (s, c) = (golden * i as f32).sin_cos();
+            let (s, c) = libm::sincosf(golden * i as f32);
             Vec3::new(r * c, y, r * s)
         })
         .collect()
@@ -63,7 +63,7 @@ fn texels(img: &EnvImage) -> Vec<(DVec3, DVec3, f64)> {
     let mut out = Vec::with_capacity(w * h);
     for y in 0..h {
         let (t0, t1) = (PI * y as f64 / h as f64, PI * (y + 1) as f64 / h as f64);
-        let omega = 2.0 * PI / w as f64 * (t0.cos() - t1.cos());
+        let omega = 2.0 * PI / w as f64 * (libm::cos(t0) - libm::cos(t1));
         for x in 0..w {
             let l = img.texel(x as u32, y as u32).expect("in range").as_dvec3();
             out.push((super::equirect::texel_dir_f64(x, y, w, h), l, omega));
@@ -236,16 +236,16 @@ fn specular_matches_ggx_lobe_studio() {
 /// +136 %), as in every split-sum chain with linear level interpolation.
 #[test]
 fn specular_matches_ggx_lobe_sky() {
-    let (sa, ca) = 30f32.to_radians().sin_cos();
-    let (se, ce) = 40f32.to_radians().sin_cos();
+    let (sa, ca) = libm::sincosf(30f32.to_radians());
+    let (se, ce) = libm::sincosf(40f32.to_radians());
     let sun = Vec3::new(ce * ca, se, ce * sa); // builtin.rs: azimuth 30°, elevation 40°
     let (tu, tv) = sun.any_orthonormal_pair();
     let mut dirs = sphere_dirs(16);
     dirs.push(sun);
     for deg in [2.0f32, 5.0, 10.0, 20.0] {
         for k in 0..4 {
-            let (s, c) = (k as f32 * std::f32::consts::FRAC_PI_2).sin_cos();
-            let (sd, cd) = deg.to_radians().sin_cos();
+            let (s, c) = libm::sincosf(k as f32 * std::f32::consts::FRAC_PI_2);
+            let (sd, cd) = libm::sincosf(deg.to_radians());
             dirs.push(sun * cd + (tu * c + tv * s) * sd);
         }
     }
@@ -346,9 +346,9 @@ fn ess_quadrature(nv: f64, r: f64, schlick: bool) -> f64 {
     let mut sum = 0.0;
     for i in 0..nt {
         let t = (i as f64 + 0.5) * dt;
-        let (st, ct) = t.sin_cos();
+        let (st, ct) = libm::sincos(t);
         for j in 0..np {
-            let (sp, cp) = ((j as f64 + 0.5) * dp).sin_cos();
+            let (sp, cp) = libm::sincos((j as f64 + 0.5) * dp);
             let h = DVec3::new(st * cp, st * sp, ct);
             let vh = v.dot(h);
             let nl = (2.0 * vh * h - v).z;
@@ -375,7 +375,7 @@ fn brdf_lut_white_furnace() {
         a + b
     };
     for mu in [1.0f64, 0.5] {
-        let analytic = 1.0 - mu * (1.0 + 1.0 / mu).ln();
+        let analytic = 1.0 - mu * libm::log(1.0 + 1.0 / mu);
         assert!(
             (ess_quadrature(mu, 1.0, false) - analytic).abs() < 1e-5,
             "quadrature at {mu}"
@@ -441,7 +441,7 @@ fn texels_split(img: &EnvImage, k: usize) -> Vec<(DVec3, DVec3, f64)> {
     let mut out = Vec::with_capacity(fw * fh);
     for y in 0..fh {
         let (t0, t1) = (PI * y as f64 / fh as f64, PI * (y + 1) as f64 / fh as f64);
-        let omega = 2.0 * PI / fw as f64 * (t0.cos() - t1.cos());
+        let omega = 2.0 * PI / fw as f64 * (libm::cos(t0) - libm::cos(t1));
         for x in 0..fw {
             let l = img
                 .texel((x / k) as u32, (y / k) as u32)
@@ -489,8 +489,8 @@ fn small_sun_in_a_small_image_within_two_levels() {
     let mut dirs = sphere_dirs(96);
     for deg in [0.0f32, 5.0, 10.0, 20.0, 40.0, 70.0] {
         for k in 0..4 {
-            let (s, c) = (k as f32 * std::f32::consts::FRAC_PI_2).sin_cos();
-            let (sd, cd) = deg.to_radians().sin_cos();
+            let (s, c) = libm::sincosf(k as f32 * std::f32::consts::FRAC_PI_2);
+            let (sd, cd) = libm::sincosf(deg.to_radians());
             dirs.push((sun * cd + (tu * c + tv * s) * sd).normalize());
         }
     }

@@ -29,7 +29,7 @@ fn sphere_points(center: Vec3, radius: f32, n: usize) -> Vec<Vec3> {
         .map(|i| {
             let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
             let ring = (1.0 - y * y).sqrt();
-            let (s, c) = (golden * i as f32).sin_cos();
+            let (s, c) = libm::sincosf(golden * i as f32);
             center + Vec3::new(c * ring, y, s * ring) * radius
         })
         .collect()
@@ -68,7 +68,7 @@ fn turntable_orbit_turns_180_degrees_per_viewport_height() {
     // Dragging down raises the eye by 30 degrees.
     let f = forward(&nav);
     assert!(
-        (f.dot(-Vec3::Y).asin().to_degrees() - 30.0).abs() < 1e-3,
+        (libm::asinf(f.dot(-Vec3::Y)).to_degrees() - 30.0).abs() < 1e-3,
         "{f}"
     );
 }
@@ -100,14 +100,14 @@ fn turntable_pitch_is_clamped_and_named_poles_are_kept() {
         let up = up_axis.up();
         for (dy, sign) in [(10.0 * H, -1.0), (-10.0 * H, 1.0)] {
             nav.orbit(37.0, dy, H);
-            let pitch = (forward(&nav).dot(up) * sign).asin().to_degrees();
+            let pitch = libm::asinf(forward(&nav).dot(up) * sign).to_degrees();
             assert!((pitch - PITCH_LIMIT_DEGREES).abs() < 1e-3, "{pitch}");
         }
         nav.set_view(View::Top);
         nav.orbit(50.0, 50.0, H);
         assert_near(forward(&nav), -up, 1e-6, "top stays at the pole");
         nav.orbit(0.0, -H / 18.0, H);
-        let pitch = (-forward(&nav).dot(up)).asin().to_degrees();
+        let pitch = libm::asinf(-forward(&nav).dot(up)).to_degrees();
         assert!((pitch - 80.0).abs() < 1e-2, "{pitch}");
     }
 }
@@ -120,8 +120,8 @@ fn turntable_keeps_the_horizon_level_and_mode_switches_keep_the_view() {
         nav.set_up_axis(up_axis, ASPECT);
         for i in 0..50 {
             nav.orbit(
-                (i as f32 * 1.7).sin() * 80.0,
-                (i as f32 * 0.9).cos() * 60.0,
+                libm::sinf(i as f32 * 1.7) * 80.0,
+                libm::cosf(i as f32 * 0.9) * 60.0,
                 H,
             );
             let cam = nav.camera(ASPECT);
@@ -184,7 +184,7 @@ fn dolly_at_keeps_the_point_under_the_cursor() {
             };
             let distance = nav.distance();
             nav.dolly_at(steps, cursor, ASPECT);
-            let expected = distance * DOLLY_PER_STEP.powf(steps);
+            let expected = distance * libm::powf(DOLLY_PER_STEP, steps);
             assert!((nav.distance() / expected - 1.0).abs() < 1e-5);
             let cam = nav.camera(ASPECT);
             for (point, what) in [(p, "target plane"), (q, "on the ray")] {
@@ -250,13 +250,13 @@ fn framing_fits_the_sphere_with_ten_percent_margin() {
                     extent = extent.max(q.truncate().abs());
                 }
                 let half_v = fov.to_radians() / 2.0;
-                let half_h = (half_v.tan() * aspect).atan();
+                let half_h = libm::atanf(libm::tanf(half_v) * aspect);
                 // Silhouette of the sphere on the tighter axis, in NDC.
                 let expected = if ortho {
                     1.0 / FRAME_PADDING
                 } else {
                     let half = half_v.min(half_h);
-                    (half.sin() / FRAME_PADDING).asin().tan() / half.tan()
+                    libm::tanf(libm::asinf(libm::sinf(half) / FRAME_PADDING)) / libm::tanf(half)
                 };
                 let tight = if half_h < half_v { extent.x } else { extent.y };
                 let what = format!("ortho {ortho} aspect {aspect} fov {fov}: {extent}");
@@ -322,7 +322,9 @@ fn ortho_toggle_and_fov_keep_the_apparent_size_at_the_target() {
     nav.toggle_ortho();
     let ortho = nav.camera(ASPECT);
     assert!(nav.is_ortho());
-    assert!((ortho.ortho.unwrap_or(0.0) - nav.distance() * (ortho.yfov / 2.0).tan()).abs() < 1e-5);
+    assert!(
+        (ortho.ortho.unwrap_or(0.0) - nav.distance() * libm::tanf(ortho.yfov / 2.0)).abs() < 1e-5
+    );
     assert!((ndc(&ortho, ASPECT, p) - before).abs().max_element() < 1e-5);
     nav.set_fov_degrees(20.0);
     assert!(

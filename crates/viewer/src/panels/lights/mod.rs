@@ -138,7 +138,7 @@ impl Space {
         };
         let half = match cam.ortho {
             Some(h) => h,
-            None => depth * (cam.yfov * 0.5).tan(),
+            None => depth * libm::tanf(cam.yfov * 0.5),
         };
         let lamp = cam.eye - back * depth + (right * aspect + up) * 0.6 * half;
         let lamp = if lamp.is_finite() {
@@ -203,7 +203,7 @@ fn new_light(kind: LightKind, s: &Space, n: usize) -> Light {
     let d = to_center.length();
     // Half the half-angle the bounding sphere subtends.
     let cone = if d > s.radius {
-        ((s.radius / d).asin() * 0.5).min(40f32.to_radians())
+        (libm::asinf(s.radius / d) * 0.5).min(40f32.to_radians())
     } else {
         30f32.to_radians()
     };
