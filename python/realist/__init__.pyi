@@ -208,7 +208,9 @@ def render_many(
 
     items: Scenes or paths, or (Scene or path, Camera) pairs; the keyword arguments are
     ``render``'s, applied to every frame. Returns the Frames in the order of ``items``
-    (each the same as ``render`` would give). A failing item raises, naming its index."""
+    (each the same as ``render`` would give). With at least as many items as threads, each
+    thread renders whole frames one after another; with fewer, the frames are rendered one
+    after another, each over every thread. A failing item raises, naming its index."""
 
 def shading_modes() -> List[str]:
     """The names ``shading=`` takes, in the order ``realist render --help`` lists them."""

@@ -139,10 +139,10 @@ pub(crate) fn parse(
         s.ground = Some(Ground::default());
     }
     let up = up.parse::<Up>().map_err(PyValueError::new_err)?;
-    if threads == Some(0) {
-        return Err(PyValueError::new_err(
-            "threads 0: expected at least 1 (None: every core)",
-        ));
+    if let Some(n) = threads.filter(|n| !(1..=1024).contains(n)) {
+        return Err(PyValueError::new_err(format!(
+            "threads {n}: expected 1 to 1024 (None: every core)"
+        )));
     }
     Ok(Options {
         settings: s,

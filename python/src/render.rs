@@ -272,6 +272,11 @@ pub(crate) fn render_many(
         ids,
         threads,
     )?;
+    if items.is_instance_of::<pyo3::types::PyString>() || items.cast::<Scene>().is_ok() {
+        return Err(PyTypeError::new_err(
+            "render_many takes a list of scenes, paths or (scene, camera) pairs; render takes one",
+        ));
+    }
     let mut jobs = Vec::new();
     for (i, item) in items.try_iter()?.enumerate() {
         let item = item?;

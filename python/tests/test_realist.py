@@ -334,6 +334,10 @@ def test_bad_arguments_raise_value_or_type_errors():
         realist.render(42)
     with pytest.raises(TypeError, match="camera"):
         realist.render(s, camera="front")
+    with pytest.raises(TypeError, match="a list of scenes"):
+        realist.render_many("model.obj")
+    with pytest.raises(ValueError, match="threads 0"):
+        realist.render(s, threads=0)
     with pytest.raises(realist.RealistError, match="env /no/such.hdr"):
         realist.render(s, env="/no/such.hdr")
     assert "pbr" in realist.shading_modes()
