@@ -7,6 +7,8 @@ REALIST_SHARED and are skipped, with that reason, when it is unset.
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -216,6 +218,19 @@ def test_render_many_gives_what_render_gives_in_order(tmp_path):
         assert frame.rgba.tobytes() == one.rgba.tobytes()
 
 
+def free_cores() -> float:
+    """How many cores two busy processes got together just now (about 2 on an idle
+    two-core machine, about 1 when other work takes the rest)."""
+    burn = "import time\nt = time.process_time()\nwhile time.process_time() - t < 0.3: pass\n"
+    before, t = os.times(), time.perf_counter()
+    procs = [subprocess.Popen([sys.executable, "-c", burn]) for _ in range(2)]
+    for p in procs:
+        p.wait()
+    wall, after = time.perf_counter() - t, os.times()
+    cpu = (after.children_user + after.children_system) - (before.children_user + before.children_system)
+    return cpu / wall
+
+
 def test_render_many_of_32_frames_on_2_threads_beats_a_loop_of_render():
     # Thumbnail-sized frames of a 32k-triangle sphere: a frame is one tile, so a loop of
     # render keeps a second core busy only in the frame's parallel stages, while
@@ -224,26 +239,24 @@ def test_render_many_of_32_frames_on_2_threads_beats_a_loop_of_render():
     cams = [realist.Camera.orbit(360.0 * i / 32, 20) for i in range(32)]
     size = (64, 64)
     realist.render(s, size, cams[0])  # warm-up: the environment, the ray hierarchy
+    free = free_cores()
     best_loop = best_many = float("inf")
-    cores = 0.0
     for _ in range(5):
         t = time.perf_counter()
         loop = [realist.render(s, size, c) for c in cams]
         best_loop = min(best_loop, time.perf_counter() - t)
-        t, cpu = time.perf_counter(), time.process_time()
+        t = time.perf_counter()
         many = realist.render_many([(s, c) for c in cams], size, threads=2)
-        wall = time.perf_counter() - t
-        if wall < best_many:
-            best_many, cores = wall, (time.process_time() - cpu) / wall
+        best_many = min(best_many, time.perf_counter() - t)
+    free = min(free, free_cores())
     assert [f.rgba.tobytes() for f in many] == [f.rgba.tobytes() for f in loop]
     print(f"\n32 frames {size}: loop of render {best_loop * 1e3:.1f} ms, "
-          f"render_many(threads=2) {best_many * 1e3:.1f} ms, ratio {best_many / best_loop:.2f}, "
-          f"{cores:.2f} cores busy during render_many")
-    if cores < 1.5:
-        pytest.skip(
-            f"render_many(threads=2) kept only {cores:.2f} cores busy: the machine is loaded, "
-            "and the comparison needs two free cores"
-        )
+          f"render_many(threads=2) {best_many * 1e3:.1f} ms, ratio {best_many / best_loop:.2f} "
+          f"({free:.2f} cores free)")
+    if free < 1.5:
+        # Two busy processes (no realist in them) got less than 1.5 cores: other work has
+        # the machine, and no timing can show two threads beating one here.
+        pytest.skip(f"the machine gave two busy processes only {free:.2f} cores: it is loaded")
     assert best_many < best_loop
 
 
