@@ -113,6 +113,7 @@ fn camera(eye: Vec3, target: Vec3, up: Vec3, yfov_deg: f32) -> Camera {
         far: 100.0,
         aspect: None,
         ortho: None,
+        lens: Default::default(),
     }
 }
 

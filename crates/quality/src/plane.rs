@@ -61,6 +61,7 @@ impl PlaneSetup {
             far: 200.0,
             aspect: None,
             ortho: None,
+            lens: Default::default(),
         };
         let lights = vec![
             Light::ambient(Vec3::splat(0.15)),

@@ -2,7 +2,7 @@
 //! vertical field of view (or the textbook's zoom = 1/tan(fov/2)), aspect ratio from the output
 //! window, near and far planes.
 
-use glam::{Mat4, Quat, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 /// The default vertical field of view: 45 degrees.
 pub const DEFAULT_YFOV: f32 = std::f32::consts::FRAC_PI_4;
@@ -38,6 +38,36 @@ pub struct Camera {
     /// units above and below the line of sight (glTF `ymag`); `yfov` is then unused by the
     /// projection. `None`: perspective.
     pub ortho: Option<f32>,
+    /// The principal point off the image centre and non-square pixels, as a calibrated
+    /// camera's intrinsics give them ([`Camera::from_intrinsics`]); [`Lens::CENTRED`] for
+    /// every other camera.
+    pub lens: Lens,
+}
+
+/// What a pinhole camera's intrinsics (fx, fy, cx, cy) add to a vertical field of view: the
+/// principal point's offset from the image centre and the ratio of the focal lengths. The
+/// projection maps clip-space x to `x_scale * x + shift.x * w` and y to `y + shift.y * w`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lens {
+    /// The principal point's offset from the image centre in normalised device coordinates
+    /// (x right, y up; 1 is half the image's width or height).
+    pub shift: Vec2,
+    /// The horizontal focal length over the vertical one (fx / fy; 1 for square pixels).
+    pub x_scale: f32,
+}
+
+impl Lens {
+    /// On-axis, square pixels: the projection of the field of view alone.
+    pub const CENTRED: Lens = Lens {
+        shift: Vec2::ZERO,
+        x_scale: 1.0,
+    };
+}
+
+impl Default for Lens {
+    fn default() -> Self {
+        Self::CENTRED
+    }
 }
 
 impl Default for Camera {
@@ -52,6 +82,7 @@ impl Default for Camera {
             far: 100.0,
             aspect: None,
             ortho: None,
+            lens: Lens::CENTRED,
         }
     }
 }
@@ -85,6 +116,7 @@ impl Camera {
             far: distance * 100.0,
             aspect: None,
             ortho: None,
+            lens: Lens::CENTRED,
         }
     }
 
@@ -223,6 +255,45 @@ impl Camera {
         self.near = (d - radius).max(radius * 1e-3).max(self.far * 1e-6) * 0.99;
     }
 
+    /// The camera of a calibrated pinhole model as computer vision gives it (OpenCV's
+    /// convention: camera x right, y down, z forward; the centre of the top-left pixel is
+    /// pixel (0, 0)): focal lengths `fx`, `fy` and principal point `cx`, `cy` in pixels of
+    /// a `width` x `height` image, and `cam_to_world`, the camera's pose (its columns the
+    /// camera's x, y and z axes and its position in the world). A point at camera
+    /// coordinates (X, Y, Z) lands at pixel (fx X / Z + cx, fy Y / Z + cy) of an image of
+    /// that size. The rotation part of the pose must be a rotation (it is not checked
+    /// here): its scale and shear are lost.
+    #[must_use]
+    pub fn from_intrinsics(
+        [fx, fy, cx, cy]: [f32; 4],
+        (width, height): (u32, u32),
+        cam_to_world: Mat4,
+        near: f32,
+        far: f32,
+    ) -> Self {
+        let (w, h) = (width.max(1) as f32, height.max(1) as f32);
+        let eye = cam_to_world.w_axis.truncate();
+        let forward = cam_to_world.z_axis.truncate();
+        // OpenCV's y points down the image; realist's camera up is the image's up.
+        let up = -cam_to_world.y_axis.truncate();
+        Self {
+            name: "intrinsics".into(),
+            eye,
+            target: eye + forward,
+            up,
+            yfov: 2.0 * (h / (2.0 * fy)).atan(),
+            near,
+            far,
+            aspect: Some(w / h),
+            ortho: None,
+            lens: Lens {
+                // Pixel u's centre is at NDC (u + 0.5) / w * 2 - 1 (y: 1 - (v + 0.5) / h * 2).
+                shift: Vec2::new((2.0 * cx + 1.0) / w - 1.0, 1.0 - (2.0 * cy + 1.0) / h),
+                x_scale: fx / fy,
+            },
+        }
+    }
+
     /// World -> camera (right-handed, looking down -Z).
     #[must_use]
     pub fn view(&self) -> Mat4 {
@@ -260,8 +331,27 @@ impl Camera {
     /// z = 1 on the near plane and z = 0 on the far plane, and clip w = distance in front of
     /// the camera (perspective) or 1 (orthographic). Reversed-Z spreads f32 depth precision
     /// evenly over distance.
+    ///
+    /// A [`Lens`] other than [`Lens::CENTRED`] moves the principal point and stretches x
+    /// after this (an off-centre frustum).
     #[must_use]
     pub fn projection(&self, aspect: f32) -> Mat4 {
+        let p = self.centred_projection(aspect);
+        if self.lens == Lens::CENTRED {
+            return p;
+        }
+        let Lens { shift, x_scale } = self.lens;
+        let lens = Mat4::from_cols(
+            Vec4::new(x_scale, 0.0, 0.0, 0.0),
+            Vec4::Y,
+            Vec4::Z,
+            Vec4::new(shift.x, shift.y, 0.0, 1.0),
+        );
+        lens * p
+    }
+
+    /// [`Camera::projection`] on the axis, with square pixels.
+    fn centred_projection(&self, aspect: f32) -> Mat4 {
         let aspect = if aspect.is_finite() && aspect > 0.0 {
             aspect
         } else {
@@ -339,6 +429,38 @@ mod tests {
         let e = cam.shading_eye();
         assert!((e - cam.eye).normalize().dot(Vec3::Z) > 0.999_999);
         assert!((e - cam.eye).length() > 1e4);
+    }
+
+    #[test]
+    fn intrinsics_project_as_opencv_does() {
+        // A pose turned and moved off the origin, off-centre principal point, fx != fy.
+        let (fx, fy, cx, cy, w, h) = (500.0f32, 450.0f32, 300.25f32, 210.5f32, 640u32, 480u32);
+        let rot = Mat4::from_quat(Quat::from_euler(glam::EulerRot::YXZ, 0.4, -0.3, 0.2));
+        let pose = Mat4::from_translation(Vec3::new(1.0, -2.0, 3.0)) * rot;
+        let cam = Camera::from_intrinsics([fx, fy, cx, cy], (w, h), pose, 0.1, 100.0);
+        let vp = cam.projection(w as f32 / h as f32) * cam.view();
+        for p_cam in [
+            Vec3::new(0.0, 0.0, 5.0),
+            Vec3::new(1.0, -0.5, 4.0),
+            Vec3::new(-2.0, 1.5, 9.0),
+        ] {
+            let world = pose.transform_point3(p_cam);
+            let clip = vp * world.extend(1.0);
+            let ndc = clip.truncate() / clip.w;
+            // Back to OpenCV pixels: u = (ndc.x + 1) / 2 * w - 0.5.
+            let u = (ndc.x + 1.0) * 0.5 * w as f32 - 0.5;
+            let v = (1.0 - ndc.y) * 0.5 * h as f32 - 0.5;
+            let (eu, ev) = (fx * p_cam.x / p_cam.z + cx, fy * p_cam.y / p_cam.z + cy);
+            assert!(
+                (u - eu).abs() < 1e-3 && (v - ev).abs() < 1e-3,
+                "{u},{v} vs {eu},{ev}"
+            );
+            // In front of the camera, inside the reversed-Z depth range.
+            assert!(clip.w > 0.0 && ndc.z > 0.0 && ndc.z < 1.0, "{ndc}");
+        }
+        // A centred principal point is the plain projection.
+        let c = Camera::from_intrinsics([fy, fy, 319.5, 239.5], (w, h), pose, 0.1, 100.0);
+        assert!(c.lens.shift.abs().max_element() < 1e-6 && c.lens.x_scale == 1.0);
     }
 
     #[test]

@@ -21,7 +21,7 @@ mod slot;
 mod tube;
 mod uvgen;
 
-pub use camera::{clamp_fov, Camera, Up, DEFAULT_YFOV};
+pub use camera::{clamp_fov, Camera, Lens, Up, DEFAULT_YFOV};
 pub use demo::{demo, DEMO_SLICES, DEMO_STACKS};
 pub use light::{Attenuation, Light, LightKind, MIN_D2};
 pub use slot::{

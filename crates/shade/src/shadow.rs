@@ -110,6 +110,7 @@ impl ShadowMap {
                     far: radius * 3.5,
                     aspect: None,
                     ortho: Some(radius * 1.01),
+                    lens: Default::default(),
                 };
                 (cam, 2.0 * radius * 1.01 / size as f32)
             }
@@ -131,6 +132,7 @@ impl ShadowMap {
                     far,
                     aspect: None,
                     ortho: None,
+                    lens: Default::default(),
                 };
                 (cam, 2.0 * libm::tanf(half) / size as f32)
             }

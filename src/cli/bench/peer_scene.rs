@@ -316,6 +316,7 @@ pub(super) fn camera() -> Camera {
         far: 10.0,
         aspect: None,
         ortho: None,
+        lens: Default::default(),
     }
 }
 

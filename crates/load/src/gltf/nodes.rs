@@ -348,6 +348,7 @@ impl Builder<'_> {
             far,
             aspect,
             ortho,
+            lens: Default::default(),
         });
         self.placed_cameras.push((c, self.scene.cameras.len() - 1));
     }

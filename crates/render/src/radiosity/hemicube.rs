@@ -130,6 +130,7 @@ impl Hemicube {
                 far,
                 aspect: Some(1.0),
                 ortho: None,
+                lens: Default::default(),
             };
             let vp: Mat4 = cam.projection(1.0) * cam.view();
             self.draw(patches, vp, p, n);

@@ -137,6 +137,7 @@ fn everything(dir: &TempDir) -> (Settings, View) {
             far: 98.7,
             aspect: None,
             ortho: Some(2.5),
+            lens: Default::default(),
         },
         width: 321,
         height: 123,

@@ -184,6 +184,7 @@ impl Navigator {
             far,
             aspect: (aspect.is_finite() && aspect > 0.0).then_some(aspect),
             ortho: self.ortho.then(|| self.half_height()),
+            lens: Default::default(),
         }
     }
 
