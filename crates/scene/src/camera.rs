@@ -281,7 +281,7 @@ impl Camera {
             eye,
             target: eye + forward,
             up,
-            yfov: 2.0 * (h / (2.0 * fy)).atan(),
+            yfov: 2.0 * libm::atanf(h / (2.0 * fy)),
             near,
             far,
             aspect: Some(w / h),
