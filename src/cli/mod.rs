@@ -26,6 +26,7 @@ mod info;
 mod lighting;
 mod render;
 mod sequence;
+mod thumbnail;
 
 use bench::bench;
 use chroma::{chroma, ChromaArgs};
@@ -64,6 +65,8 @@ enum Command {
     Color(ColorArgs),
     /// Draw the CIE chromaticity diagram (gamuts, Planckian locus, an image's pixels).
     Chroma(ChromaArgs),
+    /// Write a PNG thumbnail of a model (the freedesktop thumbnailer; --install registers it).
+    Thumbnail(thumbnail::ThumbnailArgs),
 }
 
 #[derive(Args)]
@@ -222,6 +225,7 @@ pub fn run() -> Result<()> {
         },
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
+        Some(Command::Thumbnail(args)) => thumbnail::thumbnail(&args),
         Some(Command::View(args)) => view(
             args.model,
             args.window,
