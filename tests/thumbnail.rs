@@ -472,6 +472,18 @@ fn install_and_uninstall_for_the_user() {
             "{glob}: {xml}"
         );
     }
+    // update-mime-database (where installed) read the package: its globs are in the
+    // database it wrote.
+    if let Ok(globs) = std::fs::read_to_string(data.0.join("mime/globs2")) {
+        for (mime, glob) in [("application/x-ply", "*.ply"), ("model/stl", "*.stl")] {
+            assert!(
+                globs
+                    .lines()
+                    .any(|l| l.ends_with(&format!(":{mime}:{glob}"))),
+                "{mime} {glob} not in the MIME database:\n{globs}"
+            );
+        }
+    }
     run("--uninstall");
     assert!(!entry.exists());
     assert!(!data.0.join("mime/packages/realist.xml").exists());

@@ -184,7 +184,7 @@ fn key_file_escape(s: &str) -> String {
 pub(super) fn mime_package() -> String {
     let mut xml = String::from(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
-         <!-- Written by `realist thumbnail --install`: the model formats realist reads. -->\n\
+         <!-- Written by realist (thumbnail, install): the model formats realist reads. -->\n\
          <mime-info xmlns=\"http://www.freedesktop.org/standards/shared-mime-info\">\n",
     );
     for f in &FORMATS {
@@ -234,5 +234,13 @@ mod tests {
             assert!(xml.contains(&format!("pattern=\"{}\"", f.glob)));
         }
         assert!(!xml.contains(".toml") && !xml.contains(".json"));
+        // XML comments may not hold a double hyphen (update-mime-database rejects the file).
+        let comments = xml
+            .split("<!--")
+            .skip(1)
+            .map(|c| c.split("-->").next().unwrap());
+        for c in comments {
+            assert!(!c.contains("--"), "{c}");
+        }
     }
 }
