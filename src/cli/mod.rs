@@ -27,6 +27,7 @@ mod info;
 mod lighting;
 mod render;
 mod sequence;
+mod thumbnail;
 
 use bench::bench;
 use chroma::{chroma, ChromaArgs};
@@ -68,6 +69,8 @@ enum Command {
     /// Render a still, a turntable or a thumbnail of every model in folders or a list, one
     /// process per model, with a manifest, resume and --shard I/N for job arrays.
     Batch(Box<batch::BatchArgs>),
+    /// Write a PNG thumbnail of a model (the freedesktop thumbnailer; --install registers it).
+    Thumbnail(thumbnail::ThumbnailArgs),
 }
 
 #[derive(Args)]
@@ -227,6 +230,7 @@ pub fn run() -> Result<()> {
         Some(Command::Color(args)) => color(&args),
         Some(Command::Chroma(args)) => chroma(&args),
         Some(Command::Batch(args)) => batch::batch(&args),
+        Some(Command::Thumbnail(args)) => thumbnail::thumbnail(&args),
         Some(Command::View(args)) => view(
             args.model,
             args.window,
