@@ -1,5 +1,6 @@
-//! Subcommands: `view`, `render`, `info`, `bench`, `color`, `chroma`. Without a subcommand (or
-//! with just a model file) the viewer opens; without a display it renders to a PNG instead.
+//! Subcommands: `view`, `render`, `info`, `bench`, `color`, `chroma`, `batch`, `thumbnail`.
+//! Without a subcommand (or with just a model file) the viewer opens; without a display it
+//! renders to a PNG instead.
 
 use std::path::{Path, PathBuf};
 
