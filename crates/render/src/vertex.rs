@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::frame::FrameInst;
 use super::prepare::{PreparedMesh, PreparedScene};
 use crate::shade::{illuminate, Debug, DrawParams, Fog, LightSet};
-use crate::simd::{KernelKind, Level, F8, LANES, V3};
+use crate::simd::{KernelKind, Level, Num, F8, LANES, V3};
 
 const MIN_LEN: usize = 4096;
 
@@ -136,7 +136,8 @@ fn per_item<T: Send>(out: &mut Vec<T>, n: usize, f: impl Fn(usize) -> T + Sync +
 fn world(fi: &FrameInst, mesh: &PreparedMesh, k: usize) -> (Vec3, Vec3) {
     let normal = fi.normal;
     let p = fi.world.transform_point3(mesh.tri.positions[k]);
-    let n = (normal * mesh.tri.normals[k]).normalize_or_zero();
+    // Num's normalize: glam's with the hardware square root (see `Num for f32`).
+    let n = f32::normalize_or_zero(normal * mesh.tri.normals[k]);
     (p, n)
 }
 
@@ -165,7 +166,7 @@ pub(super) fn lit(
         let uv = |set: u32| tri.uv_set(set).map_or(Vec2::ZERO, |u| u[k]);
         let c = tri.colors.as_ref().map_or(Vec4::ONE, |c| c[k]);
         let t = tri.tangents.as_ref().map_or(Vec4::X, |t| t[k]);
-        let tw = (m3 * t.truncate()).normalize_or_zero();
+        let tw = f32::normalize_or_zero(m3 * t.truncate());
         // Solid textures' frame: the mesh's bounding sphere is the unit sphere.
         let object = || (tri.positions[k] - tri.center) * inv_radius;
         layout.write(o, p, n, uv, object, c, tw.extend(t.w * handed));
@@ -249,7 +250,7 @@ impl Lit<'_> {
         let (tri, flat) = (&mesh.tri, mesh.flat());
         let normal = fi.normal;
         let facing = |p: Vec3, n: Vec3| {
-            let n = (normal * n).normalize_or_zero();
+            let n = f32::normalize_or_zero(normal * n);
             if d.double_sided && n.dot(self.eye - p) < 0.0 {
                 -n
             } else {
