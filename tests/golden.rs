@@ -138,6 +138,41 @@ fn render_compare_against_a_reference() {
     let (code, text) = realist(KernelKind::best(), &more);
     assert_eq!(code, Some(0), "{text}");
     assert!(text.contains("1 by more than 1 (allowed 1)"), "{text}");
+    // A render may not be written over its own reference (it would always pass), nor its
+    // heat map: an error before anything is written.
+    let before = std::fs::read(&reference).expect("reference");
+    let (code, text) = realist(
+        KernelKind::best(),
+        &[
+            &os("-o"),
+            reference.as_os_str(),
+            &os("--compare"),
+            reference.as_os_str(),
+        ],
+    );
+    assert_eq!(code, Some(1), "{text}");
+    assert!(
+        text.contains("would be written over the reference"),
+        "{text}"
+    );
+    let diff_named = dir.0.join("x.diff.png");
+    std::fs::copy(&reference, &diff_named).expect("copy");
+    let (code, text) = realist(
+        KernelKind::best(),
+        &[
+            &os("-o"),
+            &os("x.png"),
+            &os("--compare"),
+            diff_named.as_os_str(),
+        ],
+    );
+    assert_eq!(code, Some(1), "{text}");
+    assert!(
+        text.contains("the heat map would be written over"),
+        "{text}"
+    );
+    assert_eq!(std::fs::read(&reference).expect("reference"), before);
+    assert!(!dir.0.join("x.png").exists(), "nothing rendered");
     // A reference of another size is an error naming both sizes.
     let small = dir.0.join("small.png");
     image::RgbImage::new(8, 8).save(&small).expect("write");

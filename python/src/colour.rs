@@ -8,14 +8,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use realist::color::{self, Illuminant, LumaWeights, Observer, RgbSpace, Transfer};
+use realist::color::named::{convert, parse_colour, MODELS};
+use realist::color::{self, Illuminant, Observer, RgbSpace, Transfer};
 use realist::overlay::chroma::{self, ChromaOptions, FillStyle, Marker, Plane};
-
-/// Every model `color_convert` gives, as `realist color --to` names them.
-const MODELS: [&str; 16] = [
-    "linear", "hsv", "hsl", "cmy", "cmyk", "yiq", "yuv", "ycbcr601", "ycbcr709", "xyz", "xyy",
-    "uv", "u'v'", "lab", "lch", "luv",
-];
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(color_convert, m)?)?;
@@ -29,67 +24,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add("GAMUTS", RgbSpace::NAMES.to_vec())?;
     Ok(())
-}
-
-/// `#rrggbb`, `#rgb` or `r,g,b` (encoded sRGB floats in [0, 1]), as `realist color` reads
-/// a colour.
-fn parse_colour(s: &str) -> Result<[f64; 3], String> {
-    let s = s.trim();
-    if let Some(hex) = s.strip_prefix('#') {
-        let digits: Vec<u32> = hex
-            .chars()
-            .map(|c| c.to_digit(16))
-            .collect::<Option<_>>()
-            .ok_or_else(|| format!("'{s}' is not a hex colour"))?;
-        let channels: Vec<u32> = match digits.len() {
-            3 => digits.iter().map(|d| d * 17).collect(),
-            6 => digits.chunks(2).map(|p| p[0] * 16 + p[1]).collect(),
-            _ => return Err(format!("'{s}': expected #rrggbb or #rgb")),
-        };
-        return Ok([0, 1, 2].map(|i| f64::from(channels[i]) / 255.0));
-    }
-    let parts: Vec<f64> = s
-        .split(',')
-        .map(|p| {
-            p.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("bad number '{p}' in '{s}'"))
-        })
-        .collect::<Result<_, _>>()?;
-    match parts[..] {
-        [r, g, b] if [r, g, b].iter().all(|v| (0.0..=1.0).contains(v)) => Ok([r, g, b]),
-        [_, _, _] => Err(format!(
-            "'{s}': r,g,b must be encoded sRGB values between 0 and 1"
-        )),
-        _ => Err(format!("'{s}': expected #rrggbb or r,g,b")),
-    }
-}
-
-/// Encoded sRGB `rgb` in `model`, as `realist color` prints it.
-fn convert(rgb: [f64; 3], model: &str) -> Option<Vec<f64>> {
-    let d65 = Illuminant::D65.xyz(Observer::Cie1931);
-    let xyz = color::srgb_to_xyz(rgb);
-    let xyy = color::xyz_to_xyy(xyz);
-    let xy = [xyy[0], xyy[1]];
-    Some(match model {
-        "linear" => color::srgb_decode3(rgb).to_vec(),
-        "hsv" => color::rgb_to_hsv(rgb).to_vec(),
-        "hsl" => color::rgb_to_hsl(rgb).to_vec(),
-        "cmy" => color::rgb_to_cmy(rgb).to_vec(),
-        "cmyk" => color::cmy_to_cmyk(color::rgb_to_cmy(rgb)).to_vec(),
-        "yiq" => color::rgb_to_yiq(rgb).to_vec(),
-        "yuv" => color::rgb_to_yuv(rgb).to_vec(),
-        "ycbcr601" => color::rgb_to_ycbcr(rgb, LumaWeights::BT601).to_vec(),
-        "ycbcr709" => color::rgb_to_ycbcr(rgb, LumaWeights::BT709).to_vec(),
-        "xyz" => xyz.to_vec(),
-        "xyy" => xyy.to_vec(),
-        "uv" => color::xy_to_uv1960(xy).to_vec(),
-        "u'v'" | "uv'" | "u'v" => color::xy_to_uv_prime(xy).to_vec(),
-        "lab" => color::xyz_to_lab(xyz, d65).to_vec(),
-        "lch" => color::lab_to_lch(color::xyz_to_lab(xyz, d65)).to_vec(),
-        "luv" => color::xyz_to_luv(xyz, d65).to_vec(),
-        _ => return None,
-    })
 }
 
 /// One colour in every model (or those in `to`), as `realist color VALUE --json` prints it:

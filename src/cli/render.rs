@@ -286,13 +286,16 @@ fn render_in(args: &RenderArgs) -> Result<()> {
             f.follow_fov = fov;
         }
     }
-    let outputs = Outputs::plan(out, &args.sequence, frames.len(), (w, h))?;
-    if args.compare.is_some() && (frames.len() != 1 || outputs.animated.is_some()) {
-        bail!(
+    let outputs = Outputs::plan(out.clone(), &args.sequence, frames.len(), (w, h))?;
+    let reference = match (&args.compare, &out) {
+        (Some(_), _) if frames.len() != 1 || outputs.animated.is_some() => bail!(
             "--compare compares one image: {} frames would be rendered",
             frames.len()
-        );
-    }
+        ),
+        (Some(r), Some(o)) => Some(compare::Reference::load(r, o, (w, h))?),
+        (Some(_), None) => bail!("--compare needs an image to compare (give -o OUT.png)"),
+        (None, _) => None,
+    };
     let comparison = match &input.file {
         Some(f) => f.comparison(&input.scene, &settings)?,
         None => None,
@@ -333,9 +336,9 @@ fn render_in(args: &RenderArgs) -> Result<()> {
     let compared = std::cell::RefCell::new(None);
     let write = |path: &Path, w: u32, h: u32, rgb: Vec<u8>| {
         write_image(path, w, h, &rgb, &source, &description)?;
-        if let Some(reference) = &args.compare {
+        if let Some(reference) = &reference {
             let tol = args.tolerance.unwrap_or_default();
-            *compared.borrow_mut() = Some(compare::check(path, (w, h), &rgb, reference, tol));
+            *compared.borrow_mut() = Some(reference.check(path, (w, h), &rgb, tol));
         }
         Ok(())
     };

@@ -15,6 +15,7 @@
 //! | `rgba.rs` | [`Rgba`]: arithmetic, clamping, max-normalisation, tone mapping, blending |
 //! | `transfer.rs` | the sRGB transfer functions |
 //! | `models.rs` | HSV, HSL, CMY, CMYK, YIQ, YUV, YCbCr |
+//! | `named.rs` | one colour read from text and given in every model by name (`realist color`, Python) |
 //! | `cie.rs` | xyY, uv, u'v', Lab, LCh, Luv |
 //! | `delta_e.rs` | ΔE 1976, 1994, 2000 |
 //! | `space.rs` | RGB spaces, matrices from primaries, transfer curves, Bradford |
@@ -29,6 +30,7 @@ mod cmf_data;
 mod delta_e;
 mod matrix;
 mod models;
+pub mod named;
 mod planck;
 pub mod png;
 mod rgba;

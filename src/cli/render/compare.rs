@@ -150,58 +150,102 @@ pub(crate) fn heat_map_path(output: &Path) -> PathBuf {
     output.with_file_name(format!("{stem}.diff.png"))
 }
 
-/// Compares the rendered image written at `output` with `reference` and reports: Ok with a
-/// line to print when it passes, an error (the command's exit status 1) naming the counts
-/// and the heat map when it does not.
-pub(crate) fn check(
-    output: &Path,
-    (w, h): (u32, u32),
-    got: &[u8],
-    reference: &Path,
-    tol: Tolerance,
-) -> Result<String> {
-    let (rw, rh, want) = read_reference(reference)?;
-    if (rw, rh) != (w, h) {
-        bail!(
-            "--compare: the reference {} is {rw}x{rh}, the render {w}x{h} (give --size {rw}x{rh})",
-            reference.display()
-        );
+/// The reference image of `--compare`, read and checked before anything is rendered.
+pub(crate) struct Reference {
+    path: PathBuf,
+    rgb: Vec<u8>,
+}
+
+/// Whether `a` and `b` name one existing file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    matches!(
+        (std::fs::canonicalize(a), std::fs::canonicalize(b)),
+        (Ok(x), Ok(y)) if x == y
+    )
+}
+
+impl Reference {
+    /// Reads `path` and checks it against the render to come: its size must be `w` x `h`,
+    /// and neither the image (`output`) nor its heat map may be written over it (a render
+    /// that replaced its own reference would always pass).
+    pub(crate) fn load(path: &Path, output: &Path, (w, h): (u32, u32)) -> Result<Self> {
+        for (what, target) in [
+            ("the image", output.to_owned()),
+            ("the heat map", heat_map_path(output)),
+        ] {
+            if same_file(path, &target) {
+                bail!(
+                    "--compare: {what} would be written over the reference {} (give -o another name)",
+                    path.display()
+                );
+            }
+        }
+        let (rw, rh, rgb) = read_reference(path)?;
+        if (rw, rh) != (w, h) {
+            bail!(
+                "--compare: the reference {} is {rw}x{rh}, the render {w}x{h} (give --size {rw}x{rh})",
+                path.display()
+            );
+        }
+        Ok(Self {
+            path: path.to_owned(),
+            rgb,
+        })
     }
-    let (c, heat) = compare(got, &want, tol);
-    let heat_path = heat_map_path(output);
-    let mut line = format!(
-        "compare: {} of {} pixels differ from {} (worst {} levels); {} by more than {} (allowed {})",
-        c.differing,
-        c.total,
-        reference.display(),
-        c.worst,
-        c.over,
-        tol.levels,
-        c.allowed
-    );
-    if c.differing > 0 {
-        realist::color::png::Png::rgb(w, h, &heat)
-            .with_text(
-                "Source",
-                format!("realist render --compare {}", reference.display()),
-            )
-            .write(&heat_path)
-            .map_err(anyhow::Error::msg)
-            .with_context(|| format!("--compare: cannot write {}", heat_path.display()))?;
-        line += &format!("; heat map {}", heat_path.display());
-    } else {
-        // A heat map of an earlier, failed comparison would now be out of date.
-        let _ = std::fs::remove_file(&heat_path);
-        line = format!(
-            "compare: identical to {} ({} pixels)",
+
+    /// Compares the rendered image written at `output` with the reference and reports: Ok
+    /// with a line to print when it passes, an error (the command's exit status 1) naming
+    /// the counts and the heat map when it does not.
+    pub(crate) fn check(
+        &self,
+        output: &Path,
+        (w, h): (u32, u32),
+        got: &[u8],
+        tol: Tolerance,
+    ) -> Result<String> {
+        let reference = &self.path;
+        if got.len() != self.rgb.len() {
+            bail!(
+                "--compare: the render is {w}x{h}, not the reference's size ({})",
+                reference.display()
+            );
+        }
+        let (c, heat) = compare(got, &self.rgb, tol);
+        let heat_path = heat_map_path(output);
+        let mut line = format!(
+            "compare: {} of {} pixels differ from {} (worst {} levels); {} by more than {} (allowed {})",
+            c.differing,
+            c.total,
             reference.display(),
-            c.total
+            c.worst,
+            c.over,
+            tol.levels,
+            c.allowed
         );
-    }
-    if c.passed() {
-        Ok(line)
-    } else {
-        bail!("{line}: the image differs")
+        if c.differing > 0 {
+            realist::color::png::Png::rgb(w, h, &heat)
+                .with_text(
+                    "Source",
+                    format!("realist render --compare {}", reference.display()),
+                )
+                .write(&heat_path)
+                .map_err(anyhow::Error::msg)
+                .with_context(|| format!("--compare: cannot write {}", heat_path.display()))?;
+            line += &format!("; heat map {}", heat_path.display());
+        } else {
+            // A heat map of an earlier, failed comparison would now be out of date.
+            let _ = std::fs::remove_file(&heat_path);
+            line = format!(
+                "compare: identical to {} ({} pixels)",
+                reference.display(),
+                c.total
+            );
+        }
+        if c.passed() {
+            Ok(line)
+        } else {
+            bail!("{line}: the image differs")
+        }
     }
 }
 
