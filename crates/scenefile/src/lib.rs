@@ -44,6 +44,7 @@ mod compare;
 mod convert;
 mod export;
 mod paths;
+pub use paths::lexically_absolute;
 pub mod schema;
 mod settings;
 

@@ -40,13 +40,15 @@ fn absolute(p: &Path) -> PathBuf {
     if let Ok(c) = std::fs::canonicalize(p) {
         return c;
     }
-    let joined = if p.is_absolute() {
-        p.to_owned()
-    } else {
-        std::env::current_dir().unwrap_or_default().join(p)
-    };
+    lexically_absolute(&std::env::current_dir().unwrap_or_default(), p)
+}
+
+/// `p` made absolute against `cwd` (unless it is already) with `.` and `..` resolved
+/// lexically: no symbolic links followed, so it does not need the file to exist.
+#[must_use]
+pub fn lexically_absolute(cwd: &Path, p: &Path) -> PathBuf {
     let mut out = PathBuf::new();
-    for c in joined.components() {
+    for c in cwd.join(p).components() {
         match c {
             Component::CurDir => {}
             Component::ParentDir => {

@@ -7,6 +7,8 @@ use std::path::{Component, Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
+use realist::scenefile::lexically_absolute;
+
 /// The file extensions a folder is searched for: every model format realist reads (their
 /// buffers, textures and materials, .bin .png .mtl, are read through the model).
 pub(crate) const MODEL_EXTENSIONS: [&str; 5] = ["gltf", "glb", "obj", "stl", "ply"];
@@ -83,22 +85,6 @@ fn is_model(p: &Path) -> bool {
     p.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| MODEL_EXTENSIONS.iter().any(|m| m.eq_ignore_ascii_case(e)))
-}
-
-/// `p` made absolute against `cwd` and with `.` and `..` resolved lexically (no symbolic
-/// links followed, so it does not depend on the file existing).
-fn absolute(cwd: &Path, p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in cwd.join(p).components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir => {
-                out.pop();
-            }
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 /// `rel`'s components joined with `/`, or `None` when a component is not UTF-8.
@@ -203,12 +189,12 @@ pub(crate) fn collect(
         if meta.is_dir() {
             walk(input, &mut found, &mut warnings);
         } else {
-            loose.push((input.clone(), absolute(cwd, input)));
+            loose.push((input.clone(), lexically_absolute(cwd, input)));
         }
     }
     if let Some(list) = list {
         for p in read_list(list)? {
-            loose.push((p.clone(), absolute(cwd, &p)));
+            loose.push((p.clone(), lexically_absolute(cwd, &p)));
         }
     }
     let abs: Vec<PathBuf> = loose.iter().map(|(_, a)| a.clone()).collect();
@@ -241,7 +227,7 @@ pub(crate) fn collect(
         });
         let key = name.as_bytes().to_vec();
         if let Some(old) = by_name.get(&key) {
-            if absolute(cwd, &old.path) == absolute(cwd, &path) {
+            if lexically_absolute(cwd, &old.path) == lexically_absolute(cwd, &path) {
                 continue;
             }
             bail!(
